@@ -1,0 +1,192 @@
+/* brume.h - the public API of libbrume, a renderer for participating media.
+ *
+ * brume renders clouds, fog, haze, smoke and fire described as density fields (voxel
+ * grids, procedural fields) with an unbiased volumetric path tracer and with the methods
+ * of Blasi, Le Saec and Schlick (1993) and Stam (1994). This header is the whole public
+ * interface; everything under src/ is private.
+ *
+ * BUILD
+ *   cmake -B build && cmake --build build     (scripts/setup.sh installs the dependencies)
+ *   link with build/libbrume.a and: -lcjson -lpng -lOpenEXRCore -lpthread -lm
+ *
+ * OBJECTS AND THEIR LIFECYCLE
+ *   Every object is an opaque handle with one lifecycle: new (or load), set, commit,
+ *   release. A scene may be changed only before brume_scene_commit and rendered only after.
+ *   Release functions accept NULL.
+ *
+ *   brume_context  owns the last error message and the error callback. One per thread
+ *                  that calls the API (a context is not thread-safe; the renderer itself
+ *                  uses its own worker threads).
+ *   brume_scene    camera, lights, media, render settings: loaded from a JSON file
+ *                  (docs/scene-format.md) or the built-in default scene.
+ *   brume_image    a rendered or loaded picture: width x height pixels, RGBA float32,
+ *                  linear Rec. 709, rows top first, 4 floats per pixel; A = 1 - the
+ *                  transmittance of the media along the pixel (1 = opaque cloud).
+ *
+ * ERRORS
+ *   Functions that can fail return a brume_status. On failure nothing is allocated or
+ *   changed for the caller (out pointers are set to NULL), and the context holds a one-line
+ *   message naming the file and the field at fault, e.g.
+ *     "scenes/bad.json: camera.fov: expected a number in (0, 180), got 400"
+ *   which brume_context_last_error() returns and the error callback (if set) receives.
+ *
+ * DETERMINISM
+ *   An image depends on the scene, the seed and the sample count, never on the number of
+ *   threads: renders with 1 and with 2 threads are bit-identical.
+ *
+ * MINIMAL EXAMPLE (compiled and run as a test; see CMakeLists.txt)
+ * BEGIN EXAMPLE
+#include <brume.h>
+#include <stdio.h>
+
+int main(void)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *scene = NULL;
+    brume_image *image = NULL;
+    if (brume_scene_new_default(ctx, &scene) != BRUME_OK)
+        goto fail;
+    brume_render_settings rs;
+    brume_scene_get_settings(scene, &rs);
+    rs.width = 64;
+    rs.height = 48;
+    rs.spp = 4;
+    if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK ||
+        brume_scene_commit(ctx, scene) != BRUME_OK ||
+        brume_render(ctx, scene, &image) != BRUME_OK ||
+        brume_image_write(ctx, image, "example.exr", NULL) != BRUME_OK)
+        goto fail;
+    printf("rendered %d x %d\n", brume_image_width(image), brume_image_height(image));
+    brume_image_release(image);
+    brume_scene_release(scene);
+    brume_context_release(ctx);
+    return 0;
+fail:
+    fprintf(stderr, "brume: %s\n", brume_context_last_error(ctx));
+    brume_image_release(image);
+    brume_scene_release(scene);
+    brume_context_release(ctx);
+    return 1;
+}
+ * END EXAMPLE
+ */
+#ifndef BRUME_H
+#define BRUME_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- status and errors ---------------------------------------------------------------- */
+
+typedef enum brume_status {
+    BRUME_OK = 0,
+    BRUME_ERROR_INVALID_ARGUMENT, /* a parameter is outside its domain (NULL, negative size) */
+    BRUME_ERROR_IO,               /* a file could not be opened, read or written */
+    BRUME_ERROR_PARSE,            /* a file is malformed: syntax, unknown key, wrong type */
+    BRUME_ERROR_OUT_OF_MEMORY,    /* allocation failed, or a size exceeds the memory limit */
+    BRUME_ERROR_UNSUPPORTED,      /* valid request this build or method cannot do */
+    BRUME_ERROR_RANGE,            /* a value is NaN, infinite, negative or out of range */
+    BRUME_ERROR_STATE             /* an object used before commit, or changed after */
+} brume_status;
+
+/* A short English phrase for a status ("malformed input"). Never NULL. */
+const char *brume_status_string(brume_status status);
+
+/* "MAJOR.MINOR.PATCH". */
+const char *brume_version(void);
+
+/* ---- context ---------------------------------------------------------------------------- */
+
+typedef struct brume_context brume_context;
+
+/* Called with every error recorded in the context, from the thread that made the call. */
+typedef void (*brume_error_fn)(void *user, brume_status status, const char *message);
+
+/* A new context, or NULL when out of memory. The caller owns it. */
+brume_context *brume_context_new(void);
+void brume_context_release(brume_context *ctx);
+void brume_context_set_error_callback(brume_context *ctx, brume_error_fn fn, void *user);
+/* The message of the last failed call ("" if none). Valid until the next call with ctx. */
+const char *brume_context_last_error(const brume_context *ctx);
+brume_status brume_context_last_status(const brume_context *ctx);
+
+/* ---- scene -------------------------------------------------------------------------------- */
+
+typedef struct brume_scene brume_scene;
+
+typedef enum brume_filter {
+    BRUME_FILTER_BOX = 0,     /* uniform over the pixel square */
+    BRUME_FILTER_GAUSSIAN = 1 /* truncated gaussian, standard deviation filter_width / 4 px */
+} brume_filter;
+
+/* Render settings. The scene file provides them; a caller may override before commit. */
+typedef struct brume_render_settings {
+    int width, height;  /* image size in pixels, each in [1, 65536] */
+    int spp;            /* samples per pixel, >= 1 */
+    uint64_t seed;      /* the image is a function of (scene, seed, spp) */
+    int threads;        /* worker threads; 0 = one per core */
+    char method[32];    /* integrator name: "path" or "single" */
+    int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
+    brume_filter filter;
+    double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
+    bool progress;       /* draw a progress bar when stderr is a terminal */
+} brume_render_settings;
+
+/* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted
+ * scene owned by the caller; on failure *out is NULL and the context names file and key. */
+brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out);
+/* The built-in default scene: a procedural cloud lit by a distant light. */
+brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
+/* Copies the scene's render settings into *rs. */
+void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
+/* Validates and replaces the render settings; only before commit. */
+brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
+/* Freezes the scene and builds what rendering needs (majorants, light tables). */
+brume_status brume_scene_commit(brume_context *ctx, brume_scene *scene);
+void brume_scene_release(brume_scene *scene);
+
+/* ---- rendering and images ----------------------------------------------------------------- */
+
+typedef struct brume_image brume_image;
+
+/* Renders a committed scene with its settings. *out is a new image owned by the caller. */
+brume_status brume_render(brume_context *ctx, const brume_scene *scene, brume_image **out);
+
+/* A new black, transparent image; NULL on bad size or out of memory. */
+brume_image *brume_image_new(int width, int height);
+int brume_image_width(const brume_image *image);
+int brume_image_height(const brume_image *image);
+/* width * height * 4 floats, RGBA, rows top first. Owned by the image. */
+float *brume_image_pixels(brume_image *image);
+const float *brume_image_pixels_const(const brume_image *image);
+void brume_image_release(brume_image *image);
+
+typedef enum brume_tonemap {
+    BRUME_TONEMAP_CLAMP = 0, /* sRGB of the exposed linear value, clamped to [0, 1] */
+    BRUME_TONEMAP_FILMIC = 1 /* ACES filmic curve (Narkowicz 2015) before the sRGB transfer */
+} brume_tonemap;
+
+/* How linear values become 8-bit PNG. Ignored by EXR and PFM, which store linear floats. */
+typedef struct brume_write_options {
+    double exposure; /* stops: values are scaled by 2^exposure before tone mapping */
+    brume_tonemap tonemap;
+} brume_write_options;
+
+/* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP), .png (8-bit sRGB RGBA), .pfm
+ * (RGB float32). opts may be NULL (exposure 0, clamp). The write is atomic: data go to a
+ * temporary file in the same folder that is renamed over path only when complete, so a
+ * failed write never leaves a file that looks whole. */
+brume_status brume_image_write(brume_context *ctx, const brume_image *image, const char *path,
+                               const brume_write_options *opts);
+/* Reads .exr (R, G, B and optional A channels), .pfm or .png into a new linear image. */
+brume_status brume_image_read(brume_context *ctx, const char *path, brume_image **out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,26 @@
+/* error.h - status codes and the last-error message of the calling thread.
+ *
+ * Every fallible internal function returns a brume_status and, on failure, sets a one-line
+ * message with err_set() that names the file and the field or key at fault, e.g.
+ *   "scene.json: camera.fov: expected a number in (0, 180), got 400"
+ * The message is thread-local; the public API copies it into the context it was called
+ * with (brume_context_last_error) and hands it to the context's error callback. */
+#ifndef BRUME_CORE_ERROR_H
+#define BRUME_CORE_ERROR_H
+
+#include "brume.h"
+
+#if defined(__GNUC__)
+#define BRUME_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define BRUME_PRINTF(a, b)
+#endif
+
+/* Record status and message (printf format) for this thread; returns status. */
+brume_status err_set(brume_status status, const char *fmt, ...) BRUME_PRINTF(2, 3);
+/* This thread's last message ("" when none). */
+const char *err_message(void);
+brume_status err_status(void);
+void err_clear(void);
+
+#endif

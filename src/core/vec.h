@@ -1,0 +1,107 @@
+/* vec.h - 3-vectors, rays, axis-aligned boxes and orthonormal frames (world units). */
+#ifndef BRUME_CORE_VEC_H
+#define BRUME_CORE_VEC_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#define PI 3.14159265358979323846
+#define INV_PI 0.31830988618379067154
+#define INV_4PI 0.07957747154594766788
+
+typedef struct vec3 {
+    double x, y, z;
+} vec3;
+
+/* A ray o + t d. d need not be unit length unless a caller says so; t is in units of |d|. */
+typedef struct ray {
+    vec3 o;
+    vec3 d;
+    double time; /* seconds, inside the camera's shutter interval */
+} ray;
+
+/* Axis-aligned box [lo, hi]; empty when any lo > hi. */
+typedef struct box3 {
+    vec3 lo, hi;
+} box3;
+
+/* Right-handed orthonormal frame: s x t = n. */
+typedef struct frame {
+    vec3 s, t, n;
+} frame;
+
+static inline vec3 v3(double x, double y, double z) { return (vec3){x, y, z}; }
+static inline vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline vec3 v3_mul(vec3 a, vec3 b) { return v3(a.x * b.x, a.y * b.y, a.z * b.z); }
+static inline vec3 v3_scale(vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline vec3 v3_madd(vec3 a, vec3 b, double s) { return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
+static inline vec3 v3_neg(vec3 a) { return v3(-a.x, -a.y, -a.z); }
+static inline double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline vec3 v3_cross(vec3 a, vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline double v3_length(vec3 a) { return sqrt(v3_dot(a, a)); }
+static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a)); }
+static inline vec3 v3_min(vec3 a, vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
+static inline vec3 v3_max(vec3 a, vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
+static inline double v3_get(vec3 a, int axis) { return axis == 0 ? a.x : (axis == 1 ? a.y : a.z); }
+static inline bool v3_isfinite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+static inline vec3 ray_at(ray r, double t) { return v3_madd(r.o, r.d, t); }
+
+/* Frame with n as its third axis (Duff et al. 2017, branchless; n must be unit length). */
+static inline frame frame_from_n(vec3 n)
+{
+    double sign = copysign(1.0, n.z);
+    double a = -1.0 / (sign + n.z);
+    double b = n.x * n.y * a;
+    frame f;
+    f.s = v3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    f.t = v3(b, sign + n.y * n.y * a, -n.y);
+    f.n = n;
+    return f;
+}
+/* Local (frame) coordinates to world. */
+static inline vec3 frame_to_world(const frame *f, vec3 l)
+{
+    return v3_add(v3_add(v3_scale(f->s, l.x), v3_scale(f->t, l.y)), v3_scale(f->n, l.z));
+}
+static inline vec3 frame_to_local(const frame *f, vec3 w)
+{
+    return v3(v3_dot(w, f->s), v3_dot(w, f->t), v3_dot(w, f->n));
+}
+
+static inline box3 box3_empty(void) { return (box3){v3(INFINITY, INFINITY, INFINITY), v3(-INFINITY, -INFINITY, -INFINITY)}; }
+static inline bool box3_contains(box3 b, vec3 p)
+{
+    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z;
+}
+/* Slab test. On a hit, [*t0, *t1] is the parametric overlap of the ray with the box,
+ * clipped to [tmin, tmax]. Robust for axis-parallel rays (IEEE infinities). */
+static inline bool box3_intersect(box3 b, ray r, double tmin, double tmax, double *t0, double *t1)
+{
+    const double o[3] = {r.o.x, r.o.y, r.o.z}, d[3] = {r.d.x, r.d.y, r.d.z};
+    const double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    for (int a = 0; a < 3; a++) {
+        double inv = 1.0 / d[a];
+        double tn = (lo[a] - o[a]) * inv, tf = (hi[a] - o[a]) * inv;
+        if (tn > tf) {
+            double s = tn;
+            tn = tf;
+            tf = s;
+        }
+        if (isnan(tn) || isnan(tf)) /* d = 0 and origin on a slab plane: treat as inside */
+            continue;
+        tmin = tn > tmin ? tn : tmin;
+        tmax = tf < tmax ? tf : tmax;
+        if (tmin > tmax)
+            return false;
+    }
+    *t0 = tmin;
+    *t1 = tmax;
+    return true;
+}
+
+#endif

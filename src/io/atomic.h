@@ -1,0 +1,24 @@
+/* atomic.h - write a file so that it appears whole or not at all.
+ *
+ * atomic_open creates a temporary file beside the destination (same folder, so rename is
+ * atomic); the writer writes it, by fp or by tmp_path; atomic_commit flushes, closes and
+ * renames it over the destination; atomic_abort closes and removes it. */
+#ifndef BRUME_IO_ATOMIC_H
+#define BRUME_IO_ATOMIC_H
+
+#include <stdio.h>
+
+#include "brume.h"
+
+typedef struct atomic_file {
+    char path[4096];     /* destination */
+    char tmp_path[4096]; /* "<dir>/.<name>.tmp-XXXXXX" */
+    FILE *fp;            /* open for writing, binary */
+} atomic_file;
+
+brume_status atomic_open(atomic_file *f, const char *path);
+/* Closes fp if open, then renames. On failure the temporary file is removed. */
+brume_status atomic_commit(atomic_file *f);
+void atomic_abort(atomic_file *f);
+
+#endif

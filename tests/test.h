@@ -1,0 +1,90 @@
+/* test.h - the test harness: TEST(name) cases, assertions that print both sides.
+ *
+ * A test file defines cases with TEST(name) at the start of a line and ends with
+ *   TEST_MAIN(name1, name2, ...)
+ * CMake registers every TEST(name) line as its own ctest case "file.name"; the executable
+ * runs one case when given its name, or all of them with no argument. A failed assertion
+ * prints file:line, the expression and both values, and exits 1. */
+#ifndef BRUME_TEST_H
+#define BRUME_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct test_case {
+    const char *name;
+    void (*fn)(void);
+} test_case;
+
+int test_run(const test_case *cases, int ncases, int argc, char **argv);
+/* Path of a temporary file unique to this process: "<tmpdir>/brume-test-<pid>-<name>". */
+const char *test_tmp_path(const char *name);
+/* Runs a shell command, returns its exit status (or -1); output goes to the log. */
+int test_system(const char *cmd);
+
+#define TEST(name) static void name(void)
+
+#define TEST_FAIL(...)                                                                          \
+    do {                                                                                        \
+        fprintf(stderr, "%s:%d: ", __FILE__, __LINE__);                                         \
+        fprintf(stderr, __VA_ARGS__);                                                           \
+        fputc('\n', stderr);                                                                    \
+        exit(1);                                                                                \
+    } while (0)
+
+#define ASSERT_TRUE(cond)                                                                       \
+    do {                                                                                        \
+        if (!(cond))                                                                            \
+            TEST_FAIL("assertion failed: %s", #cond);                                          \
+    } while (0)
+
+#define ASSERT_EQ_INT(a, b)                                                                     \
+    do {                                                                                        \
+        long long a_ = (long long)(a), b_ = (long long)(b);                                     \
+        if (a_ != b_)                                                                           \
+            TEST_FAIL("%s == %s: %lld != %lld", #a, #b, a_, b_);                                \
+    } while (0)
+
+#define ASSERT_EQ_STR(a, b)                                                                     \
+    do {                                                                                        \
+        const char *a_ = (a), *b_ = (b);                                                        \
+        if (strcmp(a_, b_) != 0)                                                                \
+            TEST_FAIL("%s == %s: \"%s\" != \"%s\"", #a, #b, a_, b_);                            \
+    } while (0)
+
+#define ASSERT_CONTAINS(haystack, needle)                                                       \
+    do {                                                                                        \
+        const char *h_ = (haystack), *n_ = (needle);                                            \
+        if (!strstr(h_, n_))                                                                    \
+            TEST_FAIL("%s contains %s: \"%s\" lacks \"%s\"", #haystack, #needle, h_, n_);       \
+    } while (0)
+
+/* |a - b| <= tol */
+#define ASSERT_NEAR(a, b, tol)                                                                  \
+    do {                                                                                        \
+        double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                          \
+        if (!(fabs(a_ - b_) <= t_))                                                             \
+            TEST_FAIL("%s ~ %s: %.9g vs %.9g, difference %.3g > tolerance %.3g", #a, #b, a_, b_, \
+                      fabs(a_ - b_), t_);                                                       \
+    } while (0)
+
+#define TEST_MAIN(...)                                                                          \
+    int main(int argc, char **argv)                                                             \
+    {                                                                                           \
+        void (*fns_[])(void) = {__VA_ARGS__};                                                   \
+        static char names_[] = #__VA_ARGS__;                                                    \
+        test_case cases_[sizeof fns_ / sizeof fns_[0]];                                         \
+        char *save_ = NULL, *tok_ = strtok_r(names_, ", \t\n", &save_);                         \
+        int n_ = 0;                                                                             \
+        while (tok_ && n_ < (int)(sizeof fns_ / sizeof fns_[0])) {                              \
+            cases_[n_].name = tok_;                                                             \
+            cases_[n_].fn = fns_[n_];                                                           \
+            n_++;                                                                               \
+            tok_ = strtok_r(NULL, ", \t\n", &save_);                                            \
+        }                                                                                       \
+        return test_run(cases_, n_, argc, argv);                                                \
+    }
+
+#endif
