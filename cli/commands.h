@@ -1,0 +1,21 @@
+/* commands.h - the subcommands of the brume tool, one line each: X(name, summary).
+ * Each is implemented as `int cmd_NAME(int argc, char **argv)` in cli/cmd_NAME.c, gets
+ * argv[0] = "NAME", and returns the process exit status (0 ok, 1 failure, 2 usage). */
+#ifndef BRUME_CLI_COMMANDS_H
+#define BRUME_CLI_COMMANDS_H
+
+#define BRUME_COMMANDS(X)                                                   \
+    X(render, "render a scene (or the built-in default scene) to an image")
+
+#define X(name, summary) int cmd_##name(int argc, char **argv);
+BRUME_COMMANDS(X)
+#undef X
+
+/* Shared by commands: print "brume: MESSAGE" on stderr. */
+void cli_error(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+#endif
