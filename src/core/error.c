@@ -3,6 +3,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 static _Thread_local char err_buf[1024];
 static _Thread_local brume_status err_code = BRUME_OK;
@@ -18,6 +19,26 @@ brume_status err_set(brume_status status, const char *fmt, ...)
 }
 
 const char *err_message(void) { return err_buf; }
+
+brume_status err_prefix(const char *fmt, ...)
+{
+    char old[sizeof err_buf], head[512];
+    snprintf(old, sizeof old, "%s", err_buf);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(head, sizeof head, fmt, ap);
+    va_end(ap);
+    size_t hl = strlen(head), ol = strlen(old), cap = sizeof err_buf - 1;
+    if (hl > cap - 2)
+        hl = cap - 2;
+    memcpy(err_buf, head, hl);
+    memcpy(err_buf + hl, ": ", 2);
+    if (ol > cap - hl - 2)
+        ol = cap - hl - 2;
+    memcpy(err_buf + hl + 2, old, ol);
+    err_buf[hl + 2 + ol] = '\0';
+    return err_code;
+}
 brume_status err_status(void) { return err_code; }
 void err_clear(void)
 {

@@ -20,6 +20,8 @@
 brume_status err_set(brume_status status, const char *fmt, ...) BRUME_PRINTF(2, 3);
 /* This thread's last message ("" when none). */
 const char *err_message(void);
+/* Prepends "PREFIX: " (printf format) to this thread's message; returns its status. */
+brume_status err_prefix(const char *fmt, ...) BRUME_PRINTF(1, 2);
 brume_status err_status(void);
 void err_clear(void);
 

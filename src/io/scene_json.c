@@ -1,0 +1,369 @@
+/* scene_json.c - the scene file reader (docs/scene-format.md) and brume_scene_load. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "core/error.h"
+#include "io/json.h"
+#include "render/film.h"
+#include "render/scene.h"
+
+#define SCENE_FILE_MAX_BYTES (64L << 20)
+#define SCENE_MAX_LIGHTS 4096
+
+static const double BIG = 1e30;
+
+static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
+{
+    static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
+                                       "shutter", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    if ((st = json_vec3(j, at, "position", 1, &c->position))) return st;
+    if ((st = json_vec3(j, at, "look_at", 1, &c->look_at))) return st;
+    if ((st = json_vec3(j, at, "up", 0, &c->up))) return st;
+    if (!(v3_length(c->up) > 0.0))
+        return err_set(BRUME_ERROR_RANGE, "%s: camera.up: must not be the zero vector", at.file);
+    if ((st = json_number(j, at, "fov", 0, 1e-3, 179.0, &c->fov))) return st;
+    if ((st = json_number(j, at, "aperture_radius", 0, 0.0, BIG, &c->aperture_radius))) return st;
+    c->focus_distance = v3_length(v3_sub(c->look_at, c->position));
+    if ((st = json_number(j, at, "focus_distance", 0, 1e-9, BIG, &c->focus_distance))) return st;
+    const cJSON *sh = cJSON_GetObjectItemCaseSensitive(j, "shutter");
+    if (sh) {
+        if (!cJSON_IsArray(sh) || cJSON_GetArraySize(sh) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(sh, 0)) ||
+            !cJSON_IsNumber(cJSON_GetArrayItem(sh, 1)))
+            return err_set(BRUME_ERROR_PARSE, "%s: camera.shutter: expected [open, close] in seconds", at.file);
+        c->shutter_open = cJSON_GetArrayItem(sh, 0)->valuedouble;
+        c->shutter_close = cJSON_GetArrayItem(sh, 1)->valuedouble;
+        if (!isfinite(c->shutter_open) || !isfinite(c->shutter_close) || c->shutter_close < c->shutter_open)
+            return err_set(BRUME_ERROR_RANGE, "%s: camera.shutter: need finite open <= close, got [%g, %g]", at.file,
+                           c->shutter_open, c->shutter_close);
+    }
+    return BRUME_OK;
+}
+
+static brume_status parse_light(const cJSON *j, jloc at, light *l)
+{
+    char type[32];
+    if (!cJSON_IsObject(j))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
+    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    if (st) return st;
+    if (strcmp(type, "distant") == 0) {
+        static const char *const keys[] = {"type", "direction", "irradiance", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        l->kind = LIGHT_DISTANT;
+        if ((st = json_vec3(j, at, "direction", 1, &l->direction))) return st;
+        if (!(v3_length(l->direction) > 0.0))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.direction: must not be the zero vector", at.file, at.path);
+        l->direction = v3_normalize(l->direction);
+        return json_color(j, at, "irradiance", 1, 0.0, BIG, &l->L);
+    }
+    if (strcmp(type, "point") == 0) {
+        static const char *const keys[] = {"type", "position", "intensity", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        l->kind = LIGHT_POINT;
+        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
+        return json_color(j, at, "intensity", 1, 0.0, BIG, &l->L);
+    }
+    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown light type '%s' (known: distant, point)", at.file, at.path,
+                   type);
+}
+
+static brume_status parse_box(const cJSON *j, jloc at, const char *key, box3 *b)
+{
+    char kp[256];
+    json_key_path(kp, sizeof kp, at.path, key);
+    const cJSON *it = cJSON_GetObjectItemCaseSensitive(j, key);
+    if (!it)
+        return BRUME_OK;
+    if (!cJSON_IsArray(it) || cJSON_GetArraySize(it) != 2)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]", at.file, kp);
+    cJSON *wrap = cJSON_CreateObject();
+    if (!wrap)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+    cJSON_AddItemReferenceToObject(wrap, "lo", cJSON_GetArrayItem(it, 0));
+    cJSON_AddItemReferenceToObject(wrap, "hi", cJSON_GetArrayItem(it, 1));
+    jloc sub = {at.file, kp};
+    box3 r;
+    brume_status st = json_vec3(wrap, sub, "lo", 1, &r.lo);
+    if (!st)
+        st = json_vec3(wrap, sub, "hi", 1, &r.hi);
+    cJSON_Delete(wrap);
+    if (st)
+        return st;
+    if (!(r.lo.x < r.hi.x && r.lo.y < r.hi.y && r.lo.z < r.hi.z))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s: need min < max on every axis", at.file, kp);
+    *b = r;
+    return BRUME_OK;
+}
+
+static brume_status parse_density(const cJSON *j, jloc at, density **out)
+{
+    char type[32];
+    if (!cJSON_IsObject(j))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
+    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    if (st) return st;
+    if (strcmp(type, "procedural_cloud") == 0) {
+        static const char *const keys[] = {"type", "resolution", "seed", "bounds", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        int res = 64;
+        uint64_t seed = 1;
+        box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+        if ((st = json_int(j, at, "resolution", 0, 2, 512, &res))) return st;
+        if ((st = json_u64(j, at, "seed", 0, &seed))) return st;
+        if ((st = parse_box(j, at, "bounds", &b))) return st;
+        *out = density_new_procedural_cloud(res, seed, b);
+        if (!*out)
+            return err_prefix("%s: %s", at.file, at.path);
+        return BRUME_OK;
+    }
+    if (strcmp(type, "constant") == 0) {
+        /* homogeneous fog filling a box: a 1 x 1 x 1 grid */
+        static const char *const keys[] = {"type", "value", "bounds", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        double value = 1.0;
+        box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+        if ((st = json_number(j, at, "value", 0, 0.0, 1e30, &value))) return st;
+        if ((st = parse_box(j, at, "bounds", &b))) return st;
+        float *data = malloc(sizeof *data);
+        if (!data)
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+        data[0] = (float)value;
+        *out = density_new_grid(1, 1, 1, data, b, GRID_NEAREST);
+        if (!*out) {
+            free(data);
+            return err_prefix("%s: %s", at.file, at.path);
+        }
+        return BRUME_OK;
+    }
+    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud)",
+                   at.file, at.path, type);
+}
+
+static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
+{
+    char type[32];
+    if (!cJSON_IsObject(j))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
+    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    if (st) return st;
+    if (strcmp(type, "isotropic") == 0) {
+        static const char *const keys[] = {"type", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        *out = phase_new_isotropic();
+    } else if (strcmp(type, "hg") == 0) {
+        static const char *const keys[] = {"type", "g", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        double g = 0.0;
+        if ((st = json_number(j, at, "g", 1, -0.999999, 0.999999, &g))) return st;
+        *out = phase_new_hg(g);
+    } else {
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown phase function '%s' (known: isotropic, hg)", at.file,
+                       at.path, type);
+    }
+    if (!*out)
+        return err_prefix("%s: %s", at.file, at.path);
+    return BRUME_OK;
+}
+
+static brume_status parse_medium(const cJSON *j, jloc at, medium *m)
+{
+    static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    if ((st = json_string(j, at, "name", 0, m->name, sizeof m->name))) return st;
+    m->sigma_a = col(0.0);
+    m->sigma_s = col(0.0);
+    m->Le = col(0.0);
+    if ((st = json_color(j, at, "sigma_a", 1, 0.0, 1e12, &m->sigma_a))) return st;
+    if ((st = json_color(j, at, "sigma_s", 1, 0.0, 1e12, &m->sigma_s))) return st;
+    if ((st = json_color(j, at, "emission", 0, 0.0, BIG, &m->Le))) return st;
+    char kp[256];
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(j, "density");
+    if (!d)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.density: required key missing", at.file, at.path);
+    if ((st = parse_density(d, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "density")}, &m->rho))) return st;
+    const cJSON *p = cJSON_GetObjectItemCaseSensitive(j, "phase");
+    if (p)
+        return parse_phase(p, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "phase")}, &m->ph);
+    m->ph = phase_new_isotropic();
+    return m->ph ? BRUME_OK : err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+}
+
+static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings *rs)
+{
+    static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
+                                       NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    if ((st = json_int(j, at, "width", 0, 1, 65536, &rs->width))) return st;
+    if ((st = json_int(j, at, "height", 0, 1, 65536, &rs->height))) return st;
+    if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs->spp))) return st;
+    if ((st = json_u64(j, at, "seed", 0, &rs->seed))) return st;
+    if ((st = json_int(j, at, "threads", 0, 0, 1024, &rs->threads))) return st;
+    if ((st = json_string(j, at, "method", 0, rs->method, sizeof rs->method))) return st;
+    if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs->max_depth))) return st;
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
+    if (f) {
+        static const char *const fkeys[] = {"type", "width", NULL};
+        jloc fat = {at.file, "render.filter"};
+        if ((st = json_check_object(f, fat, fkeys))) return st;
+        char type[32] = "";
+        if ((st = json_string(f, fat, "type", 1, type, sizeof type))) return st;
+        if (strcmp(type, "box") == 0) {
+            rs->filter = BRUME_FILTER_BOX;
+            rs->filter_width = 1.0;
+        } else if (strcmp(type, "gaussian") == 0) {
+            rs->filter = BRUME_FILTER_GAUSSIAN;
+            rs->filter_width = 2.0;
+        } else {
+            return err_set(BRUME_ERROR_PARSE, "%s: render.filter.type: unknown filter '%s' (known: box, gaussian)",
+                           at.file, type);
+        }
+        if ((st = json_number(f, fat, "width", 0, 1e-3, 16.0, &rs->filter_width))) return st;
+    }
+    return scene_check_settings(at.file, rs);
+}
+
+static brume_status parse_scene(const cJSON *root, brume_scene *s)
+{
+    static const char *const keys[] = {"camera", "lights", "media", "background", "render", NULL};
+    const char *file = s->source;
+    jloc top = {file, ""};
+    brume_status st = json_check_object(root, top, keys);
+    if (st) return st;
+    const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
+    if (!cam)
+        return err_set(BRUME_ERROR_PARSE, "%s: camera: required key missing", file);
+    if ((st = parse_camera(cam, (jloc){file, "camera"}, &s->cam))) return st;
+    if ((st = json_color(root, top, "background", 0, 0.0, BIG, &s->background))) return st;
+
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    if (lights) {
+        if (!cJSON_IsArray(lights))
+            return err_set(BRUME_ERROR_PARSE, "%s: lights: expected an array", file);
+        int n = cJSON_GetArraySize(lights);
+        if (n > SCENE_MAX_LIGHTS)
+            return err_set(BRUME_ERROR_RANGE, "%s: lights: %d lights, at most %d", file, n, SCENE_MAX_LIGHTS);
+        if (n > 0) {
+            s->lights = calloc((size_t)n, sizeof *s->lights);
+            if (!s->lights)
+                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", file);
+        }
+        int i = 0;
+        for (const cJSON *l = lights->child; l; l = l->next, i++) {
+            char kp[64];
+            snprintf(kp, sizeof kp, "lights[%d]", i);
+            if ((st = parse_light(l, (jloc){file, kp}, &s->lights[i]))) return st;
+            s->nlights = i + 1;
+        }
+    }
+    const cJSON *media = cJSON_GetObjectItemCaseSensitive(root, "media");
+    if (media) {
+        if (!cJSON_IsArray(media))
+            return err_set(BRUME_ERROR_PARSE, "%s: media: expected an array", file);
+        int n = cJSON_GetArraySize(media);
+        if (n > SCENE_MAX_MEDIA)
+            return err_set(BRUME_ERROR_RANGE, "%s: media: %d media, at most %d", file, n, SCENE_MAX_MEDIA);
+        int i = 0;
+        for (const cJSON *m = media->child; m; m = m->next, i++) {
+            char kp[64];
+            snprintf(kp, sizeof kp, "media[%d]", i);
+            s->nmedia = i + 1; /* so that release frees what parse_medium built */
+            if ((st = parse_medium(m, (jloc){file, kp}, &s->media[i]))) return st;
+        }
+    }
+    const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
+    if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
+    return BRUME_OK;
+}
+
+brume_status scene_parse_json(const char *text, const char *source, brume_scene **out)
+{
+    *out = NULL;
+    cJSON *root = NULL;
+    brume_status st = json_parse(text, source, &root);
+    if (st)
+        return st;
+    brume_scene *s = scene_new(source);
+    if (!s) {
+        cJSON_Delete(root);
+        return err_status();
+    }
+    st = parse_scene(root, s);
+    cJSON_Delete(root);
+    if (st) {
+        brume_scene_release(s);
+        return st;
+    }
+    *out = s;
+    return BRUME_OK;
+}
+
+static brume_status read_text_file(const char *path, char **out)
+{
+    *out = NULL;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    for (;;) {
+        if (len + 4096 + 1 > cap) {
+            cap = cap ? 2 * cap : 65536;
+            if (cap > (size_t)SCENE_FILE_MAX_BYTES + 4096 + 1) {
+                free(buf);
+                fclose(fp);
+                return err_set(BRUME_ERROR_RANGE, "%s: larger than %ld MiB; not a scene file", path,
+                               SCENE_FILE_MAX_BYTES >> 20);
+            }
+            char *nb = realloc(buf, cap);
+            if (!nb) {
+                free(buf);
+                fclose(fp);
+                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+            }
+            buf = nb;
+        }
+        size_t got = fread(buf + len, 1, 4096, fp);
+        len += got;
+        if (got < 4096)
+            break;
+    }
+    int bad = ferror(fp);
+    fclose(fp);
+    if (bad) {
+        free(buf);
+        return err_set(BRUME_ERROR_IO, "%s: read error", path);
+    }
+    buf[len] = '\0';
+    if (strlen(buf) != len) {
+        free(buf);
+        return err_set(BRUME_ERROR_PARSE, "%s: contains a NUL byte; not a JSON scene file", path);
+    }
+    *out = buf;
+    return BRUME_OK;
+}
+
+brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
+{
+    err_clear();
+    *out = NULL;
+    char *text = NULL;
+    brume_status st = read_text_file(path, &text);
+    if (st == BRUME_OK) {
+        st = scene_parse_json(text, path, out);
+        free(text);
+    }
+    return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
+{
+    err_clear();
+    return ctx_report(ctx, scene_parse_json(scene_default_json, "<default scene>", out));
+}

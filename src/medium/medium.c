@@ -1,0 +1,14 @@
+/* medium.c - medium lifecycle and derived coefficients. */
+#include "medium/medium.h"
+
+#include <stddef.h>
+
+void medium_init(medium *m) { m->sigma_t_max = col_max(col_add(m->sigma_a, m->sigma_s)); }
+
+void medium_release(medium *m)
+{
+    density_release(m->rho);
+    phase_release(m->ph);
+    m->rho = NULL;
+    m->ph = NULL;
+}

@@ -1,0 +1,81 @@
+/* render.c - brume_render: tiles over the thread pool, samples per pixel, the film. */
+#include <stdlib.h>
+
+#include "core/context.h"
+#include "core/error.h"
+#include "core/pool.h"
+#include "core/progress.h"
+#include "io/image.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/track.h"
+
+#define TILE 16
+
+typedef struct render_job {
+    const brume_scene *s;
+    integrator_kind kind;
+    brume_image *img;
+    int tiles_x;
+    progress prog;
+} render_job;
+
+static void render_tile(size_t task, int thread, void *user)
+{
+    (void)thread;
+    render_job *job = user;
+    const brume_scene *s = job->s;
+    const brume_render_settings *rs = &s->settings;
+    int tx = (int)(task % (size_t)job->tiles_x), ty = (int)(task / (size_t)job->tiles_x);
+    int x0 = tx * TILE, y0 = ty * TILE;
+    int x1 = x0 + TILE < rs->width ? x0 + TILE : rs->width;
+    int y1 = y0 + TILE < rs->height ? y0 + TILE : rs->height;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            uint64_t pixel = (uint64_t)y * (uint64_t)rs->width + (uint64_t)x;
+            color sum = col(0.0);
+            double alpha = 0.0;
+            for (int sidx = 0; sidx < rs->spp; sidx++) {
+                rng g = rng_make(rs->seed, pixel, (uint64_t)sidx);
+                double dx, dy;
+                film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
+                double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
+                ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+                color L = integrator_Li(job->kind, s, r, &g);
+                if (col_isfinite(L))
+                    sum = col_add(sum, L);
+                /* alpha: 1 - mean transmittance of the media along the primary ray */
+                color Tr = track_transmittance(s, r, INFINITY, &g);
+                alpha += 1.0 - col_avg(Tr);
+            }
+            float *px = job->img->rgba + 4 * pixel;
+            double inv = 1.0 / rs->spp;
+            for (int c = 0; c < 3; c++)
+                px[c] = (float)(sum.c[c] * inv);
+            px[3] = (float)fmin(1.0, fmax(0.0, alpha * inv));
+        }
+    progress_add(&job->prog, 1);
+}
+
+brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
+{
+    err_clear();
+    *out = NULL;
+    if (!s->committed)
+        return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source));
+    integrator_kind kind;
+    if (!integrator_from_name(s->settings.method, &kind))
+        return ctx_report(ctx, err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)",
+                                       s->source, s->settings.method, integrator_names()));
+    brume_image *img = brume_image_new(s->settings.width, s->settings.height);
+    if (!img)
+        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", s->source,
+                                       s->settings.width, s->settings.height));
+    render_job job = {s, kind, img, (s->settings.width + TILE - 1) / TILE, {0}};
+    size_t ntiles = (size_t)job.tiles_x * (size_t)((s->settings.height + TILE - 1) / TILE);
+    progress_begin(&job.prog, "render", ntiles, s->settings.progress);
+    pool_run(s->settings.threads, ntiles, render_tile, &job);
+    progress_end(&job.prog);
+    *out = img;
+    return ctx_report(ctx, BRUME_OK);
+}

@@ -1,0 +1,112 @@
+/* scene.c - brume_scene lifecycle: new, set, commit, release. */
+#include "render/scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "core/error.h"
+#include "render/integrator.h"
+
+void scene_default_settings(brume_render_settings *rs)
+{
+    memset(rs, 0, sizeof *rs);
+    rs->width = 640;
+    rs->height = 480;
+    rs->spp = 16;
+    rs->seed = 1;
+    rs->threads = 0;
+    snprintf(rs->method, sizeof rs->method, "path");
+    rs->max_depth = 256;
+    rs->filter = BRUME_FILTER_GAUSSIAN;
+    rs->filter_width = 2.0;
+    rs->progress = false;
+}
+
+brume_scene *scene_new(const char *source)
+{
+    brume_scene *s = calloc(1, sizeof *s);
+    if (!s) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", source);
+        return NULL;
+    }
+    snprintf(s->source, sizeof s->source, "%s", source);
+    scene_default_settings(&s->settings);
+    s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
+                      .aperture_radius = 0.0, .focus_distance = 1.0, .shutter_open = 0.0, .shutter_close = 0.0};
+    s->background = col(0.0);
+    return s;
+}
+
+brume_status scene_check_settings(const char *source, const brume_render_settings *rs)
+{
+    if (rs->width < 1 || rs->width > 65536)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.width: %d outside [1, 65536]", source, rs->width);
+    if (rs->height < 1 || rs->height > 65536)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.height: %d outside [1, 65536]", source, rs->height);
+    if ((uint64_t)rs->width * (uint64_t)rs->height > (1ULL << 28))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.width x height: %d x %d exceeds 2^28 pixels", source,
+                       rs->width, rs->height);
+    if (rs->spp < 1 || rs->spp > (1 << 24))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.spp: %d outside [1, 16777216]", source, rs->spp);
+    if (rs->threads < 0 || rs->threads > 1024)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.threads: %d outside [0, 1024]", source, rs->threads);
+    if (rs->max_depth < 1 || rs->max_depth > 100000)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.max_depth: %d outside [1, 100000]", source, rs->max_depth);
+    if (!(rs->filter_width > 0.0 && rs->filter_width <= 16.0))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %g outside (0, 16]", source, rs->filter_width);
+    if (rs->filter != BRUME_FILTER_BOX && rs->filter != BRUME_FILTER_GAUSSIAN)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
+    integrator_kind k;
+    if (!memchr(rs->method, '\0', sizeof rs->method) || !integrator_from_name(rs->method, &k))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%.31s' (known: %s)", source,
+                       rs->method, integrator_names());
+    return BRUME_OK;
+}
+
+void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs) { *rs = s->settings; }
+
+brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const brume_render_settings *rs)
+{
+    err_clear();
+    if (s->committed)
+        return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: settings changed after commit", s->source));
+    brume_status st = scene_check_settings(s->source, rs);
+    if (st == BRUME_OK)
+        s->settings = *rs;
+    return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
+{
+    err_clear();
+    if (s->committed)
+        return ctx_report(ctx, BRUME_OK);
+    brume_status st = scene_check_settings(s->source, &s->settings);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    camera *c = &s->cam;
+    vec3 view = v3_sub(c->look_at, c->position);
+    if (!(v3_length(view) > 0.0))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position", s->source));
+    camera_init(c, s->settings.width, s->settings.height);
+    s->has_emission = false;
+    for (int m = 0; m < s->nmedia; m++) {
+        medium_init(&s->media[m]);
+        if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
+            s->has_emission = true;
+    }
+    s->committed = true;
+    return ctx_report(ctx, BRUME_OK);
+}
+
+void brume_scene_release(brume_scene *s)
+{
+    if (!s)
+        return;
+    for (int m = 0; m < s->nmedia; m++)
+        medium_release(&s->media[m]);
+    free(s->lights);
+    free(s);
+}

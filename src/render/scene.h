@@ -1,0 +1,39 @@
+/* scene.h - the scene behind brume_scene: camera, lights, media, background, settings.
+ * Built unlocked (by the scene file reader or the API), then frozen by commit; rendering
+ * reads it from many threads and never writes. */
+#ifndef BRUME_RENDER_SCENE_H
+#define BRUME_RENDER_SCENE_H
+
+#include "brume.h"
+#include "medium/medium.h"
+#include "render/camera.h"
+#include "render/light.h"
+
+#define SCENE_MAX_MEDIA 16
+
+struct brume_scene {
+    bool committed;
+    char source[512]; /* file the scene came from, or "<default scene>" */
+    camera cam;
+    light *lights; /* owned */
+    int nlights;
+    medium media[SCENE_MAX_MEDIA];
+    int nmedia;
+    color background; /* radiance arriving from every direction not blocked (Blasi's L-infinity) */
+    brume_render_settings settings;
+    bool has_emission; /* some medium has Le > 0 (set by commit) */
+};
+
+/* An empty scene with default settings and camera; NULL when out of memory. */
+brume_scene *scene_new(const char *source);
+/* Validates settings (err_set names the field); BRUME_OK when usable. */
+brume_status scene_check_settings(const char *source, const brume_render_settings *rs);
+void scene_default_settings(brume_render_settings *rs);
+
+/* The built-in default scene as scene-file JSON (docs/scene-format.md). */
+extern const char scene_default_json[];
+
+/* Reads a scene file text (io/scene_json.c). `source` names it in messages. */
+brume_status scene_parse_json(const char *text, const char *source, brume_scene **out);
+
+#endif

@@ -1,0 +1,120 @@
+/* track.c - merged majorants of all media, tentative collisions, ratio tracking. */
+#include "render/track.h"
+
+#include "core/sampling.h"
+
+typedef struct track_stream {
+    majorant_iter it;
+    majorant_seg seg;
+    bool live;
+    double sigma_t_max;
+} track_stream;
+
+bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn fn, void *user)
+{
+    track_stream st[SCENE_MAX_MEDIA];
+    int n = s->nmedia;
+    for (int m = 0; m < n; m++) {
+        density_majorant_begin(s->media[m].rho, r, 0.0, tmax, &st[m].it);
+        st[m].live = majorant_next(&st[m].it, &st[m].seg);
+        st[m].sigma_t_max = s->media[m].sigma_t_max;
+    }
+    double t = 0.0;
+    for (;;) {
+        /* Majorant on [t, t_next): media whose current segment covers t. */
+        double sigma_maj = 0.0, t_next = INFINITY;
+        bool any = false;
+        for (int m = 0; m < n; m++) {
+            while (st[m].live && st[m].seg.t1 <= t)
+                st[m].live = majorant_next(&st[m].it, &st[m].seg);
+            if (!st[m].live)
+                continue;
+            any = true;
+            if (st[m].seg.t0 > t) {
+                t_next = fmin(t_next, st[m].seg.t0);
+            } else {
+                sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
+                t_next = fmin(t_next, st[m].seg.t1);
+            }
+        }
+        if (!any || t >= tmax)
+            return true;
+        t_next = fmin(t_next, tmax);
+        if (sigma_maj <= 0.0) {
+            t = t_next;
+            continue;
+        }
+        /* Collisions inside [t, t_next): memoryless, so restart at the boundary. */
+        for (;;) {
+            t += sample_exponential(rng_next(g), sigma_maj);
+            if (t >= t_next) {
+                t = t_next;
+                break;
+            }
+            if (!fn(t, sigma_maj, user))
+                return false;
+        }
+    }
+}
+
+void media_at(const brume_scene *s, vec3 p, medium_sample *ms)
+{
+    ms->sigma_a = col(0.0);
+    ms->sigma_s = col(0.0);
+    ms->emission = col(0.0);
+    ms->n = 0;
+    for (int m = 0; m < s->nmedia; m++) {
+        const medium *md = &s->media[m];
+        double rho = density_eval(md->rho, p);
+        if (rho <= 0.0)
+            continue;
+        color sa = col_scale(md->sigma_a, rho), ss = col_scale(md->sigma_s, rho);
+        ms->sigma_a = col_add(ms->sigma_a, sa);
+        ms->sigma_s = col_add(ms->sigma_s, ss);
+        ms->emission = col_add(ms->emission, col_mul(sa, md->Le));
+        ms->index[ms->n] = m;
+        ms->weight[ms->n] = col_avg(ss);
+        ms->n++;
+    }
+}
+
+const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, double u)
+{
+    if (ms->n == 1)
+        return s->media[ms->index[0]].ph;
+    double total = 0.0;
+    for (int i = 0; i < ms->n; i++)
+        total += ms->weight[i];
+    double x = u * total;
+    for (int i = 0; i < ms->n; i++) {
+        if (x < ms->weight[i])
+            return s->media[ms->index[i]].ph;
+        x -= ms->weight[i];
+    }
+    return s->media[ms->index[ms->n - 1]].ph;
+}
+
+typedef struct ratio_state {
+    const brume_scene *s;
+    ray r;
+    color Tr;
+} ratio_state;
+
+/* Ratio tracking (Cramer 1978; Novak et al. 2014): T *= sigma_n / sigma_maj per channel. */
+static bool ratio_step(double t, double sigma_maj, void *user)
+{
+    ratio_state *rs = user;
+    medium_sample ms;
+    media_at(rs->s, ray_at(rs->r, t), &ms);
+    color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        rs->Tr.c[c] *= 1.0 - sigma_t.c[c] / sigma_maj;
+    return col_max(rs->Tr) > 0.0;
+}
+
+color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g)
+{
+    ratio_state rs = {s, r, col(1.0)};
+    track_collisions(s, r, tmax, g, ratio_step, &rs);
+    return rs.Tr;
+}
