@@ -1,0 +1,163 @@
+/* atomic.c - write a file so that it appears whole or not at all (temp file + rename).
+ *
+ * The temporary file lives in the destination's folder so that rename(2) replaces the
+ * destination atomically (POSIX rename: "If the link named by the new argument exists, it
+ * shall be removed and old renamed to new ... a link named new shall remain visible to
+ * other threads throughout the renaming operation"). Data are fsync'ed before the rename
+ * so that a crash cannot leave a renamed but empty file. */
+#include "io/atomic.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/error.h"
+
+static const char tmp_suffix[] = ".tmp-XXXXXX";
+
+/* Splits path into its folder ("." when none) and its last component. */
+static brume_status split_path(const char *path, char *dir, size_t dir_size, const char **base)
+{
+    const char *slash = strrchr(path, '/');
+    *base = slash ? slash + 1 : path;
+    if (!**base)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: not a file name (ends with '/')", path);
+    if (!slash) {
+        snprintf(dir, dir_size, ".");
+        return BRUME_OK;
+    }
+    size_t n = (size_t)(slash - path);
+    if (n == 0)
+        n = 1; /* "/name": the folder is the root */
+    if (n >= dir_size)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+    return BRUME_OK;
+}
+
+/* The mode a new file would get from open(path, O_CREAT, 0666): mkstemp creates 0600,
+ * which would make every image private. The umask can only be read by setting it; the two
+ * calls are back to back and brume creates files from one thread at a time. */
+static mode_t default_file_mode(void)
+{
+    mode_t mask = umask(077);
+    umask(mask);
+    return (mode_t)(0666 & ~mask);
+}
+
+brume_status atomic_open(atomic_file *f, const char *path)
+{
+    memset(f, 0, sizeof *f);
+    if (!path || !*path)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "atomic write: empty path");
+    if (strlen(path) >= sizeof f->path)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%.200s...: path too long", path);
+    char dir[sizeof f->path];
+    const char *base;
+    brume_status st = split_path(path, dir, sizeof dir, &base);
+    if (st != BRUME_OK)
+        return st;
+    int n = snprintf(f->tmp_path, sizeof f->tmp_path, "%s/.%s%s", dir, base, tmp_suffix);
+    if (n < 0 || (size_t)n >= sizeof f->tmp_path) {
+        f->tmp_path[0] = '\0';
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
+    }
+    memcpy(f->path, path, strlen(path) + 1);
+
+    int fd = mkstemp(f->tmp_path);
+    if (fd < 0) {
+        int e = errno;
+        f->tmp_path[0] = '\0';
+        return err_set(BRUME_ERROR_IO, "%s: cannot create a temporary file in '%s': %s", path, dir,
+                       strerror(e));
+    }
+    /* Keep the mode of a file being replaced, else what open(2) would have given. */
+    struct stat old;
+    mode_t mode = stat(path, &old) == 0 && S_ISREG(old.st_mode) ? (mode_t)(old.st_mode & 07777)
+                                                               : default_file_mode();
+    if (fchmod(fd, mode) != 0) {
+        int e = errno;
+        close(fd);
+        remove(f->tmp_path);
+        f->tmp_path[0] = '\0';
+        return err_set(BRUME_ERROR_IO, "%s: cannot set the mode of the temporary file: %s", path,
+                       strerror(e));
+    }
+    f->fp = fdopen(fd, "wb");
+    if (!f->fp) {
+        int e = errno;
+        close(fd);
+        remove(f->tmp_path);
+        f->tmp_path[0] = '\0';
+        return err_set(BRUME_ERROR_IO, "%s: cannot open the temporary file: %s", path, strerror(e));
+    }
+    return BRUME_OK;
+}
+
+/* Makes the rename durable; failure here does not undo a completed write, so it is not
+ * reported (some file systems refuse fsync on folders). */
+static void sync_folder(const char *path)
+{
+    char dir[4096];
+    const char *base;
+    if (split_path(path, dir, sizeof dir, &base) != BRUME_OK)
+        return;
+    int fd = open(dir, O_RDONLY);
+    if (fd >= 0) {
+        (void)fsync(fd);
+        close(fd);
+    }
+}
+
+brume_status atomic_commit(atomic_file *f)
+{
+    if (!f->tmp_path[0])
+        return err_set(BRUME_ERROR_STATE, "%s: atomic write was not opened", f->path);
+    const char *what = NULL;
+    int e = 0;
+    if (f->fp) {
+        if (fflush(f->fp) != 0) {
+            what = "cannot write";
+            e = errno;
+        } else if (ferror(f->fp)) {
+            what = "cannot write";
+            e = EIO;
+        } else if (fsync(fileno(f->fp)) != 0) {
+            what = "cannot flush to disk";
+            e = errno;
+        }
+        if (fclose(f->fp) != 0 && !what) {
+            what = "cannot close";
+            e = errno;
+        }
+        f->fp = NULL;
+    }
+    if (!what && rename(f->tmp_path, f->path) != 0) {
+        what = "cannot rename the temporary file over it";
+        e = errno;
+    }
+    if (what) {
+        remove(f->tmp_path);
+        f->tmp_path[0] = '\0';
+        return err_set(BRUME_ERROR_IO, "%s: %s: %s", f->path, what, strerror(e));
+    }
+    f->tmp_path[0] = '\0';
+    sync_folder(f->path);
+    return BRUME_OK;
+}
+
+void atomic_abort(atomic_file *f)
+{
+    if (f->fp) {
+        fclose(f->fp);
+        f->fp = NULL;
+    }
+    if (f->tmp_path[0]) {
+        remove(f->tmp_path);
+        f->tmp_path[0] = '\0';
+    }
+}

@@ -1,0 +1,205 @@
+/* image.c - brume_image (RGBA float32, rows top first), dispatch of image files by
+ * extension, and the linear -> 8-bit sRGB encoding shared by the PNG writer. */
+#include "io/image.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "core/error.h"
+
+/* ---- the image object ------------------------------------------------------------------- */
+
+static brume_image *image_alloc(int width, int height)
+{
+    if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
+        return NULL;
+    /* Both sides are at most 2^16, so the count is at most 2^34 floats: check against
+     * SIZE_MAX anyway so that a 32-bit size_t cannot wrap. */
+    size_t n = (size_t)width * (size_t)height;
+    if (n > SIZE_MAX / (4 * sizeof(float)))
+        return NULL;
+    brume_image *img = malloc(sizeof *img);
+    if (!img)
+        return NULL;
+    img->rgba = calloc(n * 4, sizeof(float));
+    if (!img->rgba) {
+        free(img);
+        return NULL;
+    }
+    img->width = width;
+    img->height = height;
+    return img;
+}
+
+brume_image *brume_image_new(int width, int height) { return image_alloc(width, height); }
+
+int brume_image_width(const brume_image *image) { return image ? image->width : 0; }
+int brume_image_height(const brume_image *image) { return image ? image->height : 0; }
+float *brume_image_pixels(brume_image *image) { return image ? image->rgba : NULL; }
+const float *brume_image_pixels_const(const brume_image *image) { return image ? image->rgba : NULL; }
+
+void brume_image_release(brume_image *image)
+{
+    if (!image)
+        return;
+    free(image->rgba);
+    free(image);
+}
+
+brume_status image_create(const char *path, int64_t width, int64_t height, brume_image **out)
+{
+    *out = NULL;
+    if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
+        return err_set(BRUME_ERROR_PARSE,
+                       "%s: image size %lld x %lld: each side must be in [1, %d]", path,
+                       (long long)width, (long long)height, IMAGE_MAX_SIDE);
+    if (width * height > IMAGE_MAX_PIXELS)
+        return err_set(BRUME_ERROR_PARSE, "%s: image size %lld x %lld: more than %lld pixels", path,
+                       (long long)width, (long long)height, (long long)IMAGE_MAX_PIXELS);
+    brume_image *img = image_alloc((int)width, (int)height);
+    if (!img)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %lld x %lld image", path,
+                       (long long)width, (long long)height);
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++)
+        img->rgba[4 * i + 3] = 1.0f;
+    *out = img;
+    return BRUME_OK;
+}
+
+/* ---- sRGB -------------------------------------------------------------------------------- */
+
+/* IEC 61966-2-1:1999, section 5.2 (encoding) and 5.3 (decoding): a linear segment of slope
+ * 12.92 below 0.0031308 (0.04045 encoded), a 2.4 power curve above. */
+double image_srgb_encode(double linear)
+{
+    if (linear <= 0.0031308)
+        return 12.92 * linear;
+    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+double image_srgb_decode(double encoded)
+{
+    if (encoded <= 0.04045)
+        return encoded / 12.92;
+    return pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+/* ACES filmic tone curve fitted by K. Narkowicz, "ACES Filmic Tone Mapping Curve" (2015,
+ * knarkowicz.wordpress.com/2016/01/06): f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14).
+ * f(0) = 0, increasing for x >= 0, tends to 2.51 / 2.43 > 1 (clamped afterwards). */
+static double aces_filmic(double x)
+{
+    if (x <= 0.0)
+        return 0.0;
+    if (x > 1e12) /* avoids inf / inf; f is 1.03 there, clamped to 1 */
+        return 1.0;
+    return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+}
+
+unsigned char image_encode_srgb8(double linear, const brume_write_options *opts)
+{
+    double exposure = opts ? opts->exposure : 0.0;
+    brume_tonemap tonemap = opts ? opts->tonemap : BRUME_TONEMAP_CLAMP;
+    double x = linear * exp2(exposure);
+    if (isnan(x))
+        return 0;
+    if (tonemap == BRUME_TONEMAP_FILMIC)
+        x = aces_filmic(x);
+    if (x <= 0.0)
+        return 0;
+    if (x >= 1.0)
+        return 255;
+    return (unsigned char)floor(255.0 * image_srgb_encode(x) + 0.5);
+}
+
+/* ---- files ------------------------------------------------------------------------------- */
+
+typedef enum image_format { FORMAT_UNKNOWN, FORMAT_EXR, FORMAT_PNG, FORMAT_PFM } image_format;
+
+/* The extension of the last path component, including the dot ("" when none). */
+static const char *path_extension(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    return dot && dot != base ? dot : "";
+}
+
+static int ext_is(const char *ext, const char *want)
+{
+    for (; *ext && *want; ext++, want++) {
+        char c = *ext;
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != *want)
+            return 0;
+    }
+    return *ext == *want;
+}
+
+static image_format format_of(const char *path, brume_status *st)
+{
+    const char *ext = path_extension(path);
+    if (ext_is(ext, ".exr"))
+        return FORMAT_EXR;
+    if (ext_is(ext, ".png"))
+        return FORMAT_PNG;
+    if (ext_is(ext, ".pfm"))
+        return FORMAT_PFM;
+    *st = err_set(BRUME_ERROR_UNSUPPORTED, "%s: unknown image format '%s' (use .exr, .png or .pfm)",
+                  path, ext);
+    return FORMAT_UNKNOWN;
+}
+
+brume_status brume_image_write(brume_context *ctx, const brume_image *image, const char *path,
+                               const brume_write_options *opts)
+{
+    err_clear();
+    brume_status st = BRUME_OK;
+    if (!path || !*path)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: no path");
+    else if (!image || !image->rgba)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
+    else if (opts && !isfinite(opts->exposure))
+        st = err_set(BRUME_ERROR_RANGE, "%s: exposure: expected a finite number of stops, got %g",
+                     path, opts->exposure);
+    else if (opts && opts->tonemap != BRUME_TONEMAP_CLAMP && opts->tonemap != BRUME_TONEMAP_FILMIC)
+        st = err_set(BRUME_ERROR_RANGE, "%s: tonemap: unknown curve %d", path, (int)opts->tonemap);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+
+    switch (format_of(path, &st)) {
+    case FORMAT_EXR: st = image_write_exr(path, image); break;
+    case FORMAT_PNG: st = image_write_png(path, image, opts); break;
+    case FORMAT_PFM: st = image_write_pfm(path, image); break;
+    case FORMAT_UNKNOWN: break;
+    }
+    return ctx_report(ctx, st);
+}
+
+brume_status brume_image_read(brume_context *ctx, const char *path, brume_image **out)
+{
+    err_clear();
+    if (!out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: out is NULL"));
+    *out = NULL;
+    if (!path || !*path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: no path"));
+
+    brume_status st = BRUME_OK;
+    switch (format_of(path, &st)) {
+    case FORMAT_EXR: st = image_read_exr(path, out); break;
+    case FORMAT_PNG: st = image_read_png(path, out); break;
+    case FORMAT_PFM: st = image_read_pfm(path, out); break;
+    case FORMAT_UNKNOWN: break;
+    }
+    if (st != BRUME_OK && *out) {
+        brume_image_release(*out);
+        *out = NULL;
+    }
+    return ctx_report(ctx, st);
+}
