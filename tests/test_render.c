@@ -87,9 +87,12 @@ TEST(absorbing_fog_closed_form)
         double se = bg[c] * sqrt(T * (1.0 - T) / (n * 64.0));
         ASSERT_NEAR(mean, bg[c] * T, 5.0 * se);
     }
-    /* alpha comes from ratio tracking through a homogeneous medium: exact up to rounding */
+    /* alpha = 1 - ratio-tracked transmittance: with a majorant equal to sigma_t each
+     * estimate is 0 or 1, a Bernoulli with mean T */
+    double alpha = 0.0;
     for (int i = 0; i < n; i++)
-        ASSERT_NEAR(px[4 * i + 3], 1.0 - T, 1e-6);
+        alpha += px[4 * i + 3];
+    ASSERT_NEAR(alpha / n, 1.0 - T, 5.0 * sqrt(T * (1.0 - T) / (n * 64.0)));
     brume_image_release(img);
 }
 
@@ -103,10 +106,10 @@ TEST(white_furnace)
                        " \"media\": [{\"sigma_a\": 0, \"sigma_s\": [8, 4, 2],"
                        "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
-                       " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 64, \"max_depth\": 100000}}";
+                       " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 96, \"max_depth\": 100000}}";
     brume_image *img = render_json(json, 0, 11);
     const float *px = brume_image_pixels(img);
-    int n = 16 * 16;
+    int n = 32 * 32;
     for (int c = 0; c < 3; c++) {
         double mean = 0.0, m2 = 0.0;
         for (int i = 0; i < n; i++) {
@@ -115,6 +118,7 @@ TEST(white_furnace)
         }
         mean /= n;
         double var = fmax(m2 / n - mean * mean, 1e-12); /* variance of pixel means */
+        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f\n", c, mean, sqrt(var / n));
         ASSERT_NEAR(mean, 1.0, 5.0 * sqrt(var / n) + 1e-6);
         /* a 1% energy error would be far outside this tolerance */
         ASSERT_TRUE(5.0 * sqrt(var / n) < 0.01);
@@ -154,7 +158,7 @@ TEST(single_scattering_closed_form)
                        " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 0.8,"
                        "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
                        "   \"phase\": {\"type\": \"hg\", \"g\": -0.3}}],"
-                       " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 256, \"method\": \"single\"}}";
+                       " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 2560, \"method\": \"single\"}}";
     brume_image *img = render_json(json, 0, 3);
     const float *px = brume_image_pixels(img);
     double g = -0.3, cos_t = -1.0;
@@ -168,6 +172,7 @@ TEST(single_scattering_closed_form)
     }
     mean /= n;
     double se = sqrt(fmax(m2 / n - mean * mean, 0.0) / n);
+    fprintf(stderr, "single scattering: mean %.6f, expected %.6f, standard error %.6f\n", mean, expect, se);
     ASSERT_NEAR(mean, expect, 5.0 * se + 1e-9);
     ASSERT_TRUE(5.0 * se < 0.01 * expect);
     brume_image_release(img);
