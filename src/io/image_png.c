@@ -1,8 +1,9 @@
-/* image_png.c - PNG images through libpng: 8-bit sRGB RGBA out, any PNG in.
+/* image_png.c - PNG images through libpng: 8-bit sRGB RGB out, any PNG in.
  *
- * Writing: R, G, B are exposed, tone mapped and sRGB encoded (image_encode_srgb8); A is
- * coverage, stored linearly (PNG 1.2 spec, section 12.8 / PNG 3rd ed. 12.3: "alpha values
- * are not gamma encoded"). The file carries an sRGB chunk, plus the gAMA and cHRM chunks
+ * Writing: R, G, B are exposed, tone mapped and sRGB encoded (image_encode_srgb8). The
+ * PNG is opaque: a rendered pixel already holds the background seen through the media, so
+ * an alpha channel would make viewers composite the background a second time; the
+ * coverage (A) is kept in EXR output, where compositing tools expect it. The file carries an sRGB chunk, plus the gAMA and cHRM chunks
  * that the PNG specification (11.3.3.5) recommends beside it for older decoders.
  *
  * Reading: 1..16-bit gray, gray+alpha, palette, RGB or RGBA, interlaced or not, are
@@ -41,22 +42,13 @@ static void on_png_warning(png_structp png, png_const_charp msg)
     (void)msg;
 }
 
-static unsigned char alpha8(float a)
-{
-    if (!(a > 0.0f)) /* also NaN */
-        return 0;
-    if (a >= 1.0f)
-        return 255;
-    return (unsigned char)(255.0f * a + 0.5f);
-}
-
 /* ---- writing ------------------------------------------------------------------------------ */
 
 static void png_write_body(png_structp png, png_infop info, FILE *fp, const brume_image *img,
                            const brume_write_options *opts, unsigned char *row)
 {
     png_init_io(png, fp);
-    png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGBA,
+    png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
     png_write_info(png, info);
@@ -65,8 +57,7 @@ static void png_write_body(png_structp png, png_infop info, FILE *fp, const brum
         const float *src = img->rgba + (size_t)y * w * 4;
         for (size_t i = 0; i < w; i++) {
             for (size_t c = 0; c < 3; c++)
-                row[4 * i + c] = image_encode_srgb8((double)src[4 * i + c], opts);
-            row[4 * i + 3] = alpha8(src[4 * i + 3]);
+                row[3 * i + c] = image_encode_srgb8((double)src[4 * i + c], opts);
         }
         png_write_row(png, row);
     }
