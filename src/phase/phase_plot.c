@@ -82,7 +82,7 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
             ymax = fmax(ymax, rad * sin(th));
         }
     }
-    double unit = 1.0 - base; /* radius of phi = 1 */
+    double unit = log_scale ? -base : 1.0; /* radius of phi = 1 */
     xmin = fmin(xmin, -unit);
     xmax = fmax(xmax, unit);
     ymax = fmax(ymax, unit);
