@@ -5,7 +5,8 @@
 #define BRUME_CLI_COMMANDS_H
 
 #define BRUME_COMMANDS(X)                                                   \
-    X(render, "render a scene (or the built-in default scene) to an image")
+    X(render, "render a scene (or the built-in default scene) to an image") \
+    X(phase, "phase functions: fit a Schlick mixture, plot")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)

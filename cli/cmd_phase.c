@@ -1,0 +1,178 @@
+/* cmd_phase.c - `brume phase`: fit Blasi's two-lobe Schlick mixture, plot phase functions. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands.h"
+#include "core/error.h"
+#include "phase/phase.h"
+#include "phase/phase_fit.h"
+#include "phase/phase_plot.h"
+
+static const char phase_usage[] =
+    "usage: brume phase fit NAME [--norm angle|cos|log]\n"
+    "       brume phase plot NAME... -o FILE.png [--log] [--norm angle|cos|log]\n"
+    "       brume phase help\n"
+    "\n"
+    "NAME is isotropic, rayleigh, hazy, murky, hg:G, schlick:K, or a file of lines\n"
+    "\"angle_in_degrees value\" ('#' starts a comment).\n"
+    "\n"
+    "fit   fits r phi_k + (1 - r) phi_k' (Blasi Eq. 22, k <= k') to NAME and prints\n"
+    "      the lines: r VALUE, k VALUE, kprime VALUE, error VALUE. The error is the\n"
+    "      relative L2 norm of the difference (default over the angle; see\n"
+    "      docs/phase-functions.md).\n"
+    "plot  draws, for each NAME, a polar and a cartesian plot of the function (solid)\n"
+    "      and of its fitted mixture (dashed) into one PNG; --log plots log10 phi.\n";
+
+/* One line "brume: MESSAGE" on stderr. */
+static void phase_error(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+static void phase_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("brume: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static int phase_usage_error(const char *what)
+{
+    phase_error("phase: %s (try: brume phase help)", what);
+    return 2;
+}
+
+static int phase_fit_cmd(int argc, char **argv)
+{
+    const char *name = NULL;
+    phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "--norm") == 0) {
+            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
+                return phase_usage_error("--norm needs angle, cos or log");
+            i++;
+        } else if (argv[i][0] == '-' && argv[i][1] == '-') {
+            phase_error("phase fit: unknown option %s", argv[i]);
+            return 2;
+        } else if (name) {
+            return phase_usage_error("fit takes one NAME");
+        } else {
+            name = argv[i];
+        }
+    }
+    if (!name)
+        return phase_usage_error("fit needs a NAME");
+    phase *p = phase_new_from_name(name);
+    if (!p) {
+        phase_error("%s", err_message());
+        return 1;
+    }
+    phase_fit_result fit;
+    brume_status st = phase_fit_schlick_mix(p, norm, &fit);
+    phase_release(p);
+    if (st != BRUME_OK) {
+        phase_error("%s", err_message());
+        return 1;
+    }
+    printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
+    return 0;
+}
+
+static int phase_plot_cmd(int argc, char **argv)
+{
+    const char *out = NULL;
+    bool log_scale = false;
+    phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
+    int n = 0;
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0) {
+            if (i + 1 >= argc)
+                return phase_usage_error("-o needs a file name");
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--log") == 0) {
+            log_scale = true;
+        } else if (strcmp(argv[i], "--norm") == 0) {
+            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
+                return phase_usage_error("--norm needs angle, cos or log");
+            i++;
+        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+            phase_error("phase plot: unknown option %s", argv[i]);
+            return 2;
+        } else {
+            n++;
+        }
+    }
+    if (n == 0)
+        return phase_usage_error("plot needs at least one NAME");
+    if (!out)
+        return phase_usage_error("plot needs -o FILE.png");
+
+    /* rows borrow the phases that truth[] and approx[] own. */
+    phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
+    phase **truth = calloc((size_t)n, sizeof *truth), **approx = calloc((size_t)n, sizeof *approx);
+    char(*titles)[256] = calloc((size_t)n, sizeof *titles);
+    int status = 1, m = 0;
+    if (!rows || !truth || !approx || !titles) {
+        phase_error("phase plot: out of memory");
+        goto done;
+    }
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--norm") == 0) {
+            i++;
+            continue;
+        }
+        if (strcmp(argv[i], "--log") == 0)
+            continue;
+        phase_fit_result fit;
+        truth[m] = phase_new_from_name(argv[i]);
+        if (!truth[m] || phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK ||
+            !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
+            phase_error("%s", err_message());
+            m++;
+            goto done;
+        }
+        rows[m].truth = truth[m];
+        rows[m].approx = approx[m];
+        snprintf(titles[m], sizeof titles[m],
+                 "%s: true (solid), Schlick mixture r %.2f, k %.2f, k' %.2f (dashed), error %.3g",
+                 argv[i], fit.r, fit.k, fit.kprime, fit.error);
+        rows[m].title = titles[m];
+        m++;
+    }
+    if (phase_plot_png(out, m, rows, log_scale) != BRUME_OK) {
+        phase_error("%s", err_message());
+        goto done;
+    }
+    status = 0;
+done:
+    for (int i = 0; i < m; i++) {
+        phase_release(truth[i]);
+        phase_release(approx[i]);
+    }
+    free(rows);
+    free(truth);
+    free(approx);
+    free(titles);
+    return status;
+}
+
+int cmd_phase(int argc, char **argv)
+{
+    if (argc < 2)
+        return phase_usage_error("missing subcommand fit, plot or help");
+    if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        fputs(phase_usage, stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "fit") == 0)
+        return phase_fit_cmd(argc, argv);
+    if (strcmp(argv[1], "plot") == 0)
+        return phase_plot_cmd(argc, argv);
+    phase_error("phase: unknown subcommand %s (try: brume phase help)", argv[1]);
+    return 2;
+}

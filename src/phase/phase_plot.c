@@ -1,0 +1,244 @@
+/* phase_plot.c - polar and cartesian plots of phase functions with cairo. */
+#include "phase/phase_plot.h"
+
+#include <cairo.h>
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/error.h"
+
+#define PLOT_WIDTH 900
+#define ROW_HEIGHT 300 /* panels */
+#define TITLE_HEIGHT 26
+#define POLAR_SIZE 300
+#define CURVE_POINTS 721 /* angle steps of a quarter degree over [0, 180] */
+
+/* phi = 4 pi p, the paper's quantity (integral 2 over t). */
+static double plot_phi(const phase *p, double theta) { return 4.0 * PI * phase_eval(p, cos(theta)); }
+
+/* The value plotted for phi: itself, or its decimal log. */
+static double plot_value(double phi, bool log_scale) { return log_scale ? log10(fmax(phi, 1e-300)) : phi; }
+
+static void set_color(cairo_t *cr, int approx)
+{
+    if (approx) {
+        static const double dash[] = {7.0, 4.0};
+        cairo_set_source_rgb(cr, 0.85, 0.33, 0.10);
+        cairo_set_dash(cr, dash, 2, 0.0);
+    } else {
+        cairo_set_source_rgb(cr, 0.10, 0.25, 0.60);
+        cairo_set_dash(cr, NULL, 0, 0.0);
+    }
+    cairo_set_line_width(cr, 1.8);
+}
+
+static void draw_text(cairo_t *cr, double x, double y, const char *s, double align)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s, &e);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_show_text(cr, s);
+}
+
+/* The range [*lo, *hi] of plot_value over the curves of one row. */
+static void row_range(const phase_plot_row *row, bool log_scale, double *lo, double *hi)
+{
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (int c = 0; c < 2; c++) {
+        const phase *p = c ? row->approx : row->truth;
+        if (!p)
+            continue;
+        for (int i = 0; i < CURVE_POINTS; i++) {
+            double v = plot_value(plot_phi(p, PI * i / (CURVE_POINTS - 1)), log_scale);
+            *lo = fmin(*lo, v);
+            *hi = fmax(*hi, v);
+        }
+    }
+}
+
+/* Polar plot in the square [x0, x0 + POLAR_SIZE] x [y0, y0 + ROW_HEIGHT]: the point at angle
+ * theta from the forward direction (+x) lies at radius phi(theta), or at log10(phi) - L0 on a
+ * log scale, L0 the decade below the smallest value. The dotted circle is phi = 1
+ * (isotropic scattering). */
+static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, double x0, double y0)
+{
+    double lo, hi;
+    row_range(row, log_scale, &lo, &hi);
+    double base = log_scale ? floor(lo) : 0.0;
+    /* Bounding box of the curves in plot units, then a uniform scale into the panel. */
+    double xmin = 0.0, xmax = 0.0, ymax = 0.0;
+    for (int c = 0; c < 2; c++) {
+        const phase *p = c ? row->approx : row->truth;
+        if (!p)
+            continue;
+        for (int i = 0; i < CURVE_POINTS; i++) {
+            double th = PI * i / (CURVE_POINTS - 1);
+            double rad = plot_value(plot_phi(p, th), log_scale) - base;
+            xmin = fmin(xmin, rad * cos(th));
+            xmax = fmax(xmax, rad * cos(th));
+            ymax = fmax(ymax, rad * sin(th));
+        }
+    }
+    double unit = log_scale ? -base : 1.0; /* radius of phi = 1 */
+    xmin = fmin(xmin, -unit);
+    xmax = fmax(xmax, unit);
+    ymax = fmax(ymax, unit);
+    double margin = 14.0;
+    double scale = fmin((POLAR_SIZE - 2.0 * margin) / (xmax - xmin), (ROW_HEIGHT - 2.0 * margin) / (2.0 * ymax));
+    double cx = x0 + margin - xmin * scale + 0.5 * ((POLAR_SIZE - 2.0 * margin) - (xmax - xmin) * scale);
+    double cy = y0 + 0.5 * ROW_HEIGHT;
+
+    cairo_set_dash(cr, NULL, 0, 0.0);
+    cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+    cairo_set_line_width(cr, 1.0);
+    cairo_move_to(cr, x0 + 4.0, cy);
+    cairo_line_to(cr, x0 + POLAR_SIZE - 4.0, cy);
+    cairo_move_to(cr, cx, y0 + 4.0);
+    cairo_line_to(cr, cx, y0 + ROW_HEIGHT - 4.0);
+    cairo_stroke(cr);
+    static const double dots[] = {2.0, 3.0};
+    cairo_set_dash(cr, dots, 2, 0.0);
+    cairo_arc(cr, cx, cy, unit * scale, 0.0, 2.0 * PI);
+    cairo_stroke(cr);
+
+    for (int c = 0; c < 2; c++) {
+        const phase *p = c ? row->approx : row->truth;
+        if (!p)
+            continue;
+        set_color(cr, c);
+        for (int i = 0; i < 2 * (CURVE_POINTS - 1) + 1; i++) {
+            double th = PI * i / (CURVE_POINTS - 1); /* 0 .. 2 pi; phi is symmetric */
+            double rad = (plot_value(plot_phi(p, th), log_scale) - base) * scale;
+            double x = cx + rad * cos(th), y = cy - rad * sin(th);
+            if (i == 0)
+                cairo_move_to(cr, x, y);
+            else
+                cairo_line_to(cr, x, y);
+        }
+        cairo_close_path(cr);
+        cairo_stroke(cr);
+    }
+    cairo_set_dash(cr, NULL, 0, 0.0);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    draw_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, log_scale ? "polar, log10 phi" : "polar", 0.0);
+}
+
+/* phi against theta in degrees, in [x0, x0 + w] x [y0, y0 + ROW_HEIGHT]. */
+static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scale, double x0, double y0, double w)
+{
+    double lo, hi;
+    row_range(row, log_scale, &lo, &hi);
+    if (log_scale) {
+        lo = floor(lo);
+        hi = ceil(hi);
+        if (hi <= lo)
+            hi = lo + 1.0;
+    } else {
+        lo = 0.0;
+        hi = hi > 0.0 ? hi * 1.05 : 1.0;
+    }
+    double left = x0 + 52.0, right = x0 + w - 12.0, top = y0 + 8.0, bottom = y0 + ROW_HEIGHT - 30.0;
+    char label[32];
+
+    cairo_set_dash(cr, NULL, 0, 0.0);
+    cairo_set_line_width(cr, 1.0);
+    for (int a = 0; a <= 180; a += 30) { /* angle grid */
+        double x = left + (right - left) * a / 180.0;
+        cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+        cairo_move_to(cr, x, top);
+        cairo_line_to(cr, x, bottom);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        snprintf(label, sizeof label, "%d", a);
+        draw_text(cr, x, bottom + 15.0, label, 0.5);
+    }
+    draw_text(cr, 0.5 * (left + right), bottom + 28.0, "scattering angle (degrees)", 0.5);
+    /* Value grid: decades on a log scale, about five round steps otherwise. */
+    double step = log_scale ? 1.0 : pow(10.0, floor(log10(hi / 5.0)));
+    if (!log_scale && hi / step > 10.0)
+        step *= hi / step > 20.0 ? 5.0 : 2.0;
+    for (double v = lo; v <= hi + 1e-9 * step; v += step) {
+        double y = bottom - (bottom - top) * (v - lo) / (hi - lo);
+        cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
+        cairo_move_to(cr, left, y);
+        cairo_line_to(cr, right, y);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        snprintf(label, sizeof label, "%g", log_scale ? pow(10.0, v) : v);
+        draw_text(cr, left - 4.0, y + 4.0, label, 1.0);
+    }
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_rectangle(cr, left, top, right - left, bottom - top);
+    cairo_stroke(cr);
+
+    cairo_save(cr);
+    cairo_rectangle(cr, left, top, right - left, bottom - top);
+    cairo_clip(cr);
+    for (int c = 0; c < 2; c++) {
+        const phase *p = c ? row->approx : row->truth;
+        if (!p)
+            continue;
+        set_color(cr, c);
+        for (int i = 0; i < CURVE_POINTS; i++) {
+            double th = PI * i / (CURVE_POINTS - 1);
+            double v = plot_value(plot_phi(p, th), log_scale);
+            double x = left + (right - left) * i / (CURVE_POINTS - 1.0);
+            double y = bottom - (bottom - top) * (v - lo) / (hi - lo);
+            if (i == 0)
+                cairo_move_to(cr, x, y);
+            else
+                cairo_line_to(cr, x, y);
+        }
+        cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+}
+
+brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows, bool log_scale)
+{
+    if (n < 1)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: nothing to plot", path);
+    int height = n * (ROW_HEIGHT + TITLE_HEIGHT) + 6;
+    cairo_surface_t *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, PLOT_WIDTH, height);
+    cairo_t *cr = cairo_create(s);
+    cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+    cairo_paint(cr);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, 11.0);
+    for (int i = 0; i < n; i++) {
+        double y0 = i * (ROW_HEIGHT + TITLE_HEIGHT) + 4.0;
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+        cairo_set_font_size(cr, 13.0);
+        draw_text(cr, 8.0, y0 + 16.0, rows[i].title ? rows[i].title : "", 0.0);
+        cairo_set_font_size(cr, 11.0);
+        draw_polar(cr, &rows[i], log_scale, 0.0, y0 + TITLE_HEIGHT);
+        draw_cartesian(cr, &rows[i], log_scale, POLAR_SIZE, y0 + TITLE_HEIGHT, PLOT_WIDTH - POLAR_SIZE);
+    }
+    cairo_status_t cst = cairo_status(cr);
+    cairo_destroy(cr);
+    if (cst != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(s);
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: drawing failed: %s", path, cairo_status_to_string(cst));
+    }
+    /* Atomic write: a temporary file in the same folder, renamed over path when whole. */
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp) {
+        cairo_surface_destroy(s);
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
+    }
+    cst = cairo_surface_write_to_png(s, tmp);
+    cairo_surface_destroy(s);
+    if (cst != CAIRO_STATUS_SUCCESS) {
+        remove(tmp);
+        return err_set(BRUME_ERROR_IO, "%s: cannot write: %s", path, cairo_status_to_string(cst));
+    }
+    if (rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        return err_set(BRUME_ERROR_IO, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
+    }
+    return BRUME_OK;
+}
