@@ -128,6 +128,44 @@ TEST(bad_values_are_errors)
                  BRUME_ERROR_PARSE, "camera", "twice");
 }
 
+#define MEDIUM_WITH(PHASE)                                                                           \
+    "{" MINIMAL_CAMERA ", \"media\": [{\"sigma_a\": 1, \"sigma_s\": 1, \"density\": {\"type\": \"constant\"}, " \
+    "\"phase\": " PHASE "}]}"
+
+/* Every phase function of the Blasi family can be named in a scene. */
+TEST(phase_functions_in_scenes)
+{
+    const char *ok[] = {
+        "{\"type\": \"isotropic\"}", "{\"type\": \"rayleigh\"}", "{\"type\": \"hazy\"}", "{\"type\": \"murky\"}",
+        "{\"type\": \"hg\", \"g\": -0.2}", "{\"type\": \"schlick\", \"k\": 0.5}", "{\"type\": \"schlick\", \"g\": 0.5}",
+        "{\"type\": \"schlick_mix\", \"r\": 0.19, \"k\": -0.65, \"kprime\": 0.91}",
+        "{\"type\": \"mixture\", \"lobes\": [{\"weight\": 1, \"phase\": {\"type\": \"rayleigh\"}},"
+        " {\"weight\": 3, \"phase\": {\"type\": \"hg\", \"g\": 0.8}}]}"};
+    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
+        char text[1024];
+        snprintf(text, sizeof text, MEDIUM_WITH("%s"), ok[i]);
+        const char *path = write_text("phase.json", text);
+        brume_context *ctx = brume_context_new();
+        brume_scene *s = NULL;
+        if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+            TEST_FAIL("%s: %s", ok[i], brume_context_last_error(ctx));
+        brume_scene_release(s);
+        brume_context_release(ctx);
+        remove(path);
+    }
+    expect_error(MEDIUM_WITH("{\"type\": \"schlick\", \"k\": 1.2}"), BRUME_ERROR_RANGE, "media[0].phase.k", "1.2");
+    expect_error(MEDIUM_WITH("{\"type\": \"schlick\", \"k\": 0.2, \"g\": 0.1}"), BRUME_ERROR_PARSE, "media[0].phase",
+                 "exactly one");
+    expect_error(MEDIUM_WITH("{\"type\": \"schlick_mix\", \"r\": 1.5, \"k\": 0, \"kprime\": 0}"), BRUME_ERROR_RANGE,
+                 "media[0].phase.r", "1.5");
+    expect_error(MEDIUM_WITH("{\"type\": \"mixture\", \"lobes\": [{\"weight\": 1, \"phase\": {\"type\": \"hg\", "
+                             "\"g\": 2}}]}"),
+                 BRUME_ERROR_RANGE, "media[0].phase.lobes[0].phase.g", NULL);
+    expect_error(MEDIUM_WITH("{\"type\": \"tabulated\", \"file\": \"no-such-table.txt\"}"), BRUME_ERROR_IO,
+                 "media[0].phase", "no-such-table.txt");
+    expect_error(MEDIUM_WITH("{\"type\": \"mie\"}"), BRUME_ERROR_PARSE, "media[0].phase.type", "mie");
+}
+
 TEST(missing_file_is_io_error)
 {
     brume_context *ctx = brume_context_new();
@@ -177,5 +215,6 @@ TEST(shipped_scenes_load)
 }
 
 TEST_MAIN(minimal_scene_loads, default_scene_loads, syntax_error_names_line, unknown_keys_are_errors,
-          wrong_types_are_errors, missing_required_keys_are_errors, bad_values_are_errors, missing_file_is_io_error,
+          wrong_types_are_errors, missing_required_keys_are_errors, bad_values_are_errors, phase_functions_in_scenes,
+          missing_file_is_io_error,
           error_callback_receives_errors, shipped_scenes_load)

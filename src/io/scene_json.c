@@ -144,26 +144,107 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
                    at.file, at.path, type);
 }
 
+#define PHASE_MAX_LOBES 16
+
+/* Relative file names in a scene are relative to the scene file's folder. */
+static void resolve_path(const char *scene_file, const char *name, char *out, size_t n)
+{
+    const char *slash = strrchr(scene_file, '/');
+    if (name[0] == '/' || !slash || scene_file[0] == '<')
+        snprintf(out, n, "%s", name);
+    else
+        snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+}
+
 static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
 {
     char type[32];
+    *out = NULL;
     if (!cJSON_IsObject(j))
         return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
     brume_status st = json_string(j, at, "type", 1, type, sizeof type);
     if (st) return st;
-    if (strcmp(type, "isotropic") == 0) {
-        static const char *const keys[] = {"type", NULL};
-        if ((st = json_check_object(j, at, keys))) return st;
-        *out = phase_new_isotropic();
+    static const char *const type_only[] = {"type", NULL};
+    if (strcmp(type, "isotropic") == 0 || strcmp(type, "rayleigh") == 0 || strcmp(type, "hazy") == 0 ||
+        strcmp(type, "murky") == 0) {
+        if ((st = json_check_object(j, at, type_only))) return st;
+        *out = type[0] == 'i' ? phase_new_isotropic()
+             : type[0] == 'r' ? phase_new_rayleigh()
+             : type[0] == 'h' ? phase_new_mie_hazy()
+                              : phase_new_mie_murky();
     } else if (strcmp(type, "hg") == 0) {
         static const char *const keys[] = {"type", "g", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
         double g = 0.0;
         if ((st = json_number(j, at, "g", 1, -0.999999, 0.999999, &g))) return st;
         *out = phase_new_hg(g);
+    } else if (strcmp(type, "schlick") == 0) {
+        /* k directly, or g converted by k = 1.55 g - 0.55 g^3 (docs/phase-functions.md) */
+        static const char *const keys[] = {"type", "k", "g", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        int has_k = cJSON_HasObjectItem(j, "k"), has_g = cJSON_HasObjectItem(j, "g");
+        if (has_k == has_g)
+            return err_set(BRUME_ERROR_PARSE, "%s: %s: give exactly one of k and g", at.file, at.path);
+        double v = 0.0;
+        if ((st = json_number(j, at, has_k ? "k" : "g", 1, -0.999999, 0.999999, &v))) return st;
+        *out = phase_new_schlick(has_k ? v : phase_schlick_k_from_g(v));
+    } else if (strcmp(type, "schlick_mix") == 0) {
+        /* Blasi Eq. 22: r schlick(k) + (1 - r) schlick(kprime) */
+        static const char *const keys[] = {"type", "r", "k", "kprime", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        double r = 0.0, k = 0.0, kp = 0.0;
+        if ((st = json_number(j, at, "r", 1, 0.0, 1.0, &r))) return st;
+        if ((st = json_number(j, at, "k", 1, -0.999999, 0.999999, &k))) return st;
+        if ((st = json_number(j, at, "kprime", 1, -0.999999, 0.999999, &kp))) return st;
+        *out = phase_new_schlick_mix(r, k, kp);
+    } else if (strcmp(type, "tabulated") == 0) {
+        static const char *const keys[] = {"type", "file", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        char name[1024], path[2048];
+        if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
+        resolve_path(at.file, name, path, sizeof path);
+        *out = phase_load_tabulated(path);
+    } else if (strcmp(type, "mixture") == 0) {
+        /* Blasi Eq. 20: a normalized sum of lobes, each {"weight": w, "phase": {...}} */
+        static const char *const keys[] = {"type", "lobes", NULL};
+        static const char *const lobe_keys[] = {"weight", "phase", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        const cJSON *lobes = cJSON_GetObjectItemCaseSensitive(j, "lobes");
+        int n = cJSON_GetArraySize(lobes);
+        if (!cJSON_IsArray(lobes) || n < 1 || n > PHASE_MAX_LOBES)
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.lobes: expected an array of 1 to %d lobes", at.file, at.path,
+                           PHASE_MAX_LOBES);
+        phase *ph[PHASE_MAX_LOBES] = {0};
+        double w[PHASE_MAX_LOBES];
+        int i = 0;
+        for (const cJSON *l = lobes->child; l && st == BRUME_OK; l = l->next, i++) {
+            char kp[256], kp2[300];
+            snprintf(kp, sizeof kp, "%s.lobes[%d]", at.path, i);
+            jloc lat = {at.file, kp};
+            if ((st = json_check_object(l, lat, lobe_keys))) break;
+            if ((st = json_number(l, lat, "weight", 1, 0.0, 1e30, &w[i]))) break;
+            const cJSON *lp = cJSON_GetObjectItemCaseSensitive(l, "phase");
+            if (!lp) {
+                st = err_set(BRUME_ERROR_PARSE, "%s: %s.phase: required key missing", at.file, kp);
+                break;
+            }
+            snprintf(kp2, sizeof kp2, "%s.phase", kp);
+            st = parse_phase(lp, (jloc){at.file, kp2}, &ph[i]);
+        }
+        if (st == BRUME_OK) {
+            *out = phase_new_mixture(n, w, ph);
+            if (!*out)
+                st = err_prefix("%s: %s", at.file, at.path);
+        }
+        if (!*out)
+            for (int k = 0; k < n; k++)
+                phase_release(ph[k]);
+        return st;
     } else {
-        return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown phase function '%s' (known: isotropic, hg)", at.file,
-                       at.path, type);
+        return err_set(BRUME_ERROR_PARSE,
+                       "%s: %s.type: unknown phase function '%s' (known: isotropic, rayleigh, hazy, murky, hg, "
+                       "schlick, schlick_mix, mixture, tabulated)",
+                       at.file, at.path, type);
     }
     if (!*out)
         return err_prefix("%s: %s", at.file, at.path);
