@@ -15,6 +15,8 @@
 
 static const double BIG = 1e30;
 
+static void resolve_path(const char *scene_file, const char *name, char *out, size_t n);
+
 static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
@@ -44,6 +46,44 @@ static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
     return BRUME_OK;
 }
 
+static brume_status parse_unit_vector(const cJSON *j, jloc at, const char *key, vec3 *out)
+{
+    brume_status st = json_vec3(j, at, key, 1, out);
+    if (st)
+        return st;
+    if (!(v3_length(*out) > 0.0))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: must not be the zero vector", at.file, at.path, key);
+    *out = v3_normalize(*out);
+    return BRUME_OK;
+}
+
+/* A spot's goniometric profile: [[angle_deg, factor], ...] with increasing angles. */
+static brume_status parse_profile(const cJSON *j, jloc at, light *l)
+{
+    const cJSON *pr = cJSON_GetObjectItemCaseSensitive(j, "profile");
+    int n = cJSON_GetArraySize(pr);
+    if (!cJSON_IsArray(pr) || n < 2 || n > LIGHT_PROFILE_MAX)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.profile: expected 2 to %d pairs [angle_deg, factor]", at.file,
+                       at.path, LIGHT_PROFILE_MAX);
+    int i = 0;
+    for (const cJSON *e = pr->child; e; e = e->next, i++) {
+        const cJSON *a = cJSON_GetArrayItem(e, 0), *v = cJSON_GetArrayItem(e, 1);
+        if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 2 || !cJSON_IsNumber(a) || !cJSON_IsNumber(v))
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.profile[%d]: expected [angle_deg, factor]", at.file, at.path, i);
+        double ang = a->valuedouble, val = v->valuedouble;
+        if (!isfinite(ang) || ang < 0.0 || ang > 180.0 || (i > 0 && !(ang > l->profile_angle[i - 1])))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.profile[%d]: angle %g must increase within [0, 180]", at.file,
+                           at.path, i, ang);
+        if (!isfinite(val) || val < 0.0)
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.profile[%d]: factor %g must be finite and >= 0", at.file,
+                           at.path, i, val);
+        l->profile_angle[i] = ang;
+        l->profile_value[i] = val;
+    }
+    l->profile_n = n;
+    return BRUME_OK;
+}
+
 static brume_status parse_light(const cJSON *j, jloc at, light *l)
 {
     char type[32];
@@ -52,13 +92,13 @@ static brume_status parse_light(const cJSON *j, jloc at, light *l)
     brume_status st = json_string(j, at, "type", 1, type, sizeof type);
     if (st) return st;
     if (strcmp(type, "distant") == 0) {
-        static const char *const keys[] = {"type", "direction", "irradiance", NULL};
+        static const char *const keys[] = {"type", "direction", "irradiance", "angular_radius", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
         l->kind = LIGHT_DISTANT;
-        if ((st = json_vec3(j, at, "direction", 1, &l->direction))) return st;
-        if (!(v3_length(l->direction) > 0.0))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s.direction: must not be the zero vector", at.file, at.path);
-        l->direction = v3_normalize(l->direction);
+        if ((st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
+        double deg = 0.0;
+        if ((st = json_number(j, at, "angular_radius", 0, 0.0, 90.0, &deg))) return st;
+        l->angular_radius = deg * PI / 180.0;
         return json_color(j, at, "irradiance", 1, 0.0, BIG, &l->L);
     }
     if (strcmp(type, "point") == 0) {
@@ -68,8 +108,76 @@ static brume_status parse_light(const cJSON *j, jloc at, light *l)
         if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
         return json_color(j, at, "intensity", 1, 0.0, BIG, &l->L);
     }
-    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown light type '%s' (known: distant, point)", at.file, at.path,
-                   type);
+    if (strcmp(type, "spot") == 0) {
+        static const char *const keys[] = {"type", "position", "direction", "intensity", "cone_angle",
+                                           "falloff_start", "profile", NULL};
+        if ((st = json_check_object(j, at, keys))) return st;
+        l->kind = LIGHT_SPOT;
+        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
+        if ((st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
+        if ((st = json_color(j, at, "intensity", 1, 0.0, BIG, &l->L))) return st;
+        if (cJSON_HasObjectItem(j, "profile")) {
+            if (cJSON_HasObjectItem(j, "cone_angle") || cJSON_HasObjectItem(j, "falloff_start"))
+                return err_set(BRUME_ERROR_PARSE, "%s: %s: give either profile or cone_angle/falloff_start", at.file,
+                               at.path);
+            return parse_profile(j, at, l);
+        }
+        double cone = 30.0, start = -1.0;
+        if ((st = json_number(j, at, "cone_angle", 0, 0.01, 180.0, &cone))) return st;
+        start = cone;
+        if ((st = json_number(j, at, "falloff_start", 0, 0.0, cone, &start))) return st;
+        l->cos_outer = cos(cone * PI / 180.0);
+        l->cos_inner = cos(start * PI / 180.0);
+        if (l->cos_inner <= l->cos_outer)
+            l->cos_inner = l->cos_outer + 1e-9;
+        return BRUME_OK;
+    }
+    if (strcmp(type, "sphere") == 0 || strcmp(type, "disk") == 0) {
+        static const char *const skeys[] = {"type", "position", "radius", "radiance", NULL};
+        static const char *const dkeys[] = {"type", "position", "direction", "radius", "radiance", NULL};
+        bool sphere = type[0] == 's';
+        if ((st = json_check_object(j, at, sphere ? skeys : dkeys))) return st;
+        l->kind = sphere ? LIGHT_SPHERE : LIGHT_DISK;
+        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
+        if (!sphere && (st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
+        if ((st = json_number(j, at, "radius", 1, 1e-9, BIG, &l->radius))) return st;
+        return json_color(j, at, "radiance", 1, 0.0, BIG, &l->L);
+    }
+    return err_set(BRUME_ERROR_PARSE,
+                   "%s: %s.type: unknown light type '%s' (known: distant, point, spot, sphere, disk)", at.file,
+                   at.path, type);
+}
+
+/* "background": a color, or {"color": c} or {"file": "env.exr", "scale": s, "up": [...]} */
+static brume_status parse_background(const cJSON *root, jloc top, background *bg)
+{
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(root, "background");
+    if (!b)
+        return BRUME_OK;
+    if (!cJSON_IsObject(b))
+        return json_color(root, top, "background", 0, 0.0, BIG, &bg->L);
+    static const char *const keys[] = {"color", "file", "scale", "up", NULL};
+    jloc at = {top.file, "background"};
+    brume_status st = json_check_object(b, at, keys);
+    if (st) return st;
+    if ((st = json_color(b, at, "color", 0, 0.0, BIG, &bg->L))) return st;
+    if ((st = json_number(b, at, "scale", 0, 0.0, BIG, &bg->scale))) return st;
+    if (cJSON_HasObjectItem(b, "up") && (st = parse_unit_vector(b, at, "up", &bg->up))) return st;
+    char name[1024], path[2048];
+    name[0] = '\0';
+    if ((st = json_string(b, at, "file", 0, name, sizeof name))) return st;
+    if (name[0]) {
+        if (cJSON_HasObjectItem(b, "color"))
+            return err_set(BRUME_ERROR_PARSE, "%s: background: give either color or file", top.file);
+        resolve_path(top.file, name, path, sizeof path);
+        brume_context *ctx = brume_context_new();
+        st = brume_image_read(ctx, path, &bg->img);
+        if (st)
+            err_set(st, "%s: background.file: %s", top.file, brume_context_last_error(ctx));
+        brume_context_release(ctx);
+        if (st) return st;
+    }
+    return BRUME_OK;
 }
 
 static brume_status parse_box(const cJSON *j, jloc at, const char *key, box3 *b)
@@ -321,7 +429,7 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
     if (!cam)
         return err_set(BRUME_ERROR_PARSE, "%s: camera: required key missing", file);
     if ((st = parse_camera(cam, (jloc){file, "camera"}, &s->cam))) return st;
-    if ((st = json_color(root, top, "background", 0, 0.0, BIG, &s->background))) return st;
+    if ((st = parse_background(root, top, &s->bg))) return st;
 
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights) {

@@ -1,4 +1,4 @@
-/* integrator.c - volumetric path tracing with spectral tracking (Kutz et al. 2017).
+/* integrator.c - volumetric path tracing with spectral tracking and MIS.
  *
  * Along each flight, tentative collisions are drawn against the scalar majorant
  * sigma_maj (track.h). At a collision with coefficients sigma_a, sigma_s and
@@ -7,16 +7,14 @@
  *   - one event is chosen: absorption, scattering or null, with the history-aware
  *     probabilities P_x = avg(beta sigma_x) / sum_y avg(beta sigma_y), and beta is
  *     multiplied by sigma_x / (sigma_maj P_x). Absorption ends the path.
- * For a gray medium and gray beta this is delta tracking with weights that stay 1; for
- * chromatic media it is unbiased with bounded weights. At scattering events, next-event
- * estimation to each delta light uses ratio tracking for the transmittance; the path then
- * continues in a direction sampled from the phase function, and the background radiance
- * is gathered when a flight leaves the media. Derivation: docs/path-tracer.md. */
+ * (Kutz et al. 2017.) At a scattering event every light and the background are sampled
+ * (next-event estimation, transmittance by ratio tracking), and the path continues along
+ * a phase-function sample; area lights and the background reached by that continuation
+ * are weighted against next-event estimation by the power heuristic (Veach 1997).
+ * Derivations: docs/path-tracer.md. */
 #include "render/integrator.h"
 
 #include <string.h>
-
-#include "render/track.h"
 
 bool integrator_from_name(const char *name, integrator_kind *out)
 {
@@ -30,23 +28,6 @@ bool integrator_from_name(const char *name, integrator_kind *out)
 }
 
 const char *integrator_names(void) { return "path, single"; }
-
-typedef enum flight_end {
-    FLIGHT_ESCAPED,
-    FLIGHT_SCATTERED,
-    FLIGHT_ABSORBED
-} flight_end;
-
-typedef struct flight {
-    const brume_scene *s;
-    ray r;
-    rng *g;
-    color beta; /* path throughput */
-    color L;    /* radiance gathered so far */
-    flight_end end;
-    double t;   /* where it scattered */
-    medium_sample ms;
-} flight;
 
 static bool flight_step(double t, double sigma_maj, void *user)
 {
@@ -84,26 +65,107 @@ static bool flight_step(double t, double sigma_maj, void *user)
     return true;
 }
 
-/* Direct light from every delta light, scattered at p towards -wo (wo: propagation
- * direction of the incoming path). */
+flight_end flight_run(flight *f, ray r, double tmax)
+{
+    f->r = r;
+    f->end = FLIGHT_ESCAPED;
+    track_collisions(f->s, r, tmax, f->g, flight_step, f);
+    return f->end;
+}
+
+bool path_roulette(color *beta, int depth, rng *g)
+{
+    double q = col_max(*beta);
+    if (depth < 3 || q >= 0.5)
+        return true;
+    if (rng_next(g) >= q)
+        return false;
+    *beta = col_scale(*beta, 1.0 / q);
+    return true;
+}
+
+/* Power heuristic with exponent 2. */
+static double mis_weight(double pdf_this, double pdf_other)
+{
+    double a = pdf_this * pdf_this, b = pdf_other * pdf_other;
+    return a > 0.0 ? a / (a + b) : 0.0;
+}
+
+/* Next-event estimation at p for a path arriving along wo (propagation direction):
+ * every light, and the background. cos is between the light's propagation direction (-wi)
+ * and the outgoing one (-wo). */
 static color direct_light(const brume_scene *s, vec3 p, vec3 wo, const phase *ph, rng *g)
 {
     color Ld = col(0.0);
     for (int i = 0; i < s->nlights; i++) {
-        vec3 wi;
-        double dist;
-        color E = light_sample_delta(&s->lights[i], p, &wi, &dist);
-        if (col_is_black(E))
+        light_sample ls;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        if (!light_sample_at(&s->lights[i], p, u1, u2, &ls) || col_is_black(ls.Li) || !(ls.pdf > 0.0))
             continue;
-        /* light propagates along -wi and leaves along -wo: cos between propagation dirs */
-        double cos_theta = v3_dot(v3_neg(wi), v3_neg(wo));
+        double cos_theta = v3_dot(ls.wi, wo);
         double ph_val = phase_eval(ph, cos_theta);
         if (ph_val <= 0.0)
             continue;
-        color Tr = track_transmittance(s, (ray){p, wi, 0.0}, dist, g);
-        Ld = col_add(Ld, col_scale(col_mul(E, Tr), ph_val));
+        double w = ls.delta ? 1.0 : mis_weight(ls.pdf, phase_pdf(ph, cos_theta));
+        color Tr = track_transmittance(s, (ray){p, ls.wi, 0.0}, ls.dist, g);
+        Ld = col_add(Ld, col_scale(col_mul(ls.Li, Tr), ph_val * w / ls.pdf));
+    }
+    if (!background_is_black(&s->bg)) {
+        double pdf;
+        color Lb;
+        vec3 wi = background_sample(&s->bg, rng_next(g), rng_next(g), &pdf, &Lb);
+        if (pdf > 0.0 && !col_is_black(Lb)) {
+            double cos_theta = v3_dot(wi, wo);
+            double ph_val = phase_eval(ph, cos_theta);
+            double w = mis_weight(pdf, phase_pdf(ph, cos_theta));
+            color Tr = track_transmittance(s, (ray){p, wi, 0.0}, INFINITY, g);
+            Ld = col_add(Ld, col_scale(col_mul(Lb, Tr), ph_val * w / pdf));
+        }
     }
     return Ld;
+}
+
+/* The nearest finite area light (sphere, disk) along the ray, or -1. */
+static int nearest_area_light(const brume_scene *s, vec3 o, vec3 d, double *t_hit, color *Le, double *pdf)
+{
+    int best = -1;
+    *t_hit = INFINITY;
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        if (l->kind != LIGHT_SPHERE && l->kind != LIGHT_DISK)
+            continue;
+        double t, p;
+        color c;
+        if (light_hit(l, o, d, &t, &c, &p) && t < *t_hit) {
+            *t_hit = t;
+            *Le = c;
+            *pdf = p;
+            best = i;
+        }
+    }
+    return best;
+}
+
+/* Radiance reaching a flight that escaped every medium towards direction d: the
+ * background and any sun disk, weighted against next-event estimation unless the ray
+ * came from the camera (pdf_dir = 0). */
+static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
+{
+    color Le = col(0.0);
+    if (!background_is_black(&s->bg)) {
+        double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, background_pdf(&s->bg, d)) : 1.0;
+        Le = col_scale(background_eval(&s->bg, d), w);
+    }
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        double t, pdf_l;
+        color c;
+        if (l->kind == LIGHT_DISTANT && light_hit(l, v3(0, 0, 0), d, &t, &c, &pdf_l)) {
+            double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_l) : 1.0;
+            Le = col_madd(Le, c, w);
+        }
+    }
+    return Le;
 }
 
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
@@ -113,12 +175,18 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
     f.g = g;
     f.beta = col(1.0);
     f.L = col(0.0);
+    double pdf_dir = 0.0; /* solid-angle pdf of the current direction; 0 for camera rays */
     for (int depth = 0;; depth++) {
-        f.r = r;
-        f.end = FLIGHT_ESCAPED;
-        track_collisions(s, r, INFINITY, g, flight_step, &f);
-        if (f.end == FLIGHT_ESCAPED) {
-            f.L = col_add(f.L, col_mul(f.beta, s->background));
+        double t_light, pdf_light = 0.0;
+        color Le_light = col(0.0);
+        int hit = nearest_area_light(s, r.o, r.d, &t_light, &Le_light, &pdf_light);
+        if (flight_run(&f, r, t_light) == FLIGHT_ESCAPED) {
+            if (hit >= 0) {
+                double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
+                f.L = col_add(f.L, col_scale(col_mul(f.beta, Le_light), w));
+            } else {
+                f.L = col_add(f.L, col_mul(f.beta, escaped_radiance(s, r.d, pdf_dir)));
+            }
             break;
         }
         if (f.end == FLIGHT_ABSORBED || depth >= max_depth)
@@ -127,19 +195,13 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
         vec3 p = ray_at(r, f.t);
         const phase *ph = media_choose_phase(s, &f.ms, rng_next(g));
         f.L = col_add(f.L, col_mul(f.beta, direct_light(s, p, r.d, ph, g)));
-        if (depth + 1 >= max_depth && col_is_black(s->background) && !s->has_emission)
+        if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */
-        double pdf;
-        vec3 wo = phase_sample(ph, r.d, rng_next(g), rng_next(g), &pdf);
+        vec3 wo = phase_sample(ph, r.d, rng_next(g), rng_next(g), &pdf_dir);
         /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
         r = (ray){p, wo, r.time};
-        /* Russian roulette once the throughput is small. */
-        double q = col_max(f.beta);
-        if (depth >= 3 && q < 0.5) {
-            if (rng_next(g) >= q)
-                break;
-            f.beta = col_scale(f.beta, 1.0 / q);
-        }
+        if (!path_roulette(&f.beta, depth, g))
+            break;
     }
     return f.L;
 }

@@ -1,13 +1,18 @@
 /* integrator.h - estimators of the radiance arriving along a camera ray.
  *   path    unbiased volumetric path tracing: spectral tracking for free flights,
- *           next-event estimation with ratio-tracked shadow rays, Russian roulette
+ *           next-event estimation to every light and to the background with multiple
+ *           importance sampling against phase sampling, ratio-tracked shadow rays,
+ *           Russian roulette, emission
  *   single  the same estimator stopped after one scattering event: single scattering
- *           of every light and of the background */
+ *           of every light and of the background
+ * The free-flight and scattering steps are exposed (flight_run, path_roulette) so that
+ * other estimators (brume slab) run on exactly the code the renderer runs. */
 #ifndef BRUME_RENDER_INTEGRATOR_H
 #define BRUME_RENDER_INTEGRATOR_H
 
 #include "core/rng.h"
 #include "render/scene.h"
+#include "render/track.h"
 
 typedef enum integrator_kind {
     INTEGRATOR_PATH,
@@ -24,5 +29,31 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g);
 
 /* The path estimator with an explicit cap on scattering events (>= 1). */
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
+
+/* ---- building blocks ---------------------------------------------------------------- */
+
+typedef enum flight_end {
+    FLIGHT_ESCAPED,   /* passed tmax (or left every medium) */
+    FLIGHT_SCATTERED, /* a real scattering collision at t */
+    FLIGHT_ABSORBED   /* the path ends */
+} flight_end;
+
+typedef struct flight {
+    const brume_scene *s;
+    ray r;
+    rng *g;
+    color beta;       /* path throughput, updated by spectral tracking */
+    color L;          /* emission gathered along the flight, weighted by beta */
+    flight_end end;
+    double t;         /* where it scattered */
+    medium_sample ms; /* the media at the scattering point */
+} flight;
+
+/* One free flight along r over [0, tmax] by spectral tracking (docs/path-tracer.md).
+ * f->beta and f->L carry in and out; returns f->end. */
+flight_end flight_run(flight *f, ray r, double tmax);
+/* Russian roulette after `depth` scattering events: false = the path ends; otherwise beta
+ * may have been divided by its survival probability. */
+bool path_roulette(color *beta, int depth, rng *g);
 
 #endif

@@ -35,7 +35,9 @@ brume_scene *scene_new(const char *source)
     scene_default_settings(&s->settings);
     s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
                       .aperture_radius = 0.0, .focus_distance = 1.0, .shutter_open = 0.0, .shutter_close = 0.0};
-    s->background = col(0.0);
+    s->bg.L = col(0.0);
+    s->bg.scale = 1.0;
+    s->bg.up = v3(0, 1, 0);
     return s;
 }
 
@@ -97,6 +99,13 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
             s->has_emission = true;
     }
+    for (int i = 0; i < s->nlights; i++)
+        light_init(&s->lights[i]);
+    if (!background_init(&s->bg))
+        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: background: out of memory", s->source));
+    s->has_indirect_sources = s->has_emission || !background_is_black(&s->bg);
+    for (int i = 0; i < s->nlights; i++)
+        s->has_indirect_sources |= light_is_area(&s->lights[i]);
     s->committed = true;
     return ctx_report(ctx, BRUME_OK);
 }
@@ -108,5 +117,6 @@ void brume_scene_release(brume_scene *s)
     for (int m = 0; m < s->nmedia; m++)
         medium_release(&s->media[m]);
     free(s->lights);
+    background_release(&s->bg);
     free(s);
 }

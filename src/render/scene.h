@@ -6,6 +6,7 @@
 
 #include "brume.h"
 #include "medium/medium.h"
+#include "render/background.h"
 #include "render/camera.h"
 #include "render/light.h"
 
@@ -19,9 +20,11 @@ struct brume_scene {
     int nlights;
     medium media[SCENE_MAX_MEDIA];
     int nmedia;
-    color background; /* radiance arriving from every direction not blocked (Blasi's L-infinity) */
+    background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
     brume_render_settings settings;
     bool has_emission; /* some medium has Le > 0 (set by commit) */
+    bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
+                                  phase sampling (set by commit) */
 };
 
 /* An empty scene with default settings and camera; NULL when out of memory. */
