@@ -6,7 +6,8 @@
 
 #define BRUME_COMMANDS(X)                                                   \
     X(render, "render a scene (or the built-in default scene) to an image") \
-    X(phase, "phase functions: fit a Schlick mixture, plot")
+    X(phase, "phase functions: fit a Schlick mixture, plot")               \
+    X(slab, "reflectance and transmittance of a plane-parallel slab")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)
