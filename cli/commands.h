@@ -7,7 +7,8 @@
 #define BRUME_COMMANDS(X)                                                   \
     X(render, "render a scene (or the built-in default scene) to an image") \
     X(phase, "phase functions: fit a Schlick mixture, plot")               \
-    X(slab, "reflectance and transmittance of a plane-parallel slab")
+    X(slab, "reflectance and transmittance of a plane-parallel slab")     \
+    X(compare, "error figures and a difference picture of two images")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)
