@@ -16,6 +16,8 @@
 
 #include <string.h>
 
+#include "surface/surfaces.h"
+
 bool integrator_from_name(const char *name, integrator_kind *out)
 {
     if (strcmp(name, "path") == 0)
@@ -91,35 +93,81 @@ static double mis_weight(double pdf_this, double pdf_other)
     return a > 0.0 ? a / (a + b) : 0.0;
 }
 
-/* Next-event estimation at p for a path arriving along wo (propagation direction):
- * every light, and the background. cos is between the light's propagation direction (-wi)
- * and the outgoing one (-wo). */
-static color direct_light(const brume_scene *s, vec3 p, vec3 wo, const phase *ph, rng *g)
+/* A scattering vertex: in a medium (phase function) or on a surface (material). */
+typedef struct vertex {
+    vec3 p;          /* where light is gathered (offset off the surface for surfaces) */
+    vec3 d;          /* propagation direction of the arriving path (unit) */
+    const phase *ph; /* medium vertex */
+    const material *m; /* surface vertex */
+    vec3 n;          /* surface: unit normal on the side of -d */
+} vertex;
+
+/* Scattering kernel for light arriving from direction wi (towards the light) and leaving
+ * back along -d: phase p(cos) between propagation directions -wi and -d, or f cos. */
+static color vertex_f(const vertex *v, vec3 wi)
+{
+    if (v->ph)
+        return col(phase_eval(v->ph, v3_dot(wi, v->d)));
+    return col_scale(material_eval(v->m, v->n, v3_neg(v->d), wi), fabs(v3_dot(wi, v->n)));
+}
+
+static double vertex_pdf(const vertex *v, vec3 wi)
+{
+    if (v->ph)
+        return phase_pdf(v->ph, v3_dot(wi, v->d));
+    return material_pdf(v->m, v->n, v3_neg(v->d), wi);
+}
+
+/* Transmittance from p along unit wi over (0, dist): 0 if a surface is in the way, else
+ * the media's, by ratio tracking. */
+color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, rng *g)
+{
+    if (s->surf && surfaces_occluded(s->surf, p, wi, 0.0, dist * (1.0 - 1e-7)))
+        return col(0.0);
+    return track_transmittance(s, (ray){p, wi, 0.0}, dist, g);
+}
+
+/* Next-event estimation at a vertex: every light, emissive surfaces and the background. */
+static color direct_light(const brume_scene *s, const vertex *v, rng *g)
 {
     color Ld = col(0.0);
     for (int i = 0; i < s->nlights; i++) {
         light_sample ls;
         double u1 = rng_next(g), u2 = rng_next(g);
-        if (!light_sample_at(&s->lights[i], p, u1, u2, &ls) || col_is_black(ls.Li) || !(ls.pdf > 0.0))
+        if (!light_sample_at(&s->lights[i], v->p, u1, u2, &ls) || col_is_black(ls.Li) || !(ls.pdf > 0.0))
             continue;
-        double cos_theta = v3_dot(ls.wi, wo);
-        double ph_val = phase_eval(ph, cos_theta);
-        if (ph_val <= 0.0)
+        color f = vertex_f(v, ls.wi);
+        if (col_is_black(f))
             continue;
-        double w = ls.delta ? 1.0 : mis_weight(ls.pdf, phase_pdf(ph, cos_theta));
-        color Tr = track_transmittance(s, (ray){p, ls.wi, 0.0}, ls.dist, g);
-        Ld = col_add(Ld, col_scale(col_mul(ls.Li, Tr), ph_val * w / ls.pdf));
+        double w = ls.delta ? 1.0 : mis_weight(ls.pdf, vertex_pdf(v, ls.wi));
+        color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, g);
+        Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / ls.pdf));
+    }
+    if (surfaces_has_emitters(s->surf)) {
+        vec3 wi;
+        double dist, pdf;
+        color Le;
+        double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
+        if (surfaces_sample_emitter(s->surf, v->p, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0) {
+            color f = vertex_f(v, wi);
+            if (!col_is_black(f)) {
+                double w = mis_weight(pdf, vertex_pdf(v, wi));
+                color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), g);
+                Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / pdf));
+            }
+        }
     }
     if (!background_is_black(&s->bg)) {
         double pdf;
         color Lb;
         vec3 wi = background_sample(&s->bg, rng_next(g), rng_next(g), &pdf, &Lb);
         if (pdf > 0.0 && !col_is_black(Lb)) {
-            double cos_theta = v3_dot(wi, wo);
-            double ph_val = phase_eval(ph, cos_theta);
-            double w = mis_weight(pdf, phase_pdf(ph, cos_theta));
-            color Tr = track_transmittance(s, (ray){p, wi, 0.0}, INFINITY, g);
-            Ld = col_add(Ld, col_scale(col_mul(Lb, Tr), ph_val * w / pdf));
+            color f = vertex_f(v, wi);
+            if (!col_is_black(f)) {
+                double w = mis_weight(pdf, vertex_pdf(v, wi));
+                color Tr = scene_transmittance(s, v->p, wi, INFINITY, g);
+                Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / pdf));
+            }
         }
     }
     return Ld;
@@ -168,7 +216,7 @@ static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
     return Le;
 }
 
-color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
+color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface)
 {
     flight f;
     f.s = s;
@@ -176,11 +224,40 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
     f.beta = col(1.0);
     f.L = col(0.0);
     double pdf_dir = 0.0; /* solid-angle pdf of the current direction; 0 for camera rays */
+    if (hit_surface)
+        *hit_surface = false;
     for (int depth = 0;; depth++) {
         double t_light, pdf_light = 0.0;
         color Le_light = col(0.0);
         int hit = nearest_area_light(s, r.o, r.d, &t_light, &Le_light, &pdf_light);
-        if (flight_run(&f, r, t_light) == FLIGHT_ESCAPED) {
+        surface_hit sh;
+        bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_light, &sh);
+        if (depth == 0 && hit_surface)
+            *hit_surface = on_surface;
+        if (flight_run(&f, r, on_surface ? sh.t : t_light) == FLIGHT_ESCAPED) {
+            if (on_surface) {
+                /* emission of the surface, then reflection off it */
+                color Le = surface_emission(&sh, v3_neg(r.d));
+                if (!col_is_black(Le)) {
+                    double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, surfaces_emitter_pdf(s->surf, &sh, r.o)) : 1.0;
+                    f.L = col_add(f.L, col_scale(col_mul(f.beta, Le), w));
+                }
+                if (depth >= max_depth || material_is_black(sh.mat))
+                    break;
+                vertex v = {.d = r.d, .ph = NULL, .m = sh.mat};
+                v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
+                v.p = surface_offset(&sh, v.n);
+                f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
+                vec3 wi;
+                double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
+                if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
+                    break;
+                f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
+                r = (ray){v.p, wi, r.time};
+                if (!path_roulette(&f.beta, depth, g))
+                    break;
+                continue;
+            }
             if (hit >= 0) {
                 double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
                 f.L = col_add(f.L, col_scale(col_mul(f.beta, Le_light), w));
@@ -191,26 +268,27 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g)
         }
         if (f.end == FLIGHT_ABSORBED || depth >= max_depth)
             break;
-        /* Scattering: next-event estimation, then continue along a phase sample. */
-        vec3 p = ray_at(r, f.t);
-        const phase *ph = media_choose_phase(s, &f.ms, rng_next(g));
-        f.L = col_add(f.L, col_mul(f.beta, direct_light(s, p, r.d, ph, g)));
+        /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
+        vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL};
+        f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
         if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */
-        vec3 wo = phase_sample(ph, r.d, rng_next(g), rng_next(g), &pdf_dir);
+        vec3 wo = phase_sample(v.ph, r.d, rng_next(g), rng_next(g), &pdf_dir);
         /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
-        r = (ray){p, wo, r.time};
+        r = (ray){v.p, wo, r.time};
         if (!path_roulette(&f.beta, depth, g))
             break;
     }
     return f.L;
 }
 
-color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g)
+color path_Li(const brume_scene *s, ray r, int max_depth, rng *g) { return path_Li_alpha(s, r, max_depth, g, NULL); }
+
+color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g, bool *hit_surface)
 {
     switch (kind) {
-    case INTEGRATOR_PATH: return path_Li(s, r, s->settings.max_depth, g);
-    case INTEGRATOR_SINGLE: return path_Li(s, r, 1, g);
+    case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
+    case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);
     }
     return col(0.0);
 }

@@ -24,11 +24,18 @@ bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
 
-/* Radiance along r (unit direction) for the given kind. */
-color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g);
+/* Radiance along r (unit direction) for the given kind; *hit_surface tells whether the
+ * ray's first hit is a solid surface (may be NULL). */
+color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g, bool *hit_surface);
 
-/* The path estimator with an explicit cap on scattering events (>= 1). */
+/* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
+ * surface counts as one). */
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
+/* The same, also telling whether the camera ray's first hit is a surface. */
+color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface);
+/* Transmittance from p along unit wi over (0, dist): 0 when a surface blocks the segment,
+ * else that of the media (ratio tracking). */
+color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, rng *g);
 
 /* ---- building blocks ---------------------------------------------------------------- */
 

@@ -41,12 +41,12 @@ static void render_tile(size_t task, int thread, void *user)
                 film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
                 double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
                 ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
-                color L = integrator_Li(job->kind, s, r, &g);
+                bool opaque = false;
+                color L = integrator_Li(job->kind, s, r, &g, &opaque);
                 if (col_isfinite(L))
                     sum = col_add(sum, L);
-                /* alpha: 1 - mean transmittance of the media along the primary ray */
-                color Tr = track_transmittance(s, r, INFINITY, &g);
-                alpha += 1.0 - col_avg(Tr);
+                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the ray */
+                alpha += opaque ? 1.0 : 1.0 - col_avg(track_transmittance(s, r, INFINITY, &g));
             }
             float *px = job->img->rgba + 4 * pixel;
             double inv = 1.0 / rs->spp;

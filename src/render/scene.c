@@ -103,7 +103,9 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         light_init(&s->lights[i]);
     if (!background_init(&s->bg))
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: background: out of memory", s->source));
-    s->has_indirect_sources = s->has_emission || !background_is_black(&s->bg);
+    if (s->surf && surfaces_commit(s->surf) != BRUME_OK)
+        return ctx_report(ctx, err_prefix("%s: surfaces", s->source));
+    s->has_indirect_sources = s->has_emission || !background_is_black(&s->bg) || surfaces_has_emitters(s->surf);
     for (int i = 0; i < s->nlights; i++)
         s->has_indirect_sources |= light_is_area(&s->lights[i]);
     s->committed = true;
@@ -118,5 +120,6 @@ void brume_scene_release(brume_scene *s)
         medium_release(&s->media[m]);
     free(s->lights);
     background_release(&s->bg);
+    surfaces_release(s->surf);
     free(s);
 }

@@ -9,6 +9,7 @@
 #include "render/background.h"
 #include "render/camera.h"
 #include "render/light.h"
+#include "surface/surfaces.h"
 
 #define SCENE_MAX_MEDIA 16
 
@@ -20,6 +21,7 @@ struct brume_scene {
     int nlights;
     medium media[SCENE_MAX_MEDIA];
     int nmedia;
+    surfaces *surf;   /* solid objects (owned), or NULL when the scene has none */
     background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
     brume_render_settings settings;
     bool has_emission; /* some medium has Le > 0 (set by commit) */

@@ -1,0 +1,405 @@
+/* surfaces.c - Embree 3 scene of spheres and triangle meshes, and emitter sampling. */
+#include "surface/surfaces.h"
+
+#include <embree3/rtcore.h>
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/distrib.h"
+#include "core/error.h"
+#include "core/sampling.h"
+
+typedef struct surface_object {
+    char name[64];
+    material mat;
+    bool is_sphere;
+    vec3 center; /* sphere */
+    double radius;
+    int nv, ntri;   /* mesh */
+    double *pos;    /* 3 nv, owned */
+    int *idx;       /* 3 ntri, owned */
+} surface_object;
+
+/* One emissive primitive: a triangle of a mesh, or a whole sphere. */
+typedef struct emitter {
+    int object, prim;
+    double area;
+} emitter;
+
+struct surfaces {
+    RTCDevice device;
+    RTCScene scene;
+    surface_object *obj;
+    int n, cap;
+    bool committed;
+    emitter *em;
+    int nem;
+    int *em_first;    /* per object: index of its first emitter record, or -1 */
+    distrib1 em_dist; /* over emitters, in proportion to area x average radiance */
+    double em_total;  /* sum of area x average radiance */
+};
+
+static void on_embree_error(void *user, enum RTCError code, const char *msg)
+{
+    (void)user;
+    err_set(BRUME_ERROR_UNSUPPORTED, "embree: error %d: %s", (int)code, msg ? msg : "");
+}
+
+surfaces *surfaces_new(void)
+{
+    surfaces *s = calloc(1, sizeof *s);
+    if (!s) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory");
+        return NULL;
+    }
+    s->device = rtcNewDevice("threads=1,set_affinity=0");
+    if (!s->device) {
+        free(s);
+        err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: Embree could not start (rtcNewDevice failed)");
+        return NULL;
+    }
+    rtcSetDeviceErrorFunction(s->device, on_embree_error, NULL);
+    return s;
+}
+
+void surfaces_release(surfaces *s)
+{
+    if (!s)
+        return;
+    for (int i = 0; i < s->n; i++) {
+        free(s->obj[i].pos);
+        free(s->obj[i].idx);
+    }
+    free(s->obj);
+    free(s->em);
+    free(s->em_first);
+    if (s->nem)
+        distrib1_free(&s->em_dist);
+    if (s->scene)
+        rtcReleaseScene(s->scene);
+    rtcReleaseDevice(s->device);
+    free(s);
+}
+
+static surface_object *surfaces_push(surfaces *s, const material *m, const char *name)
+{
+    if (s->committed) {
+        err_set(BRUME_ERROR_STATE, "surfaces: object '%s' added after commit", name);
+        return NULL;
+    }
+    if (s->n == s->cap) {
+        int cap = s->cap ? 2 * s->cap : 8;
+        surface_object *o = realloc(s->obj, sizeof *o * (size_t)cap);
+        if (!o) {
+            err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory");
+            return NULL;
+        }
+        s->obj = o;
+        s->cap = cap;
+    }
+    surface_object *o = &s->obj[s->n];
+    memset(o, 0, sizeof *o);
+    snprintf(o->name, sizeof o->name, "%s", name ? name : "");
+    o->mat = *m;
+    return o;
+}
+
+brume_status surfaces_add_sphere(surfaces *s, vec3 center, double radius, const material *m, const char *name)
+{
+    if (!v3_isfinite(center) || !(radius > 0.0) || !isfinite(radius))
+        return err_set(BRUME_ERROR_RANGE, "surface '%s': sphere needs a finite centre and radius > 0", name);
+    surface_object *o = surfaces_push(s, m, name);
+    if (!o)
+        return err_status();
+    o->is_sphere = true;
+    o->center = center;
+    o->radius = radius;
+    s->n++;
+    return BRUME_OK;
+}
+
+brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int *idx, int ntri, const material *m,
+                               const char *name)
+{
+    if (nv < 3 || ntri < 1)
+        return err_set(BRUME_ERROR_PARSE, "surface '%s': a mesh needs at least 3 vertices and 1 triangle", name);
+    for (int i = 0; i < 3 * nv; i++)
+        if (!isfinite(pos[i]) || fabs(pos[i]) > 1e18)
+            return err_set(BRUME_ERROR_RANGE, "surface '%s': vertex %d has a non-finite coordinate", name, i / 3);
+    for (int i = 0; i < 3 * ntri; i++)
+        if (idx[i] < 0 || idx[i] >= nv)
+            return err_set(BRUME_ERROR_RANGE, "surface '%s': triangle %d names vertex %d of %d", name, i / 3, idx[i],
+                           nv);
+    surface_object *o = surfaces_push(s, m, name);
+    if (!o)
+        return err_status();
+    o->pos = malloc(sizeof *o->pos * 3 * (size_t)nv);
+    o->idx = malloc(sizeof *o->idx * 3 * (size_t)ntri);
+    if (!o->pos || !o->idx) {
+        free(o->pos);
+        free(o->idx);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': out of memory for %d triangles", name, ntri);
+    }
+    memcpy(o->pos, pos, sizeof *o->pos * 3 * (size_t)nv);
+    memcpy(o->idx, idx, sizeof *o->idx * 3 * (size_t)ntri);
+    o->nv = nv;
+    o->ntri = ntri;
+    s->n++;
+    return BRUME_OK;
+}
+
+static vec3 tri_vertex(const surface_object *o, int prim, int k)
+{
+    const double *p = o->pos + 3 * (size_t)o->idx[3 * prim + k];
+    return v3(p[0], p[1], p[2]);
+}
+
+static double tri_area(const surface_object *o, int prim)
+{
+    vec3 a = tri_vertex(o, prim, 0), b = tri_vertex(o, prim, 1), c = tri_vertex(o, prim, 2);
+    return 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+}
+
+static brume_status build_emitters(surfaces *s)
+{
+    int count = 0;
+    for (int i = 0; i < s->n; i++)
+        if (!col_is_black(s->obj[i].mat.emission))
+            count += s->obj[i].is_sphere ? 1 : s->obj[i].ntri;
+    if (!count)
+        return BRUME_OK;
+    s->em = malloc(sizeof *s->em * (size_t)count);
+    s->em_first = malloc(sizeof *s->em_first * (size_t)s->n);
+    double *w = malloc(sizeof *w * (size_t)count);
+    if (!s->em || !w || !s->em_first) {
+        free(w);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory for emitters");
+    }
+    int k = 0;
+    s->em_total = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        const surface_object *o = &s->obj[i];
+        s->em_first[i] = -1;
+        if (col_is_black(o->mat.emission))
+            continue;
+        s->em_first[i] = k;
+        int prims = o->is_sphere ? 1 : o->ntri;
+        for (int p = 0; p < prims; p++) {
+            double area = o->is_sphere ? 4.0 * PI * o->radius * o->radius : tri_area(o, p);
+            s->em[k] = (emitter){i, p, area};
+            w[k] = area * col_avg(o->mat.emission);
+            s->em_total += w[k];
+            k++;
+        }
+    }
+    int ok = distrib1_init(&s->em_dist, w, count);
+    free(w);
+    if (!ok)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory for emitters");
+    s->nem = count;
+    return BRUME_OK;
+}
+
+brume_status surfaces_commit(surfaces *s)
+{
+    if (s->committed)
+        return BRUME_OK;
+    err_clear();
+    s->scene = rtcNewScene(s->device);
+    if (!s->scene)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: Embree could not create a scene");
+    rtcSetSceneBuildQuality(s->scene, RTC_BUILD_QUALITY_HIGH);
+    for (int i = 0; i < s->n; i++) {
+        const surface_object *o = &s->obj[i];
+        RTCGeometry g;
+        if (o->is_sphere) {
+            g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+            float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1);
+            if (!v)
+                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
+            v[0] = (float)o->center.x;
+            v[1] = (float)o->center.y;
+            v[2] = (float)o->center.z;
+            v[3] = (float)o->radius;
+        } else {
+            g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                               (size_t)o->nv);
+            unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                   3 * sizeof(unsigned), (size_t)o->ntri);
+            if (!v || !ix)
+                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
+            for (size_t j = 0; j < 3 * (size_t)o->nv; j++)
+                v[j] = (float)o->pos[j];
+            for (size_t j = 0; j < 3 * (size_t)o->ntri; j++)
+                ix[j] = (unsigned)o->idx[j];
+        }
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(s->scene, g, (unsigned)i);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(s->scene);
+    if (err_status() != BRUME_OK)
+        return err_status();
+    brume_status st = build_emitters(s);
+    if (st)
+        return st;
+    s->committed = true;
+    return BRUME_OK;
+}
+
+int surfaces_count(const surfaces *s) { return s->n; }
+
+long surfaces_triangle_count(const surfaces *s)
+{
+    long n = 0;
+    for (int i = 0; i < s->n; i++)
+        n += s->obj[i].ntri;
+    return n;
+}
+
+static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tmax)
+{
+    rr->org_x = (float)o.x;
+    rr->org_y = (float)o.y;
+    rr->org_z = (float)o.z;
+    rr->dir_x = (float)d.x;
+    rr->dir_y = (float)d.y;
+    rr->dir_z = (float)d.z;
+    rr->tnear = (float)tmin;
+    rr->tfar = tmax < (double)FLT_MAX ? (float)tmax : FLT_MAX;
+    rr->time = 0.0f;
+    rr->mask = 0xffffffffu;
+    rr->id = 0;
+    rr->flags = 0;
+}
+
+bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h)
+{
+    if (!s || s->n == 0)
+        return false;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    embree_ray(&rh.ray, r.o, r.d, tmin, tmax);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(s->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return false;
+    const surface_object *o = &s->obj[rh.hit.geomID];
+    h->t = (double)rh.ray.tfar;
+    h->p = ray_at(r, h->t);
+    h->object = (int)rh.hit.geomID;
+    h->prim = (int)rh.hit.primID;
+    h->mat = &o->mat;
+    if (o->is_sphere) {
+        /* recompute the hit in double precision from the sphere itself */
+        vec3 oc = v3_sub(r.o, o->center);
+        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - o->radius * o->radius, disc = b * b - c;
+        if (disc >= 0.0) {
+            double sq = sqrt(disc), t = -b - sq;
+            if (t <= tmin)
+                t = -b + sq;
+            if (t > tmin && t < tmax) {
+                h->t = t;
+                h->p = ray_at(r, t);
+            }
+        }
+        h->ng = v3_normalize(v3_sub(h->p, o->center));
+    } else {
+        vec3 a = tri_vertex(o, h->prim, 0), b = tri_vertex(o, h->prim, 1), c = tri_vertex(o, h->prim, 2);
+        h->ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    }
+    return true;
+}
+
+bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax)
+{
+    if (!s || s->n == 0)
+        return false;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay rr;
+    embree_ray(&rr, o, d, tmin, tmax);
+    rtcOccluded1(s->scene, &ctx, &rr);
+    return rr.tfar < 0.0f;
+}
+
+vec3 surface_offset(const surface_hit *h, vec3 d)
+{
+    double scale = 1e-4 * (1.0 + fmax(fabs(h->p.x), fmax(fabs(h->p.y), fabs(h->p.z))));
+    double side = v3_dot(d, h->ng) >= 0.0 ? 1.0 : -1.0;
+    return v3_madd(h->p, h->ng, side * scale);
+}
+
+bool surfaces_has_emitters(const surfaces *s) { return s && s->nem > 0; }
+
+color surface_emission(const surface_hit *h, vec3 w)
+{
+    const material *m = h->mat;
+    if (col_is_black(m->emission))
+        return col(0.0);
+    if (v3_dot(w, h->ng) > 0.0 || m->two_sided_emission)
+        return m->emission;
+    return col(0.0);
+}
+
+bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, double u2, vec3 *wi, double *dist,
+                             color *Le, double *pdf)
+{
+    if (!surfaces_has_emitters(s))
+        return false;
+    double pick;
+    int k;
+    distrib1_sample(&s->em_dist, u0, &pick, &k);
+    const emitter *e = &s->em[k];
+    const surface_object *o = &s->obj[e->object];
+    vec3 y, n;
+    if (o->is_sphere) {
+        n = sample_sphere(u1, u2);
+        y = v3_madd(o->center, n, o->radius);
+    } else {
+        double su = sqrt(u1), b0 = 1.0 - su, b1 = u2 * su;
+        vec3 a = tri_vertex(o, e->prim, 0), b = tri_vertex(o, e->prim, 1), c = tri_vertex(o, e->prim, 2);
+        y = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, 1.0 - b0 - b1));
+        n = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    }
+    vec3 d = v3_sub(y, p);
+    double d2 = v3_dot(d, d);
+    if (!(d2 > 0.0))
+        return false;
+    *dist = sqrt(d2);
+    *wi = v3_scale(d, 1.0 / *dist);
+    double cos_l = -v3_dot(*wi, n);
+    if (cos_l <= 0.0 && !(o->mat.two_sided_emission && !o->is_sphere))
+        return false;
+    cos_l = fabs(cos_l);
+    if (cos_l < 1e-12)
+        return false;
+    /* pick probability (pdf over the unit interval / number of bins) x area pdf -> solid angle */
+    double p_pick = pick / s->nem;
+    *pdf = p_pick / e->area * d2 / cos_l;
+    *Le = o->mat.emission;
+    return true;
+}
+
+double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p)
+{
+    if (!surfaces_has_emitters(s) || col_is_black(h->mat->emission))
+        return 0.0;
+    const surface_object *o = &s->obj[h->object];
+    /* emitters are stored object by object, primitives in order */
+    if (s->em_first[h->object] < 0)
+        return 0.0;
+    int k = s->em_first[h->object] + (o->is_sphere ? 0 : h->prim);
+    double p_pick = distrib1_pdf(&s->em_dist, (k + 0.5) / s->nem) / s->nem;
+    vec3 d = v3_sub(h->p, p);
+    double d2 = v3_dot(d, d);
+    double cos_l = fabs(v3_dot(v3_normalize(d), h->ng));
+    if (cos_l < 1e-12)
+        return 0.0;
+    return p_pick / s->em[k].area * d2 / cos_l;
+}

@@ -1,0 +1,61 @@
+/* surfaces.h - solid objects traced with Embree 3: spheres and triangle meshes (boxes,
+ * quads and OBJ meshes become triangles) in world space, each with a material; emissive
+ * objects are area lights of any shape.
+ *
+ * Lifecycle: surfaces_new, add objects, surfaces_commit (builds the Embree BVH and the
+ * emitter table), then queries from any number of threads, then surfaces_release. */
+#ifndef BRUME_SURFACE_SURFACES_H
+#define BRUME_SURFACE_SURFACES_H
+
+#include <stdbool.h>
+
+#include "brume.h"
+#include "core/color.h"
+#include "core/vec.h"
+#include "surface/material.h"
+
+typedef struct surfaces surfaces;
+
+/* NULL when out of memory or Embree cannot start (err_set says which). */
+surfaces *surfaces_new(void);
+void surfaces_release(surfaces *s);
+/* A sphere of `radius` (world units) at `center`. */
+brume_status surfaces_add_sphere(surfaces *s, vec3 center, double radius, const material *m, const char *name);
+/* A triangle mesh in world coordinates: nv vertices (x, y, z), ntri triangles of three
+ * vertex indices, counter-clockwise seen from the front. The arrays are copied. Vertices
+ * must be finite and indices in range (err_set names the object). */
+brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int *idx, int ntri, const material *m,
+                               const char *name);
+brume_status surfaces_commit(surfaces *s);
+int surfaces_count(const surfaces *s);
+long surfaces_triangle_count(const surfaces *s);
+
+typedef struct surface_hit {
+    double t;    /* ray parameter of the hit */
+    vec3 p;      /* world position */
+    vec3 ng;     /* unit geometric normal (front side: counter-clockwise, or outward) */
+    const material *mat;
+    int object;  /* index in insertion order */
+    int prim;    /* triangle index, 0 for spheres */
+} surface_hit;
+
+/* Nearest hit of r (unit direction) in (tmin, tmax). */
+bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h);
+/* Any hit of the segment o + t d, t in (tmin, tmax). */
+bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax);
+
+/* A point slightly off the surface on the side of direction d, for spawning rays. */
+vec3 surface_offset(const surface_hit *h, vec3 d);
+
+/* ---- emitters --------------------------------------------------------------------------- */
+bool surfaces_has_emitters(const surfaces *s);
+/* Emitted radiance leaving the hit point towards direction w (unit, away from surface). */
+color surface_emission(const surface_hit *h, vec3 w);
+/* Samples a point on an emitter as seen from p: unit direction *wi, distance *dist, the
+ * radiance *Le arriving from it and the solid-angle pdf *pdf. False if nothing is sent. */
+bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, double u2, vec3 *wi, double *dist,
+                             color *Le, double *pdf);
+/* The solid-angle pdf with which surfaces_sample_emitter would pick the hit h from p. */
+double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p);
+
+#endif
