@@ -206,3 +206,12 @@ brume_status json_color(const cJSON *obj, jloc at, const char *key, int required
         *out = col_rgb(v[0], v[1], v[2]);
     return st;
 }
+
+void json_resolve_path(const char *scene_file, const char *name, char *out, size_t n)
+{
+    const char *slash = strrchr(scene_file, '/');
+    if (name[0] == '/' || !slash || scene_file[0] == '<')
+        snprintf(out, n, "%s", name);
+    else
+        snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+}

@@ -38,4 +38,7 @@ brume_status json_vec3(const cJSON *obj, jloc at, const char *key, int required,
 /* A number (gray) or a 3-array of RGB, each finite and in [lo, hi]. */
 brume_status json_color(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi, color *out);
 
+/* A file named in a scene, relative to the scene file's folder unless absolute. */
+void json_resolve_path(const char *scene_file, const char *name, char *out, size_t n);
+
 #endif

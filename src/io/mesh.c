@@ -23,7 +23,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
     fclose(probe);
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                                                      aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
+                                                      aiProcess_SortByPType);
     if (!sc)
         return err_set(BRUME_ERROR_PARSE, "%s: not a readable mesh: %s", path, aiGetErrorString());
     long nv = 0, ntri = 0;

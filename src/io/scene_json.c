@@ -7,6 +7,7 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "io/json.h"
+#include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
 
@@ -14,8 +15,6 @@
 #define SCENE_MAX_LIGHTS 4096
 
 static const double BIG = 1e30;
-
-static void resolve_path(const char *scene_file, const char *name, char *out, size_t n);
 
 static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
 {
@@ -169,7 +168,7 @@ static brume_status parse_background(const cJSON *root, jloc top, background *bg
     if (name[0]) {
         if (cJSON_HasObjectItem(b, "color"))
             return err_set(BRUME_ERROR_PARSE, "%s: background: give either color or file", top.file);
-        resolve_path(top.file, name, path, sizeof path);
+        json_resolve_path(top.file, name, path, sizeof path);
         brume_context *ctx = brume_context_new();
         st = brume_image_read(ctx, path, &bg->img);
         if (st)
@@ -254,16 +253,6 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
 
 #define PHASE_MAX_LOBES 16
 
-/* Relative file names in a scene are relative to the scene file's folder. */
-static void resolve_path(const char *scene_file, const char *name, char *out, size_t n)
-{
-    const char *slash = strrchr(scene_file, '/');
-    if (name[0] == '/' || !slash || scene_file[0] == '<')
-        snprintf(out, n, "%s", name);
-    else
-        snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
-}
-
 static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
 {
     char type[32];
@@ -310,7 +299,7 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
         if ((st = json_check_object(j, at, keys))) return st;
         char name[1024], path[2048];
         if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
-        resolve_path(at.file, name, path, sizeof path);
+        json_resolve_path(at.file, name, path, sizeof path);
         *out = phase_load_tabulated(path);
     } else if (strcmp(type, "mixture") == 0) {
         /* Blasi Eq. 20: a normalized sum of lobes, each {"weight": w, "phase": {...}} */
@@ -420,7 +409,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
 
 static brume_status parse_scene(const cJSON *root, brume_scene *s)
 {
-    static const char *const keys[] = {"camera", "lights", "media", "background", "render", NULL};
+    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
@@ -466,6 +455,8 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
             if ((st = parse_medium(m, (jloc){file, kp}, &s->media[i]))) return st;
         }
     }
+    const cJSON *surf = cJSON_GetObjectItemCaseSensitive(root, "surfaces");
+    if (surf && (st = scene_parse_surfaces(surf, file, &s->surf))) return st;
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
     if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
     return BRUME_OK;

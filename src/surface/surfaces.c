@@ -374,7 +374,7 @@ bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, do
     *dist = sqrt(d2);
     *wi = v3_scale(d, 1.0 / *dist);
     double cos_l = -v3_dot(*wi, n);
-    if (cos_l <= 0.0 && !(o->mat.two_sided_emission && !o->is_sphere))
+    if (cos_l <= 0.0 && !o->mat.two_sided_emission)
         return false;
     cos_l = fabs(cos_l);
     if (cos_l < 1e-12)
