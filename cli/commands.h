@@ -5,7 +5,10 @@
 #define BRUME_CLI_COMMANDS_H
 
 #define BRUME_COMMANDS(X)                                                   \
-    X(render, "render a scene (or the built-in default scene) to an image")
+    X(render, "render a scene (or the built-in default scene) to an image") \
+    X(info, "print a grid file's format, dimensions, bounds, values and memory") \
+    X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
+    X(gen, "generate a fractal cloud grid (brume gen cloud)")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)

@@ -10,6 +10,7 @@
 #define BRUME_DENSITY_DENSITY_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "core/vec.h"

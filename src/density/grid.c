@@ -153,12 +153,12 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
         free(d);
         return NULL;
     }
+    d->data = data;
     if (!dense_build_majorant(d)) {
         free(d);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid: out of memory for the majorant grid");
         return NULL;
     }
-    d->data = data;
     d->rho_min = rho_min;
     d->rho_max = rho_max;
     d->active = active;
