@@ -278,6 +278,10 @@ static bool read_df3(const unsigned char *b, size_t size, const char *name, size
 
 static bool read_vol(const unsigned char *b, size_t size, const char *name, size_t max_memory, dense_read *out)
 {
+    if ((size >= 3 && memcmp(b, "VOL", 3) != 0) || (size >= 4 && b[3] != 3)) {
+        err_set(BRUME_ERROR_PARSE, "%s: not a Mitsuba .vol version 3 file (wrong magic number)", name);
+        return false;
+    }
     if (size < 48) {
         err_set(BRUME_ERROR_PARSE, "%s: truncated .vol header (%zu of 48 bytes)", name, size);
         return false;

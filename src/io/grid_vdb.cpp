@@ -70,7 +70,11 @@ extern "C" brume_status gridvdb_read(const void *bytes, size_t size, const char 
             return err_set(BRUME_ERROR_PARSE, "%s: not an OpenVDB file (wrong magic number)", name);
         std::istringstream is(std::string(static_cast<const char *>(bytes), size), std::ios::in | std::ios::binary);
         openvdb::io::Stream stream(is, /*delayLoad=*/false);
-        openvdb::FloatGrid::Ptr g = pick_float_grid(stream.getGrids());
+        openvdb::GridPtrVecPtr grids = stream.getGrids();
+        // OpenVDB does not always notice a short read; the stream does
+        if (!is || !grids)
+            return err_set(BRUME_ERROR_PARSE, "%s: truncated OpenVDB file", name);
+        openvdb::FloatGrid::Ptr g = pick_float_grid(grids);
         if (!g)
             return err_set(BRUME_ERROR_UNSUPPORTED, "%s: no float grid in the file", name);
         const openvdb::math::Transform &xf = g->transform();
