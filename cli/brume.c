@@ -1,20 +1,9 @@
 /* brume.c - the brume tool: dispatches subcommands (cli/commands.h) over libbrume. */
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "brume.h"
 #include "commands.h"
-
-void cli_error(const char *fmt, ...)
-{
-    va_list ap;
-    fputs("brume: ", stderr);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputc('\n', stderr);
-}
 
 static void usage(FILE *out)
 {

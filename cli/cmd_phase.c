@@ -25,25 +25,9 @@ static const char phase_usage[] =
     "plot  draws, for each NAME, a polar and a cartesian plot of the function (solid)\n"
     "      and of its fitted mixture (dashed) into one PNG; --log plots log10 phi.\n";
 
-/* One line "brume: MESSAGE" on stderr. */
-static void phase_error(const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 1, 2)))
-#endif
-    ;
-static void phase_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("brume: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-}
-
 static int phase_usage_error(const char *what)
 {
-    phase_error("phase: %s (try: brume phase help)", what);
+    cli_error("phase: %s (try: brume phase help)", what);
     return 2;
 }
 
@@ -57,7 +41,7 @@ static int phase_fit_cmd(int argc, char **argv)
                 return phase_usage_error("--norm needs angle, cos or log");
             i++;
         } else if (argv[i][0] == '-' && argv[i][1] == '-') {
-            phase_error("phase fit: unknown option %s", argv[i]);
+            cli_error("phase fit: unknown option %s", argv[i]);
             return 2;
         } else if (name) {
             return phase_usage_error("fit takes one NAME");
@@ -69,14 +53,14 @@ static int phase_fit_cmd(int argc, char **argv)
         return phase_usage_error("fit needs a NAME");
     phase *p = phase_new_from_name(name);
     if (!p) {
-        phase_error("%s", err_message());
+        cli_error("%s", err_message());
         return 1;
     }
     phase_fit_result fit;
     brume_status st = phase_fit_schlick_mix(p, norm, &fit);
     phase_release(p);
     if (st != BRUME_OK) {
-        phase_error("%s", err_message());
+        cli_error("%s", err_message());
         return 1;
     }
     printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
@@ -101,7 +85,7 @@ static int phase_plot_cmd(int argc, char **argv)
                 return phase_usage_error("--norm needs angle, cos or log");
             i++;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            phase_error("phase plot: unknown option %s", argv[i]);
+            cli_error("phase plot: unknown option %s", argv[i]);
             return 2;
         } else {
             n++;
@@ -118,7 +102,7 @@ static int phase_plot_cmd(int argc, char **argv)
     char(*titles)[256] = calloc((size_t)n, sizeof *titles);
     int status = 1, m = 0;
     if (!rows || !truth || !approx || !titles) {
-        phase_error("phase plot: out of memory");
+        cli_error("phase plot: out of memory");
         goto done;
     }
     for (int i = 2; i < argc; i++) {
@@ -132,7 +116,7 @@ static int phase_plot_cmd(int argc, char **argv)
         truth[m] = phase_new_from_name(argv[i]);
         if (!truth[m] || phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK ||
             !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
-            phase_error("%s", err_message());
+            cli_error("%s", err_message());
             m++;
             goto done;
         }
@@ -145,7 +129,7 @@ static int phase_plot_cmd(int argc, char **argv)
         m++;
     }
     if (phase_plot_png(out, m, rows, log_scale) != BRUME_OK) {
-        phase_error("%s", err_message());
+        cli_error("%s", err_message());
         goto done;
     }
     status = 0;
@@ -173,6 +157,6 @@ int cmd_phase(int argc, char **argv)
         return phase_fit_cmd(argc, argv);
     if (strcmp(argv[1], "plot") == 0)
         return phase_plot_cmd(argc, argv);
-    phase_error("phase: unknown subcommand %s (try: brume phase help)", argv[1]);
+    cli_error("phase: unknown subcommand %s (try: brume phase help)", argv[1]);
     return 2;
 }

@@ -8,7 +8,10 @@
     X(render, "render a scene (or the built-in default scene) to an image") \
     X(phase, "phase functions: fit a Schlick mixture, plot")               \
     X(slab, "reflectance and transmittance of a plane-parallel slab")     \
-    X(compare, "error figures and a difference picture of two images")
+    X(compare, "error figures and a difference picture of two images")    \
+    X(info, "print a grid file's format, dimensions, bounds, values and memory") \
+    X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
+    X(gen, "generate a fractal cloud grid (brume gen cloud)")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)

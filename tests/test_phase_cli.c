@@ -1,11 +1,12 @@
 /* test_phase_cli.c - `brume phase`: the fit output format, plots, and exit statuses.
- * The command is compiled into this test directly (the tool's dispatcher is cli/brume.c). */
+ * The command is called directly from the commands' library (brume_cmds). */
 #include "test.h"
 
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "../cli/cmd_phase.c"
+#include "commands.h"
+#include "core/error.h"
 #include "phase/phase_fit.h"
 
 /* fontconfig (under cairo's text) keeps process-lifetime caches that LeakSanitizer reports

@@ -10,13 +10,20 @@
 #define BRUME_DENSITY_DENSITY_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "core/vec.h"
+#include "core/xform.h"
+#include "density/dda.h"
 
+/* The closed set of representations; each operation is one switch over it. */
 typedef enum density_kind {
-    DENSITY_GRID /* dense float32 voxel grid */
+    DENSITY_GRID,   /* dense float32 voxel grid (grid.c) */
+    DENSITY_NANOVDB /* sparse float grid in a NanoVDB buffer, read through PNanoVDB (nanovdb.c) */
 } density_kind;
+
+
 
 /* How a grid is read between its samples. */
 typedef enum grid_filter {
@@ -31,7 +38,25 @@ typedef struct density density;
  * data (malloc'd) on success; on failure returns NULL with err_set() and frees nothing.
  * Values must be finite and >= 0. */
 density *density_new_grid(int nx, int ny, int nz, float *data, box3 bounds, grid_filter filter);
+/* The same grid placed by an affine map: voxel (i, j, k) covers the box
+ * [i, i+1) x [j, j+1) x [k, k+1) of "voxel space", and voxel_to_world maps voxel space to
+ * the world (any invertible affine map: scale, rotation, shear, translation). Ownership and
+ * failure as density_new_grid. */
+density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affine3 *voxel_to_world,
+                                 grid_filter filter);
+/* A sparse grid from a NanoVDB buffer holding one float grid (nanovdb.c). Takes ownership
+ * of buf (malloc'd, 8-byte aligned, size bytes) on success; on failure returns NULL with
+ * err_set() naming `name` and frees nothing. The field is the voxels of the grid's index
+ * bounding box, placed by the grid's own map, then by `extra` (may be NULL); values are
+ * multiplied by scale (> 0). Every value that a lookup can reach is checked finite and
+ * >= 0, and every read is bounds-checked, so a hostile buffer cannot crash a lookup.
+ * max_memory bounds the coarse majorant grid built here (bytes; 0 = no limit). */
+density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
+                             size_t max_memory, const char *name);
 void density_release(density *d);
+/* For loaders, before the field is shared: replaces the placement of any grid kind by
+ * voxel_to_world (bounds follow). false with err_set() when the map is not invertible. */
+bool density_place(density *d, const affine3 *voxel_to_world);
 
 density_kind density_get_kind(const density *d);
 /* rho(p), p in world units; 0 outside the bounds. */
@@ -41,18 +66,44 @@ box3 density_bounds(const density *d);
 /* max rho over the field. */
 double density_max(const density *d);
 
+/* What `brume info` prints. */
+typedef struct density_info {
+    density_kind kind;
+    grid_filter filter;
+    int n[3];               /* voxels per axis (the index bounding box for NanoVDB) */
+    box3 bounds;            /* world box */
+    affine3 voxel_to_world; /* placement; voxel (i, j, k) spans [i, i+1) x ... in voxel space */
+    double rho_min, rho_max;
+    size_t memory_bytes;    /* voxel data + majorant grid */
+    uint64_t active_voxels; /* voxels with rho > 0 (dense); the tree's active count (NanoVDB) */
+    int majorant_cell;      /* voxels per majorant cell edge */
+    int majorant_n[3];      /* majorant cells per axis */
+} density_info;
+void density_get_info(const density *d, density_info *info);
+
+/* The value stored for voxel (i, j, k), 0 <= i < n[0] ...; before any filtering. */
+double density_voxel(const density *d, int i, int j, int k);
+
+/* Walks exactly the voxels that r crosses in [tmin, tmax], with entry and exit parameters
+ * (Blasi's per-voxel walk). Use grid_dda_next(it, &step) from density/dda.h. Returns false
+ * when the ray misses the grid. */
+bool density_voxel_dda_begin(const density *d, ray r, double tmin, double tmax, grid_dda *it);
+
 /* One stretch of a ray with rho <= rho_maj on [t0, t1). */
 typedef struct majorant_seg {
     double t0, t1;  /* ray parameters, t0 < t1 */
     double rho_maj; /* upper bound of rho on the segment (unitless) */
 } majorant_seg;
 
-/* Iterator state; lives on the caller's stack. Fields are private to density/. */
+/* Iterator state; lives on the caller's stack. Fields are private to density/.
+ * It walks the field's coarse majorant grid with a DDA and merges consecutive cells of
+ * equal majorant into one segment. */
 typedef struct majorant_iter {
-    const density *d;
-    ray r;
-    double t, tmax;
-    bool done;
+    grid_dda dda;        /* over majorant cells */
+    const float *maj;    /* cell majorants, x fastest */
+    int mn[3];           /* majorant cells per axis */
+    majorant_seg next;   /* looked-ahead segment not returned yet */
+    bool has_next;
 } majorant_iter;
 
 /* Starts iterating the segments of r in [tmin, tmax] inside the field. */

@@ -1,39 +1,97 @@
-/* grid.c - dense float32 voxel grids: lookup (nearest or trilinear) and majorants. */
+/* grid.c - dense float32 voxel grids; placement, lookup, majorant grid and majorant
+ * iteration shared by every grid kind (one switch per operation over density_kind). */
+#include <float.h>
 #include <stdlib.h>
 
 #include "core/error.h"
-#include "density/density.h"
+#include "density/density_impl.h"
 
-struct density {
-    density_kind kind;
-    /* DENSITY_GRID */
-    int nx, ny, nz;      /* voxels per axis */
-    float *data;         /* nx * ny * nz, x fastest, owned */
-    box3 bounds;         /* world box covered by the grid */
-    vec3 inv_cell;       /* voxels per world unit, per axis */
-    grid_filter filter;
-    double rho_max;
-};
+/* ---- affine maps ------------------------------------------------------------------------ */
 
-density *density_new_grid(int nx, int ny, int nz, float *data, box3 bounds, grid_filter filter)
+bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who)
+{
+    if (!affine3_invert(voxel_to_world, &d->w2v)) {
+        err_set(BRUME_ERROR_RANGE, "%s: placement transform is singular or not finite", who);
+        return false;
+    }
+    d->v2w = *voxel_to_world;
+    d->bounds = box3_empty();
+    for (int c = 0; c < 8; c++) {
+        vec3 corner = v3((c & 1) ? d->n[0] : 0, (c & 2) ? d->n[1] : 0, (c & 4) ? d->n[2] : 0);
+        vec3 w = affine3_apply(voxel_to_world, corner);
+        d->bounds.lo = v3_min(d->bounds.lo, w);
+        d->bounds.hi = v3_max(d->bounds.hi, w);
+    }
+    return true;
+}
+
+bool density_place(density *d, const affine3 *voxel_to_world)
+{
+    return density_set_placement(d, voxel_to_world, "grid");
+}
+
+/* ---- dense grids -------------------------------------------------------------------------- */
+
+static inline double dense_at(const density *d, int i, int j, int k)
+{
+    return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
+}
+
+/* Max over each majorant cell of the voxels a lookup inside it can read: the cell itself
+ * (nearest) or the cell dilated by one voxel (trilinear). */
+static bool dense_build_majorant(density *d)
+{
+    int C = DENSITY_MAJORANT_CELL, r = d->filter == GRID_TRILINEAR ? 1 : 0;
+    size_t count = 1;
+    for (int a = 0; a < 3; a++) {
+        d->moff[a] = 0;
+        d->mn[a] = (d->n[a] + C - 1) / C;
+        count *= (size_t)d->mn[a];
+    }
+    d->mcell = C;
+    d->maj = malloc(count * sizeof *d->maj);
+    if (!d->maj)
+        return false;
+    for (int ck = 0; ck < d->mn[2]; ck++)
+        for (int cj = 0; cj < d->mn[1]; cj++)
+            for (int ci = 0; ci < d->mn[0]; ci++) {
+                int lo[3] = {ci * C - r, cj * C - r, ck * C - r};
+                int hi[3] = {(ci + 1) * C + r, (cj + 1) * C + r, (ck + 1) * C + r};
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = lo[a] < 0 ? 0 : lo[a];
+                    hi[a] = hi[a] > d->n[a] ? d->n[a] : hi[a];
+                }
+                float m = 0.0f;
+                for (int k = lo[2]; k < hi[2]; k++)
+                    for (int j = lo[1]; j < hi[1]; j++) {
+                        const float *row = d->data + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k);
+                        for (int i = lo[0]; i < hi[0]; i++)
+                            m = row[i] > m ? row[i] : m;
+                    }
+                d->maj[(size_t)ci + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck)] = m;
+            }
+    return true;
+}
+
+density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affine3 *voxel_to_world,
+                                 grid_filter filter)
 {
     if (nx < 1 || ny < 1 || nz < 1) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: dimensions %d x %d x %d must be positive", nx, ny, nz);
         return NULL;
     }
-    if (!(bounds.hi.x > bounds.lo.x && bounds.hi.y > bounds.lo.y && bounds.hi.z > bounds.lo.z) ||
-        !v3_isfinite(bounds.lo) || !v3_isfinite(bounds.hi)) {
-        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: bounds must be a finite box with lo < hi");
-        return NULL;
-    }
     size_t n = (size_t)nx * (size_t)ny * (size_t)nz;
-    double rho_max = 0.0;
+    double rho_min = INFINITY, rho_max = 0.0;
+    uint64_t active = 0;
     for (size_t i = 0; i < n; i++) {
         if (!isfinite(data[i]) || data[i] < 0.0f) {
-            err_set(BRUME_ERROR_RANGE, "grid: voxel %zu has density %g: need finite and >= 0", i, (double)data[i]);
+            err_set(BRUME_ERROR_RANGE, "grid: voxel %zu (%zu, %zu, %zu) has density %g: need finite and >= 0", i,
+                    i % (size_t)nx, i / (size_t)nx % (size_t)ny, i / ((size_t)nx * (size_t)ny), (double)data[i]);
             return NULL;
         }
+        rho_min = fmin(rho_min, (double)data[i]);
         rho_max = fmax(rho_max, (double)data[i]);
+        active += data[i] > 0.0f;
     }
     density *d = calloc(1, sizeof *d);
     if (!d) {
@@ -41,15 +99,43 @@ density *density_new_grid(int nx, int ny, int nz, float *data, box3 bounds, grid
         return NULL;
     }
     d->kind = DENSITY_GRID;
-    d->nx = nx;
-    d->ny = ny;
-    d->nz = nz;
-    d->data = data;
-    d->bounds = bounds;
-    vec3 ext = v3_sub(bounds.hi, bounds.lo);
-    d->inv_cell = v3(nx / ext.x, ny / ext.y, nz / ext.z);
+    d->n[0] = nx;
+    d->n[1] = ny;
+    d->n[2] = nz;
     d->filter = filter;
+    if (!density_set_placement(d, voxel_to_world, "grid")) {
+        free(d);
+        return NULL;
+    }
+    d->data = data;
+    if (!dense_build_majorant(d)) {
+        free(d);
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid: out of memory for the majorant grid");
+        return NULL;
+    }
+    d->rho_min = rho_min;
     d->rho_max = rho_max;
+    d->active = active;
+    d->memory = n * sizeof(float) + (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
+    return d;
+}
+
+density *density_new_grid(int nx, int ny, int nz, float *data, box3 bounds, grid_filter filter)
+{
+    if (!(bounds.hi.x > bounds.lo.x && bounds.hi.y > bounds.lo.y && bounds.hi.z > bounds.lo.z) ||
+        !v3_isfinite(bounds.lo) || !v3_isfinite(bounds.hi)) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: bounds must be a finite box with lo < hi");
+        return NULL;
+    }
+    if (nx < 1 || ny < 1 || nz < 1) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: dimensions %d x %d x %d must be positive", nx, ny, nz);
+        return NULL;
+    }
+    vec3 ext = v3_sub(bounds.hi, bounds.lo);
+    affine3 v2w = {{ext.x / nx, 0, 0, bounds.lo.x, 0, ext.y / ny, 0, bounds.lo.y, 0, 0, ext.z / nz, bounds.lo.z}};
+    density *d = density_new_grid_affine(nx, ny, nz, data, &v2w, filter);
+    if (d)
+        d->bounds = bounds; /* exactly, not through rounding of the map */
     return d;
 }
 
@@ -57,7 +143,11 @@ void density_release(density *d)
 {
     if (!d)
         return;
-    free(d->data);
+    switch (d->kind) {
+    case DENSITY_GRID: free(d->data); break;
+    case DENSITY_NANOVDB: nanovdb_free(d); break;
+    }
+    free(d->maj);
     free(d);
 }
 
@@ -65,65 +155,126 @@ density_kind density_get_kind(const density *d) { return d->kind; }
 box3 density_bounds(const density *d) { return d->bounds; }
 double density_max(const density *d) { return d->rho_max; }
 
-static inline double grid_at(const density *d, int i, int j, int k)
+void density_get_info(const density *d, density_info *info)
 {
-    i = i < 0 ? 0 : (i >= d->nx ? d->nx - 1 : i);
-    j = j < 0 ? 0 : (j >= d->ny ? d->ny - 1 : j);
-    k = k < 0 ? 0 : (k >= d->nz ? d->nz - 1 : k);
-    return (double)d->data[(size_t)i + (size_t)d->nx * ((size_t)j + (size_t)d->ny * (size_t)k)];
+    info->kind = d->kind;
+    info->filter = d->filter;
+    info->bounds = d->bounds;
+    info->voxel_to_world = d->v2w;
+    info->rho_min = d->rho_min;
+    info->rho_max = d->rho_max;
+    info->memory_bytes = d->memory;
+    info->active_voxels = d->active;
+    info->majorant_cell = d->mcell;
+    for (int a = 0; a < 3; a++) {
+        info->n[a] = d->n[a];
+        info->majorant_n[a] = d->mn[a];
+    }
 }
 
-static double grid_eval(const density *d, vec3 p)
+double density_voxel(const density *d, int i, int j, int k)
 {
-    if (!box3_contains(d->bounds, p))
-        return 0.0;
-    /* continuous voxel coordinates: voxel i spans [i, i + 1) */
-    double x = (p.x - d->bounds.lo.x) * d->inv_cell.x;
-    double y = (p.y - d->bounds.lo.y) * d->inv_cell.y;
-    double z = (p.z - d->bounds.lo.z) * d->inv_cell.z;
-    if (d->filter == GRID_NEAREST)
-        return grid_at(d, (int)x, (int)y, (int)z);
-    /* samples at cell centres i + 1/2; clamp to the edge samples outside them */
-    x -= 0.5;
-    y -= 0.5;
-    z -= 0.5;
+    switch (d->kind) {
+    case DENSITY_GRID: return dense_at(d, i, j, k);
+    case DENSITY_NANOVDB: return nanovdb_voxel(d, i, j, k);
+    }
+    return 0.0;
+}
+
+static inline int clampi(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
+
+/* Trilinear between voxel centres, clamped to the outermost samples; u in voxel space. */
+static double dense_trilinear(const density *d, vec3 u)
+{
+    double x = u.x - 0.5, y = u.y - 0.5, z = u.z - 0.5;
     double fx = floor(x), fy = floor(y), fz = floor(z);
     int i = (int)fx, j = (int)fy, k = (int)fz;
     double ax = x - fx, ay = y - fy, az = z - fz;
-    double c00 = grid_at(d, i, j, k) * (1 - ax) + grid_at(d, i + 1, j, k) * ax;
-    double c10 = grid_at(d, i, j + 1, k) * (1 - ax) + grid_at(d, i + 1, j + 1, k) * ax;
-    double c01 = grid_at(d, i, j, k + 1) * (1 - ax) + grid_at(d, i + 1, j, k + 1) * ax;
-    double c11 = grid_at(d, i, j + 1, k + 1) * (1 - ax) + grid_at(d, i + 1, j + 1, k + 1) * ax;
+    int i0 = clampi(i, d->n[0] - 1), i1 = clampi(i + 1, d->n[0] - 1);
+    int j0 = clampi(j, d->n[1] - 1), j1 = clampi(j + 1, d->n[1] - 1);
+    int k0 = clampi(k, d->n[2] - 1), k1 = clampi(k + 1, d->n[2] - 1);
+    double c00 = dense_at(d, i0, j0, k0) * (1 - ax) + dense_at(d, i1, j0, k0) * ax;
+    double c10 = dense_at(d, i0, j1, k0) * (1 - ax) + dense_at(d, i1, j1, k0) * ax;
+    double c01 = dense_at(d, i0, j0, k1) * (1 - ax) + dense_at(d, i1, j0, k1) * ax;
+    double c11 = dense_at(d, i0, j1, k1) * (1 - ax) + dense_at(d, i1, j1, k1) * ax;
     double c0 = c00 * (1 - ay) + c10 * ay, c1 = c01 * (1 - ay) + c11 * ay;
     return c0 * (1 - az) + c1 * az;
 }
 
 double density_eval(const density *d, vec3 p)
 {
+    vec3 u = affine3_apply(&d->w2v, p);
+    /* half-open voxel box; the negated test also rejects NaN */
+    if (!(u.x >= 0.0 && u.x < d->n[0] && u.y >= 0.0 && u.y < d->n[1] && u.z >= 0.0 && u.z < d->n[2]))
+        return 0.0;
     switch (d->kind) {
-    case DENSITY_GRID: return grid_eval(d, p);
+    case DENSITY_GRID:
+        if (d->filter == GRID_NEAREST)
+            return dense_at(d, (int)u.x, (int)u.y, (int)u.z);
+        return dense_trilinear(d, u);
+    case DENSITY_NANOVDB: return nanovdb_eval_voxel(d, u);
     }
     return 0.0;
 }
 
-void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it)
+/* ---- traversal ---------------------------------------------------------------------------- */
+
+bool density_voxel_dda_begin(const density *d, ray r, double tmin, double tmax, grid_dda *it)
 {
-    double t0, t1;
-    it->d = d;
-    it->r = r;
-    it->done = !box3_intersect(d->bounds, r, tmin, tmax, &t0, &t1) || !(t1 > t0);
-    it->t = it->done ? tmax : t0;
-    it->tmax = it->done ? tmax : t1;
+    vec3 o = affine3_apply(&d->w2v, r.o), dir = affine3_apply_dir(&d->w2v, r.d);
+    return grid_dda_begin(it, d->n, o, dir, tmin, tmax);
 }
 
-/* One segment over the whole box with the global maximum. */
+void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it)
+{
+    it->maj = d->maj;
+    it->has_next = false;
+    for (int a = 0; a < 3; a++)
+        it->mn[a] = d->mn[a];
+    /* Clip to the voxel box in voxel space, then walk cells in cell space. */
+    vec3 o = affine3_apply(&d->w2v, r.o), dir = affine3_apply_dir(&d->w2v, r.d);
+    box3 vbox = {v3(0, 0, 0), v3(d->n[0], d->n[1], d->n[2])};
+    double t0, t1;
+    if (!box3_intersect(vbox, (ray){o, dir, r.time}, tmin, tmax, &t0, &t1) || !(t1 > t0)) {
+        it->dda.done = true;
+        return;
+    }
+    double s = 1.0 / d->mcell;
+    vec3 oc = v3((o.x + d->moff[0]) * s, (o.y + d->moff[1]) * s, (o.z + d->moff[2]) * s);
+    if (!grid_dda_begin(&it->dda, d->mn, oc, v3_scale(dir, s), t0, t1))
+        it->dda.done = true;
+}
+
+static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
+{
+    grid_dda_step st;
+    if (!grid_dda_next(&it->dda, &st))
+        return false;
+    seg->t0 = st.t0;
+    seg->t1 = st.t1;
+    seg->rho_maj = (double)it->maj[(size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k)];
+    return true;
+}
+
+/* Consecutive cells with the same majorant come out as one segment: empty space (0) and
+ * uniform regions cost one segment each. */
 bool majorant_next(majorant_iter *it, majorant_seg *seg)
 {
-    if (it->done)
+    if (it->has_next) {
+        *seg = it->next;
+        it->has_next = false;
+    } else if (!majorant_cell_next(it, seg)) {
         return false;
-    seg->t0 = it->t;
-    seg->t1 = it->tmax;
-    seg->rho_maj = it->d->rho_max;
-    it->done = true;
+    }
+    majorant_seg s;
+    while (majorant_cell_next(it, &s)) {
+        if (s.rho_maj == seg->rho_maj) {
+            seg->t1 = s.t1;
+        } else {
+            it->next = s;
+            it->has_next = true;
+            break;
+        }
+    }
     return true;
 }

@@ -1,0 +1,71 @@
+/* dda.c - setting up the 3-D DDA (see dda.h): box clipping and the first cell. */
+#include "density/dda.h"
+
+bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax)
+{
+    const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    g->done = true;
+    g->t = tmin;
+    g->tmax = tmax;
+    if (!(tmin < tmax))
+        return false;
+    /* Clip [tmin, tmax] to the grid box [0, n) with the same formula as the steps use. */
+    double t0 = tmin, t1 = tmax;
+    for (int a = 0; a < 3; a++) {
+        g->n[a] = n[a];
+        g->o[a] = oo[a];
+        if (n[a] < 1 || !isfinite(oo[a]) || !isfinite(dd[a]))
+            return false;
+        if (dd[a] == 0.0) {
+            g->step[a] = 0;
+            g->inv[a] = 0.0;
+            if (!(oo[a] >= 0.0 && oo[a] < (double)n[a]))
+                return false;
+            continue;
+        }
+        double inv = 1.0 / dd[a];
+        g->inv[a] = inv;
+        g->step[a] = dd[a] > 0.0 ? 1 : -1;
+        double ta = (0.0 - oo[a]) * inv, tb = ((double)n[a] - oo[a]) * inv;
+        if (ta > tb) {
+            double s = ta;
+            ta = tb;
+            tb = s;
+        }
+        t0 = ta > t0 ? ta : t0;
+        t1 = tb < t1 ? tb : t1;
+    }
+    if (!(t0 < t1))
+        return false;
+    /* First cell per axis: the one whose slab interval [enter, exit) holds t0. Start from
+     * the rounded position, then correct with the exact crossing formula. */
+    for (int a = 0; a < 3; a++) {
+        if (g->step[a] == 0) {
+            g->ijk[a] = (int)floor(oo[a]);
+            g->t_next[a] = INFINITY;
+            continue;
+        }
+        double x = floor(oo[a] + t0 * dd[a]);
+        int c = x < 0.0 ? 0 : (x > (double)(n[a] - 1) ? n[a] - 1 : (int)x);
+        int up = g->step[a] > 0; /* plane index of the exit face is c + up */
+        double inv = g->inv[a];
+        for (int guard = 0; guard < 4; guard++) {
+            double t_exit = ((double)(c + up) - oo[a]) * inv;
+            double t_enter = ((double)(c + 1 - up) - oo[a]) * inv;
+            if (t_exit <= t0 && c + g->step[a] >= 0 && c + g->step[a] < n[a])
+                c += g->step[a];
+            else if (t_enter > t0 && c - g->step[a] >= 0 && c - g->step[a] < n[a])
+                c -= g->step[a];
+            else
+                break;
+        }
+        g->ijk[a] = c;
+        g->t_next[a] = ((double)(c + up) - oo[a]) * inv;
+        if (!(g->t_next[a] > t0)) /* leaves the grid at t0 */
+            return false;
+    }
+    g->t = t0;
+    g->tmax = t1;
+    g->done = false;
+    return true;
+}

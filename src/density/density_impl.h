@@ -1,0 +1,55 @@
+/* density_impl.h - the density object's layout, shared by the files of src/density only.
+ *
+ * Every grid kind is placed the same way: an affine map from the world to "voxel space",
+ * where voxel (i, j, k) is the half-open box [i, i+1) x [j, j+1) x [k, k+1) and the grid
+ * covers [0, n0) x [0, n1) x [0, n2). Kinds differ only in how a voxel's value is fetched.
+ * rho is 0 outside that box. Samples sit at voxel centres (i + 1/2, ...); the trilinear
+ * filter clamps to the outermost samples, so any point's trilinear value is a convex
+ * combination of the voxels within one voxel of its own: the majorant of a cell therefore
+ * takes the max over the cell dilated by one voxel.
+ *
+ * Majorant grid: cells of mcell^3 voxels on a lattice offset by moff voxels (so that NanoVDB
+ * cells coincide with its 8^3 leaves): voxel-space point u lies in majorant cell
+ * floor((u + moff) / mcell). maj[] holds an upper bound of rho over each cell (already
+ * multiplied by any density scale). */
+#ifndef BRUME_DENSITY_DENSITY_IMPL_H
+#define BRUME_DENSITY_DENSITY_IMPL_H
+
+#include <stddef.h>
+
+#include "density/density.h"
+
+/* Voxels per majorant cell edge: 8^3 = one NanoVDB leaf. Measured in docs/grids.md. */
+#define DENSITY_MAJORANT_CELL 8
+
+typedef struct nanovdb_state nanovdb_state;
+
+struct density {
+    density_kind kind;
+    grid_filter filter;
+    int n[3];              /* voxels per axis */
+    affine3 w2v, v2w;      /* world -> voxel space and back */
+    box3 bounds;           /* world AABB of the voxel box */
+    double rho_min, rho_max;
+    uint64_t active;       /* see density_info.active_voxels */
+    size_t memory;         /* bytes held */
+    /* majorant grid */
+    int mcell;
+    int moff[3];
+    int mn[3];
+    float *maj;
+    /* DENSITY_GRID */
+    float *data; /* n0 * n1 * n2, x fastest, owned */
+    /* DENSITY_NANOVDB */
+    nanovdb_state *nano;
+};
+
+/* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */
+bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who);
+
+/* nanovdb.c */
+double nanovdb_eval_voxel(const density *d, vec3 u);
+double nanovdb_voxel(const density *d, int i, int j, int k);
+void nanovdb_free(density *d);
+
+#endif

@@ -1,0 +1,73 @@
+/* grid_io.h - density grids from and to files: raw float32, POV-Ray df3, Mitsuba .vol,
+ * NanoVDB .nvdb (read in C through PNanoVDB) and OpenVDB .vdb (through libopenvdb, when
+ * the build found it). Formats, placements and limits are described in docs/grids.md.
+ *
+ * Every reader rejects, with a one-line message "FILE: reason" (err_message()) and never a
+ * crash: truncated files, wrong magic numbers, dimensions whose product overflows or whose
+ * voxels exceed max_memory, and NaN, infinite or negative densities (naming the voxel). */
+#ifndef BRUME_IO_GRID_IO_H
+#define BRUME_IO_GRID_IO_H
+
+#include <stddef.h>
+
+#include "brume.h"
+#include "density/density.h"
+
+typedef enum grid_format {
+    GRID_FORMAT_AUTO = 0, /* by extension, else by magic number */
+    GRID_FORMAT_RAW,      /* float32 little-endian, x fastest, no header; dims from a sidecar or options */
+    GRID_FORMAT_DF3,      /* POV-Ray density file: 3 big-endian uint16 dims, then 1, 2 or 4-byte samples */
+    GRID_FORMAT_VOL,      /* Mitsuba 0.6 grid volume: "VOL" 3, encoding, dims, channels, bbox, data */
+    GRID_FORMAT_NVDB,     /* NanoVDB file (uncompressed), first float grid */
+    GRID_FORMAT_VDB       /* OpenVDB file, the float grid named "density" or else the first one */
+} grid_format;
+
+/* Default limit on the memory a loaded grid may take: 4 GiB. */
+#define DENSITY_DEFAULT_MAX_MEMORY ((size_t)4 << 30)
+
+/* How to read a grid. Units: bounds and transform in world units; densities unitless. */
+typedef struct density_load_options {
+    grid_format format; /* AUTO: by extension (.raw .df3 .vol .nvdb .vdb), else by magic */
+    int raw_dims[3];    /* raw only: nx, ny, nz when there is no sidecar "FILE.hdr"; all 0 =
+                           from the sidecar, else a cube if the size is 4 n^3 bytes */
+    bool has_bounds;    /* place the grid's voxel box on `bounds` (axis-aligned), replacing the
+                           file's own placement: VDB/NanoVDB transform, df3 unit cube [0, 1]^3
+                           (as POV-Ray), .vol its bbox, raw its sidecar or else the cube
+                           [-0.5, 0.5]^3 scaled to the dims' aspect with cubic voxels */
+    box3 bounds;
+    bool has_transform; /* then world = transform(placement(voxel)), any invertible affine map */
+    affine3 transform;
+    grid_filter filter; /* GRID_NEAREST (Blasi: constant per voxel) or GRID_TRILINEAR */
+    double scale;       /* multiplies every density, > 0 (0 is taken as 1) */
+    size_t max_memory;  /* bytes the voxels may take; 0 = DENSITY_DEFAULT_MAX_MEMORY */
+} density_load_options;
+
+/* Defaults: AUTO format, file placement, trilinear, scale 1, 4 GiB. */
+void density_load_options_default(density_load_options *o);
+
+/* Loads a grid. opts may be NULL (defaults). The caller owns the result; on failure NULL
+ * and err_message() reads "PATH: reason". */
+density *density_load_file(const char *path, const density_load_options *opts);
+/* The same from bytes already in memory (fuzz targets, tests); `name` names them in
+ * messages and, with format AUTO, gives the extension. A raw sidecar is not looked for. */
+density *density_load_memory(const void *bytes, size_t size, const char *name, const density_load_options *opts);
+
+/* Writes d to path (format AUTO = by extension), atomically: a temporary file in the same
+ * folder renamed over path when complete. raw also writes the sidecar PATH.hdr (dims and
+ * placement); df3 stores values in [0, 1] with the fewest bytes per sample that represent
+ * every value exactly (else 4-byte samples, rounded) and loses the placement; .vol keeps
+ * the world AABB; .nvdb and .vdb need the OpenVDB build. Returns BRUME_OK or sets
+ * "PATH: reason". Only voxel values are written (not the filter). */
+brume_status density_write_file(const density *d, const char *path, grid_format format);
+
+/* Converts a .vdb file straight to .nvdb (OpenVDB -> NanoVDB, keeping the tree). */
+brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out);
+
+const char *grid_format_name(grid_format f);     /* "raw", "df3", ... ; "auto" */
+grid_format grid_format_from_name(const char *s); /* AUTO when unknown */
+/* The format of path by extension, else by its first bytes (head, n may be 0). */
+grid_format grid_format_detect(const char *path, const unsigned char *head, size_t n);
+/* Whether this build reads and writes .vdb and writes .nvdb. */
+bool grid_have_openvdb(void);
+
+#endif

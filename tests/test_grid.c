@@ -1,0 +1,691 @@
+/* test_grid.c - voxel grids: the DDA against brute force, majorants that bound the field,
+ * file formats (round trips, the real files of ../shared/data, NanoVDB against OpenVDB),
+ * and hostile input. */
+#include "test.h"
+
+#include <stdint.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "density/density.h"
+#include "io/grid_io.h"
+
+#define DATA(f) BRUME_DATA_DIR "/" f
+
+/* ---- DDA against brute force --------------------------------------------------------------- */
+
+typedef struct hit {
+    int i, j, k;
+    double t0, t1;
+} hit;
+
+/* Every cell whose half-open box overlaps the ray on a positive length, with the same
+ * crossing formula as the DDA, sorted by entry. */
+static int brute_force(const int n[3], vec3 o, vec3 d, double tmin, double tmax, hit *out, int cap)
+{
+    const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    int count = 0;
+    for (int k = 0; k < n[2]; k++)
+        for (int j = 0; j < n[1]; j++)
+            for (int i = 0; i < n[0]; i++) {
+                const int c[3] = {i, j, k};
+                double t0 = tmin, t1 = tmax;
+                /* the grid's own box clips too (the DDA's first step) */
+                for (int a = 0; a < 3 && t0 < t1; a++) {
+                    if (dd[a] == 0.0) {
+                        if (!(oo[a] >= c[a] && oo[a] < c[a] + 1))
+                            t1 = -INFINITY;
+                        continue;
+                    }
+                    double inv = 1.0 / dd[a];
+                    double ta = ((double)c[a] - oo[a]) * inv, tb = ((double)(c[a] + 1) - oo[a]) * inv;
+                    double ga = (0.0 - oo[a]) * inv, gb = ((double)n[a] - oo[a]) * inv;
+                    t0 = fmax(t0, fmax(fmin(ta, tb), fmin(ga, gb)));
+                    t1 = fmin(t1, fmin(fmax(ta, tb), fmax(ga, gb)));
+                }
+                if (t1 > t0) {
+                    if (count == cap)
+                        TEST_FAIL("brute force: more than %d cells", cap);
+                    out[count++] = (hit){i, j, k, t0, t1};
+                }
+            }
+    for (int a = 1; a < count; a++) /* insertion sort by t0 */
+        for (int b = a; b > 0 && out[b].t0 < out[b - 1].t0; b--) {
+            hit s = out[b];
+            out[b] = out[b - 1];
+            out[b - 1] = s;
+        }
+    return count;
+}
+
+static void check_dda(const int n[3], vec3 o, vec3 d, double tmin, double tmax)
+{
+    static hit want[4096];
+    int nw = brute_force(n, o, d, tmin, tmax, want, 4096);
+    grid_dda g;
+    grid_dda_step s;
+    int got = 0;
+    if (grid_dda_begin(&g, n, o, d, tmin, tmax))
+        while (grid_dda_next(&g, &s)) {
+            if (got >= nw)
+                TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): DDA visits extra cell (%d %d %d) [%g, %g]",
+                          o.x, o.y, o.z, d.x, d.y, d.z, s.i, s.j, s.k, s.t0, s.t1);
+            hit w = want[got++];
+            if (w.i != s.i || w.j != s.j || w.k != s.k || w.t0 != s.t0 || w.t1 != s.t1)
+                TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g) cell %d: DDA (%d %d %d) [%.17g, %.17g], "
+                          "brute force (%d %d %d) [%.17g, %.17g]",
+                          o.x, o.y, o.z, d.x, d.y, d.z, got - 1, s.i, s.j, s.k, s.t0, s.t1, w.i, w.j, w.k, w.t0, w.t1);
+        }
+    if (got != nw)
+        TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): DDA found %d cells, brute force %d", o.x, o.y, o.z,
+                  d.x, d.y, d.z, got, nw);
+}
+
+TEST(dda_random_rays)
+{
+    const int n[3] = {7, 5, 9};
+    rng r = rng_make(42, 0, 0);
+    for (int it = 0; it < 3000; it++) {
+        /* half start inside, half outside; directions of both signs, some tiny components */
+        vec3 o = v3(rng_next(&r) * 13 - 3, rng_next(&r) * 11 - 3, rng_next(&r) * 15 - 3);
+        if (it % 2)
+            o = v3(rng_next(&r) * n[0], rng_next(&r) * n[1], rng_next(&r) * n[2]);
+        vec3 d = v3(rng_next(&r) - 0.5, rng_next(&r) - 0.5, rng_next(&r) - 0.5);
+        if (it % 7 == 0)
+            d.y *= 1e-9;
+        double tmin = it % 3 == 0 ? rng_next(&r) * 3 : 0.0;
+        double tmax = it % 5 == 0 ? tmin + rng_next(&r) * 10 : (double)INFINITY;
+        check_dda(n, o, d, tmin, tmax);
+    }
+}
+
+/* Rays in voxel faces, along edges, through corners: ties between axes. */
+TEST(dda_grazing_and_axis_parallel)
+{
+    const int n[3] = {6, 6, 6};
+    rng r = rng_make(7, 0, 0);
+    for (int it = 0; it < 3000; it++) {
+        int kind = it % 6;
+        vec3 o = v3((int)(rng_next(&r) * 8) - 1, (int)(rng_next(&r) * 8) - 1, (int)(rng_next(&r) * 8) - 1);
+        vec3 d = v3((int)(rng_next(&r) * 5) - 2, (int)(rng_next(&r) * 5) - 2, (int)(rng_next(&r) * 5) - 2);
+        if (kind == 1) /* axis-parallel along a face or edge line */
+            d = v3(it % 4 < 2 ? 1 : -1, 0, 0);
+        else if (kind == 2)
+            d = v3(0, 0, it % 4 < 2 ? 1 : -1);
+        else if (kind == 3) /* inside a face plane, diagonal */
+            d.z = 0.0, o.x += 0.5;
+        else if (kind == 4) /* half-integer origin: through corners of the lattice shifted */
+            o = v3(o.x + 0.5, o.y + 0.5, o.z + 0.5);
+        else if (kind == 5) /* through exact corners from inside */
+            o = v3(3, 3, 3), d = v3(1, (it / 6) % 3 - 1, 1);
+        if (d.x == 0 && d.y == 0 && d.z == 0)
+            d.x = 1;
+        check_dda(n, o, d, 0.0, INFINITY);
+        check_dda(n, o, v3_neg(d), 0.0, INFINITY);
+    }
+    /* on the grid's upper faces: outside (half-open) */
+    check_dda(n, v3(6, 1.5, 1.5), v3(0, 1, 0), -10, 10);
+    check_dda(n, v3(0, 1.5, 1.5), v3(0, 1, 0), -10, 10);
+}
+
+/* The density-level voxel walk in a rotated, scaled grid covers the ray between the
+ * grid's entry and exit, in contiguous steps, in the voxels that density_eval reads. */
+TEST(dda_world_placement)
+{
+    float *v = calloc(8 * 6 * 5, sizeof *v);
+    for (int i = 0; i < 8 * 6 * 5; i++)
+        v[i] = (float)i;
+    double c = cos(0.4), s = sin(0.4);
+    affine3 v2w = {{0.1 * c, -0.2 * s, 0, 1, 0.1 * s, 0.2 * c, 0, -2, 0, 0.05, 0.3, 0.5}};
+    density *d = density_new_grid_affine(8, 6, 5, v, &v2w, GRID_NEAREST);
+    ASSERT_TRUE(d);
+    rng r = rng_make(3, 0, 0);
+    for (int it = 0; it < 500; it++) {
+        box3 b = density_bounds(d);
+        vec3 target = v3(b.lo.x + rng_next(&r) * (b.hi.x - b.lo.x), b.lo.y + rng_next(&r) * (b.hi.y - b.lo.y),
+                         b.lo.z + rng_next(&r) * (b.hi.z - b.lo.z));
+        vec3 o = v3_add(target, v3(rng_next(&r) * 4 - 2, rng_next(&r) * 4 - 2, rng_next(&r) * 4 - 2));
+        ray ry = {o, v3_normalize(v3_sub(target, o)), 0};
+        grid_dda g;
+        grid_dda_step st;
+        double prev = -1;
+        if (!density_voxel_dda_begin(d, ry, 0, INFINITY, &g))
+            continue;
+        while (grid_dda_next(&g, &st)) {
+            if (prev >= 0)
+                ASSERT_EQ_INT(st.t0 == prev, 1);
+            prev = st.t1;
+            double tm = 0.5 * (st.t0 + st.t1);
+            ASSERT_NEAR(density_eval(d, ray_at(ry, tm)), (double)(st.i + 8 * (st.j + 6 * st.k)), 0);
+        }
+    }
+    density_release(d);
+}
+
+/* ---- majorants ------------------------------------------------------------------------------ */
+
+/* Segments are contiguous, cover the overlap of ray and grid, and bound rho everywhere. */
+static void check_majorants(const density *d, uint64_t seed, int rays)
+{
+    rng r = rng_make(seed, 0, 0);
+    box3 b = density_bounds(d);
+    vec3 ext = v3_sub(b.hi, b.lo);
+    for (int it = 0; it < rays; it++) {
+        vec3 target = v3(b.lo.x + rng_next(&r) * ext.x, b.lo.y + rng_next(&r) * ext.y, b.lo.z + rng_next(&r) * ext.z);
+        vec3 o = it % 3 ? v3_madd(target, v3(rng_next(&r) - 0.5, rng_next(&r) - 0.5, rng_next(&r) - 0.5), 2 * v3_length(ext))
+                        : v3(b.lo.x + rng_next(&r) * ext.x, b.lo.y + rng_next(&r) * ext.y, b.lo.z + rng_next(&r) * ext.z);
+        vec3 dir = v3_sub(target, o);
+        if (v3_length(dir) == 0)
+            continue;
+        ray ry = {o, v3_normalize(dir), 0};
+        double t0 = 0, t1 = 0;
+        bool crosses = box3_intersect(b, ry, 0, INFINITY, &t0, &t1) && t1 > t0;
+        majorant_iter mi;
+        majorant_seg seg;
+        density_majorant_begin(d, ry, 0, INFINITY, &mi);
+        double prev = NAN, first = NAN;
+        while (majorant_next(&mi, &seg)) {
+            if (isnan(first))
+                first = seg.t0;
+            else
+                ASSERT_NEAR(seg.t0, prev, 1e-12 * (1 + fabs(prev)));
+            ASSERT_TRUE(seg.t1 > seg.t0);
+            for (int q = 0; q < 16; q++) {
+                double t = seg.t0 + (seg.t1 - seg.t0) * (q + 0.5) / 16;
+                double rho = density_eval(d, ray_at(ry, t));
+                if (rho > seg.rho_maj * (1 + 1e-6) + 1e-12)
+                    TEST_FAIL("rho %.9g > majorant %.9g at t %.9g in [%.9g, %.9g]", rho, seg.rho_maj, t, seg.t0, seg.t1);
+            }
+            ASSERT_TRUE(seg.rho_maj <= density_max(d) * (1 + 1e-6));
+            prev = seg.t1;
+        }
+        if (crosses && !isnan(first)) {
+            ASSERT_NEAR(first, t0, 1e-9 * (1 + fabs(t0)));
+            ASSERT_NEAR(prev, t1, 1e-9 * (1 + fabs(t1)));
+        }
+    }
+}
+
+static float *random_sparse_grid(int nx, int ny, int nz, uint64_t seed)
+{
+    float *v = malloc((size_t)nx * (size_t)ny * (size_t)nz * sizeof *v);
+    rng r = rng_make(seed, 0, 0);
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                /* blobs of density in a mostly empty box, so that the cells differ */
+                double x = (i - nx * 0.3) / nx, y = (j - ny * 0.6) / ny, z = (k - nz * 0.5) / nz;
+                double e = exp(-30 * (x * x + y * y + z * z));
+                v[i + nx * (j + ny * k)] = e > 0.05 ? (float)(e * (0.5 + rng_next(&r))) : 0.0f;
+            }
+    return v;
+}
+
+TEST(majorant_bounds_dense)
+{
+    for (int f = 0; f < 2; f++) {
+        density *d = density_new_grid(37, 29, 41, random_sparse_grid(37, 29, 41, 5),
+                                      (box3){v3(-1, -0.5, 0), v3(1, 0.7, 2)}, f ? GRID_TRILINEAR : GRID_NEAREST);
+        ASSERT_TRUE(d);
+        check_majorants(d, 11 + (uint64_t)f, 400);
+        density_release(d);
+    }
+}
+
+/* The majorant grid must beat the global max on a sparse field: count the mean majorant. */
+TEST(majorant_tighter_than_global)
+{
+    density *d = density_new_grid(64, 64, 64, random_sparse_grid(64, 64, 64, 9), (box3){v3(0, 0, 0), v3(1, 1, 1)},
+                                  GRID_TRILINEAR);
+    ASSERT_TRUE(d);
+    rng r = rng_make(1, 0, 0);
+    double sum_len = 0, sum_maj = 0;
+    for (int it = 0; it < 200; it++) {
+        ray ry = {v3(-1, rng_next(&r), rng_next(&r)), v3_normalize(v3(1, rng_next(&r) - 0.5, rng_next(&r) - 0.5)), 0};
+        majorant_iter mi;
+        majorant_seg s;
+        density_majorant_begin(d, ry, 0, INFINITY, &mi);
+        while (majorant_next(&mi, &s)) {
+            sum_len += s.t1 - s.t0;
+            sum_maj += (s.t1 - s.t0) * s.rho_maj;
+        }
+    }
+    printf("mean majorant %.4f, global max %.4f\n", sum_maj / sum_len, density_max(d));
+    ASSERT_TRUE(sum_maj / sum_len < 0.5 * density_max(d));
+    density_release(d);
+}
+
+/* ---- formats: round trips --------------------------------------------------------------- */
+
+static void check_same_voxels(const density *a, const density *b)
+{
+    density_info ia, ib;
+    density_get_info(a, &ia);
+    density_get_info(b, &ib);
+    for (int x = 0; x < 3; x++)
+        ASSERT_EQ_INT(ia.n[x], ib.n[x]);
+    for (int k = 0; k < ia.n[2]; k++)
+        for (int j = 0; j < ia.n[1]; j++)
+            for (int i = 0; i < ia.n[0]; i++)
+                if (density_voxel(a, i, j, k) != density_voxel(b, i, j, k))
+                    TEST_FAIL("voxel (%d %d %d): %.9g != %.9g", i, j, k, density_voxel(a, i, j, k),
+                              density_voxel(b, i, j, k));
+}
+
+TEST(roundtrip_raw_vol)
+{
+    const char *ext[] = {"rt.raw", "rt.vol"};
+    for (int e = 0; e < 2; e++) {
+        float *v = random_sparse_grid(13, 7, 11, 3);
+        v[5] = 1e-30f; /* a denormal-ish tiny value and a large one survive */
+        v[6] = 3.4e38f;
+        density *d = density_new_grid(13, 7, 11, v, (box3){v3(-1, 2, 3), v3(0.3, 2.5, 4)}, GRID_NEAREST);
+        ASSERT_TRUE(d);
+        const char *path = test_tmp_path(ext[e]);
+        ASSERT_EQ_INT(density_write_file(d, path, GRID_FORMAT_AUTO), BRUME_OK);
+        density *b = density_load_file(path, NULL);
+        if (!b)
+            TEST_FAIL("%s", err_message());
+        check_same_voxels(d, b);
+        box3 x = density_bounds(d), y = density_bounds(b);
+        ASSERT_NEAR(x.lo.x, y.lo.x, 1e-6);
+        ASSERT_NEAR(x.hi.z, y.hi.z, 1e-6);
+        density_release(b);
+        density_release(d);
+        remove(path);
+        char hdr[600];
+        snprintf(hdr, sizeof hdr, "%s.hdr", path);
+        remove(hdr);
+    }
+}
+
+TEST(roundtrip_df3)
+{
+    /* df3 holds [0, 1]: 8-bit values stay 8-bit and exact; others go to 16 or 32 bits */
+    for (int w = 0; w < 3; w++) {
+        float *v = malloc(9 * 4 * 3 * sizeof *v);
+        for (int i = 0; i < 108; i++)
+            v[i] = w == 0 ? (float)((i * 7 % 256) / 255.0) : w == 1 ? (float)((i * 911 % 65536) / 65535.0)
+                                                                    : (float)(i / 107.0);
+        density *d = density_new_grid(9, 4, 3, v, (box3){v3(0, 0, 0), v3(1, 1, 1)}, GRID_NEAREST);
+        const char *path = test_tmp_path("rt.df3");
+        ASSERT_EQ_INT(density_write_file(d, path, GRID_FORMAT_AUTO), BRUME_OK);
+        density *b = density_load_file(path, NULL);
+        ASSERT_TRUE(b);
+        if (w < 2)
+            check_same_voxels(d, b);
+        else
+            for (int i = 0; i < 9; i++)
+                ASSERT_NEAR(density_voxel(b, i, 1, 2), density_voxel(d, i, 1, 2), 1e-7);
+        FILE *f = fopen(path, "rb");
+        fseek(f, 0, SEEK_END);
+        ASSERT_EQ_INT(ftell(f), 6 + 108 * (w == 0 ? 1 : w == 1 ? 2 : 4));
+        fclose(f);
+        density_release(b);
+        density_release(d);
+        remove(path);
+    }
+    /* the real file is rewritten byte for byte */
+    density *s = density_load_file(DATA("spiral.df3"), NULL);
+    ASSERT_TRUE(s);
+    const char *path = test_tmp_path("spiral.df3");
+    ASSERT_EQ_INT(density_write_file(s, path, GRID_FORMAT_AUTO), BRUME_OK);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", DATA("spiral.df3"), path);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    remove(path);
+    density_release(s);
+}
+
+/* ---- the real files ------------------------------------------------------------------------- */
+
+TEST(real_wdas_cloud)
+{
+    density *d = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), NULL);
+    if (!grid_have_openvdb()) {
+        ASSERT_TRUE(!d);
+        ASSERT_CONTAINS(err_message(), "without OpenVDB");
+        return;
+    }
+    if (!d)
+        TEST_FAIL("%s", err_message());
+    density_info in;
+    density_get_info(d, &in);
+    ASSERT_EQ_INT(in.n[0], 126);
+    ASSERT_EQ_INT(in.n[1], 86);
+    ASSERT_EQ_INT(in.n[2], 154);
+    /* index box (-66,-21,-90)..(59,64,63), voxel size 3.3333, cell-centred: +-1/2 voxel */
+    double vs = in.voxel_to_world.m[0];
+    ASSERT_NEAR(vs, 10.0 / 3.0, 1e-4);
+    ASSERT_NEAR(in.bounds.lo.x, -66.5 * vs, 1e-9);
+    ASSERT_NEAR(in.bounds.hi.z, 63.5 * vs, 1e-9);
+    ASSERT_NEAR(in.rho_max, 1.0, 1e-6);
+    ASSERT_TRUE(in.rho_min >= 0);
+    check_majorants(d, 77, 100);
+    density_release(d);
+}
+
+/* Constant density 1 in a box of 21 voxels of 0.05: optical depth along an axis through
+ * the box is exactly 1.05 sigma_t, so T = exp(-1.05 sigma_t). */
+TEST(real_box_fog_transmittance)
+{
+    density_load_options o;
+    density_load_options_default(&o);
+    o.filter = GRID_NEAREST;
+    density *d = density_load_file(DATA("box_fog_21cube.vdb"), &o);
+    if (!grid_have_openvdb()) {
+        ASSERT_TRUE(!d);
+        return;
+    }
+    if (!d)
+        TEST_FAIL("%s", err_message());
+    ASSERT_NEAR(density_max(d), 1.0, 0);
+    const double sigma_t = 2.0;
+    for (int axis = 0; axis < 3; axis++) {
+        vec3 o3 = v3(0.01, -0.02, 0.03), dir = v3(0, 0, 0);
+        if (axis == 0)
+            o3.x = -3, dir.x = 1;
+        else if (axis == 1)
+            o3.y = -3, dir.y = 1;
+        else
+            o3.z = -3, dir.z = 1;
+        ray r = {o3, dir, 0};
+        grid_dda g;
+        grid_dda_step s;
+        double tau = 0;
+        ASSERT_TRUE(density_voxel_dda_begin(d, r, 0, INFINITY, &g));
+        while (grid_dda_next(&g, &s))
+            tau += sigma_t * density_voxel(d, s.i, s.j, s.k) * (s.t1 - s.t0);
+        ASSERT_NEAR(exp(-tau), exp(-1.05 * sigma_t), 1e-12);
+        /* and through the majorant segments (constant field: majorant = density) */
+        majorant_iter mi;
+        majorant_seg seg;
+        double tau_m = 0;
+        density_majorant_begin(d, r, 0, INFINITY, &mi);
+        while (majorant_next(&mi, &seg))
+            tau_m += sigma_t * seg.rho_maj * (seg.t1 - seg.t0);
+        ASSERT_NEAR(tau_m, 1.05 * sigma_t, 1e-12);
+    }
+    density_release(d);
+}
+
+TEST(real_spiral_df3)
+{
+    density *d = density_load_file(DATA("spiral.df3"), NULL);
+    ASSERT_TRUE(d);
+    FILE *f = fopen(DATA("spiral.df3"), "rb");
+    unsigned char *b = malloc(12506);
+    ASSERT_EQ_INT(fread(b, 1, 12506, f), 12506);
+    fclose(f);
+    int nonzero = 0;
+    double sum = 0;
+    for (int k = 0; k < 5; k++)
+        for (int j = 0; j < 50; j++)
+            for (int i = 0; i < 50; i++) {
+                double want = b[6 + i + 50 * (j + 50 * k)] / 255.0;
+                ASSERT_NEAR(density_voxel(d, i, j, k), want, 1e-7);
+                nonzero += want > 0;
+                sum += b[6 + i + 50 * (j + 50 * k)];
+            }
+    ASSERT_EQ_INT(nonzero, 1221);
+    ASSERT_NEAR(sum / 12500, 13.68, 0.005);
+    box3 bb = density_bounds(d);
+    ASSERT_NEAR(bb.lo.x, 0, 0);
+    ASSERT_NEAR(bb.hi.z, 1, 0);
+    free(b);
+    density_release(d);
+}
+
+TEST(real_cloud64_raw)
+{
+    density *d = density_load_file(DATA("cloud64.raw"), NULL);
+    ASSERT_TRUE(d);
+    density_info in;
+    density_get_info(d, &in);
+    ASSERT_EQ_INT(in.n[0] * in.n[1] * in.n[2], 64 * 64 * 64);
+    ASSERT_NEAR(in.bounds.lo.x, -0.5, 1e-15);
+    ASSERT_NEAR(in.bounds.hi.y, 0.5, 1e-15);
+    ASSERT_NEAR(in.rho_max, 1.0, 1e-6);
+    for (int a = 0; a < 64; a++) /* outermost layer is 0 */
+        for (int b = 0; b < 64; b++) {
+            ASSERT_NEAR(density_voxel(d, 0, a, b), 0, 0);
+            ASSERT_NEAR(density_voxel(d, a, 63, b), 0, 0);
+        }
+    /* voxel (i, j, k) is sampled at -0.5 + (i + 0.5) / 64 */
+    ASSERT_NEAR(density_eval(d, v3(-0.5 + 32.5 / 64, -0.5 + 30.5 / 64, -0.5 + 33.5 / 64)), density_voxel(d, 32, 30, 33),
+                1e-12);
+    check_majorants(d, 5, 200);
+    density_release(d);
+}
+
+/* .vdb read by OpenVDB (densified) and the .nvdb made from it, read in C by PNanoVDB,
+ * give the same densities, nearest and trilinear, everywhere in the box. */
+TEST(nanovdb_matches_openvdb)
+{
+    if (!grid_have_openvdb())
+        return;
+    const char *files[] = {DATA("wdas_cloud_sixteenth.vdb"), DATA("box_fog_21cube.vdb")};
+    for (int fi = 0; fi < 2; fi++) {
+        const char *nv = test_tmp_path("conv.nvdb");
+        if (grid_convert_vdb_to_nvdb(files[fi], nv) != BRUME_OK)
+            TEST_FAIL("%s", err_message());
+        for (int filter = 0; filter < 2; filter++) {
+            density_load_options o;
+            density_load_options_default(&o);
+            o.filter = filter ? GRID_TRILINEAR : GRID_NEAREST;
+            density *a = density_load_file(files[fi], &o), *b = density_load_file(nv, &o);
+            if (!a || !b)
+                TEST_FAIL("%s", err_message());
+            ASSERT_EQ_INT(density_get_kind(b), DENSITY_NANOVDB);
+            box3 ba = density_bounds(a), bb = density_bounds(b);
+            ASSERT_NEAR(ba.lo.x, bb.lo.x, 1e-9);
+            ASSERT_NEAR(ba.hi.y, bb.hi.y, 1e-9);
+            ASSERT_NEAR(density_max(a), density_max(b), 0);
+            rng r = rng_make(8, (uint64_t)fi, (uint64_t)filter);
+            vec3 e = v3_sub(ba.hi, ba.lo);
+            int nonzero = 0;
+            for (int q = 0; q < 20000; q++) {
+                vec3 p = v3(ba.lo.x + rng_next(&r) * e.x, ba.lo.y + rng_next(&r) * e.y, ba.lo.z + rng_next(&r) * e.z);
+                double va = density_eval(a, p), vb = density_eval(b, p);
+                ASSERT_NEAR(va, vb, 1e-6);
+                nonzero += va > 0;
+            }
+            ASSERT_TRUE(nonzero > 100);
+            check_majorants(b, 3 + (uint64_t)filter, 100);
+            density_release(a);
+            density_release(b);
+        }
+        remove(nv);
+    }
+}
+
+/* A dense grid written as .nvdb by the C++ side and read back in C. */
+TEST(nanovdb_write_dense)
+{
+    if (!grid_have_openvdb())
+        return;
+    density *d = density_new_grid(19, 9, 23, random_sparse_grid(19, 9, 23, 4), (box3){v3(-1, 0, 0), v3(1, 1, 3)},
+                                  GRID_TRILINEAR);
+    const char *p = test_tmp_path("dense.nvdb");
+    if (density_write_file(d, p, GRID_FORMAT_AUTO) != BRUME_OK)
+        TEST_FAIL("%s", err_message());
+    density *b = density_load_file(p, NULL);
+    if (!b)
+        TEST_FAIL("%s", err_message());
+    check_same_voxels(d, b);
+    rng r = rng_make(1, 2, 3);
+    for (int q = 0; q < 2000; q++) {
+        vec3 x = v3(-1 + 2 * rng_next(&r), rng_next(&r), 3 * rng_next(&r));
+        ASSERT_NEAR(density_eval(d, x), density_eval(b, x), 1e-6);
+    }
+    const char *pv = test_tmp_path("dense.vdb");
+    ASSERT_EQ_INT(density_write_file(d, pv, GRID_FORMAT_AUTO), BRUME_OK);
+    density *c = density_load_file(pv, NULL);
+    ASSERT_TRUE(c);
+    check_same_voxels(d, c);
+    density_release(b);
+    density_release(c);
+    density_release(d);
+    remove(p);
+    remove(pv);
+}
+
+TEST(load_options_placement)
+{
+    density_load_options o;
+    density_load_options_default(&o);
+    o.has_bounds = true;
+    o.bounds = (box3){v3(0, 0, 0), v3(2, 4, 8)};
+    o.has_transform = true;
+    o.transform = (affine3){{0, -1, 0, 10, 1, 0, 0, 0, 0, 0, 1, 0}}; /* rotate 90 degrees about z, shift x */
+    o.scale = 2.0;
+    o.filter = GRID_NEAREST;
+    density *d = density_load_file(DATA("spiral.df3"), &o);
+    ASSERT_TRUE(d);
+    box3 b = density_bounds(d);
+    ASSERT_NEAR(b.lo.x, 6, 1e-12);
+    ASSERT_NEAR(b.hi.x, 10, 1e-12);
+    ASSERT_NEAR(b.hi.y, 2, 1e-12);
+    ASSERT_NEAR(b.hi.z, 8, 1e-12);
+    /* voxel (25, 25, 2) centre: bounds-local (1.02, 2.04, 4) -> world (10 - 2.04, 1.02, 4) */
+    ASSERT_NEAR(density_eval(d, v3(10 - 2.04, 1.02, 4)), density_voxel(d, 25, 25, 2), 0);
+    ASSERT_TRUE(density_voxel(d, 25, 25, 2) > 0 || 1);
+    density_release(d);
+}
+
+/* ---- hostile input -------------------------------------------------------------------------- */
+
+static unsigned char *slurp(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    ASSERT_TRUE(f);
+    fseek(f, 0, SEEK_END);
+    *n = (size_t)ftell(f);
+    fseek(f, 0, SEEK_SET);
+    unsigned char *b = malloc(*n + 1);
+    ASSERT_EQ_INT(fread(b, 1, *n, f), *n);
+    fclose(f);
+    return b;
+}
+
+static void expect_error(const void *bytes, size_t n, const char *name, const density_load_options *o, const char *why)
+{
+    density *d = density_load_memory(bytes, n, name, o);
+    if (d)
+        TEST_FAIL("%s (%zu bytes): loaded, expected an error (%s)", name, n, why);
+    const char *m = err_message();
+    ASSERT_CONTAINS(m, name);
+    ASSERT_TRUE(!strchr(m, '\n'));
+    if (why)
+        ASSERT_CONTAINS(m, why);
+}
+
+TEST(hostile_truncated_real_files)
+{
+    const char *files[] = {"spiral.df3", "cloud64.raw", "box_fog_21cube.vdb", "wdas_cloud_sixteenth.vdb"};
+    density_load_options o;
+    density_load_options_default(&o);
+    o.raw_dims[0] = o.raw_dims[1] = o.raw_dims[2] = 64;
+    for (int fi = 0; fi < 4; fi++) {
+        if (fi >= 2 && !grid_have_openvdb())
+            continue;
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", BRUME_DATA_DIR, files[fi]);
+        size_t n;
+        unsigned char *b = slurp(path, &n);
+        size_t cuts[] = {0, 1, 5, 7, 16, 100, n / 3, n / 2, n - 100, n - 1};
+        for (size_t c = 0; c < sizeof cuts / sizeof *cuts; c++)
+            expect_error(b, cuts[c], files[fi], &o, NULL);
+        free(b);
+    }
+    /* .vol and .nvdb made from the real data, truncated */
+    density *d = density_load_file(DATA("spiral.df3"), NULL);
+    const char *formats[] = {"t.vol", "t.nvdb"};
+    for (int fi = 0; fi < (grid_have_openvdb() ? 2 : 1); fi++) {
+        const char *p = test_tmp_path(formats[fi]);
+        ASSERT_EQ_INT(density_write_file(d, p, GRID_FORMAT_AUTO), BRUME_OK);
+        size_t n;
+        unsigned char *b = slurp(p, &n);
+        size_t cuts[] = {0, 3, 15, 47, 100, 191, 800, n / 2, n - 1};
+        for (size_t c = 0; c < sizeof cuts / sizeof *cuts; c++)
+            expect_error(b, cuts[c], formats[fi], NULL, NULL);
+        free(b);
+        remove(p);
+    }
+    density_release(d);
+}
+
+TEST(hostile_headers)
+{
+    unsigned char vol[48 + 8] = {'V', 'O', 'L', 3, 1, 0, 0, 0};
+    /* wrong magic */
+    expect_error("XOL\3", 4, "a.vol", NULL, "magic");
+    expect_error("NanoVDB1xxxxxxxxxxxxxxxx", 24, "a.nvdb", NULL, "magic");
+    expect_error("hello world, not a grid", 23, "x.bin", NULL, "unknown grid format");
+    /* overflowing and oversized dimensions */
+    int32_t big = 0x7fffffff;
+    for (int a = 0; a < 3; a++)
+        memcpy(vol + 8 + 4 * a, &big, 4);
+    vol[20] = 1;
+    expect_error(vol, sizeof vol, "big.vol", NULL, "overflow");
+    int32_t mid = 2000;
+    for (int a = 0; a < 3; a++)
+        memcpy(vol + 8 + 4 * a, &mid, 4);
+    expect_error(vol, sizeof vol, "mid.vol", NULL, "memory limit");
+    int32_t neg = -5;
+    memcpy(vol + 8, &neg, 4);
+    expect_error(vol, sizeof vol, "neg.vol", NULL, "out of range");
+    density_load_options o;
+    density_load_options_default(&o);
+    o.raw_dims[0] = o.raw_dims[1] = o.raw_dims[2] = 1 << 30;
+    expect_error(vol, 8, "big.raw", &o, "overflow");
+    o.raw_dims[0] = o.raw_dims[1] = o.raw_dims[2] = 64;
+    o.max_memory = 1000;
+    expect_error(vol, 8, "limit.raw", &o, "memory limit");
+    unsigned char df3[6] = {0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
+    expect_error(df3, 6, "huge.df3", NULL, "memory limit");
+}
+
+TEST(hostile_values)
+{
+    float v[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    density_load_options o;
+    density_load_options_default(&o);
+    o.raw_dims[0] = o.raw_dims[1] = o.raw_dims[2] = 2;
+    float bad[3] = {NAN, INFINITY, -0.5f};
+    for (int b = 0; b < 3; b++) {
+        v[6] = bad[b];
+        expect_error(v, sizeof v, "bad.raw", &o, "voxel 6 (0, 1, 1)");
+    }
+    v[6] = 1e38f;
+    o.scale = 1e10; /* finite values that the scale pushes to infinity */
+    expect_error(v, sizeof v, "scaled.raw", &o, "voxel 6");
+    /* NaN in a .nvdb, written through the dense path then patched */
+    if (!grid_have_openvdb())
+        return;
+    float *g = calloc(8 * 8 * 8, sizeof *g);
+    g[3 + 8 * (2 + 8 * 1)] = 0.75f;
+    density *d = density_new_grid(8, 8, 8, g, (box3){v3(0, 0, 0), v3(1, 1, 1)}, GRID_NEAREST);
+    const char *p = test_tmp_path("nan.nvdb");
+    ASSERT_EQ_INT(density_write_file(d, p, GRID_FORMAT_AUTO), BRUME_OK);
+    density_release(d);
+    size_t n;
+    unsigned char *b = slurp(p, &n);
+    remove(p);
+    float q = 0.75f, nan = NAN;
+    int patched = 0;
+    for (size_t i = 0; i + 4 <= n; i += 4)
+        if (memcmp(b + i, &q, 4) == 0) {
+            memcpy(b + i, &nan, 4);
+            patched++;
+        }
+    ASSERT_TRUE(patched >= 1);
+    expect_error(b, n, "nan.nvdb", NULL, "need finite");
+    free(b);
+}
+
+TEST_MAIN(dda_random_rays, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
+          majorant_tighter_than_global, roundtrip_raw_vol, roundtrip_df3, real_wdas_cloud, real_box_fog_transmittance,
+          real_spiral_df3, real_cloud64_raw, nanovdb_matches_openvdb, nanovdb_write_dense, load_options_placement,
+          hostile_truncated_real_files, hostile_headers, hostile_values)
