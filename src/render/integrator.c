@@ -284,8 +284,30 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
 
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g) { return path_Li_alpha(s, r, max_depth, g, NULL); }
 
-color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g, bool *hit_surface)
+brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state)
 {
+    (void)s;
+    *state = NULL;
+    switch (kind) {
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE: return BRUME_OK;
+    }
+    return BRUME_OK;
+}
+
+void integrator_finish(integrator_kind kind, void *state)
+{
+    switch (kind) {
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE: break;
+    }
+    (void)state;
+}
+
+color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
+                    bool *hit_surface)
+{
+    (void)state;
     switch (kind) {
     case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
     case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);

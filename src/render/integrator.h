@@ -24,9 +24,17 @@ bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
 
+/* Work an integrator does once per render before any camera ray (Blasi's light pass, a
+ * table of per-blob statistics, ...), kept in an opaque state that integrator_Li reads
+ * from every thread. integrator_prepare sets *state (NULL when the method needs none) and
+ * returns BRUME_OK, or fails with err_set(); integrator_finish releases the state. */
+brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state);
+void integrator_finish(integrator_kind kind, void *state);
+
 /* Radiance along r (unit direction) for the given kind; *hit_surface tells whether the
- * ray's first hit is a solid surface (may be NULL). */
-color integrator_Li(integrator_kind kind, const brume_scene *s, ray r, rng *g, bool *hit_surface);
+ * ray's first hit is a solid surface (may be NULL). state is integrator_prepare's. */
+color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
+                    bool *hit_surface);
 
 /* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
  * surface counts as one). */

@@ -15,6 +15,7 @@
 typedef struct render_job {
     const brume_scene *s;
     integrator_kind kind;
+    const void *state; /* integrator_prepare's */
     brume_image *img;
     int tiles_x;
     progress prog;
@@ -42,7 +43,7 @@ static void render_tile(size_t task, int thread, void *user)
                 double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
                 ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
                 bool opaque = false;
-                color L = integrator_Li(job->kind, s, r, &g, &opaque);
+                color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
                 if (col_isfinite(L))
                     sum = col_add(sum, L);
                 /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the ray */
@@ -71,11 +72,18 @@ brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image 
     if (!img)
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", s->source,
                                        s->settings.width, s->settings.height));
-    render_job job = {s, kind, img, (s->settings.width + TILE - 1) / TILE, {0}};
+    void *state = NULL;
+    brume_status st = integrator_prepare(kind, s, &state);
+    if (st != BRUME_OK) {
+        brume_image_release(img);
+        return ctx_report(ctx, st);
+    }
+    render_job job = {s, kind, state, img, (s->settings.width + TILE - 1) / TILE, {0}};
     size_t ntiles = (size_t)job.tiles_x * (size_t)((s->settings.height + TILE - 1) / TILE);
     progress_begin(&job.prog, "render", ntiles, s->settings.progress);
     pool_run(s->settings.threads, ntiles, render_tile, &job);
     progress_end(&job.prog);
+    integrator_finish(kind, state);
     *out = img;
     return ctx_report(ctx, BRUME_OK);
 }
