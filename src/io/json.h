@@ -13,6 +13,7 @@
 #include "brume.h"
 #include "core/color.h"
 #include "core/vec.h"
+#include "core/xform.h"
 
 typedef struct jloc {
     const char *file;
@@ -37,6 +38,10 @@ brume_status json_string(const cJSON *obj, jloc at, const char *key, int require
 brume_status json_vec3(const cJSON *obj, jloc at, const char *key, int required, vec3 *out);
 /* A number (gray) or a 3-array of RGB, each finite and in [lo, hi]. */
 brume_status json_color(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi, color *out);
+
+/* A transform object {"translate": [x, y, z], "rotate": {"axis": [..], "angle": degrees},
+ * "scale": s | [sx, sy, sz]}, applied as translate(rotate(scale(p))); j NULL = identity. */
+brume_status json_transform(const cJSON *j, jloc at, affine3 *out);
 
 /* A file named in a scene, relative to the scene file's folder unless absolute. */
 void json_resolve_path(const char *scene_file, const char *name, char *out, size_t n);

@@ -6,6 +6,8 @@
 
 #include "core/context.h"
 #include "core/error.h"
+#include "density/fractal.h"
+#include "io/grid_io.h"
 #include "io/json.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
@@ -207,6 +209,135 @@ static brume_status parse_box(const cJSON *j, jloc at, const char *key, box3 *b)
     return BRUME_OK;
 }
 
+static brume_status parse_filter(const cJSON *j, jloc at, grid_filter *f)
+{
+    char name[32] = "";
+    brume_status st = json_string(j, at, "filter", 0, name, sizeof name);
+    if (st || !name[0])
+        return st;
+    if (strcmp(name, "nearest") == 0)
+        *f = GRID_NEAREST;
+    else if (strcmp(name, "trilinear") == 0)
+        *f = GRID_TRILINEAR;
+    else
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.filter: unknown filter '%s' (known: nearest, trilinear)", at.file,
+                       at.path, name);
+    return BRUME_OK;
+}
+
+/* A voxel grid from a file (docs/grids.md lists the formats). */
+static brume_status parse_grid_density(const cJSON *j, jloc at, density **out)
+{
+    static const char *const keys[] = {"type", "file", "format", "dims", "bounds", "transform", "filter", "scale",
+                                       "max_memory_mb", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    density_load_options o;
+    density_load_options_default(&o);
+    char name[1024], path[2048], fmt[16] = "";
+    if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
+    json_resolve_path(at.file, name, path, sizeof path);
+    if ((st = json_string(j, at, "format", 0, fmt, sizeof fmt))) return st;
+    if (fmt[0]) {
+        o.format = grid_format_from_name(fmt);
+        if (o.format == GRID_FORMAT_AUTO && strcmp(fmt, "auto") != 0)
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.format: unknown grid format '%s'", at.file, at.path, fmt);
+    }
+    vec3 dims = v3(0, 0, 0);
+    if ((st = json_vec3(j, at, "dims", 0, &dims))) return st;
+    if (cJSON_HasObjectItem(j, "dims")) {
+        double d[3] = {dims.x, dims.y, dims.z};
+        for (int k = 0; k < 3; k++) {
+            if (!(d[k] >= 1 && d[k] <= 65536) || d[k] != floor(d[k]))
+                return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 65536]", at.file,
+                               at.path, k, d[k]);
+            o.raw_dims[k] = (int)d[k];
+        }
+    }
+    if (cJSON_HasObjectItem(j, "bounds")) {
+        if ((st = parse_box(j, at, "bounds", &o.bounds))) return st;
+        o.has_bounds = true;
+    }
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
+    if (tr) {
+        char kp[256];
+        if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")},
+                                 &o.transform)))
+            return st;
+        o.has_transform = true;
+    }
+    if ((st = parse_filter(j, at, &o.filter))) return st;
+    if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &o.scale))) return st;
+    double mb = 0.0;
+    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
+    if (mb > 0.0)
+        o.max_memory = (size_t)(mb * 1048576.0);
+    *out = density_load_file(path, &o);
+    if (!*out)
+        return err_prefix("%s: %s.file", at.file, at.path);
+    return BRUME_OK;
+}
+
+/* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1). */
+static brume_status parse_fractal_density(const cJSON *j, jloc at, density **out)
+{
+    static const char *const keys[] = {"type", "dims", "seed", "method", "hurst", "octaves", "frequency", "shape",
+                                       "falloff", "threshold", "threshold_rate", "turbulence",
+                                       "turbulence_frequency", "wind", "time", "density", "bounds", "filter", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    fractal_params p;
+    fractal_params_default(&p);
+    vec3 dims = v3(p.n[0], p.n[1], p.n[2]);
+    if ((st = json_vec3(j, at, "dims", 0, &dims))) return st;
+    double d[3] = {dims.x, dims.y, dims.z};
+    for (int k = 0; k < 3; k++) {
+        if (!(d[k] >= 1 && d[k] <= 1024) || d[k] != floor(d[k]))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 1024]", at.file, at.path,
+                           k, d[k]);
+        p.n[k] = (int)d[k];
+    }
+    char m[32] = "", sh[32] = "";
+    if ((st = json_u64(j, at, "seed", 0, &p.seed))) return st;
+    if ((st = json_string(j, at, "method", 0, m, sizeof m))) return st;
+    if (m[0]) {
+        if (strcmp(m, "midpoint") == 0) p.method = FRACTAL_MIDPOINT;
+        else if (strcmp(m, "spectral") == 0) p.method = FRACTAL_SPECTRAL;
+        else if (strcmp(m, "perlin") == 0) p.method = FRACTAL_PERLIN;
+        else
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.method: unknown method '%s' (known: midpoint, spectral, perlin)",
+                           at.file, at.path, m);
+    }
+    if ((st = json_string(j, at, "shape", 0, sh, sizeof sh))) return st;
+    if (sh[0]) {
+        if (strcmp(sh, "none") == 0) p.shape = FRACTAL_SHAPE_NONE;
+        else if (strcmp(sh, "ellipsoid") == 0) p.shape = FRACTAL_SHAPE_ELLIPSOID;
+        else if (strcmp(sh, "slab") == 0) p.shape = FRACTAL_SHAPE_SLAB;
+        else
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.shape: unknown shape '%s' (known: none, ellipsoid, slab)",
+                           at.file, at.path, sh);
+    }
+    if ((st = json_number(j, at, "hurst", 0, 1e-3, 0.999, &p.hurst))) return st;
+    if ((st = json_int(j, at, "octaves", 0, 1, 16, &p.octaves))) return st;
+    if ((st = json_number(j, at, "frequency", 0, 1e-3, 1e3, &p.frequency))) return st;
+    if ((st = json_number(j, at, "falloff", 0, 1e-3, 1.0, &p.falloff))) return st;
+    if ((st = json_number(j, at, "threshold", 0, 0.0, 0.99, &p.threshold))) return st;
+    if ((st = json_number(j, at, "threshold_rate", 0, -1e3, 1e3, &p.threshold_rate))) return st;
+    if ((st = json_number(j, at, "turbulence", 0, 0.0, 1e3, &p.turbulence))) return st;
+    if ((st = json_number(j, at, "turbulence_frequency", 0, 1e-3, 1e3, &p.turbulence_frequency))) return st;
+    if ((st = json_vec3(j, at, "wind", 0, &p.wind))) return st;
+    if ((st = json_number(j, at, "time", 0, -1e9, 1e9, &p.time))) return st;
+    if ((st = json_number(j, at, "density", 0, 1e-9, 1e9, &p.density))) return st;
+    box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+    if ((st = parse_box(j, at, "bounds", &b))) return st;
+    grid_filter f = GRID_TRILINEAR;
+    if ((st = parse_filter(j, at, &f))) return st;
+    *out = fractal_cloud(&p, b, f);
+    if (!*out)
+        return err_prefix("%s: %s", at.file, at.path);
+    return BRUME_OK;
+}
+
 static brume_status parse_density(const cJSON *j, jloc at, density **out)
 {
     char type[32];
@@ -247,7 +378,12 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
         }
         return BRUME_OK;
     }
-    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud)",
+    if (strcmp(type, "grid") == 0)
+        return parse_grid_density(j, at, out);
+    if (strcmp(type, "fractal_cloud") == 0)
+        return parse_fractal_density(j, at, out);
+    return err_set(BRUME_ERROR_PARSE,
+                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, fractal_cloud)",
                    at.file, at.path, type);
 }
 

@@ -35,49 +35,6 @@ static brume_status parse_material(const cJSON *j, jloc at, material *m)
     return BRUME_OK;
 }
 
-/* {"translate": [..], "rotate": {"axis": [..], "angle": deg}, "scale": s | [sx, sy, sz]},
- * applied as translate(rotate(scale(x))). */
-static brume_status parse_transform(const cJSON *j, jloc at, affine3 *out)
-{
-    static const char *const keys[] = {"translate", "rotate", "scale", NULL};
-    *out = affine3_identity();
-    if (!j)
-        return BRUME_OK;
-    brume_status st = json_check_object(j, at, keys);
-    if (st) return st;
-    vec3 t = v3(0, 0, 0), sc = v3(1, 1, 1);
-    if ((st = json_vec3(j, at, "translate", 0, &t))) return st;
-    const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "scale");
-    if (cJSON_IsNumber(s)) {
-        double k = 1.0;
-        if ((st = json_number(j, at, "scale", 1, 1e-12, BIG, &k))) return st;
-        sc = v3(k, k, k);
-    } else if (s) {
-        if ((st = json_vec3(j, at, "scale", 1, &sc))) return st;
-        if (!(sc.x > 0 && sc.y > 0 && sc.z > 0))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s.scale: every factor must be > 0", at.file, at.path);
-    }
-    affine3 r = affine3_identity();
-    const cJSON *rot = cJSON_GetObjectItemCaseSensitive(j, "rotate");
-    if (rot) {
-        static const char *const rkeys[] = {"axis", "angle", NULL};
-        char kp[256];
-        jloc rat = {at.file, json_key_path(kp, sizeof kp, at.path, "rotate")};
-        vec3 axis;
-        double angle = 0.0;
-        if ((st = json_check_object(rot, rat, rkeys))) return st;
-        if ((st = json_vec3(rot, rat, "axis", 1, &axis))) return st;
-        if (!(v3_length(axis) > 0.0))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s.axis: must not be the zero vector", at.file, rat.path);
-        if ((st = json_number(rot, rat, "angle", 1, -1e6, 1e6, &angle))) return st;
-        r = affine3_rotate(axis, angle);
-    }
-    affine3 ts = affine3_translate(t), ss = affine3_scale(sc);
-    affine3 rs = affine3_compose(&r, &ss);
-    *out = affine3_compose(&ts, &rs);
-    return BRUME_OK;
-}
-
 /* Adds a mesh after transforming its vertices to world space. */
 static brume_status add_mesh(surfaces *S, double *pos, int nv, const int *idx, int ntri, const affine3 *xf,
                              const material *m, const char *name)
@@ -168,7 +125,7 @@ static brume_status parse_surface(const cJSON *j, jloc at, surfaces *S)
                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "material")}, &m)))
         return st;
     affine3 xf;
-    if ((st = parse_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
+    if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
                               (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
         return st;
 
