@@ -11,6 +11,7 @@
 #include "render/track.h"
 
 #define TILE 16
+#define ALPHA_SAMPLES 8 /* camera samples per pixel that estimate alpha */
 
 typedef struct render_job {
     const brume_scene *s;
@@ -46,14 +47,18 @@ static void render_tile(size_t task, int thread, void *user)
                 color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
                 if (col_isfinite(L))
                     sum = col_add(sum, L);
-                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the ray */
-                alpha += opaque ? 1.0 : 1.0 - col_avg(track_transmittance(s, r, INFINITY, &g));
+                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
+                 * ray, ratio-tracked on the first ALPHA_SAMPLES samples only: a smooth
+                 * estimator that needs few samples, and no cost for the others */
+                if (sidx < ALPHA_SAMPLES)
+                    alpha += opaque ? 1.0 : 1.0 - col_avg(track_transmittance(s, r, INFINITY, &g));
             }
             float *px = job->img->rgba + 4 * pixel;
             double inv = 1.0 / rs->spp;
             for (int c = 0; c < 3; c++)
                 px[c] = (float)(sum.c[c] * inv);
-            px[3] = (float)fmin(1.0, fmax(0.0, alpha * inv));
+            int na = rs->spp < ALPHA_SAMPLES ? rs->spp : ALPHA_SAMPLES;
+            px[3] = (float)fmin(1.0, fmax(0.0, alpha / na));
         }
     progress_add(&job->prog, 1);
 }

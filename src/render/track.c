@@ -19,7 +19,7 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
         st[m].sigma_t_max = s->media[m].sigma_t_max;
     }
-    double t = 0.0;
+    double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
     for (;;) {
         /* Majorant on [t, t_next): media whose current segment covers t. */
         double sigma_maj = 0.0, t_next = INFINITY;
@@ -40,20 +40,22 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
         if (!any || t >= tmax)
             return true;
         t_next = fmin(t_next, tmax);
-        if (sigma_maj <= 0.0) {
-            t = t_next;
-            continue;
-        }
-        /* Collisions inside [t, t_next): memoryless, so restart at the boundary. */
-        for (;;) {
-            t += sample_exponential(rng_next(g), sigma_maj);
-            if (t >= t_next) {
-                t = t_next;
-                break;
+        /* tau: optical depth (against the majorant) still to cover before the next
+         * tentative collision; one exponential per collision, carried across segments. */
+        if (sigma_maj > 0.0) {
+            for (;;) {
+                double dt = tau / sigma_maj;
+                if (t + dt >= t_next) {
+                    tau = fmax(0.0, tau - sigma_maj * (t_next - t));
+                    break;
+                }
+                t += dt;
+                if (!fn(t, sigma_maj, user))
+                    return false;
+                tau = sample_exponential(rng_next(g), 1.0);
             }
-            if (!fn(t, sigma_maj, user))
-                return false;
         }
+        t = t_next;
     }
 }
 
