@@ -26,7 +26,8 @@ test-release: build
 	cd $(BUILD) && ctest $(CTEST_FLAGS)
 
 test-sanitize: setup
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUME_SANITIZE=ON
+	# the fuzz targets are built with ASan + UBSan already: they run in test-release only
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUME_SANITIZE=ON -DBRUME_FUZZ_TESTS=OFF
 	cmake --build $(ASAN_BUILD) -j$(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest $(CTEST_FLAGS)
 

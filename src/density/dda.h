@@ -43,31 +43,37 @@ typedef struct grid_dda_step {
  * n[0] x n[1] x n[2] cells. Returns false (and a finished iterator) when the ray misses. */
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax);
 
-/* The next cell with a positive-length overlap, in increasing t; false when done. */
+/* The next cell with a positive-length overlap, in increasing t; false when done.
+ * The axis to step is picked without branches (the choice is unpredictable, a branch
+ * would mispredict about every other step); the state is copied to locals so that the
+ * compiler need not reload it after each store to *s. */
 static inline bool grid_dda_next(grid_dda *g, grid_dda_step *s)
 {
     while (!g->done) {
-        int a = g->t_next[0] < g->t_next[1] ? 0 : 1;
-        a = g->t_next[2] < g->t_next[a] ? 2 : a;
-        double t1 = g->t_next[a];
+        const double tx = g->t_next[0], ty = g->t_next[1], tz = g->t_next[2];
+        int a = ty < tx;
+        double t1 = a ? ty : tx;
+        a = tz < t1 ? 2 : a;
+        t1 = tz < t1 ? tz : t1;
+        const double t0 = g->t;
         s->i = g->ijk[0];
         s->j = g->ijk[1];
         s->k = g->ijk[2];
-        s->t0 = g->t;
+        s->t0 = t0;
         if (t1 >= g->tmax) {
             t1 = g->tmax;
             g->done = true;
         } else {
-            int c = g->ijk[a] + g->step[a];
+            const int step = g->step[a], c = g->ijk[a] + step;
             g->ijk[a] = c;
             if ((unsigned)c >= (unsigned)g->n[a])
                 g->done = true;
             else
-                g->t_next[a] = ((double)(c + (g->step[a] > 0)) - g->o[a]) * g->inv[a];
+                g->t_next[a] = ((double)(c + (step > 0)) - g->o[a]) * g->inv[a];
         }
         s->t1 = t1;
         g->t = t1;
-        if (t1 > s->t0)
+        if (t1 > t0)
             return true;
     }
     return false;

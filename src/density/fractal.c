@@ -205,12 +205,12 @@ void fractal_params_default(fractal_params *p)
     p->n[2] = 10;
     p->seed = 1;
     p->method = FRACTAL_MIDPOINT;
-    p->hurst = 0.7;
+    p->hurst = 0.5;
     p->octaves = 6;
     p->frequency = 2.0;
-    p->shape = FRACTAL_SHAPE_ELLIPSOID;
+    p->shape = FRACTAL_SHAPE_SLAB;
     p->falloff = 0.6;
-    p->threshold = 0.3;
+    p->threshold = 0.4;
     p->turbulence = 0.0;
     p->turbulence_frequency = 4.0;
     p->wind = v3(0.0, 0.0, 0.0);

@@ -47,7 +47,8 @@ typedef struct fractal_params {
     double density;        /* the largest possible rho, > 0 */
 } fractal_params;
 
-/* Defaults: midpoint, H = 0.7, ellipsoid with falloff 0.6, threshold 0.3, no turbulence,
+/* Defaults (chosen by eye on docs/images/gen-cloud.png): midpoint, H = 0.5, slab with
+ * falloff 0.6, threshold 0.4, no turbulence,
  * 6 octaves at frequency 2, density 1, time 0, 65 x 65 x 10 voxels, seed 1. */
 void fractal_params_default(fractal_params *p);
 

@@ -1,0 +1,229 @@
+/* bench_grid.c - speed of grid traversal and lookup: DDA voxel steps per second per core
+ * on a 256^3 grid (one thread and every core), majorant segments per second, and density
+ * lookups per second for dense (nearest, trilinear) and NanoVDB grids. Medians of several
+ * runs, ratios from the same process. Build: cmake --build build --target bench; run:
+ * build/bench/bench_grid [runs]. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "core/pool.h"
+#include "core/rng.h"
+#include "density/density.h"
+#include "io/grid_io.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ---- DDA -------------------------------------------------------------------------------- */
+
+#define RAYS_PER_TASK 4096
+typedef struct dda_job {
+    const density *d;
+    int mode; /* 0 voxel DDA, 1 majorant segments */
+    unsigned long long steps[64];
+    double checksum[64];
+} dda_job;
+
+/* Rays from a sphere around the unit box through a random point inside it. */
+static ray random_ray(rng *r)
+{
+    vec3 target = v3(rng_next(r), rng_next(r), rng_next(r));
+    double z = 2 * rng_next(r) - 1, phi = 2 * PI * rng_next(r), s = sqrt(1 - z * z);
+    vec3 o = v3_add(target, v3_scale(v3(s * cos(phi), s * sin(phi), z), 2.0));
+    return (ray){o, v3_normalize(v3_sub(target, o)), 0};
+}
+
+static void dda_task(size_t task, int thread, void *user)
+{
+    dda_job *j = user;
+    rng r = rng_make(1, task, 0);
+    unsigned long long steps = 0;
+    double sum = 0;
+    for (int q = 0; q < RAYS_PER_TASK; q++) {
+        ray ry = random_ray(&r);
+        if (j->mode == 0) {
+            grid_dda g;
+            grid_dda_step s;
+            if (density_voxel_dda_begin(j->d, ry, 0, INFINITY, &g))
+                while (grid_dda_next(&g, &s)) {
+                    steps++;
+                    sum += s.t1; /* keep the loop honest */
+                }
+        } else {
+            majorant_iter mi;
+            majorant_seg s;
+            density_majorant_begin(j->d, ry, 0, INFINITY, &mi);
+            while (majorant_next(&mi, &s)) {
+                steps++;
+                sum += s.rho_maj;
+            }
+        }
+    }
+    j->steps[thread] += steps;
+    j->checksum[thread] += sum;
+}
+
+/* Steps per second per core, threads threads. */
+static double bench_dda(const density *d, int mode, int threads, size_t tasks)
+{
+    dda_job j;
+    memset(&j, 0, sizeof j);
+    j.d = d;
+    j.mode = mode;
+    double t0 = now();
+    int used = pool_run(threads, tasks, dda_task, &j);
+    double dt = now() - t0;
+    unsigned long long steps = 0;
+    for (int i = 0; i < 64; i++)
+        steps += j.steps[i];
+    return (double)steps / dt / used;
+}
+
+/* ---- lookups ------------------------------------------------------------------------------ */
+
+static double bench_lookup(const density *d, size_t n)
+{
+    box3 b = density_bounds(d);
+    vec3 e = v3_sub(b.hi, b.lo);
+    /* points precomputed so that only the lookup is timed */
+    vec3 *p = malloc(n * sizeof *p);
+    rng r = rng_make(2, 0, 0);
+    for (size_t i = 0; i < n; i++)
+        p[i] = v3(b.lo.x + rng_next(&r) * e.x, b.lo.y + rng_next(&r) * e.y, b.lo.z + rng_next(&r) * e.z);
+    volatile double sink = 0;
+    double t0 = now(), s = 0;
+    for (size_t i = 0; i < n; i++)
+        s += density_eval(d, p[i]);
+    double dt = now() - t0;
+    sink = s;
+    (void)sink;
+    free(p);
+    return (double)n / dt;
+}
+
+static void cpu_model(char *out, size_t cap)
+{
+    snprintf(out, cap, "unknown");
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    if (!f)
+        return;
+    char line[512];
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, "model name", 10) == 0) {
+            char *c = strchr(line, ':');
+            if (c) {
+                snprintf(out, cap, "%s", c + 2);
+                out[strcspn(out, "\n")] = '\0';
+            }
+            break;
+        }
+    fclose(f);
+}
+
+int main(int argc, char **argv)
+{
+    int runs = argc > 1 ? atoi(argv[1]) : 5;
+    if (runs < 1 || runs > 50)
+        runs = 5;
+    char cpu[256];
+    cpu_model(cpu, sizeof cpu);
+    int cores = pool_default_threads();
+    printf("machine: %s, %d cores (nproc), %d runs each, medians\n", cpu, cores, runs);
+
+    const int N = 256;
+    size_t count = (size_t)N * (size_t)N * (size_t)N;
+    float *v = malloc(count * sizeof *v);
+    rng r = rng_make(3, 0, 0);
+    for (size_t i = 0; i < count; i++)
+        v[i] = (float)rng_next(&r);
+    density *dn = density_new_grid(N, N, N, v, (box3){v3(0, 0, 0), v3(1, 1, 1)}, GRID_NEAREST);
+    float *v2 = malloc(count * sizeof *v2);
+    memcpy(v2, v, count * sizeof *v2);
+    density *dt = density_new_grid(N, N, N, v2, (box3){v3(0, 0, 0), v3(1, 1, 1)}, GRID_TRILINEAR);
+    if (!dn || !dt) {
+        fprintf(stderr, "bench: %s\n", err_message());
+        return 1;
+    }
+    double res[50];
+    double one = 0, all = 0, maj = 0;
+    for (int k = 0; k < runs; k++)
+        res[k] = bench_dda(dn, 0, 1, 8);
+    one = median(res, runs);
+    for (int k = 0; k < runs; k++)
+        res[k] = bench_dda(dn, 0, cores, 16);
+    all = median(res, runs);
+    for (int k = 0; k < runs; k++)
+        res[k] = bench_dda(dn, 1, 1, 8);
+    maj = median(res, runs);
+    printf("DDA, 256^3 voxels, random rays through the box:\n");
+    printf("  voxel steps/s/core, 1 thread:   %8.1f M\n", one * 1e-6);
+    printf("  voxel steps/s/core, %d threads:  %8.1f M  (total %.1f M/s)\n", cores, all * 1e-6, all * cores * 1e-6);
+    printf("  majorant segments/s, 1 thread:  %8.1f M  (8^3-voxel cells, equal ones merged)\n", maj * 1e-6);
+
+    size_t nl = 4000000;
+    double ln, lt;
+    for (int k = 0; k < runs; k++)
+        res[k] = bench_lookup(dn, nl);
+    ln = median(res, runs);
+    for (int k = 0; k < runs; k++)
+        res[k] = bench_lookup(dt, nl);
+    lt = median(res, runs);
+    printf("lookups/s, 1 thread, random points (cache-hostile), 256^3 dense:\n");
+    printf("  dense nearest:    %8.1f M\n  dense trilinear:  %8.1f M  (%.2fx nearest)\n", ln * 1e-6, lt * 1e-6, lt / ln);
+
+    /* the Disney cloud, dense (OpenVDB densified) and sparse (NanoVDB through PNanoVDB) */
+    if (grid_have_openvdb()) {
+        char nv[512];
+        snprintf(nv, sizeof nv, "/tmp/bench-grid-%ld.nvdb", (long)getpid());
+        if (grid_convert_vdb_to_nvdb(BRUME_DATA_DIR "/wdas_cloud_sixteenth.vdb", nv) != BRUME_OK) {
+            fprintf(stderr, "bench: %s\n", err_message());
+            return 1;
+        }
+        printf("lookups/s, 1 thread, random points in the Disney cloud (126 x 86 x 154):\n");
+        for (int f = 0; f < 2; f++) {
+            density_load_options o;
+            density_load_options_default(&o);
+            o.filter = f ? GRID_TRILINEAR : GRID_NEAREST;
+            density *a = density_load_file(BRUME_DATA_DIR "/wdas_cloud_sixteenth.vdb", &o), *b = density_load_file(nv, &o);
+            if (!a || !b) {
+                fprintf(stderr, "bench: %s\n", err_message());
+                return 1;
+            }
+            double da, db;
+            for (int k = 0; k < runs; k++)
+                res[k] = bench_lookup(a, nl);
+            da = median(res, runs);
+            for (int k = 0; k < runs; k++)
+                res[k] = bench_lookup(b, nl);
+            db = median(res, runs);
+            printf("  %-9s dense %8.1f M, NanoVDB %8.1f M  (NanoVDB/dense %.2f)\n", f ? "trilinear" : "nearest", da * 1e-6,
+                   db * 1e-6, db / da);
+            density_release(a);
+            density_release(b);
+        }
+        remove(nv);
+    }
+    density_release(dn);
+    density_release(dt);
+    return 0;
+}
