@@ -52,4 +52,29 @@ double nanovdb_eval_voxel(const density *d, vec3 u);
 double nanovdb_voxel(const density *d, int i, int j, int k);
 void nanovdb_free(density *d);
 
+
+/* Trilinear reconstruction between voxel centres, clamped to the outermost samples, shared
+ * by every grid kind: trilinear_corners gives the 2 x 2 x 2 corner voxels around u (voxel
+ * space) as ijk[axis][0 or 1] and the weights a[axis]; trilinear_blend mixes the corner
+ * values c[x + 2 y + 4 z]. */
+static inline int trilinear_clamp(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
+static inline void trilinear_corners(vec3 u, const int n[3], int ijk[3][2], double a[3])
+{
+    const double x[3] = {u.x - 0.5, u.y - 0.5, u.z - 0.5};
+    for (int ax = 0; ax < 3; ax++) {
+        double f = floor(x[ax]);
+        int i = (int)f;
+        a[ax] = x[ax] - f;
+        ijk[ax][0] = trilinear_clamp(i, n[ax] - 1);
+        ijk[ax][1] = trilinear_clamp(i + 1, n[ax] - 1);
+    }
+}
+static inline double trilinear_blend(const double c[8], const double a[3])
+{
+    double c00 = c[0] * (1 - a[0]) + c[1] * a[0], c10 = c[2] * (1 - a[0]) + c[3] * a[0];
+    double c01 = c[4] * (1 - a[0]) + c[5] * a[0], c11 = c[6] * (1 - a[0]) + c[7] * a[0];
+    double c0 = c00 * (1 - a[1]) + c10 * a[1], c1 = c01 * (1 - a[1]) + c11 * a[1];
+    return c0 * (1 - a[2]) + c1 * a[2];
+}
+
 #endif

@@ -55,8 +55,6 @@ double nanovdb_voxel(const density *d, int i, int j, int k)
     return nano_fetch(d->nano, &acc, i, j, k);
 }
 
-static inline int clampi(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
-
 /* u in voxel space, inside [0, n); same filters as the dense grid (grid.c). */
 double nanovdb_eval_voxel(const density *d, vec3 u)
 {
@@ -65,19 +63,12 @@ double nanovdb_eval_voxel(const density *d, vec3 u)
     pnanovdb_readaccessor_init(&acc, s->root);
     if (d->filter == GRID_NEAREST)
         return nano_fetch(s, &acc, (int)u.x, (int)u.y, (int)u.z);
-    double x = u.x - 0.5, y = u.y - 0.5, z = u.z - 0.5;
-    double fx = floor(x), fy = floor(y), fz = floor(z);
-    int i = (int)fx, j = (int)fy, k = (int)fz;
-    double ax = x - fx, ay = y - fy, az = z - fz;
-    int i0 = clampi(i, d->n[0] - 1), i1 = clampi(i + 1, d->n[0] - 1);
-    int j0 = clampi(j, d->n[1] - 1), j1 = clampi(j + 1, d->n[1] - 1);
-    int k0 = clampi(k, d->n[2] - 1), k1 = clampi(k + 1, d->n[2] - 1);
-    double c00 = nano_fetch(s, &acc, i0, j0, k0) * (1 - ax) + nano_fetch(s, &acc, i1, j0, k0) * ax;
-    double c10 = nano_fetch(s, &acc, i0, j1, k0) * (1 - ax) + nano_fetch(s, &acc, i1, j1, k0) * ax;
-    double c01 = nano_fetch(s, &acc, i0, j0, k1) * (1 - ax) + nano_fetch(s, &acc, i1, j0, k1) * ax;
-    double c11 = nano_fetch(s, &acc, i0, j1, k1) * (1 - ax) + nano_fetch(s, &acc, i1, j1, k1) * ax;
-    double c0 = c00 * (1 - ay) + c10 * ay, c1 = c01 * (1 - ay) + c11 * ay;
-    return c0 * (1 - az) + c1 * az;
+    int ijk[3][2];
+    double a[3], c[8];
+    trilinear_corners(u, d->n, ijk, a);
+    for (int q = 0; q < 8; q++)
+        c[q] = nano_fetch(s, &acc, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
+    return trilinear_blend(c, a);
 }
 
 void nanovdb_free(density *d)

@@ -5,6 +5,7 @@
  *   .vol: Mitsuba 0.6 documentation, "gridvolume" (header of 48 bytes, little-endian);
  *   .nvdb: nanovdb/util/IO.h (Header 16 bytes, MetaData 176 bytes + name, then grids);
  *   raw: float32 little-endian, x fastest; sidecar FILE.hdr (docs/grids.md). */
+#include "io/atomic.h"
 #include "io/grid_io.h"
 
 #include <ctype.h>
@@ -576,31 +577,20 @@ density *density_load_file(const char *path, const density_load_options *opts)
 
 /* ---- writing ---------------------------------------------------------------------------------- */
 
-/* The temporary file beside path: "<path>.tmp-<pid>". */
-static void tmp_name(char *out, size_t cap, const char *path)
+/* Writes go through io/atomic.h: a temporary file beside the destination, renamed over it
+ * when complete. These two wrap it for the writers below. */
+static FILE *open_tmp(atomic_file *af, const char *path)
 {
-    snprintf(out, cap, "%s.tmp-%ld", path, (long)getpid());
+    return atomic_open(af, path) == BRUME_OK ? af->fp : NULL;
 }
 
-static FILE *open_tmp(const char *path, char *tmp, size_t cap)
+static brume_status commit_tmp(atomic_file *af, bool ok)
 {
-    tmp_name(tmp, cap, path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        err_set(BRUME_ERROR_IO, "%s: %s", path, strerror(errno));
-    return f;
-}
-
-/* Closes and renames tmp over path; removes tmp on any failure. */
-static brume_status commit_tmp(FILE *f, const char *tmp, const char *path, bool ok)
-{
-    if (f && fclose(f) != 0)
-        ok = false;
-    if (ok && rename(tmp, path) == 0)
-        return BRUME_OK;
-    int e = errno;
-    remove(tmp);
-    return err_set(BRUME_ERROR_IO, "%s: write failed: %s", path, strerror(e));
+    if (!ok) {
+        atomic_abort(af);
+        return err_set(BRUME_ERROR_IO, "%s: write failed: %s", af->path, strerror(errno));
+    }
+    return atomic_commit(af);
 }
 
 static bool write_floats(FILE *f, const density *d, const int n[3])
@@ -625,16 +615,17 @@ static bool write_floats(FILE *f, const density *d, const int n[3])
 
 static brume_status write_raw(const density *d, const density_info *in, const char *path)
 {
-    char tmp[4200], hdr[4200], htmp[4300];
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    char hdr[4200];
+    atomic_file af, ah;
+    FILE *f = open_tmp(&af, path);
     if (!f)
         return err_status();
     bool ok = write_floats(f, d, in->n);
-    brume_status s = commit_tmp(f, tmp, path, ok);
+    brume_status s = commit_tmp(&af, ok);
     if (s != BRUME_OK)
         return s;
     snprintf(hdr, sizeof hdr, "%s.hdr", path);
-    FILE *h = open_tmp(hdr, htmp, sizeof htmp);
+    FILE *h = open_tmp(&ah, hdr);
     if (!h)
         return err_status();
     const double *m = in->voxel_to_world.m;
@@ -644,7 +635,7 @@ static brume_status write_raw(const density *d, const density_info *in, const ch
                  "voxel_to_world %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
                  in->n[0], in->n[1], in->n[2], m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10],
                  m[11]) > 0;
-    return commit_tmp(h, htmp, hdr, ok);
+    return commit_tmp(&ah, ok);
 }
 
 static brume_status write_df3(const density *d, const density_info *in, const char *path)
@@ -667,8 +658,8 @@ static brume_status write_df3(const density *d, const density_info *in, const ch
                 if (width == 2 && (float)(round((double)v * 65535.0) / 65535.0) != v)
                     width = 4;
             }
-    char tmp[4200];
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    atomic_file af;
+    FILE *f = open_tmp(&af, path);
     if (!f)
         return err_status();
     unsigned char h[6];
@@ -687,7 +678,7 @@ static brume_status write_df3(const density *d, const density_info *in, const ch
                                       (unsigned char)u};
                 ok = fwrite(s + 4 - width, 1, (size_t)width, f) == (size_t)width;
             }
-    return commit_tmp(f, tmp, path, ok);
+    return commit_tmp(&af, ok);
 }
 
 static brume_status write_vol(const density *d, const density_info *in, const char *path)
@@ -704,12 +695,12 @@ static brume_status write_vol(const density *d, const density_info *in, const ch
         memcpy(&u, &bb[i], sizeof u);
         wr_le32(h + 24 + 4 * i, u);
     }
-    char tmp[4200];
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    atomic_file af;
+    FILE *f = open_tmp(&af, path);
     if (!f)
         return err_status();
     bool ok = fwrite(h, 1, 48, f) == 48 && write_floats(f, d, in->n);
-    return commit_tmp(f, tmp, path, ok);
+    return commit_tmp(&af, ok);
 }
 
 #if BRUME_HAVE_OPENVDB
@@ -724,8 +715,14 @@ static brume_status write_vdb(const density *d, const density_info *in, const ch
         for (int y = 0; y < in->n[1]; y++)
             for (int x = 0; x < in->n[0]; x++)
                 data[o++] = (float)density_voxel(d, x, y, z);
-    char tmp[4200];
-    tmp_name(tmp, sizeof tmp, path);
+    atomic_file af;
+    if (!open_tmp(&af, path)) {
+        free(data);
+        return err_status();
+    }
+    fclose(af.fp); /* OpenVDB writes the temporary file by name */
+    af.fp = NULL;
+    const char *tmp = af.tmp_path;
     brume_status s = gridvdb_write_dense(tmp, nano, in->n, data, in->voxel_to_world.m);
     free(data);
     if (s != BRUME_OK) {
@@ -734,10 +731,10 @@ static brume_status write_vdb(const density *d, const density_info *in, const ch
         const char *m = err_message();
         size_t tl = strlen(tmp);
         snprintf(msg, sizeof msg, "%s", strncmp(m, tmp, tl) == 0 && m[tl] == ':' ? m + tl + 2 : m);
-        remove(tmp);
+        atomic_abort(&af);
         return err_set(s, "%s: %s", path, msg);
     }
-    return commit_tmp(NULL, tmp, path, true);
+    return atomic_commit(&af);
 }
 #endif
 
@@ -766,13 +763,17 @@ brume_status density_write_file(const density *d, const char *path, grid_format 
 brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out)
 {
 #if BRUME_HAVE_OPENVDB
-    char tmp[4200];
-    tmp_name(tmp, sizeof tmp, out);
-    if (gridvdb_vdb_to_nvdb(in, tmp) != BRUME_OK) {
-        remove(tmp);
+    atomic_file af;
+    if (!open_tmp(&af, out))
         return err_status();
+    fclose(af.fp); /* the converter writes the temporary file by name */
+    af.fp = NULL;
+    if (gridvdb_vdb_to_nvdb(in, af.tmp_path) != BRUME_OK) {
+        brume_status st = err_status();
+        atomic_abort(&af);
+        return st;
     }
-    return commit_tmp(NULL, tmp, out, true);
+    return atomic_commit(&af);
 #else
     (void)out;
     return err_set(BRUME_ERROR_UNSUPPORTED, "%s: .vdb needs OpenVDB, and brume was built without OpenVDB", in);
