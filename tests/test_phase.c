@@ -65,7 +65,9 @@ static void make_cases(void)
     phase *lobes[3] = {phase_new_hg(0.6), phase_new_rayleigh(), phase_new_mie_murky()};
     const double w[3] = {3.0, 5.0, 2.0}; /* unnormalized on purpose */
     add_case("mixture hg rayleigh murky", phase_new_mixture(3, w, lobes));
-    add_case("tabulated file", phase_load_tabulated(write_table_file()));
+    const char *table = write_table_file();
+    add_case("tabulated file", phase_load_tabulated(table));
+    remove(table); /* loaded: the file is no longer needed */
     /* A table with an end short of 0 and of 180 degrees: values are held there. */
     const double ang[] = {10.0, 60.0, 120.0}, val[] = {5.0, 1.0, 2.0};
     add_case("tabulated short", phase_new_tabulated(3, ang, val));
