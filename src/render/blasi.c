@@ -295,7 +295,26 @@ static inline void deposit(double *acc, size_t v, color w, double f)
         acc[3 * v + (size_t)c] += w.c[c] * f;
 }
 
-/* Follows one light ray through the media (Algorithm of the First Pass). */
+/* Coefficients of a piece: sigma_bar rho summed over its media (returned), and in *kx the
+ * per-channel (sigma_t - sigma_bar) rho, the rate at which the weight decays between
+ * interceptions (alpha rho for a grey medium, Eq. 7). */
+static inline double piece_coeffs(const blasi_state *st, const piece *pc, color *kx)
+{
+    double sb = 0.0;
+    *kx = col(0.0);
+    for (int i = 0; i < pc->n; i++) {
+        const blasi_medium *bm = &st->m[pc->m[i]];
+        double rho = (double)st->rho[pc->v[i]];
+        sb += bm->sigma_bar * rho;
+        for (int c = 0; c < 3; c++)
+            kx->c[c] += (bm->sigma_t.c[c] - bm->sigma_bar) * rho;
+    }
+    return sb;
+}
+
+/* Follows one light ray through the media (Algorithm of the First Pass). Within a flight
+ * the decay is kept as an optical depth D per channel and exponentiated once, at the
+ * interception or the exit; the threshold test compares D with log(w / w_stop). */
 static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, double *acc,
                             uint64_t *intercepts)
 {
@@ -309,6 +328,9 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
             t_end = h.t;
         double target = -log1p(-rng_next(g)); /* Eq. 11: scatter where the depth reaches this */
         double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
+        color D = col(0.0), lim;
+        for (int c = 0; c < 3; c++)
+            lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
         bool scattered = false;
         walk wk;
         piece pc;
@@ -321,34 +343,25 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         }
         for (;;) {
             double dl, t_mid = 0.0;
-            if (st->step > 0.0) { /* uniform steps: the voxel at the step's midpoint */
+            if (st->step > 0.0) { /* uniform steps: the voxels at the step's midpoint */
                 if (!(t_march < t_march_end))
                     break;
                 dl = fmin(st->step, t_march_end - t_march);
                 t_mid = t_march + 0.5 * dl;
+                pc.t0 = t_march;
                 t_march += dl;
                 piece_at(st, ray_at(r, t_mid), &pc);
-                pc.t0 = t_mid - 0.5 * dl;
             } else {
                 if (!walk_next(&wk, st, &pc))
                     break;
                 dl = pc.t1 - pc.t0;
             }
-            double sb = 0.0;
-            color sig_t = col(0.0), sig_s = col(0.0);
-            for (int i = 0; i < pc.n; i++) {
-                const blasi_medium *bm = &st->m[pc.m[i]];
-                double rho = st->rho[pc.v[i]];
-                sb += bm->sigma_bar * rho;
-                sig_t = col_madd(sig_t, bm->sigma_t, rho);
-                sig_s = col_madd(sig_s, bm->md->sigma_s, rho);
-            }
+            color kx;
+            double sb = piece_coeffs(st, &pc, &kx);
             if (sb > 0.0 && tau + sb * dl >= target) {
                 /* interception: exactly inside the voxel, or at the step's midpoint */
                 double ds = st->step > 0.0 ? dl : (target - tau) / sb;
                 double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
-                for (int c = 0; c < 3; c++)
-                    w.c[c] *= exp(-(sig_t.c[c] - sb) * ds) * sig_s.c[c] / sb;
                 int pick = 0;
                 if (pc.n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
                     double x = rng_next(g) * sb;
@@ -359,13 +372,18 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
                         x -= wi;
                     }
                 }
+                color sig_s = col(0.0); /* RGB weight sigma_s / sigma_bar (Eq. 10) */
+                for (int i = 0; i < pc.n; i++)
+                    sig_s = col_madd(sig_s, st->m[pc.m[i]].md->sigma_s, (double)st->rho[pc.v[i]]);
+                for (int c = 0; c < 3; c++)
+                    w.c[c] *= exp(-(D.c[c] + kx.c[c] * ds)) * sig_s.c[c] / sb;
                 const blasi_medium *bm = &st->m[pc.m[pick]];
                 deposit(acc, pc.v[pick], w, bm->r);
                 (*intercepts)++;
                 have_last = true;
                 last = pc.v[pick];
                 w = col_scale(w, 1.0 - bm->r);
-                if (!(col_max(w) > w_stop) || col_max(w) <= 0.0)
+                if (!(col_max(w) > w_stop))
                     return;
                 double pdf, ua = rng_next(g), ub = rng_next(g);
                 vec3 d = phase_sample(bm->dir, r.d, ua, ub, &pdf); /* Eq. 23 for Schlick lobes */
@@ -373,24 +391,25 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
                 scattered = true;
                 break;
             }
+            if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
+                continue; /* empty voxel */
             tau += sb * dl;
             for (int c = 0; c < 3; c++)
-                w.c[c] *= exp(-(sig_t.c[c] - sb) * dl);
-            for (int i = 0; i < pc.n; i++)
-                if (st->rho[pc.v[i]] > 0.0f) {
-                    have_last = true;
-                    last = pc.v[i];
-                    break;
-                }
-            if (!(col_max(w) > w_stop)) /* the while condition: L_R > THRESHOLD */
-                return;
+                D.c[c] += kx.c[c] * dl;
+            have_last = true;
+            last = pc.v[0];
+            if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
+                return; /* the while condition: L_R > THRESHOLD */
         }
         if (scattered)
             continue;
         if (isfinite(t_end)) /* stopped by a surface */
             return;
-        if (st->exit == BLASI_EXIT_PAPER && have_last) /* "stored in the last non-empty voxel" */
+        if (st->exit == BLASI_EXIT_PAPER && have_last) { /* "stored in the last non-empty voxel" */
+            for (int c = 0; c < 3; c++)
+                w.c[c] *= exp(-D.c[c]);
             deposit(acc, last, w, 1.0);
+        }
         return;
     }
 }
@@ -817,19 +836,29 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
             color S = col(0.0), kap = col(0.0);
             for (int i = 0; i < pc.n; i++) {
                 const blasi_medium *bm = &st->m[pc.m[i]];
-                double rho = st->rho[pc.v[i]];
+                double rho = (double)st->rho[pc.v[i]];
                 const float *sv = st->S + 3 * pc.v[i];
                 for (int c = 0; c < 3; c++) {
                     S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
                     kap.c[c] += bm->kappa.c[c] * rho;
                 }
             }
+            if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
+                if (!col_is_black(S)) /* a source without attenuation (e.g. alpha = 0, paper variant) */
+                    L = col_add(L, col_scale(col_mul(A, S), dl));
+                continue;
+            }
+            bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
+            double T = 0.0, len = 0.0;
             for (int c = 0; c < 3; c++) {
-                double tau = kap.c[c] * dl;
-                /* the integral of exp(-kappa s) over the voxel: delta for a thin one */
-                double len = tau > 1e-4 ? -expm1(-tau) / kap.c[c] : dl * (1.0 - 0.5 * tau);
+                if (c == 0 || !grey) {
+                    double tau = kap.c[c] * dl;
+                    T = exp(-tau);
+                    /* the integral of exp(-kappa s) over the voxel: delta for a thin one */
+                    len = tau > 1e-4 ? (1.0 - T) / kap.c[c] : dl * (1.0 - 0.5 * tau);
+                }
                 L.c[c] += A.c[c] * S.c[c] * len;
-                A.c[c] *= exp(-tau);
+                A.c[c] *= T;
             }
             if (!(col_max(A) > st->threshold)) /* "While A > THRESHOLD" */
                 return L;
