@@ -18,10 +18,14 @@ static void render_usage(FILE *out)
             "  --width W, --height H   image size in pixels\n"
             "  --seed S            random seed: the image depends on seed and spp, not on threads\n"
             "  --threads N         worker threads (default: one per core)\n"
-            "  --method NAME       integrator: path (unbiased reference), single (single scattering)\n"
+            "  --method NAME       integrator: path (unbiased reference), single (single scattering),\n"
+            "                      blasi (Blasi et al. 1993 two-pass method, docs/blasi.md)\n"
             "  --max-depth N       maximum scattering events per path\n"
             "  --exposure STOPS    PNG only: scale by 2^STOPS before tone mapping\n"
             "  --filmic            PNG only: ACES filmic tone curve instead of clamping\n"
+            "  --set KEY=VALUE     a method option, e.g. --set blasi.r=1 (docs/scene-format.md); repeatable\n"
+            "  --save-light PATH   blasi: write the first pass's radiance grid (= --set blasi.save_light=PATH)\n"
+            "  --load-light PATH   blasi: reuse a saved first pass instead of running it\n"
             "  --quiet             no progress bar or summary\n");
 }
 
@@ -39,6 +43,10 @@ int cmd_render(int argc, char **argv)
     uint64_t seed = 0;
     bool have_seed = false, quiet = false;
     brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
+    enum { MAX_SETS = 64 };
+    const char *set_key[MAX_SETS], *set_value[MAX_SETS];
+    char set_buf[MAX_SETS][256];
+    int nsets = 0;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
@@ -66,6 +74,25 @@ int cmd_render(int argc, char **argv)
             if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
         } else if (strcmp(a, "--filmic") == 0) {
             wopts.tonemap = BRUME_TONEMAP_FILMIC;
+        } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
+            if (!(v = arg_value(argc, argv, &i))) return 2;
+            if (nsets == MAX_SETS) {
+                cli_error("render: more than %d options", MAX_SETS);
+                return 2;
+            }
+            if (a[2] != 's' || a[3] != 'e' || a[4] != 't' || a[5] != '\0') { /* --save-light, --load-light */
+                set_key[nsets] = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
+                set_value[nsets++] = v;
+                continue;
+            }
+            const char *eq = strchr(v, '=');
+            if (!eq || eq == v || (size_t)(eq - v) >= sizeof set_buf[0]) {
+                cli_error("--set: expected KEY=VALUE, got '%s'", v);
+                return 2;
+            }
+            snprintf(set_buf[nsets], sizeof set_buf[0], "%.*s", (int)(eq - v), v);
+            set_key[nsets] = set_buf[nsets];
+            set_value[nsets++] = eq + 1;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
             quiet = true;
         } else if (a[0] == '-' && a[1] != '\0') {
@@ -106,6 +133,9 @@ int cmd_render(int argc, char **argv)
         snprintf(rs.method, sizeof rs.method, "%s", method);
     }
     rs.progress = !quiet;
+    for (int k = 0; k < nsets; k++)
+        if (brume_scene_set_option(ctx, scene, set_key[k], set_value[k]) != BRUME_OK)
+            goto fail;
     if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK)
         goto fail;
     double t0 = now_seconds();

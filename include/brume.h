@@ -129,7 +129,7 @@ typedef struct brume_render_settings {
     int spp;            /* samples per pixel, >= 1 */
     uint64_t seed;      /* the image is a function of (scene, seed, spp) */
     int threads;        /* worker threads; 0 = one per core */
-    char method[32];    /* integrator name: "path" or "single" */
+    char method[32];    /* integrator name: "path", "single" or "blasi" */
     int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
@@ -145,6 +145,13 @@ brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
 void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
 /* Validates and replaces the render settings; only before commit. */
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
+/* Sets a named option of a rendering method from its text form, as the scene file would
+ * give it; only before commit. Keys are "METHOD.KEY": the blasi method's are blasi.light_rays,
+ * blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources, blasi.exit_deposit
+ * (paper|none), blasi.view_attenuation (absorption|extinction), blasi.variant
+ * (paper|physical), blasi.save_light PATH and blasi.load_light PATH (docs/blasi.md). An
+ * unknown key or a bad value fails with a message naming the key; nothing is changed then. */
+brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);
 /* Freezes the scene and builds what rendering needs (majorants, light tables). */
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *scene);
 void brume_scene_release(brume_scene *scene);

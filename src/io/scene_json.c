@@ -9,6 +9,7 @@
 #include "density/fractal.h"
 #include "io/grid_io.h"
 #include "io/json.h"
+#include "io/scene_blasi.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
@@ -328,9 +329,10 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, density **out
     if ((st = json_vec3(j, at, "wind", 0, &p.wind))) return st;
     if ((st = json_number(j, at, "time", 0, -1e9, 1e9, &p.time))) return st;
     if ((st = json_number(j, at, "density", 0, 1e-9, 1e9, &p.density))) return st;
-    box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+    /* defaults as in the paper: unit voxels centred on the origin, constant per voxel */
+    box3 b = {v3(-0.5 * p.n[0], -0.5 * p.n[1], -0.5 * p.n[2]), v3(0.5 * p.n[0], 0.5 * p.n[1], 0.5 * p.n[2])};
     if ((st = parse_box(j, at, "bounds", &b))) return st;
-    grid_filter f = GRID_TRILINEAR;
+    grid_filter f = GRID_NEAREST;
     if ((st = parse_filter(j, at, &f))) return st;
     *out = fractal_cloud(&p, b, f);
     if (!*out)
@@ -545,7 +547,8 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
 
 static brume_status parse_scene(const cJSON *root, brume_scene *s)
 {
-    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", NULL};
+    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "blasi",
+                                       NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
@@ -595,6 +598,7 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
     if (surf && (st = scene_parse_surfaces(surf, file, &s->surf))) return st;
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
     if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
+    if ((st = scene_parse_blasi(root, top, &s->blasi))) return st;
     return BRUME_OK;
 }
 

@@ -74,6 +74,16 @@ void phase_release(phase *p)
 
 phase_kind phase_get_kind(const phase *p) { return p->kind; }
 
+int phase_lobe_count(const phase *p) { return p->kind == PHASE_MIXTURE ? p->n : 0; }
+
+const phase *phase_lobe(const phase *p, int i, double *weight)
+{
+    *weight = p->w[i];
+    return p->lobes[i];
+}
+
+double phase_schlick_k(const phase *p) { return p->kind == PHASE_SCHLICK ? p->k : (double)NAN; }
+
 /* ---- closed forms of each kind ---------------------------------------------------------- */
 
 /* Blasi Eq. 17: phi = 3/4 (1 + t^2). Its CDF is F(t) = (t^3 + 3 t + 4) / 8; F(t) = u is the

@@ -83,6 +83,12 @@ vec3 phase_sample(const phase *p, vec3 wi, double u1, double u2, double *pdf);
 /* The cosine alone of phase_sample's direction, distributed with density
  * 2 pi phase_pdf(p, cos) on [-1, 1], from one uniform number in [0, 1). */
 double phase_sample_cos(const phase *p, double u);
+/* Introspection, for methods that treat lobes apart (Blasi's two passes): the number of
+ * lobes of a mixture (0 for other kinds); lobe i (0 <= i < count) with its normalized
+ * weight in *weight; Schlick's k of a PHASE_SCHLICK (NAN for other kinds). */
+int phase_lobe_count(const phase *p);
+const phase *phase_lobe(const phase *p, int i, double *weight);
+double phase_schlick_k(const phase *p);
 /* Mean cosine: the integral of cos p(cos) over the sphere. */
 double phase_mean_cosine(const phase *p);
 

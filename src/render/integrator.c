@@ -16,6 +16,7 @@
 
 #include <string.h>
 
+#include "render/blasi.h"
 #include "surface/surfaces.h"
 
 bool integrator_from_name(const char *name, integrator_kind *out)
@@ -24,12 +25,14 @@ bool integrator_from_name(const char *name, integrator_kind *out)
         *out = INTEGRATOR_PATH;
     else if (strcmp(name, "single") == 0)
         *out = INTEGRATOR_SINGLE;
+    else if (strcmp(name, "blasi") == 0)
+        *out = INTEGRATOR_BLASI;
     else
         return false;
     return true;
 }
 
-const char *integrator_names(void) { return "path, single"; }
+const char *integrator_names(void) { return "path, single, blasi"; }
 
 static bool flight_step(double t, double sigma_maj, void *user)
 {
@@ -286,11 +289,16 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g) { return path_
 
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state)
 {
-    (void)s;
     *state = NULL;
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: return BRUME_OK;
+    case INTEGRATOR_BLASI: {
+        blasi_state *st = NULL;
+        brume_status rc = blasi_prepare(s, &st);
+        *state = st;
+        return rc;
+    }
     }
     return BRUME_OK;
 }
@@ -300,17 +308,17 @@ void integrator_finish(integrator_kind kind, void *state)
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: break;
+    case INTEGRATOR_BLASI: blasi_finish(state); break;
     }
-    (void)state;
 }
 
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
                     bool *hit_surface)
 {
-    (void)state;
     switch (kind) {
     case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
     case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);
+    case INTEGRATOR_BLASI: return blasi_Li(s, state, r, g, hit_surface);
     }
     return col(0.0);
 }

@@ -5,6 +5,8 @@
  *           Russian roulette, emission
  *   single  the same estimator stopped after one scattering event: single scattering
  *           of every light and of the background
+ *   blasi   Blasi, Le Saec and Schlick's two-pass method (render/blasi.h): a light pass
+ *           in integrator_prepare, a voxel gather per camera ray
  * The free-flight and scattering steps are exposed (flight_run, path_roulette) so that
  * other estimators (brume slab) run on exactly the code the renderer runs. */
 #ifndef BRUME_RENDER_INTEGRATOR_H
@@ -16,10 +18,11 @@
 
 typedef enum integrator_kind {
     INTEGRATOR_PATH,
-    INTEGRATOR_SINGLE
+    INTEGRATOR_SINGLE,
+    INTEGRATOR_BLASI
 } integrator_kind;
 
-/* Parses a method name ("path", "single"); false if unknown. */
+/* Parses a method name ("path", "single", "blasi"); false if unknown. */
 bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);

@@ -7,6 +7,7 @@
 #include "brume.h"
 #include "medium/medium.h"
 #include "render/background.h"
+#include "render/blasi_options.h"
 #include "render/camera.h"
 #include "render/light.h"
 #include "surface/surfaces.h"
@@ -24,6 +25,7 @@ struct brume_scene {
     surfaces *surf;   /* solid objects (owned), or NULL when the scene has none */
     background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
     brume_render_settings settings;
+    blasi_options blasi; /* the blasi integrator's options (render/blasi_options.h) */
     bool has_emission; /* some medium has Le > 0 (set by commit) */
     bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
                                   phase sampling (set by commit) */

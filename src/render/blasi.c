@@ -1,0 +1,881 @@
+/* blasi.c - Blasi, Le Saec and Schlick's two-pass Monte-Carlo renderer (1993, Section 4).
+ *
+ * First pass. Light ray k of light l starts with power W (watts, RGB) chosen so that the
+ * rays of a light carry, in expectation, the power that light sends towards the media
+ * (docs/blasi.md, "Normalization"). Between two scattering points the ray's weight is
+ * multiplied per channel by exp(-(sigma_a + sigma_s - sigma_bar) rho delta) (Eq. 7 in
+ * the grey case, where this is exp(-alpha rho delta)), and it is intercepted where the
+ * optical depth of sigma_bar = mean over channels of sigma_s (Eq. 10) since the last
+ * scattering point reaches -ln(1 - u) (Eq. 9-11, DESIGN.md erratum 4); at an interception
+ * the weight is multiplied by sigma_s / sigma_bar per channel (the RGB weights of a
+ * chromatic medium; 1 when grey). The fraction r is stored in the voxel, 1 - r goes on
+ * along a direction drawn from the directional lobe (Eq. 22-23). Rays below `threshold`
+ * of their initial weight stop; in the paper variant, a ray that leaves the media stores
+ * what it carries in the last non-empty voxel it crossed (DESIGN.md erratum 5).
+ *
+ * Stored power P_V becomes the isotropic source S_V = P_V / (4 pi |V|): radiance per unit
+ * length, the sigma_s phi / 4 pi of the single-scattering integral (DESIGN.md erratum 6).
+ *
+ * Second pass. Along a view ray each voxel crossed over length delta adds
+ * A S_V (1 - exp(-kappa delta)) / kappa (the exact integral over the voxel; S_V delta for
+ * thin voxels) and scales A by exp(-kappa delta), kappa = sigma_a rho (paper) or
+ * (sigma_a + sigma_s) rho (physical). Below `threshold` the ray stops; otherwise the
+ * background, a light or a lit surface is added, attenuated by A.
+ *
+ * Determinism: light rays are numbered and draw from their own counter-based stream; the
+ * rays are cut into batches, batch b belongs to group b mod G, each group sums its
+ * batches in order into its own accumulator (doubles), and the G accumulators are added
+ * in order. G depends on the grid size only, so the result is the same for any thread
+ * count. */
+#include "render/blasi.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/pool.h"
+#include "core/progress.h"
+#include "core/sampling.h"
+#include "io/atomic.h"
+#include "surface/surfaces.h"
+
+#define BLASI_BATCH 1024           /* light rays per task */
+#define BLASI_MAX_GROUPS 8         /* accumulators (fixed: the result must not depend on threads) */
+#define BLASI_ACC_BUDGET (512u << 20) /* bytes for all accumulators together */
+#define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
+#define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
+#define BLASI_FILE_MAGIC "BRUMEBL1"
+#define BLASI_FILE_VERSION 1u
+
+typedef struct blasi_medium {
+    const medium *md;
+    int n[3];
+    size_t nvox, offset; /* its voxels are [offset, offset + nvox) of the state's arrays */
+    affine3 w2v;         /* world -> voxel space */
+    double volume;       /* world volume of one voxel */
+    double sigma_bar;    /* Eq. 10: mean over channels of sigma_s, per unit density */
+    color sigma_t;       /* sigma_a + sigma_s */
+    color kappa;         /* view attenuation per unit density: sigma_a or sigma_t */
+    color emit;          /* sigma_a Le: emitted radiance per unit length per unit density */
+    double r;            /* fraction stored isotropically at an interception */
+    const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
+    phase *dir_owned;
+} blasi_medium;
+
+struct blasi_state {
+    int nm;
+    blasi_medium m[SCENE_MAX_MEDIA];
+    size_t nvox;      /* over all media */
+    float *rho;       /* nvox densities, constant per voxel */
+    float *S;         /* 3 nvox: isotropic source, radiance per unit length (RGB) */
+    box3 bounds;      /* union of the media's world boxes */
+    vec3 centre;      /* bounding sphere of `bounds` */
+    double radius;
+    double step;      /* first pass: 0 = voxel walk */
+    double threshold;
+    blasi_exit exit;
+    blasi_view_atten view;
+    blasi_stats stats;
+};
+
+/* ---- walking the voxels of all media at once ------------------------------------------ */
+
+/* One stretch [t0, t1) of a ray inside constant voxels: n media, their global voxels v. */
+typedef struct piece {
+    double t0, t1;
+    int n;
+    int m[SCENE_MAX_MEDIA];
+    size_t v[SCENE_MAX_MEDIA];
+} piece;
+
+/* The exact voxel walks of every medium (density/dda.h), merged in t. */
+typedef struct walk {
+    int nm;
+    grid_dda dda[SCENE_MAX_MEDIA];
+    grid_dda_step cur[SCENE_MAX_MEDIA];
+    bool live[SCENE_MAX_MEDIA];
+    double t;
+} walk;
+
+static inline size_t voxel_index(const blasi_medium *bm, int i, int j, int k)
+{
+    return bm->offset + (size_t)i + (size_t)bm->n[0] * ((size_t)j + (size_t)bm->n[1] * (size_t)k);
+}
+
+static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
+{
+    w->nm = st->nm;
+    w->t = INFINITY;
+    for (int m = 0; m < st->nm; m++) {
+        const blasi_medium *bm = &st->m[m];
+        vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
+        w->live[m] = grid_dda_begin(&w->dda[m], bm->n, o, d, 0.0, tmax) && grid_dda_next(&w->dda[m], &w->cur[m]);
+        if (w->live[m])
+            w->t = fmin(w->t, w->cur[m].t0);
+    }
+}
+
+static bool walk_next(walk *w, const blasi_state *st, piece *p)
+{
+    if (w->nm == 1) { /* the usual case: one grid, its own walk */
+        if (!w->live[0])
+            return false;
+        const grid_dda_step *c = &w->cur[0];
+        p->t0 = c->t0;
+        p->t1 = c->t1;
+        p->n = 1;
+        p->m[0] = 0;
+        p->v[0] = voxel_index(&st->m[0], c->i, c->j, c->k);
+        w->live[0] = grid_dda_next(&w->dda[0], &w->cur[0]);
+        return true;
+    }
+    for (;;) {
+        double t = w->t, t1 = INFINITY;
+        bool any = false;
+        for (int m = 0; m < w->nm; m++) {
+            while (w->live[m] && w->cur[m].t1 <= t)
+                w->live[m] = grid_dda_next(&w->dda[m], &w->cur[m]);
+            if (!w->live[m])
+                continue;
+            any = true;
+            t1 = fmin(t1, w->cur[m].t0 > t ? w->cur[m].t0 : w->cur[m].t1);
+        }
+        if (!any)
+            return false;
+        p->n = 0;
+        for (int m = 0; m < w->nm; m++)
+            if (w->live[m] && w->cur[m].t0 <= t) {
+                p->m[p->n] = m;
+                p->v[p->n] = voxel_index(&st->m[m], w->cur[m].i, w->cur[m].j, w->cur[m].k);
+                p->n++;
+            }
+        p->t0 = t;
+        p->t1 = t1;
+        w->t = t1;
+        if (p->n > 0)
+            return true;
+    }
+}
+
+/* The voxels holding point p (uniform-step marching). */
+static void piece_at(const blasi_state *st, vec3 p, piece *pc)
+{
+    pc->n = 0;
+    for (int m = 0; m < st->nm; m++) {
+        const blasi_medium *bm = &st->m[m];
+        vec3 u = affine3_apply(&bm->w2v, p);
+        double f[3] = {floor(u.x), floor(u.y), floor(u.z)};
+        if (f[0] < 0.0 || f[1] < 0.0 || f[2] < 0.0 || f[0] >= bm->n[0] || f[1] >= bm->n[1] || f[2] >= bm->n[2])
+            continue;
+        pc->m[pc->n] = m;
+        pc->v[pc->n] = voxel_index(bm, (int)f[0], (int)f[1], (int)f[2]);
+        pc->n++;
+    }
+}
+
+/* ---- first pass -------------------------------------------------------------------------- */
+
+/* Projected area of box b seen along unit d, and a uniform point on it (the faces that d
+ * enters through, each chosen in proportion to area |n . d|). */
+static double box_projected_area(box3 b, vec3 d)
+{
+    vec3 e = v3_sub(b.hi, b.lo);
+    return e.y * e.z * fabs(d.x) + e.x * e.z * fabs(d.y) + e.x * e.y * fabs(d.z);
+}
+
+static vec3 box_entry_point(box3 b, vec3 d, double u0, double u1, double u2)
+{
+    vec3 e = v3_sub(b.hi, b.lo);
+    double a[3] = {e.y * e.z * fabs(d.x), e.x * e.z * fabs(d.y), e.x * e.y * fabs(d.z)};
+    double x = u0 * (a[0] + a[1] + a[2]);
+    if (x < a[0])
+        return v3(d.x > 0.0 ? b.lo.x : b.hi.x, b.lo.y + u1 * e.y, b.lo.z + u2 * e.z);
+    if (x < a[0] + a[1])
+        return v3(b.lo.x + u1 * e.x, d.y > 0.0 ? b.lo.y : b.hi.y, b.lo.z + u2 * e.z);
+    return v3(b.lo.x + u1 * e.x, b.lo.y + u2 * e.y, d.z > 0.0 ? b.lo.z : b.hi.z);
+}
+
+/* A direction from y uniform in the cone that holds the media's bounding sphere (the whole
+ * sphere of directions when y is inside it); *omega is the cone's solid angle. */
+static vec3 towards_media(const blasi_state *st, vec3 y, double u1, double u2, double *omega)
+{
+    vec3 c = v3_sub(st->centre, y);
+    double dist = v3_length(c), cos_max = -1.0;
+    if (dist > st->radius * (1.0 + 1e-9))
+        cos_max = sqrt(fmax(0.0, 1.0 - st->radius * st->radius / (dist * dist)));
+    *omega = 1.0 / sample_cone_pdf(cos_max);
+    if (cos_max <= -1.0)
+        return sample_sphere(u1, u2);
+    frame f = frame_from_n(v3_scale(c, 1.0 / dist));
+    return frame_to_world(&f, sample_cone(u1, u2, cos_max));
+}
+
+/* Light ray j of the n rays of light l (Section 4.2: each light's surface divided into
+ * `sources` elementary sources, rays sent stochastically into the solid angle that holds
+ * the media, following the light's goniometric distribution). *W is its power; false
+ * when it carries none. */
+static bool light_ray(const brume_scene *s, const blasi_state *st, const light *l, uint64_t j, uint64_t n, rng *g,
+                      ray *r, color *W)
+{
+    double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g), u3 = rng_next(g), u4 = rng_next(g);
+    double inv_n = 1.0 / (double)n, omega;
+    r->time = 0.0;
+    switch (l->kind) {
+    case LIGHT_DISTANT: {
+        vec3 d = l->direction;
+        color L = l->L; /* irradiance of a delta sun */
+        if (l->angular_radius > 0.0) { /* a sun disk: a direction in its cone, radiance L */
+            d = v3_neg(frame_to_world(&l->f, sample_cone(u3, u4, l->cos_max)));
+            double sn = sin(l->angular_radius);
+            L = col_scale(l->L, 1.0 / (PI * sn * sn) / sample_cone_pdf(l->cos_max));
+        }
+        double area = box_projected_area(st->bounds, d);
+        vec3 p = box_entry_point(st->bounds, d, u0, u1, u2);
+        *r = (ray){v3_madd(p, d, -1e-6 * st->radius), d, 0.0};
+        if (s->surf && surfaces_occluded(s->surf, r->o, v3_neg(d), 0.0, INFINITY))
+            return false;
+        *W = col_scale(L, area * inv_n);
+        return true;
+    }
+    case LIGHT_POINT:
+    case LIGHT_SPOT: {
+        vec3 d = towards_media(st, l->position, u0, u1, &omega);
+        light_sample ls; /* the intensity towards d: irradiance at distance 1 */
+        if (!light_sample_at(l, v3_add(l->position, d), 0.5, 0.5, &ls))
+            return false;
+        *r = (ray){l->position, d, 0.0};
+        *W = col_scale(ls.Li, omega * inv_n);
+        return true;
+    }
+    case LIGHT_SPHERE:
+    case LIGHT_DISK: {
+        /* elementary source j mod M: a stratum of a k x k grid over the surface's
+         * parameter square (both maps preserve area) */
+        int k = (int)ceil(sqrt((double)s->blasi.sources));
+        uint64_t cell = j % (uint64_t)(k * k);
+        double a = ((double)(cell % (uint64_t)k) + u2) / k, b = ((double)(cell / (uint64_t)k) + u3) / k;
+        vec3 y, nrm;
+        double area;
+        if (l->kind == LIGHT_SPHERE) {
+            nrm = sample_sphere(a, b);
+            y = v3_madd(l->position, nrm, l->radius);
+            area = 4.0 * PI * l->radius * l->radius;
+        } else {
+            nrm = l->direction;
+            y = v3_add(l->position, frame_to_world(&l->f, v3_scale(sample_disk(a, b), l->radius)));
+            area = PI * l->radius * l->radius;
+        }
+        vec3 d = towards_media(st, y, u0, u1, &omega);
+        double cos_y = v3_dot(d, nrm);
+        if (cos_y <= 0.0)
+            return false;
+        *r = (ray){v3_madd(y, nrm, 1e-9 * (1.0 + l->radius)), d, 0.0};
+        *W = col_scale(l->L, cos_y * area * omega * inv_n);
+        return true;
+    }
+    }
+    return false;
+}
+
+typedef struct pass1_job {
+    const brume_scene *s;
+    const blasi_state *st;
+    uint64_t nrays, nbatch;
+    int ngroups;
+    double *acc[BLASI_MAX_GROUPS];      /* 3 nvox each */
+    uint64_t intercepts[BLASI_MAX_GROUPS];
+    progress prog;
+} pass1_job;
+
+static inline void deposit(double *acc, size_t v, color w, double f)
+{
+    for (int c = 0; c < 3; c++)
+        acc[3 * v + (size_t)c] += w.c[c] * f;
+}
+
+/* Coefficients of a piece: sigma_bar rho summed over its media (returned), and in *kx the
+ * per-channel (sigma_t - sigma_bar) rho, the rate at which the weight decays between
+ * interceptions (alpha rho for a grey medium, Eq. 7). */
+static inline double piece_coeffs(const blasi_state *st, const piece *pc, color *kx)
+{
+    double sb = 0.0;
+    *kx = col(0.0);
+    for (int i = 0; i < pc->n; i++) {
+        const blasi_medium *bm = &st->m[pc->m[i]];
+        double rho = (double)st->rho[pc->v[i]];
+        sb += bm->sigma_bar * rho;
+        for (int c = 0; c < 3; c++)
+            kx->c[c] += (bm->sigma_t.c[c] - bm->sigma_bar) * rho;
+    }
+    return sb;
+}
+
+/* Follows one light ray through the media (Algorithm of the First Pass). Within a flight
+ * the decay is kept as an optical depth D per channel and exponentiated once, at the
+ * interception or the exit; the threshold test compares D with log(w / w_stop). */
+static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, double *acc,
+                            uint64_t *intercepts)
+{
+    double w_stop = st->threshold * col_max(w);
+    bool have_last = false; /* the last non-empty voxel crossed, for the exit deposit */
+    size_t last = 0;
+    for (;;) { /* one flight from the source or a scattering point */
+        double t_end = INFINITY;
+        surface_hit h;
+        if (s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &h))
+            t_end = h.t;
+        double target = -log1p(-rng_next(g)); /* Eq. 11: scatter where the depth reaches this */
+        double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
+        color D = col(0.0), lim;
+        for (int c = 0; c < 3; c++)
+            lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+        bool scattered = false;
+        walk wk;
+        piece pc;
+        double t_march = 0.0, t_march_end = 0.0;
+        if (st->step > 0.0) {
+            if (!box3_intersect(st->bounds, r, 0.0, t_end, &t_march, &t_march_end))
+                t_march = t_march_end = 0.0;
+        } else {
+            walk_begin(&wk, st, r, t_end);
+        }
+        for (;;) {
+            double dl, t_mid = 0.0;
+            if (st->step > 0.0) { /* uniform steps: the voxels at the step's midpoint */
+                if (!(t_march < t_march_end))
+                    break;
+                dl = fmin(st->step, t_march_end - t_march);
+                t_mid = t_march + 0.5 * dl;
+                pc.t0 = t_march;
+                t_march += dl;
+                piece_at(st, ray_at(r, t_mid), &pc);
+            } else {
+                if (!walk_next(&wk, st, &pc))
+                    break;
+                dl = pc.t1 - pc.t0;
+            }
+            color kx;
+            double sb = piece_coeffs(st, &pc, &kx);
+            if (sb > 0.0 && tau + sb * dl >= target) {
+                /* interception: exactly inside the voxel, or at the step's midpoint */
+                double ds = st->step > 0.0 ? dl : (target - tau) / sb;
+                double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
+                int pick = 0;
+                if (pc.n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
+                    double x = rng_next(g) * sb;
+                    for (pick = 0; pick < pc.n - 1; pick++) {
+                        double wi = st->m[pc.m[pick]].sigma_bar * (double)st->rho[pc.v[pick]];
+                        if (x < wi)
+                            break;
+                        x -= wi;
+                    }
+                }
+                color sig_s = col(0.0); /* RGB weight sigma_s / sigma_bar (Eq. 10) */
+                for (int i = 0; i < pc.n; i++)
+                    sig_s = col_madd(sig_s, st->m[pc.m[i]].md->sigma_s, (double)st->rho[pc.v[i]]);
+                for (int c = 0; c < 3; c++)
+                    w.c[c] *= exp(-(D.c[c] + kx.c[c] * ds)) * sig_s.c[c] / sb;
+                const blasi_medium *bm = &st->m[pc.m[pick]];
+                deposit(acc, pc.v[pick], w, bm->r);
+                (*intercepts)++;
+                have_last = true;
+                last = pc.v[pick];
+                w = col_scale(w, 1.0 - bm->r);
+                if (!(col_max(w) > w_stop))
+                    return;
+                double pdf, ua = rng_next(g), ub = rng_next(g);
+                vec3 d = phase_sample(bm->dir, r.d, ua, ub, &pdf); /* Eq. 23 for Schlick lobes */
+                r = (ray){ray_at(r, t_hit), d, 0.0};
+                scattered = true;
+                break;
+            }
+            if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
+                continue; /* empty voxel */
+            tau += sb * dl;
+            for (int c = 0; c < 3; c++)
+                D.c[c] += kx.c[c] * dl;
+            have_last = true;
+            last = pc.v[0];
+            if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
+                return; /* the while condition: L_R > THRESHOLD */
+        }
+        if (scattered)
+            continue;
+        if (isfinite(t_end)) /* stopped by a surface */
+            return;
+        if (st->exit == BLASI_EXIT_PAPER && have_last) { /* "stored in the last non-empty voxel" */
+            for (int c = 0; c < 3; c++)
+                w.c[c] *= exp(-D.c[c]);
+            deposit(acc, last, w, 1.0);
+        }
+        return;
+    }
+}
+
+static void pass1_group(size_t group, int thread, void *user)
+{
+    (void)thread;
+    pass1_job *job = user;
+    const brume_scene *s = job->s;
+    double *acc = job->acc[group];
+    uint64_t nl = (uint64_t)s->nlights, intercepts = 0;
+    for (uint64_t b = group; b < job->nbatch; b += (uint64_t)job->ngroups) {
+        uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
+        for (uint64_t i = first; i < end; i++) {
+            /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl) */
+            uint64_t l = (i * nl) / job->nrays;
+            while (l + 1 < nl && (l + 1) * job->nrays / nl <= i)
+                l++;
+            while (l > 0 && l * job->nrays / nl > i)
+                l--;
+            uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
+            rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
+            ray r;
+            color W;
+            if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0)
+                trace_light_ray(s, job->st, r, W, &g, acc, &intercepts);
+        }
+        progress_add(&job->prog, 1);
+    }
+    job->intercepts[group] = intercepts;
+}
+
+static brume_status first_pass(const brume_scene *s, blasi_state *st)
+{
+    uint64_t nrays = s->nlights > 0 && st->nm > 0 ? s->blasi.light_rays : 0;
+    if (nrays == 0)
+        return BRUME_OK;
+    size_t per = st->nvox * 3 * sizeof(double);
+    size_t groups = per > 0 ? BLASI_ACC_BUDGET / per : BLASI_MAX_GROUPS;
+    pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH};
+    job.ngroups = groups < 1 ? 1 : (groups > BLASI_MAX_GROUPS ? BLASI_MAX_GROUPS : (int)groups);
+    for (int gi = 0; gi < job.ngroups; gi++) {
+        job.acc[gi] = calloc(st->nvox * 3, sizeof(double));
+        if (!job.acc[gi]) {
+            for (int k = 0; k < gi; k++)
+                free(job.acc[k]);
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+        }
+    }
+    progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
+    pool_run(s->settings.threads, (size_t)job.ngroups, pass1_group, &job);
+    progress_end(&job.prog);
+    /* fixed order of summation; then power -> source per unit length, S = P / (4 pi |V|) */
+    double total = 0.0;
+    for (int m = 0; m < st->nm; m++) {
+        const blasi_medium *bm = &st->m[m];
+        double norm = 1.0 / (4.0 * PI * bm->volume);
+        for (size_t v = bm->offset; v < bm->offset + bm->nvox; v++)
+            for (int c = 0; c < 3; c++) {
+                double p = 0.0;
+                for (int gi = 0; gi < job.ngroups; gi++)
+                    p += job.acc[gi][3 * v + (size_t)c];
+                total += p;
+                st->S[3 * v + (size_t)c] = (float)(p * norm);
+            }
+    }
+    for (int gi = 0; gi < job.ngroups; gi++) {
+        st->stats.interceptions += job.intercepts[gi];
+        free(job.acc[gi]);
+    }
+    st->stats.light_rays = nrays;
+    st->stats.stored_power = total / 3.0;
+    return BRUME_OK;
+}
+
+/* ---- setting up --------------------------------------------------------------------------- */
+
+/* Splits a medium's phase function into the paper's isotropic fraction r and directional
+ * lobe (Eq. 22 with k = 0; docs/blasi.md "Phase functions"). */
+static void split_phase(const phase *ph, double *r, const phase **dir)
+{
+    *r = BLASI_R_DEFAULT;
+    *dir = ph;
+    switch (phase_get_kind(ph)) {
+    case PHASE_ISOTROPIC: *r = 1.0; return;
+    case PHASE_SCHLICK: *r = 0.0; return;
+    case PHASE_MIXTURE:
+        if (phase_lobe_count(ph) == 2) {
+            double w0, w1;
+            const phase *a = phase_lobe(ph, 0, &w0), *b = phase_lobe(ph, 1, &w1);
+            int iso = -1; /* the lobe treated as isotropic */
+            if (phase_get_kind(a) == PHASE_ISOTROPIC)
+                iso = 0;
+            else if (phase_get_kind(b) == PHASE_ISOTROPIC)
+                iso = 1;
+            else if (phase_get_kind(a) == PHASE_SCHLICK && phase_get_kind(b) == PHASE_SCHLICK)
+                iso = phase_schlick_k(a) <= phase_schlick_k(b) ? 0 : 1;
+            if (iso >= 0) {
+                *r = iso == 0 ? w0 : w1;
+                *dir = iso == 0 ? b : a;
+            }
+        }
+        return;
+    default: return;
+    }
+}
+
+static uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 0x100000001b3ULL;
+    return h;
+}
+
+static uint64_t fnv_d(uint64_t h, double x) { return fnv(h, &x, sizeof x); }
+static uint64_t fnv_col(uint64_t h, color c)
+{
+    for (int i = 0; i < 3; i++)
+        h = fnv_d(h, c.c[i]);
+    return h;
+}
+
+/* A hash of everything the first pass depends on except the ray count and the seed:
+ * grids, coefficients, the split of the phase functions, lights, surfaces and options. */
+static uint64_t scene_hash(const brume_scene *s, const blasi_state *st)
+{
+    uint64_t h = 0xcbf29ce484222325ULL;
+    h = fnv(h, &st->nm, sizeof st->nm);
+    for (int m = 0; m < st->nm; m++) {
+        const blasi_medium *bm = &st->m[m];
+        h = fnv(h, bm->n, sizeof bm->n);
+        for (int i = 0; i < 12; i++)
+            h = fnv_d(h, bm->w2v.m[i]);
+        h = fnv(h, st->rho + bm->offset, bm->nvox * sizeof(float));
+        h = fnv_col(fnv_col(fnv_col(h, bm->md->sigma_a), bm->md->sigma_s), bm->md->Le);
+        h = fnv_d(h, bm->r);
+        for (int i = 0; i <= 8; i++)
+            h = fnv_d(h, phase_eval(bm->dir, -1.0 + 0.25 * i));
+    }
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        int k = (int)l->kind;
+        h = fnv(h, &k, sizeof k);
+        h = fnv_d(fnv_d(fnv_d(h, l->direction.x), l->direction.y), l->direction.z);
+        h = fnv_d(fnv_d(fnv_d(h, l->position.x), l->position.y), l->position.z);
+        h = fnv_col(h, l->L);
+        h = fnv_d(fnv_d(fnv_d(fnv_d(h, l->radius), l->angular_radius), l->cos_inner), l->cos_outer);
+        h = fnv(h, &l->profile_n, sizeof l->profile_n);
+        for (int p = 0; p < l->profile_n; p++)
+            h = fnv_d(fnv_d(h, l->profile_angle[p]), l->profile_value[p]);
+    }
+    long ns = s->surf ? surfaces_count(s->surf) : 0, nt = s->surf ? surfaces_triangle_count(s->surf) : 0;
+    h = fnv(fnv(h, &ns, sizeof ns), &nt, sizeof nt);
+    int ex = (int)st->exit, src = s->blasi.sources;
+    h = fnv(fnv(h, &ex, sizeof ex), &src, sizeof src);
+    return fnv_d(fnv_d(h, st->step), st->threshold);
+}
+
+/* The saved first pass (docs/blasi.md, "Light files"), little-endian:
+ *   8 bytes "BRUMEBL1", u32 version (1), u32 number of media, u64 scene hash,
+ *   per medium: u32 nx, ny, nz, u32 0; then per medium nx ny nz x 3 float32: the source
+ *   S (RGB radiance per unit length, world units), x fastest. */
+static bool host_is_little_endian(void)
+{
+    uint32_t one = 1;
+    unsigned char b;
+    memcpy(&b, &one, 1);
+    return b == 1;
+}
+
+static brume_status save_light(const char *path, const brume_scene *s, const blasi_state *st)
+{
+    if (!host_is_little_endian())
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.save_light: light files are little-endian", path);
+    atomic_file f;
+    brume_status rc = atomic_open(&f, path);
+    if (rc != BRUME_OK)
+        return err_prefix("blasi.save_light");
+    uint32_t head[2] = {BLASI_FILE_VERSION, (uint32_t)st->nm};
+    uint64_t hash = scene_hash(s, st);
+    bool ok = fwrite(BLASI_FILE_MAGIC, 1, 8, f.fp) == 8 && fwrite(head, sizeof head, 1, f.fp) == 1 &&
+              fwrite(&hash, sizeof hash, 1, f.fp) == 1;
+    for (int m = 0; ok && m < st->nm; m++) {
+        uint32_t dims[4] = {(uint32_t)st->m[m].n[0], (uint32_t)st->m[m].n[1], (uint32_t)st->m[m].n[2], 0};
+        ok = fwrite(dims, sizeof dims, 1, f.fp) == 1;
+    }
+    if (ok && st->nvox > 0)
+        ok = fwrite(st->S, sizeof(float) * 3, st->nvox, f.fp) == st->nvox;
+    if (!ok) {
+        atomic_abort(&f);
+        return err_set(BRUME_ERROR_IO, "%s: blasi.save_light: write error: %s", path, strerror(errno));
+    }
+    if (atomic_commit(&f) != BRUME_OK)
+        return err_prefix("blasi.save_light");
+    return BRUME_OK;
+}
+
+static brume_status load_light(const char *path, const brume_scene *s, blasi_state *st)
+{
+    if (!host_is_little_endian())
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.load_light: light files are little-endian", path);
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return err_set(BRUME_ERROR_IO, "%s: blasi.load_light: cannot open: %s", path, strerror(errno));
+    char magic[8];
+    uint32_t head[2];
+    uint64_t hash;
+    brume_status rc = BRUME_OK;
+    if (fread(magic, 1, 8, fp) != 8 || memcmp(magic, BLASI_FILE_MAGIC, 8) != 0 || fread(head, sizeof head, 1, fp) != 1 ||
+        fread(&hash, sizeof hash, 1, fp) != 1) {
+        rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: not a brume light file", path);
+    } else if (head[0] != BLASI_FILE_VERSION) {
+        rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: version %u, this brume reads %u", path, head[0],
+                     BLASI_FILE_VERSION);
+    } else if (head[1] != (uint32_t)st->nm) {
+        rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: made for %u media, the scene has %d", path, head[1],
+                     st->nm);
+    }
+    for (int m = 0; rc == BRUME_OK && m < st->nm; m++) {
+        uint32_t dims[4];
+        if (fread(dims, sizeof dims, 1, fp) != 1)
+            rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: truncated header", path);
+        else if (dims[0] != (uint32_t)st->m[m].n[0] || dims[1] != (uint32_t)st->m[m].n[1] ||
+                 dims[2] != (uint32_t)st->m[m].n[2])
+            rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: medium %d is %u x %u x %u voxels, the scene's %d x %d x %d",
+                         path, m, dims[0], dims[1], dims[2], st->m[m].n[0], st->m[m].n[1], st->m[m].n[2]);
+    }
+    uint64_t want = scene_hash(s, st);
+    if (rc == BRUME_OK && hash != want)
+        rc = err_set(BRUME_ERROR_PARSE,
+                     "%s: blasi.load_light: made for another scene or other first-pass options (hash %016llx, this "
+                     "scene %016llx)",
+                     path, (unsigned long long)hash, (unsigned long long)want);
+    if (rc == BRUME_OK && st->nvox > 0 && fread(st->S, sizeof(float) * 3, st->nvox, fp) != st->nvox)
+        rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: truncated data", path);
+    if (rc == BRUME_OK && fgetc(fp) != EOF)
+        rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: trailing bytes after the data", path);
+    for (size_t i = 0; rc == BRUME_OK && i < 3 * st->nvox; i++)
+        if (!(isfinite(st->S[i]) && st->S[i] >= 0.0f))
+            rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: value %zu is negative or not finite", path, i);
+    fclose(fp);
+    return rc;
+}
+
+void blasi_finish(blasi_state *st)
+{
+    if (!st)
+        return;
+    for (int m = 0; m < st->nm; m++)
+        phase_release(st->m[m].dir_owned);
+    free(st->rho);
+    free(st->S);
+    free(st);
+}
+
+brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
+{
+    *out = NULL;
+    double t0 = progress_now();
+    blasi_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory", s->source);
+    const blasi_options *o = &s->blasi;
+    st->nm = s->nmedia;
+    st->step = o->step;
+    st->threshold = o->threshold;
+    st->exit = o->exit_deposit;
+    st->view = o->view_attenuation;
+    st->bounds = box3_empty();
+    brume_status rc = BRUME_OK;
+    for (int m = 0; m < st->nm && rc == BRUME_OK; m++) {
+        const medium *md = &s->media[m];
+        blasi_medium *bm = &st->m[m];
+        density_info info;
+        density_get_info(md->rho, &info);
+        bm->md = md;
+        memcpy(bm->n, info.n, sizeof bm->n);
+        bm->nvox = (size_t)info.n[0] * (size_t)info.n[1] * (size_t)info.n[2];
+        bm->offset = st->nvox;
+        if (st->nvox + bm->nvox > BLASI_MAX_VOXELS) {
+            rc = err_set(BRUME_ERROR_UNSUPPORTED,
+                         "%s: media[%d] '%s': %d x %d x %d voxels; blasi keeps at most %u voxels over all media "
+                         "(use a coarser grid)",
+                         s->source, m, md->name, info.n[0], info.n[1], info.n[2], BLASI_MAX_VOXELS);
+            break;
+        }
+        st->nvox += bm->nvox;
+        bm->volume = fabs(affine3_det(&info.voxel_to_world));
+        if (!affine3_invert(&info.voxel_to_world, &bm->w2v) || !(bm->volume > 0.0)) {
+            rc = err_set(BRUME_ERROR_RANGE, "%s: media[%d] '%s': singular grid placement", s->source, m, md->name);
+            break;
+        }
+        st->bounds = (box3){v3_min(st->bounds.lo, info.bounds.lo), v3_max(st->bounds.hi, info.bounds.hi)};
+        bm->sigma_bar = col_avg(md->sigma_s);
+        bm->sigma_t = col_add(md->sigma_a, md->sigma_s);
+        bm->kappa = st->view == BLASI_VIEW_EXTINCTION ? bm->sigma_t : md->sigma_a;
+        bm->emit = col_mul(md->sigma_a, md->Le);
+        split_phase(md->ph, &bm->r, &bm->dir);
+        if (!isnan(o->r))
+            bm->r = o->r;
+        if (!isnan(o->kprime)) {
+            bm->dir_owned = phase_new_schlick(o->kprime);
+            if (!bm->dir_owned)
+                rc = err_prefix("%s: blasi.kprime", s->source);
+            bm->dir = bm->dir_owned;
+        }
+    }
+    if (rc == BRUME_OK && st->nvox > 0) {
+        st->rho = malloc(st->nvox * sizeof *st->rho);
+        st->S = calloc(st->nvox * 3, sizeof *st->S);
+        if (!st->rho || !st->S)
+            rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
+    }
+    for (int m = 0; m < st->nm && rc == BRUME_OK; m++) {
+        const blasi_medium *bm = &st->m[m];
+        float *dst = st->rho + bm->offset;
+        for (int k = 0; k < bm->n[2]; k++)
+            for (int j = 0; j < bm->n[1]; j++)
+                for (int i = 0; i < bm->n[0]; i++)
+                    *dst++ = (float)density_voxel(bm->md->rho, i, j, k);
+    }
+    if (st->nm > 0) {
+        st->centre = v3_scale(v3_add(st->bounds.lo, st->bounds.hi), 0.5);
+        st->radius = 0.5 * v3_length(v3_sub(st->bounds.hi, st->bounds.lo));
+    }
+    if (rc == BRUME_OK) {
+        if (o->load_light[0]) {
+            rc = load_light(o->load_light, s, st);
+            st->stats.loaded = true;
+        } else {
+            rc = first_pass(s, st);
+        }
+    }
+    if (rc == BRUME_OK && o->save_light[0])
+        rc = save_light(o->save_light, s, st);
+    if (rc != BRUME_OK) {
+        blasi_finish(st);
+        return rc;
+    }
+    st->stats.light_seconds = progress_now() - t0;
+    *out = st;
+    return BRUME_OK;
+}
+
+void blasi_get_stats(const blasi_state *st, blasi_stats *out) { *out = st->stats; }
+
+/* ---- second pass ------------------------------------------------------------------------- */
+
+/* exp(-kappa delta) per channel over [0, tmax] along r: the view attenuation of a segment. */
+static color view_attenuation(const blasi_state *st, ray r, double tmax)
+{
+    color A = col(1.0);
+    walk wk;
+    piece pc;
+    walk_begin(&wk, st, r, tmax);
+    while (walk_next(&wk, st, &pc)) {
+        double dl = pc.t1 - pc.t0;
+        for (int i = 0; i < pc.n; i++) {
+            double rho = st->rho[pc.v[i]];
+            for (int c = 0; c < 3; c++)
+                A.c[c] *= exp(-st->m[pc.m[i]].kappa.c[c] * rho * dl);
+        }
+    }
+    return A;
+}
+
+/* Radiance leaving a surface towards -r.d: emission and direct light from every light,
+ * through the media with the view attenuation (the paper has no surfaces; docs/blasi.md). */
+static color shade_surface(const brume_scene *s, const blasi_state *st, ray r, const surface_hit *h, rng *g)
+{
+    vec3 wo = v3_neg(r.d);
+    color L = surface_emission(h, wo);
+    if (material_is_black(h->mat))
+        return L;
+    vec3 n = v3_dot(h->ng, r.d) < 0.0 ? h->ng : v3_neg(h->ng);
+    vec3 p = surface_offset(h, n);
+    for (int i = 0; i < s->nlights; i++) {
+        light_sample ls;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        if (!light_sample_at(&s->lights[i], p, u1, u2, &ls) || !(ls.pdf > 0.0))
+            continue;
+        double cosn = v3_dot(ls.wi, n);
+        if (cosn <= 0.0 || surfaces_occluded(s->surf, p, ls.wi, 0.0, ls.dist * (1.0 - 1e-7)))
+            continue;
+        color f = col_scale(material_eval(h->mat, n, wo, ls.wi), cosn / ls.pdf);
+        L = col_add(L, col_mul(col_mul(ls.Li, f), view_attenuation(st, (ray){p, ls.wi, 0.0}, ls.dist)));
+    }
+    return L;
+}
+
+color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool *hit_surface)
+{
+    if (hit_surface)
+        *hit_surface = false;
+    /* what ends the walk: a surface, an area light, or nothing (the background) */
+    double t_end = INFINITY;
+    int hit_light = -1;
+    color Le_light = col(0.0);
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        double t, pdf;
+        color c;
+        if ((l->kind == LIGHT_SPHERE || l->kind == LIGHT_DISK) && light_hit(l, r.o, r.d, &t, &c, &pdf) && t < t_end) {
+            t_end = t;
+            hit_light = i;
+            Le_light = c;
+        }
+    }
+    surface_hit h;
+    bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_end, &h);
+    if (on_surface)
+        t_end = h.t;
+    if (hit_surface)
+        *hit_surface = on_surface;
+
+    color L = col(0.0), A = col(1.0);
+    if (st->nm > 0) {
+        walk wk;
+        piece pc;
+        walk_begin(&wk, st, r, t_end);
+        while (walk_next(&wk, st, &pc)) {
+            double dl = pc.t1 - pc.t0;
+            color S = col(0.0), kap = col(0.0);
+            for (int i = 0; i < pc.n; i++) {
+                const blasi_medium *bm = &st->m[pc.m[i]];
+                double rho = (double)st->rho[pc.v[i]];
+                const float *sv = st->S + 3 * pc.v[i];
+                for (int c = 0; c < 3; c++) {
+                    S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
+                    kap.c[c] += bm->kappa.c[c] * rho;
+                }
+            }
+            if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
+                if (!col_is_black(S)) /* a source without attenuation (e.g. alpha = 0, paper variant) */
+                    L = col_add(L, col_scale(col_mul(A, S), dl));
+                continue;
+            }
+            bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
+            double T = 0.0, len = 0.0;
+            for (int c = 0; c < 3; c++) {
+                if (c == 0 || !grey) {
+                    double tau = kap.c[c] * dl;
+                    T = exp(-tau);
+                    /* the integral of exp(-kappa s) over the voxel: delta for a thin one */
+                    len = tau > 1e-4 ? (1.0 - T) / kap.c[c] : dl * (1.0 - 0.5 * tau);
+                }
+                L.c[c] += A.c[c] * S.c[c] * len;
+                A.c[c] *= T;
+            }
+            if (!(col_max(A) > st->threshold)) /* "While A > THRESHOLD" */
+                return L;
+        }
+    }
+    if (on_surface)
+        return col_add(L, col_mul(A, shade_surface(s, st, r, &h, g)));
+    if (hit_light >= 0)
+        return col_add(L, col_mul(A, Le_light));
+    /* "add the attenuated radiance of the background", and any sun disk seen directly */
+    color Lb = background_eval(&s->bg, r.d);
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        double t, pdf;
+        color c;
+        if (l->kind == LIGHT_DISTANT && light_hit(l, r.o, r.d, &t, &c, &pdf))
+            Lb = col_add(Lb, c);
+    }
+    return col_add(L, col_mul(A, Lb));
+}
