@@ -1,0 +1,52 @@
+/* stam_stats.h - Stam 1994, Sections 5.2 and 6.1, Appendix A: the statistics of the optical
+ * depth T_i = integral of rho_i along a ray segment, for one random gaussian blob
+ *
+ *   rho_i = rho_i_mean + sigma_i Q,   sigma_i^2 = eps F_eta(rho_i_mean),
+ *
+ * Q of unit variance with correlation exp(-r^2 / (2 alpha^2)) (density/randfield.h).
+ *
+ *   mean      T_mean = m W-integral in closed form with erf (Appendix A)
+ *   variance  T_var  = eps sqrt(2 pi) alpha c(alpha / h) integral of F_eta(rho_i_mean) du,
+ *             c = (1 + alpha^2 / (4 h^2))^(-1/2)
+ *   sample    T_i = T_mean + sqrt(T_var) Q(x_ui)   (Eq. 13), x_ui the closest ray point
+ *
+ * The variance departs from Eq. 12 (which has K_Q(0) = (2 pi)^(-3/2) alpha^-3 in place of
+ * sqrt(2 pi) alpha c): DESIGN.md erratum 7, derived in docs/stam.md and checked by Monte
+ * Carlo over explicit 3-D realizations in tests/test_stam.c. sqrt(2 pi) alpha is the
+ * integral of the correlation along the ray, the leading term as alpha / h -> 0 (Eq. 11);
+ * c is the exact correction for an unclamped blob and an unbounded segment.
+ *
+ * Geometry (Figure 2): a unit-direction ray o + u d over u in [a, b]; u_i = (x_i - o).d and
+ * d_i^2 = |x_i - o|^2 - u_i^2. The blob is truncated at radius R (blobs.h), so integrals run
+ * over the chord |u - u_i| < sqrt(R^2 - d_i^2) only: exactly the field the other
+ * integrators see. */
+#ifndef BRUME_RENDER_STAM_STATS_H
+#define BRUME_RENDER_STAM_STATS_H
+
+#include "density/blobs.h"
+
+/* Phi(x) = integral_0^x exp(-t^2 / 2) dt = sqrt(pi / 2) erf(x / sqrt 2) (erratum 8). */
+double stam_Phi(double x);
+
+/* One blob seen along one ray. */
+typedef struct blob_ray {
+    double peak;   /* mean density at the ray's closest point: m W(d_i) */
+    double h;      /* blob radius */
+    double u;      /* u_i */
+    double half;   /* half-length of the chord inside the truncation sphere */
+} blob_ray;
+
+/* The blob i of f seen along a ray with closest parameter u and squared distance d2. */
+blob_ray blob_ray_make(const blob_field *f, int i, double u, double d2);
+
+/* Integral of the blob's mean density over [a, b] (Appendix A, T_mean). */
+double blob_T_mean(const blob_ray *br, double a, double b);
+/* Integral of F_eta(mean) over [a, b] (Section 6.1): the mean outside [u-, u+], eta inside,
+ * u+- = u_i +- h sqrt(2 ln(peak / eta)) when peak > eta, else no clamping (erratum 8). */
+double blob_T_clamped(const blob_ray *br, double eta, double a, double b);
+/* Variance of T_i over [a, b] (docs/stam.md). */
+double blob_T_var(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
+/* Eq. 12 as printed, for comparison: K_Q(0) eps integral F_eta, K_Q(0) = (2 pi)^(-3/2) alpha^-3. */
+double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
+
+#endif
