@@ -184,14 +184,18 @@ double blob_field_mean(const blob_field *f, vec3 p)
 }
 
 /* Slab test of a box against o + t d with precomputed 1/d, over [tmin, tmax]. */
+#define MIN(a, b) ((a) < (b) ? (a) : (b))
+#define MAX(a, b) ((a) > (b) ? (a) : (b))
 static inline bool hit_box(const box3 *b, vec3 o, vec3 inv, double tmin, double tmax)
 {
     double tx0 = (b->lo.x - o.x) * inv.x, tx1 = (b->hi.x - o.x) * inv.x;
     double ty0 = (b->lo.y - o.y) * inv.y, ty1 = (b->hi.y - o.y) * inv.y;
     double tz0 = (b->lo.z - o.z) * inv.z, tz1 = (b->hi.z - o.z) * inv.z;
-    double t0 = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmax(fmin(tz0, tz1), tmin));
-    double t1 = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmin(fmax(tz0, tz1), tmax));
-    return t0 <= t1; /* NaN (0 * inf on a slab plane) compares false: fmin/fmax drop it */
+    /* NaN (0 * inf) arises only for a ray lying exactly in a slab plane, a set of rays of
+     * measure zero; the comparisons then drop that bound */
+    double t0 = MAX(MAX(MIN(tx0, tx1), MIN(ty0, ty1)), MAX(MIN(tz0, tz1), tmin));
+    double t1 = MIN(MIN(MAX(tx0, tx1), MAX(ty0, ty1)), MIN(MAX(tz0, tz1), tmax));
+    return t0 <= t1;
 }
 
 static inline void visit_blob(const blob_field *f, int i, vec3 o, vec3 d, double tmin, double tmax,

@@ -3,8 +3,9 @@
  *   rho_mean(x) = sum_i m_i W_h_i(x - x_i),   W_h(x) = exp(-|x|^2 / (2 h^2)) / ((2 pi)^(3/2) h^3)
  *
  * with a bounding-volume hierarchy over the blobs for ray and point queries. Each blob is
- * truncated at the radius R_i = cutoff h_i (default 4: outside it W < exp(-8) W(0), and
- * 0.1 % of the mass lies beyond); every query, the renderers and the majorants use the same
+ * truncated at the radius R_i = cutoff h_i (default 3: there W = exp(-4.5) W(0) = 1.1 % of
+ * the peak, and 2.9 % of the mass lies beyond; a cutoff of 4 costs 1.8 times more blobs per
+ * ray for 0.03 % of the peak); every query, the renderers and the majorants use the same
  * truncation, so `path`, `single` and `stam` render the same field.
  *
  * A blob field may drift with a constant velocity: blob_field_at_time moves the centres to
@@ -20,7 +21,7 @@
 #include "core/vec.h"
 #include "density/randfield.h"
 
-#define BLOB_DEFAULT_CUTOFF 4.0
+#define BLOB_DEFAULT_CUTOFF 3.0
 
 /* One blob: centre x (world), mass m (world units^3: the integral of its density), and
  * radius h (standard deviation of the gaussian kernel, world units). */

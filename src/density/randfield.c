@@ -103,11 +103,10 @@ static inline int wrap_split(double x, int n, double *frac)
 {
     double f = floor(x);
     *frac = x - f;
-    double m = fmod(f, (double)n);
-    if (m < 0.0)
-        m += n;
-    int i = (int)m;
-    return i >= n ? 0 : i; /* guards rounding of huge coordinates */
+    if (!(fabs(f) < 1e15)) /* NaN, infinite or beyond exact integer conversion */
+        return 0;
+    long long i = (long long)f % n;
+    return (int)(i < 0 ? i + n : i);
 }
 
 double randfield_eval(const randfield *q, vec3 p)

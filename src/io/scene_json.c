@@ -7,6 +7,7 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "io/json.h"
+#include "io/scene_stam.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
@@ -228,6 +229,8 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
             return err_prefix("%s: %s", at.file, at.path);
         return BRUME_OK;
     }
+    if (strcmp(type, "blobs") == 0)
+        return scene_parse_blobs(j, at, out); /* Stam's gaussian blobs (io/scene_stam.c) */
     if (strcmp(type, "constant") == 0) {
         /* homogeneous fog filling a box: a 1 x 1 x 1 grid */
         static const char *const keys[] = {"type", "value", "bounds", NULL};
@@ -247,7 +250,7 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
         }
         return BRUME_OK;
     }
-    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud)",
+    return err_set(BRUME_ERROR_PARSE, "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, blobs)",
                    at.file, at.path, type);
 }
 
@@ -409,7 +412,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
 
 static brume_status parse_scene(const cJSON *root, brume_scene *s)
 {
-    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", NULL};
+    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "stam", NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
@@ -459,7 +462,7 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
     if (surf && (st = scene_parse_surfaces(surf, file, &s->surf))) return st;
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
     if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
-    return BRUME_OK;
+    return scene_parse_stam(root, s);
 }
 
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out)

@@ -16,6 +16,7 @@
 
 #include <string.h>
 
+#include "render/stam.h"
 #include "surface/surfaces.h"
 
 bool integrator_from_name(const char *name, integrator_kind *out)
@@ -24,12 +25,14 @@ bool integrator_from_name(const char *name, integrator_kind *out)
         *out = INTEGRATOR_PATH;
     else if (strcmp(name, "single") == 0)
         *out = INTEGRATOR_SINGLE;
+    else if (strcmp(name, "stam") == 0)
+        *out = INTEGRATOR_STAM;
     else
         return false;
     return true;
 }
 
-const char *integrator_names(void) { return "path, single"; }
+const char *integrator_names(void) { return "path, single, stam"; }
 
 static bool flight_step(double t, double sigma_maj, void *user)
 {
@@ -291,6 +294,7 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: return BRUME_OK;
+    case INTEGRATOR_STAM: return stam_prepare(s, state);
     }
     return BRUME_OK;
 }
@@ -300,17 +304,27 @@ void integrator_finish(integrator_kind kind, void *state)
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: break;
+    case INTEGRATOR_STAM: stam_finish(state); break;
     }
-    (void)state;
 }
 
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
                     bool *hit_surface)
 {
-    (void)state;
     switch (kind) {
     case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
     case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);
+    case INTEGRATOR_STAM: return stam_Li(state, r, g, hit_surface);
     }
     return col(0.0);
+}
+
+color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g)
+{
+    switch (kind) {
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE: return track_transmittance(s, r, INFINITY, g);
+    case INTEGRATOR_STAM: return stam_transmittance(state, r.o, r.d, INFINITY);
+    }
+    return col(1.0);
 }
