@@ -4,6 +4,8 @@
 #include "test.h"
 
 #include "brume.h"
+#include "core/error.h"
+#include "core/rng.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
 #include "render/scene.h"
@@ -210,4 +212,176 @@ TEST(transparency_statistics_monte_carlo)
     blob_field_release(f);
 }
 
-TEST_MAIN(closed_form_mean_matches_quadrature, random_field_covariance, transparency_statistics_monte_carlo)
+static brume_scene *scene_from(const char *json)
+{
+    brume_scene *s = NULL;
+    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", err_message());
+    return s;
+}
+
+static brume_image *render(const char *json, const char *method, int spp, int threads, uint64_t seed)
+{
+    brume_scene *s = scene_from(json);
+    brume_context *ctx = brume_context_new();
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    snprintf(rs.method, sizeof rs.method, "%s", method);
+    rs.spp = spp;
+    rs.threads = threads;
+    rs.seed = seed;
+    brume_image *img = NULL;
+    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
+        brume_render(ctx, s, &img) != BRUME_OK)
+        TEST_FAIL("render %s: %s", method, brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    brume_scene_release(s);
+    return img;
+}
+
+/* A few overlapping blobs, lit by a sun, emitting, in front of a wall that the sun lights
+ * through them (background %g: black for the comparison with `single`, whose in-scattered
+ * sky light Stam's source function leaves to the ambient term). The box filter
+ * of width 1e-3 px makes every sample of a pixel the same camera ray. */
+#define WALL "{\"type\": \"quad\", \"corner\": [-2, -2, -1], \"edge_u\": [4, 0, 0], \"edge_v\": [0, 4, 0]}"
+#define FEW_BLOBS_JSON \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30}," \
+    " \"background\": %g, \"surfaces\": [%s]," \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, -0.6, -0.62], \"irradiance\": 3.0}]," \
+    " \"media\": [{\"sigma_a\": 0.6, \"sigma_s\": %g, \"emission\": %s, \"density\": {\"type\": \"blobs\"," \
+    "   \"blobs\": [[0, 0, 0, 0.5, 0.3], [0.3, 0.1, 0, 0.3, 0.25], [-0.25, -0.1, 0.2, 0.4, 0.3], [0.1, 0.3, -0.2, 0.2, 0.2]]}}]," \
+    " \"stam\": {\"eps\": %g, \"eta\": 0.5, \"alpha\": 0.05, \"steps\": %d, \"light_grid\": %d}," \
+    " \"render\": {\"width\": 24, \"height\": 24, \"filter\": {\"type\": \"box\", \"width\": 0.001}}}"
+
+/* With eps = 0 Stam's image is the deterministic emission-absorption and single-scattering
+ * image of the mean field (exact shadow rays, 128 steps): it must match the `single`
+ * estimator on the same blob field, once for a scattering medium in front of a lit wall and
+ * once for an emitting, absorbing one alone (emitted light scattered once by the medium or
+ * the wall is counted by `single`, not by Stam's source function). Tolerance: 5 standard errors of the image mean of
+ * `single` (from two independent renders) plus 0.5 % for the step quadrature; each pixel
+ * within 5 of its own standard errors plus 2 %. */
+TEST(eps_zero_matches_single_scattering)
+{
+    const double sigma_s[2] = {2.5, 0.0};
+    const char *emission[2] = {"0", "[0.3, 0.15, 0.05]"};
+    for (int k = 0; k < 2; k++) {
+        char json[2048];
+        snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.0, k == 0 ? WALL : "", sigma_s[k], emission[k], 0.0, 128, 0);
+        brume_image *st = render(json, "stam", 1, 0, 1);
+        brume_image *a = render(json, "single", 128, 0, 1), *b = render(json, "single", 128, 0, 2);
+        const float *ps = brume_image_pixels(st), *pa = brume_image_pixels(a), *pb = brume_image_pixels(b);
+        int n = 24 * 24;
+        for (int c = 0; c < 3; c++) {
+            double ms = 0, mr = 0, var = 0, sq = 0;
+            for (int i = 0; i < n; i++) {
+                double ref = 0.5 * (pa[4 * i + c] + pb[4 * i + c]), d = pa[4 * i + c] - pb[4 * i + c];
+                var += d * d / 4.0; /* estimates the variance of the mean of the two renders */
+                ms += ps[4 * i + c];
+                mr += ref;
+                sq += (ps[4 * i + c] - ref) * (ps[4 * i + c] - ref);
+            }
+            double se = sqrt(var) / n;
+            printf("case %d channel %d: stam %.5f, single %.5f +- %.5f; rms difference %.5f, noise %.5f\n", k, c,
+                   ms / n, mr / n, se, sqrt(sq / n), sqrt(var / n));
+            ASSERT_NEAR(ms / n, mr / n, 5.0 * se + 0.005 * mr / n);
+            /* pixel by pixel: the difference is the reference's noise, plus at most 1 % */
+            ASSERT_TRUE(sqrt(sq / n) <= 1.3 * sqrt(var / n) + 0.01 * mr / n);
+        }
+        brume_image_release(st);
+        brume_image_release(a);
+        brume_image_release(b);
+    }
+}
+
+/* The light-transparency cache stays within 2 % of exact shadow rays on the image mean. */
+TEST(light_cache_close_to_exact_shadow_rays)
+{
+    char json[2048];
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 0);
+    brume_image *exact = render(json, "stam", 1, 0, 1);
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 32);
+    brume_image *cached = render(json, "stam", 1, 0, 1);
+    double se = 0, sc = 0;
+    for (int i = 0; i < 24 * 24 * 4; i++)
+        if (i % 4 != 3) {
+            se += brume_image_pixels(exact)[i];
+            sc += brume_image_pixels(cached)[i];
+        }
+    ASSERT_NEAR(sc, se, 0.02 * se);
+    brume_image_release(exact);
+    brume_image_release(cached);
+}
+
+/* Renders with 1 and 2 threads are bit-identical, and eps changes the image. */
+TEST(threads_do_not_change_the_image)
+{
+    char json[2048];
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 16);
+    brume_image *a = render(json, "stam", 2, 1, 1), *b = render(json, "stam", 2, 2, 1);
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.0, 16, 16);
+    brume_image *c = render(json, "stam", 2, 2, 1);
+    size_t bytes = 24 * 24 * 4 * sizeof(float);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(b), bytes) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), bytes) != 0);
+    brume_image_release(a);
+    brume_image_release(b);
+    brume_image_release(c);
+}
+
+/* A medium that is not a blob field: --method stam says so plainly. */
+TEST(grid_media_are_refused)
+{
+    const char *json = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]},"
+                       " \"media\": [{\"name\": \"fog\", \"sigma_a\": 1, \"sigma_s\": 1, \"density\": {\"type\": \"constant\"}}],"
+                       " \"render\": {\"width\": 8, \"height\": 8, \"method\": \"stam\"}}";
+    brume_scene *s = scene_from(json);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_UNSUPPORTED);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "media[0] fog: method stam renders blob fields only");
+    ASSERT_TRUE(img == NULL);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+}
+
+/* The blob density seen by path and single: density_eval is the truncated mean, and along
+ * random rays every point lies under its majorant segment. */
+TEST(blob_density_majorant_bounds)
+{
+    blob_list l = {0};
+    blob_cloud_params p = {v3(0, 0, 0), v3(1.5, 0.7, 1.0), 300, 0.08, 0.3, 0.2, 1.0, 9};
+    ASSERT_EQ_INT(blob_gen_cloud(&p, &l), BRUME_OK);
+    blob_field *f = blob_field_new(l.b, l.n, BLOB_DEFAULT_CUTOFF, "test");
+    density *d = density_new_blobs(f, 24);
+    ASSERT_TRUE(d);
+    rng g = rng_make(5, 0, 0);
+    for (int r = 0; r < 200; r++) {
+        vec3 o = v3(6 * rng_next(&g) - 3, 6 * rng_next(&g) - 3, 6);
+        vec3 t = v3(2 * rng_next(&g) - 1, rng_next(&g) - 0.5, 2 * rng_next(&g) - 1);
+        ray ry = {o, v3_normalize(v3_sub(t, o)), 0.0};
+        majorant_iter it;
+        majorant_seg seg;
+        density_majorant_begin(d, ry, 0.0, 20.0, &it);
+        while (majorant_next(&it, &seg))
+            for (int k = 0; k < 8; k++) {
+                vec3 x = ray_at(ry, seg.t0 + (seg.t1 - seg.t0) * rng_next(&g));
+                double rho = density_eval(d, x), brute = 0.0;
+                for (int i = 0; i < f->n; i++)
+                    brute += blob_mean_at(f, i, x);
+                ASSERT_NEAR(rho, brute, 1e-12 + 1e-9 * brute);
+                ASSERT_TRUE(rho <= seg.rho_maj);
+            }
+    }
+    /* the hierarchy finds exactly the blobs a linear scan finds */
+    f->use_bvh = false;
+    double scan = blob_field_mean(f, v3(0.1, 0.05, -0.2));
+    f->use_bvh = true;
+    ASSERT_NEAR(blob_field_mean(f, v3(0.1, 0.05, -0.2)), scan, 1e-12);
+    density_release(d);
+    blob_list_free(&l);
+}
+
+TEST_MAIN(closed_form_mean_matches_quadrature, random_field_covariance, transparency_statistics_monte_carlo,
+          eps_zero_matches_single_scattering, light_cache_close_to_exact_shadow_rays, threads_do_not_change_the_image,
+          grid_media_are_refused, blob_density_majorant_bounds)
