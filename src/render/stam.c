@@ -118,6 +118,7 @@ static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax)
  * render.c asks for right after, on the same thread, through stam_transmittance): a pure
  * function of the ray, so reusing it cannot change the image. */
 typedef struct tau_memo {
+    const void *state;
     vec3 o, d;
     color tau;
     bool valid;
@@ -128,7 +129,7 @@ color stam_transmittance(const void *state, vec3 o, vec3 d, double tmax)
 {
     const stam_state *st = state;
     const tau_memo *mm = &last_camera_ray;
-    if (mm->valid && isinf(tmax) && mm->o.x == o.x && mm->o.y == o.y && mm->o.z == o.z && mm->d.x == d.x &&
+    if (mm->valid && mm->state == state && isinf(tmax) && mm->o.x == o.x && mm->o.y == o.y && mm->o.z == o.z && mm->d.x == d.x &&
         mm->d.y == d.y && mm->d.z == d.z)
         return mm->tau;
     if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7)))
@@ -426,6 +427,8 @@ static int gather_lights(const stam_state *st, vec3 x, rng *g, light_in *out, in
     return n;
 }
 
+/* The source function gathers at most this many lights (scenes with more lights shade
+ * surfaces with all of them but scatter only the first 64 inside the media). */
 #define STAM_MAX_LIGHTS_PER_POINT 64
 
 color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
@@ -453,7 +456,7 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
         umax = fmax(umax, w.umax);
     }
     color tau = col_exp(col_scale(depth, -1.0));
-    last_camera_ray = (tau_memo){r.o, r.d, tau, isinf(b)};
+    last_camera_ray = (tau_memo){st, r.o, r.d, tau, isinf(b)};
     if (!(umax > umin))
         return Ib;
 
