@@ -20,6 +20,7 @@ static void render_usage(FILE *out)
             "  --threads N         worker threads (default: one per core)\n"
             "  --method NAME       integrator: path (unbiased reference), single (single scattering),\n"
             "                      blasi (Blasi et al. 1993 two-pass method, docs/blasi.md)\n"
+            "                      stam (Stam 1994, blob fields only)\n"
             "  --max-depth N       maximum scattering events per path\n"
             "  --exposure STOPS    PNG only: scale by 2^STOPS before tone mapping\n"
             "  --filmic            PNG only: ACES filmic tone curve instead of clamping\n"

@@ -129,7 +129,7 @@ typedef struct brume_render_settings {
     int spp;            /* samples per pixel, >= 1 */
     uint64_t seed;      /* the image is a function of (scene, seed, spp) */
     int threads;        /* worker threads; 0 = one per core */
-    char method[32];    /* integrator name: "path", "single" or "blasi" */
+    char method[32];    /* integrator name: "path", "single", "blasi" or "stam" (blob fields only) */
     int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */

@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "brume.h"
 #include "core/vec.h"
 #include "core/xform.h"
 #include "density/dda.h"
@@ -20,7 +21,8 @@
 /* The closed set of representations; each operation is one switch over it. */
 typedef enum density_kind {
     DENSITY_GRID,   /* dense float32 voxel grid (grid.c) */
-    DENSITY_NANOVDB /* sparse float grid in a NanoVDB buffer, read through PNanoVDB (nanovdb.c) */
+    DENSITY_NANOVDB, /* sparse float grid in a NanoVDB buffer, read through PNanoVDB (nanovdb.c) */
+    DENSITY_BLOBS    /* the mean of a sum of gaussian blobs, Stam 1994 Eq. 3 (blobs.c) */
 } density_kind;
 
 
@@ -53,6 +55,16 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
  * max_memory bounds the coarse majorant grid built here (bytes; 0 = no limit). */
 density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
                              size_t max_memory, const char *name);
+/* The mean density of a blob field (density/blobs.h), with a majorant grid of at most
+ * majorant_cells cells along the longest axis of its bounds; "voxels" are those cells.
+ * Takes ownership of f on success; on failure returns NULL with err_set() and frees nothing. */
+typedef struct blob_field blob_field;
+density *density_new_blobs(blob_field *f, int majorant_cells);
+/* The blob field of a DENSITY_BLOBS density, else NULL. */
+blob_field *density_get_blobs(const density *d);
+/* Moves the blobs to time t at the given velocity (blob_field_at_time) and rebuilds the
+ * majorants; only while loading, before the field is shared. */
+brume_status density_blobs_at_time(density *d, vec3 velocity, double t);
 void density_release(density *d);
 /* For loaders, before the field is shared: replaces the placement of any grid kind by
  * voxel_to_world (bounds follow). false with err_set() when the map is not invertible. */

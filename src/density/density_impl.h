@@ -42,6 +42,8 @@ struct density {
     float *data; /* n0 * n1 * n2, x fastest, owned */
     /* DENSITY_NANOVDB */
     nanovdb_state *nano;
+    /* DENSITY_BLOBS: voxels are the majorant cells (mcell = 1) */
+    blob_field *blobs;
 };
 
 /* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "density/blobs.h"
 #include "density/density_impl.h"
 
 /* ---- affine maps ------------------------------------------------------------------------ */
@@ -146,6 +147,7 @@ void density_release(density *d)
     switch (d->kind) {
     case DENSITY_GRID: free(d->data); break;
     case DENSITY_NANOVDB: nanovdb_free(d); break;
+    case DENSITY_BLOBS: blob_field_release(d->blobs); break;
     }
     free(d->maj);
     free(d);
@@ -177,6 +179,7 @@ double density_voxel(const density *d, int i, int j, int k)
     switch (d->kind) {
     case DENSITY_GRID: return dense_at(d, i, j, k);
     case DENSITY_NANOVDB: return nanovdb_voxel(d, i, j, k);
+    case DENSITY_BLOBS: return blob_field_mean(d->blobs, affine3_apply(&d->v2w, v3(i + 0.5, j + 0.5, k + 0.5)));
     }
     return 0.0;
 }
@@ -204,6 +207,7 @@ double density_eval(const density *d, vec3 p)
             return dense_at(d, (int)u.x, (int)u.y, (int)u.z);
         return dense_trilinear(d, u);
     case DENSITY_NANOVDB: return nanovdb_eval_voxel(d, u);
+    case DENSITY_BLOBS: return blob_field_mean(d->blobs, p);
     }
     return 0.0;
 }

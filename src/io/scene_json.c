@@ -10,6 +10,7 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "io/scene_blasi.h"
+#include "io/scene_stam.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
@@ -361,6 +362,8 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
             return err_prefix("%s: %s", at.file, at.path);
         return BRUME_OK;
     }
+    if (strcmp(type, "blobs") == 0)
+        return scene_parse_blobs(j, at, out); /* Stam's gaussian blobs (io/scene_stam.c) */
     if (strcmp(type, "constant") == 0) {
         /* homogeneous fog filling a box: a 1 x 1 x 1 grid */
         static const char *const keys[] = {"type", "value", "bounds", NULL};
@@ -385,7 +388,7 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
     if (strcmp(type, "fractal_cloud") == 0)
         return parse_fractal_density(j, at, out);
     return err_set(BRUME_ERROR_PARSE,
-                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, fractal_cloud)",
+                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, fractal_cloud, blobs)",
                    at.file, at.path, type);
 }
 
@@ -548,7 +551,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
 static brume_status parse_scene(const cJSON *root, brume_scene *s)
 {
     static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "blasi",
-                                       NULL};
+                                       "stam", NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
@@ -599,7 +602,7 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
     if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
     if ((st = scene_parse_blasi(root, top, &s->blasi))) return st;
-    return BRUME_OK;
+    return scene_parse_stam(root, s);
 }
 
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out)

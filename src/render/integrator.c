@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "render/blasi.h"
+#include "render/stam.h"
 #include "surface/surfaces.h"
 
 bool integrator_from_name(const char *name, integrator_kind *out)
@@ -27,12 +28,14 @@ bool integrator_from_name(const char *name, integrator_kind *out)
         *out = INTEGRATOR_SINGLE;
     else if (strcmp(name, "blasi") == 0)
         *out = INTEGRATOR_BLASI;
+    else if (strcmp(name, "stam") == 0)
+        *out = INTEGRATOR_STAM;
     else
         return false;
     return true;
 }
 
-const char *integrator_names(void) { return "path, single, blasi"; }
+const char *integrator_names(void) { return "path, single, blasi, stam"; }
 
 static bool flight_step(double t, double sigma_maj, void *user)
 {
@@ -299,6 +302,7 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
         *state = st;
         return rc;
     }
+    case INTEGRATOR_STAM: return stam_prepare(s, state);
     }
     return BRUME_OK;
 }
@@ -309,6 +313,7 @@ void integrator_finish(integrator_kind kind, void *state)
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: break;
     case INTEGRATOR_BLASI: blasi_finish(state); break;
+    case INTEGRATOR_STAM: stam_finish(state); break;
     }
 }
 
@@ -319,6 +324,18 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
     case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
     case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);
     case INTEGRATOR_BLASI: return blasi_Li(s, state, r, g, hit_surface);
+    case INTEGRATOR_STAM: return stam_Li(state, r, g, hit_surface);
     }
     return col(0.0);
+}
+
+color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g)
+{
+    switch (kind) {
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE:
+    case INTEGRATOR_BLASI: return track_transmittance(s, r, INFINITY, g);
+    case INTEGRATOR_STAM: return stam_transmittance(state, r.o, r.d, INFINITY);
+    }
+    return col(1.0);
 }

@@ -19,10 +19,11 @@
 typedef enum integrator_kind {
     INTEGRATOR_PATH,
     INTEGRATOR_SINGLE,
-    INTEGRATOR_BLASI
+    INTEGRATOR_BLASI,
+    INTEGRATOR_STAM /* Stam 1994's stochastic renderer (render/stam.h) */
 } integrator_kind;
 
-/* Parses a method name ("path", "single", "blasi"); false if unknown. */
+/* Parses a method name ("path", "single", "blasi", "stam"); false if unknown. */
 bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
@@ -38,6 +39,10 @@ void integrator_finish(integrator_kind kind, void *state);
  * ray's first hit is a solid surface (may be NULL). state is integrator_prepare's. */
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
                     bool *hit_surface);
+
+/* Transmittance along the camera ray r over (0, infinity) as the method sees the media (for
+ * the image's alpha): ratio tracking, or Stam's realized transparency. */
+color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g);
 
 /* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
  * surface counts as one). */

@@ -48,10 +48,10 @@ static void render_tile(size_t task, int thread, void *user)
                 if (col_isfinite(L))
                     sum = col_add(sum, L);
                 /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                 * ray, ratio-tracked on the first ALPHA_SAMPLES samples only: a smooth
-                 * estimator that needs few samples, and no cost for the others */
+                 * ray, estimated by the method on the first ALPHA_SAMPLES samples only: a
+                 * smooth estimator that needs few samples, and no cost for the others */
                 if (sidx < ALPHA_SAMPLES)
-                    alpha += opaque ? 1.0 : 1.0 - col_avg(track_transmittance(s, r, INFINITY, &g));
+                    alpha += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
             }
             float *px = job->img->rgba + 4 * pixel;
             double inv = 1.0 / rs->spp;

@@ -34,6 +34,7 @@ brume_scene *scene_new(const char *source)
     snprintf(s->source, sizeof s->source, "%s", source);
     scene_default_settings(&s->settings);
     blasi_options_default(&s->blasi);
+    stam_params_default(&s->stam);
     s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
                       .aperture_radius = 0.0, .focus_distance = 1.0, .shutter_open = 0.0, .shutter_close = 0.0};
     s->bg.L = col(0.0);

@@ -10,6 +10,7 @@
 #include "render/blasi_options.h"
 #include "render/camera.h"
 #include "render/light.h"
+#include "render/stam_params.h"
 #include "surface/surfaces.h"
 
 #define SCENE_MAX_MEDIA 16
@@ -26,6 +27,7 @@ struct brume_scene {
     background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
     brume_render_settings settings;
     blasi_options blasi; /* the blasi integrator's options (render/blasi_options.h) */
+    stam_params stam; /* Stam's stochastic renderer (render/stam.h) */
     bool has_emission; /* some medium has Le > 0 (set by commit) */
     bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
                                   phase sampling (set by commit) */

@@ -1,0 +1,422 @@
+/* blobs.c - gaussian blob fields (Stam 1994, Eq. 3): a BVH over the truncation spheres for
+ * ray and point queries, voxelization of the mean or of one realization, and the blob kind
+ * of density (DENSITY_BLOBS) with its coarse majorant grid so that every integrator that
+ * tracks through majorants renders blob fields directly. */
+#include "density/blobs.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "density/density_impl.h"
+
+#define BVH_LEAF_SIZE 4
+#define BVH_STACK 64
+/* (2 pi)^(3/2) */
+#define TWO_PI_3_2 15.749609945722419
+
+struct blob_node {
+    box3 box;
+    int start, count; /* leaf: blobs [start, start + count); inner: count = 0, start = right child */
+};
+
+/* ---- building ---------------------------------------------------------------------------- */
+
+typedef struct build_item {
+    blob b;
+    vec3 c; /* centroid (the centre) */
+} build_item;
+
+static int sort_axis;
+static int cmp_item(const void *a, const void *b)
+{
+    double x = v3_get(((const build_item *)a)->c, sort_axis), y = v3_get(((const build_item *)b)->c, sort_axis);
+    return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+static box3 sphere_box(vec3 c, double r)
+{
+    return (box3){v3(c.x - r, c.y - r, c.z - r), v3(c.x + r, c.y + r, c.z + r)};
+}
+
+static box3 box_union(box3 a, box3 b) { return (box3){v3_min(a.lo, b.lo), v3_max(a.hi, b.hi)}; }
+
+/* Median split on the longest axis of the centroids; nodes in depth-first order. Not
+ * thread-safe (qsort's comparator reads sort_axis): fields are built while loading. */
+static int build_node(blob_field *f, build_item *it, int start, int count, double cutoff)
+{
+    int id = f->nnodes++;
+    box3 box = box3_empty(), cb = box3_empty();
+    for (int i = start; i < start + count; i++) {
+        box = box_union(box, sphere_box(it[i].b.x, cutoff * it[i].b.h));
+        cb.lo = v3_min(cb.lo, it[i].c);
+        cb.hi = v3_max(cb.hi, it[i].c);
+    }
+    f->nodes[id].box = box;
+    vec3 ext = v3_sub(cb.hi, cb.lo);
+    if (count <= BVH_LEAF_SIZE || (ext.x <= 0.0 && ext.y <= 0.0 && ext.z <= 0.0)) {
+        f->nodes[id].start = start;
+        f->nodes[id].count = count;
+        return id;
+    }
+    sort_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    qsort(it + start, (size_t)count, sizeof *it, cmp_item);
+    int half = count / 2;
+    build_node(f, it, start, half, cutoff);
+    int right = build_node(f, it, start + half, count - half, cutoff);
+    f->nodes[id].start = right;
+    f->nodes[id].count = 0;
+    return id;
+}
+
+static brume_status build_bvh(blob_field *f)
+{
+    build_item *it = malloc((size_t)f->n * sizeof *it);
+    blob_node *nodes = malloc((size_t)(2 * f->n) * sizeof *nodes);
+    if (!it || !nodes) {
+        free(it);
+        free(nodes);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory for the hierarchy of %d blobs", f->n);
+    }
+    for (int i = 0; i < f->n; i++)
+        it[i] = (build_item){f->b[i], f->b[i].x};
+    free(f->nodes);
+    f->nodes = nodes;
+    f->nnodes = 0;
+    build_node(f, it, 0, f->n, f->cutoff);
+    for (int i = 0; i < f->n; i++) {
+        blob b = it[i].b;
+        f->b[i] = b;
+        f->peak[i] = b.m / (TWO_PI_3_2 * b.h * b.h * b.h);
+        f->inv2h2[i] = 1.0 / (2.0 * b.h * b.h);
+        f->R2[i] = f->cutoff * f->cutoff * b.h * b.h;
+    }
+    f->bounds = f->nodes[0].box;
+    free(it);
+    return BRUME_OK;
+}
+
+blob_field *blob_field_new(const blob *b, int n, double cutoff, const char *who)
+{
+    if (n < 1 || !(cutoff > 0.0 && isfinite(cutoff))) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: need at least one blob and a cutoff > 0", who);
+        return NULL;
+    }
+    for (int i = 0; i < n; i++)
+        if (!v3_isfinite(b[i].x) || !(b[i].m >= 0.0 && isfinite(b[i].m)) || !(b[i].h > 0.0 && isfinite(b[i].h))) {
+            err_set(BRUME_ERROR_RANGE, "%s: blob %d: need a finite centre, mass >= 0 and radius h > 0 (got m %g, h %g)",
+                    who, i, b[i].m, b[i].h);
+            return NULL;
+        }
+    blob_field *f = calloc(1, sizeof *f);
+    if (f) {
+        f->b = malloc((size_t)n * sizeof *f->b);
+        f->peak = malloc((size_t)n * sizeof(double));
+        f->inv2h2 = malloc((size_t)n * sizeof(double));
+        f->R2 = malloc((size_t)n * sizeof(double));
+    }
+    if (!f || !f->b || !f->peak || !f->inv2h2 || !f->R2) {
+        blob_field_release(f);
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d blobs", who, n);
+        return NULL;
+    }
+    memcpy(f->b, b, (size_t)n * sizeof *b);
+    f->n = n;
+    f->cutoff = cutoff;
+    f->use_bvh = true;
+    if (build_bvh(f) != BRUME_OK) {
+        blob_field_release(f);
+        return NULL;
+    }
+    return f;
+}
+
+void blob_field_release(blob_field *f)
+{
+    if (!f)
+        return;
+    free(f->b);
+    free(f->peak);
+    free(f->inv2h2);
+    free(f->R2);
+    free(f->nodes);
+    free(f);
+}
+
+brume_status blob_field_at_time(blob_field *f, vec3 velocity, double t)
+{
+    vec3 shift = v3_sub(v3_scale(velocity, t), v3_scale(f->velocity, f->time));
+    for (int i = 0; i < f->n; i++)
+        f->b[i].x = v3_add(f->b[i].x, shift);
+    f->velocity = velocity;
+    f->time = t;
+    return build_bvh(f);
+}
+
+/* ---- queries ----------------------------------------------------------------------------- */
+
+double blob_field_mean(const blob_field *f, vec3 p)
+{
+    double sum = 0.0;
+    if (!f->use_bvh) {
+        for (int i = 0; i < f->n; i++)
+            sum += blob_mean_at(f, i, p);
+        return sum;
+    }
+    int stack[BVH_STACK], sp = 0, node = 0;
+    for (;;) {
+        const blob_node *nd = &f->nodes[node];
+        if (box3_contains(nd->box, p)) {
+            if (nd->count > 0) {
+                for (int i = nd->start; i < nd->start + nd->count; i++)
+                    sum += blob_mean_at(f, i, p);
+            } else {
+                stack[sp++] = nd->start;
+                node = node + 1;
+                continue;
+            }
+        }
+        if (sp == 0)
+            break;
+        node = stack[--sp];
+    }
+    return sum;
+}
+
+/* Slab test of a box against o + t d with precomputed 1/d, over [tmin, tmax]. */
+#define MIN(a, b) ((a) < (b) ? (a) : (b))
+#define MAX(a, b) ((a) > (b) ? (a) : (b))
+static inline bool hit_box(const box3 *b, vec3 o, vec3 inv, double tmin, double tmax)
+{
+    double tx0 = (b->lo.x - o.x) * inv.x, tx1 = (b->hi.x - o.x) * inv.x;
+    double ty0 = (b->lo.y - o.y) * inv.y, ty1 = (b->hi.y - o.y) * inv.y;
+    double tz0 = (b->lo.z - o.z) * inv.z, tz1 = (b->hi.z - o.z) * inv.z;
+    /* NaN (0 * inf) arises only for a ray lying exactly in a slab plane, a set of rays of
+     * measure zero; the comparisons then drop that bound */
+    double t0 = MAX(MAX(MIN(tx0, tx1), MIN(ty0, ty1)), MAX(MIN(tz0, tz1), tmin));
+    double t1 = MIN(MIN(MAX(tx0, tx1), MAX(ty0, ty1)), MIN(MAX(tz0, tz1), tmax));
+    return t0 <= t1;
+}
+
+static inline void visit_blob(const blob_field *f, int i, vec3 o, vec3 d, double tmin, double tmax,
+                              blob_visit_fn fn, void *user)
+{
+    vec3 dx = v3_sub(f->b[i].x, o);
+    double u = v3_dot(dx, d);
+    vec3 perp = v3_madd(dx, d, -u); /* not |dx|^2 - u^2, which cancels near the centre */
+    double d2 = v3_dot(perp, perp);
+    if (d2 >= f->R2[i])
+        return;
+    /* the segment meets the sphere iff its closest point to the centre is inside */
+    double uc = u < tmin ? tmin : (u > tmax ? tmax : u);
+    double e = uc - u;
+    if (d2 + e * e >= f->R2[i])
+        return;
+    fn(i, u, d2, user);
+}
+
+void blob_field_query_ray(const blob_field *f, vec3 o, vec3 d, double tmin, double tmax, blob_visit_fn fn,
+                          void *user)
+{
+    if (!(tmax > tmin))
+        return;
+    if (!f->use_bvh) {
+        for (int i = 0; i < f->n; i++)
+            visit_blob(f, i, o, d, tmin, tmax, fn, user);
+        return;
+    }
+    vec3 inv = v3(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
+    int stack[BVH_STACK], sp = 0, node = 0;
+    for (;;) {
+        const blob_node *nd = &f->nodes[node];
+        if (hit_box(&nd->box, o, inv, tmin, tmax)) {
+            if (nd->count > 0) {
+                for (int i = nd->start; i < nd->start + nd->count; i++)
+                    visit_blob(f, i, o, d, tmin, tmax, fn, user);
+            } else {
+                stack[sp++] = nd->start;
+                node = node + 1;
+                continue;
+            }
+        }
+        if (sp == 0)
+            break;
+        node = stack[--sp];
+    }
+}
+
+/* ---- voxelization ------------------------------------------------------------------------ */
+
+void blob_field_voxelize(const blob_field *f, const int n[3], box3 bounds, const randfield *q, vec3 q_shift,
+                         double eps, double eta, float *out)
+{
+    size_t count = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+    double *mean = calloc(count, sizeof *mean), *sig = q ? calloc(count, sizeof *sig) : NULL;
+    vec3 cs = v3((bounds.hi.x - bounds.lo.x) / n[0], (bounds.hi.y - bounds.lo.y) / n[1],
+                 (bounds.hi.z - bounds.lo.z) / n[2]);
+    if (!mean || (q && !sig)) {
+        /* no memory for the accumulators: evaluate cell by cell (slow, exact) */
+        for (int k = 0; k < n[2]; k++)
+            for (int j = 0; j < n[1]; j++)
+                for (int i = 0; i < n[0]; i++) {
+                    vec3 p = v3(bounds.lo.x + (i + 0.5) * cs.x, bounds.lo.y + (j + 0.5) * cs.y,
+                                bounds.lo.z + (k + 0.5) * cs.z);
+                    double rho = 0.0, s = 0.0;
+                    for (int b = 0; b < f->n; b++) {
+                        double m = blob_mean_at(f, b, p);
+                        rho += m;
+                        s += sqrt(eps * stam_clamp(m, eta));
+                    }
+                    if (q)
+                        rho += s * randfield_eval(q, v3_sub(p, q_shift));
+                    out[(size_t)i + (size_t)n[0] * ((size_t)j + (size_t)n[1] * (size_t)k)] = (float)fmax(0.0, rho);
+                }
+        free(mean);
+        free(sig);
+        return;
+    }
+    /* blob by blob over the cells its truncation sphere covers */
+    for (int b = 0; b < f->n; b++) {
+        double R = sqrt(f->R2[b]);
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            double c = v3_get(f->b[b].x, a), l = v3_get(bounds.lo, a), s = v3_get(cs, a);
+            lo[a] = (int)fmax(0.0, floor((c - R - l) / s - 0.5));
+            hi[a] = (int)fmin((double)n[a] - 1, ceil((c + R - l) / s - 0.5));
+        }
+        for (int k = lo[2]; k <= hi[2]; k++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int i = lo[0]; i <= hi[0]; i++) {
+                    vec3 p = v3(bounds.lo.x + (i + 0.5) * cs.x, bounds.lo.y + (j + 0.5) * cs.y,
+                                bounds.lo.z + (k + 0.5) * cs.z);
+                    double m = blob_mean_at(f, b, p);
+                    if (m <= 0.0)
+                        continue;
+                    size_t idx = (size_t)i + (size_t)n[0] * ((size_t)j + (size_t)n[1] * (size_t)k);
+                    mean[idx] += m;
+                    if (sig)
+                        sig[idx] += sqrt(eps * stam_clamp(m, eta));
+                }
+    }
+    for (int k = 0; k < n[2]; k++)
+        for (int j = 0; j < n[1]; j++)
+            for (int i = 0; i < n[0]; i++) {
+                size_t idx = (size_t)i + (size_t)n[0] * ((size_t)j + (size_t)n[1] * (size_t)k);
+                double rho = mean[idx];
+                if (sig && sig[idx] > 0.0) {
+                    vec3 p = v3(bounds.lo.x + (i + 0.5) * cs.x, bounds.lo.y + (j + 0.5) * cs.y,
+                                bounds.lo.z + (k + 0.5) * cs.z);
+                    rho += sig[idx] * randfield_eval(q, v3_sub(p, q_shift));
+                }
+                out[idx] = (float)fmax(0.0, rho);
+            }
+    free(mean);
+    free(sig);
+}
+
+/* ---- the blob kind of density -------------------------------------------------------------- */
+
+/* Upper bound of the truncated mean over each majorant cell: sum over the blobs whose sphere
+ * reaches the cell of m W at the cell's nearest point to the centre (W falls with distance). */
+static bool blobs_build_majorant(density *d)
+{
+    const blob_field *f = d->blobs;
+    size_t count = (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2];
+    d->maj = calloc(count, sizeof *d->maj);
+    if (!d->maj)
+        return false;
+    vec3 lo = d->bounds.lo;
+    vec3 cs = v3((d->bounds.hi.x - lo.x) / d->n[0], (d->bounds.hi.y - lo.y) / d->n[1], (d->bounds.hi.z - lo.z) / d->n[2]);
+    double rho_max = 0.0;
+    for (int b = 0; b < f->n; b++) {
+        double R = sqrt(f->R2[b]);
+        vec3 c = f->b[b].x;
+        int ilo[3], ihi[3];
+        for (int a = 0; a < 3; a++) {
+            double l = v3_get(lo, a), s = v3_get(cs, a), x = v3_get(c, a);
+            ilo[a] = (int)fmax(0.0, floor((x - R - l) / s));
+            ihi[a] = (int)fmin((double)d->n[a] - 1, floor((x + R - l) / s));
+        }
+        for (int k = ilo[2]; k <= ihi[2]; k++)
+            for (int j = ilo[1]; j <= ihi[1]; j++)
+                for (int i = ilo[0]; i <= ihi[0]; i++) {
+                    vec3 clo = v3(lo.x + i * cs.x, lo.y + j * cs.y, lo.z + k * cs.z);
+                    vec3 near = v3_min(v3_max(c, clo), v3_add(clo, cs));
+                    vec3 dx = v3_sub(near, c);
+                    double r2 = v3_dot(dx, dx);
+                    if (r2 >= f->R2[b])
+                        continue;
+                    size_t idx = (size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k);
+                    /* a float that rounds up: the bound must stay a bound */
+                    double v = (double)d->maj[idx] + f->peak[b] * exp(-r2 * f->inv2h2[b]);
+                    d->maj[idx] = nextafterf((float)v, INFINITY);
+                    rho_max = fmax(rho_max, (double)d->maj[idx]);
+                }
+    }
+    d->rho_max = rho_max;
+    return true;
+}
+
+density *density_new_blobs(blob_field *f, int majorant_cells)
+{
+    if (majorant_cells < 1 || majorant_cells > 512) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "blobs: majorant cells %d outside [1, 512]", majorant_cells);
+        return NULL;
+    }
+    density *d = calloc(1, sizeof *d);
+    if (!d) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory");
+        return NULL;
+    }
+    d->kind = DENSITY_BLOBS;
+    d->filter = GRID_TRILINEAR;
+    vec3 ext = v3_sub(f->bounds.hi, f->bounds.lo);
+    double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    for (int a = 0; a < 3; a++)
+        d->n[a] = (int)fmax(1.0, fmin((double)majorant_cells, ceil(majorant_cells * v3_get(ext, a) / longest)));
+    /* "voxel space" is majorant-cell space: one majorant cell per voxel */
+    affine3 v2w = {{ext.x / d->n[0], 0, 0, f->bounds.lo.x, 0, ext.y / d->n[1], 0, f->bounds.lo.y, 0, 0,
+                    ext.z / d->n[2], f->bounds.lo.z}};
+    if (!density_set_placement(d, &v2w, "blobs")) {
+        free(d);
+        return NULL;
+    }
+    d->bounds = f->bounds;
+    d->blobs = f;
+    d->mcell = 1;
+    for (int a = 0; a < 3; a++) {
+        d->moff[a] = 0;
+        d->mn[a] = d->n[a];
+    }
+    if (!blobs_build_majorant(d)) {
+        free(d);
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory for the majorant grid");
+        return NULL;
+    }
+    d->rho_min = 0.0;
+    d->active = (uint64_t)f->n;
+    d->memory = (size_t)f->n * (sizeof(blob) + 3 * sizeof(double)) + (size_t)f->nnodes * sizeof(blob_node) +
+                (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2] * sizeof(float);
+    return d;
+}
+
+blob_field *density_get_blobs(const density *d) { return d->kind == DENSITY_BLOBS ? d->blobs : NULL; }
+
+brume_status density_blobs_at_time(density *d, vec3 velocity, double t)
+{
+    if (d->kind != DENSITY_BLOBS)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "not a blob field");
+    brume_status st = blob_field_at_time(d->blobs, velocity, t);
+    if (st != BRUME_OK)
+        return st;
+    int cells = d->n[0];
+    for (int a = 1; a < 3; a++)
+        cells = d->n[a] > cells ? d->n[a] : cells;
+    density *nd = density_new_blobs(d->blobs, cells);
+    if (!nd)
+        return err_status();
+    free(d->maj);
+    *d = *nd;
+    free(nd);
+    return BRUME_OK;
+}

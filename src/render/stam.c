@@ -1,0 +1,528 @@
+/* stam.c - the stochastic renderer of Stam 1994 (Section 6.3) with its average source
+ * function (Section 6.2) and a ray tracer for what lies behind the media (stam.h).
+ * Derivations and measurements: docs/stam.md. */
+#include "render/stam.h"
+
+#include <stdlib.h>
+
+#include "core/error.h"
+#include "core/pool.h"
+#include "density/blobs.h"
+#include "render/stam_stats.h"
+#include "surface/surfaces.h"
+
+#define STAM_MAX_STEPS 256 /* keeps the per-ray tables (16 media x 257 doubles) on the stack */
+
+/* One blob medium: Stam's kappa_t, Omega and E per channel. */
+typedef struct stam_medium {
+    const blob_field *f;
+    color kappa;   /* sigma_a + sigma_s per unit density */
+    color albedo;  /* Omega = sigma_s / kappa */
+    color emit;    /* (1 - Omega) E = sigma_a Le / kappa: the emission part of J */
+    const phase *ph;
+    bool scatters;
+    vec3 q_shift;  /* Q is read at x - q_shift: the perturbation drifts with the blobs */
+} stam_medium;
+
+/* Transparency from the nodes of a grid to one delta light (point, spot, sharp sun). */
+typedef struct light_cache {
+    int n[3];     /* nodes per axis */
+    vec3 lo, cs;  /* node (0, 0, 0) and the spacing */
+    float *tau;   /* 3 floats per node, x fastest */
+} light_cache;
+
+typedef struct stam_state {
+    const brume_scene *s;
+    randfield *q;
+    stam_medium med[SCENE_MAX_MEDIA];
+    int nmed;
+    double eps, eta, alpha;
+    int steps;
+    bool any_scatter;
+    light_cache *cache; /* one per light (n = 0 when the light is not cached), or NULL */
+} stam_state;
+
+void stam_randfield_params(const stam_params *p, randfield_params *out)
+{
+    for (int a = 0; a < 3; a++)
+        out->n[a] = p->lattice;
+    out->cell = p->cell > 0.0 ? p->cell : p->alpha / 3.0;
+    out->alpha = p->alpha;
+    out->seed = p->seed;
+    out->time = p->time;
+    out->rate = p->rate;
+}
+
+/* ---- transparency: Eq. 13 summed over the blobs of every medium ----------------------------- */
+
+/* A blob met by a ray, kept for the second pass over the same ray. */
+typedef struct blob_hit {
+    int i;
+    double u, d2;
+} blob_hit;
+
+/* Camera rays remember up to this many blobs per medium; beyond, the second pass walks the
+ * hierarchy again. */
+#define STAM_HIT_BUFFER 256
+
+typedef struct tau_walk {
+    const stam_state *st;
+    const stam_medium *m;
+    vec3 o, d;
+    double tmax;
+    double T;
+    double umin, umax; /* span of the chords inside [0, tmax] */
+    blob_hit *hits;    /* NULL, or room for STAM_HIT_BUFFER */
+    int nhits;         /* blobs met (may exceed the buffer) */
+} tau_walk;
+
+static void tau_visit(int i, double u, double d2, void *user)
+{
+    tau_walk *w = user;
+    const stam_state *st = w->st;
+    blob_ray br = blob_ray_make(w->m->f, i, u, d2);
+    double T = blob_T_mean(&br, 0.0, w->tmax);
+    double lo = u - br.half, hi = u + br.half;
+    lo = lo > 0.0 ? lo : 0.0;
+    hi = hi < w->tmax ? hi : w->tmax;
+    w->umin = lo < w->umin ? lo : w->umin;
+    w->umax = hi > w->umax ? hi : w->umax;
+    if (w->hits && w->nhits < STAM_HIT_BUFFER)
+        w->hits[w->nhits] = (blob_hit){i, u, d2};
+    w->nhits++;
+    if (st->eps > 0.0) {
+        /* F_eta(mean) = mean when the blob's peak along the ray is below eta */
+        double I = br.peak > st->eta ? blob_T_clamped(&br, st->eta, 0.0, w->tmax) : T;
+        double var = blob_T_var_scale(st->eps, st->alpha, br.h) * I;
+        double uc = u < 0.0 ? 0.0 : (u > w->tmax ? w->tmax : u); /* x_ui on the segment */
+        vec3 x = v3_sub(v3_madd(w->o, w->d, uc), w->m->q_shift);
+        T += sqrt(var) * randfield_eval(st->q, x);
+    }
+    w->T += T;
+}
+
+/* exp(-sum_m kappa_m max(0, T_m)) over (0, tmax), media only. */
+static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax)
+{
+    color depth = col(0.0);
+    for (int m = 0; m < st->nmed; m++) {
+        tau_walk w = {st, &st->med[m], o, d, tmax, 0.0, INFINITY, -INFINITY, NULL, 0};
+        blob_field_query_ray(st->med[m].f, o, d, 0.0, tmax, tau_visit, &w);
+        if (w.T > 0.0)
+            depth = col_madd(depth, st->med[m].kappa, w.T);
+    }
+    return col_exp(col_scale(depth, -1.0));
+}
+
+/* The camera ray's realized transparency, remembered by stam_Li for the image's alpha (which
+ * render.c asks for right after, on the same thread, through stam_transmittance): a pure
+ * function of the ray, so reusing it cannot change the image. */
+typedef struct tau_memo {
+    const void *state;
+    vec3 o, d;
+    color tau;
+    bool valid;
+} tau_memo;
+static _Thread_local tau_memo last_camera_ray;
+
+color stam_transmittance(const void *state, vec3 o, vec3 d, double tmax)
+{
+    const stam_state *st = state;
+    const tau_memo *mm = &last_camera_ray;
+    if (mm->valid && mm->state == state && isinf(tmax) && mm->o.x == o.x && mm->o.y == o.y && mm->o.z == o.z && mm->d.x == d.x &&
+        mm->d.y == d.y && mm->d.z == d.z)
+        return mm->tau;
+    if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7)))
+        return col(0.0);
+    return media_tau(st, o, d, tmax);
+}
+
+/* ---- light transparency cache ------------------------------------------------------------- */
+
+static bool light_cacheable(const light *l)
+{
+    return l->kind == LIGHT_POINT || l->kind == LIGHT_SPOT || (l->kind == LIGHT_DISTANT && l->angular_radius == 0.0);
+}
+
+typedef struct cache_job {
+    const stam_state *st;
+    const light *l;
+    light_cache *c;
+} cache_job;
+
+static void cache_slice(size_t task, int thread, void *user)
+{
+    (void)thread;
+    cache_job *job = user;
+    light_cache *c = job->c;
+    int k = (int)task;
+    for (int j = 0; j < c->n[1]; j++)
+        for (int i = 0; i < c->n[0]; i++) {
+            vec3 p = v3(c->lo.x + i * c->cs.x, c->lo.y + j * c->cs.y, c->lo.z + k * c->cs.z);
+            light_sample ls;
+            color tau = col(0.0);
+            if (light_sample_at(job->l, p, 0.5, 0.5, &ls))
+                tau = stam_transmittance(job->st, p, ls.wi, ls.dist);
+            float *out = c->tau + 3 * ((size_t)i + (size_t)c->n[0] * ((size_t)j + (size_t)c->n[1] * (size_t)k));
+            for (int ch = 0; ch < 3; ch++)
+                out[ch] = (float)tau.c[ch];
+        }
+}
+
+static color cache_lookup(const light_cache *c, vec3 p)
+{
+    double x = (p.x - c->lo.x) / c->cs.x, y = (p.y - c->lo.y) / c->cs.y, z = (p.z - c->lo.z) / c->cs.z;
+    x = fmin(fmax(x, 0.0), c->n[0] - 1.000001);
+    y = fmin(fmax(y, 0.0), c->n[1] - 1.000001);
+    z = fmin(fmax(z, 0.0), c->n[2] - 1.000001);
+    int i = (int)x, j = (int)y, k = (int)z;
+    double fx = x - i, fy = y - j, fz = z - k;
+    color r = col(0.0);
+    for (int corner = 0; corner < 8; corner++) {
+        int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
+        double w = (di ? fx : 1 - fx) * (dj ? fy : 1 - fy) * (dk ? fz : 1 - fz);
+        const float *v =
+            c->tau + 3 * ((size_t)(i + di) + (size_t)c->n[0] * ((size_t)(j + dj) + (size_t)c->n[1] * (size_t)(k + dk)));
+        for (int ch = 0; ch < 3; ch++)
+            r.c[ch] += w * (double)v[ch];
+    }
+    return r;
+}
+
+/* Caches every delta light over the union of the scattering media's bounds. */
+static brume_status build_caches(stam_state *st, int cells)
+{
+    const brume_scene *s = st->s;
+    box3 b = box3_empty();
+    for (int m = 0; m < st->nmed; m++)
+        if (st->med[m].scatters) {
+            b.lo = v3_min(b.lo, st->med[m].f->bounds.lo);
+            b.hi = v3_max(b.hi, st->med[m].f->bounds.hi);
+        }
+    st->cache = calloc((size_t)s->nlights, sizeof *st->cache);
+    if (!st->cache)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory", s->source);
+    vec3 ext = v3_sub(b.hi, b.lo);
+    double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    for (int l = 0; l < s->nlights; l++) {
+        if (!light_cacheable(&s->lights[l]))
+            continue;
+        light_cache *c = &st->cache[l];
+        for (int a = 0; a < 3; a++)
+            c->n[a] = (int)fmax(2.0, ceil(cells * v3_get(ext, a) / longest) + 1.0);
+        c->lo = b.lo;
+        c->cs = v3(ext.x / (c->n[0] - 1), ext.y / (c->n[1] - 1), ext.z / (c->n[2] - 1));
+        c->tau = malloc(3 * (size_t)c->n[0] * (size_t)c->n[1] * (size_t)c->n[2] * sizeof *c->tau);
+        if (!c->tau)
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory for the light cache", s->source);
+        cache_job job = {st, &s->lights[l], c};
+        pool_run(s->settings.threads, (size_t)c->n[2], cache_slice, &job);
+    }
+    return BRUME_OK;
+}
+
+/* ---- prepare and finish ------------------------------------------------------------------- */
+
+static const char *kind_name(density_kind k)
+{
+    switch (k) {
+    case DENSITY_GRID: return "dense voxel grid";
+    case DENSITY_NANOVDB: return "NanoVDB grid";
+    case DENSITY_BLOBS: return "blob field";
+    }
+    return "density";
+}
+
+brume_status stam_prepare(const brume_scene *s, void **state)
+{
+    *state = NULL;
+    for (int m = 0; m < s->nmedia; m++)
+        if (!density_get_blobs(s->media[m].rho))
+            return err_set(BRUME_ERROR_UNSUPPORTED,
+                           "%s: media[%d]%s%s: method stam renders blob fields only (density type \"blobs\"), this "
+                           "medium is a %s: render it with --method path or single",
+                           s->source, m, s->media[m].name[0] ? " " : "", s->media[m].name,
+                           kind_name(density_get_kind(s->media[m].rho)));
+    stam_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory", s->source);
+    stam_stats_init();
+    const stam_params *p = &s->stam;
+    st->s = s;
+    st->eps = p->eps;
+    st->eta = p->eta;
+    st->alpha = p->alpha;
+    st->steps = p->steps < STAM_MAX_STEPS ? p->steps : STAM_MAX_STEPS;
+    for (int m = 0; m < s->nmedia; m++) {
+        const medium *md = &s->media[m];
+        stam_medium *sm = &st->med[st->nmed++];
+        sm->f = density_get_blobs(md->rho);
+        sm->kappa = col_add(md->sigma_a, md->sigma_s);
+        sm->albedo = col_div(md->sigma_s, sm->kappa);
+        sm->emit = col_mul(col_div(md->sigma_a, sm->kappa), md->Le);
+        sm->ph = md->ph;
+        sm->scatters = !col_is_black(md->sigma_s);
+        sm->q_shift = v3_scale(sm->f->velocity, sm->f->time);
+        st->any_scatter |= sm->scatters;
+    }
+    if (st->eps > 0.0) {
+        randfield_params rp;
+        stam_randfield_params(p, &rp);
+        if (!(st->q = randfield_new(&rp))) {
+            stam_finish(st);
+            return err_prefix("%s: stam", s->source);
+        }
+    }
+    if (st->any_scatter && p->light_grid > 0 && s->nlights > 0 && build_caches(st, p->light_grid) != BRUME_OK) {
+        stam_finish(st);
+        return err_status();
+    }
+    *state = st;
+    return BRUME_OK;
+}
+
+void stam_finish(void *state)
+{
+    stam_state *st = state;
+    if (!st)
+        return;
+    if (st->cache)
+        for (int l = 0; l < st->s->nlights; l++)
+            free(st->cache[l].tau);
+    free(st->cache);
+    randfield_release(st->q);
+    free(st);
+}
+
+/* ---- the ray tracer behind the media: I_b ------------------------------------------------- */
+
+/* Direct light on a surface point, shadow rays through the media by transparency only. */
+static color shade_surface(const stam_state *st, const surface_hit *sh, vec3 d, rng *g)
+{
+    const brume_scene *s = st->s;
+    vec3 wo = v3_neg(d);
+    vec3 n = v3_dot(sh->ng, d) < 0.0 ? sh->ng : v3_neg(sh->ng);
+    vec3 p = surface_offset(sh, n);
+    color L = surface_emission(sh, wo);
+    const material *m = sh->mat;
+    if (material_is_black(m))
+        return L;
+    for (int i = 0; i < s->nlights; i++) {
+        light_sample ls;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        if (!light_sample_at(&s->lights[i], p, u1, u2, &ls) || !(ls.pdf > 0.0) || v3_dot(ls.wi, n) <= 0.0)
+            continue;
+        color f = col_scale(material_eval(m, n, wo, ls.wi), v3_dot(ls.wi, n) / ls.pdf);
+        if (col_is_black(f))
+            continue;
+        L = col_add(L, col_mul(col_mul(f, ls.Li), stam_transmittance(st, p, ls.wi, ls.dist)));
+    }
+    if (surfaces_has_emitters(s->surf)) {
+        vec3 wi;
+        double dist, pdf;
+        color Le;
+        double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
+        if (surfaces_sample_emitter(s->surf, p, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0 &&
+            v3_dot(wi, n) > 0.0) {
+            color f = col_scale(material_eval(m, n, wo, wi), v3_dot(wi, n) / pdf);
+            L = col_add(L, col_mul(col_mul(f, Le), stam_transmittance(st, p, wi, dist * (1.0 - 1e-5))));
+        }
+    }
+    /* sky light: the background seen along the normal, unoccluded (a standard ambient term) */
+    if (!background_is_black(&s->bg))
+        L = col_add(L, col_mul(m->albedo, background_eval(&s->bg, n)));
+    return L;
+}
+
+/* What the ray meets behind the media, and where: *b = its distance (INFINITY: nothing). */
+static color behind(const stam_state *st, ray r, rng *g, double *b, bool *on_surface)
+{
+    const brume_scene *s = st->s;
+    *b = INFINITY;
+    *on_surface = false;
+    int area = -1;
+    color Le_area = col(0.0);
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        double t, pdf;
+        color c;
+        if ((l->kind == LIGHT_SPHERE || l->kind == LIGHT_DISK) && light_hit(l, r.o, r.d, &t, &c, &pdf) && t < *b) {
+            *b = t;
+            Le_area = c;
+            area = i;
+        }
+    }
+    surface_hit sh;
+    if (s->surf && surfaces_intersect(s->surf, r, 0.0, *b, &sh)) {
+        *b = sh.t;
+        *on_surface = true;
+        return shade_surface(st, &sh, r.d, g);
+    }
+    if (area >= 0)
+        return Le_area;
+    color L = background_eval(&s->bg, r.d);
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        double t, pdf;
+        color c;
+        if (l->kind == LIGHT_DISTANT && light_hit(l, r.o, r.d, &t, &c, &pdf))
+            L = col_add(L, c);
+    }
+    return L;
+}
+
+/* ---- the average source function (Eq. 8) ---------------------------------------------------- */
+
+/* Cumulative mean optical depth C[k] = integral of one medium's mean over [u_0, u_k] at the
+ * step boundaries u_k = u0 + k du, k = 0..n. Each blob adds its erf integral at the
+ * boundaries inside its chord and its whole chord (through the difference array D) beyond. */
+typedef struct depth_walk {
+    const blob_field *f;
+    double u0, du, inv_du, b;
+    int n;
+    double *C, *D;
+} depth_walk;
+
+static void depth_visit(int i, double u, double d2, void *user)
+{
+    depth_walk *w = user;
+    blob_ray br = blob_ray_make(w->f, i, u, d2);
+    double lo = u - br.half, hi = u + br.half, end = w->u0 + w->n * w->du;
+    lo = lo > w->u0 ? lo : w->u0;
+    hi = hi < end ? hi : end;
+    if (!(hi > lo))
+        return;
+    double inv_h = 1.0 / br.h, scale = br.peak * br.h, base = stam_Phi((lo - u) * inv_h);
+    int k0 = (int)ceil((lo - w->u0) * w->inv_du), k1 = (int)floor((hi - w->u0) * w->inv_du);
+    k0 = k0 < 0 ? 0 : k0;
+    k1 = k1 > w->n ? w->n : k1;
+    for (int k = k0; k <= k1; k++)
+        w->C[k] += scale * (stam_Phi((w->u0 + k * w->du - u) * inv_h) - base);
+    if (k1 + 1 <= w->n)
+        w->D[k1 + 1] += scale * (stam_Phi((hi - u) * inv_h) - base);
+}
+
+/* Light arriving at x from every light, transparency included, as (direction, radiance)
+ * pairs weighted for the phase function: sum_l p(wi_l . d) E_l tau_l for one medium. */
+typedef struct light_in {
+    vec3 wi;
+    color E; /* E_l tau_l / pdf */
+} light_in;
+
+static int gather_lights(const stam_state *st, vec3 x, rng *g, light_in *out, int cap)
+{
+    const brume_scene *s = st->s;
+    int n = 0;
+    for (int l = 0; l < s->nlights && n < cap; l++) {
+        light_sample ls;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        if (!light_sample_at(&s->lights[l], x, u1, u2, &ls) || !(ls.pdf > 0.0) || col_is_black(ls.Li))
+            continue;
+        color tau = st->cache && st->cache[l].n[0] ? cache_lookup(&st->cache[l], x)
+                                                   : stam_transmittance(st, x, ls.wi, ls.dist);
+        out[n].wi = ls.wi;
+        out[n].E = col_scale(col_mul(ls.Li, tau), 1.0 / ls.pdf);
+        n++;
+    }
+    return n;
+}
+
+/* The source function gathers at most this many lights (scenes with more lights shade
+ * surfaces with all of them but scatter only the first 64 inside the media). */
+#define STAM_MAX_LIGHTS_PER_POINT 64
+
+color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
+{
+    const stam_state *st = state;
+    double b;
+    bool on_surface;
+    color Ib = behind(st, r, g, &b, &on_surface);
+    if (hit_surface)
+        *hit_surface = on_surface;
+
+    /* Eq. 13: the realized optical depth of each medium, and the span of all blobs */
+    color depth = col(0.0);
+    double umin = INFINITY, umax = -INFINITY;
+    blob_hit hits[SCENE_MAX_MEDIA > 4 ? 4 : SCENE_MAX_MEDIA][STAM_HIT_BUFFER];
+    int nhits[SCENE_MAX_MEDIA];
+    for (int m = 0; m < st->nmed; m++) {
+        const stam_medium *sm = &st->med[m];
+        tau_walk w = {st, sm, r.o, r.d, b, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0};
+        blob_field_query_ray(sm->f, r.o, r.d, 0.0, b, tau_visit, &w);
+        nhits[m] = m < 4 && w.nhits <= STAM_HIT_BUFFER ? w.nhits : -1;
+        if (w.T > 0.0)
+            depth = col_madd(depth, sm->kappa, w.T);
+        umin = fmin(umin, w.umin);
+        umax = fmax(umax, w.umax);
+    }
+    color tau = col_exp(col_scale(depth, -1.0));
+    last_camera_ray = (tau_memo){st, r.o, r.d, tau, isinf(b)};
+    if (!(umax > umin))
+        return Ib;
+
+    /* Eq. 8 from the mean density: cumulative mean depths per medium at the step boundaries */
+    int n = st->steps;
+    double du = (umax - umin) / n;
+    double C[SCENE_MAX_MEDIA][STAM_MAX_STEPS + 1];
+    double D[STAM_MAX_STEPS + 2];
+    for (int m = 0; m < st->nmed; m++) {
+        for (int k = 0; k <= n + 1; k++)
+            D[k] = 0.0;
+        for (int k = 0; k <= n; k++)
+            C[m][k] = 0.0;
+        depth_walk w = {st->med[m].f, umin, du, 1.0 / du, b, n, C[m], D};
+        if (nhits[m] >= 0)
+            for (int h = 0; h < nhits[m]; h++)
+                depth_visit(hits[m][h].i, hits[m][h].u, hits[m][h].d2, &w);
+        else
+            blob_field_query_ray(st->med[m].f, r.o, r.d, umin, umax, depth_visit, &w);
+        double run = 0.0;
+        for (int k = 0; k <= n; k++) {
+            run += D[k];
+            C[m][k] += run;
+        }
+    }
+    color num = col(0.0), tau_mean = col(1.0);
+    light_in lin[STAM_MAX_LIGHTS_PER_POINT];
+    for (int k = 0; k < n; k++) {
+        color dtau = col(0.0), src = col(0.0);
+        bool any = false;
+        int nl = -1;
+        for (int m = 0; m < st->nmed; m++) {
+            double dT = C[m][k + 1] - C[m][k];
+            if (!(dT > 0.0))
+                continue;
+            const stam_medium *sm = &st->med[m];
+            any = true;
+            color kd = col_scale(sm->kappa, dT);
+            dtau = col_add(dtau, kd);
+            color J = sm->emit;
+            if (sm->scatters) {
+                color S = st->s->stam.ambient;
+                if (nl < 0)
+                    nl = gather_lights(st, ray_at(r, umin + (k + 0.5) * du), g, lin, STAM_MAX_LIGHTS_PER_POINT);
+                for (int l = 0; l < nl; l++)
+                    S = col_madd(S, lin[l].E, phase_eval(sm->ph, v3_dot(lin[l].wi, r.d)));
+                J = col_add(J, col_mul(sm->albedo, S));
+            }
+            src = col_add(src, col_mul(kd, J));
+        }
+        if (!any)
+            continue;
+        /* this step's share of the attenuation, tau_mean(u_k) (1 - exp(-dtau)), times its J */
+        for (int c = 0; c < BRUME_NSAMPLES; c++) {
+            double a = 1.0 - exp(-dtau.c[c]);
+            if (dtau.c[c] > 0.0)
+                num.c[c] += tau_mean.c[c] * a * src.c[c] / dtau.c[c];
+            tau_mean.c[c] *= 1.0 - a;
+        }
+    }
+    /* J_avg = num / (1 - tau_mean(b)); I = tau I_b + (1 - tau) J_avg */
+    color I;
+    for (int c = 0; c < BRUME_NSAMPLES; c++) {
+        double opacity = 1.0 - tau_mean.c[c];
+        double Javg = opacity > 1e-12 ? num.c[c] / opacity : 0.0;
+        I.c[c] = tau.c[c] * Ib.c[c] + (1.0 - tau.c[c]) * Javg;
+    }
+    return I;
+}

@@ -1,0 +1,76 @@
+/* stam_stats.h - Stam 1994, Sections 5.2 and 6.1, Appendix A: the statistics of the optical
+ * depth T_i = integral of rho_i along a ray segment, for one random gaussian blob
+ *
+ *   rho_i = rho_i_mean + sigma_i Q,   sigma_i^2 = eps F_eta(rho_i_mean),
+ *
+ * Q of unit variance with correlation exp(-r^2 / (2 alpha^2)) (density/randfield.h).
+ *
+ *   mean      T_mean = m W-integral in closed form with erf (Appendix A)
+ *   variance  T_var  = eps sqrt(2 pi) alpha c(alpha / h) integral of F_eta(rho_i_mean) du,
+ *             c = (1 + alpha^2 / (4 h^2))^(-1/2)
+ *   sample    T_i = T_mean + sqrt(T_var) Q(x_ui)   (Eq. 13), x_ui the closest ray point
+ *
+ * The variance departs from Eq. 12 (which has K_Q(0) = (2 pi)^(-3/2) alpha^-3 in place of
+ * sqrt(2 pi) alpha c): DESIGN.md erratum 7, derived in docs/stam.md and checked by Monte
+ * Carlo over explicit 3-D realizations in tests/test_stam.c. sqrt(2 pi) alpha is the
+ * integral of the correlation along the ray, the leading term as alpha / h -> 0 (Eq. 11);
+ * c is the exact correction for an unclamped blob and an unbounded segment.
+ *
+ * Geometry (Figure 2): a unit-direction ray o + u d over u in [a, b]; u_i = (x_i - o).d and
+ * d_i^2 = |x_i - o|^2 - u_i^2. The blob is truncated at radius R (blobs.h), so integrals run
+ * over the chord |u - u_i| < sqrt(R^2 - d_i^2) only: exactly the field the other
+ * integrators see. */
+#ifndef BRUME_RENDER_STAM_STATS_H
+#define BRUME_RENDER_STAM_STATS_H
+
+#include "density/blobs.h"
+
+/* Phi(x) = integral_0^x exp(-t^2 / 2) dt = sqrt(pi / 2) erf(x / sqrt 2) (erratum 8), from a
+ * table (|error| < 4e-8); stam_stats_init() must have run once (stam_prepare calls it;
+ * it is idempotent and thread-safe). stam_Phi_exact calls erf. */
+void stam_stats_init(void);
+double stam_Phi_exact(double x);
+
+/* Phi on [0, STAM_PHI_MAX] at STAM_PHI_N + 1 points, linear in between: |error| < 4e-8 (the
+ * second derivative of Phi is bounded by 0.61, the spacing is 7.3e-4); beyond, Phi(6)
+ * differs from Phi(inf) by 2e-9 relative. The paper tabulates too (Section 6.1). */
+#define STAM_PHI_N 8192
+#define STAM_PHI_MAX 6.0
+extern double stam_phi_table[STAM_PHI_N + 2];
+static inline double stam_Phi(double x)
+{
+    double a = x < 0.0 ? -x : x, v;
+    if (!(a < STAM_PHI_MAX)) {
+        v = stam_phi_table[STAM_PHI_N];
+    } else {
+        double f = a * (STAM_PHI_N / STAM_PHI_MAX);
+        int i = (int)f;
+        v = stam_phi_table[i] + (f - i) * (stam_phi_table[i + 1] - stam_phi_table[i]);
+    }
+    return x < 0.0 ? -v : v;
+}
+
+/* One blob seen along one ray. */
+typedef struct blob_ray {
+    double peak;   /* mean density at the ray's closest point: m W(d_i) */
+    double h;      /* blob radius */
+    double u;      /* u_i */
+    double half;   /* half-length of the chord inside the truncation sphere */
+} blob_ray;
+
+/* The blob i of f seen along a ray with closest parameter u and squared distance d2. */
+blob_ray blob_ray_make(const blob_field *f, int i, double u, double d2);
+
+/* Integral of the blob's mean density over [a, b] (Appendix A, T_mean). */
+double blob_T_mean(const blob_ray *br, double a, double b);
+/* Integral of F_eta(mean) over [a, b] (Section 6.1): the mean outside [u-, u+], eta inside,
+ * u+- = u_i +- h sqrt(2 ln(peak / eta)) when peak > eta, else no clamping (erratum 8). */
+double blob_T_clamped(const blob_ray *br, double eta, double a, double b);
+/* Variance of T_i over [a, b] (docs/stam.md). */
+double blob_T_var(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
+/* The factor eps sqrt(2 pi) alpha c(alpha / h) of blob_T_var: T_var = it x blob_T_clamped. */
+double blob_T_var_scale(double eps, double alpha, double h);
+/* Eq. 12 as printed, for comparison: K_Q(0) eps integral F_eta, K_Q(0) = (2 pi)^(-3/2) alpha^-3. */
+double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
+
+#endif

@@ -1,0 +1,387 @@
+/* test_stam.c - Stam 1994: the random field Q, the closed-form transparency statistics
+ * checked against quadrature and against Monte Carlo over explicit 3-D realizations of the
+ * density (DESIGN.md erratum 7), and the stochastic renderer against the path tracer. */
+#include "test.h"
+
+#include "brume.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "density/blobs.h"
+#include "density/randfield.h"
+#include "render/scene.h"
+#include "render/stam_stats.h"
+
+/* Composite Simpson over [a, b] with n (even) intervals of f(u) = F(mean of one blob at o + u d). */
+static double quad_blob(const blob_field *f, vec3 o, vec3 d, double a, double b, double eta, int n)
+{
+    double hstep = (b - a) / n, sum = 0.0;
+    for (int k = 0; k <= n; k++) {
+        double m = stam_clamp(blob_mean_at(f, 0, v3_madd(o, d, a + k * hstep)), eta);
+        sum += m * (k == 0 || k == n ? 1.0 : (k % 2 ? 4.0 : 2.0));
+    }
+    return sum * hstep / 3.0;
+}
+
+typedef struct one_hit {
+    double u, d2;
+    int count;
+} one_hit;
+static void take_hit(int i, double u, double d2, void *user)
+{
+    (void)i;
+    one_hit *h = user;
+    h->u = u;
+    h->d2 = d2;
+    h->count++;
+}
+
+/* T_mean and the clamped integral in closed form (erf) against Simpson quadrature, for rays
+ * through, beside and ending inside a blob, with and without clamping. */
+TEST(closed_form_mean_matches_quadrature)
+{
+    stam_stats_init();
+    blob b = {v3(0.3, -0.2, 0.1), 2.5, 0.7};
+    blob_field *f = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, "test");
+    ASSERT_TRUE(f);
+    const double offsets[] = {0.0, 0.35, 1.1, 1.9}; /* cutoff 3 h = 2.1 */
+    const double ends[][2] = {{0.0, 20.0}, {0.0, 9.8}, {10.0, 10.2}, {3.0, 7.5}};
+    const double etas[] = {INFINITY, 0.5, 0.05};
+    for (int oi = 0; oi < 4; oi++)
+        for (int ei = 0; ei < 4; ei++)
+            for (int k = 0; k < 3; k++) {
+                vec3 d = v3_normalize(v3(0.2, 0.1, 1.0));
+                vec3 side = v3_normalize(v3_cross(d, v3(0, 1, 0)));
+                vec3 o = v3_sub(v3_add(b.x, v3_scale(side, offsets[oi])), v3_scale(d, 10.0));
+                one_hit h = {0, 0, 0};
+                blob_field_query_ray(f, o, d, 0.0, 1e9, take_hit, &h);
+                ASSERT_EQ_INT(h.count, 1);
+                ASSERT_NEAR(sqrt(h.d2), offsets[oi], 1e-12);
+                ASSERT_NEAR(h.u, 10.0, 1e-12);
+                blob_ray br = blob_ray_make(f, 0, h.u, h.d2);
+                double a = ends[ei][0], e = ends[ei][1];
+                double want = quad_blob(f, o, d, a, e, etas[k], 200000);
+                double got = isinf(etas[k]) ? blob_T_mean(&br, a, e) : blob_T_clamped(&br, etas[k], a, e);
+                ASSERT_NEAR(got, want, 2e-6 * (1.0 + want)); /* Simpson across the truncation jump */
+            }
+    /* the clamped integral is below the mean integral and equals it for a large eta */
+    blob_ray br = blob_ray_make(f, 0, 5.0, 0.0);
+    ASSERT_TRUE(blob_T_clamped(&br, 0.1, 0, 10) < blob_T_mean(&br, 0, 10));
+    ASSERT_NEAR(blob_T_clamped(&br, 1e9, 0, 10), blob_T_mean(&br, 0, 10), 0.0);
+    /* a ray through the centre of an unbounded blob: T = m / (2 pi h^2) */
+    double whole = b.m / (2.0 * PI * b.h * b.h) * erf(BLOB_DEFAULT_CUTOFF / sqrt(2.0)); /* truncated at cutoff h */
+    ASSERT_NEAR(blob_T_mean(&br, -100, 100), whole, 1e-6 * whole);
+    blob_field_release(f);
+}
+
+/* Q over independent realizations: unit variance, covariance exp(-r^2 / 2 alpha^2) at lags
+ * of 1 to 4 cells along each axis, no cross-correlation of the Re/Im pair; a frame a short
+ * time later is strongly correlated with the first and has the same variance. Estimates are
+ * spatial averages per realization; the tolerance is 5 standard errors across realizations. */
+TEST(random_field_covariance)
+{
+    enum { N = 24, M = 48 };
+    randfield_params p = {{N, N, N}, 0.5, 1.0, 7, 0.0, 2.0};
+    size_t count = (size_t)N * N * N;
+    float *re = malloc(count * sizeof *re), *im = malloc(count * sizeof *im), *later = malloc(count * sizeof *later);
+    double s[7] = {0}, s2[7] = {0};
+    for (int r = 0; r < M; r++) {
+        p.time = 0.0;
+        ASSERT_EQ_INT(randfield_synthesize(&p, (uint64_t)r, re, im), BRUME_OK);
+        p.time = 0.05;
+        ASSERT_EQ_INT(randfield_synthesize(&p, (uint64_t)r, later, NULL), BRUME_OK);
+        double est[7] = {0};
+        for (int k = 0; k < N; k++)
+            for (int j = 0; j < N; j++)
+                for (int i = 0; i < N; i++) {
+                    size_t at = (size_t)i + N * ((size_t)j + N * (size_t)k);
+                    double q = re[at];
+                    est[0] += q * q;
+                    for (int m = 1; m <= 4; m++) {
+                        size_t bx = (size_t)((i + m) % N) + N * ((size_t)j + N * (size_t)k);
+                        size_t bz = (size_t)i + N * ((size_t)j + N * (size_t)((k + m) % N));
+                        est[m] += 0.5 * (q * re[bx] + q * re[bz]);
+                    }
+                    est[5] += q * im[at];
+                    est[6] += q * later[at];
+                }
+        for (int m = 0; m < 7; m++) {
+            est[m] /= (double)count;
+            s[m] += est[m];
+            s2[m] += est[m] * est[m];
+        }
+    }
+    for (int m = 0; m < 7; m++) {
+        double mean = s[m] / M, sd = sqrt(fmax(0.0, s2[m] / M - mean * mean) * M / (M - 1)), se = sd / sqrt(M);
+        double lag = m <= 4 ? m * p.cell : 0.0;
+        double want = m <= 4 ? exp(-lag * lag / (2.0 * p.alpha * p.alpha)) : (m == 5 ? 0.0 : mean);
+        printf("Q covariance %d: %.4f +- %.4f, expected %.4f\n", m, mean, se, want);
+        ASSERT_NEAR(mean, want, 5.0 * se + 1e-3);
+    }
+    ASSERT_TRUE(s[6] / M > 0.95); /* coherent in time */
+    /* the field at a later time still has unit variance */
+    p.time = 3.0;
+    double v = 0.0;
+    for (int r = 0; r < 8; r++) {
+        ASSERT_EQ_INT(randfield_synthesize(&p, (uint64_t)r, re, NULL), BRUME_OK);
+        for (size_t i = 0; i < count; i++)
+            v += re[i] * re[i];
+    }
+    ASSERT_NEAR(v / (8.0 * (double)count), 1.0, 0.1);
+    /* the trilinear lookup reproduces lattice values and is periodic */
+    randfield *q = randfield_new(&p);
+    ASSERT_TRUE(q);
+    ASSERT_NEAR(randfield_eval(q, v3(3 * p.cell, 5 * p.cell, 7 * p.cell)), q->q[3 + N * (5 + N * 7)], 1e-6);
+    ASSERT_NEAR(randfield_eval(q, v3(0.3, -0.7, 1.1)), randfield_eval(q, v3(0.3 + N * p.cell, -0.7, 1.1 - N * p.cell)),
+                1e-5);
+    randfield_release(q);
+    free(re);
+    free(im);
+    free(later);
+}
+
+/* The Monte-Carlo test of the transparency statistics (DESIGN.md erratum 7). Explicit 3-D
+ * realizations of one random blob rho = mean + sigma Q, sigma^2 = eps F_eta(mean), with Q
+ * synthesized on a 16 x 16 x 64 periodic lattice (spacing alpha / 1.5, exact unit variance at
+ * the nodes), are integrated along lattice lines by the trapezoid rule (exact to e^-44 for
+ * this correlation), for rays at distances 0, h/2, h, 3h/2 from the centre and one that starts
+ * at the centre. The sample mean and variance of T over 2 x 500 realizations must match
+ * blob_T_mean and blob_T_var within 5 standard errors of each estimator; the paper's Eq. 12
+ * (and Eq. 12 with Eq. 13's second scaling by Q's variance K_Q(0)) must not. */
+TEST(transparency_statistics_monte_carlo)
+{
+    enum { NX = 16, NY = 16, NZ = 64, PAIRS = 500, RAYS = 5 };
+    const double alpha = 0.25, cell = alpha / 1.5, eps = 0.6, eta = 0.3;
+    stam_stats_init();
+    randfield_params p = {{NX, NY, NZ}, cell, alpha, 2024, 0.0, 0.0};
+    blob b = {v3(8 * cell, 8 * cell, 32 * cell), 4.0, 1.0}; /* peak density 0.254: clamped near the centre */
+    blob_field *f = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, "test");
+    ASSERT_TRUE(f);
+    const int ray_i[RAYS] = {8, 11, 14, 17, 8}; /* Q is periodic: node 17 is node 1 */
+    const int ray_k0[RAYS] = {0, 0, 0, 0, 32}; /* the last ray starts at the blob's centre plane */
+    /* per ray: lattice mean and sigma along the line (the field is rho = mean + sigma Q) */
+    static double mean[RAYS][NZ], sig[RAYS][NZ];
+    double want_mean[RAYS], want_var[RAYS], paper12[RAYS], paper13[RAYS];
+    for (int r = 0; r < RAYS; r++) {
+        for (int k = 0; k < NZ; k++) {
+            vec3 x = v3(ray_i[r] * cell, 8 * cell, k * cell);
+            mean[r][k] = blob_mean_at(f, 0, x);
+            sig[r][k] = sqrt(eps * stam_clamp(mean[r][k], eta));
+        }
+        vec3 o = v3(ray_i[r] * cell, 8 * cell, ray_k0[r] * cell), d = v3(0, 0, 1);
+        one_hit h = {0, 0, 0};
+        blob_field_query_ray(f, o, d, 0.0, (NZ - 1 - ray_k0[r]) * cell, take_hit, &h);
+        ASSERT_EQ_INT(h.count, 1);
+        blob_ray br = blob_ray_make(f, 0, h.u, h.d2);
+        double len = (NZ - 1 - ray_k0[r]) * cell;
+        want_mean[r] = blob_T_mean(&br, 0.0, len);
+        want_var[r] = blob_T_var(&br, eps, eta, alpha, 0.0, len);
+        paper12[r] = blob_T_var_paper(&br, eps, eta, alpha, 0.0, len);
+        paper13[r] = paper12[r] / (pow(2.0 * PI, 1.5) * alpha * alpha * alpha);
+    }
+    size_t count = (size_t)NX * NY * NZ;
+    float *q[2] = {malloc(count * sizeof(float)), malloc(count * sizeof(float))};
+    double s[RAYS] = {0}, s2[RAYS] = {0};
+    int M = 0;
+    for (int pr = 0; pr < PAIRS; pr++) {
+        ASSERT_EQ_INT(randfield_synthesize(&p, (uint64_t)pr, q[0], q[1]), BRUME_OK);
+        for (int w = 0; w < 2; w++, M++)
+            for (int r = 0; r < RAYS; r++) {
+                double T = 0.0;
+                for (int k = ray_k0[r]; k < NZ; k++) {
+                    double rho = mean[r][k] + sig[r][k] * q[w][(size_t)(ray_i[r] % NX) + NX * (8 + (size_t)NY * (size_t)k)];
+                    T += (k == ray_k0[r] || k == NZ - 1 ? 0.5 : 1.0) * rho * cell;
+                }
+                s[r] += T;
+                s2[r] += T * T;
+            }
+    }
+    for (int r = 0; r < RAYS; r++) {
+        double m = s[r] / M, var = (s2[r] - M * m * m) / (M - 1);
+        /* T is gaussian: se(mean) = sqrt(var / M), se(var) = var sqrt(2 / (M - 1)) */
+        double se_m = sqrt(want_var[r] / M), se_v = want_var[r] * sqrt(2.0 / (M - 1));
+        printf("ray %d: mean %.5f (closed form %.5f), variance %.6f (ours %.6f, Eq. 12 %.6f, Eq. 12+13 %.6f)\n", r,
+               m, want_mean[r], var, want_var[r], paper12[r], paper13[r]);
+        ASSERT_NEAR(m, want_mean[r], 5.0 * se_m + 1e-4 * want_mean[r]);
+        ASSERT_NEAR(var, want_var[r], 5.0 * se_v);
+        /* the paper's unrepaired normalizations are far outside the same tolerance */
+        ASSERT_TRUE(fabs(var - paper12[r]) > 5.0 * se_v);
+        ASSERT_TRUE(fabs(var - paper13[r]) > 5.0 * se_v);
+    }
+    free(q[0]);
+    free(q[1]);
+    blob_field_release(f);
+}
+
+static brume_scene *scene_from(const char *json)
+{
+    brume_scene *s = NULL;
+    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", err_message());
+    return s;
+}
+
+static brume_image *render(const char *json, const char *method, int spp, int threads, uint64_t seed)
+{
+    brume_scene *s = scene_from(json);
+    brume_context *ctx = brume_context_new();
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    snprintf(rs.method, sizeof rs.method, "%s", method);
+    rs.spp = spp;
+    rs.threads = threads;
+    rs.seed = seed;
+    brume_image *img = NULL;
+    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
+        brume_render(ctx, s, &img) != BRUME_OK)
+        TEST_FAIL("render %s: %s", method, brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    brume_scene_release(s);
+    return img;
+}
+
+/* A few overlapping blobs, lit by a sun, emitting, in front of a wall that the sun lights
+ * through them (background %g: black for the comparison with `single`, whose in-scattered
+ * sky light Stam's source function leaves to the ambient term). The box filter
+ * of width 1e-3 px makes every sample of a pixel the same camera ray. */
+#define WALL "{\"type\": \"quad\", \"corner\": [-2, -2, -1], \"edge_u\": [4, 0, 0], \"edge_v\": [0, 4, 0]}"
+#define FEW_BLOBS_JSON \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30}," \
+    " \"background\": %g, \"surfaces\": [%s]," \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, -0.6, -0.62], \"irradiance\": 3.0}]," \
+    " \"media\": [{\"sigma_a\": 0.6, \"sigma_s\": %g, \"emission\": %s, \"density\": {\"type\": \"blobs\"," \
+    "   \"blobs\": [[0, 0, 0, 0.5, 0.3], [0.3, 0.1, 0, 0.3, 0.25], [-0.25, -0.1, 0.2, 0.4, 0.3], [0.1, 0.3, -0.2, 0.2, 0.2]]}}]," \
+    " \"stam\": {\"eps\": %g, \"eta\": 0.5, \"alpha\": 0.05, \"steps\": %d, \"light_grid\": %d}," \
+    " \"render\": {\"width\": 24, \"height\": 24, \"filter\": {\"type\": \"box\", \"width\": 0.001}}}"
+
+/* With eps = 0 Stam's image is the deterministic emission-absorption and single-scattering
+ * image of the mean field (exact shadow rays, 128 steps): it must match the `single`
+ * estimator on the same blob field, once for a scattering medium in front of a lit wall and
+ * once for an emitting, absorbing one alone (emitted light scattered once by the medium or
+ * the wall is counted by `single`, not by Stam's source function). Tolerance: 5 standard errors of the image mean of
+ * `single` (from two independent renders) plus 0.5 % for the step quadrature; each pixel
+ * within 5 of its own standard errors plus 2 %. */
+TEST(eps_zero_matches_single_scattering)
+{
+    const double sigma_s[2] = {2.5, 0.0};
+    const char *emission[2] = {"0", "[0.3, 0.15, 0.05]"};
+    for (int k = 0; k < 2; k++) {
+        char json[2048];
+        snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.0, k == 0 ? WALL : "", sigma_s[k], emission[k], 0.0, 128, 0);
+        brume_image *st = render(json, "stam", 1, 0, 1);
+        brume_image *a = render(json, "single", 128, 0, 1), *b = render(json, "single", 128, 0, 2);
+        const float *ps = brume_image_pixels(st), *pa = brume_image_pixels(a), *pb = brume_image_pixels(b);
+        int n = 24 * 24;
+        for (int c = 0; c < 3; c++) {
+            double ms = 0, mr = 0, var = 0, sq = 0;
+            for (int i = 0; i < n; i++) {
+                double ref = 0.5 * (pa[4 * i + c] + pb[4 * i + c]), d = pa[4 * i + c] - pb[4 * i + c];
+                var += d * d / 4.0; /* estimates the variance of the mean of the two renders */
+                ms += ps[4 * i + c];
+                mr += ref;
+                sq += (ps[4 * i + c] - ref) * (ps[4 * i + c] - ref);
+            }
+            double se = sqrt(var) / n;
+            printf("case %d channel %d: stam %.5f, single %.5f +- %.5f; rms difference %.5f, noise %.5f\n", k, c,
+                   ms / n, mr / n, se, sqrt(sq / n), sqrt(var / n));
+            ASSERT_NEAR(ms / n, mr / n, 5.0 * se + 0.005 * mr / n);
+            /* pixel by pixel: the difference is the reference's noise, plus at most 1 % */
+            ASSERT_TRUE(sqrt(sq / n) <= 1.3 * sqrt(var / n) + 0.01 * mr / n);
+        }
+        brume_image_release(st);
+        brume_image_release(a);
+        brume_image_release(b);
+    }
+}
+
+/* The light-transparency cache stays within 2 % of exact shadow rays on the image mean. */
+TEST(light_cache_close_to_exact_shadow_rays)
+{
+    char json[2048];
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 0);
+    brume_image *exact = render(json, "stam", 1, 0, 1);
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 32);
+    brume_image *cached = render(json, "stam", 1, 0, 1);
+    double se = 0, sc = 0;
+    for (int i = 0; i < 24 * 24 * 4; i++)
+        if (i % 4 != 3) {
+            se += brume_image_pixels(exact)[i];
+            sc += brume_image_pixels(cached)[i];
+        }
+    ASSERT_NEAR(sc, se, 0.02 * se);
+    brume_image_release(exact);
+    brume_image_release(cached);
+}
+
+/* Renders with 1 and 2 threads are bit-identical, and eps changes the image. */
+TEST(threads_do_not_change_the_image)
+{
+    char json[2048];
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 16);
+    brume_image *a = render(json, "stam", 2, 1, 1), *b = render(json, "stam", 2, 2, 1);
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.0, 16, 16);
+    brume_image *c = render(json, "stam", 2, 2, 1);
+    size_t bytes = 24 * 24 * 4 * sizeof(float);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(b), bytes) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), bytes) != 0);
+    brume_image_release(a);
+    brume_image_release(b);
+    brume_image_release(c);
+}
+
+/* A medium that is not a blob field: --method stam says so plainly. */
+TEST(grid_media_are_refused)
+{
+    const char *json = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]},"
+                       " \"media\": [{\"name\": \"fog\", \"sigma_a\": 1, \"sigma_s\": 1, \"density\": {\"type\": \"constant\"}}],"
+                       " \"render\": {\"width\": 8, \"height\": 8, \"method\": \"stam\"}}";
+    brume_scene *s = scene_from(json);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_UNSUPPORTED);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "media[0] fog: method stam renders blob fields only");
+    ASSERT_TRUE(img == NULL);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+}
+
+/* The blob density seen by path and single: density_eval is the truncated mean, and along
+ * random rays every point lies under its majorant segment. */
+TEST(blob_density_majorant_bounds)
+{
+    blob_list l = {0};
+    blob_cloud_params p = {v3(0, 0, 0), v3(1.5, 0.7, 1.0), 300, 0.08, 0.3, 0.2, 1.0, 9};
+    ASSERT_EQ_INT(blob_gen_cloud(&p, &l), BRUME_OK);
+    blob_field *f = blob_field_new(l.b, l.n, BLOB_DEFAULT_CUTOFF, "test");
+    density *d = density_new_blobs(f, 24);
+    ASSERT_TRUE(d);
+    rng g = rng_make(5, 0, 0);
+    for (int r = 0; r < 200; r++) {
+        vec3 o = v3(6 * rng_next(&g) - 3, 6 * rng_next(&g) - 3, 6);
+        vec3 t = v3(2 * rng_next(&g) - 1, rng_next(&g) - 0.5, 2 * rng_next(&g) - 1);
+        ray ry = {o, v3_normalize(v3_sub(t, o)), 0.0};
+        majorant_iter it;
+        majorant_seg seg;
+        density_majorant_begin(d, ry, 0.0, 20.0, &it);
+        while (majorant_next(&it, &seg))
+            for (int k = 0; k < 8; k++) {
+                vec3 x = ray_at(ry, seg.t0 + (seg.t1 - seg.t0) * rng_next(&g));
+                double rho = density_eval(d, x), brute = 0.0;
+                for (int i = 0; i < f->n; i++)
+                    brute += blob_mean_at(f, i, x);
+                ASSERT_NEAR(rho, brute, 1e-12 + 1e-9 * brute);
+                ASSERT_TRUE(rho <= seg.rho_maj);
+            }
+    }
+    /* the hierarchy finds exactly the blobs a linear scan finds */
+    f->use_bvh = false;
+    double scan = blob_field_mean(f, v3(0.1, 0.05, -0.2));
+    f->use_bvh = true;
+    ASSERT_NEAR(blob_field_mean(f, v3(0.1, 0.05, -0.2)), scan, 1e-12);
+    density_release(d);
+    blob_list_free(&l);
+}
+
+TEST_MAIN(closed_form_mean_matches_quadrature, random_field_covariance, transparency_statistics_monte_carlo,
+          eps_zero_matches_single_scattering, light_cache_close_to_exact_shadow_rays, threads_do_not_change_the_image,
+          grid_media_are_refused, blob_density_majorant_bounds)
