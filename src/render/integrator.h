@@ -41,9 +41,11 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
 /* The same, also telling whether the camera ray's first hit is a surface. */
 color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface);
-/* Transmittance from p along unit wi over (0, dist): 0 when a surface blocks the segment,
- * else that of the media (ratio tracking). */
-color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, rng *g);
+/* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
+ * blocks the segment, else that of the media (ratio tracking). Moving things are taken
+ * where they are at that instant, so every estimator that passes the path's time gets
+ * motion blur (docs/animation.md). */
+color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
 
 /* ---- building blocks ---------------------------------------------------------------- */
 
