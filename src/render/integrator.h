@@ -24,10 +24,13 @@ bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
 
-/* Work an integrator does once per render before any camera ray (Blasi's light pass, a
+/* Work an integrator does once per scene before any camera ray (Blasi's light pass, a
  * table of per-blob statistics, ...), kept in an opaque state that integrator_Li reads
  * from every thread. integrator_prepare sets *state (NULL when the method needs none) and
- * returns BRUME_OK, or fails with err_set(); integrator_finish releases the state. */
+ * returns BRUME_OK, or fails with err_set(); integrator_finish releases the state.
+ * brume_render keeps the state with the scene and reuses it for later renders of it,
+ * including frames reached by brume_scene_set_camera_time: so prepare must depend on the
+ * world (lights, media, surfaces, s->time) only, never on the camera (docs/animation.md). */
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state);
 void integrator_finish(integrator_kind kind, void *state);
 
