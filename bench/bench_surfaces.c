@@ -34,7 +34,7 @@ static void trace_task(size_t task, int thread, void *user)
             d.y = -d.y;
         ray r = {o, d, 0};
         if (j->occlusion) {
-            hits += surfaces_occluded(j->S, o, d, 0.0, 10.0);
+            hits += surfaces_occluded(j->S, o, d, 0.0, 10.0, 0.0);
         } else {
             surface_hit h;
             hits += surfaces_intersect(j->S, r, 0.0, INFINITY, &h);

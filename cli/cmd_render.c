@@ -1,33 +1,50 @@
-/* cmd_render.c - `brume render`: load a scene (or the default), render, write an image. */
+/* cmd_render.c - `brume render`: load a scene (or the default), render one image or a
+ * sequence of frames, optionally over MPI ranks or as one shard of a render farm, and
+ * assemble a video with ffmpeg (docs/animation.md). */
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "args.h"
 #include "brume.h"
+#include "cli_dist.h"
 #include "commands.h"
 
 static void render_usage(FILE *out)
 {
     fprintf(out,
             "usage: brume render [SCENE.json] [options]\n"
-            "Renders SCENE (or the built-in default scene) and writes an image.\n\n"
+            "Renders SCENE (or the built-in default scene) and writes an image, or a sequence of frames.\n\n"
             "  -o, --output FILE   output image: .png (8-bit sRGB), .exr (float RGBA), .pfm (float RGB)\n"
-            "                      (default brume.png)\n"
+            "                      (default brume.png); for several frames a printf pattern such as\n"
+            "                      out/frame_%%04d.exr, the frame number in place of %%d\n"
+            "  --frames A-B        render frames A to B (frame f at time f / render.fps)\n"
+            "  --frame F           render frame F only\n"
+            "  --video FILE.mp4    after the frames, assemble them with ffmpeg (PNG frames)\n"
+            "  --shard I/N         render only the frames f with f %% N == I (render farms)\n"
             "  --spp N             samples per pixel\n"
             "  --width W, --height H   image size in pixels\n"
             "  --seed S            random seed: the image depends on seed and spp, not on threads\n"
-            "  --threads N         worker threads (default: one per core)\n"
+            "                      nor on the number of MPI processes\n"
+            "  --threads N         worker threads per process (default: one per core)\n"
             "  --method NAME       integrator: path (unbiased reference), single (single scattering),\n"
-            "                      blasi (Blasi et al. 1993 two-pass method, docs/blasi.md)\n"
-            "                      stam (Stam 1994, blob fields only)\n"
+            "                      blasi (Blasi et al. 1993 two-pass method, docs/blasi.md),\n"
+            "                      stam (Stam 1994, blob fields only, docs/stam.md)\n"
             "  --max-depth N       maximum scattering events per path\n"
             "  --exposure STOPS    PNG only: scale by 2^STOPS before tone mapping\n"
             "  --filmic            PNG only: ACES filmic tone curve instead of clamping\n"
             "  --set KEY=VALUE     a method option, e.g. --set blasi.r=1 (docs/scene-format.md); repeatable\n"
             "  --save-light PATH   blasi: write the first pass's radiance grid (= --set blasi.save_light=PATH)\n"
             "  --load-light PATH   blasi: reuse a saved first pass instead of running it\n"
-            "  --quiet             no progress bar or summary\n");
+            "  --quiet             no progress bar or summary\n\n"
+            "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
+            "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
+            "This build: %s.\n",
+            dist_build_info());
 }
 
 static double now_seconds(void)
@@ -37,17 +54,211 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int cmd_render(int argc, char **argv)
+/* A printf pattern with exactly one %d conversion (flags 0 and a width allowed) and %%
+ * for a literal percent: 1; no conversion: 0; anything else: -1. */
+static int pattern_kind(const char *p)
 {
-    const char *scene_path = NULL, *out_path = "brume.png", *method = NULL;
-    int spp = 0, width = 0, height = 0, threads = -1, max_depth = 0;
-    uint64_t seed = 0;
-    bool have_seed = false, quiet = false;
-    brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
-    enum { MAX_SETS = 64 };
+    int convs = 0;
+    for (; *p; p++) {
+        if (*p != '%')
+            continue;
+        if (p[1] == '%') {
+            p++;
+            continue;
+        }
+        p++;
+        while (*p >= '0' && *p <= '9')
+            p++;
+        if (*p != 'd')
+            return -1;
+        convs++;
+    }
+    return convs == 0 ? 0 : (convs == 1 ? 1 : -1);
+}
+
+/* The file name of frame f from a pattern that pattern_kind accepted: the %d conversion
+ * (with its zero flag and width) becomes f, %% a percent sign. */
+static void frame_path(const char *p, long f, char *out, size_t n)
+{
+    size_t k = 0;
+    for (; *p && k + 1 < n; p++) {
+        if (*p != '%') {
+            out[k++] = *p;
+            continue;
+        }
+        if (p[1] == '%') {
+            out[k++] = '%';
+            p++;
+            continue;
+        }
+        p++;
+        bool zero = *p == '0';
+        int width = 0;
+        while (*p >= '0' && *p <= '9')
+            width = 10 * width + (*p++ - '0');
+        char num[32];
+        int len = snprintf(num, sizeof num, "%ld", f);
+        for (int pad = len; pad < width && k + 1 < n; pad++)
+            out[k++] = zero ? '0' : ' ';
+        for (int i = 0; i < len && k + 1 < n; i++)
+            out[k++] = num[i];
+    }
+    out[k] = '\0';
+}
+
+/* "A-B" or "A" with 0 <= A <= B. */
+static bool parse_range(const char *flag, const char *text, long *a, long *b)
+{
+    char *end;
+    errno = 0;
+    *a = strtol(text, &end, 10);
+    *b = *a;
+    if (*end == '-' && end != text) {
+        const char *s = end + 1;
+        *b = strtol(s, &end, 10);
+        if (end == s)
+            *b = -1;
+    }
+    if (errno || *end || *a < 0 || *b < *a || *b > 100000000L) {
+        cli_error("%s: expected A-B with 0 <= A <= B, got '%s'", flag, text);
+        return false;
+    }
+    return true;
+}
+
+/* "I/N" with 0 <= I < N. */
+static bool parse_shard(const char *text, int *i, int *n)
+{
+    char *end;
+    long a = strtol(text, &end, 10), b = -1;
+    if (*end == '/' && end != text) {
+        const char *s = end + 1;
+        b = strtol(s, &end, 10);
+        if (end == s)
+            b = -1;
+    }
+    if (*end || b < 1 || b > 1000000 || a < 0 || a >= b) {
+        cli_error("--shard: expected I/N with 0 <= I < N, got '%s'", text);
+        return false;
+    }
+    *i = (int)a;
+    *n = (int)b;
+    return true;
+}
+
+/* The full path of `name` found in PATH, or false. */
+static bool find_in_path(const char *name, char *out, size_t n)
+{
+    const char *path = getenv("PATH");
+    while (path && *path) {
+        const char *colon = strchr(path, ':');
+        size_t len = colon ? (size_t)(colon - path) : strlen(path);
+        if (len > 0) {
+            snprintf(out, n, "%.*s/%s", (int)len, path, name);
+            if (access(out, X_OK) == 0)
+                return true;
+        }
+        path = colon ? colon + 1 : NULL;
+    }
+    return false;
+}
+
+/* ffmpeg -framerate FPS -start_number FIRST -i PATTERN ... VIDEO (H.264, yuv420p). */
+static int make_video(const char *pattern, long first, double fps, const char *video)
+{
+    char ffmpeg[4096];
+    if (!find_in_path("ffmpeg", ffmpeg, sizeof ffmpeg)) {
+        cli_error("--video: ffmpeg not found in PATH; the frames are written, the video is not "
+                  "(install Debian's ffmpeg: apt-get install ffmpeg)");
+        return 1;
+    }
+    char rate[64], start[32];
+    snprintf(rate, sizeof rate, "%.9g", fps);
+    snprintf(start, sizeof start, "%ld", first);
+    char *args[] = {ffmpeg, "-y", "-loglevel", "error", "-framerate", rate, "-start_number", start, "-i",
+                    (char *)pattern, "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
+                    "yuv420p", "-movflags", "+faststart", (char *)video, NULL};
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        cli_error("--video: cannot start ffmpeg: %s", strerror(errno));
+        return 1;
+    }
+    if (pid == 0) {
+        execv(ffmpeg, args);
+        _exit(127);
+    }
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        cli_error("--video: ffmpeg failed making %s (exit status %d)", video,
+                  WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        return 1;
+    }
+    return 0;
+}
+
+enum { MAX_SETS = 64 };
+
+typedef struct render_opts {
+    const char *scene_path;
+    int spp, width, height, threads, max_depth;
+    uint64_t seed;
+    bool have_seed, quiet;
+    const char *method;
+    int nsets; /* method options (--set, --save-light, --load-light) */
     const char *set_key[MAX_SETS], *set_value[MAX_SETS];
     char set_buf[MAX_SETS][256];
-    int nsets = 0;
+} render_opts;
+
+/* Loads frame `f` (or the plain scene when f < 0), applies the command-line settings and
+ * commits. On failure returns NULL; the context has the message. */
+static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f, bool progress)
+{
+    brume_scene *scene = NULL;
+    brume_status st;
+    if (o->scene_path)
+        st = f >= 0 ? brume_scene_load_frame(ctx, o->scene_path, f, &scene)
+                    : brume_scene_load(ctx, o->scene_path, &scene);
+    else
+        st = brume_scene_new_default(ctx, &scene);
+    if (st != BRUME_OK)
+        return NULL;
+    brume_render_settings rs;
+    brume_scene_get_settings(scene, &rs);
+    if (o->spp) rs.spp = o->spp;
+    if (o->width) rs.width = o->width;
+    if (o->height) rs.height = o->height;
+    if (o->threads >= 0) rs.threads = o->threads;
+    if (o->max_depth) rs.max_depth = o->max_depth;
+    if (o->have_seed) rs.seed = o->seed;
+    if (o->method)
+        snprintf(rs.method, sizeof rs.method, "%s", o->method);
+    rs.progress = progress;
+    for (int k = 0; k < o->nsets; k++)
+        if (brume_scene_set_option(ctx, scene, o->set_key[k], o->set_value[k]) != BRUME_OK) {
+            brume_scene_release(scene);
+            return NULL;
+        }
+    if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK) {
+        brume_scene_release(scene);
+        return NULL;
+    }
+    /* the built-in scene has no file to load at a frame: it is static, so move its camera */
+    if (!o->scene_path && f >= 0 && brume_scene_set_camera_time(ctx, scene, (double)f / rs.fps) != BRUME_OK) {
+        brume_scene_release(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_opts o = {0};
+    o.threads = -1;
+    const char *out_path = "brume.png", *video = NULL;
+    long first = -1, last = -1;
+    int shard = 0, nshards = 1;
+    brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
@@ -56,105 +267,222 @@ int cmd_render(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
             if (!(out_path = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--frames") == 0 || strcmp(a, "--frame") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !parse_range(a, v, &first, &last)) return 2;
+            if (a[7] == '\0' && first != last) {
+                cli_error("--frame: one frame number expected, got '%s' (use --frames A-B)", v);
+                return 2;
+            }
+        } else if (strcmp(a, "--video") == 0) {
+            if (!(video = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--shard") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !parse_shard(v, &shard, &nshards)) return 2;
         } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &spp)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o.spp)) return 2;
         } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &width)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &o.width)) return 2;
         } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &height)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &o.height)) return 2;
         } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &threads)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &o.threads)) return 2;
         } else if (strcmp(a, "--max-depth") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 100000, &max_depth)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 100000, &o.max_depth)) return 2;
         } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &seed)) return 2;
-            have_seed = true;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &o.seed)) return 2;
+            o.have_seed = true;
         } else if (strcmp(a, "--method") == 0) {
-            if (!(method = arg_value(argc, argv, &i))) return 2;
+            if (!(o.method = arg_value(argc, argv, &i))) return 2;
+            if (strlen(o.method) >= sizeof ((brume_render_settings *)0)->method) {
+                cli_error("--method: unknown method '%s'", o.method);
+                return 2;
+            }
+        } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
+            if (!(v = arg_value(argc, argv, &i))) return 2;
+            if (o.nsets == MAX_SETS) {
+                cli_error("render: more than %d options", MAX_SETS);
+                return 2;
+            }
+            if (strcmp(a, "--set") != 0) { /* --save-light, --load-light */
+                o.set_key[o.nsets] = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
+                o.set_value[o.nsets++] = v;
+                continue;
+            }
+            const char *eq = strchr(v, '=');
+            if (!eq || eq == v || (size_t)(eq - v) >= sizeof o.set_buf[0]) {
+                cli_error("--set: expected KEY=VALUE, got '%s'", v);
+                return 2;
+            }
+            snprintf(o.set_buf[o.nsets], sizeof o.set_buf[0], "%.*s", (int)(eq - v), v);
+            o.set_key[o.nsets] = o.set_buf[o.nsets];
+            o.set_value[o.nsets++] = eq + 1;
         } else if (strcmp(a, "--exposure") == 0) {
             if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
         } else if (strcmp(a, "--filmic") == 0) {
             wopts.tonemap = BRUME_TONEMAP_FILMIC;
-        } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (nsets == MAX_SETS) {
-                cli_error("render: more than %d options", MAX_SETS);
-                return 2;
-            }
-            if (a[2] != 's' || a[3] != 'e' || a[4] != 't' || a[5] != '\0') { /* --save-light, --load-light */
-                set_key[nsets] = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
-                set_value[nsets++] = v;
-                continue;
-            }
-            const char *eq = strchr(v, '=');
-            if (!eq || eq == v || (size_t)(eq - v) >= sizeof set_buf[0]) {
-                cli_error("--set: expected KEY=VALUE, got '%s'", v);
-                return 2;
-            }
-            snprintf(set_buf[nsets], sizeof set_buf[0], "%.*s", (int)(eq - v), v);
-            set_key[nsets] = set_buf[nsets];
-            set_value[nsets++] = eq + 1;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
-            quiet = true;
+            o.quiet = true;
         } else if (a[0] == '-' && a[1] != '\0') {
             cli_error("render: unknown option '%s' (try `brume help render`)", a);
             return 2;
-        } else if (!scene_path) {
-            scene_path = a;
+        } else if (!o.scene_path) {
+            o.scene_path = a;
         } else {
-            cli_error("render: more than one scene given ('%s' and '%s')", scene_path, a);
+            cli_error("render: more than one scene given ('%s' and '%s')", o.scene_path, a);
             return 2;
         }
     }
 
+    /* what to render, checked before any work */
+    bool sequence = first >= 0;
+    long nframes = sequence ? last - first + 1 : 1;
+    int kind = pattern_kind(out_path);
+    if (kind < 0) {
+        cli_error("-o: '%s': use one %%d conversion (such as %%04d) for the frame number, and %%%% for a percent "
+                  "sign", out_path);
+        return 2;
+    }
+    if (nframes > 1 && kind == 0) {
+        cli_error("-o: '%s' has no %%d for the frame number, and %ld frames would overwrite one file "
+                  "(e.g. -o out/frame_%%04d.png)", out_path, nframes);
+        return 2;
+    }
+    if (!sequence && kind == 1) {
+        cli_error("-o: '%s' is a frame pattern: give --frames A-B or --frame F", out_path);
+        return 2;
+    }
+    if (nshards > 1 && nframes < 2) {
+        cli_error("--shard: splits the frames of a sequence (--frames A-B); to split one frame over processes, "
+                  "run it under mpirun");
+        return 2;
+    }
+    if (video && nshards > 1) {
+        cli_error("--video: needs every frame, and --shard renders only some: assemble the video once every shard "
+                  "is done (docs/animation.md gives the ffmpeg command)");
+        return 2;
+    }
+    if (video) {
+        const char *dot = strrchr(out_path, '.');
+        if (!dot || strcmp(dot, ".png") != 0 || kind != 1) {
+            cli_error("--video: the frames must be PNG files named by a pattern (-o out/frame_%%04d.png)");
+            return 2;
+        }
+    }
+
+    dist d;
+    if (!dist_begin(&d))
+        return 1;
+    if (d.size > 1 && nshards > 1) {
+        cli_error("--shard: not under mpirun (mpirun already splits the work)");
+        dist_end(&d);
+        return 2;
+    }
+    /* Several ranks split the frames when each gets a fair share, else the tiles of each
+     * frame. Either way rank 0 writes every file. */
+    bool split_frames = d.size > 1 && (nframes % d.size == 0 || nframes >= 4L * d.size);
+    bool split_tiles = d.size > 1 && !split_frames;
+    bool root = d.rank == 0;
+
     brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("out of memory");
+        dist_end(&d);
+        return 1;
+    }
     brume_scene *scene = NULL;
     brume_image *image = NULL;
     int rc = 1;
-    if (!ctx) {
-        cli_error("out of memory");
-        return 1;
-    }
-    brume_status st = scene_path ? brume_scene_load(ctx, scene_path, &scene) : brume_scene_new_default(ctx, &scene);
-    if (st != BRUME_OK)
-        goto fail;
-    brume_render_settings rs;
-    brume_scene_get_settings(scene, &rs);
-    if (spp) rs.spp = spp;
-    if (width) rs.width = width;
-    if (height) rs.height = height;
-    if (threads >= 0) rs.threads = threads;
-    if (max_depth) rs.max_depth = max_depth;
-    if (have_seed) rs.seed = seed;
-    if (method) {
-        if (strlen(method) >= sizeof rs.method) {
-            cli_error("--method: unknown method '%s'", method);
-            goto done;
+    long done = 0;
+    double t_all = now_seconds();
+    for (long k = 0; k < nframes; k++) {
+        long f = sequence ? first + k : -1;
+        if (nshards > 1 && f % nshards != shard)
+            continue;
+        int owner = split_frames ? (int)(k % d.size) : d.rank;
+        if (owner != d.rank && !root)
+            continue;
+        char path[4096];
+        if (kind == 1)
+            frame_path(out_path, f, path, sizeof path);
+        else
+            snprintf(path, sizeof path, "%s", out_path);
+        brume_render_settings rs;
+        double t0 = now_seconds();
+        if (owner != d.rank) {
+            /* rank 0 receives a frame that another rank rendered; the scene gives its size */
+            if (!scene && !(scene = load_scene(ctx, &o, f, false)))
+                goto fail;
+            brume_scene_get_settings(scene, &rs);
+            image = brume_image_new(rs.width, rs.height);
+            if (!image || !dist_recv_at_root(&d, brume_image_pixels(image), (size_t)rs.width * (size_t)rs.height * 4, owner,
+                                             (int)k)) {
+                cli_error("frame %ld: could not receive it from rank %d", f, owner);
+                goto done;
+            }
+        } else {
+            /* frames that differ only by the camera share one scene (and its integrator
+             * state: Blasi's first pass is done once) */
+            if (scene && brume_scene_world_is_static(scene) && f >= 0) {
+                brume_scene_get_settings(scene, &rs);
+                if (brume_scene_set_camera_time(ctx, scene, (double)f / rs.fps) != BRUME_OK)
+                    goto fail;
+            } else {
+                brume_scene_release(scene);
+                if (!(scene = load_scene(ctx, &o, f, !o.quiet && root && !split_frames)))
+                    goto fail;
+            }
+            brume_scene_get_settings(scene, &rs);
+            brume_status st = split_tiles ? brume_render_part(ctx, scene, d.rank, d.size, &image)
+                                          : brume_render(ctx, scene, &image);
+            if (st != BRUME_OK)
+                goto fail;
+            size_t n = (size_t)rs.width * (size_t)rs.height * 4;
+            if (split_tiles && !dist_reduce_to_root(&d, brume_image_pixels(image), n)) {
+                cli_error("frame %ld: gathering the tiles on rank 0 failed", f);
+                goto done;
+            }
+            if (split_frames && !root) {
+                if (!dist_send_to_root(&d, brume_image_pixels(image), n, (int)k)) {
+                    cli_error("frame %ld: could not send it to rank 0", f);
+                    goto done;
+                }
+                brume_image_release(image);
+                image = NULL;
+                continue;
+            }
         }
-        snprintf(rs.method, sizeof rs.method, "%s", method);
+        if (root) {
+            if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
+                goto fail;
+            double secs = now_seconds() - t0;
+            if (!o.quiet && owner != d.rank)
+                fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs.width,
+                        rs.height, rs.spp, rs.method, owner);
+            else if (!o.quiet)
+                fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
+                        rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
+        }
+        brume_image_release(image);
+        image = NULL;
+        done++;
     }
-    rs.progress = !quiet;
-    for (int k = 0; k < nsets; k++)
-        if (brume_scene_set_option(ctx, scene, set_key[k], set_value[k]) != BRUME_OK)
-            goto fail;
-    if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK)
-        goto fail;
-    double t0 = now_seconds();
-    if (brume_render(ctx, scene, &image) != BRUME_OK)
-        goto fail;
-    double secs = now_seconds() - t0;
-    if (brume_image_write(ctx, image, out_path, &wopts) != BRUME_OK)
-        goto fail;
-    if (!quiet)
-        fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", out_path, rs.width,
-                rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
+    if (root && !o.quiet && (nframes > 1 || d.size > 1))
+        fprintf(stderr, "brume: %ld frame%s in %.2f s (%d process%s)\n", done, done == 1 ? "" : "s",
+                now_seconds() - t_all, d.size, d.size == 1 ? "" : "es");
     rc = 0;
+    if (root && video && scene) {
+        brume_render_settings rs;
+        brume_scene_get_settings(scene, &rs);
+        rc = make_video(out_path, first, rs.fps, video);
+    }
     goto done;
 fail:
     cli_error("%s", brume_context_last_error(ctx));
 done:
+    if (rc != 0 && d.size > 1)
+        dist_abort(&d, rc);
     brume_image_release(image);
     brume_scene_release(scene);
     brume_context_release(ctx);
+    dist_end(&d);
     return rc;
 }

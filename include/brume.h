@@ -134,11 +134,30 @@ typedef struct brume_render_settings {
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
     bool progress;       /* draw a progress bar when stderr is a terminal */
+    double fps;          /* frames per second of a sequence: frame f is at time f / fps, > 0 */
 } brume_render_settings;
 
 /* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted
  * scene owned by the caller; on failure *out is NULL and the context names file and key. */
 brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out);
+/* ANIMATION (docs/animation.md). A scene file may give keyframes (camera, lights, surfaces,
+ * media) and time-varying densities; loading it "at" a time evaluates what is fixed per
+ * frame (lights, generated densities) at that time, and keeps what moves within the shutter
+ * (camera, surface and medium transforms) for each ray's own time. brume_scene_load is
+ * brume_scene_load_at(..., 0, ...). */
+brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out);
+/* The same at frame number frame_no >= 0: time = frame_no / render.fps of the file. */
+brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out);
+/* The scene's frame time in seconds. */
+double brume_scene_time(const brume_scene *scene);
+/* True when nothing but the camera depends on time (no keyframed light, surface or medium,
+ * no evolving density): then frames differ only by the camera, and one committed scene can
+ * be moved from frame to frame with brume_scene_set_camera_time, keeping the work an
+ * integrator did once (Blasi's first pass). */
+bool brume_scene_world_is_static(const brume_scene *scene);
+/* Moves a committed scene whose world is static to frame time `time`: the camera takes its
+ * keyframed pose there. Fails with BRUME_ERROR_STATE when the world is not static. */
+brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *scene, double time);
 /* The built-in default scene: a procedural cloud lit by a distant light. */
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
 /* Copies the scene's render settings into *rs. */
@@ -160,8 +179,16 @@ void brume_scene_release(brume_scene *scene);
 
 typedef struct brume_image brume_image;
 
-/* Renders a committed scene with its settings. *out is a new image owned by the caller. */
+/* Renders a committed scene with its settings. *out is a new image owned by the caller.
+ * Work an integrator does once per scene (a light pass) is kept with the scene and reused
+ * by later renders of it; call brume_render on one scene from one thread at a time. */
 brume_status brume_render(brume_context *ctx, const brume_scene *scene, brume_image **out);
+/* Renders part `part` of `nparts` (0 <= part < nparts): the image tiles t with
+ * t % nparts == part, the other pixels left +0. Every pixel is computed exactly as by
+ * brume_render, so the sum of all parts is the whole image bit for bit (each pixel has one
+ * nonzero contributor): what distributed rendering (`mpirun brume render`) relies on. */
+brume_status brume_render_part(brume_context *ctx, const brume_scene *scene, int part, int nparts,
+                               brume_image **out);
 
 /* A new black, transparent image; NULL on bad size or out of memory. */
 brume_image *brume_image_new(int width, int height);

@@ -221,13 +221,26 @@ void json_resolve_path(const char *scene_file, const char *name, char *out, size
  * applied as translate(rotate(scale(x))). */
 brume_status json_transform(const cJSON *j, jloc at, affine3 *out)
 {
-    static const char *const keys[] = {"translate", "rotate", "scale", NULL};
     *out = affine3_identity();
     if (!j)
         return BRUME_OK;
+    json_transform_parts parts;
+    brume_status st = json_transform_split(j, at, &parts);
+    if (st) return st;
+    affine3 ts = affine3_translate(parts.translate), ss = affine3_scale(parts.scale);
+    affine3 r = parts.angle != 0.0 ? affine3_rotate(parts.axis, parts.angle) : affine3_identity();
+    affine3 rs = affine3_compose(&r, &ss);
+    *out = affine3_compose(&ts, &rs);
+    return BRUME_OK;
+}
+
+brume_status json_transform_split(const cJSON *j, jloc at, json_transform_parts *out)
+{
+    static const char *const keys[] = {"translate", "rotate", "scale", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    vec3 t = v3(0, 0, 0), sc = v3(1, 1, 1);
+    vec3 t = v3(0, 0, 0), sc = v3(1, 1, 1), axis = v3(0, 0, 1);
+    double angle = 0.0;
     if ((st = json_vec3(j, at, "translate", 0, &t))) return st;
     const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "scale");
     if (cJSON_IsNumber(s)) {
@@ -239,24 +252,18 @@ brume_status json_transform(const cJSON *j, jloc at, affine3 *out)
         if (!(sc.x > 0 && sc.y > 0 && sc.z > 0))
             return err_set(BRUME_ERROR_RANGE, "%s: %s.scale: every factor must be > 0", at.file, at.path);
     }
-    affine3 r = affine3_identity();
     const cJSON *rot = cJSON_GetObjectItemCaseSensitive(j, "rotate");
     if (rot) {
         static const char *const rkeys[] = {"axis", "angle", NULL};
         char kp[256];
         jloc rat = {at.file, json_key_path(kp, sizeof kp, at.path, "rotate")};
-        vec3 axis;
-        double angle = 0.0;
         if ((st = json_check_object(rot, rat, rkeys))) return st;
         if ((st = json_vec3(rot, rat, "axis", 1, &axis))) return st;
         if (!(v3_length(axis) > 0.0))
             return err_set(BRUME_ERROR_RANGE, "%s: %s.axis: must not be the zero vector", at.file, rat.path);
         if ((st = json_number(rot, rat, "angle", 1, -1e6, 1e6, &angle))) return st;
-        r = affine3_rotate(axis, angle);
     }
-    affine3 ts = affine3_translate(t), ss = affine3_scale(sc);
-    affine3 rs = affine3_compose(&r, &ss);
-    *out = affine3_compose(&ts, &rs);
+    *out = (json_transform_parts){t, axis, angle, sc};
     return BRUME_OK;
 }
 

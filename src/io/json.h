@@ -42,6 +42,14 @@ brume_status json_color(const cJSON *obj, jloc at, const char *key, int required
 /* A transform object {"translate": [x, y, z], "rotate": {"axis": [..], "angle": degrees},
  * "scale": s | [sx, sy, sz]}, applied as translate(rotate(scale(p))); j NULL = identity. */
 brume_status json_transform(const cJSON *j, jloc at, affine3 *out);
+/* The same object read into its parts (for keyframes, which interpolate each part). */
+typedef struct json_transform_parts {
+    vec3 translate;
+    vec3 axis;    /* rotation axis, not zero (default +z) */
+    double angle; /* degrees (default 0) */
+    vec3 scale;   /* factors > 0 */
+} json_transform_parts;
+brume_status json_transform_split(const cJSON *j, jloc at, json_transform_parts *out);
 
 /* A file named in a scene, relative to the scene file's folder unless absolute. */
 void json_resolve_path(const char *scene_file, const char *name, char *out, size_t n);

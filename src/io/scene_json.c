@@ -11,6 +11,7 @@
 #include "io/json.h"
 #include "io/scene_blasi.h"
 #include "io/scene_stam.h"
+#include "io/scene_keys.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
@@ -23,7 +24,7 @@ static const double BIG = 1e30;
 static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
-                                       "shutter", NULL};
+                                       "shutter", "keyframes", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     if ((st = json_vec3(j, at, "position", 1, &c->position))) return st;
@@ -46,6 +47,10 @@ static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
             return err_set(BRUME_ERROR_RANGE, "%s: camera.shutter: need finite open <= close, got [%g, %g]", at.file,
                            c->shutter_open, c->shutter_close);
     }
+    const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
+    if (keys_j)
+        return keys_parse_camera(keys_j, (jloc){at.file, "camera.keyframes"}, c,
+                                 cJSON_HasObjectItem(j, "focus_distance"));
     return BRUME_OK;
 }
 
@@ -280,8 +285,9 @@ static brume_status parse_grid_density(const cJSON *j, jloc at, density **out)
     return BRUME_OK;
 }
 
-/* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1). */
-static brume_status parse_fractal_density(const cJSON *j, jloc at, density **out)
+/* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1), at the
+ * scene's frame time added to its own `time`: the threshold and the turbulence evolve. */
+static brume_status parse_fractal_density(const cJSON *j, jloc at, brume_scene *s, density **out)
 {
     static const char *const keys[] = {"type", "dims", "seed", "method", "hurst", "octaves", "frequency", "shape",
                                        "falloff", "threshold", "threshold_rate", "turbulence",
@@ -330,6 +336,9 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, density **out
     if ((st = json_vec3(j, at, "wind", 0, &p.wind))) return st;
     if ((st = json_number(j, at, "time", 0, -1e9, 1e9, &p.time))) return st;
     if ((st = json_number(j, at, "density", 0, 1e-9, 1e9, &p.density))) return st;
+    p.time += s->time;
+    if (p.threshold_rate != 0.0 || (p.turbulence > 0.0 && v3_length(p.wind) > 0.0))
+        s->world_moves = true;
     /* defaults as in the paper: unit voxels centred on the origin, constant per voxel */
     box3 b = {v3(-0.5 * p.n[0], -0.5 * p.n[1], -0.5 * p.n[2]), v3(0.5 * p.n[0], 0.5 * p.n[1], 0.5 * p.n[2])};
     if ((st = parse_box(j, at, "bounds", &b))) return st;
@@ -341,7 +350,7 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, density **out
     return BRUME_OK;
 }
 
-static brume_status parse_density(const cJSON *j, jloc at, density **out)
+static brume_status parse_density(const cJSON *j, jloc at, brume_scene *s, density **out)
 {
     char type[32];
     if (!cJSON_IsObject(j))
@@ -386,7 +395,7 @@ static brume_status parse_density(const cJSON *j, jloc at, density **out)
     if (strcmp(type, "grid") == 0)
         return parse_grid_density(j, at, out);
     if (strcmp(type, "fractal_cloud") == 0)
-        return parse_fractal_density(j, at, out);
+        return parse_fractal_density(j, at, s, out);
     return err_set(BRUME_ERROR_PARSE,
                    "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, fractal_cloud, blobs)",
                    at.file, at.path, type);
@@ -489,9 +498,10 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
     return BRUME_OK;
 }
 
-static brume_status parse_medium(const cJSON *j, jloc at, medium *m)
+static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s, medium *m)
 {
-    static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", NULL};
+    static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "keyframes",
+                                       NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     if ((st = json_string(j, at, "name", 0, m->name, sizeof m->name))) return st;
@@ -505,7 +515,19 @@ static brume_status parse_medium(const cJSON *j, jloc at, medium *m)
     const cJSON *d = cJSON_GetObjectItemCaseSensitive(j, "density");
     if (!d)
         return err_set(BRUME_ERROR_PARSE, "%s: %s.density: required key missing", at.file, at.path);
-    if ((st = parse_density(d, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "density")}, &m->rho))) return st;
+    if ((st = parse_density(d, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "density")}, s, &m->rho)))
+        return st;
+    const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
+    if (keys_j) {
+        /* the field moves: its placement at time t is the keyed transform after its own */
+        m->motion = malloc(sizeof *m->motion);
+        if (!m->motion)
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+        if ((st = keys_parse_motion(keys_j, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "keyframes")},
+                                    m->motion)))
+            return st;
+        s->world_moves = true;
+    }
     const cJSON *p = cJSON_GetObjectItemCaseSensitive(j, "phase");
     if (p)
         return parse_phase(p, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "phase")}, &m->ph);
@@ -516,7 +538,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, medium *m)
 static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings *rs)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       NULL};
+                                       "fps", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs->width))) return st;
@@ -526,6 +548,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
     if ((st = json_int(j, at, "threads", 0, 0, 1024, &rs->threads))) return st;
     if ((st = json_string(j, at, "method", 0, rs->method, sizeof rs->method))) return st;
     if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs->max_depth))) return st;
+    if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs->fps))) return st;
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
     if (f) {
         static const char *const fkeys[] = {"type", "width", NULL};
@@ -548,7 +571,9 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
     return scene_check_settings(at.file, rs);
 }
 
-static brume_status parse_scene(const cJSON *root, brume_scene *s)
+/* The scene at time `time`, or at frame_no / render.fps when frame_no >= 0. Render settings come
+ * first: a frame's time needs the frame rate. */
+static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, long frame_no)
 {
     static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "blasi",
                                        "stam", NULL};
@@ -556,6 +581,9 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
     if (st) return st;
+    const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
+    if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
+    s->time = frame_no >= 0 ? (double)frame_no / s->settings.fps : time;
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     if (!cam)
         return err_set(BRUME_ERROR_PARSE, "%s: camera: required key missing", file);
@@ -578,7 +606,17 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
         for (const cJSON *l = lights->child; l; l = l->next, i++) {
             char kp[64];
             snprintf(kp, sizeof kp, "lights[%d]", i);
-            if ((st = parse_light(l, (jloc){file, kp}, &s->lights[i]))) return st;
+            if (cJSON_IsObject(l) && cJSON_HasObjectItem(l, "keyframes")) {
+                /* lights are evaluated once per frame, at the frame time */
+                cJSON *now = NULL;
+                if ((st = keys_object_at(l, (jloc){file, kp}, s->time, &now))) return st;
+                st = parse_light(now, (jloc){file, kp}, &s->lights[i]);
+                cJSON_Delete(now);
+                s->world_moves = true;
+                if (st) return st;
+            } else if ((st = parse_light(l, (jloc){file, kp}, &s->lights[i]))) {
+                return st;
+            }
             s->nlights = i + 1;
         }
     }
@@ -594,18 +632,23 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s)
             char kp[64];
             snprintf(kp, sizeof kp, "media[%d]", i);
             s->nmedia = i + 1; /* so that release frees what parse_medium built */
-            if ((st = parse_medium(m, (jloc){file, kp}, &s->media[i]))) return st;
+            if ((st = parse_medium(m, (jloc){file, kp}, s, &s->media[i]))) return st;
         }
     }
     const cJSON *surf = cJSON_GetObjectItemCaseSensitive(root, "surfaces");
     if (surf && (st = scene_parse_surfaces(surf, file, &s->surf))) return st;
-    const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
-    if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
+    if (surfaces_moving(s->surf))
+        s->world_moves = true;
     if ((st = scene_parse_blasi(root, top, &s->blasi))) return st;
     return scene_parse_stam(root, s);
 }
 
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out)
+{
+    return scene_parse_json_at(text, source, 0.0, -1, out);
+}
+
+brume_status scene_parse_json_at(const char *text, const char *source, double time, long frame_no, brume_scene **out)
 {
     *out = NULL;
     cJSON *root = NULL;
@@ -617,7 +660,7 @@ brume_status scene_parse_json(const char *text, const char *source, brume_scene 
         cJSON_Delete(root);
         return err_status();
     }
-    st = parse_scene(root, s);
+    st = parse_scene(root, s, time, frame_no);
     cJSON_Delete(root);
     if (st) {
         brume_scene_release(s);
@@ -672,17 +715,39 @@ static brume_status read_text_file(const char *path, char **out)
     return BRUME_OK;
 }
 
-brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
+static brume_status load(brume_context *ctx, const char *path, double time, long frame_no, brume_scene **out)
 {
     err_clear();
     *out = NULL;
+    if (!isfinite(time))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", path, time));
     char *text = NULL;
     brume_status st = read_text_file(path, &text);
     if (st == BRUME_OK) {
-        st = scene_parse_json(text, path, out);
+        st = scene_parse_json_at(text, path, time, frame_no, out);
         free(text);
     }
     return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
+{
+    return load(ctx, path, 0.0, -1, out);
+}
+
+brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out)
+{
+    return load(ctx, path, time, -1, out);
+}
+
+brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
+{
+    if (frame_no < 0) {
+        err_clear();
+        *out = NULL;
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
+    }
+    return load(ctx, path, 0.0, frame_no, out);
 }
 
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)

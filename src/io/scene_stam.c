@@ -266,10 +266,15 @@ brume_status scene_parse_stam(const cJSON *root, brume_scene *s)
             if ((st = json_bool(v, vat, "realization", 0, &realization))) return st;
         }
     }
+    /* the frame's time (docs/animation.md) adds to the scene's own stam.time: blobs drift
+     * and Q evolves from frame to frame, so the world is not static */
+    p->time += s->time;
     for (int m = 0; m < s->nmedia; m++) {
         blob_field *f = density_get_blobs(s->media[m].rho);
         if (!f)
             continue;
+        if (v3_length(f->velocity) > 0.0 || p->rate > 0.0)
+            s->world_moves = true;
         f->use_bvh = p->bvh;
         if (p->time != 0.0 && v3_length(f->velocity) > 0.0 &&
             (st = density_blobs_at_time(s->media[m].rho, f->velocity, p->time)))

@@ -7,6 +7,7 @@
 #include "core/xform.h"
 #include "io/json.h"
 #include "io/mesh.h"
+#include "io/scene_keys.h"
 #include "io/scene_surfaces.h"
 
 static const double BIG = 1e30;
@@ -98,13 +99,14 @@ static brume_status parse_surface(const cJSON *j, jloc at, surfaces *S)
         return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
     brume_status st = json_string(j, at, "type", 1, type, sizeof type);
     if (st) return st;
-    static const char *const sphere_keys[] = {"type", "name", "material", "transform", "center", "radius", NULL};
-    static const char *const box_keys[] = {"type", "name", "material", "transform", "min", "max", NULL};
-    static const char *const quad_keys[] = {"type", "name", "material", "transform", "corner", "edge_u", "edge_v",
-                                            NULL};
-    static const char *const plane_keys[] = {"type", "name", "material", "transform", "point", "normal", "size",
-                                             NULL};
-    static const char *const mesh_keys[] = {"type", "name", "material", "transform", "file", NULL};
+    static const char *const sphere_keys[] = {"type", "name", "material", "transform", "keyframes", "center",
+                                              "radius", NULL};
+    static const char *const box_keys[] = {"type", "name", "material", "transform", "keyframes", "min", "max", NULL};
+    static const char *const quad_keys[] = {"type", "name", "material", "transform", "keyframes", "corner",
+                                            "edge_u", "edge_v", NULL};
+    static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
+                                             "normal", "size", NULL};
+    static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", NULL};
     const char *const *keys = strcmp(type, "sphere") == 0  ? sphere_keys
                               : strcmp(type, "box") == 0   ? box_keys
                               : strcmp(type, "quad") == 0  ? quad_keys
@@ -185,6 +187,15 @@ static brume_status parse_surface(const cJSON *j, jloc at, surfaces *S)
     }
     if (st)
         return err_prefix("%s: %s", at.file, at.path);
+    const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
+    if (keys_j) {
+        /* the object moves: the keyed transform applies after its own `transform` */
+        motion mo;
+        if ((st = keys_parse_motion(keys_j, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "keyframes")}, &mo)))
+            return st;
+        if ((st = surfaces_set_motion(S, surfaces_count(S) - 1, &mo)))
+            return err_prefix("%s: %s.keyframes", at.file, at.path);
+    }
     return BRUME_OK;
 }
 

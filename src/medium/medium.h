@@ -9,6 +9,7 @@
 #define BRUME_MEDIUM_MEDIUM_H
 
 #include "core/color.h"
+#include "core/motion.h"
 #include "density/density.h"
 #include "phase/phase.h"
 
@@ -20,6 +21,9 @@ typedef struct medium {
     color Le;           /* emitted radiance (W sr^-1 m^-2 in world units), >= 0 */
     double sigma_t_max; /* max over channels of sigma_a + sigma_s (set by medium_init) */
     char name[64];
+    motion *motion;     /* owned; NULL = fixed. Else the field is placed in world space at
+                           time t by motion_at(motion, t) applied after its own placement:
+                           rays are moved into the field's frame at their own time */
 } medium;
 
 /* Fills the derived fields; call after setting the others. */

@@ -233,8 +233,8 @@ static bool light_ray(const brume_scene *s, const blasi_state *st, const light *
         }
         double area = box_projected_area(st->bounds, d);
         vec3 p = box_entry_point(st->bounds, d, u0, u1, u2);
-        *r = (ray){v3_madd(p, d, -1e-6 * st->radius), d, 0.0};
-        if (s->surf && surfaces_occluded(s->surf, r->o, v3_neg(d), 0.0, INFINITY))
+        *r = (ray){v3_madd(p, d, -1e-6 * st->radius), d, s->time};
+        if (s->surf && surfaces_occluded(s->surf, r->o, v3_neg(d), 0.0, INFINITY, s->time))
             return false;
         *W = col_scale(L, area * inv_n);
         return true;
@@ -793,10 +793,10 @@ static color shade_surface(const brume_scene *s, const blasi_state *st, ray r, c
         if (!light_sample_at(&s->lights[i], p, u1, u2, &ls) || !(ls.pdf > 0.0))
             continue;
         double cosn = v3_dot(ls.wi, n);
-        if (cosn <= 0.0 || surfaces_occluded(s->surf, p, ls.wi, 0.0, ls.dist * (1.0 - 1e-7)))
+        if (cosn <= 0.0 || surfaces_occluded(s->surf, p, ls.wi, 0.0, ls.dist * (1.0 - 1e-7), r.time))
             continue;
         color f = col_scale(material_eval(h->mat, n, wo, ls.wi), cosn / ls.pdf);
-        L = col_add(L, col_mul(col_mul(ls.Li, f), view_attenuation(st, (ray){p, ls.wi, 0.0}, ls.dist)));
+        L = col_add(L, col_mul(col_mul(ls.Li, f), view_attenuation(st, (ray){p, ls.wi, r.time}, ls.dist)));
     }
     return L;
 }

@@ -1,10 +1,25 @@
 /* camera.h - look-at perspective camera with a thin lens and a shutter (Blasi Eq. 1).
  * A pixel's value is the mean over pixel area (through the pixel filter), lens disk and
- * shutter interval of the radiance along the generated rays. */
+ * shutter interval of the radiance along the generated rays.
+ *
+ * Time: `time` is the frame's time (seconds); the shutter interval is relative to it, so a
+ * ray's time lies in [time + shutter_open, time + shutter_close]. A keyframed camera
+ * (nkeys > 0) takes its pose from the keys: at the frame time for the fields below, and at
+ * each ray's own time while the shutter is open (docs/animation.md). */
 #ifndef BRUME_RENDER_CAMERA_H
 #define BRUME_RENDER_CAMERA_H
 
 #include "core/vec.h"
+
+#define CAMERA_MAX_KEYS 64
+
+/* One keyframe: the complete pose at `time` (the scene reader fills the fields a key does
+ * not give from the other keys). Between keys every field is interpolated linearly. */
+typedef struct camera_key {
+    double time;
+    vec3 position, look_at, up;
+    double fov, aperture_radius, focus_distance;
+} camera_key;
 
 typedef struct camera {
     vec3 position;          /* world units */
@@ -13,16 +28,24 @@ typedef struct camera {
     double fov;             /* vertical field of view, degrees, in (0, 180) */
     double aperture_radius; /* lens radius, world units; 0 = pinhole */
     double focus_distance;  /* distance to the plane in focus, world units, > 0 */
-    double shutter_open, shutter_close; /* seconds */
+    double shutter_open, shutter_close; /* seconds, relative to `time` */
+    double time;            /* the frame's time, seconds */
+    int nkeys;              /* 0 = a fixed camera */
+    camera_key keys[CAMERA_MAX_KEYS]; /* increasing times */
     /* derived by camera_init */
     frame f;          /* s = right, t = up, n = forward */
     double tan_half;  /* tan(fov / 2) */
     double aspect;    /* width / height */
 } camera;
 
+/* Sets the pose from the keys at c->time (when keyed) and derives the frame. */
 void camera_init(camera *c, int width, int height);
+/* The interpolated pose at time t (keys clamp at both ends); requires nkeys > 0. */
+camera_key camera_pose_at(const camera *c, double t);
+/* True when rays must take the pose at their own time: keyed, with an open shutter. */
+bool camera_moving(const camera *c);
 /* Ray through film point (px, py) in pixels (0,0 = top-left corner), lens sample
- * (u1, u2), time sample ut. The direction is unit length. */
+ * (u1, u2), time sample ut in [0, 1) over the shutter. The direction is unit length. */
 ray camera_ray(const camera *c, int width, int height, double px, double py, double u1, double u2, double ut);
 
 #endif

@@ -41,7 +41,7 @@ static bool flight_step(double t, double sigma_maj, void *user)
 {
     flight *f = user;
     vec3 p = ray_at(f->r, t);
-    media_at(f->s, p, &f->ms);
+    media_at(f->s, p, f->r.time, &f->ms);
     const medium_sample *ms = &f->ms;
     double inv_maj = 1.0 / sigma_maj;
     if (!col_is_black(ms->emission))
@@ -106,6 +106,7 @@ typedef struct vertex {
     const phase *ph; /* medium vertex */
     const material *m; /* surface vertex */
     vec3 n;          /* surface: unit normal on the side of -d */
+    double time;     /* the path's instant: shadow rays see moving things where they are then */
 } vertex;
 
 /* Scattering kernel for light arriving from direction wi (towards the light) and leaving
@@ -124,13 +125,13 @@ static double vertex_pdf(const vertex *v, vec3 wi)
     return material_pdf(v->m, v->n, v3_neg(v->d), wi);
 }
 
-/* Transmittance from p along unit wi over (0, dist): 0 if a surface is in the way, else
- * the media's, by ratio tracking. */
-color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, rng *g)
+/* Transmittance from p along unit wi over (0, dist) at `time`: 0 if a surface is in the
+ * way, else the media's, by ratio tracking. */
+color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g)
 {
-    if (s->surf && surfaces_occluded(s->surf, p, wi, 0.0, dist * (1.0 - 1e-7)))
+    if (s->surf && surfaces_occluded(s->surf, p, wi, 0.0, dist * (1.0 - 1e-7), time))
         return col(0.0);
-    return track_transmittance(s, (ray){p, wi, 0.0}, dist, g);
+    return track_transmittance(s, (ray){p, wi, time}, dist, g);
 }
 
 /* Next-event estimation at a vertex: every light, emissive surfaces and the background. */
@@ -146,7 +147,7 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
         if (col_is_black(f))
             continue;
         double w = ls.delta ? 1.0 : mis_weight(ls.pdf, vertex_pdf(v, ls.wi));
-        color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, g);
+        color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, v->time, g);
         Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / ls.pdf));
     }
     if (surfaces_has_emitters(s->surf)) {
@@ -154,11 +155,11 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
         double dist, pdf;
         color Le;
         double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
-        if (surfaces_sample_emitter(s->surf, v->p, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0) {
+        if (surfaces_sample_emitter(s->surf, v->p, v->time, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0) {
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), g);
+                color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
                 Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / pdf));
             }
         }
@@ -171,7 +172,7 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                color Tr = scene_transmittance(s, v->p, wi, INFINITY, g);
+                color Tr = scene_transmittance(s, v->p, wi, INFINITY, v->time, g);
                 Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / pdf));
             }
         }
@@ -250,7 +251,7 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
                 }
                 if (depth >= max_depth || material_is_black(sh.mat))
                     break;
-                vertex v = {.d = r.d, .ph = NULL, .m = sh.mat};
+                vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
                 v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
                 v.p = surface_offset(&sh, v.n);
                 f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
@@ -275,7 +276,8 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         if (f.end == FLIGHT_ABSORBED || depth >= max_depth)
             break;
         /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
-        vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL};
+        vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
+                    .time = r.time};
         f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
         if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */

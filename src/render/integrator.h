@@ -28,10 +28,13 @@ bool integrator_from_name(const char *name, integrator_kind *out);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
 
-/* Work an integrator does once per render before any camera ray (Blasi's light pass, a
+/* Work an integrator does once per scene before any camera ray (Blasi's light pass, a
  * table of per-blob statistics, ...), kept in an opaque state that integrator_Li reads
  * from every thread. integrator_prepare sets *state (NULL when the method needs none) and
- * returns BRUME_OK, or fails with err_set(); integrator_finish releases the state. */
+ * returns BRUME_OK, or fails with err_set(); integrator_finish releases the state.
+ * brume_render keeps the state with the scene and reuses it for later renders of it,
+ * including frames reached by brume_scene_set_camera_time: so prepare must depend on the
+ * world (lights, media, surfaces, s->time) only, never on the camera (docs/animation.md). */
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state);
 void integrator_finish(integrator_kind kind, void *state);
 
@@ -49,9 +52,11 @@ color integrator_transmittance(integrator_kind kind, const brume_scene *s, const
 color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
 /* The same, also telling whether the camera ray's first hit is a surface. */
 color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface);
-/* Transmittance from p along unit wi over (0, dist): 0 when a surface blocks the segment,
- * else that of the media (ratio tracking). */
-color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, rng *g);
+/* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
+ * blocks the segment, else that of the media (ratio tracking). Moving things are taken
+ * where they are at that instant, so every estimator that passes the path's time gets
+ * motion blur (docs/animation.md). */
+color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
 
 /* ---- building blocks ---------------------------------------------------------------- */
 

@@ -1,4 +1,5 @@
-/* render.c - brume_render: tiles over the thread pool, samples per pixel, the film. */
+/* render.c - brume_render: tiles over the thread pool, samples per pixel, the film; parts
+ * of a frame (interleaved tiles) for distributed rendering. */
 #include <stdlib.h>
 
 #include "core/context.h"
@@ -19,6 +20,7 @@ typedef struct render_job {
     const void *state; /* integrator_prepare's */
     brume_image *img;
     int tiles_x;
+    int part, nparts; /* this job renders tiles part, part + nparts, ... */
     progress prog;
 } render_job;
 
@@ -28,7 +30,8 @@ static void render_tile(size_t task, int thread, void *user)
     render_job *job = user;
     const brume_scene *s = job->s;
     const brume_render_settings *rs = &s->settings;
-    int tx = (int)(task % (size_t)job->tiles_x), ty = (int)(task / (size_t)job->tiles_x);
+    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
+    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
     int x0 = tx * TILE, y0 = ty * TILE;
     int x1 = x0 + TILE < rs->width ? x0 + TILE : rs->width;
     int y1 = y0 + TILE < rs->height ? y0 + TILE : rs->height;
@@ -63,10 +66,39 @@ static void render_tile(size_t task, int thread, void *user)
     progress_add(&job->prog, 1);
 }
 
+/* The integrator state for s, prepared at the scene's first render and kept with it. */
+static brume_status prepared_state(const brume_scene *s, integrator_kind kind, const void **state)
+{
+    scene_prepared *p = s->prepared;
+    if (p->valid && p->kind != (int)kind) {
+        integrator_finish((integrator_kind)p->kind, p->state);
+        p->valid = false;
+    }
+    if (!p->valid) {
+        void *st = NULL;
+        brume_status r = integrator_prepare(kind, s, &st);
+        if (r != BRUME_OK)
+            return r;
+        p->valid = true;
+        p->kind = (int)kind;
+        p->state = st;
+    }
+    *state = p->state;
+    return BRUME_OK;
+}
+
 brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
+{
+    return brume_render_part(ctx, s, 0, 1, out);
+}
+
+brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
 {
     err_clear();
     *out = NULL;
+    if (nparts < 1 || part < 0 || part >= nparts)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
+                                       s->source, part, nparts));
     if (!s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source));
     integrator_kind kind;
@@ -77,18 +109,18 @@ brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image 
     if (!img)
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", s->source,
                                        s->settings.width, s->settings.height));
-    void *state = NULL;
-    brume_status st = integrator_prepare(kind, s, &state);
+    const void *state = NULL;
+    brume_status st = prepared_state(s, kind, &state);
     if (st != BRUME_OK) {
         brume_image_release(img);
         return ctx_report(ctx, st);
     }
-    render_job job = {s, kind, state, img, (s->settings.width + TILE - 1) / TILE, {0}};
+    render_job job = {s, kind, state, img, (s->settings.width + TILE - 1) / TILE, part, nparts, {0}};
     size_t ntiles = (size_t)job.tiles_x * (size_t)((s->settings.height + TILE - 1) / TILE);
-    progress_begin(&job.prog, "render", ntiles, s->settings.progress);
-    pool_run(s->settings.threads, ntiles, render_tile, &job);
+    size_t mine = ntiles / (size_t)nparts + ((size_t)part < ntiles % (size_t)nparts ? 1 : 0);
+    progress_begin(&job.prog, "render", mine, s->settings.progress);
+    pool_run(s->settings.threads, mine, render_tile, &job);
     progress_end(&job.prog);
-    integrator_finish(kind, state);
     *out = img;
     return ctx_report(ctx, BRUME_OK);
 }

@@ -22,6 +22,7 @@ void scene_default_settings(brume_render_settings *rs)
     rs->filter = BRUME_FILTER_GAUSSIAN;
     rs->filter_width = 2.0;
     rs->progress = false;
+    rs->fps = 24.0;
 }
 
 brume_scene *scene_new(const char *source)
@@ -32,6 +33,12 @@ brume_scene *scene_new(const char *source)
         return NULL;
     }
     snprintf(s->source, sizeof s->source, "%s", source);
+    s->prepared = calloc(1, sizeof *s->prepared);
+    if (!s->prepared) {
+        free(s);
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", source);
+        return NULL;
+    }
     scene_default_settings(&s->settings);
     blasi_options_default(&s->blasi);
     stam_params_default(&s->stam);
@@ -62,6 +69,8 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %g outside (0, 16]", source, rs->filter_width);
     if (rs->filter != BRUME_FILTER_BOX && rs->filter != BRUME_FILTER_GAUSSIAN)
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
+    if (!(rs->fps > 0.0 && rs->fps <= 1e6))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %g outside (0, 1e6]", source, rs->fps);
     integrator_kind k;
     if (!memchr(rs->method, '\0', sizeof rs->method) || !integrator_from_name(rs->method, &k))
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%.31s' (known: %s)", source,
@@ -94,6 +103,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     vec3 view = v3_sub(c->look_at, c->position);
     if (!(v3_length(view) > 0.0))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position", s->source));
+    c->time = s->time;
     camera_init(c, s->settings.width, s->settings.height);
     s->has_emission = false;
     for (int m = 0; m < s->nmedia; m++) {
@@ -105,6 +115,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         light_init(&s->lights[i]);
     if (!background_init(&s->bg))
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: background: out of memory", s->source));
+    if (s->surf)
+        surfaces_set_shutter(s->surf, s->time + c->shutter_open, s->time + c->shutter_close);
     if (s->surf && surfaces_commit(s->surf) != BRUME_OK)
         return ctx_report(ctx, err_prefix("%s: surfaces", s->source));
     s->has_indirect_sources = s->has_emission || !background_is_black(&s->bg) || surfaces_has_emitters(s->surf);
@@ -114,10 +126,37 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     return ctx_report(ctx, BRUME_OK);
 }
 
+double brume_scene_time(const brume_scene *s) { return s->time; }
+
+bool brume_scene_world_is_static(const brume_scene *s) { return !s->world_moves; }
+
+brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *s, double time)
+{
+    err_clear();
+    if (!s->committed)
+        return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: camera time set before commit", s->source));
+    if (s->world_moves)
+        return ctx_report(ctx, err_set(BRUME_ERROR_STATE,
+                                       "%s: more than the camera moves: load each frame (brume_scene_load_at)",
+                                       s->source));
+    if (!isfinite(time))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame time %g is not finite", s->source, time));
+    s->time = time;
+    s->cam.time = time;
+    camera_init(&s->cam, s->settings.width, s->settings.height);
+    if (!(v3_length(v3_sub(s->cam.look_at, s->cam.position)) > 0.0))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position at time %g",
+                                       s->source, time));
+    return ctx_report(ctx, BRUME_OK);
+}
+
 void brume_scene_release(brume_scene *s)
 {
     if (!s)
         return;
+    if (s->prepared && s->prepared->valid)
+        integrator_finish((integrator_kind)s->prepared->kind, s->prepared->state);
+    free(s->prepared);
     for (int m = 0; m < s->nmedia; m++)
         medium_release(&s->media[m]);
     free(s->lights);

@@ -31,7 +31,20 @@ struct brume_scene {
     bool has_emission; /* some medium has Le > 0 (set by commit) */
     bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
                                   phase sampling (set by commit) */
+    double time;       /* the frame's time, seconds (brume_scene_load_at) */
+    bool world_moves;  /* something besides the camera depends on time (set by the reader) */
+    struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
 };
+
+/* What integrator_prepare built for this scene, reused by later renders of it. Rendering
+ * reads a scene through a const pointer; this is the one part it writes (one render at a
+ * time per scene). prepare must depend on the world only, never on the camera, so that
+ * brume_scene_set_camera_time keeps it valid. */
+typedef struct scene_prepared {
+    bool valid;
+    int kind;    /* integrator_kind */
+    void *state; /* integrator_prepare's */
+} scene_prepared;
 
 /* An empty scene with default settings and camera; NULL when out of memory. */
 brume_scene *scene_new(const char *source);
@@ -42,7 +55,9 @@ void scene_default_settings(brume_render_settings *rs);
 /* The built-in default scene as scene-file JSON (docs/scene-format.md). */
 extern const char scene_default_json[];
 
-/* Reads a scene file text (io/scene_json.c). `source` names it in messages. */
+/* Reads a scene file text (io/scene_json.c) at time 0. `source` names it in messages. */
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out);
+/* The same at frame time `time` (seconds), or, when frame_no >= 0, at frame_no / render.fps. */
+brume_status scene_parse_json_at(const char *text, const char *source, double time, long frame_no, brume_scene **out);
 
 #endif

@@ -132,7 +132,7 @@ color stam_transmittance(const void *state, vec3 o, vec3 d, double tmax)
     if (mm->valid && mm->state == state && isinf(tmax) && mm->o.x == o.x && mm->o.y == o.y && mm->o.z == o.z && mm->d.x == d.x &&
         mm->d.y == d.y && mm->d.z == d.z)
         return mm->tau;
-    if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7)))
+    if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7), st->s->time))
         return col(0.0);
     return media_tau(st, o, d, tmax);
 }
@@ -322,7 +322,7 @@ static color shade_surface(const stam_state *st, const surface_hit *sh, vec3 d, 
         double dist, pdf;
         color Le;
         double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
-        if (surfaces_sample_emitter(s->surf, p, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0 &&
+        if (surfaces_sample_emitter(s->surf, p, s->time, u0, u1, u2, &wi, &dist, &Le, &pdf) && pdf > 0.0 &&
             v3_dot(wi, n) > 0.0) {
             color f = col_scale(material_eval(m, n, wo, wi), v3_dot(wi, n) / pdf);
             L = col_add(L, col_mul(col_mul(f, Le), stam_transmittance(st, p, wi, dist * (1.0 - 1e-5))));

@@ -15,7 +15,19 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
     track_stream st[SCENE_MAX_MEDIA];
     int n = s->nmedia;
     for (int m = 0; m < n; m++) {
-        density_majorant_begin(s->media[m].rho, r, 0.0, tmax, &st[m].it);
+        /* A moving medium: the ray in the field's frame at the ray's instant. An affine map
+         * keeps the ray parameter t, so segments need no conversion back. */
+        ray rm = r;
+        if (s->media[m].motion) {
+            affine3 to_world = motion_at(s->media[m].motion, r.time), to_local;
+            if (!affine3_invert(&to_world, &to_local)) {
+                st[m].live = false;
+                continue;
+            }
+            rm.o = affine3_apply(&to_local, r.o);
+            rm.d = affine3_apply_dir(&to_local, r.d);
+        }
+        density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
         st[m].sigma_t_max = s->media[m].sigma_t_max;
     }
@@ -59,7 +71,7 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
     }
 }
 
-void media_at(const brume_scene *s, vec3 p, medium_sample *ms)
+void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
 {
     ms->sigma_a = col(0.0);
     ms->sigma_s = col(0.0);
@@ -67,7 +79,14 @@ void media_at(const brume_scene *s, vec3 p, medium_sample *ms)
     ms->n = 0;
     for (int m = 0; m < s->nmedia; m++) {
         const medium *md = &s->media[m];
-        double rho = density_eval(md->rho, p);
+        vec3 pm = p;
+        if (md->motion) {
+            affine3 to_world = motion_at(md->motion, time), to_local;
+            if (!affine3_invert(&to_world, &to_local))
+                continue;
+            pm = affine3_apply(&to_local, p);
+        }
+        double rho = density_eval(md->rho, pm);
         if (rho <= 0.0)
             continue;
         color sa = col_scale(md->sigma_a, rho), ss = col_scale(md->sigma_s, rho);
@@ -113,7 +132,7 @@ static bool ratio_step(double t, double sigma_maj, void *user)
 {
     ratio_state *rs = user;
     medium_sample ms;
-    media_at(rs->s, ray_at(rs->r, t), &ms);
+    media_at(rs->s, ray_at(rs->r, t), rs->r.time, &ms);
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         rs->Tr.c[c] *= 1.0 - sigma_t.c[c] / sigma_maj;

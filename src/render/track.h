@@ -19,7 +19,8 @@
  * Return false to stop tracking. */
 typedef bool (*track_fn)(double t, double sigma_maj, void *user);
 
-/* Tracks r (unit direction) over [0, tmax]. Returns true when the walk passed tmax (or
+/* Tracks r (unit direction) over [0, tmax] at the ray's time r.time (moving media are
+ * taken where they are at that instant). Returns true when the walk passed tmax (or
  * left every medium) without the callback stopping it. */
 bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn fn, void *user);
 
@@ -32,7 +33,8 @@ typedef struct medium_sample {
     double weight[SCENE_MAX_MEDIA]; /* avg sigma_s of each, for choosing a phase function */
 } medium_sample;
 
-void media_at(const brume_scene *s, vec3 p, medium_sample *ms);
+/* At time `time` (seconds): moving media are evaluated where they are then. */
+void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms);
 /* The phase function of a medium chosen among those at p in proportion to scattering. */
 const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, double u);
 

@@ -1,4 +1,5 @@
-/* surfaces.c - Embree 3 scene of spheres and triangle meshes, and emitter sampling. */
+/* surfaces.c - Embree 3 scene of spheres and triangle meshes (fixed or motion-blurred),
+ * and emitter sampling. */
 #include "surface/surfaces.h"
 
 #include <embree3/rtcore.h>
@@ -20,7 +21,13 @@ typedef struct surface_object {
     int nv, ntri;   /* mesh */
     double *pos;    /* 3 nv, owned */
     int *idx;       /* 3 ntri, owned */
+    motion *mo;     /* owned; NULL = fixed */
+    int nsteps;     /* with mo: Embree time steps over the shutter (1 = closed shutter) */
+    double *step;   /* with mo: per step, 3 nv positions (mesh) or centre and radius (sphere) */
 } surface_object;
+
+/* Linear motion between two steps is exact; else this many steps over the shutter. */
+#define SURFACES_MOTION_STEPS 17
 
 /* One emissive primitive: a triangle of a mesh, or a whole sphere. */
 typedef struct emitter {
@@ -39,6 +46,7 @@ struct surfaces {
     int *em_first;    /* per object: index of its first emitter record, or -1 */
     distrib1 em_dist; /* over emitters, in proportion to area x average radiance */
     double em_total;  /* sum of area x average radiance */
+    double t0, t1;    /* shutter interval, absolute seconds; Embree's ray time 0..1 spans it */
 };
 
 static void on_embree_error(void *user, enum RTCError code, const char *msg)
@@ -71,6 +79,8 @@ void surfaces_release(surfaces *s)
     for (int i = 0; i < s->n; i++) {
         free(s->obj[i].pos);
         free(s->obj[i].idx);
+        free(s->obj[i].mo);
+        free(s->obj[i].step);
     }
     free(s->obj);
     free(s->em);
@@ -150,16 +160,151 @@ brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int
     return BRUME_OK;
 }
 
-static vec3 tri_vertex(const surface_object *o, int prim, int k)
+brume_status surfaces_set_motion(surfaces *s, int index, const motion *m)
 {
-    const double *p = o->pos + 3 * (size_t)o->idx[3 * prim + k];
-    return v3(p[0], p[1], p[2]);
+    if (s->committed || index < 0 || index >= s->n || m->n < 1)
+        return err_set(BRUME_ERROR_STATE, "surfaces: motion for object %d set after commit or out of range", index);
+    surface_object *o = &s->obj[index];
+    if (o->is_sphere)
+        for (int k = 0; k < m->n; k++) {
+            vec3 sc = m->key[k].scale;
+            if (fabs(sc.x - sc.y) > 1e-9 * sc.x || fabs(sc.x - sc.z) > 1e-9 * sc.x)
+                return err_set(BRUME_ERROR_UNSUPPORTED,
+                               "surface '%s': a sphere's keyframes take a uniform scale only", o->name);
+        }
+    motion *c = malloc(sizeof *c);
+    if (!c)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': out of memory", o->name);
+    *c = *m;
+    free(o->mo);
+    o->mo = c;
+    return BRUME_OK;
 }
 
-static double tri_area(const surface_object *o, int prim)
+void surfaces_set_shutter(surfaces *s, double t0, double t1)
 {
-    vec3 a = tri_vertex(o, prim, 0), b = tri_vertex(o, prim, 1), c = tri_vertex(o, prim, 2);
+    s->t0 = t0;
+    s->t1 = t1 > t0 ? t1 : t0;
+}
+
+bool surfaces_moving(const surfaces *s)
+{
+    for (int i = 0; s && i < s->n; i++)
+        if (s->obj[i].mo)
+            return true;
+    return false;
+}
+
+/* Absolute time -> Embree's ray time in [0, 1] over the shutter. */
+static double shutter_time(const surfaces *s, double t)
+{
+    if (!(s->t1 > s->t0))
+        return 0.0;
+    double u = (t - s->t0) / (s->t1 - s->t0);
+    return u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
+}
+
+/* The two steps around shutter time u and the weight of the second, as Embree does. */
+static void step_at(const surface_object *o, double u, int *i, double *w)
+{
+    *i = 0;
+    *w = 0.0;
+    if (o->nsteps <= 1)
+        return;
+    double x = u * (o->nsteps - 1);
+    int k = (int)floor(x);
+    if (k > o->nsteps - 2)
+        k = o->nsteps - 2;
+    *i = k;
+    *w = x - k;
+}
+
+static vec3 mesh_vertex(const surface_object *o, int v, double u)
+{
+    if (!o->mo) {
+        const double *p = o->pos + 3 * (size_t)v;
+        return v3(p[0], p[1], p[2]);
+    }
+    int i;
+    double w;
+    step_at(o, u, &i, &w);
+    const double *a = o->step + 3 * ((size_t)i * (size_t)o->nv + (size_t)v);
+    if (w == 0.0)
+        return v3(a[0], a[1], a[2]);
+    const double *b = a + 3 * (size_t)o->nv;
+    return v3(a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w, a[2] + (b[2] - a[2]) * w);
+}
+
+static void sphere_at(const surface_object *o, double u, vec3 *c, double *r)
+{
+    if (!o->mo) {
+        *c = o->center;
+        *r = o->radius;
+        return;
+    }
+    int i;
+    double w;
+    step_at(o, u, &i, &w);
+    const double *a = o->step + 4 * (size_t)i, *b = o->nsteps > 1 ? a + 4 : a;
+    *c = v3(a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w, a[2] + (b[2] - a[2]) * w);
+    *r = a[3] + (b[3] - a[3]) * w;
+}
+
+static vec3 tri_vertex(const surface_object *o, int prim, int k, double u)
+{
+    return mesh_vertex(o, o->idx[3 * prim + k], u);
+}
+
+static double tri_area(const surface_object *o, int prim, double u)
+{
+    vec3 a = tri_vertex(o, prim, 0, u), b = tri_vertex(o, prim, 1, u), c = tri_vertex(o, prim, 2, u);
     return 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+}
+
+/* An emitter's area at shutter time u (moving objects may scale). */
+static double emitter_area(const surface_object *o, const emitter *e, double u)
+{
+    if (!o->mo)
+        return e->area;
+    if (o->is_sphere) {
+        vec3 c;
+        double r;
+        sphere_at(o, u, &c, &r);
+        return 4.0 * PI * r * r;
+    }
+    return tri_area(o, e->prim, u);
+}
+
+/* The positions of a moving object at each of its time steps over the shutter. */
+static brume_status build_steps(const surfaces *s, surface_object *o)
+{
+    bool linear = motion_rotation_constant(o->mo) && !motion_key_inside(o->mo, s->t0, s->t1);
+    o->nsteps = !(s->t1 > s->t0) ? 1 : (linear ? 2 : SURFACES_MOTION_STEPS);
+    size_t per = o->is_sphere ? 4 : 3 * (size_t)o->nv;
+    free(o->step);
+    o->step = malloc(sizeof *o->step * per * (size_t)o->nsteps);
+    if (!o->step)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': out of memory for motion steps", o->name);
+    for (int k = 0; k < o->nsteps; k++) {
+        double t = o->nsteps > 1 ? s->t0 + (s->t1 - s->t0) * k / (o->nsteps - 1) : s->t0;
+        affine3 a = motion_at(o->mo, t);
+        double *dst = o->step + per * (size_t)k;
+        if (o->is_sphere) {
+            vec3 c = affine3_apply(&a, o->center);
+            dst[0] = c.x;
+            dst[1] = c.y;
+            dst[2] = c.z;
+            dst[3] = o->radius * v3_length(affine3_apply_dir(&a, v3(1, 0, 0)));
+        } else {
+            for (int v = 0; v < o->nv; v++) {
+                vec3 p = affine3_apply(&a, v3(o->pos[3 * v], o->pos[3 * v + 1], o->pos[3 * v + 2]));
+                dst[3 * v] = p.x;
+                dst[3 * v + 1] = p.y;
+                dst[3 * v + 2] = p.z;
+            }
+        }
+    }
+    return BRUME_OK;
 }
 
 static brume_status build_emitters(surfaces *s)
@@ -187,7 +332,11 @@ static brume_status build_emitters(surfaces *s)
         s->em_first[i] = k;
         int prims = o->is_sphere ? 1 : o->ntri;
         for (int p = 0; p < prims; p++) {
-            double area = o->is_sphere ? 4.0 * PI * o->radius * o->radius : tri_area(o, p);
+            /* a moving emitter: its area at shutter open weighs the choice; pdfs use the
+             * area at the ray's time */
+            emitter e = {i, p, 0.0};
+            double area = o->mo ? emitter_area(o, &e, 0.0)
+                                : (o->is_sphere ? 4.0 * PI * o->radius * o->radius : tri_area(o, p, 0.0));
             s->em[k] = (emitter){i, p, area};
             w[k] = area * col_avg(o->mat.emission);
             s->em_total += w[k];
@@ -212,27 +361,50 @@ brume_status surfaces_commit(surfaces *s)
         return err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: Embree could not create a scene");
     rtcSetSceneBuildQuality(s->scene, RTC_BUILD_QUALITY_HIGH);
     for (int i = 0; i < s->n; i++) {
-        const surface_object *o = &s->obj[i];
-        RTCGeometry g;
-        if (o->is_sphere) {
-            g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-            float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1);
-            if (!v)
-                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
-            v[0] = (float)o->center.x;
-            v[1] = (float)o->center.y;
-            v[2] = (float)o->center.z;
-            v[3] = (float)o->radius;
-        } else {
-            g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                               (size_t)o->nv);
+        surface_object *o = &s->obj[i];
+        o->nsteps = 1;
+        if (o->mo) {
+            brume_status st = build_steps(s, o);
+            if (st)
+                return st;
+        }
+        RTCGeometry g = rtcNewGeometry(s->device, o->is_sphere ? RTC_GEOMETRY_TYPE_SPHERE_POINT
+                                                               : RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryTimeStepCount(g, (unsigned)o->nsteps);
+        for (int k = 0; k < o->nsteps; k++) {
+            if (o->is_sphere) {
+                float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT4,
+                                                   4 * sizeof(float), 1);
+                if (!v) {
+                    rtcReleaseGeometry(g);
+                    return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
+                }
+                vec3 c;
+                double r;
+                sphere_at(o, o->nsteps > 1 ? (double)k / (o->nsteps - 1) : 0.0, &c, &r);
+                v[0] = (float)c.x;
+                v[1] = (float)c.y;
+                v[2] = (float)c.z;
+                v[3] = (float)r;
+            } else {
+                float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT3,
+                                                   3 * sizeof(float), (size_t)o->nv);
+                if (!v) {
+                    rtcReleaseGeometry(g);
+                    return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
+                }
+                const double *src = o->mo ? o->step + 3 * (size_t)k * (size_t)o->nv : o->pos;
+                for (size_t j = 0; j < 3 * (size_t)o->nv; j++)
+                    v[j] = (float)src[j];
+            }
+        }
+        if (!o->is_sphere) {
             unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                    3 * sizeof(unsigned), (size_t)o->ntri);
-            if (!v || !ix)
+            if (!ix) {
+                rtcReleaseGeometry(g);
                 return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
-            for (size_t j = 0; j < 3 * (size_t)o->nv; j++)
-                v[j] = (float)o->pos[j];
+            }
             for (size_t j = 0; j < 3 * (size_t)o->ntri; j++)
                 ix[j] = (unsigned)o->idx[j];
         }
@@ -260,7 +432,7 @@ long surfaces_triangle_count(const surfaces *s)
     return n;
 }
 
-static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tmax)
+static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tmax, double time)
 {
     rr->org_x = (float)o.x;
     rr->org_y = (float)o.y;
@@ -270,7 +442,7 @@ static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tm
     rr->dir_z = (float)d.z;
     rr->tnear = (float)tmin;
     rr->tfar = tmax < (double)FLT_MAX ? (float)tmax : FLT_MAX;
-    rr->time = 0.0f;
+    rr->time = (float)time;
     rr->mask = 0xffffffffu;
     rr->id = 0;
     rr->flags = 0;
@@ -283,7 +455,8 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
-    embree_ray(&rh.ray, r.o, r.d, tmin, tmax);
+    double u = shutter_time(s, r.time);
+    embree_ray(&rh.ray, r.o, r.d, tmin, tmax, u);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(s->scene, &ctx, &rh);
@@ -295,10 +468,14 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     h->object = (int)rh.hit.geomID;
     h->prim = (int)rh.hit.primID;
     h->mat = &o->mat;
+    h->time = r.time;
     if (o->is_sphere) {
-        /* recompute the hit in double precision from the sphere itself */
-        vec3 oc = v3_sub(r.o, o->center);
-        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - o->radius * o->radius, disc = b * b - c;
+        /* recompute the hit in double precision from the sphere itself (where it is at u) */
+        vec3 center;
+        double radius;
+        sphere_at(o, u, &center, &radius);
+        vec3 oc = v3_sub(r.o, center);
+        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - radius * radius, disc = b * b - c;
         if (disc >= 0.0) {
             double sq = sqrt(disc), t = -b - sq;
             if (t <= tmin)
@@ -308,22 +485,22 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
                 h->p = ray_at(r, t);
             }
         }
-        h->ng = v3_normalize(v3_sub(h->p, o->center));
+        h->ng = v3_normalize(v3_sub(h->p, center));
     } else {
-        vec3 a = tri_vertex(o, h->prim, 0), b = tri_vertex(o, h->prim, 1), c = tri_vertex(o, h->prim, 2);
+        vec3 a = tri_vertex(o, h->prim, 0, u), b = tri_vertex(o, h->prim, 1, u), c = tri_vertex(o, h->prim, 2, u);
         h->ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
     }
     return true;
 }
 
-bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax)
+bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time)
 {
     if (!s || s->n == 0)
         return false;
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay rr;
-    embree_ray(&rr, o, d, tmin, tmax);
+    embree_ray(&rr, o, d, tmin, tmax, shutter_time(s, time));
     rtcOccluded1(s->scene, &ctx, &rr);
     return rr.tfar < 0.0f;
 }
@@ -347,8 +524,8 @@ color surface_emission(const surface_hit *h, vec3 w)
     return col(0.0);
 }
 
-bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, double u2, vec3 *wi, double *dist,
-                             color *Le, double *pdf)
+bool surfaces_sample_emitter(const surfaces *s, vec3 p, double time, double u0, double u1, double u2, vec3 *wi,
+                             double *dist, color *Le, double *pdf)
 {
     if (!surfaces_has_emitters(s))
         return false;
@@ -357,13 +534,17 @@ bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, do
     distrib1_sample(&s->em_dist, u0, &pick, &k);
     const emitter *e = &s->em[k];
     const surface_object *o = &s->obj[e->object];
+    double u = shutter_time(s, time);
     vec3 y, n;
     if (o->is_sphere) {
+        vec3 center;
+        double radius;
+        sphere_at(o, u, &center, &radius);
         n = sample_sphere(u1, u2);
-        y = v3_madd(o->center, n, o->radius);
+        y = v3_madd(center, n, radius);
     } else {
         double su = sqrt(u1), b0 = 1.0 - su, b1 = u2 * su;
-        vec3 a = tri_vertex(o, e->prim, 0), b = tri_vertex(o, e->prim, 1), c = tri_vertex(o, e->prim, 2);
+        vec3 a = tri_vertex(o, e->prim, 0, u), b = tri_vertex(o, e->prim, 1, u), c = tri_vertex(o, e->prim, 2, u);
         y = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, 1.0 - b0 - b1));
         n = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
     }
@@ -381,7 +562,7 @@ bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, do
         return false;
     /* pick probability (pdf over the unit interval / number of bins) x area pdf -> solid angle */
     double p_pick = pick / s->nem;
-    *pdf = p_pick / e->area * d2 / cos_l;
+    *pdf = p_pick / emitter_area(o, e, u) * d2 / cos_l;
     *Le = o->mat.emission;
     return true;
 }
@@ -401,5 +582,5 @@ double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p)
     double cos_l = fabs(v3_dot(v3_normalize(d), h->ng));
     if (cos_l < 1e-12)
         return 0.0;
-    return p_pick / s->em[k].area * d2 / cos_l;
+    return p_pick / emitter_area(o, &s->em[k], shutter_time(s, h->time)) * d2 / cos_l;
 }

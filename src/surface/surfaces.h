@@ -2,8 +2,15 @@
  * quads and OBJ meshes become triangles) in world space, each with a material; emissive
  * objects are area lights of any shape.
  *
- * Lifecycle: surfaces_new, add objects, surfaces_commit (builds the Embree BVH and the
- * emitter table), then queries from any number of threads, then surfaces_release. */
+ * Lifecycle: surfaces_new, add objects (and their motion), surfaces_set_shutter,
+ * surfaces_commit (builds the Embree BVH and the emitter table), then queries from any
+ * number of threads, then surfaces_release.
+ *
+ * Motion: an object with a motion (core/motion.h) is placed at time t by motion_at(t)
+ * applied after its world placement. Over the shutter [t0, t1] it becomes an Embree
+ * motion-blurred geometry with time steps at equal intervals (2 when its points move
+ * linearly over the interval, else SURFACES_MOTION_STEPS); between steps Embree and every
+ * query here interpolate linearly. Queries take the absolute time of the ray. */
 #ifndef BRUME_SURFACE_SURFACES_H
 #define BRUME_SURFACE_SURFACES_H
 
@@ -11,6 +18,7 @@
 
 #include "brume.h"
 #include "core/color.h"
+#include "core/motion.h"
 #include "core/vec.h"
 #include "surface/material.h"
 
@@ -26,6 +34,13 @@ brume_status surfaces_add_sphere(surfaces *s, vec3 center, double radius, const 
  * must be finite and indices in range (err_set names the object). */
 brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int *idx, int ntri, const material *m,
                                const char *name);
+/* Gives object `index` (insertion order) a motion (copied). A sphere's keys must scale
+ * uniformly. Before commit. */
+brume_status surfaces_set_motion(surfaces *s, int index, const motion *m);
+/* The shutter interval in absolute seconds, t0 <= t1 (default [0, 0]). Before commit. */
+void surfaces_set_shutter(surfaces *s, double t0, double t1);
+/* True when some object has a motion. */
+bool surfaces_moving(const surfaces *s);
 brume_status surfaces_commit(surfaces *s);
 int surfaces_count(const surfaces *s);
 long surfaces_triangle_count(const surfaces *s);
@@ -37,12 +52,13 @@ typedef struct surface_hit {
     const material *mat;
     int object;  /* index in insertion order */
     int prim;    /* triangle index, 0 for spheres */
+    double time; /* the ray's time, absolute seconds */
 } surface_hit;
 
-/* Nearest hit of r (unit direction) in (tmin, tmax). */
+/* Nearest hit of r (unit direction) in (tmin, tmax) at time r.time. */
 bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h);
-/* Any hit of the segment o + t d, t in (tmin, tmax). */
-bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax);
+/* Any hit of the segment o + t d, t in (tmin, tmax), at `time`. */
+bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time);
 
 /* A point slightly off the surface on the side of direction d, for spawning rays. */
 vec3 surface_offset(const surface_hit *h, vec3 d);
@@ -51,11 +67,13 @@ vec3 surface_offset(const surface_hit *h, vec3 d);
 bool surfaces_has_emitters(const surfaces *s);
 /* Emitted radiance leaving the hit point towards direction w (unit, away from surface). */
 color surface_emission(const surface_hit *h, vec3 w);
-/* Samples a point on an emitter as seen from p: unit direction *wi, distance *dist, the
- * radiance *Le arriving from it and the solid-angle pdf *pdf. False if nothing is sent. */
-bool surfaces_sample_emitter(const surfaces *s, vec3 p, double u0, double u1, double u2, vec3 *wi, double *dist,
-                             color *Le, double *pdf);
-/* The solid-angle pdf with which surfaces_sample_emitter would pick the hit h from p. */
+/* Samples a point on an emitter (where it is at `time`) as seen from p: unit direction
+ * *wi, distance *dist, the radiance *Le arriving from it and the solid-angle pdf *pdf.
+ * False if nothing is sent. */
+bool surfaces_sample_emitter(const surfaces *s, vec3 p, double time, double u0, double u1, double u2, vec3 *wi,
+                             double *dist, color *Le, double *pdf);
+/* The solid-angle pdf with which surfaces_sample_emitter would pick the hit h from p (at
+ * the hit's time). */
 double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p);
 
 #endif
