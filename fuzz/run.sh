@@ -17,7 +17,7 @@ clang -fsanitize=fuzzer "$probe" -o "$out/probe" 2>/dev/null || { echo "fuzz: no
 
 upper=$(echo "$fmt" | tr a-z A-Z)
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
-csrc="$src/fuzz/fuzz_grid.c $src/src/core/error.c $src/src/core/xform.c $src/src/io/atomic.c $src/src/density/grid.c $src/src/density/dda.c $src/src/density/nanovdb.c $src/src/io/grid_io.c"
+csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = vdb ]; then
     # OpenVDB's TBB headers trip UBSan in their own code (concurrent_hash_map); ASan only
@@ -31,9 +31,9 @@ if [ "$fmt" = vdb ]; then
         objs="$objs $o"
     done
     clang++ -std=c++17 $flags -c "$src/src/io/grid_vdb.cpp" -o "$out/grid_vdb.o"
-    clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lm
+    clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -lm
 else
-    clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=0 $csrc -o "$exe" -lm
+    clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=0 $csrc -o "$exe" -lfftw3 -lm
 fi
 seeds="$build/fuzz/seeds/$fmt"
 mkdir -p "$seeds"
