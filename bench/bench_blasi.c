@@ -12,6 +12,7 @@
  *      spp (default 512); blasi's relative RMSE against it (both passes, 2 threads); then
  *      path at 1, 2, 4, ... spp with other seeds: the time at which path's relative RMSE
  *      (reference noise removed) falls to blasi's, interpolated as err ~ 1 / sqrt(spp). */
+#include "bench_common.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,33 +23,6 @@
 #include "io/compare.h"
 #include "render/blasi.h"
 #include "render/scene.h"
-
-static void machine(void)
-{
-    FILE *fp = fopen("/proc/cpuinfo", "r");
-    char line[512], model[256] = "unknown";
-    int cpus = 0;
-    while (fp && fgets(line, sizeof line, fp)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *c = strchr(line, ':');
-            if (c) {
-                snprintf(model, sizeof model, "%s", c + 2);
-                model[strcspn(model, "\n")] = '\0';
-            }
-            cpus++;
-        }
-    }
-    if (fp)
-        fclose(fp);
-    double load[3] = {0, 0, 0};
-    fp = fopen("/proc/loadavg", "r");
-    if (fp) {
-        if (fscanf(fp, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3)
-            load[0] = -1.0;
-        fclose(fp);
-    }
-    printf("machine: %d x %s; load average at start %.2f\n", cpus, model, load[0]);
-}
 
 static void die(brume_context *ctx)
 {
@@ -94,18 +68,6 @@ static brume_image *render(brume_scene *s, double *secs)
     return img;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return v[n / 2];
-}
-
 #define MAX_RUNS 15
 
 int main(int argc, char **argv)
@@ -134,7 +96,7 @@ int main(int argc, char **argv)
     strncat(def, "/scenes/blasi-picture1.json", sizeof def - strlen(def) - 1);
     if (!scene)
         scene = def;
-    machine();
+    bench_machine();
     brume_scene *s0 = load(scene, "blasi", 0, 0, 0, 1, NULL, NULL);
     printf("scene: %s, %d x %d, %d spp (%.2f M view rays), %llu light rays, variant: exit %s, view %s\n", scene,
            s0->settings.width, s0->settings.height, s0->settings.spp,
@@ -181,7 +143,7 @@ int main(int argc, char **argv)
             brume_image_release(img);
             brume_scene_release(s);
         }
-        double p1 = median(t1, runs), p2 = median(tr, runs) - median(tl, runs);
+        double p1 = bench_median(t1, runs), p2 = bench_median(tr, runs) - bench_median(tl, runs);
         printf("%8d %14.3f %14.3f %14.3f %14.3f\n", threads, p1, (double)nrays / p1 * 1e-6, p2,
                (double)w * h * spp / p2 * 1e-6);
         if (threads == 2)

@@ -8,6 +8,7 @@
  * loop the compiler can see, without the call and the switch of phase_eval.
  *
  * Build: cmake --build build --target bench; run: build/bench/bench_phase */
+#include "bench_common.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,18 +23,6 @@
 
 static double *cosines, *u1s, *u2s;
 static volatile double sink; /* keeps results alive */
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return v[n / 2];
-}
 
 typedef enum bench_op { OP_EVAL, OP_SAMPLE_COS, OP_SAMPLE } bench_op;
 
@@ -64,7 +53,7 @@ static double rate(const phase *p, bench_op op)
         t[run] = progress_now() - t0;
         sink = acc;
     }
-    return N / median(t, RUNS) * 1e-6;
+    return N / bench_median(t, RUNS) * 1e-6;
 }
 
 /* The bare formulas, g = 0.7 and the matching k, for comparison with the calls. */
@@ -90,29 +79,8 @@ static void inline_rates(double g, double k, double *hg_rate, double *schlick_ra
         ts[run] = progress_now() - t0;
         sink = acc;
     }
-    *hg_rate = N / median(th, RUNS) * 1e-6;
-    *schlick_rate = N / median(ts, RUNS) * 1e-6;
-}
-
-static void print_machine(void)
-{
-    char model[256] = "unknown";
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (f) {
-        char line[512];
-        while (fgets(line, sizeof line, f))
-            if (strncmp(line, "model name", 10) == 0) {
-                char *colon = strchr(line, ':');
-                if (colon) {
-                    snprintf(model, sizeof model, "%s", colon + 2);
-                    model[strcspn(model, "\n")] = '\0';
-                }
-                break;
-            }
-        fclose(f);
-    }
-    printf("machine: %ld cores online (nproc), CPU %s\n", sysconf(_SC_NPROCESSORS_ONLN), model);
-    printf("one thread, %d calls per run, median of %d runs, M calls/s\n\n", N, RUNS);
+    *hg_rate = N / bench_median(th, RUNS) * 1e-6;
+    *schlick_rate = N / bench_median(ts, RUNS) * 1e-6;
 }
 
 int main(void)
@@ -128,7 +96,7 @@ int main(void)
         u1s[i] = rng_next(&r);
         u2s[i] = rng_next(&r);
     }
-    print_machine();
+    bench_machine();
 
     const double g = 0.7, k = phase_schlick_k_from_g(g);
     char schlick_name[32], table_note[] = "tabulated (181 nodes, 1 degree)";

@@ -9,6 +9,7 @@
  * removed (err^2 - err_ref^2, err_ref^2 = err(n)^2 n / N). The time to relative RMSE E
  * (default 0.01) follows from err ~ 1/sqrt(spp) fitted on the last point. Prints samples
  * per second, and the machine. */
+#include "bench_common.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,26 +18,6 @@
 #include "brume.h"
 #include "core/progress.h"
 #include "io/compare.h"
-
-static void machine(void)
-{
-    FILE *fp = fopen("/proc/cpuinfo", "r");
-    char line[512], model[256] = "unknown";
-    int cpus = 0;
-    while (fp && fgets(line, sizeof line, fp)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *c = strchr(line, ':');
-            if (c) {
-                snprintf(model, sizeof model, "%s", c + 2);
-                model[strcspn(model, "\n")] = '\0';
-            }
-            cpus++;
-        }
-    }
-    if (fp)
-        fclose(fp);
-    printf("machine: %d x %s\n", cpus, model);
-}
 
 static brume_image *render(const char *path, const brume_render_settings *base, int spp, uint64_t seed, double *secs)
 {
@@ -66,12 +47,6 @@ static brume_image *render(const char *path, const brume_render_settings *base, 
     return img;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 int main(int argc, char **argv)
 {
     const char *scene = NULL, *ref_out = NULL, *method = NULL;
@@ -91,7 +66,7 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    machine();
+    bench_machine();
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     if ((scene ? brume_scene_load(ctx, scene, &s) : brume_scene_new_default(ctx, &s)) != BRUME_OK) {
@@ -125,8 +100,7 @@ int main(int argc, char **argv)
             brume_image_release(img);
             img = render(scene, &rs, spp, 7 + (uint64_t)spp, &times[r]);
         }
-        qsort(times, (size_t)runs, sizeof times[0], cmp_double);
-        double t = times[runs / 2];
+        double t = bench_median(times, runs);
         image_diff_stats st;
         image_compare(img, ref, &st);
         double e2 = st.rel_rmse * st.rel_rmse;

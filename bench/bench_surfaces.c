@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_common.h"
 #include "core/pool.h"
 #include "core/progress.h"
 #include "core/rng.h"
@@ -43,12 +44,6 @@ static void trace_task(size_t task, int thread, void *user)
     j->hits[task] = hits;
 }
 
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double measure(job *j, int threads)
 {
     double t[5];
@@ -57,23 +52,12 @@ static double measure(job *j, int threads)
         pool_run(threads, TASKS, trace_task, j);
         t[r] = progress_now() - t0;
     }
-    qsort(t, 5, sizeof t[0], cmp);
-    return (double)TASKS * RAYS_PER_TASK / t[2];
+    return (double)TASKS * RAYS_PER_TASK / bench_median(t, 5);
 }
 
 int main(void)
 {
-    FILE *fp = fopen("/proc/cpuinfo", "r");
-    char line[512], model[256] = "?";
-    while (fp && fgets(line, sizeof line, fp))
-        if (!strncmp(line, "model name", 10)) {
-            snprintf(model, sizeof model, "%s", strchr(line, ':') + 2);
-            model[strcspn(model, "\n")] = 0;
-            break;
-        }
-    if (fp)
-        fclose(fp);
-    printf("machine: %d cores, %s\n", pool_default_threads(), model);
+    bench_machine();
     surfaces *S = surfaces_new();
     int nv = (GRID + 1) * (GRID + 1), ntri = 2 * GRID * GRID;
     double *pos = malloc(sizeof *pos * 3 * (size_t)nv);
