@@ -1,6 +1,7 @@
 /* harness.c - runs the cases of one test executable (see test.h). */
 #include "test.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 int test_run(const test_case *cases, int ncases, int argc, char **argv)
@@ -38,4 +39,31 @@ int test_system(const char *cmd)
     if (rc == -1)
         return -1;
     return (rc >> 8) & 0xff;
+}
+
+char *test_slurp(const char *path, size_t *n)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        TEST_FAIL("cannot open %s", path);
+    fseek(fp, 0, SEEK_END);
+    long len = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    if (len < 0)
+        TEST_FAIL("cannot size %s", path);
+    char *buf = malloc((size_t)len + 1);
+    if (!buf)
+        TEST_FAIL("out of memory reading %s", path);
+    *n = fread(buf, 1, (size_t)len, fp);
+    fclose(fp);
+    if (*n != (size_t)len)
+        TEST_FAIL("short read of %s", path);
+    buf[*n] = '\0';
+    return buf;
+}
+
+int test_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
 }

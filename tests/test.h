@@ -23,6 +23,11 @@ int test_run(const test_case *cases, int ncases, int argc, char **argv);
 const char *test_tmp_path(const char *name);
 /* Runs a shell command, returns its exit status (or -1); output goes to the log. */
 int test_system(const char *cmd);
+/* The whole file, NUL-terminated, in a malloc'd buffer of *n + 1 bytes (the test fails if
+ * it cannot be read). */
+char *test_slurp(const char *path, size_t *n);
+/* 1 if the path names an existing file or folder. */
+int test_exists(const char *path);
 
 #define TEST(name) static void name(void)
 

@@ -261,31 +261,10 @@ TEST(keyframe_errors_and_moving_worlds)
 
 /* ---- the tool: sequences, video, shards, MPI ------------------------------------------ */
 
-static int exists(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        TEST_FAIL("cannot open %s", path);
-    fseek(fp, 0, SEEK_END);
-    long len = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    char *buf = malloc((size_t)len + 1);
-    *n = fread(buf, 1, (size_t)len, fp);
-    buf[*n] = '\0';
-    fclose(fp);
-    return buf;
-}
-
 static int same_file(const char *a, const char *b)
 {
     size_t na, nb;
-    char *da = slurp(a, &na), *db = slurp(b, &nb);
+    char *da = test_slurp(a, &na), *db = test_slurp(b, &nb);
     int same = na == nb && memcmp(da, db, na) == 0;
     free(da);
     free(db);
@@ -330,7 +309,7 @@ TEST(sequence_writes_one_file_per_frame)
     ASSERT_EQ_INT(run(args, err), 0);
     for (int f = 1; f <= 5; f++) {
         snprintf(p, sizeof p, "%s/f_%03d.pfm", dir, f);
-        ASSERT_EQ_INT(exists(p), f >= 2 && f <= 4);
+        ASSERT_EQ_INT(test_exists(p), f >= 2 && f <= 4);
     }
     char a[700], b[700];
     snprintf(a, sizeof a, "%s/f_002.pfm", dir);
@@ -345,11 +324,11 @@ TEST(sequence_writes_one_file_per_frame)
     snprintf(args, sizeof args, "render %s --frames 0-1 --quiet -o %s/nopattern.pfm", scene, dir);
     ASSERT_EQ_INT(run(args, err), 2);
     size_t n;
-    char *msg = slurp(err, &n);
+    char *msg = test_slurp(err, &n);
     ASSERT_CONTAINS(msg, "%d");
     free(msg);
     snprintf(p, sizeof p, "%s/nopattern.pfm", dir);
-    ASSERT_TRUE(!exists(p));
+    ASSERT_TRUE(!test_exists(p));
     snprintf(args, sizeof args, "rm -rf %s %s", dir, err);
     test_system(args);
 }
@@ -372,13 +351,13 @@ TEST(video_with_and_without_ffmpeg)
              "%s/w.mp4 >/dev/null 2>%s", BRUME_EXE, scene, dir, dir, err);
     ASSERT_EQ_INT(test_system(cmd), 1);
     size_t n;
-    char *msg = slurp(err, &n);
+    char *msg = test_slurp(err, &n);
     ASSERT_CONTAINS(msg, "ffmpeg not found");
     free(msg);
     snprintf(p, sizeof p, "%s/w_01.png", dir);
-    ASSERT_TRUE(exists(p));
+    ASSERT_TRUE(test_exists(p));
     snprintf(p, sizeof p, "%s/w.mp4", dir);
-    ASSERT_TRUE(!exists(p));
+    ASSERT_TRUE(!test_exists(p));
     snprintf(args, sizeof args, "rm -rf %s %s", dir, err);
     test_system(args);
 }
@@ -405,7 +384,7 @@ TEST(shards_cover_every_frame_once)
         int count = 0;
         for (int i = 0; i < 3; i++) {
             snprintf(p, sizeof p, "%s/s%d/f_%d.pfm", base, i, f);
-            if (exists(p)) {
+            if (test_exists(p)) {
                 count++;
                 ASSERT_EQ_INT(i, f % 3);
                 snprintf(q, sizeof q, "%s/all_%d.pfm", base, f);

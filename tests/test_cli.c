@@ -3,27 +3,6 @@
 
 #include <sys/stat.h>
 
-static int exists(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        TEST_FAIL("cannot open %s", path);
-    fseek(fp, 0, SEEK_END);
-    long len = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    char *buf = malloc((size_t)len + 1);
-    *n = fread(buf, 1, (size_t)len, fp);
-    buf[*n] = '\0';
-    fclose(fp);
-    return buf;
-}
-
 /* Runs `brume ARGS`, stderr captured to a file; returns the exit status. */
 static int run(const char *args, const char *err_path)
 {
@@ -63,7 +42,7 @@ TEST(threads_give_identical_files)
         snprintf(args, sizeof args, "render --width 40 --height 30 --spp 2 --threads 2 --quiet -o %s", b);
         ASSERT_EQ_INT(run(args, err), 0);
         size_t na, nb;
-        char *da = slurp(a, &na), *db = slurp(b, &nb);
+        char *da = test_slurp(a, &na), *db = test_slurp(b, &nb);
         if (na != nb || memcmp(da, db, na) != 0)
             TEST_FAIL("%s files differ between 1 and 2 threads", ext[e]);
         ASSERT_TRUE(na > 1000); /* a real image, not an empty file */
@@ -88,9 +67,9 @@ TEST(malformed_scene_leaves_no_output)
     char args[2048];
     snprintf(args, sizeof args, "render %s -o %s --quiet", scene, out);
     ASSERT_EQ_INT(run(args, err), 1);
-    ASSERT_TRUE(!exists(out));
+    ASSERT_TRUE(!test_exists(out));
     size_t n;
-    char *msg = slurp(err, &n);
+    char *msg = test_slurp(err, &n);
     ASSERT_CONTAINS(msg, scene);
     ASSERT_CONTAINS(msg, "camera.zoom");
     ASSERT_TRUE(n > 0 && strchr(msg, '\n') == msg + n - 1); /* exactly one line */
@@ -111,7 +90,7 @@ TEST(default_render_writes_png)
     snprintf(args, sizeof args, "render --width 64 --height 40 --spp 2 --quiet -o %s", out);
     ASSERT_EQ_INT(run(args, err), 0);
     size_t n;
-    char *png = slurp(out, &n);
+    char *png = test_slurp(out, &n);
     ASSERT_TRUE(n > 8 && memcmp(png, "\x89PNG\r\n\x1a\n", 8) == 0);
     free(png);
     remove(out);

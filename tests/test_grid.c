@@ -555,19 +555,6 @@ TEST(load_options_placement)
 
 /* ---- hostile input -------------------------------------------------------------------------- */
 
-static unsigned char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    ASSERT_TRUE(f);
-    fseek(f, 0, SEEK_END);
-    *n = (size_t)ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *b = malloc(*n + 1);
-    ASSERT_EQ_INT(fread(b, 1, *n, f), *n);
-    fclose(f);
-    return b;
-}
-
 static void expect_error(const void *bytes, size_t n, const char *name, const density_load_options *o, const char *why)
 {
     density *d = density_load_memory(bytes, n, name, o);
@@ -592,7 +579,7 @@ TEST(hostile_truncated_real_files)
         char path[512];
         snprintf(path, sizeof path, "%s/%s", BRUME_DATA_DIR, files[fi]);
         size_t n;
-        unsigned char *b = slurp(path, &n);
+        unsigned char *b = (unsigned char *)test_slurp(path, &n);
         size_t cuts[] = {0, 1, 5, 7, 16, 100, n / 3, n / 2, n - 100, n - 1};
         for (size_t c = 0; c < sizeof cuts / sizeof *cuts; c++)
             expect_error(b, cuts[c], files[fi], &o, NULL);
@@ -605,7 +592,7 @@ TEST(hostile_truncated_real_files)
         const char *p = test_tmp_path(formats[fi]);
         ASSERT_EQ_INT(density_write_file(d, p, GRID_FORMAT_AUTO), BRUME_OK);
         size_t n;
-        unsigned char *b = slurp(p, &n);
+        unsigned char *b = (unsigned char *)test_slurp(p, &n);
         size_t cuts[] = {0, 3, 15, 47, 100, 191, 800, n / 2, n - 1};
         for (size_t c = 0; c < sizeof cuts / sizeof *cuts; c++)
             expect_error(b, cuts[c], formats[fi], NULL, NULL);
@@ -670,7 +657,7 @@ TEST(hostile_values)
     ASSERT_EQ_INT(density_write_file(d, p, GRID_FORMAT_AUTO), BRUME_OK);
     density_release(d);
     size_t n;
-    unsigned char *b = slurp(p, &n);
+    unsigned char *b = (unsigned char *)test_slurp(p, &n);
     remove(p);
     float q = 0.75f, nan = NAN;
     int patched = 0;

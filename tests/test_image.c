@@ -31,20 +31,6 @@ static long file_size(const char *path)
     return stat(path, &sb) == 0 ? (long)sb.st_size : -1;
 }
 
-static unsigned char *slurp(const char *path, size_t *n)
-{
-    FILE *fp = fopen(path, "rb");
-    ASSERT_TRUE(fp != NULL);
-    long size = file_size(path);
-    ASSERT_TRUE(size >= 0);
-    unsigned char *buf = malloc((size_t)size + 1);
-    ASSERT_TRUE(buf != NULL);
-    ASSERT_EQ_INT(fread(buf, 1, (size_t)size, fp), size);
-    fclose(fp);
-    *n = (size_t)size;
-    return buf;
-}
-
 static void spit(const char *path, const void *data, size_t n)
 {
     FILE *fp = fopen(path, "wb");
@@ -335,7 +321,7 @@ TEST(pfm_row_order)
     const char *path2 = test_tmp_path("order2.pfm");
     write_ok(ctx, img, path2, NULL);
     size_t n = 0;
-    unsigned char *written = slurp(path2, &n);
+    unsigned char *written = (unsigned char *)test_slurp(path2, &n);
     ASSERT_EQ_INT(n, sizeof file);
     ASSERT_TRUE(memcmp(written, file, sizeof file) == 0);
     free(written);
@@ -413,7 +399,7 @@ TEST(png_file_is_srgb8)
     write_ok(ctx, img, path, NULL);
 
     size_t n = 0;
-    unsigned char *bytes = slurp(path, &n);
+    unsigned char *bytes = (unsigned char *)test_slurp(path, &n);
     int has_srgb_chunk = 0;
     for (size_t i = 0; i + 4 <= n; i++)
         has_srgb_chunk |= memcmp(bytes + i, "sRGB", 4) == 0;
@@ -587,7 +573,7 @@ TEST(failed_write_keeps_old_file)
     atomic_abort(&f);
     ASSERT_EQ_INT(count_temps(path), 0);
     size_t n = 0;
-    unsigned char *now = slurp(path, &n);
+    unsigned char *now = (unsigned char *)test_slurp(path, &n);
     ASSERT_EQ_INT(n, sizeof old - 1);
     ASSERT_TRUE(memcmp(now, old, n) == 0);
     free(now);
@@ -657,7 +643,7 @@ TEST(truncated_files_fail)
         const char *cut = test_tmp_path(cut_names[k]);
         write_ok(ctx, img, full, NULL);
         size_t n = 0;
-        unsigned char *bytes = slurp(full, &n);
+        unsigned char *bytes = (unsigned char *)test_slurp(full, &n);
         const size_t lengths[] = {0, 1, 4, 8, 20, n / 4, n / 2, n - 100, n - 13, n - 1};
         for (size_t j = 0; j < sizeof lengths / sizeof lengths[0]; j++) {
             ASSERT_TRUE(lengths[j] < n);
