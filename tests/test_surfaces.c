@@ -165,6 +165,29 @@ TEST(furnace_white_sphere_outside)
     brume_image_release(img);
 }
 
+/* A one-sided emissive quad whose front (edge_u x edge_v) faces +y: seen from above it has
+ * its radiance exactly, from below it is black. Fails on a flipped geometric normal. */
+TEST(emitter_front_side)
+{
+    const char *above =
+        "{\"camera\": {\"position\": [0, 5, 0], \"look_at\": [0, 0, 0], \"up\": [0, 0, -1], \"fov\": 5},"
+        " \"surfaces\": [{\"type\": \"quad\", \"corner\": [-5, 0, -5], \"edge_u\": [0, 0, 10], \"edge_v\": [10, 0, 0],"
+        "                 \"material\": {\"albedo\": 0, \"emission\": 2.5}}],"
+        " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 2}}";
+    const char *below =
+        "{\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"up\": [0, 0, -1], \"fov\": 5},"
+        " \"surfaces\": [{\"type\": \"quad\", \"corner\": [-5, 0, -5], \"edge_u\": [0, 0, 10], \"edge_v\": [10, 0, 0],"
+        "                 \"material\": {\"albedo\": 0, \"emission\": 2.5}}],"
+        " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 2}}";
+    brume_image *a = render_json(above, 1), *b = render_json(below, 1);
+    for (int i = 0; i < 16; i++) {
+        ASSERT_NEAR(brume_image_pixels(a)[4 * i], 2.5, 1e-6);
+        ASSERT_NEAR(brume_image_pixels(b)[4 * i], 0.0, 0.0);
+    }
+    brume_image_release(a);
+    brume_image_release(b);
+}
+
 static const char *write_file(const char *name, const char *text)
 {
     const char *path = test_tmp_path(name);
@@ -258,4 +281,4 @@ TEST(large_mesh_renders)
 }
 
 TEST_MAIN(lit_plane_through_fog, fog_shadow_matches_transmittance, furnace_inside_emitting_sphere,
-          furnace_white_sphere_outside, bad_meshes_are_errors, large_mesh_renders)
+          furnace_white_sphere_outside, emitter_front_side, bad_meshes_are_errors, large_mesh_renders)

@@ -487,8 +487,17 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
         }
         h->ng = v3_normalize(v3_sub(h->p, center));
     } else {
-        vec3 a = tri_vertex(o, h->prim, 0, u), b = tri_vertex(o, h->prim, 1, u), c = tri_vertex(o, h->prim, 2, u);
-        h->ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+        /* Embree's unnormalized Ng points like (v1 - v0) x (v2 - v0), our counter-clockwise
+         * front (checked by surfaces.emitter_front_side); it is computed at the ray's time
+         * and costs no vertex fetch, which dominated the hit cost on large meshes */
+        vec3 ng = v3((double)rh.hit.Ng_x, (double)rh.hit.Ng_y, (double)rh.hit.Ng_z);
+        double len = v3_length(ng);
+        if (len > 0.0 && isfinite(len)) {
+            h->ng = v3_scale(ng, 1.0 / len);
+        } else { /* degenerate in float: fall back to the vertices in double */
+            vec3 a = tri_vertex(o, h->prim, 0, u), b = tri_vertex(o, h->prim, 1, u), c = tri_vertex(o, h->prim, 2, u);
+            h->ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+        }
     }
     return true;
 }
