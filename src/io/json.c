@@ -79,6 +79,13 @@ static const cJSON *json_item(const cJSON *obj, jloc at, const char *key, int re
     return it;
 }
 
+brume_status json_object_type(const cJSON *j, jloc at, char *type, size_t n)
+{
+    if (!cJSON_IsObject(j))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
+    return json_string(j, at, "type", 1, type, n);
+}
+
 brume_status json_number(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi, double *out)
 {
     brume_status st;

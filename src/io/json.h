@@ -29,6 +29,10 @@ brume_status json_check_object(const cJSON *j, jloc at, const char *const *allow
 /* Parses text; on a syntax error names the file, line and column. Caller cJSON_Delete()s. */
 brume_status json_parse(const char *text, const char *file, cJSON **out);
 
+/* j must be an object with a string "type" (a light, a density, a phase function, ...),
+ * copied into type[n]. */
+brume_status json_object_type(const cJSON *j, jloc at, char *type, size_t n);
+
 brume_status json_number(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi, double *out);
 brume_status json_int(const cJSON *obj, jloc at, const char *key, int required, long lo, long hi, int *out);
 brume_status json_u64(const cJSON *obj, jloc at, const char *key, int required, uint64_t *out);

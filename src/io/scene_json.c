@@ -95,9 +95,7 @@ static brume_status parse_profile(const cJSON *j, jloc at, light *l)
 static brume_status parse_light(const cJSON *j, jloc at, light *l)
 {
     char type[32];
-    if (!cJSON_IsObject(j))
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
-    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     if (strcmp(type, "distant") == 0) {
         static const char *const keys[] = {"type", "direction", "irradiance", "angular_radius", NULL};
@@ -353,9 +351,7 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, brume_scene *
 static brume_status parse_density(const cJSON *j, jloc at, brume_scene *s, density **out)
 {
     char type[32];
-    if (!cJSON_IsObject(j))
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
-    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     if (strcmp(type, "procedural_cloud") == 0) {
         static const char *const keys[] = {"type", "resolution", "seed", "bounds", NULL};
@@ -407,9 +403,7 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
 {
     char type[32];
     *out = NULL;
-    if (!cJSON_IsObject(j))
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
-    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     static const char *const type_only[] = {"type", NULL};
     if (strcmp(type, "isotropic") == 0 || strcmp(type, "rayleigh") == 0 || strcmp(type, "hazy") == 0 ||

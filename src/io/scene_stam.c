@@ -72,9 +72,7 @@ static brume_status parse_cloud_params(const cJSON *j, jloc at, blob_cloud_param
 static brume_status parse_generator(const cJSON *j, jloc at, blob_list *out)
 {
     char type[32];
-    if (!cJSON_IsObject(j))
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
-    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     if (strcmp(type, "cloud") == 0) {
         static const char *const keys[] = {"type", "center", "radii", "count", "h", "density", "falloff", "seed", NULL};

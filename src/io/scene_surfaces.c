@@ -95,9 +95,7 @@ static brume_status add_box(surfaces *S, vec3 lo, vec3 hi, const affine3 *xf, co
 static brume_status parse_surface(const cJSON *j, jloc at, surfaces *S)
 {
     char type[32], name[64] = "";
-    if (!cJSON_IsObject(j))
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
-    brume_status st = json_string(j, at, "type", 1, type, sizeof type);
+    brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     static const char *const sphere_keys[] = {"type", "name", "material", "transform", "keyframes", "center",
                                               "radius", NULL};
