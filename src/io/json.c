@@ -103,36 +103,41 @@ brume_status json_number(const cJSON *obj, jloc at, const char *key, int require
     return BRUME_OK;
 }
 
+/* A whole number in [lo, hi] (absent and optional: *present = 0, nothing read). */
+static brume_status json_whole(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi,
+                               const char *what, double *v, int *present)
+{
+    *present = cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
+    brume_status st = json_number(obj, at, key, required, lo, hi, v);
+    if (st != BRUME_OK || !*present)
+        return st;
+    if (*v != floor(*v)) {
+        char kp[256];
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected %s, got %g", at.file,
+                       json_key_path(kp, sizeof kp, at.path, key), what, *v);
+    }
+    return BRUME_OK;
+}
+
 brume_status json_int(const cJSON *obj, jloc at, const char *key, int required, long lo, long hi, int *out)
 {
     double v = 0.0;
-    int present = cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
-    brume_status st = json_number(obj, at, key, required, (double)lo, (double)hi, &v);
-    if (st != BRUME_OK || !present)
-        return st;
-    if (v != floor(v)) {
-        char kp[256];
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an integer, got %g", at.file,
-                       json_key_path(kp, sizeof kp, at.path, key), v);
-    }
-    *out = (int)v;
-    return BRUME_OK;
+    int present;
+    brume_status st = json_whole(obj, at, key, required, (double)lo, (double)hi, "an integer", &v, &present);
+    if (st == BRUME_OK && present)
+        *out = (int)v;
+    return st;
 }
 
 brume_status json_u64(const cJSON *obj, jloc at, const char *key, int required, uint64_t *out)
 {
     double v = 0.0;
-    int present = cJSON_GetObjectItemCaseSensitive(obj, key) != NULL;
-    brume_status st = json_number(obj, at, key, required, 0.0, 9007199254740992.0, &v);
-    if (st != BRUME_OK || !present)
-        return st;
-    if (v != floor(v)) {
-        char kp[256];
-        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected a non-negative integer, got %g", at.file,
-                       json_key_path(kp, sizeof kp, at.path, key), v);
-    }
-    *out = (uint64_t)v;
-    return BRUME_OK;
+    int present;
+    brume_status st =
+        json_whole(obj, at, key, required, 0.0, 9007199254740992.0, "a non-negative integer", &v, &present);
+    if (st == BRUME_OK && present)
+        *out = (uint64_t)v;
+    return st;
 }
 
 brume_status json_bool(const cJSON *obj, jloc at, const char *key, int required, bool *out)
