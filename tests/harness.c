@@ -67,3 +67,15 @@ int test_exists(const char *path)
     struct stat st;
     return stat(path, &st) == 0;
 }
+
+void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se)
+{
+    double s = 0.0, s2 = 0.0;
+    for (int i = 0; i < n; i++) {
+        double v = (double)rgba[4 * i + c];
+        s += v;
+        s2 += v * v;
+    }
+    *mean = s / n;
+    *se = sqrt(fmax(s2 / n - *mean * *mean, 1e-12) / n);
+}

@@ -26,6 +26,9 @@ int test_system(const char *cmd);
 /* The whole file, NUL-terminated, in a malloc'd buffer of *n + 1 bytes (the test fails if
  * it cannot be read). */
 char *test_slurp(const char *path, size_t *n);
+/* Mean over n RGBA pixels of channel c, and its standard error from the spread of the
+ * pixel values (pixels independent: the estimator tests' tolerance). */
+void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se);
 /* 1 if the path names an existing file or folder. */
 int test_exists(const char *path);
 

@@ -111,17 +111,12 @@ TEST(white_furnace)
     const float *px = brume_image_pixels(img);
     int n = 32 * 32;
     for (int c = 0; c < 3; c++) {
-        double mean = 0.0, m2 = 0.0;
-        for (int i = 0; i < n; i++) {
-            mean += px[4 * i + c];
-            m2 += px[4 * i + c] * px[4 * i + c];
-        }
-        mean /= n;
-        double var = fmax(m2 / n - mean * mean, 1e-12); /* variance of pixel means */
-        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f\n", c, mean, sqrt(var / n));
-        ASSERT_NEAR(mean, 1.0, 5.0 * sqrt(var / n) + 1e-6);
+        double mean, se;
+        test_channel_mean(px, n, c, &mean, &se);
+        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f\n", c, mean, se);
+        ASSERT_NEAR(mean, 1.0, 5.0 * se + 1e-6);
         /* a 1% energy error would be far outside this tolerance */
-        ASSERT_TRUE(5.0 * sqrt(var / n) < 0.01);
+        ASSERT_TRUE(5.0 * se < 0.01);
     }
     brume_image_release(img);
 }
@@ -140,13 +135,8 @@ TEST(white_furnace_gray)
     brume_image *img = render_json(json, 0, 2);
     const float *px = brume_image_pixels(img);
     int n = 32 * 32;
-    double mean = 0.0, m2 = 0.0;
-    for (int i = 0; i < n; i++) {
-        mean += px[4 * i + 1];
-        m2 += px[4 * i + 1] * px[4 * i + 1];
-    }
-    mean /= n;
-    double se = sqrt(fmax(m2 / n - mean * mean, 1e-12) / n);
+    double mean, se;
+    test_channel_mean(px, n, 1, &mean, &se);
     fprintf(stderr, "gray furnace: mean %.5f, standard error %.5f\n", mean, se);
     ASSERT_NEAR(mean, 0.75, 5.0 * se);
     ASSERT_TRUE(5.0 * se < 0.005 * 0.75);
@@ -175,13 +165,8 @@ TEST(single_scattering_closed_form)
     double p = (1 - g * g) / (4 * 3.14159265358979323846 * pow(1 + g * g - 2 * g * cos_t, 1.5));
     double expect = 3.0 * p * (1 - exp(-2 * 0.8 * 1.0)) / 2;
     int n = 16 * 16;
-    double mean = 0.0, m2 = 0.0;
-    for (int i = 0; i < n; i++) {
-        mean += px[4 * i];
-        m2 += px[4 * i] * px[4 * i];
-    }
-    mean /= n;
-    double se = sqrt(fmax(m2 / n - mean * mean, 0.0) / n);
+    double mean, se;
+    test_channel_mean(px, n, 0, &mean, &se);
     fprintf(stderr, "single scattering: mean %.6f, expected %.6f, standard error %.6f\n", mean, expect, se);
     ASSERT_NEAR(mean, expect, 5.0 * se + 1e-9);
     ASSERT_TRUE(5.0 * se < 0.01 * expect);

@@ -31,15 +31,7 @@ static brume_image *render_json(const char *json, uint64_t seed)
 /* Mean and standard error of channel c over the pixels of img. */
 static void image_mean(const brume_image *img, int c, double *mean, double *se)
 {
-    int n = brume_image_width(img) * brume_image_height(img);
-    const float *px = brume_image_pixels_const(img);
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < n; i++) {
-        s += px[4 * i + c];
-        s2 += px[4 * i + c] * px[4 * i + c];
-    }
-    *mean = s / n;
-    *se = sqrt(fmax(s2 / n - *mean * *mean, 0.0) / n);
+    test_channel_mean(brume_image_pixels_const(img), brume_image_width(img) * brume_image_height(img), c, mean, se);
 }
 
 /* A white-ish Lambertian plane (albedo 0.7) under a distant light at 60 degrees from the
