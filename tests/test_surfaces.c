@@ -157,6 +157,31 @@ TEST(furnace_white_sphere_outside)
     brume_image_release(img);
 }
 
+/* A white (albedo 1) ground plane under a constant background of 0.6, with a white
+ * heterogeneous cloud resting on it: everything is in equilibrium at 0.6. Flights that end
+ * on the ground carry a fractional ratio-tracked transmittance and a kept scattering
+ * collision at once, so the choice between the reflection and the scattering branch is
+ * exercised; a bias in either branch's weight shows against the background. */
+TEST(furnace_white_ground_cloud)
+{
+    const char *json =
+        "{\"camera\": {\"position\": [0, 2.5, 3], \"look_at\": [0, 0.3, 0], \"fov\": 40},"
+        " \"background\": 0.6,"
+        " \"surfaces\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], \"size\": 200,"
+        "                 \"material\": {\"albedo\": 1.0}}],"
+        " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 12,"
+        "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 5,"
+        "                 \"bounds\": [[-1.2, -0.2, -1.2], [1.2, 1.5, 1.2]]}}],"
+        " \"render\": {\"width\": 24, \"height\": 24, \"spp\": 96, \"max_depth\": 100000}}";
+    brume_image *img = render_json(json, 6);
+    double mean, se;
+    image_mean(img, 0, &mean, &se);
+    fprintf(stderr, "white ground cloud furnace: %.5f +- %.5f\n", mean, se);
+    ASSERT_NEAR(mean, 0.6, 5.0 * se + 1e-9);
+    ASSERT_TRUE(5.0 * se < 0.006);
+    brume_image_release(img);
+}
+
 /* A one-sided emissive quad whose front (edge_u x edge_v) faces +y: seen from above it has
  * its radiance exactly, from below it is black. Fails on a flipped geometric normal. */
 TEST(emitter_front_side)
@@ -273,4 +298,5 @@ TEST(large_mesh_renders)
 }
 
 TEST_MAIN(lit_plane_through_fog, fog_shadow_matches_transmittance, furnace_inside_emitting_sphere,
-          furnace_white_sphere_outside, emitter_front_side, bad_meshes_are_errors, large_mesh_renders)
+          furnace_white_sphere_outside, furnace_white_ground_cloud, emitter_front_side, bad_meshes_are_errors,
+          large_mesh_renders)

@@ -40,4 +40,3 @@ vec3 sample_cosine_hemisphere(double u1, double u2)
     return d;
 }
 
-double sample_exponential(double u, double sigma) { return -log1p(-u) / sigma; }

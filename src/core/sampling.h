@@ -3,6 +3,8 @@
 #ifndef BRUME_CORE_SAMPLING_H
 #define BRUME_CORE_SAMPLING_H
 
+#include <math.h>
+
 #include "core/vec.h"
 
 /* Uniform direction on the unit sphere; pdf 1 / (4 pi). */
@@ -15,7 +17,12 @@ vec3 sample_disk(double u1, double u2);
 /* Cosine-weighted direction on the +z hemisphere; pdf cos(theta) / pi. */
 vec3 sample_cosine_hemisphere(double u1, double u2);
 /* Distance with density sigma exp(-sigma t) on [0, inf): t = -ln(1 - u) / sigma. */
-double sample_exponential(double u, double sigma);
+static inline double sample_exponential(double u, double sigma)
+{
+    /* 1 - u is exact for u >= 1/2 and rounds by less than 2^-53 below: log, not the
+     * slower log1p, is accurate enough for a sample */
+    return -log(1.0 - u) / sigma;
+}
 /* Direction from a cosine about +z and an azimuth from u: (sin cos phi, sin sin phi, cos). */
 vec3 direction_from_cos(double cos_theta, double u_phi);
 

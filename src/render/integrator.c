@@ -1,13 +1,12 @@
-/* integrator.c - volumetric path tracing with spectral tracking and MIS.
+/* integrator.c - volumetric path tracing with null-collision flights and MIS.
  *
  * Along each flight, tentative collisions are drawn against the scalar majorant
- * sigma_maj (track.h). At a collision with coefficients sigma_a, sigma_s and
- * sigma_n = sigma_maj - sigma_a - sigma_s (per channel, >= 0):
- *   - emission sigma_a Le / sigma_maj is added, weighted by the path throughput beta;
- *   - one event is chosen: absorption, scattering or null, with the history-aware
- *     probabilities P_x = avg(beta sigma_x) / sum_y avg(beta sigma_y), and beta is
- *     multiplied by sigma_x / (sigma_maj P_x). Absorption ends the path.
- * (Kutz et al. 2017.) At a scattering event every light and the background are sampled
+ * sigma_maj (track.h) and walked with a ratio-tracking transmittance Tr (per channel). At
+ * each, emission beta Tr sigma_a Le / sigma_maj is added, and the collision is offered to
+ * a one-element reservoir with weight avg(beta Tr sigma_s) / sigma_maj (the history-aware
+ * spectral choice of Kutz et al. 2017); the kept one is where the path scatters, and
+ * beta Tr at the flight's end weighs what lies past it. At a scattering event every light
+ * and the background are sampled
  * (next-event estimation, transmittance by ratio tracking), and the path continues along
  * a phase-function sample; area lights and the background reached by that continuation
  * are weighted against next-event estimation by the power heuristic (Veach 1997).
@@ -40,51 +39,43 @@ const char *integrator_names(void) { return "path, single, blasi, stam"; }
 static bool flight_step(double t, double sigma_maj, void *user)
 {
     flight *f = user;
-    vec3 p = ray_at(f->r, t);
-    media_at(f->s, p, f->r.time, &f->ms);
-    const medium_sample *ms = &f->ms;
+    media_at(f->s, ray_at(f->r, t), f->r.time, &f->cur);
+    const medium_sample *ms = &f->cur;
     double inv_maj = 1.0 / sigma_maj;
+    color beta_Tr = col_mul(f->beta, f->Tr);
     if (!col_is_black(ms->emission))
-        f->L = col_add(f->L, col_scale(col_mul(f->beta, ms->emission), inv_maj));
-
-    color sigma_n;
+        f->L = col_add(f->L, col_scale(col_mul(beta_Tr, ms->emission), inv_maj));
+    color w = col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj);
+    double a = col_avg(w);
+    if (a > 0.0) {
+        f->A += a;
+        if (rng_next(f->g) * f->A < a) {
+            f->beta_s = col_scale(w, 1.0 / a);
+            f->t = t;
+            f->ms = *ms;
+        }
+    }
     for (int c = 0; c < BRUME_NSAMPLES; c++)
-        sigma_n.c[c] = fmax(0.0, sigma_maj - ms->sigma_a.c[c] - ms->sigma_s.c[c]);
-    double wa = col_avg(col_mul(f->beta, ms->sigma_a));
-    double ws = col_avg(col_mul(f->beta, ms->sigma_s));
-    double wn = col_avg(col_mul(f->beta, sigma_n));
-    double total = wa + ws + wn;
-    if (total <= 0.0) {
-        f->end = FLIGHT_ABSORBED;
-        return false;
-    }
-    double u = rng_next(f->g) * total;
-    if (u < wa) {
-        f->end = FLIGHT_ABSORBED;
-        return false;
-    }
-    if (u < wa + ws) {
-        f->beta = col_scale(col_mul(f->beta, ms->sigma_s), total / (ws * sigma_maj));
-        f->end = FLIGHT_SCATTERED;
-        f->t = t;
-        return false;
-    }
-    f->beta = col_scale(col_mul(f->beta, sigma_n), total / (wn * sigma_maj));
-    return true;
+        f->Tr.c[c] *= 1.0 - (ms->sigma_a.c[c] + ms->sigma_s.c[c]) * inv_maj;
+    return track_roulette(&f->Tr, f->g);
 }
 
-flight_end flight_run(flight *f, ray r, double tmax)
+bool flight_run(flight *f, ray r, double tmax)
 {
     f->r = r;
-    f->end = FLIGHT_ESCAPED;
+    f->Tr = col(1.0);
+    f->A = 0.0;
     track_collisions(f->s, r, tmax, f->g, flight_step, f);
-    return f->end;
+    if (!(f->A > 0.0))
+        return false;
+    f->beta_s = col_scale(f->beta_s, f->A);
+    return true;
 }
 
 bool path_roulette(color *beta, int depth, rng *g)
 {
     double q = col_max(*beta);
-    if (depth < 3 || q >= 0.5)
+    if (depth < 3 || q >= 0.25)
         return true;
     if (rng_next(g) >= q)
         return false;
@@ -241,41 +232,54 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_light, &sh);
         if (depth == 0 && hit_surface)
             *hit_surface = on_surface;
-        if (flight_run(&f, r, on_surface ? sh.t : t_light) == FLIGHT_ESCAPED) {
-            if (on_surface) {
-                /* emission of the surface, then reflection off it */
-                color Le = surface_emission(&sh, v3_neg(r.d));
-                if (!col_is_black(Le)) {
-                    double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, surfaces_emitter_pdf(s->surf, &sh, r.o)) : 1.0;
-                    f.L = col_add(f.L, col_scale(col_mul(f.beta, Le), w));
-                }
-                if (depth >= max_depth || material_is_black(sh.mat))
-                    break;
-                vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
-                v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
-                v.p = surface_offset(&sh, v.n);
-                f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
-                vec3 wi;
-                double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
-                if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
-                    break;
-                f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
-                r = (ray){v.p, wi, r.time};
-                if (!path_roulette(&f.beta, depth, g))
-                    break;
-                continue;
+        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light) && depth < max_depth;
+        /* What lies past the flight, seen through Tr: light reached now is added at once;
+         * a surface is a second branch, chosen against the scattering one below. */
+        color beta_past = col_mul(f.beta, f.Tr);
+        bool reflect = false;
+        if (on_surface) {
+            color Le = surface_emission(&sh, v3_neg(r.d));
+            if (!col_is_black(Le)) {
+                double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, surfaces_emitter_pdf(s->surf, &sh, r.o)) : 1.0;
+                f.L = col_add(f.L, col_scale(col_mul(beta_past, Le), w));
             }
-            if (hit >= 0) {
-                double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
-                f.L = col_add(f.L, col_scale(col_mul(f.beta, Le_light), w));
-            } else {
-                f.L = col_add(f.L, col_mul(f.beta, escaped_radiance(s, r.d, pdf_dir)));
-            }
-            break;
+            reflect = depth < max_depth && !material_is_black(sh.mat) && !col_is_black(beta_past);
+        } else if (hit >= 0) {
+            double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
+            f.L = col_add(f.L, col_scale(col_mul(beta_past, Le_light), w));
+        } else if (!col_is_black(beta_past)) {
+            f.L = col_add(f.L, col_mul(beta_past, escaped_radiance(s, r.d, pdf_dir)));
         }
-        if (f.end == FLIGHT_ABSORBED || depth >= max_depth)
+        if (reflect && scattered) { /* one branch, in proportion to the weights */
+            double a_past = col_avg(beta_past), p_past = a_past / (a_past + f.A);
+            if (rng_next(g) < p_past) {
+                beta_past = col_scale(beta_past, 1.0 / p_past);
+                scattered = false;
+            } else {
+                f.beta_s = col_scale(f.beta_s, 1.0 / (1.0 - p_past));
+                reflect = false;
+            }
+        }
+        if (reflect) {
+            f.beta = beta_past;
+            vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
+            v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
+            v.p = surface_offset(&sh, v.n);
+            f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
+            vec3 wi;
+            double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
+            if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
+                break;
+            f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
+            r = (ray){v.p, wi, r.time};
+            if (!path_roulette(&f.beta, depth, g))
+                break;
+            continue;
+        }
+        if (!scattered)
             break;
         /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
+        f.beta = f.beta_s;
         vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
                     .time = r.time};
         f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));

@@ -1,5 +1,6 @@
 /* integrator.h - estimators of the radiance arriving along a camera ray.
- *   path    unbiased volumetric path tracing: spectral tracking for free flights,
+ *   path    unbiased volumetric path tracing: null-collision free flights that keep
+ *           one collision of every flight through a medium (flight_run),
  *           next-event estimation to every light and to the background with multiple
  *           importance sampling against phase sampling, ratio-tracked shadow rays,
  *           Russian roulette, emission
@@ -60,26 +61,31 @@ color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, do
 
 /* ---- building blocks ---------------------------------------------------------------- */
 
-typedef enum flight_end {
-    FLIGHT_ESCAPED,   /* passed tmax (or left every medium) */
-    FLIGHT_SCATTERED, /* a real scattering collision at t */
-    FLIGHT_ABSORBED   /* the path ends */
-} flight_end;
-
+/* One free flight along r over [0, tmax] (docs/path-tracer.md, "Free flights"). The
+ * flight walks every tentative collision against sigma_maj with a ratio-tracking
+ * transmittance Tr, adds the emission term at each, and keeps one collision i among them
+ * with probability a_i / A, where
+ *   a_i = avg(beta Tr(t_i) sigma_s(t_i)) / sigma_maj   and   A = sum_i a_i
+ * (a one-element reservoir): beta_s = A (beta Tr sigma_s)(t_i) / (sigma_maj a_i) is then
+ * an unbiased weight for scattering there, and beta Tr(tmax) for what lies past tmax. Both
+ * branches are estimated from one walk; a path never ends merely because it escaped. */
 typedef struct flight {
     const brume_scene *s;
     ray r;
     rng *g;
-    color beta;       /* path throughput, updated by spectral tracking */
-    color L;          /* emission gathered along the flight, weighted by beta */
-    flight_end end;
-    double t;         /* where it scattered */
-    medium_sample ms; /* the media at the scattering point */
+    color beta;       /* in: path throughput before the flight */
+    color L;          /* in/out: emission gathered along the flight, weighted by beta */
+    color Tr;         /* out: ratio-tracked transmittance over [0, tmax] (0 once roulette stopped it) */
+    double A;         /* out: sum of the collisions' scattering weights a_i (0: none) */
+    color beta_s;     /* out: throughput of the scattering branch at the kept collision */
+    double t;         /* out: where the kept collision is */
+    medium_sample ms; /* out: the media there */
+    medium_sample cur; /* scratch: the media at the current collision */
 } flight;
 
-/* One free flight along r over [0, tmax] by spectral tracking (docs/path-tracer.md).
- * f->beta and f->L carry in and out; returns f->end. */
-flight_end flight_run(flight *f, ray r, double tmax);
+/* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta and f->L
+ * carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. */
+bool flight_run(flight *f, ray r, double tmax);
 /* Russian roulette after `depth` scattering events: false = the path ends; otherwise beta
  * may have been divided by its survival probability. */
 bool path_roulette(color *beta, int depth, rng *g);

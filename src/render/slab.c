@@ -34,26 +34,27 @@ static void slab_batch(size_t batch, int thread, void *user)
         rng g = rng_make(p->seed, i, 0);
         flight f = {.s = job->s, .g = &g, .beta = col(1.0), .L = col(0.0)};
         ray r = {v3(0, 0, 0), v3(0, 0, -1), 0.0}; /* enters the lit face z = 0 going down */
+        double rd = 0.0, td = 0.0; /* this photon's reflected and transmitted weight */
         for (int depth = 0;; depth++) {
-            if (flight_run(&f, r, INFINITY) == FLIGHT_ESCAPED) {
-                double w = col_avg(f.beta);
-                if (r.d.z > 0.0) {
-                    acc.r += w;
-                    acc.r2 += w * w;
-                } else {
-                    acc.t += w;
-                    acc.t2 += w * w;
-                }
+            bool scattered = flight_run(&f, r, INFINITY);
+            double w = col_avg(col_mul(f.beta, f.Tr)); /* the part that leaves the slab */
+            if (r.d.z > 0.0)
+                rd += w;
+            else
+                td += w;
+            if (!scattered || depth >= p->max_depth)
                 break;
-            }
-            if (f.end == FLIGHT_ABSORBED || depth >= p->max_depth)
-                break;
+            f.beta = f.beta_s;
             double pdf;
             vec3 wo = phase_sample(p->ph, r.d, rng_next(&g), rng_next(&g), &pdf);
             r = (ray){ray_at(r, f.t), wo, 0.0};
             if (!path_roulette(&f.beta, depth, &g))
                 break;
         }
+        acc.r += rd;
+        acc.r2 += rd * rd;
+        acc.t += td;
+        acc.t2 += td * td;
     }
     job->sums[batch] = acc;
 }

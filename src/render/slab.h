@@ -5,7 +5,7 @@
  * collimated beam at normal incidence. Rd is the fraction of the beam's power leaving the
  * lit face; Tt the fraction leaving the other face, including the unscattered exp(-tau).
  * The walk is the renderer's own: a brume scene holding the slab as a medium, free flights
- * by flight_run (spectral tracking), directions by phase_sample, Russian roulette by
+ * by flight_run (ratio-tracked, one kept collision), directions by phase_sample, Russian roulette by
  * path_roulette. Estimates are deterministic for a given seed and sample count, whatever
  * the thread count. */
 #ifndef BRUME_RENDER_SLAB_H

@@ -125,9 +125,24 @@ typedef struct ratio_state {
 /* Below this transmittance, ratio tracking plays Russian roulette. */
 #define RATIO_RR_THRESHOLD 0.1
 
-/* Ratio tracking (Cramer 1978; Novak et al. 2014): T *= sigma_n / sigma_maj per channel.
- * Once max T < 0.1 the walk continues with probability 10 max T and T is divided by it
- * (unbiased), so shadow rays through thick media stop early. */
+bool track_roulette(color *Tr, rng *g)
+{
+    double m = col_max(*Tr);
+    if (m <= 0.0)
+        return false;
+    if (m < RATIO_RR_THRESHOLD) {
+        double q = m / RATIO_RR_THRESHOLD;
+        if (rng_next(g) >= q) {
+            *Tr = col(0.0);
+            return false;
+        }
+        *Tr = col_scale(*Tr, 1.0 / q);
+    }
+    return true;
+}
+
+/* Ratio tracking (Cramer 1978; Novak et al. 2014): T *= sigma_n / sigma_maj per channel,
+ * with roulette once T is small, so shadow rays through thick media stop early. */
 static bool ratio_step(double t, double sigma_maj, void *user)
 {
     ratio_state *rs = user;
@@ -136,18 +151,7 @@ static bool ratio_step(double t, double sigma_maj, void *user)
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         rs->Tr.c[c] *= 1.0 - sigma_t.c[c] / sigma_maj;
-    double m = col_max(rs->Tr);
-    if (m <= 0.0)
-        return false;
-    if (m < RATIO_RR_THRESHOLD) {
-        double q = m / RATIO_RR_THRESHOLD;
-        if (rng_next(rs->g) >= q) {
-            rs->Tr = col(0.0);
-            return false;
-        }
-        rs->Tr = col_scale(rs->Tr, 1.0 / q);
-    }
-    return true;
+    return track_roulette(&rs->Tr, rs->g);
 }
 
 color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g)

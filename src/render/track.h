@@ -38,6 +38,11 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms);
 /* The phase function of a medium chosen among those at p in proportion to scattering. */
 const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, double u);
 
+/* Russian roulette on a ratio-tracking product: once max Tr < 0.1 the walk goes on with
+ * probability 10 max Tr and Tr is divided by it (unbiased). false = the walk ends (Tr is
+ * then 0). */
+bool track_roulette(color *Tr, rng *g);
+
 /* Ratio-tracking estimate of transmittance along r over [0, tmax] (unbiased, per channel). */
 color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g);
 
