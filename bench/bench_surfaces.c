@@ -86,10 +86,10 @@ static void report(job *j, const char *name)
            o2 / o1);
 }
 
-/* A closed sphere of radius 1 as a 500 x 500 latitude-longitude mesh (poles collapsed). */
-static surfaces *ball_scene(int *ntri_out)
+/* A closed sphere of radius 1 as a GRID x GRID/2 latitude-longitude mesh (poles collapsed):
+ * malloc'd positions (xyz) and triangles (3 vertex indices each). */
+static void ball_mesh(double **pos_out, int *np_out, int **idx_out, int *ntri_out)
 {
-    surfaces *S = surfaces_new();
     int nu = GRID, nv = GRID / 2, np = (nu + 1) * (nv + 1), ntri = 2 * nu * nv;
     double *pos = malloc(sizeof *pos * 3 * (size_t)np);
     int *idx = malloc(sizeof *idx * 3 * (size_t)ntri);
@@ -101,19 +101,28 @@ static surfaces *ball_scene(int *ntri_out)
             p[1] = cos(th);
             p[2] = sin(th) * sin(ph);
         }
-    int t = 0;
-    for (int j = 0; j < nv; j++)
-        for (int i = 0; i < nu; i++) {
+    for (int j = 0, t = 0; j < nv; j++)
+        for (int i = 0; i < nu; i++, t += 2) {
             int a = j * (nu + 1) + i, b = a + 1, c = a + nu + 1, d = c + 1;
             int tri[6] = {a, c, b, b, c, d};
             memcpy(idx + 3 * t, tri, sizeof tri);
-            t += 2;
         }
+    *pos_out = pos;
+    *np_out = np;
+    *idx_out = idx;
+    *ntri_out = ntri;
+}
+
+static surfaces *ball_scene(int *ntri_out)
+{
+    surfaces *S = surfaces_new();
+    double *pos;
+    int *idx, np;
+    ball_mesh(&pos, &np, &idx, ntri_out);
     material m = {col(0.5), col(0.0), 1.0, col(0.0), false};
-    surfaces_add_mesh(S, pos, np, idx, ntri, &m, "ball");
+    surfaces_add_mesh(S, pos, np, idx, *ntri_out, &m, "ball");
     free(pos);
     free(idx);
-    *ntri_out = ntri;
     return S;
 }
 
@@ -122,25 +131,19 @@ static double raw_embree_ball(void)
 {
     RTCDevice dev = rtcNewDevice("threads=1,set_affinity=0");
     RTCScene sc = rtcNewScene(dev);
-    int nu = GRID, nv = GRID / 2, np = (nu + 1) * (nv + 1), ntri = 2 * nu * nv;
+    double *pos;
+    int *idx, np, ntri;
+    ball_mesh(&pos, &np, &idx, &ntri);
     RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
     float *v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), (size_t)np);
     unsigned *ix = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
                                            (size_t)ntri);
-    for (int j = 0; j <= nv; j++)
-        for (int i = 0; i <= nu; i++) {
-            double th = PI * j / nv, ph = 2 * PI * i / nu;
-            float *p = v + 3 * (j * (nu + 1) + i);
-            p[0] = (float)(sin(th) * cos(ph));
-            p[1] = (float)cos(th);
-            p[2] = (float)(sin(th) * sin(ph));
-        }
-    for (int j = 0, t = 0; j < nv; j++)
-        for (int i = 0; i < nu; i++, t += 2) {
-            unsigned a = (unsigned)(j * (nu + 1) + i), b = a + 1, c = a + (unsigned)nu + 1, d = c + 1;
-            unsigned tri[6] = {a, c, b, b, c, d};
-            memcpy(ix + 3 * t, tri, sizeof tri);
-        }
+    for (size_t k = 0; k < 3 * (size_t)np; k++)
+        v[k] = (float)pos[k];
+    for (size_t k = 0; k < 3 * (size_t)ntri; k++)
+        ix[k] = (unsigned)idx[k];
+    free(pos);
+    free(idx);
     rtcCommitGeometry(geo);
     rtcAttachGeometry(sc, geo);
     rtcReleaseGeometry(geo);

@@ -115,6 +115,20 @@ TEST(fog_shadow_matches_transmittance)
     brume_image_release(img);
 }
 
+/* A furnace: renders json with `seed`, and asserts that channel c's image mean is `expect`
+ * within 5 standard errors, and that 5 standard errors are below rel_tol of it (so an
+ * energy error of rel_tol would fail). */
+static void check_furnace(const char *what, const char *json, uint64_t seed, int c, double expect, double rel_tol)
+{
+    brume_image *img = render_json(json, seed);
+    double mean, se;
+    image_mean(img, c, &mean, &se);
+    fprintf(stderr, "%s: %.5f +- %.5f\n", what, mean, se);
+    ASSERT_NEAR(mean, expect, 5.0 * se + 1e-9);
+    ASSERT_TRUE(5.0 * se < rel_tol * expect);
+    brume_image_release(img);
+}
+
 /* Camera inside a closed sphere whose inner wall has albedo a = 0.75 and emits Le = 0.25,
  * filled with a heterogeneous medium of albedo 1: the equilibrium radiance is
  * Le / (1 - a) = 1 everywhere, whatever the medium does. */
@@ -127,13 +141,7 @@ TEST(furnace_inside_emitting_sphere)
         " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 6,"
         "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 9}}],"
         " \"render\": {\"width\": 24, \"height\": 24, \"spp\": 192, \"max_depth\": 100000}}";
-    brume_image *img = render_json(json, 3);
-    double mean, se;
-    image_mean(img, 1, &mean, &se);
-    fprintf(stderr, "emitting sphere furnace: %.5f +- %.5f\n", mean, se);
-    ASSERT_NEAR(mean, 1.0, 5.0 * se);
-    ASSERT_TRUE(5.0 * se < 0.01);
-    brume_image_release(img);
+    check_furnace("emitting sphere furnace", json, 3, 1, 1.0, 0.01);
 }
 
 /* A closed white (albedo 1) sphere holding a medium of albedo 1, under a constant
@@ -148,13 +156,7 @@ TEST(furnace_white_sphere_outside)
         " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 5,"
         "   \"density\": {\"type\": \"constant\", \"bounds\": [[-1, -1, -1], [1, 1, 1]]}}],"
         " \"render\": {\"width\": 24, \"height\": 24, \"spp\": 64, \"max_depth\": 100000}}";
-    brume_image *img = render_json(json, 4);
-    double mean, se;
-    image_mean(img, 0, &mean, &se);
-    fprintf(stderr, "white sphere furnace: %.5f +- %.5f\n", mean, se);
-    ASSERT_NEAR(mean, 0.6, 5.0 * se + 1e-9);
-    ASSERT_TRUE(5.0 * se < 0.006);
-    brume_image_release(img);
+    check_furnace("white sphere furnace", json, 4, 0, 0.6, 0.01);
 }
 
 /* A white (albedo 1) ground plane under a constant background of 0.6, with a white
@@ -173,13 +175,7 @@ TEST(furnace_white_ground_cloud)
         "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 5,"
         "                 \"bounds\": [[-1.2, -0.2, -1.2], [1.2, 1.5, 1.2]]}}],"
         " \"render\": {\"width\": 24, \"height\": 24, \"spp\": 96, \"max_depth\": 100000}}";
-    brume_image *img = render_json(json, 6);
-    double mean, se;
-    image_mean(img, 0, &mean, &se);
-    fprintf(stderr, "white ground cloud furnace: %.5f +- %.5f\n", mean, se);
-    ASSERT_NEAR(mean, 0.6, 5.0 * se + 1e-9);
-    ASSERT_TRUE(5.0 * se < 0.006);
-    brume_image_release(img);
+    check_furnace("white ground cloud furnace", json, 6, 0, 0.6, 0.01);
 }
 
 /* A one-sided emissive quad whose front (edge_u x edge_v) faces +y: seen from above it has
