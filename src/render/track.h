@@ -3,9 +3,9 @@
  * The one generic tracking loop (pbrt-v4's SampleT_maj in C): the scene's media are
  * walked through their majorant segments, merged into one piecewise-constant scalar
  * majorant sigma_maj(t) = sum over media of rho_maj sigma_t_max [1 / world unit], and
- * tentative collisions are drawn with density sigma_maj exp(-int sigma_maj). Delta
- * tracking, spectral tracking and ratio tracking are callbacks; none of them knows how a
- * density is stored. */
+ * tentative collisions are drawn with density sigma_maj exp(-int sigma_maj). The path
+ * tracer's free flights and ratio-tracked shadow rays are callbacks; none of them knows
+ * how a density is stored. */
 #ifndef BRUME_RENDER_TRACK_H
 #define BRUME_RENDER_TRACK_H
 
