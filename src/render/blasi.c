@@ -23,10 +23,10 @@
  * background, a light or a lit surface is added, attenuated by A.
  *
  * Determinism: light rays are numbered and draw from their own counter-based stream; the
- * rays are cut into batches, batch b belongs to group b mod G, each group sums its
- * batches in order into its own accumulator (doubles), and the G accumulators are added
- * in order. G depends on the grid size only, so the result is the same for any thread
- * count. */
+ * rays are cut into batches, each batch records its deposits in the order it makes them,
+ * and the batches' records are added into one accumulator (doubles) in batch order, a
+ * wave of BLASI_WAVE batches at a time (so memory stays bounded). Threads take batches as
+ * they come (a slower core gets fewer), and the sums are the same for any thread count. */
 #include "render/blasi.h"
 
 #include <errno.h>
@@ -42,9 +42,9 @@
 #include "surface/surfaces.h"
 
 #define BLASI_BATCH 1024           /* light rays per task */
-#define BLASI_MAX_GROUPS 8         /* accumulators (fixed: the result must not depend on threads) */
-#define BLASI_ACC_BUDGET (512u << 20) /* bytes for all accumulators together */
+#define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
+#define BLASI_BLOCK 4              /* voxels per side of an occupancy block (empty-space skipping) */
 #define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
 #define BLASI_FILE_MAGIC "BRUMEBL1"
 #define BLASI_FILE_VERSION 1u
@@ -62,6 +62,8 @@ typedef struct blasi_medium {
     double r;            /* fraction stored isotropically at an interception */
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
+    int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
+    unsigned char *occ;  /* per block: 1 if any of its voxels has rho > 0 */
 } blasi_medium;
 
 struct blasi_state {
@@ -90,13 +92,19 @@ typedef struct piece {
     size_t v[SCENE_MAX_MEDIA];
 } piece;
 
-/* The exact voxel walks of every medium (density/dda.h), merged in t. */
+/* The exact voxel walks of every medium (density/dda.h), merged in t. With one medium
+ * (the usual case) the walk skips empty space: a coarse walk over occupancy blocks, and a
+ * voxel walk over each run of occupied blocks only. Empty voxels hold no density and no
+ * source (nothing is ever deposited in them), so skipping them changes no sum. */
 typedef struct walk {
     int nm;
     grid_dda dda[SCENE_MAX_MEDIA];
     grid_dda_step cur[SCENE_MAX_MEDIA];
     bool live[SCENE_MAX_MEDIA];
     double t;
+    grid_dda blocks; /* one medium: the walk over occupancy blocks */
+    bool blocks_live;
+    vec3 o, d;       /* one medium: the ray in voxel space */
 } walk;
 
 static inline size_t voxel_index(const blasi_medium *bm, int i, int j, int k)
@@ -108,6 +116,15 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
 {
     w->nm = st->nm;
     w->t = INFINITY;
+    if (w->nm == 1) {
+        const blasi_medium *bm = &st->m[0];
+        w->o = affine3_apply(&bm->w2v, r.o);
+        w->d = affine3_apply_dir(&bm->w2v, r.d);
+        double s = 1.0 / BLASI_BLOCK;
+        w->live[0] = false;
+        w->blocks_live = grid_dda_begin(&w->blocks, bm->bn, v3_scale(w->o, s), v3_scale(w->d, s), 0.0, tmax);
+        return;
+    }
     for (int m = 0; m < st->nm; m++) {
         const blasi_medium *bm = &st->m[m];
         vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
@@ -119,15 +136,26 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
 
 static bool walk_next(walk *w, const blasi_state *st, piece *p)
 {
-    if (w->nm == 1) { /* the usual case: one grid, its own walk */
-        if (!w->live[0])
-            return false;
+    if (w->nm == 1) { /* the usual case: one grid, its own walk, empty blocks skipped */
+        const blasi_medium *bm = &st->m[0];
+        while (!w->live[0]) { /* the next run of occupied blocks */
+            grid_dda_step b;
+            do {
+                if (!w->blocks_live || !(w->blocks_live = grid_dda_next(&w->blocks, &b)))
+                    return false;
+            } while (!bm->occ[(size_t)b.i + (size_t)bm->bn[0] * ((size_t)b.j + (size_t)bm->bn[1] * (size_t)b.k)]);
+            double t0 = b.t0, t1 = b.t1;
+            while ((w->blocks_live = grid_dda_next(&w->blocks, &b)) &&
+                   bm->occ[(size_t)b.i + (size_t)bm->bn[0] * ((size_t)b.j + (size_t)bm->bn[1] * (size_t)b.k)])
+                t1 = b.t1;
+            w->live[0] = grid_dda_begin(&w->dda[0], bm->n, w->o, w->d, t0, t1) && grid_dda_next(&w->dda[0], &w->cur[0]);
+        }
         const grid_dda_step *c = &w->cur[0];
         p->t0 = c->t0;
         p->t1 = c->t1;
         p->n = 1;
         p->m[0] = 0;
-        p->v[0] = voxel_index(&st->m[0], c->i, c->j, c->k);
+        p->v[0] = voxel_index(bm, c->i, c->j, c->k);
         w->live[0] = grid_dda_next(&w->dda[0], &w->cur[0]);
         return true;
     }
@@ -279,20 +307,39 @@ static bool light_ray(const brume_scene *s, const blasi_state *st, const light *
     return false;
 }
 
+/* The deposits of one batch of light rays, in the order they were made. */
+typedef struct deposit_list {
+    struct deposit_rec {
+        size_t v;    /* global voxel */
+        double w[3]; /* power stored (RGB) */
+    } *d;
+    size_t n, cap;
+    uint64_t intercepts;
+    bool out_of_memory;
+} deposit_list;
+
 typedef struct pass1_job {
     const brume_scene *s;
     const blasi_state *st;
     uint64_t nrays, nbatch;
-    int ngroups;
-    double *acc[BLASI_MAX_GROUPS];      /* 3 nvox each */
-    uint64_t intercepts[BLASI_MAX_GROUPS];
+    uint64_t wave0;      /* first batch of the wave being traced */
+    deposit_list *lists; /* BLASI_WAVE: one per batch of the wave */
     progress prog;
 } pass1_job;
 
-static inline void deposit(double *acc, size_t v, color w, double f)
+static inline void deposit(deposit_list *out, size_t v, color w, double f)
 {
-    for (int c = 0; c < 3; c++)
-        acc[3 * v + (size_t)c] += w.c[c] * f;
+    if (out->n == out->cap) {
+        size_t cap = out->cap ? 2 * out->cap : 256;
+        struct deposit_rec *d = realloc(out->d, cap * sizeof *d);
+        if (!d) {
+            out->out_of_memory = true;
+            return;
+        }
+        out->d = d;
+        out->cap = cap;
+    }
+    out->d[out->n++] = (struct deposit_rec){v, {w.c[0] * f, w.c[1] * f, w.c[2] * f}};
 }
 
 /* Coefficients of a piece: sigma_bar rho summed over its media (returned), and in *kx the
@@ -315,8 +362,7 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
 /* Follows one light ray through the media (Algorithm of the First Pass). Within a flight
  * the decay is kept as an optical depth D per channel and exponentiated once, at the
  * interception or the exit; the threshold test compares D with log(w / w_stop). */
-static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, double *acc,
-                            uint64_t *intercepts)
+static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, deposit_list *acc)
 {
     double w_stop = st->threshold * col_max(w);
     bool have_last = false; /* the last non-empty voxel crossed, for the exit deposit */
@@ -326,7 +372,7 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         surface_hit h;
         if (s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &h))
             t_end = h.t;
-        double target = -log1p(-rng_next(g)); /* Eq. 11: scatter where the depth reaches this */
+        double target = sample_exponential(rng_next(g), 1.0); /* Eq. 11: scatter where the depth reaches this */
         double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
         color D = col(0.0), lim;
         for (int c = 0; c < 3; c++)
@@ -379,7 +425,7 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
                     w.c[c] *= exp(-(D.c[c] + kx.c[c] * ds)) * sig_s.c[c] / sb;
                 const blasi_medium *bm = &st->m[pc.m[pick]];
                 deposit(acc, pc.v[pick], w, bm->r);
-                (*intercepts)++;
+                acc->intercepts++;
                 have_last = true;
                 last = pc.v[pick];
                 w = col_scale(w, 1.0 - bm->r);
@@ -414,32 +460,31 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
     }
 }
 
-static void pass1_group(size_t group, int thread, void *user)
+static void pass1_batch(size_t task, int thread, void *user)
 {
     (void)thread;
     pass1_job *job = user;
     const brume_scene *s = job->s;
-    double *acc = job->acc[group];
-    uint64_t nl = (uint64_t)s->nlights, intercepts = 0;
-    for (uint64_t b = group; b < job->nbatch; b += (uint64_t)job->ngroups) {
-        uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
-        for (uint64_t i = first; i < end; i++) {
-            /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl) */
-            uint64_t l = (i * nl) / job->nrays;
-            while (l + 1 < nl && (l + 1) * job->nrays / nl <= i)
-                l++;
-            while (l > 0 && l * job->nrays / nl > i)
-                l--;
-            uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
-            rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
-            ray r;
-            color W;
-            if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0)
-                trace_light_ray(s, job->st, r, W, &g, acc, &intercepts);
-        }
-        progress_add(&job->prog, 1);
+    deposit_list *out = &job->lists[task];
+    out->n = 0;
+    out->intercepts = 0;
+    uint64_t nl = (uint64_t)s->nlights, b = job->wave0 + task;
+    uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
+    for (uint64_t i = first; i < end; i++) {
+        /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl) */
+        uint64_t l = (i * nl) / job->nrays;
+        while (l + 1 < nl && (l + 1) * job->nrays / nl <= i)
+            l++;
+        while (l > 0 && l * job->nrays / nl > i)
+            l--;
+        uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
+        rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
+        ray r;
+        color W;
+        if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0)
+            trace_light_ray(s, job->st, r, W, &g, out);
     }
-    job->intercepts[group] = intercepts;
+    progress_add(&job->prog, 1);
 }
 
 static brume_status first_pass(const brume_scene *s, blasi_state *st)
@@ -447,39 +492,50 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
     uint64_t nrays = s->nlights > 0 && st->nm > 0 ? s->blasi.light_rays : 0;
     if (nrays == 0)
         return BRUME_OK;
-    size_t per = st->nvox * 3 * sizeof(double);
-    size_t groups = per > 0 ? BLASI_ACC_BUDGET / per : BLASI_MAX_GROUPS;
     pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH};
-    job.ngroups = groups < 1 ? 1 : (groups > BLASI_MAX_GROUPS ? BLASI_MAX_GROUPS : (int)groups);
-    for (int gi = 0; gi < job.ngroups; gi++) {
-        job.acc[gi] = calloc(st->nvox * 3, sizeof(double));
-        if (!job.acc[gi]) {
-            for (int k = 0; k < gi; k++)
-                free(job.acc[k]);
-            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+    double *acc = calloc(st->nvox * 3, sizeof *acc);
+    job.lists = calloc(BLASI_WAVE, sizeof *job.lists);
+    brume_status rc = BRUME_OK;
+    if (!acc || !job.lists)
+        rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+    progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
+    for (job.wave0 = 0; rc == BRUME_OK && job.wave0 < job.nbatch; job.wave0 += BLASI_WAVE) {
+        size_t ntask = (size_t)(job.nbatch - job.wave0 < BLASI_WAVE ? job.nbatch - job.wave0 : BLASI_WAVE);
+        pool_run(s->settings.threads, ntask, pass1_batch, &job);
+        for (size_t t = 0; t < ntask; t++) { /* batch order: the same sums for any thread count */
+            const deposit_list *l = &job.lists[t];
+            if (l->out_of_memory) {
+                rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+                break;
+            }
+            for (size_t k = 0; k < l->n; k++)
+                for (int c = 0; c < 3; c++)
+                    acc[3 * l->d[k].v + (size_t)c] += l->d[k].w[c];
+            st->stats.interceptions += l->intercepts;
         }
     }
-    progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
-    pool_run(s->settings.threads, (size_t)job.ngroups, pass1_group, &job);
     progress_end(&job.prog);
-    /* fixed order of summation; then power -> source per unit length, S = P / (4 pi |V|) */
+    if (job.lists)
+        for (size_t t = 0; t < BLASI_WAVE; t++)
+            free(job.lists[t].d);
+    free(job.lists);
+    if (rc != BRUME_OK) {
+        free(acc);
+        return rc;
+    }
+    /* power -> source per unit length, S = P / (4 pi |V|) */
     double total = 0.0;
     for (int m = 0; m < st->nm; m++) {
         const blasi_medium *bm = &st->m[m];
         double norm = 1.0 / (4.0 * PI * bm->volume);
         for (size_t v = bm->offset; v < bm->offset + bm->nvox; v++)
             for (int c = 0; c < 3; c++) {
-                double p = 0.0;
-                for (int gi = 0; gi < job.ngroups; gi++)
-                    p += job.acc[gi][3 * v + (size_t)c];
+                double p = acc[3 * v + (size_t)c];
                 total += p;
                 st->S[3 * v + (size_t)c] = (float)(p * norm);
             }
     }
-    for (int gi = 0; gi < job.ngroups; gi++) {
-        st->stats.interceptions += job.intercepts[gi];
-        free(job.acc[gi]);
-    }
+    free(acc);
     st->stats.light_rays = nrays;
     st->stats.stored_power = total / 3.0;
     return BRUME_OK;
@@ -659,8 +715,10 @@ void blasi_finish(blasi_state *st)
 {
     if (!st)
         return;
-    for (int m = 0; m < st->nm; m++)
+    for (int m = 0; m < st->nm; m++) {
         phase_release(st->m[m].dir_owned);
+        free(st->m[m].occ);
+    }
     free(st->rho);
     free(st->S);
     free(st);
@@ -725,12 +783,27 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
     }
     for (int m = 0; m < st->nm && rc == BRUME_OK; m++) {
-        const blasi_medium *bm = &st->m[m];
+        blasi_medium *bm = &st->m[m];
+        size_t nblocks = 1;
+        for (int a = 0; a < 3; a++) {
+            bm->bn[a] = (bm->n[a] + BLASI_BLOCK - 1) / BLASI_BLOCK;
+            nblocks *= (size_t)bm->bn[a];
+        }
+        bm->occ = calloc(nblocks, 1);
+        if (!bm->occ) {
+            rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
+            break;
+        }
         float *dst = st->rho + bm->offset;
         for (int k = 0; k < bm->n[2]; k++)
             for (int j = 0; j < bm->n[1]; j++)
-                for (int i = 0; i < bm->n[0]; i++)
-                    *dst++ = (float)density_voxel(bm->md->rho, i, j, k);
+                for (int i = 0; i < bm->n[0]; i++) {
+                    float rho = (float)density_voxel(bm->md->rho, i, j, k);
+                    *dst++ = rho;
+                    if (rho != 0.0f)
+                        bm->occ[(size_t)(i / BLASI_BLOCK) +
+                                (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
+                }
     }
     if (st->nm > 0) {
         st->centre = v3_scale(v3_add(st->bounds.lo, st->bounds.hi), 0.5);
