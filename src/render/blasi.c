@@ -44,7 +44,7 @@
 #define BLASI_BATCH 1024           /* light rays per task */
 #define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
-#define BLASI_BLOCK 8              /* voxels per side of an occupancy block (empty-space skipping) */
+#define BLASI_BLOCK 4              /* voxels per side of an occupancy block (empty-space skipping) */
 #define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
 #define BLASI_FILE_MAGIC "BRUMEBL1"
 #define BLASI_FILE_VERSION 1u
