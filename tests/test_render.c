@@ -121,6 +121,32 @@ TEST(white_furnace)
     brume_image_release(img);
 }
 
+/* An emitting furnace: a heterogeneous, chromatic, absorbing and scattering cloud whose
+ * emission Le equals the background B. The uniform field L = B solves the equation (what
+ * sigma_a removes, sigma_a Le puts back; scattering moves uniform radiance around), so
+ * every pixel's expectation is B per channel. Exercises the emission term at every
+ * tentative collision, weighted by the flight's ratio-tracked transmittance. */
+TEST(emitting_furnace)
+{
+    const char *json = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+                       " \"background\": [0.5, 0.8, 0.3],"
+                       " \"media\": [{\"sigma_a\": [3, 1, 2], \"sigma_s\": [2, 6, 1], \"emission\": [0.5, 0.8, 0.3],"
+                       "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 8},"
+                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],"
+                       " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 64, \"max_depth\": 100000}}";
+    const double B[3] = {0.5, 0.8, 0.3};
+    brume_image *img = render_json(json, 0, 12);
+    const float *px = brume_image_pixels(img);
+    for (int c = 0; c < 3; c++) {
+        double mean, se;
+        test_channel_mean(px, 32 * 32, c, &mean, &se);
+        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f, expected %.2f\n", c, mean, se, B[c]);
+        ASSERT_NEAR(mean, B[c], 5.0 * se + 1e-6);
+        ASSERT_TRUE(5.0 * se < 0.01 * B[c]);
+    }
+    brume_image_release(img);
+}
+
 /* Gray white furnace with an isotropic medium, dense enough that most paths scatter many
  * times: every pixel's expectation is the background, 0.75. Next-event estimation of the
  * background and phase sampling share the work through MIS, so a sample is not exactly
@@ -173,5 +199,5 @@ TEST(single_scattering_closed_form)
     brume_image_release(img);
 }
 
-TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, white_furnace_gray,
-          single_scattering_closed_form)
+TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
+          white_furnace_gray, single_scattering_closed_form)
