@@ -96,6 +96,23 @@ TEST(absorbing_fog_closed_form)
     brume_image_release(img);
 }
 
+/* A furnace: renders json with `seed` and asserts, for channels c0 .. c1 - 1, that the
+ * image mean is expect[c] within 5 standard errors (plus 1e-6) and that 5 standard errors
+ * are below rel_tol expect[c], so an energy error of rel_tol cannot pass. */
+static void check_furnace(const char *json, uint64_t seed, const double expect[3], int c0, int c1, double rel_tol)
+{
+    brume_image *img = render_json(json, 0, seed);
+    const float *px = brume_image_pixels(img);
+    for (int c = c0; c < c1; c++) {
+        double mean, se;
+        test_channel_mean(px, 32 * 32, c, &mean, &se);
+        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f, expected %.3f\n", c, mean, se, expect[c]);
+        ASSERT_NEAR(mean, expect[c], 5.0 * se + 1e-6);
+        ASSERT_TRUE(5.0 * se < rel_tol * expect[c]);
+    }
+    brume_image_release(img);
+}
+
 /* White furnace: a heterogeneous medium with albedo 1 in every channel (but a different
  * extinction per channel, so spectral tracking is exercised), lit only by a constant
  * background of radiance 1: every pixel's expectation is exactly 1. */
@@ -107,18 +124,8 @@ TEST(white_furnace)
                        "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
                        " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 96, \"max_depth\": 100000}}";
-    brume_image *img = render_json(json, 0, 11);
-    const float *px = brume_image_pixels(img);
-    int n = 32 * 32;
-    for (int c = 0; c < 3; c++) {
-        double mean, se;
-        test_channel_mean(px, n, c, &mean, &se);
-        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f\n", c, mean, se);
-        ASSERT_NEAR(mean, 1.0, 5.0 * se + 1e-6);
-        /* a 1% energy error would be far outside this tolerance */
-        ASSERT_TRUE(5.0 * se < 0.01);
-    }
-    brume_image_release(img);
+    const double one[3] = {1.0, 1.0, 1.0};
+    check_furnace(json, 11, one, 0, 3, 0.01); /* a 1 % energy error fails */
 }
 
 /* An emitting furnace: a heterogeneous, chromatic, absorbing and scattering cloud whose
@@ -135,16 +142,7 @@ TEST(emitting_furnace)
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],"
                        " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 64, \"max_depth\": 100000}}";
     const double B[3] = {0.5, 0.8, 0.3};
-    brume_image *img = render_json(json, 0, 12);
-    const float *px = brume_image_pixels(img);
-    for (int c = 0; c < 3; c++) {
-        double mean, se;
-        test_channel_mean(px, 32 * 32, c, &mean, &se);
-        fprintf(stderr, "channel %d: mean %.5f, standard error %.5f, expected %.2f\n", c, mean, se, B[c]);
-        ASSERT_NEAR(mean, B[c], 5.0 * se + 1e-6);
-        ASSERT_TRUE(5.0 * se < 0.01 * B[c]);
-    }
-    brume_image_release(img);
+    check_furnace(json, 12, B, 0, 3, 0.01);
 }
 
 /* Gray white furnace with an isotropic medium, dense enough that most paths scatter many
@@ -158,15 +156,8 @@ TEST(white_furnace_gray)
                        " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 30,"
                        "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 4}}],"
                        " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 100000}}";
-    brume_image *img = render_json(json, 0, 2);
-    const float *px = brume_image_pixels(img);
-    int n = 32 * 32;
-    double mean, se;
-    test_channel_mean(px, n, 1, &mean, &se);
-    fprintf(stderr, "gray furnace: mean %.5f, standard error %.5f\n", mean, se);
-    ASSERT_NEAR(mean, 0.75, 5.0 * se);
-    ASSERT_TRUE(5.0 * se < 0.005 * 0.75);
-    brume_image_release(img);
+    const double bg[3] = {0.75, 0.75, 0.75};
+    check_furnace(json, 2, bg, 1, 2, 0.005);
 }
 
 /* Single scattering in a thin homogeneous slab seen head-on, lit by a distant light from
