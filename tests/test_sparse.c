@@ -544,9 +544,9 @@ TEST(hostile_vdb_bit_flips)
     free(b);
 }
 
-/* OpenVDB loops for minutes on an absurd tile count in a root node (found by fuzzing):
- * the sandbox ends it with its CPU limit. The count sits right after the root's
- * background value; all 0xff. */
+/* OpenVDB trusts the counts and sizes it reads: 0x7fffffff in one of them made it loop for
+ * minutes or fill gigabytes (found by fuzzing; bytes 64 to 136 of this file). The sandbox
+ * ends each within its limits: a read past the end throws, the address space is bounded. */
 TEST(hostile_vdb_huge_counts)
 {
     if (!grid_have_openvdb())
@@ -554,8 +554,9 @@ TEST(hostile_vdb_huge_counts)
     size_t n;
     unsigned char *b = (unsigned char *)test_slurp(DATA("box_fog_21cube.vdb"), &n);
     int tried = 0;
-    /* every 4-byte word of the first 1 KB in turn set to 0x7fffffff: counts and sizes */
-    for (size_t at = 0; at + 4 <= n && at < 1024 && tried < 24; at += 44) {
+    /* every 4-byte word of the first 256 bytes in turn set to 0x7fffffff: counts and sizes */
+    double t0 = now();
+    for (size_t at = 0; at + 4 <= n && at < 256; at += 4) {
         unsigned char *m = malloc(n);
         memcpy(m, b, n);
         m[at] = 0xff, m[at + 1] = 0xff, m[at + 2] = 0xff, m[at + 3] = 0x7f;
@@ -565,6 +566,7 @@ TEST(hostile_vdb_huge_counts)
         free(m);
         tried++;
     }
+    fprintf(stderr, "%d mutants in %.1f s\n", tried, now() - t0);
     free(b);
 }
 

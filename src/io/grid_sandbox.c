@@ -81,7 +81,7 @@ static void child_error(int fd)
         (void)write_all(fd, m, len);
 }
 
-static void child_run(const sandbox_job *j, int fd, double cpu_seconds, size_t max_memory)
+static void child_run(const sandbox_job *j, int fd, double cpu_seconds, size_t max_memory, size_t in_size)
 {
     struct rlimit r;
     r.rlim_cur = r.rlim_max = (rlim_t)cpu_seconds + 1;
@@ -89,7 +89,12 @@ static void child_run(const sandbox_job *j, int fd, double cpu_seconds, size_t m
     r.rlim_cur = r.rlim_max = 0;
     setrlimit(RLIMIT_CORE, &r);
     if (!SANDBOX_ASAN) {
-        rlim_t as = (rlim_t)2 * (rlim_t)max_memory + ((rlim_t)1 << 30);
+        /* OpenVDB stores at least a 64-byte mask per leaf of about 2 KiB: a tree is at most
+         * some 40 times its file, the NanoVDB copy about as much again */
+        rlim_t as = (rlim_t)2 * (rlim_t)max_memory;
+        if ((double)in_size * 128.0 < (double)as)
+            as = (rlim_t)in_size * 128;
+        as += (rlim_t)1 << 30;
         if (getrlimit(RLIMIT_AS, &r) == 0 && (r.rlim_cur == RLIM_INFINITY || as < r.rlim_cur)) {
             r.rlim_cur = as;
             setrlimit(RLIMIT_AS, &r);
@@ -172,7 +177,7 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     struct stat sb;
     if (j->path && stat(j->path, &sb) == 0)
         in_size = (size_t)sb.st_size;
-    double cpu = 10.0 + 2.0 * (double)in_size / 1048576.0;
+    double cpu = 5.0 + 2.0 * (double)in_size / 1048576.0;
     double deadline = now_seconds() + 2.0 * cpu + 5.0;
     int fds[2];
     if (pipe(fds) != 0)
@@ -187,7 +192,7 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     }
     if (pid == 0) {
         close(fds[0]);
-        child_run(j, fds[1], cpu, max_memory);
+        child_run(j, fds[1], cpu, max_memory, in_size);
     }
     close(fds[1]);
     int fd = fds[0];

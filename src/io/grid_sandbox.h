@@ -8,8 +8,10 @@
  * message) back through a pipe. The parent reads at most `max_memory` bytes, waits at most
  * the wall-clock limit, then kills the child: a crash, a timeout or an exhausted limit is a
  * one-line error naming the file. Limits (docs/grids.md):
- *   CPU time:       10 s + 2 s per MiB of input; wall clock twice that plus 5 s
- *   address space:  2 x max_memory + 1 GiB (OpenVDB's tree, libraries, the NanoVDB copy) */
+ *   CPU time:       5 s + 2 s per MiB of input; wall clock twice that plus 5 s
+ *   address space:  1 GiB (libraries) + the smaller of 2 x max_memory and 128 x the
+ *                   input's size (OpenVDB's tree and the NanoVDB copy: a leaf of about
+ *                   2 KiB takes at least its 64-byte mask in the file) */
 #ifndef BRUME_IO_GRID_SANDBOX_H
 #define BRUME_IO_GRID_SANDBOX_H
 

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -33,39 +35,42 @@ void init_once()
     }
 }
 
-// Grids of a file, trees loaded or not: from the path (io::File) or from bytes (io::Stream).
+// Grids of a file, trees loaded.
 struct source {
-    std::unique_ptr<openvdb::io::File> file;
-    openvdb::GridPtrVecPtr grids; // from a stream: trees loaded; from a file: metadata only
+    openvdb::GridPtrVecPtr grids;
 };
 
+// The whole file in memory, read through an istringstream that throws at a short read:
+// OpenVDB trusts the counts it reads, and at the end of the bytes a failed stream would
+// otherwise let it loop over billions of tiles (found by fuzzing); an exception ends it.
 void open_source(source &s, const char *path, const void *bytes, size_t size, const char *name)
 {
+    std::string data;
     if (path) {
-        s.file.reset(new openvdb::io::File(path));
-        s.file->open(false);
-        s.grids = s.file->readAllGridMetadata();
+        std::ifstream f(path, std::ios::in | std::ios::binary);
+        if (!f)
+            throw std::runtime_error("cannot open the file");
+        data.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
     } else {
-        if (size < 8 || std::memcmp(bytes, " BDV\0\0\0\0", 8) != 0)
-            throw std::runtime_error("not an OpenVDB file (wrong magic number)");
-        auto is = std::make_shared<std::istringstream>(std::string(static_cast<const char *>(bytes), size),
-                                                       std::ios::in | std::ios::binary);
-        openvdb::io::Stream stream(*is, /*delayLoad=*/false);
-        s.grids = stream.getGrids();
-        // OpenVDB does not always notice a short read; the stream does
-        if (!*is || !s.grids)
-            throw std::runtime_error("truncated OpenVDB file");
+        data.assign(static_cast<const char *>(bytes), size);
     }
+    if (data.size() < 8 || std::memcmp(data.data(), " BDV\0\0\0\0", 8) != 0)
+        throw std::runtime_error("not an OpenVDB file (wrong magic number)");
+    std::istringstream is(std::move(data), std::ios::in | std::ios::binary);
+    is.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
+    try {
+        openvdb::io::Stream stream(is, /*delayLoad=*/false);
+        s.grids = stream.getGrids();
+    } catch (const std::ios_base::failure &) {
+        throw std::runtime_error("truncated or malformed OpenVDB file (read past its end)");
+    }
+    if (!s.grids)
+        throw std::runtime_error("truncated OpenVDB file");
     (void)name;
 }
 
 // The grid with its tree.
-openvdb::GridBase::Ptr load_grid(source &s, const openvdb::GridBase::Ptr &meta)
-{
-    if (!s.file)
-        return meta;
-    return s.file->readGrid(meta->getName());
-}
+openvdb::GridBase::Ptr load_grid(source &, const openvdb::GridBase::Ptr &g) { return g; }
 
 std::string names_of(const openvdb::GridPtrVecPtr &grids)
 {
