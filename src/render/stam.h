@@ -20,9 +20,17 @@
 #include "core/rng.h"
 #include "density/randfield.h"
 #include "render/scene.h"
+#include "render/stam_params.h"
 
-/* Q's synthesis parameters from the scene's stam settings (lattice, cell, seed, time). */
-void stam_randfield_params(const stam_params *p, randfield_params *out);
+/* Q's synthesis parameters from the scene's stam options (lattice, cell, seed, time) at
+ * frame time scene_time (Q's time is stam.time + scene_time). */
+void stam_randfield_params(const stam_params *p, double scene_time, randfield_params *out);
+
+/* At commit (stam_media.c): moves drifting blob fields to stam.time + the frame time, sets
+ * their lookup (stam.bvh), and with stam.voxelize replaces each by a dense grid. */
+brume_status stam_commit_media(brume_scene *s);
+/* True when some blob field drifts or its Q evolves (stam.rate > 0): the world moves. */
+bool stam_media_move(const brume_scene *s);
 
 /* Builds Q and the light caches; fails (err_set) when a medium is not a blob field. */
 brume_status stam_prepare(const brume_scene *s, void **state);
