@@ -488,7 +488,7 @@ TEST(builders_reject_bad_arguments)
            BRUME_ERROR_RANGE, "brume_scene_add_box", "transform");
     ASSERT_EQ_INT(brume_scene_surface_count(s), 0);
     expect(ctx, brume_scene_set_option(ctx, s, "stam.eps", "-1"), BRUME_ERROR_RANGE, "stam.eps", "-1");
-    expect(ctx, brume_scene_set_option(ctx, s, "path.eps", "1"), BRUME_ERROR_PARSE, "path.eps", "unknown option");
+    expect(ctx, brume_scene_set_option(ctx, s, "path.eps", "1"), BRUME_ERROR_PARSE, "path.eps", "unknown key");
     expect(ctx, brume_scene_set_medium_motion(ctx, s, 0, NULL, 0), BRUME_ERROR_RANGE,
            "brume_scene_set_medium_motion", "medium");
 

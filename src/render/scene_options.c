@@ -21,7 +21,7 @@ brume_status brume_scene_set_option(brume_context *ctx, brume_scene *s, const ch
     if (def)
         st = def->set(s->options[id], rest, value);
     else
-        st = err_set(BRUME_ERROR_PARSE, "%.200s: unknown option (known: METHOD.KEY for METHOD one of %s)", key,
+        st = err_set(BRUME_ERROR_PARSE, "%.200s: unknown key (known here: METHOD.KEY for METHOD one of %s)", key,
                      method_options_methods());
     if (st != BRUME_OK)
         err_prefix("%s", s->source);

@@ -3,6 +3,7 @@
  * blob lookup (stam.bvh), and with stam.voxelize.resolution the replacement of every blob
  * field by a dense grid of its mean or of one realization (for the reference renderers). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/error.h"
@@ -16,33 +17,20 @@ static brume_status voxelize_media(brume_scene *s, const stam_params *p)
     randfield *q = NULL;
     if (p->voxelize_realization) {
         randfield_params rp;
-        stam_randfield_params(p, s->time, &rp);
+        stam_randfield_params(p, s->time, stam_blob_extent(s), &rp);
         if (!(q = randfield_new(&rp)))
             return err_prefix("%s: stam.voxelize", s->source);
     }
     brume_status st = BRUME_OK;
-    int resolution = p->voxelize_resolution;
     for (int m = 0; m < s->nmedia && st == BRUME_OK; m++) {
         blob_field *f = density_get_blobs(s->media[m].rho);
         if (!f)
             continue;
-        box3 b = f->bounds;
-        vec3 ext = v3_sub(b.hi, b.lo);
-        double longest = fmax(ext.x, fmax(ext.y, ext.z));
-        int n[3];
-        for (int a = 0; a < 3; a++)
-            n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
-        float *data = malloc((size_t)n[0] * (size_t)n[1] * (size_t)n[2] * sizeof *data);
-        if (!data) {
-            st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam.voxelize: out of memory for %d x %d x %d", s->source,
-                         n[0], n[1], n[2]);
-            break;
-        }
-        blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), p->eps, p->eta, data);
-        density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
+        char who[600];
+        snprintf(who, sizeof who, "%s: stam.voxelize", s->source);
+        density *g = blob_field_grid(f, p->voxelize_resolution, q, p->eps, p->eta, who);
         if (!g) {
-            free(data);
-            st = err_prefix("%s: stam.voxelize", s->source);
+            st = err_status();
             break;
         }
         density_release(s->media[m].rho);

@@ -15,7 +15,7 @@ void stam_params_default(stam_params *p)
     p->eps = 0.0;
     p->eta = 1e30;
     p->alpha = 0.05;
-    p->lattice = 32;
+    p->lattice = 0;
     p->cell = 0.0;
     p->seed = 1;
     p->time = 0.0;
@@ -24,14 +24,15 @@ void stam_params_default(stam_params *p)
     p->steps = 16;
     p->light_grid = 32;
     p->bvh = true;
+    p->paper = false;
     p->voxelize_resolution = 0;
     p->voxelize_realization = true;
 }
 
 const char *stam_param_names(void)
 {
-    return "eps, eta, alpha, lattice, cell, seed, time, rate, ambient, steps, light_grid, bvh, voxelize.resolution, "
-           "voxelize.realization";
+    return "eps, eta, alpha, lattice, cell, seed, time, rate, ambient, steps, light_grid, bvh, variant, "
+           "voxelize.resolution, voxelize.realization";
 }
 
 static bool num(const char *text, double lo, double hi, double *out)
@@ -110,13 +111,20 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
     NUMBER("eps", 0.0, BIG, eps, "a number >= 0")
     NUMBER("eta", 1e-30, BIG, eta, "a number > 0")
     NUMBER("alpha", 1e-9, BIG, alpha, "a length > 0")
-    INTEGER("lattice", 2, 512, lattice)
     NUMBER("cell", 0.0, BIG, cell, "a length >= 0 (0 = alpha / 3)")
     NUMBER("time", -BIG, BIG, time, "a finite time in seconds")
     NUMBER("rate", 0.0, BIG, rate, "a rate >= 0")
     INTEGER("steps", 1, 256, steps)
     INTEGER("light_grid", 0, 512, light_grid)
-    else if (strcmp(key, "seed") == 0) {
+    else if (strcmp(key, "lattice") == 0) {
+        if (!whole(value, 0, 512, &v) || v == 1)
+            return err_set(BRUME_ERROR_RANGE, "stam.lattice: '%s' is not 0 (automatic) or an integer in [2, 512]", value);
+        n.lattice = (int)v;
+    } else if (strcmp(key, "variant") == 0) {
+        if (strcmp(value, "paper") != 0 && strcmp(value, "corrected") != 0)
+            return err_set(BRUME_ERROR_PARSE, "stam.variant: unknown variant '%s' (known: paper, corrected)", value);
+        n.paper = value[0] == 'p';
+    } else if (strcmp(key, "seed") == 0) {
         if (!whole(value, 0.0, 9007199254740992.0, &v))
             return err_set(BRUME_ERROR_RANGE, "stam.seed: '%s' is not an integer in [0, 2^53]", value);
         n.seed = (uint64_t)v;
@@ -135,7 +143,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
         if (!boolean(value, &n.voxelize_realization))
             return err_set(BRUME_ERROR_PARSE, "stam.voxelize.realization: '%s' is not true or false", value);
     } else {
-        return err_set(BRUME_ERROR_PARSE, "stam.%s: unknown option (known: %s)", key, stam_param_names());
+        return err_set(BRUME_ERROR_PARSE, "stam.%s: unknown key (known here: %s)", key, stam_param_names());
     }
 #undef NUMBER
 #undef INTEGER

@@ -15,7 +15,8 @@ typedef struct stam_params {
     double eps;     /* magnitude of the density variance: sigma^2 = eps F_eta(mean), >= 0 */
     double eta;     /* clamping value of F_eta, > 0 (INFINITY: no clamping) */
     double alpha;   /* correlation length of Q, world units, > 0 */
-    int lattice;    /* Q's periodic lattice: lattice^3 points (paper: 32) */
+    int lattice;    /* Q's periodic lattice: lattice^3 points (paper: 32); 0 = covering the blob
+                       fields (stam_randfield_params) */
     double cell;    /* Q's lattice spacing, world units; 0 = alpha / 3 */
     uint64_t seed;  /* Q's realization */
     double time;    /* the scene's own time, seconds, added to the frame time: blobs drift to
@@ -25,6 +26,9 @@ typedef struct stam_params {
     int steps;      /* steps of the average-source-function quadrature per ray */
     int light_grid; /* cells along the longest axis of the light-transparency cache; 0 = exact shadow rays */
     bool bvh;       /* false: scan every blob for each ray (benchmarks) */
+    bool paper;     /* variant "paper": Eq. 12 and 13 as printed (Var T_i = K_Q(0) eps I_F with
+                       K_Q(0) = (2 pi)^(-3/2) alpha^-3, realized with a Q of variance K_Q(0)) and
+                       J-bar's shadows from the mean density; false = "corrected" (docs/stam.md) */
     int voxelize_resolution;   /* > 0: at commit, every blob field becomes a dense trilinear grid
                                   with this many cells along its longest axis */
     bool voxelize_realization; /* the grid holds one realization (mean + Q) rather than the mean */
@@ -32,9 +36,10 @@ typedef struct stam_params {
 
 void stam_params_default(stam_params *p);
 /* Sets KEY (without "stam.") from its text form: eps, eta, alpha, lattice, cell, seed, time,
- * rate, ambient ("v" or "r,g,b"), steps, light_grid, bvh (true|false), voxelize.resolution
+ * rate, ambient ("v" or "r,g,b"), steps, light_grid, bvh (true|false), variant
+ * (paper|corrected), voxelize.resolution
  * ([2, 2048], 0 = off), voxelize.realization (true|false). On failure err_set() names
- * "stam.KEY" and *p is unchanged. */
+ * "stam.KEY" and *p is unchanged. lattice: 0 (covering the blob fields) or [2, 512]. */
 brume_status stam_params_set(stam_params *p, const char *key, const char *value);
 const char *stam_param_names(void);
 
