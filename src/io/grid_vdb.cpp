@@ -124,6 +124,19 @@ template <typename GridT> void check_transform(const GridT &g)
         throw std::runtime_error("grid \"" + g.getName() + "\" has a non-linear (frustum) transform");
 }
 
+// The grid as NanoVDB: float and vec3s grids only (what brume reads; the converter's other
+// value types would instantiate a dozen more templates for nothing). Null handle otherwise.
+nanovdb::GridHandle<nanovdb::HostBuffer> to_nano(const openvdb::GridBase::Ptr &g)
+{
+    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
+        return nanovdb::openToNanoVDB(*f);
+    if (auto v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(g))
+        return nanovdb::openToNanoVDB(*v);
+    return nanovdb::GridHandle<nanovdb::HostBuffer>();
+}
+
+unsigned long long nano_size(const openvdb::GridBase::Ptr &g) { return (unsigned long long)to_nano(g).size(); }
+
 } // namespace
 
 extern "C" brume_status gridvdb_list(const char *path, const void *bytes, size_t size, const char *name,
@@ -166,12 +179,7 @@ extern "C" brume_status gridvdb_list(const char *path, const void *bytes, size_t
             }
             if (!(in.vmin <= in.vmax))
                 in.vmin = in.vmax = 0.0;
-            try {
-                if (g->transform().isLinear())
-                    in.nano_bytes = (unsigned long long)nanovdb::openToNanoVDB(g).size();
-            } catch (const std::exception &) {
-                in.nano_bytes = 0;
-            }
+            in.nano_bytes = g->transform().isLinear() ? nano_size(g) : 0;
             infos.push_back(in);
         }
         *out = static_cast<gridvdb_info *>(std::malloc(infos.size() * sizeof(gridvdb_info) + 1));
@@ -208,11 +216,7 @@ extern "C" brume_status gridvdb_to_nano(const char *path, const void *bytes, siz
                            g->getName().c_str());
         if (g->activeVoxelCount() == 0)
             return err_set(BRUME_ERROR_PARSE, "%s: grid \"%s\" has no active voxels", name, g->getName().c_str());
-        nanovdb::GridHandle<nanovdb::HostBuffer> h;
-        if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
-            h = nanovdb::openToNanoVDB(*f);
-        else
-            h = nanovdb::openToNanoVDB(*openvdb::gridPtrCast<openvdb::Vec3SGrid>(g));
+        nanovdb::GridHandle<nanovdb::HostBuffer> h = to_nano(g);
         if (sink(user, h.data(), h.size()) != 0)
             return err_set(BRUME_ERROR_IO, "%s: could not hand the NanoVDB grid back", name);
         return BRUME_OK;
@@ -240,20 +244,18 @@ extern "C" brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, con
             if (!g)
                 return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no grid named \"%s\"; grids: %s", in, grid,
                                names_of(s.grids).c_str());
-            handles.push_back(nanovdb::openToNanoVDB(g));
+            if (!is_float(g) && !is_vec3(g))
+                return err_set(BRUME_ERROR_UNSUPPORTED, "%s: grid \"%s\" holds %s values; brume converts float and vec3s grids",
+                               in, grid, g->valueType().c_str());
+            handles.push_back(to_nano(g));
         } else {
             for (const auto &m : *s.grids) {
                 openvdb::GridBase::Ptr g = load_grid(s, m);
-                if (!g->transform().isLinear())
-                    continue;
-                try {
-                    handles.push_back(nanovdb::openToNanoVDB(g));
-                } catch (const std::exception &) {
-                    // a value type NanoVDB cannot hold: left out
-                }
+                if (g->transform().isLinear() && (is_float(g) || is_vec3(g)))
+                    handles.push_back(to_nano(g));
             }
             if (handles.empty())
-                return err_set(BRUME_ERROR_UNSUPPORTED, "%s: no grid NanoVDB can hold; grids: %s", in,
+                return err_set(BRUME_ERROR_UNSUPPORTED, "%s: no float or vec3s grid to convert; grids: %s", in,
                                names_of(s.grids).c_str());
         }
         nanovdb::io::writeGrids<nanovdb::HostBuffer, std::vector>(std::string(out), handles);
@@ -397,7 +399,7 @@ extern "C" brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path,
         }
         std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
         for (auto &g : w->grids)
-            handles.push_back(nanovdb::openToNanoVDB(g));
+            handles.push_back(to_nano(g));
         nanovdb::io::writeGrids<nanovdb::HostBuffer, std::vector>(std::string(path), handles);
         return BRUME_OK;
     } catch (const std::exception &e) {

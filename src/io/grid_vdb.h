@@ -25,7 +25,7 @@ typedef struct gridvdb_info {
     int bbmin[3], bbmax[3];        /* active voxels' index box, inclusive (min > max: no active voxel) */
     unsigned long long active;     /* active voxel count */
     double vmin, vmax;             /* range of the active values (vec3: of their components) */
-    unsigned long long nano_bytes; /* size of the grid as NanoVDB; 0 when NanoVDB cannot hold it */
+    unsigned long long nano_bytes; /* size of the grid as NanoVDB (float and vec3s grids; else 0) */
 } gridvdb_info;
 
 /* The sink that receives a NanoVDB buffer, in pieces; returns 0 on success. */
@@ -44,8 +44,8 @@ brume_status gridvdb_list(const char *path, const void *bytes, size_t size, cons
 brume_status gridvdb_to_nano(const char *path, const void *bytes, size_t size, const char *name, const char *grid,
                              int vec3, gridvdb_sink sink, void *user);
 
-/* .vdb file to .nvdb file keeping every grid NanoVDB can hold (grid NULL/"") or one grid,
- * with their names and sparse trees. */
+/* .vdb file to .nvdb file keeping every float and vec3s grid (grid NULL/"") or one grid,
+ * with their names and sparse trees (other value types are left out). */
 brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, const char *grid);
 
 /* Writes a dense grid as one float grid "density" (fog volume) to `path`: .vdb (OpenVDB)

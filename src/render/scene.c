@@ -123,7 +123,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     s->has_emission = false;
     for (int m = 0; m < s->nmedia; m++) {
         medium_init(&s->media[m]);
-        if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
+        if (medium_emits(&s->media[m]))
             s->has_emission = true;
     }
     for (int i = 0; i < s->nlights; i++)
