@@ -60,7 +60,7 @@ static const figure figures[] = {
      "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; log scale."},
     {"blasi-fig7", "Blasi 1993", "Figure 7", FIG_BLASI7, "",
      "Figure 7's parameters for the three theoretical functions: each true function (solid), Figure 7's mixture "
-     "(dashed) and brume's fit in the angle norm (dotted colour), log scale. The table below scores both."},
+     "(orange, dashed) and brume's fit in the angle norm (green, dashed), log scale. The table below scores both."},
     {"blasi-picture1", "Blasi 1993", "Section 5, picture 1", FIG_RENDER, "blasi-picture1",
      "The 65 x 65 x 10 fractal cloud seen from below and to the side, the sun above it; the paper's variant of the "
      "two-pass method, 2^21 light rays, 400 x 400."},
