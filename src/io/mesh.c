@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 
 #define MESH_MAX_TRIANGLES 200000000L
@@ -21,7 +22,13 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     FILE *probe = fopen(path, "rb");
     if (!probe)
         return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* assimp holds the whole file and more while it imports: a file larger than the memory
+     * budget is refused unread; the import's share is given back once released */
+    long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;
     fclose(probe);
+    size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
+    if (budget_take(import_bytes, path) != BRUME_OK)
+        return err_status();
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                                       aiProcess_SortByPType);
     if (!sc)
@@ -39,7 +46,14 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     }
     if (ntri > MESH_MAX_TRIANGLES || nv > 3 * MESH_MAX_TRIANGLES) {
         aiReleaseImport(sc);
+        budget_give(import_bytes);
         return err_set(BRUME_ERROR_RANGE, "%s: %ld triangles exceed the limit of %ld", path, ntri, MESH_MAX_TRIANGLES);
+    }
+    /* the triangle list here and, about as large again, the ray-tracing hierarchy built on it */
+    if (budget_take(2 * (sizeof(double) * 3 * (size_t)nv + sizeof(int) * 3 * (size_t)ntri), path) != BRUME_OK) {
+        aiReleaseImport(sc);
+        budget_give(import_bytes);
+        return err_status();
     }
     double *pos = malloc(sizeof *pos * 3 * (size_t)nv);
     int *idx = malloc(sizeof *idx * 3 * (size_t)ntri);
@@ -83,6 +97,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         vbase += me->mNumVertices;
     }
     aiReleaseImport(sc);
+    budget_give(import_bytes);
     *pos_out = pos;
     *idx_out = idx;
     *nv_out = (int)nv;

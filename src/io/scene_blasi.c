@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "density/fractal.h"
+#include "io/scene_paths.h"
 
 brume_status scene_parse_blasi(const cJSON *root, jloc top, blasi_options *o)
 {
@@ -31,7 +32,10 @@ brume_status scene_parse_blasi(const cJSON *root, jloc top, blasi_options *o)
                 snprintf(text, sizeof text, "%.17g", it->valuedouble);
             } else if (cJSON_IsString(it)) {
                 bool is_path = strcmp(it->string, "save_light") == 0 || strcmp(it->string, "load_light") == 0;
-                if (is_path)
+                if (strcmp(it->string, "save_light") == 0) { /* written: inside the scene's folder only */
+                    if ((st = scene_output_path(top.file, "blasi.save_light", it->valuestring, text, sizeof text)))
+                        return st;
+                } else if (is_path)
                     json_resolve_path(top.file, it->valuestring, text, sizeof text);
                 else
                     snprintf(text, sizeof text, "%s", it->valuestring);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "density/fractal.h"
@@ -277,10 +278,18 @@ static brume_status parse_grid_density(const cJSON *j, jloc at, density **out)
     if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
     if (mb > 0.0)
         o.max_memory = (size_t)(mb * 1048576.0);
+    /* the grid's own limit, within what the scene's budget has left (render.max_memory_mb) */
+    size_t left = budget_left();
+    if (left < o.max_memory)
+        o.max_memory = left > 0 ? left : 1;
     *out = density_load_file(path, &o);
     if (!*out)
         return err_prefix("%s: %s.file", at.file, at.path);
-    return BRUME_OK;
+    density_info info;
+    density_get_info(*out, &info);
+    char who[300];
+    snprintf(who, sizeof who, "%s: %s.file", at.file, at.path);
+    return budget_take(info.memory_bytes, who);
 }
 
 /* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1), at the
@@ -532,9 +541,13 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s, medium
 static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings *rs)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", NULL};
+                                       "fps", "max_memory_mb", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
+    /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
+    double mb = (double)(BUDGET_DEFAULT_BYTES >> 20);
+    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
+    budget_set_limit((size_t)(mb * 1048576.0));
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs->width))) return st;
     if ((st = json_int(j, at, "height", 0, 1, 65536, &rs->height))) return st;
     if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs->spp))) return st;
@@ -654,7 +667,10 @@ brume_status scene_parse_json_at(const char *text, const char *source, double ti
         cJSON_Delete(root);
         return err_status();
     }
+    budget_begin(BUDGET_DEFAULT_BYTES);
     st = parse_scene(root, s, time, frame_no);
+    s->max_memory = budget_limit();
+    budget_end();
     cJSON_Delete(root);
     if (st) {
         brume_scene_release(s);

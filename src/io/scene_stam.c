@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
@@ -98,6 +99,9 @@ static brume_status parse_generator(const cJSON *j, jloc at, blob_list *out)
         if ((st = json_int(j, at, "clouds", 0, 1, 100000, &clouds))) return st;
         if (!(box.lo.x <= box.hi.x && box.lo.y <= box.hi.y && box.lo.z <= box.hi.z))
             return err_set(BRUME_ERROR_RANGE, "%s: %s: need bounds_min <= bounds_max", at.file, at.path);
+        if ((double)clouds * p.count > BLOB_MAX_COUNT)
+            return err_set(BRUME_ERROR_RANGE, "%s: %s: clouds x count = %d x %d blobs, more than the limit of %d",
+                           at.file, at.path, clouds, p.count, BLOB_MAX_COUNT);
         st = blob_gen_cluster(&p, box, rmin, rmax, clouds, out);
     } else if (strcmp(type, "fire") == 0) {
         static const char *const keys[] = {"type", "base", "up", "height", "radius", "count", "h", "density", "band",
@@ -175,6 +179,16 @@ brume_status scene_parse_blobs(const cJSON *j, jloc at, density **out)
     }
     if (list.n == 0)
         return err_set(BRUME_ERROR_PARSE, "%s: %s: no blobs (give \"blobs\" or \"generators\")", at.file, at.path);
+    /* the work of the majorant grid, counted in O(n) before any of it is done */
+    double pairs = blob_majorant_pairs(list.b, list.n, cutoff, BLOB_MAJORANT_CELLS);
+    if (pairs > BLOB_MAX_PAIRS) {
+        int n = list.n;
+        blob_list_free(&list);
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: %s: %d blobs cover %.3g cells of the %d^3 majorant grid, more than the limit of %.3g "
+                       "(fewer or smaller blobs; docs/scene-format.md#limits)",
+                       at.file, at.path, n, pairs, BLOB_MAJORANT_CELLS, BLOB_MAX_PAIRS);
+    }
     char who[300];
     snprintf(who, sizeof who, "%s: %s", at.file, at.path);
     blob_field *f = blob_field_new(list.b, list.n, cutoff, who);
@@ -211,13 +225,21 @@ static brume_status voxelize_media(brume_scene *s, int resolution, bool realizat
         int n[3];
         for (int a = 0; a < 3; a++)
             n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
-        float *data = malloc((size_t)n[0] * (size_t)n[1] * (size_t)n[2] * sizeof *data);
+        size_t cells = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+        /* the grid stays; the two accumulators of blob_field_voxelize are given back */
+        if ((st = budget_take(cells * sizeof(float), "stam.voxelize")) != BRUME_OK ||
+            (st = budget_take(cells * 2 * sizeof(double), "stam.voxelize")) != BRUME_OK) {
+            err_prefix("%s", at.file);
+            break;
+        }
+        float *data = malloc(cells * sizeof *data);
         if (!data) {
             st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam.voxelize: out of memory for %d x %d x %d", at.file, n[0],
                          n[1], n[2]);
             break;
         }
         blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), s->stam.eps, s->stam.eta, data);
+        budget_give(cells * 2 * sizeof(double));
         density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
         if (!g) {
             free(data);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "render/integrator.h"
@@ -40,6 +41,7 @@ brume_scene *scene_new(const char *source)
         return NULL;
     }
     scene_default_settings(&s->settings);
+    s->max_memory = BUDGET_DEFAULT_BYTES;
     blasi_options_default(&s->blasi);
     stam_params_default(&s->stam);
     s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
@@ -108,6 +110,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     s->has_emission = false;
     for (int m = 0; m < s->nmedia; m++) {
         medium_init(&s->media[m]);
+        if ((st = medium_check_range(&s->media[m], s->source, m)) != BRUME_OK)
+            return ctx_report(ctx, st);
         if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
             s->has_emission = true;
     }

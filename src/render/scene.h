@@ -34,6 +34,7 @@ struct brume_scene {
     double time;       /* the frame's time, seconds (brume_scene_load_at) */
     bool world_moves;  /* something besides the camera depends on time (set by the reader) */
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
+    size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
 };
 
 /* What integrator_prepare built for this scene, reused by later renders of it. Rendering
