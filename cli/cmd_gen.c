@@ -137,13 +137,13 @@ int cmd_gen(int argc, char **argv)
     }
     density *d = fractal_cloud(&p, bounds, GRID_NEAREST);
     if (!d) {
-        cli_error("gen: %s", err_message());
+        cli_error("gen: %.1000s", err_message());
         return 2;
     }
     brume_status s = density_write_file(d, out, GRID_FORMAT_AUTO);
     density_release(d);
     if (s != BRUME_OK) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     return 0;

@@ -53,14 +53,14 @@ static int phase_fit_cmd(int argc, char **argv)
         return phase_usage_error("fit needs a NAME");
     phase *p = phase_new_from_name(name);
     if (!p) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     phase_fit_result fit;
     brume_status st = phase_fit_schlick_mix(p, norm, &fit);
     phase_release(p);
     if (st != BRUME_OK) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
@@ -116,7 +116,7 @@ static int phase_plot_cmd(int argc, char **argv)
         truth[m] = phase_new_from_name(argv[i]);
         if (!truth[m] || phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK ||
             !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
-            cli_error("%s", err_message());
+            cli_error("%.1000s", err_message());
             m++;
             goto done;
         }
@@ -129,7 +129,7 @@ static int phase_plot_cmd(int argc, char **argv)
         m++;
     }
     if (phase_plot_png(out, m, rows, log_scale) != BRUME_OK) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         goto done;
     }
     status = 0;

@@ -479,7 +479,7 @@ int cmd_render(int argc, char **argv)
     }
     goto done;
 fail:
-    cli_error("%s", brume_context_last_error(ctx));
+    cli_error("%.1000s", brume_context_last_error(ctx));
 done:
     if (rc != 0 && d.size > 1)
         dist_abort(&d, rc);

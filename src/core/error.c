@@ -16,15 +16,17 @@
 static _Thread_local char err_buf[1024];
 static _Thread_local brume_status err_code = BRUME_OK;
 
-/* Appends s to out[*k], escaping control bytes and cutting after ERR_ARG_MAX input bytes. */
+/* Appends s to out[*k], escaping control bytes and cutting after ERR_ARG_MAX input bytes,
+ * or after prec bytes when a precision was given (then without the "..."). */
 static void put_escaped(char *out, size_t n, size_t *k, const char *s, int prec)
 {
     size_t len = s ? strnlen(s, prec >= 0 ? (size_t)prec : SIZE_MAX) : 6;
     if (!s)
         s = "(null)";
-    bool cut = len > ERR_ARG_MAX;
+    size_t max = prec >= 0 ? (size_t)prec : ERR_ARG_MAX;
+    bool cut = prec < 0 && len > max;
     if (cut) {
-        len = ERR_ARG_MAX;
+        len = max;
         while (len > 0 && ((unsigned char)s[len] & 0xC0) == 0x80) /* not inside a UTF-8 sequence */
             len--;
     }

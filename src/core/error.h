@@ -23,8 +23,10 @@
 #define ERR_ARG_MAX 200
 
 /* printf-style formatting into out[n] as every message is formatted: string arguments
- * (%s, %c) have control characters escaped (\n, \t, \x1b, ...) and are cut after
- * ERR_ARG_MAX bytes; control characters in fmt itself become spaces. Always one line. */
+ * (%s, %c) have control characters escaped (\n, \t, \x1b, ...) and a plain %s is cut after
+ * ERR_ARG_MAX bytes (keys, names and values quoted from input); a %s with an explicit
+ * precision ("%.1000s") is cut at that precision instead: the form for passing on a whole
+ * message formatted before. Control characters in fmt itself become spaces. One line. */
 void err_vformat(char *out, size_t n, const char *fmt, va_list ap);
 void err_format(char *out, size_t n, const char *fmt, ...) BRUME_PRINTF(3, 4);
 

@@ -446,7 +446,7 @@ static density *finish_dense(dense_read *r, const char *name, const density_load
     if (!d) {
         char msg[512];
         snprintf(msg, sizeof msg, "%s", err_message());
-        err_set(err_status(), "%s: %s", name, msg);
+        err_set(err_status(), "%s: %.500s", name, msg);
         free(r->data);
     }
     return d;
@@ -743,7 +743,7 @@ static brume_status write_vdb(const density *d, const density_info *in, const ch
         size_t tl = strlen(tmp);
         snprintf(msg, sizeof msg, "%s", strncmp(m, tmp, tl) == 0 && m[tl] == ':' ? m + tl + 2 : m);
         atomic_abort(&af);
-        return err_set(s, "%s: %s", path, msg);
+        return err_set(s, "%s: %.1000s", path, msg);
     }
     return atomic_commit(&af);
 }

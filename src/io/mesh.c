@@ -15,6 +15,55 @@
 
 #define MESH_MAX_TRIANGLES 200000000L
 
+static int ply_type_size(const char *t)
+{
+    static const struct {
+        const char *name;
+        int size;
+    } types[] = {{"char", 1},   {"uchar", 1},  {"int8", 1},   {"uint8", 1},   {"short", 2},  {"ushort", 2},
+                 {"int16", 2},  {"uint16", 2}, {"int", 4},    {"uint", 4},    {"int32", 4},  {"uint32", 4},
+                 {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0)
+            return types[i].size;
+    return 0;
+}
+
+/* A binary PLY file must hold at least the bytes its header announces (assimp reads past
+ * the end of a truncated one); BRUME_OK for anything else, which assimp checks itself. */
+static brume_status ply_check(FILE *f, const char *path, long file_size)
+{
+    char line[512];
+    rewind(f);
+    if (!fgets(line, sizeof line, f) || strncmp(line, "ply", 3) != 0)
+        return BRUME_OK;
+    bool binary = false;
+    double need = 0.0, count = 0.0, elem = 0.0;
+    for (int n = 0; n < 10000 && fgets(line, sizeof line, f); n++) {
+        char a[64], b[64], c[64];
+        double v = 0.0;
+        if (sscanf(line, "format %63s", a) == 1) {
+            binary = strncmp(a, "binary", 6) == 0;
+        } else if (sscanf(line, "element %63s %lf", a, &v) == 2) {
+            need += count * elem;
+            count = v;
+            elem = 0.0;
+        } else if (sscanf(line, "property list %63s %63s %63s", a, b, c) == 3) {
+            elem += ply_type_size(a); /* at least the length of each list */
+        } else if (sscanf(line, "property %63s %63s", a, b) == 2) {
+            elem += ply_type_size(a);
+        } else if (strncmp(line, "end_header", 10) == 0) {
+            need += count * elem;
+            long body = file_size - ftell(f);
+            if (binary && !(need <= (double)body))
+                return err_set(BRUME_ERROR_PARSE, "%s: truncated: the PLY header announces at least %.0f bytes, the "
+                               "file holds %ld", path, need, body);
+            return BRUME_OK;
+        }
+    }
+    return BRUME_OK;
+}
+
 brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out)
 {
     *pos_out = NULL;
@@ -25,7 +74,10 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     /* assimp holds the whole file and more while it imports: a file larger than the memory
      * budget is refused unread; the import's share is given back once released */
     long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;
+    brume_status st = file_size > 0 ? ply_check(probe, path, file_size) : BRUME_OK;
     fclose(probe);
+    if (st != BRUME_OK)
+        return st;
     size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
     if (budget_take(import_bytes, path) != BRUME_OK)
         return err_status();

@@ -180,7 +180,7 @@ static brume_status parse_background(const cJSON *root, jloc top, background *bg
         brume_context *ctx = brume_context_new();
         st = brume_image_read(ctx, path, &bg->img);
         if (st)
-            err_set(st, "%s: background.file: %s", top.file, brume_context_last_error(ctx));
+            err_set(st, "%s: background.file: %.1000s", top.file, brume_context_last_error(ctx));
         brume_context_release(ctx);
         if (st) return st;
     }

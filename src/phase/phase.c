@@ -484,21 +484,28 @@ phase *phase_load_tabulated(const char *path)
     }
     double *angle = NULL, *value = NULL;
     int n = 0, cap = 0, lineno = 0;
-    char line[PHASE_TABLE_LINE_MAX + 2]; /* lines are bounded: /dev/zero is one endless line */
+    char line[PHASE_TABLE_LINE_MAX + 1]; /* lines are bounded: /dev/zero is one endless line */
     phase *p = NULL;
-    while (fgets(line, sizeof line, f)) {
+    for (;;) {
+        /* one line, byte by byte: a NUL or an overlong line ends the read at once */
+        size_t len = 0;
+        int c = EOF;
+        while ((c = getc(f)) != EOF && c != '\n' && c != '\0' && len < PHASE_TABLE_LINE_MAX)
+            line[len++] = (char)c;
+        line[len] = '\0';
+        if (c == EOF && len == 0)
+            break;
         lineno++;
-        size_t len = strlen(line);
-        if (len > PHASE_TABLE_LINE_MAX || (len == PHASE_TABLE_LINE_MAX && line[len - 1] != '\n' && !feof(f))) {
+        if (c == '\0') {
+            err_set(BRUME_ERROR_PARSE, "%s:%d: contains a NUL byte; not a phase table", path, lineno);
+            goto done;
+        }
+        if (len == PHASE_TABLE_LINE_MAX) {
             err_set(BRUME_ERROR_PARSE, "%s:%d: line longer than %d bytes; not a phase table", path, lineno,
                     PHASE_TABLE_LINE_MAX - 1);
             goto done;
         }
-        if (len < sizeof line - 1 && memchr(line, '\0', len + 1) != line + len) {
-            err_set(BRUME_ERROR_PARSE, "%s:%d: contains a NUL byte; not a phase table", path, lineno);
-            goto done;
-        }
-        line[strcspn(line, "\r\n")] = '\0';
+        line[strcspn(line, "\r")] = '\0';
         const char *s = next_field(line);
         if (!s)
             continue;
@@ -564,7 +571,7 @@ phase *phase_load_tabulated(const char *path)
     if (!p) {
         char msg[1024];
         snprintf(msg, sizeof msg, "%s", err_message());
-        err_set(err_status(), "%s: %s", path, msg);
+        err_set(err_status(), "%s: %.1000s", path, msg);
     }
 done:
     /* what budget_take counted stays taken: the phase function keeps a copy as large */
