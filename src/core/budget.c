@@ -17,6 +17,10 @@ void budget_set_limit(size_t limit)
 {
     if (open_)
         limit_ = limit ? limit : BUDGET_DEFAULT_BYTES;
+#ifdef BUDGET_MAX_BYTES
+    if (limit_ > BUDGET_MAX_BYTES)
+        limit_ = BUDGET_MAX_BYTES;
+#endif
 }
 
 void budget_end(void)

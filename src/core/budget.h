@@ -15,8 +15,11 @@
 
 #include "brume.h"
 
-/* 4 GiB: the default of render.max_memory_mb (4096). */
+/* 4 GiB: the default of render.max_memory_mb (4096). A build may lower it, and cap what a
+ * scene may ask for with BUDGET_MAX_BYTES (the fuzz targets do: fuzz/run.sh). */
+#ifndef BUDGET_DEFAULT_BYTES
 #define BUDGET_DEFAULT_BYTES ((size_t)4 << 30)
+#endif
 
 /* Opens this thread's budget with `limit` bytes (0 = the default); nests by replacing. */
 void budget_begin(size_t limit);
