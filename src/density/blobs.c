@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
+#include "core/stats.h"
 #include "density/density_impl.h"
 
 #define BVH_LEAF_SIZE 4
@@ -159,6 +161,8 @@ double blob_field_mean(const blob_field *f, vec3 p)
 {
     double sum = 0.0;
     if (!f->use_bvh) {
+        if (stats_tls)
+            stats_tls->blob_queries++;
         for (int i = 0; i < f->n; i++)
             sum += blob_mean_at(f, i, p);
         return sum;
@@ -212,6 +216,8 @@ static inline void visit_blob(const blob_field *f, int i, vec3 o, vec3 d, double
     double e = uc - u;
     if (d2 + e * e >= f->R2[i])
         return;
+    if (stats_tls)
+        stats_tls->blob_visits++;
     fn(i, u, d2, user);
 }
 
@@ -221,14 +227,21 @@ void blob_field_query_ray(const blob_field *f, vec3 o, vec3 d, double tmin, doub
     if (!(tmax > tmin))
         return;
     if (!f->use_bvh) {
+        if (stats_tls)
+            stats_tls->blob_queries++;
         for (int i = 0; i < f->n; i++)
             visit_blob(f, i, o, d, tmin, tmax, fn, user);
         return;
     }
     vec3 inv = v3(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
     int stack[BVH_STACK], sp = 0, node = 0;
+    stats_counters *sc = stats_tls;
+    if (sc)
+        sc->blob_queries++;
     for (;;) {
         const blob_node *nd = &f->nodes[node];
+        if (sc)
+            sc->blob_nodes++;
         if (hit_box(&nd->box, o, inv, tmin, tmax)) {
             if (nd->count > 0) {
                 for (int i = nd->start; i < nd->start + nd->count; i++)
@@ -449,4 +462,33 @@ brume_status density_blobs_at_time(density *d, vec3 velocity, double t)
     *d = *nd;
     free(nd);
     return BRUME_OK;
+}
+
+density *blob_field_grid(const blob_field *f, int resolution, const randfield *q, double eps, double eta,
+                         const char *who)
+{
+    box3 b = f->bounds;
+    vec3 ext = v3_sub(b.hi, b.lo);
+    double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    int n[3];
+    for (int a = 0; a < 3; a++)
+        n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
+    size_t cells = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+    /* the grid stays in the memory budget; blob_field_voxelize's two accumulators are
+     * given back once it is done */
+    if (budget_take(cells * sizeof(float), who) != BRUME_OK || budget_take(cells * 2 * sizeof(double), who) != BRUME_OK)
+        return NULL;
+    float *data = malloc(cells * sizeof *data);
+    if (!data) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d x %d x %d voxels", who, n[0], n[1], n[2]);
+        return NULL;
+    }
+    blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), eps, eta, data);
+    budget_give(cells * 2 * sizeof(double));
+    density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
+    if (!g) {
+        free(data);
+        err_prefix("%s", who);
+    }
+    return g;
 }
