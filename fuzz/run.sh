@@ -6,7 +6,7 @@
 # and vdb, the real files of ../shared/data. Exits 77 (ctest: skipped) without clang's
 # libFuzzer, or without OpenVDB for vdb.
 set -eu
-fmt=$1 build=$2 secs=$3
+fmt=$1 build=$(cd "$2" && pwd) secs=$3
 src=$(cd "$(dirname "$0")/.." && pwd)
 data="$src/../shared/data"
 out="$build/fuzz"
