@@ -23,6 +23,14 @@ void budget_set_limit(size_t limit)
 #endif
 }
 
+void budget_resume(size_t limit, size_t used)
+{
+    budget_begin(limit);
+    used_ = used;
+}
+
+size_t budget_used(void) { return open_ ? used_ : 0; }
+
 void budget_end(void)
 {
     open_ = false;

@@ -26,6 +26,11 @@ void budget_begin(size_t limit);
 /* Changes the open budget's limit (render.max_memory_mb); bytes already taken stay taken. */
 void budget_set_limit(size_t limit);
 void budget_end(void);
+/* Opens this thread's budget again for an object that took `used` of `limit` before (a
+ * scene read earlier and committed now). */
+void budget_resume(size_t limit, size_t used);
+/* Bytes taken from the open budget (0 when none is open). */
+size_t budget_used(void);
 /* Takes `bytes` for `who` (e.g. "scene.json: media[0].phase.file"): BRUME_OK, or
  * BRUME_ERROR_OUT_OF_MEMORY with err_set() when they exceed what is left. */
 brume_status budget_take(size_t bytes, const char *who);
