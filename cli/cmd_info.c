@@ -48,7 +48,7 @@ int cmd_info(int argc, char **argv)
     if (fmt == GRID_FORMAT_VDB || fmt == GRID_FORMAT_NVDB) {
         gridvdb_info *gi = NULL;
         if (grid_list_file(path, o.max_memory, &gi, &ngrids) != BRUME_OK) {
-            cli_error("%s", err_message());
+            cli_error("%.1000s", err_message());
             return 1;
         }
         printf("file:           %s\n", path);
@@ -68,7 +68,7 @@ int cmd_info(int argc, char **argv)
             printf("density grid:   none by default (%s)\n", err_message());
             return 0;
         }
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     if (ngrids > 0)

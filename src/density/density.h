@@ -81,6 +81,9 @@ void density_release(density *d);
 bool density_place(density *d, const affine3 *voxel_to_world);
 
 density_kind density_get_kind(const density *d);
+/* Bytes of a NanoVDB buffer that d shares with the other components of its grid (0 for
+ * other kinds): memory_bytes counts it in each of them. */
+size_t density_shared_bytes(const density *d);
 /* rho(p), p in world units; 0 outside the bounds. */
 double density_eval(const density *d, vec3 p);
 /* World box outside which rho = 0. */

@@ -808,3 +808,8 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
         }
     }
 }
+
+size_t density_shared_bytes(const density *d)
+{
+    return d->kind == DENSITY_NANOVDB && d->nano->shared ? d->nano->shared->size : 0;
+}
