@@ -323,7 +323,8 @@ static bool read_vol(const unsigned char *b, size_t size, const char *name, size
                 (long long)n[1], (long long)n[2], count * width);
         return false;
     }
-    box3 box = {v3(rd_lef(b + 24), rd_lef(b + 28), rd_lef(b + 32)), v3(rd_lef(b + 36), rd_lef(b + 40), rd_lef(b + 44))};
+    box3 box = {v3((double)rd_lef(b + 24), (double)rd_lef(b + 28), (double)rd_lef(b + 32)),
+                v3((double)rd_lef(b + 36), (double)rd_lef(b + 40), (double)rd_lef(b + 44))};
     if (!v3_isfinite(box.lo) || !v3_isfinite(box.hi) || !(box.hi.x > box.lo.x && box.hi.y > box.lo.y && box.hi.z > box.lo.z)) {
         err_set(BRUME_ERROR_PARSE, "%s: .vol bounding box is empty or not finite", name);
         return false;
