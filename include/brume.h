@@ -6,8 +6,12 @@
  * interface; everything under src/ is private.
  *
  * BUILD
- *   cmake -B build && cmake --build build     (scripts/setup.sh installs the dependencies)
- *   link with build/libbrume.a and: -lcjson -lpng -lOpenEXRCore -lpthread -lm
+ *   cmake -B build && cmake --build build && cmake --install build   (scripts/setup.sh
+ *   installs the dependencies; --prefix DIR to install elsewhere than /usr/local), then
+ *     cc app.c $(pkg-config --cflags --libs brume)
+ *   which links the shared libbrume.so.0; for the static libbrume.a, add --static to
+ *   pkg-config's --libs. CMake projects: find_package(brume CONFIG) and link brume::brume.
+ *   Python: import brume (docs/python.md).
  *
  * OBJECTS AND THEIR LIFECYCLE
  *   Every object is an opaque handle with one lifecycle: new (or load), set, commit,
@@ -17,8 +21,10 @@
  *   brume_context  owns the last error message and the error callback. One per thread
  *                  that calls the API (a context is not thread-safe; the renderer itself
  *                  uses its own worker threads).
- *   brume_scene    camera, lights, media, render settings: loaded from a JSON file
- *                  (docs/scene-format.md) or the built-in default scene.
+ *   brume_scene    camera, lights, media, surfaces, background, render settings: built in
+ *                  memory (brume_scene_new and the builders below), read from JSON
+ *                  (docs/scene-format.md; the reader uses the same builders), or the
+ *                  built-in default scene.
  *   brume_image    a rendered or loaded picture: width x height pixels, RGBA float32,
  *                  linear Rec. 709, rows top first, 4 floats per pixel; A = 1 - the
  *                  transmittance of the media along the pixel (1 = opaque cloud).
@@ -27,8 +33,14 @@
  *   Functions that can fail return a brume_status. On failure nothing is allocated or
  *   changed for the caller (out pointers are set to NULL), and the context holds a one-line
  *   message naming the file and the field at fault, e.g.
- *     "scenes/bad.json: camera.fov: expected a number in (0, 180), got 400"
- *   which brume_context_last_error() returns and the error callback (if set) receives.
+ *     "scenes/bad.json: camera.fov: 400 outside [0.001, 179]"
+ *   which brume_context_last_error() returns and the error callback (if set) receives;
+ *   a builder's message names the function and the argument instead, e.g.
+ *     "brume_density_new_array: nx: 0 outside [1, 65536]"
+ *   A NULL pointer where the header does not allow one is BRUME_ERROR_INVALID_ARGUMENT
+ *   ("brume_scene_commit: scene: NULL"), never a crash; functions without a status return
+ *   0, NULL or nothing for a NULL object. ctx itself may be NULL: the call then reports
+ *   only through its status.
  *
  * DETERMINISM
  *   An image depends on the scene, the seed and the sample count, never on the number of
@@ -160,7 +172,9 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
  * The edited document then goes through the scene reader, so every override is validated
  * as the file's own keys are; an unknown key fails with the keys known at that place, an
  * index outside an array with the indices there. Relative file names in VALUE are relative
- * to the scene file's folder. opts may be NULL (time 0, no overrides); the strings are
+ * to the scene file's folder, and a file an override writes (blasi.save_light) must lie
+ * inside it, as for the file's own keys: a caller's own output path goes to
+ * brume_scene_set_option instead. opts may be NULL (time 0, no overrides); the strings are
  * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
 typedef struct brume_load_options {
     double time;                   /* scene time, seconds (used when frame is 0) */
@@ -180,7 +194,9 @@ bool brume_scene_world_is_static(const brume_scene *scene);
 /* Moves a committed scene whose world is static to frame time `time`: the camera takes its
  * keyframed pose there. Fails with BRUME_ERROR_STATE when the world is not static. */
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *scene, double time);
-/* The built-in default scene: a procedural cloud lit by a distant light. */
+/* The built-in default scene (scenes/default.json): a fractal cumulus (spectral fBm, 96 x 64 x
+ * 96 voxels) over a ground plane, lit by the sun (a distant light of 0.27 degrees) under a
+ * constant blue sky, 480 x 320 pixels, 32 spp, path tracing. */
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
 /* Copies the scene's render settings into *rs. */
 void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
@@ -334,11 +350,11 @@ typedef struct brume_grid_file_options {
 void brume_grid_file_options_default(brume_grid_file_options *opts);
 brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                 brume_density **out);
-/* The three components of a vec3 grid of a .vdb/.nvdb (a float grid gives the same field
+/* The three components (out[0..2], an array of 3) of a vec3 grid of a .vdb/.nvdb (a float grid gives the same field
  * three times), e.g. Houdini's Cd, sharing one sparse buffer: out[0..2] (each released or
  * given away on its own). opts.grid names the grid. */
 brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
-                                    brume_density *out[3]);
+                                    brume_density **out);
 /* A fractal cloud grid (Blasi et al. 1993, 4.1; docs/grids.md), generated now. */
 typedef enum brume_fractal_method { BRUME_FRACTAL_MIDPOINT, BRUME_FRACTAL_SPECTRAL, BRUME_FRACTAL_PERLIN } brume_fractal_method;
 typedef enum brume_fractal_shape { BRUME_FRACTAL_SHAPE_NONE, BRUME_FRACTAL_SHAPE_ELLIPSOID, BRUME_FRACTAL_SHAPE_SLAB } brume_fractal_shape;
@@ -433,9 +449,9 @@ brume_status brume_scene_set_medium_density(brume_context *ctx, brume_scene *sce
 /* Fields of a medium besides its density, each with its own placement (docs/grids.md,
  * "Media with several fields"); rendered by the path and single methods. On success the
  * scene takes over the densities given; on failure the caller keeps them.
- * Albedo A(x) per channel: sigma_s(x) = sigma_s rho(x) A(x) (values >= 0). */
+ * Albedo A(x) per channel (albedo: an array of 3): sigma_s(x) = sigma_s rho(x) A(x) (values >= 0). */
 brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *scene, int medium,
-                                           brume_density *albedo[3]);
+                                           brume_density *const *albedo);
 /* Blackbody emission from a temperature grid, pbrt-v4's convention: where
  * T' = (T(x) - temperature_offset) temperature_scale exceeds cutoff, the medium emits
  * Le(x) = scale * blackbody(T'), the peak-normalized Planck spectrum in linear Rec. 709,
@@ -577,8 +593,8 @@ typedef struct brume_write_options {
     brume_tonemap tonemap;
 } brume_write_options;
 
-/* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP), .png (8-bit sRGB RGBA), .pfm
- * (RGB float32). opts may be NULL (exposure 0, clamp). The write is atomic: data go to a
+/* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP), .png (8-bit sRGB RGB: alpha is
+ * dropped), .pfm (RGB float32). opts may be NULL (exposure 0, clamp). The write is atomic: data go to a
  * temporary file in the same folder that is renamed over path only when complete, so a
  * failed write never leaves a file that looks whole. */
 brume_status brume_image_write(brume_context *ctx, const brume_image *image, const char *path,

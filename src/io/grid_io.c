@@ -14,11 +14,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include <unistd.h>
 
 #include "core/error.h"
 #include "io/grid_sandbox.h"
+#include "io/regular_file.h"
 #include "io/grid_vdb.h"
 
 #ifndef BRUME_HAVE_OPENVDB
@@ -148,9 +150,12 @@ static int raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
     char hdr[4096];
     if (snprintf(hdr, sizeof hdr, "%s.hdr", path) >= (int)sizeof hdr)
         return 0;
-    FILE *f = fopen(hdr, "r");
-    if (!f)
-        return 0;
+    struct stat hs;
+    if (stat(hdr, &hs) != 0)
+        return 0; /* no sidecar */
+    FILE *f = NULL;
+    if (io_open_regular(hdr, &f) != BRUME_OK)
+        return -1;
     char line[512];
     int lineno = 0, got_dims = 0;
     box3 b;
@@ -319,7 +324,8 @@ static bool read_vol(const unsigned char *b, size_t size, const char *name, size
                 (long long)n[1], (long long)n[2], count * width);
         return false;
     }
-    box3 box = {v3(rd_lef(b + 24), rd_lef(b + 28), rd_lef(b + 32)), v3(rd_lef(b + 36), rd_lef(b + 40), rd_lef(b + 44))};
+    box3 box = {v3((double)rd_lef(b + 24), (double)rd_lef(b + 28), (double)rd_lef(b + 32)),
+                v3((double)rd_lef(b + 36), (double)rd_lef(b + 40), (double)rd_lef(b + 44))};
     if (!v3_isfinite(box.lo) || !v3_isfinite(box.hi) || !(box.hi.x > box.lo.x && box.hi.y > box.lo.y && box.hi.z > box.lo.z)) {
         err_set(BRUME_ERROR_PARSE, "%s: .vol bounding box is empty or not finite", name);
         return false;
@@ -676,11 +682,9 @@ density *density_load_memory(const void *bytes, size_t size, const char *name, c
 static bool load_path(const char *path, const density_load_options *opts, int count, density **out)
 {
     size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        err_set(BRUME_ERROR_IO, "%s: %s", path, strerror(errno));
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
         return false;
-    }
     long len = -1;
     if (fseek(f, 0, SEEK_END) == 0)
         len = ftell(f);
@@ -745,9 +749,9 @@ brume_status grid_list_file(const char *path, size_t max_memory, gridvdb_info **
         max_memory = DENSITY_DEFAULT_MAX_MEMORY;
     unsigned char head[16] = {0};
     size_t nhead = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return err_set(BRUME_ERROR_IO, "%s: %s", path, strerror(errno));
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
+        return err_status();
     nhead = fread(head, 1, sizeof head, f);
     fclose(f);
     grid_format fmt = grid_format_detect(path, head, nhead);
@@ -758,8 +762,10 @@ brume_status grid_list_file(const char *path, size_t max_memory, gridvdb_info **
     size_t n = 0;
     unsigned char *b = NULL;
     {
-        FILE *g = fopen(path, "rb");
+        FILE *g = NULL;
         long len = -1;
+        if (io_open_regular(path, &g) != BRUME_OK)
+            return err_status();
         if (g && fseek(g, 0, SEEK_END) == 0)
             len = ftell(g);
         if (!g || len < 0 || fseek(g, 0, SEEK_SET) != 0 || (size_t)len > max_memory + ((size_t)1 << 20) ||

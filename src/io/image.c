@@ -165,9 +165,13 @@ brume_status brume_image_write(brume_context *ctx, const brume_image *image, con
 {
     err_clear();
     brume_status st = BRUME_OK;
-    if (!path || !*path)
+    if (!path)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: path: NULL");
+    else if (!image)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: image: NULL");
+    else if (!*path)
         st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: no path");
-    else if (!image || !image->rgba)
+    else if (!image->rgba)
         st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
     else if (opts && !isfinite(opts->exposure))
         st = err_set(BRUME_ERROR_RANGE, "%s: exposure: expected a finite number of stops, got %g",
@@ -190,9 +194,11 @@ brume_status brume_image_read(brume_context *ctx, const char *path, brume_image 
 {
     err_clear();
     if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: out is NULL"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: out: NULL"));
     *out = NULL;
-    if (!path || !*path)
+    if (!path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: path: NULL"));
+    if (!*path)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: no path"));
 
     brume_status st = BRUME_OK;

@@ -110,7 +110,10 @@ brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image 
 brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
 {
     err_clear();
-    *out = NULL;
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
     if (nparts < 1 || part < 0 || part >= nparts)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
                                        s->source, part, nparts));
@@ -198,7 +201,8 @@ brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene,
 {
     err_clear();
     if (!scene || !out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: %s: NULL",
+                                       !scene ? "scene" : "out"));
     *out = scene->prepared->stats;
     return ctx_report(ctx, BRUME_OK);
 }

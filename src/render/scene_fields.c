@@ -27,7 +27,7 @@ static void take(density **slot, brume_density *h)
     free(h);
 }
 
-brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *s, int index, brume_density *albedo[3])
+brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *s, int index, brume_density *const *albedo)
 {
     static const char fn[] = "brume_scene_set_medium_albedo";
     err_clear();
