@@ -765,5 +765,59 @@ TEST(blackbody_emission_closed_form)
     unlink(path);
 }
 
-TEST_MAIN(blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense,
+
+/* brume gen upres with no detail is the trilinear source at the fine voxel centres (so the
+ * placement is right); brume gen fire writes density and temperature grids, sparse. */
+TEST(gen_upres_and_fire)
+{
+    if (!grid_have_openvdb())
+        return;
+    const char *up = test_tmp_path("up.nvdb"), *fire = test_tmp_path("fire.vdb");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s gen upres %s --factor 3 --detail 0 -o %s > /dev/null", BRUME_EXE,
+             DATA("wdas_cloud_sixteenth.vdb"), up);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    density *src = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), NULL), *fine = density_load_file(up, NULL);
+    if (!src || !fine)
+        TEST_FAIL("%s", err_message());
+    density_info a, b;
+    density_get_info(src, &a);
+    density_get_info(fine, &b);
+    ASSERT_NEAR(b.voxel_to_world.m[0] * 3.0, a.voxel_to_world.m[0], 1e-9);
+    rng g = rng_make(9, 0, 0);
+    int checked = 0;
+    for (int n = 0; n < 20000 && checked < 2000; n++) {
+        /* a fine voxel centre */
+        vec3 u = v3((floor(rng_next(&g) * a.n[0] * 3) + 0.5) / 3, (floor(rng_next(&g) * a.n[1] * 3) + 0.5) / 3,
+                    (floor(rng_next(&g) * a.n[2] * 3) + 0.5) / 3);
+        vec3 p = affine3_apply(&a.voxel_to_world, u);
+        double want = density_eval(src, p);
+        if (want < 1e-3)
+            continue;
+        ASSERT_NEAR(density_eval(fine, p), want, 1e-5 * want + 1e-6);
+        checked++;
+    }
+    ASSERT_TRUE(checked > 500);
+    density_release(src);
+    density_release(fine);
+
+    snprintf(cmd, sizeof cmd, "%s gen fire --resolution 48 -o %s > /dev/null", BRUME_EXE, fire);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    gridvdb_info *gi;
+    int count;
+    ASSERT_TRUE(grid_list_file(fire, 0, &gi, &count) == BRUME_OK);
+    ASSERT_EQ_INT(count, 2);
+    for (int k = 0; k < 2; k++) {
+        ASSERT_TRUE(gi[k].active > 1000 && gi[k].active < 24ull * 48 * 24); /* sparse: not the whole box */
+        if (strcmp(gi[k].name, "temperature") == 0)
+            ASSERT_TRUE(gi[k].vmin >= 299.0 && gi[k].vmax > 1200.0 && gi[k].vmax < 3000.0);
+        else
+            ASSERT_EQ_STR(gi[k].name, "density");
+    }
+    free(gi);
+    unlink(up);
+    unlink(fire);
+}
+
+TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense,
           sparse_majorants_bound, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)
