@@ -172,7 +172,9 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
  * The edited document then goes through the scene reader, so every override is validated
  * as the file's own keys are; an unknown key fails with the keys known at that place, an
  * index outside an array with the indices there. Relative file names in VALUE are relative
- * to the scene file's folder. opts may be NULL (time 0, no overrides); the strings are
+ * to the scene file's folder, and a file an override writes (blasi.save_light) must lie
+ * inside it, as for the file's own keys: a caller's own output path goes to
+ * brume_scene_set_option instead. opts may be NULL (time 0, no overrides); the strings are
  * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
 typedef struct brume_load_options {
     double time;                   /* scene time, seconds (used when frame is 0) */

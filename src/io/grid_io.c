@@ -14,10 +14,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include <unistd.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "io/grid_vdb.h"
 
 #ifndef BRUME_HAVE_OPENVDB
@@ -147,9 +149,12 @@ static int raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
     char hdr[4096];
     if (snprintf(hdr, sizeof hdr, "%s.hdr", path) >= (int)sizeof hdr)
         return 0;
-    FILE *f = fopen(hdr, "r");
-    if (!f)
-        return 0;
+    struct stat hs;
+    if (stat(hdr, &hs) != 0)
+        return 0; /* no sidecar */
+    FILE *f = NULL;
+    if (io_open_regular(hdr, &f) != BRUME_OK)
+        return -1;
     char line[512];
     int lineno = 0, got_dims = 0;
     box3 b;
@@ -545,11 +550,9 @@ density *density_load_memory(const void *bytes, size_t size, const char *name, c
 density *density_load_file(const char *path, const density_load_options *opts)
 {
     size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        err_set(BRUME_ERROR_IO, "%s: %s", path, strerror(errno));
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
         return NULL;
-    }
     long len = -1;
     if (fseek(f, 0, SEEK_END) == 0)
         len = ftell(f);
