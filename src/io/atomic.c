@@ -9,6 +9,8 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -17,6 +19,42 @@
 #include "core/error.h"
 
 static const char tmp_suffix[] = ".tmp-XXXXXX";
+
+/* The temporary files of writes in progress, for brume_remove_temporaries (a signal
+ * handler): a slot is filled, then published by setting `used`; the handler reads only
+ * published slots. */
+enum { TMP_SLOTS = 8 };
+static struct {
+    atomic_int used; /* 0 free, 1 claimed (being filled), 2 published */
+    char path[4096];
+} tmp_slots[TMP_SLOTS];
+
+static int tmp_register(const char *path)
+{
+    for (int i = 0; i < TMP_SLOTS; i++) {
+        int expect = 0;
+        if (atomic_compare_exchange_strong(&tmp_slots[i].used, &expect, 1)) {
+            snprintf(tmp_slots[i].path, sizeof tmp_slots[i].path, "%s", path);
+            atomic_store(&tmp_slots[i].used, 2);
+            return i;
+        }
+    }
+    return -1; /* more than TMP_SLOTS writes at once: this one is not tracked */
+}
+
+static void tmp_unregister(atomic_file *f)
+{
+    if (f->slot >= 0)
+        atomic_store(&tmp_slots[f->slot].used, 0);
+    f->slot = -1;
+}
+
+void brume_remove_temporaries(void)
+{
+    for (int i = 0; i < TMP_SLOTS; i++)
+        if (atomic_load(&tmp_slots[i].used) == 2)
+            unlink(tmp_slots[i].path); /* async-signal-safe */
+}
 
 /* Splits path into its folder ("." when none) and its last component. */
 static brume_status split_path(const char *path, char *dir, size_t dir_size, const char **base)
@@ -52,6 +90,7 @@ static mode_t default_file_mode(void)
 brume_status atomic_open(atomic_file *f, const char *path)
 {
     memset(f, 0, sizeof *f);
+    f->slot = -1;
     if (!path || !*path)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "atomic write: empty path");
     if (strlen(path) >= sizeof f->path)
@@ -75,6 +114,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         return err_set(BRUME_ERROR_IO, "%s: cannot create a temporary file in '%s': %s", path, dir,
                        strerror(e));
     }
+    f->slot = tmp_register(f->tmp_path);
     /* Keep the mode of a file being replaced, else what open(2) would have given. */
     struct stat old;
     mode_t mode = stat(path, &old) == 0 && S_ISREG(old.st_mode) ? (mode_t)(old.st_mode & 07777)
@@ -83,6 +123,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         int e = errno;
         close(fd);
         remove(f->tmp_path);
+        tmp_unregister(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: cannot set the mode of the temporary file: %s", path,
                        strerror(e));
@@ -92,6 +133,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         int e = errno;
         close(fd);
         remove(f->tmp_path);
+        tmp_unregister(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: cannot open the temporary file: %s", path, strerror(e));
     }
@@ -142,9 +184,11 @@ brume_status atomic_commit(atomic_file *f)
     }
     if (what) {
         remove(f->tmp_path);
+        tmp_unregister(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: %s: %s", f->path, what, strerror(e));
     }
+    tmp_unregister(f);
     f->tmp_path[0] = '\0';
     sync_folder(f->path);
     return BRUME_OK;
@@ -158,6 +202,7 @@ void atomic_abort(atomic_file *f)
     }
     if (f->tmp_path[0]) {
         remove(f->tmp_path);
+        tmp_unregister(f);
         f->tmp_path[0] = '\0';
     }
 }

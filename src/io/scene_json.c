@@ -532,7 +532,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s, medium
 static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings *rs)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", NULL};
+                                       "fps", "noise", "time", "min_spp", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs->width))) return st;
@@ -543,6 +543,9 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
     if ((st = json_string(j, at, "method", 0, rs->method, sizeof rs->method))) return st;
     if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs->max_depth))) return st;
     if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs->fps))) return st;
+    if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs->noise_target))) return st;
+    if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs->time_budget))) return st;
+    if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs->min_spp))) return st;
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
     if (f) {
         static const char *const fkeys[] = {"type", "width", NULL};
