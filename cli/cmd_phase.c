@@ -1,4 +1,5 @@
 /* cmd_phase.c - `brume phase`: fit Blasi's two-lobe Schlick mixture, plot phase functions. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,8 +12,9 @@
 #include "phase/phase_plot.h"
 
 static const char phase_usage[] =
-    "usage: brume phase fit NAME [--norm angle|cos|log]\n"
-    "       brume phase plot NAME... -o FILE.png [--log] [--norm angle|cos|log]\n"
+    "usage: brume phase fit NAME [--norm angle|cos|log] [--given r,k,kprime]\n"
+    "       brume phase plot NAME... -o FILE.png [--log] [--norm angle|cos|log] [--given r,k,kprime]\n"
+    "       brume phase plot NAME... -o FILE.png --overlay [--log]\n"
     "       brume phase help\n"
     "\n"
     "NAME is isotropic, rayleigh, hazy, murky, hg:G, schlick:K, or a file of lines\n"
@@ -21,9 +23,12 @@ static const char phase_usage[] =
     "fit   fits r phi_k + (1 - r) phi_k' (Blasi Eq. 22, k <= k') to NAME and prints\n"
     "      the lines: r VALUE, k VALUE, kprime VALUE, error VALUE. The error is the\n"
     "      relative L2 norm of the difference (default over the angle; see\n"
-    "      docs/phase-functions.md).\n"
+    "      docs/phase-functions.md). With --given r,k,kprime nothing is fitted: the\n"
+    "      error of that mixture (e.g. a table's published fit) in the same norm.\n"
     "plot  draws, for each NAME, a polar and a cartesian plot of the function (solid)\n"
-    "      and of its fitted mixture (dashed) into one PNG; --log plots log10 phi.\n";
+    "      and of its fitted mixture (dashed) into one PNG; --log plots log10 phi;\n"
+    "      --given draws that mixture instead of the fit (Blasi's Figures 2-4 with Figure 7's\n"
+    "      values); --overlay draws every NAME on one pair of axes, no fit (Figures 5 and 6).\n";
 
 static int phase_usage_error(const char *what)
 {
@@ -31,15 +36,28 @@ static int phase_usage_error(const char *what)
     return 2;
 }
 
+/* "r,k,kprime" of Blasi Eq. 22, each in its domain. */
+static bool parse_given(const char *text, phase_fit_result *fit)
+{
+    char tail;
+    return sscanf(text, "%lf,%lf,%lf%c", &fit->r, &fit->k, &fit->kprime, &tail) == 3 && fit->r >= 0.0 &&
+           fit->r <= 1.0 && fabs(fit->k) < 1.0 && fabs(fit->kprime) < 1.0;
+}
+
 static int phase_fit_cmd(int argc, char **argv)
 {
     const char *name = NULL;
     phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
+    const char *given = NULL;
     for (int i = 2; i < argc; i++) {
         if (strcmp(argv[i], "--norm") == 0) {
             if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
                 return phase_usage_error("--norm needs angle, cos or log");
             i++;
+        } else if (strcmp(argv[i], "--given") == 0) {
+            if (i + 1 >= argc)
+                return phase_usage_error("--given needs r,k,kprime");
+            given = argv[++i];
         } else if (argv[i][0] == '-' && argv[i][1] == '-') {
             cli_error("phase fit: unknown option %s", argv[i]);
             return 2;
@@ -57,7 +75,18 @@ static int phase_fit_cmd(int argc, char **argv)
         return 1;
     }
     phase_fit_result fit;
-    brume_status st = phase_fit_schlick_mix(p, norm, &fit);
+    brume_status st = BRUME_OK;
+    if (given) {
+        /* Blasi Eq. 22's parameters as given (e.g. Figure 7's table), scored, not fitted */
+        if (!parse_given(given, &fit)) {
+            phase_release(p);
+            cli_error("phase fit: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", given);
+            return 2;
+        }
+        fit.error = phase_fit_error(p, norm, fit.r, fit.k, fit.kprime);
+    } else {
+        st = phase_fit_schlick_mix(p, norm, &fit);
+    }
     phase_release(p);
     if (st != BRUME_OK) {
         cli_error("%s", err_message());
@@ -70,7 +99,8 @@ static int phase_fit_cmd(int argc, char **argv)
 static int phase_plot_cmd(int argc, char **argv)
 {
     const char *out = NULL;
-    bool log_scale = false;
+    bool log_scale = false, overlay = false, have_given = false;
+    phase_fit_result given = {0};
     phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
     int n = 0;
     for (int i = 2; i < argc; i++) {
@@ -80,6 +110,13 @@ static int phase_plot_cmd(int argc, char **argv)
             out = argv[++i];
         } else if (strcmp(argv[i], "--log") == 0) {
             log_scale = true;
+        } else if (strcmp(argv[i], "--overlay") == 0) {
+            overlay = true;
+        } else if (strcmp(argv[i], "--given") == 0) {
+            if (i + 1 >= argc || !parse_given(argv[i + 1], &given))
+                return phase_usage_error("--given needs r,k,kprime with r in [0, 1] and |k|, |kprime| < 1");
+            have_given = true;
+            i++;
         } else if (strcmp(argv[i], "--norm") == 0) {
             if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
                 return phase_usage_error("--norm needs angle, cos or log");
@@ -100,21 +137,33 @@ static int phase_plot_cmd(int argc, char **argv)
     phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
     phase **truth = calloc((size_t)n, sizeof *truth), **approx = calloc((size_t)n, sizeof *approx);
     char(*titles)[256] = calloc((size_t)n, sizeof *titles);
+    const char **labels = calloc((size_t)n, sizeof *labels);
     int status = 1, m = 0;
-    if (!rows || !truth || !approx || !titles) {
+    if (!rows || !truth || !approx || !titles || !labels) {
         cli_error("phase plot: out of memory");
         goto done;
     }
     for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--norm") == 0) {
+        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--norm") == 0 || strcmp(argv[i], "--given") == 0) {
             i++;
             continue;
         }
-        if (strcmp(argv[i], "--log") == 0)
+        if (strcmp(argv[i], "--log") == 0 || strcmp(argv[i], "--overlay") == 0)
             continue;
-        phase_fit_result fit;
+        phase_fit_result fit = given;
         truth[m] = phase_new_from_name(argv[i]);
-        if (!truth[m] || phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK ||
+        labels[m] = argv[i];
+        if (overlay) {
+            if (!truth[m]) {
+                cli_error("%s", err_message());
+                m++;
+                goto done;
+            }
+            m++;
+            continue;
+        }
+        if (!truth[m] || (have_given ? (fit.error = phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
+                                     : phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK) ||
             !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
             cli_error("%s", err_message());
             m++;
@@ -123,12 +172,17 @@ static int phase_plot_cmd(int argc, char **argv)
         rows[m].truth = truth[m];
         rows[m].approx = approx[m];
         snprintf(titles[m], sizeof titles[m],
-                 "%s: true (solid), Schlick mixture r %.2f, k %.2f, k' %.2f (dashed), error %.3g",
-                 argv[i], fit.r, fit.k, fit.kprime, fit.error);
+                 "%s: true (solid), Schlick mixture r %.2f, k %.2f, k' %.2f (dashed, %s), error %.3g",
+                 argv[i], fit.r, fit.k, fit.kprime, have_given ? "given" : "fitted", fit.error);
         rows[m].title = titles[m];
         m++;
     }
-    if (phase_plot_png(out, m, rows, log_scale) != BRUME_OK) {
+    if (overlay) {
+        /* one row: every function on the same axes */
+        snprintf(titles[0], sizeof titles[0], "%d phase functions, phi(theta) (the integral of phi over cos is 2)", m);
+        rows[0] = (phase_plot_row){titles[0], NULL, NULL, m, (const phase *const *)truth, labels, NULL};
+    }
+    if (phase_plot_png(out, overlay ? 1 : m, rows, log_scale) != BRUME_OK) {
         cli_error("%s", err_message());
         goto done;
     }
@@ -138,6 +192,7 @@ done:
         phase_release(truth[i]);
         phase_release(approx[i]);
     }
+    free(labels);
     free(rows);
     free(truth);
     free(approx);

@@ -37,7 +37,11 @@ static void render_usage(FILE *out)
             "  --max-depth N       maximum scattering events per path\n"
             "  --exposure STOPS    PNG only: scale by 2^STOPS before tone mapping\n"
             "  --filmic            PNG only: ACES filmic tone curve instead of clamping\n"
-            "  --set KEY=VALUE     a method option, e.g. --set blasi.r=1 (docs/scene-format.md); repeatable\n"
+            "  --set KEY=VALUE     any scene key, set in the scene file before it is read: a dotted path with\n"
+            "                      array indices and a JSON value, e.g. --set camera.fov=30,\n"
+            "                      --set media.0.sigma_s=[5,5,5], --set stam.eps=0.1, --set blasi.variant=physical\n"
+            "                      (docs/scene-format.md); repeatable, later ones win\n"
+            "  --stats             per-run statistics of the method on stderr (docs/stats.md)\n"
             "  --save-light PATH   blasi: write the first pass's radiance grid (= --set blasi.save_light=PATH)\n"
             "  --load-light PATH   blasi: reuse a saved first pass instead of running it\n"
             "  --quiet             no progress bar or summary\n\n"
@@ -205,10 +209,41 @@ typedef struct render_opts {
     uint64_t seed;
     bool have_seed, quiet;
     const char *method;
-    int nsets; /* method options (--set, --save-light, --load-light) */
-    const char *set_key[MAX_SETS], *set_value[MAX_SETS];
-    char set_buf[MAX_SETS][256];
+    bool stats;
+    int nsets; /* scene overrides "KEY=VALUE" (--set, --save-light, --load-light) */
+    const char *sets[MAX_SETS];
+    char set_buf[MAX_SETS][4200];
 } render_opts;
+
+/* Scene overrides name files relative to the scene file's folder; on the command line a
+ * relative name means the working directory, so such values are made absolute here. */
+static bool set_override(render_opts *o, const char *key, size_t keylen, const char *value)
+{
+    if (o->nsets == MAX_SETS) {
+        cli_error("render: more than %d --set options", MAX_SETS);
+        return false;
+    }
+    const char *leaf = key + keylen;
+    while (leaf > key && leaf[-1] != '.' && leaf[-1] != ']')
+        leaf--;
+    size_t leaflen = (size_t)(key + keylen - leaf);
+    bool is_file = (leaflen == 4 && strncmp(leaf, "file", 4) == 0) || (leaflen == 10 && strncmp(leaf, "save_light", 10) == 0) ||
+                   (leaflen == 10 && strncmp(leaf, "load_light", 10) == 0);
+    char cwd[2048] = "";
+    if (is_file && value[0] && value[0] != '/' && value[0] != '"' && !getcwd(cwd, sizeof cwd)) {
+        cli_error("--set %.*s: cannot read the working directory: %s", (int)keylen, key, strerror(errno));
+        return false;
+    }
+    int n = snprintf(o->set_buf[o->nsets], sizeof o->set_buf[0], "%.*s=%s%s%s", (int)keylen, key, cwd,
+                     cwd[0] ? "/" : "", value);
+    if (n < 0 || (size_t)n >= sizeof o->set_buf[0]) {
+        cli_error("--set %.*s: value too long", (int)keylen, key);
+        return false;
+    }
+    o->sets[o->nsets] = o->set_buf[o->nsets];
+    o->nsets++;
+    return true;
+}
 
 /* Loads frame `f` (or the plain scene when f < 0), applies the command-line settings and
  * commits. On failure returns NULL; the context has the message. */
@@ -216,11 +251,9 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
 {
     brume_scene *scene = NULL;
     brume_status st;
-    if (o->scene_path)
-        st = f >= 0 ? brume_scene_load_frame(ctx, o->scene_path, f, &scene)
-                    : brume_scene_load(ctx, o->scene_path, &scene);
-    else
-        st = brume_scene_new_default(ctx, &scene);
+    /* the built-in scene is static: it is loaded at time 0 and its camera moved below */
+    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets};
+    st = brume_scene_load_with(ctx, o->scene_path, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
     brume_render_settings rs;
@@ -234,11 +267,7 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     if (o->method)
         snprintf(rs.method, sizeof rs.method, "%s", o->method);
     rs.progress = progress;
-    for (int k = 0; k < o->nsets; k++)
-        if (brume_scene_set_option(ctx, scene, o->set_key[k], o->set_value[k]) != BRUME_OK) {
-            brume_scene_release(scene);
-            return NULL;
-        }
+    rs.stats = o->stats;
     if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK) {
         brume_scene_release(scene);
         return NULL;
@@ -249,6 +278,35 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
         return NULL;
     }
     return scene;
+}
+
+/* --stats: the run's statistics (brume_stats, docs/stats.md), one line per quantity. */
+static void print_stats(brume_context *ctx, const brume_scene *scene, const char *path)
+{
+    brume_stats st;
+    if (brume_scene_get_stats(ctx, scene, &st) != BRUME_OK)
+        return;
+    FILE *e = stderr;
+    fprintf(e, "stats: %s: method %s, %.3f s, %llu camera rays, %.3f CPU s in the estimator\n", path, st.method,
+            st.seconds, (unsigned long long)st.camera_rays, st.li_cpu_seconds);
+    if (strcmp(st.method, "blasi") == 0) {
+        fprintf(e, "stats: blasi light pass %.3f s: %llu rays, %llu interceptions, %llu deposits\n",
+                st.blasi_light_seconds, (unsigned long long)st.blasi_light_rays,
+                (unsigned long long)st.blasi_interceptions, (unsigned long long)st.blasi_deposits);
+        fprintf(e, "stats: blasi power stored %.6g of %.6g emitted (%.1f %%)\n", st.blasi_power_stored,
+                st.blasi_power_emitted,
+                st.blasi_power_emitted > 0.0 ? 100.0 * st.blasi_power_stored / st.blasi_power_emitted : 0.0);
+        fprintf(e, "stats: blasi view pass %.3f s\n", st.blasi_view_seconds);
+    } else if (strcmp(st.method, "stam") == 0) {
+        fprintf(e, "stats: stam %.2f blobs per camera ray; %.2f hierarchy queries per camera ray, %.2f cells "
+                   "(BVH nodes) and %.2f blobs per query\n",
+                st.stam_blobs_per_ray, st.stam_queries_per_ray, st.stam_nodes_per_query, st.stam_blobs_per_query);
+    } else {
+        fprintf(e, "stats: %s %.3f vertices per path, %.3f collisions and %.3f null collisions per camera path\n",
+                st.method, st.path_vertices, st.path_collisions, st.path_null_collisions);
+        fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", st.method,
+                st.path_tracking_cpu_seconds, st.path_nee_cpu_seconds, st.path_shading_cpu_seconds);
+    }
 }
 
 int cmd_render(int argc, char **argv)
@@ -298,23 +356,19 @@ int cmd_render(int argc, char **argv)
             }
         } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
             if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (o.nsets == MAX_SETS) {
-                cli_error("render: more than %d options", MAX_SETS);
-                return 2;
-            }
             if (strcmp(a, "--set") != 0) { /* --save-light, --load-light */
-                o.set_key[o.nsets] = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
-                o.set_value[o.nsets++] = v;
+                const char *key = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
+                if (!set_override(&o, key, strlen(key), v)) return 2;
                 continue;
             }
             const char *eq = strchr(v, '=');
-            if (!eq || eq == v || (size_t)(eq - v) >= sizeof o.set_buf[0]) {
+            if (!eq || eq == v) {
                 cli_error("--set: expected KEY=VALUE, got '%s'", v);
                 return 2;
             }
-            snprintf(o.set_buf[o.nsets], sizeof o.set_buf[0], "%.*s", (int)(eq - v), v);
-            o.set_key[o.nsets] = o.set_buf[o.nsets];
-            o.set_value[o.nsets++] = eq + 1;
+            if (!set_override(&o, v, (size_t)(eq - v), eq + 1)) return 2;
+        } else if (strcmp(a, "--stats") == 0) {
+            o.stats = true;
         } else if (strcmp(a, "--exposure") == 0) {
             if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
         } else if (strcmp(a, "--filmic") == 0) {
@@ -450,6 +504,8 @@ int cmd_render(int argc, char **argv)
                 continue;
             }
         }
+        if (o.stats && owner == d.rank)
+            print_stats(ctx, scene, path);
         if (root) {
             if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
                 goto fail;

@@ -173,6 +173,7 @@ typedef struct brume_render_settings {
                             that carries signal meets it (spp is then a maximum), in [0, 1]
                             (docs/render-jobs.md gives the estimator) */
     int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
+    bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
 } brume_render_settings;
 
 /* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted
@@ -186,6 +187,25 @@ brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene 
 brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out);
 /* The same at frame number frame_no >= 0: time = frame_no / render.fps of the file. */
 brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out);
+/* OVERRIDES (the mechanism behind `brume render --set KEY=VALUE`). Loads a scene file, or
+ * the built-in default scene when path is NULL, after setting each "KEY=VALUE" of
+ * overrides[0..noverrides) in its JSON document, in order: KEY is a dotted path of object
+ * keys and array indices ("camera.fov", "media.0.sigma_s", "media[0].density.seed",
+ * "stam.eps", "render.spp"), VALUE is JSON (30, [0, 1, 2], true, "text") or, when it does not
+ * parse as JSON, a string (stam.variant=paper). Missing objects on the path are created.
+ * The edited document then goes through the scene reader, so every override is validated
+ * as the file's own keys are; an unknown key fails with the keys known at that place, an
+ * index outside an array with the indices there. Relative file names in VALUE are relative
+ * to the scene file's folder. opts may be NULL (time 0, no overrides); the strings are
+ * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
+typedef struct brume_load_options {
+    double time;                   /* scene time, seconds (used when frame is 0) */
+    long frame;                    /* > 0: time = frame / render.fps of the file */
+    const char *const *overrides;  /* "KEY=VALUE" strings, or NULL when noverrides is 0 */
+    int noverrides;
+} brume_load_options;
+brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
+                                   brume_scene **out);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
 /* True when nothing but the camera depends on time (no keyframed light, surface or medium,
@@ -212,6 +232,42 @@ brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, cons
 /* Freezes the scene and builds what rendering needs (majorants, light tables). */
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *scene);
 void brume_scene_release(brume_scene *scene);
+
+/* STATISTICS of the last render of a scene (docs/stats.md). Counts are exact sums over the
+ * whole run and do not depend on the thread count; times are seconds (wall time, or CPU
+ * time summed over threads where named so). Counted only when render settings' `stats` is
+ * true (then a few percent slower), except the blasi light pass, which always counts. Fields
+ * of methods other than the one that rendered are 0. */
+typedef struct brume_stats {
+    char method[32];             /* integrator of the last render ("" before any) */
+    double seconds;              /* wall time of the last brume_render, integrator set-up included */
+    uint64_t camera_rays;        /* camera samples traced (width x height x spp) */
+    double li_cpu_seconds;       /* CPU seconds in the method's per-ray estimator, all threads */
+    /* blasi (Blasi et al. 1993): the light pass that made the radiance grid in use */
+    double blasi_light_seconds;  /* wall time of the light (first) pass, or of loading it */
+    double blasi_view_seconds;   /* wall time of the view (second) pass of the last render */
+    uint64_t blasi_light_rays;   /* rays sent from the lights (0 when the pass was loaded) */
+    uint64_t blasi_interceptions; /* scattering events of the light pass (Eq. 9-11) */
+    uint64_t blasi_deposits;     /* voxel deposits: interceptions plus exit deposits (erratum 5) */
+    double blasi_power_emitted;  /* power sent by the light rays, mean over RGB, W (scene units) */
+    double blasi_power_stored;   /* power stored in the voxels, mean over RGB, same unit */
+    /* stam (Stam 1994) */
+    double stam_blobs_per_ray;   /* blobs met by a camera ray's transparency walk, mean */
+    double stam_queries_per_ray; /* ray queries of the blob hierarchy (camera, shadow and cache
+                                    rays of the render) per camera ray */
+    double stam_nodes_per_query; /* hierarchy cells (BVH nodes) visited per query, mean */
+    double stam_blobs_per_query; /* blobs met per query, mean */
+    /* path and single (the reference) */
+    double path_vertices;        /* mean scattering vertices (media and surfaces) per camera path */
+    double path_collisions;      /* mean real collisions (medium scattering events) per camera path */
+    double path_null_collisions; /* mean null (rejected tentative) collisions per camera path */
+    double path_tracking_cpu_seconds; /* CPU seconds in delta tracking of the path flights */
+    double path_nee_cpu_seconds;      /* CPU seconds in next-event estimation (shadow rays included) */
+    double path_shading_cpu_seconds;  /* the rest of the estimator: intersection, emission,
+                                         phase and BSDF sampling */
+} brume_stats;
+/* Copies the statistics of the last render of scene into *out (zeros before any render). */
+brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out);
 
 /* ---- rendering and images ----------------------------------------------------------------- */
 

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/stats.h"
 #include "density/density_impl.h"
 
 #define BVH_LEAF_SIZE 4
@@ -159,6 +160,8 @@ double blob_field_mean(const blob_field *f, vec3 p)
 {
     double sum = 0.0;
     if (!f->use_bvh) {
+        if (stats_tls)
+            stats_tls->blob_queries++;
         for (int i = 0; i < f->n; i++)
             sum += blob_mean_at(f, i, p);
         return sum;
@@ -212,6 +215,8 @@ static inline void visit_blob(const blob_field *f, int i, vec3 o, vec3 d, double
     double e = uc - u;
     if (d2 + e * e >= f->R2[i])
         return;
+    if (stats_tls)
+        stats_tls->blob_visits++;
     fn(i, u, d2, user);
 }
 
@@ -221,14 +226,21 @@ void blob_field_query_ray(const blob_field *f, vec3 o, vec3 d, double tmin, doub
     if (!(tmax > tmin))
         return;
     if (!f->use_bvh) {
+        if (stats_tls)
+            stats_tls->blob_queries++;
         for (int i = 0; i < f->n; i++)
             visit_blob(f, i, o, d, tmin, tmax, fn, user);
         return;
     }
     vec3 inv = v3(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
     int stack[BVH_STACK], sp = 0, node = 0;
+    stats_counters *sc = stats_tls;
+    if (sc)
+        sc->blob_queries++;
     for (;;) {
         const blob_node *nd = &f->nodes[node];
+        if (sc)
+            sc->blob_nodes++;
         if (hit_box(&nd->box, o, inv, tmin, tmax)) {
             if (nd->count > 0) {
                 for (int i = nd->start; i < nd->start + nd->count; i++)
@@ -419,4 +431,27 @@ brume_status density_blobs_at_time(density *d, vec3 velocity, double t)
     *d = *nd;
     free(nd);
     return BRUME_OK;
+}
+
+density *blob_field_grid(const blob_field *f, int resolution, const randfield *q, double eps, double eta,
+                         const char *who)
+{
+    box3 b = f->bounds;
+    vec3 ext = v3_sub(b.hi, b.lo);
+    double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    int n[3];
+    for (int a = 0; a < 3; a++)
+        n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
+    float *data = malloc((size_t)n[0] * (size_t)n[1] * (size_t)n[2] * sizeof *data);
+    if (!data) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d x %d x %d voxels", who, n[0], n[1], n[2]);
+        return NULL;
+    }
+    blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), eps, eta, data);
+    density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
+    if (!g) {
+        free(data);
+        err_prefix("%s", who);
+    }
+    return g;
 }

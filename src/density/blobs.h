@@ -19,6 +19,7 @@
 
 #include "brume.h"
 #include "core/vec.h"
+#include "density/density.h"
 #include "density/randfield.h"
 
 #define BLOB_DEFAULT_CUTOFF 3.0
@@ -79,6 +80,13 @@ void blob_field_query_ray(const blob_field *f, vec3 o, vec3 d, double tmin, doub
  * Q read at x - q_shift, clamped to >= 0 (a density cannot be negative; docs/stam.md). */
 void blob_field_voxelize(const blob_field *f, const int n[3], box3 bounds, const randfield *q, vec3 q_shift,
                          double eps, double eta, float *out);
+
+/* The field as a dense trilinear grid (a new density owned by the caller) of `resolution`
+ * cells along the longest axis of its bounds (at least 1 on the others), sampled by
+ * blob_field_voxelize with the drift shift of the field's own time. NULL on failure with
+ * err_set() naming `who`. */
+density *blob_field_grid(const blob_field *f, int resolution, const randfield *q, double eps, double eta,
+                         const char *who);
 
 /* Stam's clamping function F_eta(t) = min(t, eta). */
 static inline double stam_clamp(double t, double eta) { return t < eta ? t : eta; }

@@ -13,7 +13,7 @@ brume_status scene_parse_blasi(const cJSON *root, jloc top, blasi_options *o)
     if (!b)
         return BRUME_OK;
     static const char *const keys[] = {"light_rays", "r", "kprime", "step", "threshold", "sources", "exit_deposit",
-                                       "view_attenuation", "variant", "save_light", "load_light", NULL};
+                                       "view_attenuation", "variant", "voxels", "save_light", "load_light", NULL};
     jloc at = {top.file, "blasi"};
     if (!cJSON_IsObject(b))
         return err_set(BRUME_ERROR_PARSE, "%s: blasi: expected an object", top.file);

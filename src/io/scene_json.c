@@ -12,6 +12,7 @@
 #include "io/scene_blasi.h"
 #include "io/scene_stam.h"
 #include "io/scene_keys.h"
+#include "io/scene_override.h"
 #include "io/scene_surfaces.h"
 #include "render/film.h"
 #include "render/scene.h"
@@ -647,11 +648,22 @@ brume_status scene_parse_json(const char *text, const char *source, brume_scene 
 
 brume_status scene_parse_json_at(const char *text, const char *source, double time, long frame_no, brume_scene **out)
 {
+    return scene_parse_json_with(text, source, time, frame_no, NULL, 0, out);
+}
+
+brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
+                                   const char *const *overrides, int noverrides, brume_scene **out)
+{
     *out = NULL;
     cJSON *root = NULL;
     brume_status st = json_parse(text, source, &root);
     if (st)
         return st;
+    /* overrides edit the document, so the one reader below validates them (io/scene_override.c) */
+    if ((st = scene_apply_overrides(root, source, overrides, noverrides))) {
+        cJSON_Delete(root);
+        return st;
+    }
     brume_scene *s = scene_new(source);
     if (!s) {
         cJSON_Delete(root);
@@ -660,6 +672,7 @@ brume_status scene_parse_json_at(const char *text, const char *source, double ti
     st = parse_scene(root, s, time, frame_no);
     cJSON_Delete(root);
     if (st) {
+        scene_override_annotate(overrides, noverrides);
         brume_scene_release(s);
         return st;
     }
@@ -712,7 +725,8 @@ static brume_status read_text_file(const char *path, char **out)
     return BRUME_OK;
 }
 
-static brume_status load(brume_context *ctx, const char *path, double time, long frame_no, brume_scene **out)
+static brume_status load(brume_context *ctx, const char *path, double time, long frame_no,
+                         const char *const *overrides, int noverrides, brume_scene **out)
 {
     err_clear();
     *out = NULL;
@@ -721,20 +735,49 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
     char *text = NULL;
     brume_status st = read_text_file(path, &text);
     if (st == BRUME_OK) {
-        st = scene_parse_json_at(text, path, time, frame_no, out);
+        st = scene_parse_json_with(text, path, time, frame_no, overrides, noverrides, out);
         free(text);
     }
     return ctx_report(ctx, st);
 }
 
+brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
+                                   brume_scene **out)
+{
+    brume_load_options o = {0.0, 0, NULL, 0};
+    if (opts)
+        o = *opts;
+    if (!out || o.noverrides < 0 || (o.noverrides > 0 && !o.overrides)) {
+        err_clear();
+        if (out)
+            *out = NULL;
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load_with: NULL argument"));
+    }
+    if (o.frame < 0) {
+        err_clear();
+        *out = NULL;
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path ? path : "<default scene>",
+                                       o.frame));
+    }
+    long frame_no = o.frame > 0 ? o.frame : -1;
+    if (path)
+        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, out);
+    err_clear();
+    *out = NULL;
+    if (!isfinite(o.time))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "<default scene>: load time %g is not finite", o.time));
+    return ctx_report(ctx, scene_parse_json_with(scene_default_json, "<default scene>", o.time, frame_no, o.overrides,
+                                                 o.noverrides, out));
+}
+
 brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
 {
-    return load(ctx, path, 0.0, -1, out);
+    return load(ctx, path, 0.0, -1, NULL, 0, out);
 }
 
 brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out)
 {
-    return load(ctx, path, time, -1, out);
+    return load(ctx, path, time, -1, NULL, 0, out);
 }
 
 brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
@@ -744,7 +787,7 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
         *out = NULL;
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
     }
-    return load(ctx, path, 0.0, frame_no, out);
+    return load(ctx, path, 0.0, frame_no, NULL, 0, out);
 }
 
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)

@@ -196,7 +196,7 @@ static brume_status voxelize_media(brume_scene *s, int resolution, bool realizat
     randfield *q = NULL;
     if (realization) {
         randfield_params rp;
-        stam_randfield_params(&s->stam, &rp);
+        stam_randfield_params(&s->stam, stam_blob_extent(s), &rp);
         if (!(q = randfield_new(&rp)))
             return err_prefix("%s: %s.voxelize", at.file, at.path);
     }
@@ -205,23 +205,11 @@ static brume_status voxelize_media(brume_scene *s, int resolution, bool realizat
         blob_field *f = density_get_blobs(s->media[m].rho);
         if (!f)
             continue;
-        box3 b = f->bounds;
-        vec3 ext = v3_sub(b.hi, b.lo);
-        double longest = fmax(ext.x, fmax(ext.y, ext.z));
-        int n[3];
-        for (int a = 0; a < 3; a++)
-            n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
-        float *data = malloc((size_t)n[0] * (size_t)n[1] * (size_t)n[2] * sizeof *data);
-        if (!data) {
-            st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam.voxelize: out of memory for %d x %d x %d", at.file, n[0],
-                         n[1], n[2]);
-            break;
-        }
-        blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), s->stam.eps, s->stam.eta, data);
-        density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
+        char who[600];
+        snprintf(who, sizeof who, "%s: stam.voxelize", at.file);
+        density *g = blob_field_grid(f, resolution, q, s->stam.eps, s->stam.eta, who);
         if (!g) {
-            free(data);
-            st = err_prefix("%s: stam.voxelize", at.file);
+            st = err_status();
             break;
         }
         density_release(s->media[m].rho);
@@ -241,12 +229,14 @@ brume_status scene_parse_stam(const cJSON *root, brume_scene *s)
     brume_status st;
     if (j) {
         static const char *const keys[] = {"eps", "eta", "alpha", "lattice", "cell", "seed", "time", "rate",
-                                           "ambient", "steps", "light_grid", "bvh", "voxelize", NULL};
+                                           "ambient", "steps", "light_grid", "bvh", "voxelize", "variant", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
         if ((st = json_number(j, at, "eps", 0, 0.0, BIG, &p->eps))) return st;
         if ((st = json_number(j, at, "eta", 0, 1e-30, BIG, &p->eta))) return st;
         if ((st = json_number(j, at, "alpha", 0, 1e-9, BIG, &p->alpha))) return st;
-        if ((st = json_int(j, at, "lattice", 0, 2, 512, &p->lattice))) return st;
+        if ((st = json_int(j, at, "lattice", 0, 0, 512, &p->lattice))) return st;
+        if (p->lattice == 1)
+            return err_set(BRUME_ERROR_RANGE, "%s: stam.lattice: 1 is not 0 (automatic) or in [2, 512]", s->source);
         if ((st = json_number(j, at, "cell", 0, 0.0, BIG, &p->cell))) return st;
         if ((st = json_u64(j, at, "seed", 0, &p->seed))) return st;
         if ((st = json_number(j, at, "time", 0, -BIG, BIG, &p->time))) return st;
@@ -255,6 +245,14 @@ brume_status scene_parse_stam(const cJSON *root, brume_scene *s)
         if ((st = json_int(j, at, "steps", 0, 1, 256, &p->steps))) return st;
         if ((st = json_int(j, at, "light_grid", 0, 0, 512, &p->light_grid))) return st;
         if ((st = json_bool(j, at, "bvh", 0, &p->bvh))) return st;
+        char variant[32] = "";
+        if ((st = json_string(j, at, "variant", 0, variant, sizeof variant))) return st;
+        if (variant[0]) {
+            if (strcmp(variant, "paper") != 0 && strcmp(variant, "corrected") != 0)
+                return err_set(BRUME_ERROR_PARSE, "%s: stam.variant: unknown variant '%s' (known: paper, corrected)",
+                               s->source, variant);
+            p->paper = variant[0] == 'p';
+        }
         const cJSON *v = cJSON_GetObjectItemCaseSensitive(j, "voxelize");
         if (v) {
             static const char *const vkeys[] = {"resolution", "realization", NULL};

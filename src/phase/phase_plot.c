@@ -21,6 +21,35 @@ static double plot_phi(const phase *p, double theta) { return 4.0 * PI * phase_e
 /* The value plotted for phi: itself, or its decimal log. */
 static double plot_value(double phi, bool log_scale) { return log_scale ? log10(fmax(phi, 1e-300)) : phi; }
 
+static const double overlay_palette[8][3] = {{0.10, 0.25, 0.60}, {0.85, 0.33, 0.10}, {0.20, 0.60, 0.25},
+                                             {0.60, 0.20, 0.60}, {0.75, 0.60, 0.05}, {0.10, 0.60, 0.70},
+                                             {0.45, 0.45, 0.45}, {0.80, 0.10, 0.30}};
+
+/* The curves of a row: truth and approx, or the overlay's. */
+static int row_count(const phase_plot_row *row) { return row->ncurves > 0 ? row->ncurves : 2; }
+static const phase *row_curve(const phase_plot_row *row, int c)
+{
+    if (row->ncurves > 0)
+        return row->curves[c];
+    return c ? row->approx : row->truth;
+}
+
+static void set_color(cairo_t *cr, int approx);
+
+static void set_style(cairo_t *cr, const phase_plot_row *row, int c)
+{
+    if (row->ncurves <= 0) {
+        set_color(cr, c);
+        return;
+    }
+    static const double dash[] = {7.0, 4.0};
+    const double *rgb = overlay_palette[c % 8];
+    bool d = row->dashed && row->dashed[c];
+    cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+    cairo_set_dash(cr, d ? dash : NULL, d ? 2 : 0, 0.0);
+    cairo_set_line_width(cr, 1.8);
+}
+
 static void set_color(cairo_t *cr, int approx)
 {
     if (approx) {
@@ -47,8 +76,8 @@ static void row_range(const phase_plot_row *row, bool log_scale, double *lo, dou
 {
     *lo = INFINITY;
     *hi = -INFINITY;
-    for (int c = 0; c < 2; c++) {
-        const phase *p = c ? row->approx : row->truth;
+    for (int c = 0; c < row_count(row); c++) {
+        const phase *p = row_curve(row, c);
         if (!p)
             continue;
         for (int i = 0; i < CURVE_POINTS; i++) {
@@ -70,8 +99,8 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
     double base = log_scale ? floor(lo) : 0.0;
     /* Bounding box of the curves in plot units, then a uniform scale into the panel. */
     double xmin = 0.0, xmax = 0.0, ymax = 0.0;
-    for (int c = 0; c < 2; c++) {
-        const phase *p = c ? row->approx : row->truth;
+    for (int c = 0; c < row_count(row); c++) {
+        const phase *p = row_curve(row, c);
         if (!p)
             continue;
         for (int i = 0; i < CURVE_POINTS; i++) {
@@ -104,11 +133,11 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
     cairo_arc(cr, cx, cy, unit * scale, 0.0, 2.0 * PI);
     cairo_stroke(cr);
 
-    for (int c = 0; c < 2; c++) {
-        const phase *p = c ? row->approx : row->truth;
+    for (int c = 0; c < row_count(row); c++) {
+        const phase *p = row_curve(row, c);
         if (!p)
             continue;
-        set_color(cr, c);
+        set_style(cr, row, c);
         for (int i = 0; i < 2 * (CURVE_POINTS - 1) + 1; i++) {
             double th = PI * i / (CURVE_POINTS - 1); /* 0 .. 2 pi; phi is symmetric */
             double rad = (plot_value(plot_phi(p, th), log_scale) - base) * scale;
@@ -177,11 +206,11 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
     cairo_save(cr);
     cairo_rectangle(cr, left, top, right - left, bottom - top);
     cairo_clip(cr);
-    for (int c = 0; c < 2; c++) {
-        const phase *p = c ? row->approx : row->truth;
+    for (int c = 0; c < row_count(row); c++) {
+        const phase *p = row_curve(row, c);
         if (!p)
             continue;
-        set_color(cr, c);
+        set_style(cr, row, c);
         for (int i = 0; i < CURVE_POINTS; i++) {
             double th = PI * i / (CURVE_POINTS - 1);
             double v = plot_value(plot_phi(p, th), log_scale);
@@ -195,6 +224,19 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
         cairo_stroke(cr);
     }
     cairo_restore(cr);
+    /* the overlay's legend, top right */
+    double ly = top + 16.0;
+    for (int c = 0; c < row->ncurves; c++) {
+        if (!row->labels || !row->labels[c])
+            continue;
+        set_style(cr, row, c);
+        cairo_move_to(cr, right - 150.0, ly - 4.0);
+        cairo_line_to(cr, right - 126.0, ly - 4.0);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+        draw_text(cr, right - 120.0, ly, row->labels[c], 0.0);
+        ly += 14.0;
+    }
 }
 
 brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows, bool log_scale)

@@ -14,6 +14,12 @@ typedef struct phase_plot_row {
     const char *title; /* printed above the row, borrowed */
     const phase *truth; /* drawn solid, borrowed */
     const phase *approx; /* drawn dashed, or NULL; borrowed */
+    /* An overlay instead (Blasi's Figures 5 and 6): ncurves > 0 functions on the same axes,
+     * each in its own colour (solid; dashed where dashed[i]), named in a legend. */
+    int ncurves;
+    const phase *const *curves;  /* borrowed */
+    const char *const *labels;   /* borrowed, NULL entries: no legend line */
+    const bool *dashed;          /* may be NULL */
 } phase_plot_row;
 
 /* Writes an 8-bit RGB PNG of n >= 1 rows to path, atomically (a temporary file beside it,

@@ -38,7 +38,10 @@
 #include "core/pool.h"
 #include "core/progress.h"
 #include "core/sampling.h"
+#include "density/blobs.h"
+#include "density/randfield.h"
 #include "io/atomic.h"
+#include "render/stam.h"
 #include "surface/surfaces.h"
 
 #define BLASI_BATCH 1024           /* light rays per task */
@@ -51,6 +54,7 @@
 
 typedef struct blasi_medium {
     const medium *md;
+    density *vox;        /* owned: a blob field voxelized at blasi.voxels, or NULL (md->rho is a grid) */
     int n[3];
     size_t nvox, offset; /* its voxels are [offset, offset + nvox) of the state's arrays */
     affine3 w2v;         /* world -> voxel space */
@@ -315,6 +319,7 @@ typedef struct deposit_list {
     } *d;
     size_t n, cap;
     uint64_t intercepts;
+    double emitted; /* power the batch's rays started with, summed over channels */
     bool out_of_memory;
 } deposit_list;
 
@@ -468,6 +473,7 @@ static void pass1_batch(size_t task, int thread, void *user)
     deposit_list *out = &job->lists[task];
     out->n = 0;
     out->intercepts = 0;
+    out->emitted = 0.0;
     uint64_t nl = (uint64_t)s->nlights, b = job->wave0 + task;
     uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
     for (uint64_t i = first; i < end; i++) {
@@ -481,8 +487,10 @@ static void pass1_batch(size_t task, int thread, void *user)
         rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
         ray r;
         color W;
-        if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0)
+        if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0) {
+            out->emitted += W.c[0] + W.c[1] + W.c[2];
             trace_light_ray(s, job->st, r, W, &g, out);
+        }
     }
     progress_add(&job->prog, 1);
 }
@@ -512,6 +520,8 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
                 for (int c = 0; c < 3; c++)
                     acc[3 * l->d[k].v + (size_t)c] += l->d[k].w[c];
             st->stats.interceptions += l->intercepts;
+            st->stats.deposits += l->n;
+            st->stats.emitted_power += l->emitted / 3.0;
         }
     }
     progress_end(&job.prog);
@@ -717,6 +727,7 @@ void blasi_finish(blasi_state *st)
         return;
     for (int m = 0; m < st->nm; m++) {
         phase_release(st->m[m].dir_owned);
+        density_release(st->m[m].vox);
         free(st->m[m].occ);
     }
     free(st->rho);
@@ -739,11 +750,39 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     st->view = o->view_attenuation;
     st->bounds = box3_empty();
     brume_status rc = BRUME_OK;
+    randfield *q = NULL; /* Stam's Q, for blob fields voxelized with their perturbation */
     for (int m = 0; m < st->nm && rc == BRUME_OK; m++) {
         const medium *md = &s->media[m];
         blasi_medium *bm = &st->m[m];
+        const blob_field *bf = density_get_blobs(md->rho);
+        if (bf && o->voxels <= 0) {
+            /* a blob field has no voxels of its own; a silent coarse grid would not be Stam's field */
+            rc = err_set(BRUME_ERROR_UNSUPPORTED,
+                         "%s: media[%d]%s%s: method blasi renders voxel grids and this medium is a blob field: give "
+                         "blasi.voxels=N (e.g. --set blasi.voxels=128) to render one realization of it (stam.eps) "
+                         "on N cells along its longest axis, or use --method stam, path or single",
+                         s->source, m, md->name[0] ? " " : "", md->name);
+            break;
+        }
+        if (bf) {
+            if (!q && s->stam.eps > 0.0) {
+                randfield_params rp;
+                stam_randfield_params(&s->stam, stam_blob_extent(s), &rp);
+                if (!(q = randfield_new(&rp))) {
+                    rc = err_prefix("%s: blasi.voxels", s->source);
+                    break;
+                }
+            }
+            char who[600];
+            snprintf(who, sizeof who, "%s: media[%d]: blasi.voxels", s->source, m);
+            if (!(bm->vox = blob_field_grid(bf, o->voxels, q, s->stam.eps, s->stam.eta, who))) {
+                rc = err_status();
+                break;
+            }
+        }
+        const density *rho = bm->vox ? bm->vox : md->rho;
         density_info info;
-        density_get_info(md->rho, &info);
+        density_get_info(rho, &info);
         bm->md = md;
         memcpy(bm->n, info.n, sizeof bm->n);
         bm->nvox = (size_t)info.n[0] * (size_t)info.n[1] * (size_t)info.n[2];
@@ -776,6 +815,7 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             bm->dir = bm->dir_owned;
         }
     }
+    randfield_release(q);
     if (rc == BRUME_OK && st->nvox > 0) {
         st->rho = malloc(st->nvox * sizeof *st->rho);
         st->S = calloc(st->nvox * 3, sizeof *st->S);
@@ -798,7 +838,7 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         for (int k = 0; k < bm->n[2]; k++)
             for (int j = 0; j < bm->n[1]; j++)
                 for (int i = 0; i < bm->n[0]; i++) {
-                    float rho = (float)density_voxel(bm->md->rho, i, j, k);
+                    float rho = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
                     *dst++ = rho;
                     if (rho != 0.0f)
                         bm->occ[(size_t)(i / BLASI_BLOCK) +

@@ -12,7 +12,8 @@
  *     source scaled by its current attenuation, stops under a threshold, and adds the
  *     background L-infinity; surfaces occlude and are lit directly.
  *
- * Every medium must be a voxel grid (dense or NanoVDB; procedural clouds are grids too);
+ * Every medium must be a voxel grid (dense or NanoVDB; procedural clouds are grids too) or a
+ * blob field voxelized at blasi.voxels;
  * each is read as constant per voxel (its stored voxel values, the paper's model). The
  * state is immutable after blasi_prepare and read by every render thread. */
 #ifndef BRUME_RENDER_BLASI_H
@@ -40,6 +41,8 @@ typedef struct blasi_stats {
     double light_seconds;   /* wall time of the first pass (or of loading it) */
     uint64_t light_rays;    /* rays sent from the lights (0 when loaded) */
     uint64_t interceptions; /* scattering events in the first pass */
+    uint64_t deposits;      /* voxel deposits: interceptions and exit deposits */
+    double emitted_power;   /* sum over rays and channels of the power they start with / 3 */
     bool loaded;            /* true when the radiance grid came from a file */
     double stored_power;    /* sum over voxels and channels of the stored power / 3 */
 } blasi_stats;

@@ -25,7 +25,7 @@ void blasi_options_default(blasi_options *o)
 const char *blasi_option_names(void)
 {
     return "light_rays, r, kprime, step, threshold, sources, exit_deposit, view_attenuation, variant, "
-           "save_light, load_light";
+           "voxels, save_light, load_light";
 }
 
 static bool parse_double(const char *text, double lo, double hi, bool hi_open, double *out)
@@ -88,6 +88,10 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
         } else {
             return err_set(BRUME_ERROR_PARSE, "blasi.variant: '%s' is not one of paper, physical", value);
         }
+    } else if (strcmp(key, "voxels") == 0) {
+        if (!parse_double(value, 0.0, 2048.0, false, &v) || v != floor(v) || v == 1.0)
+            return err_set(BRUME_ERROR_RANGE, "blasi.voxels: '%s' is not 0 or an integer in [2, 2048]", value);
+        n.voxels = (int)v;
     } else if (strcmp(key, "save_light") == 0 || strcmp(key, "load_light") == 0) {
         char *dst = key[0] == 's' ? n.save_light : n.load_light;
         if (strlen(value) >= BLASI_PATH_MAX)

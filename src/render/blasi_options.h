@@ -35,6 +35,9 @@ typedef struct blasi_options {
     int sources;            /* elementary sources per area light (strata of its surface) */
     blasi_exit exit_deposit;
     blasi_view_atten view_attenuation;
+    int voxels;             /* a blob field (Stam) is rendered as a dense grid of this many cells
+                               along its longest axis, one realization of the perturbation
+                               (stam.eps, stam.eta, Q); 0 = blob fields are refused */
     char save_light[BLASI_PATH_MAX]; /* write the first pass's radiance grid here ("" = no) */
     char load_light[BLASI_PATH_MAX]; /* read it from here instead of running the pass */
 } blasi_options;
@@ -44,7 +47,7 @@ void blasi_options_default(blasi_options *o);
 /* Sets option `key` (without the "blasi." prefix) from its text form, as the scene file
  * would give it: light_rays, r, kprime, step, threshold, sources, exit_deposit
  * (paper|none), view_attenuation (absorption|extinction), variant (paper|physical: both
- * of the previous two), save_light, load_light. On failure returns an error status with
+ * of the previous two), voxels, save_light, load_light. On failure returns an error status with
  * err_set() naming "blasi.KEY" and the bad value, and leaves *o unchanged. */
 brume_status blasi_options_set(blasi_options *o, const char *key, const char *value);
 

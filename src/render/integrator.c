@@ -15,6 +15,7 @@
 
 #include <string.h>
 
+#include "core/stats.h"
 #include "render/blasi.h"
 #include "render/stam.h"
 #include "surface/surfaces.h"
@@ -39,6 +40,8 @@ const char *integrator_names(void) { return "path, single, blasi, stam"; }
 static bool flight_step(double t, double sigma_maj, void *user)
 {
     flight *f = user;
+    if (stats_tls)
+        stats_tls->path_tentative++;
     media_at(f->s, ray_at(f->r, t), f->r.time, &f->cur);
     const medium_sample *ms = &f->cur;
     double inv_maj = 1.0 / sigma_maj;
@@ -171,6 +174,18 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
     return Ld;
 }
 
+/* direct_light, its time counted when statistics are on. */
+static color direct_light_counted(const brume_scene *s, const vertex *v, rng *g)
+{
+    stats_counters *sc = stats_tls;
+    if (!sc)
+        return direct_light(s, v, g);
+    double t0 = stats_now();
+    color Ld = direct_light(s, v, g);
+    sc->t_nee += stats_now() - t0;
+    return Ld;
+}
+
 /* The nearest finite area light (sphere, disk) along the ray, or -1. */
 static int nearest_area_light(const brume_scene *s, vec3 o, vec3 d, double *t_hit, color *Le, double *pdf)
 {
@@ -232,7 +247,11 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_light, &sh);
         if (depth == 0 && hit_surface)
             *hit_surface = on_surface;
+        stats_counters *sc = stats_tls;
+        double t0 = sc ? stats_now() : 0.0;
         bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light) && depth < max_depth;
+        if (sc)
+            sc->t_tracking += stats_now() - t0;
         /* What lies past the flight, seen through Tr: light reached now is added at once;
          * a surface is a second branch, chosen against the scattering one below. */
         color beta_past = col_mul(f.beta, f.Tr);
@@ -261,11 +280,13 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             }
         }
         if (reflect) {
+            if (sc)
+                sc->path_vertices++;
             f.beta = beta_past;
             vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
             v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
             v.p = surface_offset(&sh, v.n);
-            f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
+            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, g)));
             vec3 wi;
             double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
             if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
@@ -282,7 +303,11 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         f.beta = f.beta_s;
         vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
                     .time = r.time};
-        f.L = col_add(f.L, col_mul(f.beta, direct_light(s, &v, g)));
+        if (sc) {
+            sc->path_scatterings++;
+            sc->path_vertices++;
+        }
+        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, g)));
         if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */
         vec3 wo = phase_sample(v.ph, r.d, rng_next(g), rng_next(g), &pdf_dir);

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "core/progress.h"
+#include "core/stats.h"
 #include "render/integrator.h"
 
 #define JOB_SUMS 4 /* per pixel: R, G, B, alpha (sum over the first JOB_ALPHA_SAMPLES) */
@@ -61,6 +62,9 @@ struct brume_render_job {
     bool cancelled;          /* the callback cancelled the pass in progress (under cb_lock) */
     progress bar;
     bool bar_started;
+    double t_start;          /* stats_now() at job_create: the statistics' seconds */
+    int nthreads;            /* threads the pool runs */
+    struct stats_counters *counters; /* one per thread when rs.stats, else NULL */
 };
 
 /* Allocates a job for tiles part, part + nparts, ... of the scene's image, with the

@@ -10,7 +10,9 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "core/pool.h"
+#include "core/stats.h"
 #include "io/image.h"
+#include "render/blasi.h"
 #include "render/film.h"
 #include "render/job.h"
 
@@ -68,6 +70,12 @@ brume_status job_create(const brume_scene *s, int part, int nparts, brume_render
     job->ntiles = job->ntiles_all / (size_t)nparts + ((size_t)part < job->ntiles_all % (size_t)nparts ? 1 : 0);
     job->npix = (size_t)rs->width * (size_t)rs->height;
     job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
+    job->t_start = stats_now();
+    job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
+    if (rs->stats && !(job->counters = calloc((size_t)job->nthreads, sizeof *job->counters))) {
+        free(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for statistics", s->source);
+    }
     job->n = calloc(job->npix, sizeof *job->n);
     job->active = malloc(job->npix);
     job->sum = calloc(job->npix * JOB_SUMS, sizeof *job->sum);
@@ -106,6 +114,7 @@ void brume_render_job_release(brume_render_job *job)
     free(job->sum);
     free(job->sq);
     free(job->aov);
+    free(job->counters);
     free(job);
 }
 
@@ -177,10 +186,11 @@ void job_refresh(brume_render_job *job)
 /* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
-    (void)thread;
     brume_render_job *job = user;
     if (atomic_load(&job->stop))
         return;
+    stats_counters *sc = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
+    stats_tls = sc;
     const brume_render_settings *rs = &job->rs;
     /* the time budget never cuts the first pass: every pixel gets samples */
     if (rs->time_budget > 0.0 && job->spp_done > 0 && job->elapsed + (progress_now() - job->t_pass) >= rs->time_budget) {
@@ -232,7 +242,12 @@ static void job_tile(size_t task, int thread, void *user)
                     aov[k][7] += v.normal.z;
                 }
                 bool opaque = false;
+                double t0 = sc ? stats_now() : 0.0;
                 color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
+                if (sc) {
+                    sc->t_li += stats_now() - t0;
+                    sc->camera_rays++;
+                }
                 if (!col_isfinite(L))
                     L = col(0.0); /* a failed sample counts as black */
                 for (int c = 0; c < 3; c++) {
@@ -250,6 +265,7 @@ static void job_tile(size_t task, int thread, void *user)
             }
             n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
         }
+    stats_tls = NULL;
     pthread_mutex_lock(&job->lock);
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
@@ -362,6 +378,53 @@ static brume_status job_add(brume_render_job *job, int spp)
     return job_pass(job);
 }
 
+static double per(double a, uint64_t n) { return n ? a / (double)n : 0.0; }
+
+/* The scene's statistics (brume_scene_get_stats) from the job's counters. */
+static void job_fill_stats(const brume_render_job *job)
+{
+    const brume_scene *s = job->s;
+    stats_counters sum = {0};
+    for (int t = 0; job->counters && t < job->nthreads; t++)
+        stats_merge(&sum, &job->counters[t]);
+    const stats_counters *c = &sum;
+    brume_stats *out = &s->prepared->stats;
+    memset(out, 0, sizeof *out);
+    snprintf(out->method, sizeof out->method, "%s", s->settings.method);
+    out->seconds = stats_now() - job->t_start;
+    out->camera_rays = c->camera_rays;
+    out->li_cpu_seconds = c->t_li;
+    switch (job->kind) {
+    case INTEGRATOR_BLASI: {
+        blasi_stats b;
+        blasi_get_stats(job->state, &b);
+        out->blasi_light_seconds = b.light_seconds;
+        out->blasi_view_seconds = job->elapsed;
+        out->blasi_light_rays = b.light_rays;
+        out->blasi_interceptions = b.interceptions;
+        out->blasi_deposits = b.deposits;
+        out->blasi_power_emitted = b.emitted_power;
+        out->blasi_power_stored = b.stored_power;
+        break;
+    }
+    case INTEGRATOR_STAM:
+        out->stam_blobs_per_ray = per((double)c->stam_camera_blobs, c->camera_rays);
+        out->stam_queries_per_ray = per((double)c->blob_queries, c->camera_rays);
+        out->stam_nodes_per_query = per((double)c->blob_nodes, c->blob_queries);
+        out->stam_blobs_per_query = per((double)c->blob_visits, c->blob_queries);
+        break;
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE:
+        out->path_vertices = per((double)c->path_vertices, c->camera_rays);
+        out->path_collisions = per((double)c->path_scatterings, c->camera_rays);
+        out->path_null_collisions = per((double)(c->path_tentative - c->path_scatterings), c->camera_rays);
+        out->path_tracking_cpu_seconds = c->t_tracking;
+        out->path_nee_cpu_seconds = c->t_nee;
+        out->path_shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);
+        break;
+    }
+}
+
 static brume_status job_run(brume_render_job *job)
 {
     int k;
@@ -374,6 +437,7 @@ static brume_status job_run(brume_render_job *job)
         progress_end(&job->bar);
         job->bar_started = false;
     }
+    job_fill_stats(job);
     return BRUME_OK;
 }
 
@@ -566,4 +630,13 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     }
     brume_render_job_release(job);
     return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out)
+{
+    err_clear();
+    if (!scene || !out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: NULL argument"));
+    *out = scene->prepared->stats;
+    return ctx_report(ctx, BRUME_OK);
 }

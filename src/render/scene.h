@@ -44,6 +44,7 @@ typedef struct scene_prepared {
     bool valid;
     int kind;    /* integrator_kind */
     void *state; /* integrator_prepare's */
+    brume_stats stats; /* of the last render (brume_scene_get_stats) */
 } scene_prepared;
 
 /* An empty scene with default settings and camera; NULL when out of memory. */
@@ -59,5 +60,8 @@ extern const char scene_default_json[];
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out);
 /* The same at frame time `time` (seconds), or, when frame_no >= 0, at frame_no / render.fps. */
 brume_status scene_parse_json_at(const char *text, const char *source, double time, long frame_no, brume_scene **out);
+/* The same after applying overrides "KEY=VALUE" to the document (io/scene_override.h). */
+brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
+                                   const char *const *overrides, int noverrides, brume_scene **out);
 
 #endif

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/pool.h"
+#include "core/stats.h"
 #include "density/blobs.h"
 #include "render/stam_stats.h"
 #include "surface/surfaces.h"
@@ -37,16 +38,52 @@ typedef struct stam_state {
     stam_medium med[SCENE_MAX_MEDIA];
     int nmed;
     double eps, eta, alpha;
+    bool paper;          /* stam.variant = paper: Eq. 12-13 as printed, J-bar's shadows from the mean */
+    double sigma_paper;  /* paper: K_Q(0) sqrt(eps), the factor of sqrt(I_F) Q */
     int steps;
     bool any_scatter;
     light_cache *cache; /* one per light (n = 0 when the light is not cached), or NULL */
 } stam_state;
 
-void stam_randfield_params(const stam_params *p, randfield_params *out)
+vec3 stam_blob_extent(const brume_scene *s)
 {
-    for (int a = 0; a < 3; a++)
-        out->n[a] = p->lattice;
+    box3 b = box3_empty();
+    for (int m = 0; m < s->nmedia; m++) {
+        const blob_field *f = density_get_blobs(s->media[m].rho);
+        if (f) {
+            b.lo = v3_min(b.lo, f->bounds.lo);
+            b.hi = v3_max(b.hi, f->bounds.hi);
+        }
+    }
+    return b.lo.x <= b.hi.x ? v3_sub(b.hi, b.lo) : v3(0, 0, 0);
+}
+
+void stam_randfield_params(const stam_params *p, vec3 extent, randfield_params *out)
+{
     out->cell = p->cell > 0.0 ? p->cell : p->alpha / 3.0;
+    if (p->lattice > 0) {
+        for (int a = 0; a < 3; a++)
+            out->n[a] = p->lattice;
+    } else {
+        /* one period covers the fields plus 6 alpha: K_Q(6 alpha) = exp(-18) */
+        double span[3];
+        for (int a = 0; a < 3; a++)
+            span[a] = fmin(v3_get(extent, a), 1e12) + 6.0 * p->alpha;
+        for (;;) {
+            double points = 1.0;
+            bool fits = true;
+            for (int a = 0; a < 3; a++) {
+                double n = ceil(span[a] / out->cell);
+                n += fmod(n, 2.0); /* even sizes: the FFT's fast path */
+                out->n[a] = n < 8.0 ? 8 : (int)fmin(n, 1e9);
+                points *= out->n[a];
+                fits = fits && n <= STAM_LATTICE_MAX;
+            }
+            if (fits && points <= STAM_LATTICE_POINTS_MAX)
+                break;
+            out->cell *= 1.25; /* a coarser lattice (docs/stam.md: trilinear lowers the variance) */
+        }
+    }
     out->alpha = p->alpha;
     out->seed = p->seed;
     out->time = p->time;
@@ -70,6 +107,7 @@ typedef struct tau_walk {
     const stam_medium *m;
     vec3 o, d;
     double tmax;
+    bool mean_only; /* the mean density's optical depth (paper variant's J-bar shadows) */
     double T;
     double umin, umax; /* span of the chords inside [0, tmax] */
     blob_hit *hits;    /* NULL, or room for STAM_HIT_BUFFER */
@@ -90,23 +128,25 @@ static void tau_visit(int i, double u, double d2, void *user)
     if (w->hits && w->nhits < STAM_HIT_BUFFER)
         w->hits[w->nhits] = (blob_hit){i, u, d2};
     w->nhits++;
-    if (st->eps > 0.0) {
+    if (st->eps > 0.0 && !w->mean_only) {
         /* F_eta(mean) = mean when the blob's peak along the ray is below eta */
         double I = br.peak > st->eta ? blob_T_clamped(&br, st->eta, 0.0, w->tmax) : T;
-        double var = blob_T_var_scale(st->eps, st->alpha, br.h) * I;
         double uc = u < 0.0 ? 0.0 : (u > w->tmax ? w->tmax : u); /* x_ui on the segment */
         vec3 x = v3_sub(v3_madd(w->o, w->d, uc), w->m->q_shift);
-        T += sqrt(var) * randfield_eval(st->q, x);
+        /* Eq. 13; sigma_T from the repaired variance, or from Eq. 12-13 as printed */
+        double sigma = st->paper ? st->sigma_paper * sqrt(I) : sqrt(blob_T_var_scale(st->eps, st->alpha, br.h) * I);
+        T += sigma * randfield_eval(st->q, x);
     }
     w->T += T;
 }
 
-/* exp(-sum_m kappa_m max(0, T_m)) over (0, tmax), media only. */
-static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax)
+/* exp(-sum_m kappa_m max(0, T_m)) over (0, tmax), media only; of the mean density when
+ * mean_only. */
+static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax, bool mean_only)
 {
     color depth = col(0.0);
     for (int m = 0; m < st->nmed; m++) {
-        tau_walk w = {st, &st->med[m], o, d, tmax, 0.0, INFINITY, -INFINITY, NULL, 0};
+        tau_walk w = {st, &st->med[m], o, d, tmax, mean_only, 0.0, INFINITY, -INFINITY, NULL, 0};
         blob_field_query_ray(st->med[m].f, o, d, 0.0, tmax, tau_visit, &w);
         if (w.T > 0.0)
             depth = col_madd(depth, st->med[m].kappa, w.T);
@@ -134,7 +174,18 @@ color stam_transmittance(const void *state, vec3 o, vec3 d, double tmax)
         return mm->tau;
     if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7), st->s->time))
         return col(0.0);
-    return media_tau(st, o, d, tmax);
+    return media_tau(st, o, d, tmax, false);
+}
+
+/* The transparency that lights J-bar (Eq. 8): the realized one (corrected), or the mean
+ * density's, as Section 6.2 says J-bar depends on the mean only (paper). */
+static color source_transmittance(const stam_state *st, vec3 o, vec3 d, double tmax)
+{
+    if (!st->paper)
+        return stam_transmittance(st, o, d, tmax);
+    if (st->s->surf && surfaces_occluded(st->s->surf, o, d, 0.0, tmax * (1.0 - 1e-7), st->s->time))
+        return col(0.0);
+    return media_tau(st, o, d, tmax, true);
 }
 
 /* ---- light transparency cache ------------------------------------------------------------- */
@@ -162,7 +213,7 @@ static void cache_slice(size_t task, int thread, void *user)
             light_sample ls;
             color tau = col(0.0);
             if (light_sample_at(job->l, p, 0.5, 0.5, &ls))
-                tau = stam_transmittance(job->st, p, ls.wi, ls.dist);
+                tau = source_transmittance(job->st, p, ls.wi, ls.dist);
             float *out = c->tau + 3 * ((size_t)i + (size_t)c->n[0] * ((size_t)j + (size_t)c->n[1] * (size_t)k));
             for (int ch = 0; ch < 3; ch++)
                 out[ch] = (float)tau.c[ch];
@@ -252,6 +303,8 @@ brume_status stam_prepare(const brume_scene *s, void **state)
     st->eps = p->eps;
     st->eta = p->eta;
     st->alpha = p->alpha;
+    st->paper = p->paper;
+    st->sigma_paper = blob_T_sigma_paper_scale(p->eps, p->alpha);
     st->steps = p->steps < STAM_MAX_STEPS ? p->steps : STAM_MAX_STEPS;
     for (int m = 0; m < s->nmedia; m++) {
         const medium *md = &s->media[m];
@@ -267,7 +320,7 @@ brume_status stam_prepare(const brume_scene *s, void **state)
     }
     if (st->eps > 0.0) {
         randfield_params rp;
-        stam_randfield_params(p, &rp);
+        stam_randfield_params(p, stam_blob_extent(s), &rp);
         if (!(st->q = randfield_new(&rp))) {
             stam_finish(st);
             return err_prefix("%s: stam", s->source);
@@ -419,7 +472,7 @@ static int gather_lights(const stam_state *st, vec3 x, rng *g, light_in *out, in
         if (!light_sample_at(&s->lights[l], x, u1, u2, &ls) || !(ls.pdf > 0.0) || col_is_black(ls.Li))
             continue;
         color tau = st->cache && st->cache[l].n[0] ? cache_lookup(&st->cache[l], x)
-                                                   : stam_transmittance(st, x, ls.wi, ls.dist);
+                                                   : source_transmittance(st, x, ls.wi, ls.dist);
         out[n].wi = ls.wi;
         out[n].E = col_scale(col_mul(ls.Li, tau), 1.0 / ls.pdf);
         n++;
@@ -447,9 +500,11 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
     int nhits[SCENE_MAX_MEDIA];
     for (int m = 0; m < st->nmed; m++) {
         const stam_medium *sm = &st->med[m];
-        tau_walk w = {st, sm, r.o, r.d, b, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0};
+        tau_walk w = {st, sm, r.o, r.d, b, false, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0};
         blob_field_query_ray(sm->f, r.o, r.d, 0.0, b, tau_visit, &w);
         nhits[m] = m < 4 && w.nhits <= STAM_HIT_BUFFER ? w.nhits : -1;
+        if (stats_tls)
+            stats_tls->stam_camera_blobs += (uint64_t)w.nhits;
         if (w.T > 0.0)
             depth = col_madd(depth, sm->kappa, w.T);
         umin = fmin(umin, w.umin);

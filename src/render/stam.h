@@ -21,8 +21,17 @@
 #include "density/randfield.h"
 #include "render/scene.h"
 
-/* Q's synthesis parameters from the scene's stam settings (lattice, cell, seed, time). */
-void stam_randfield_params(const stam_params *p, randfield_params *out);
+/* Q's synthesis parameters from the scene's stam settings (lattice, cell, seed, time) for
+ * blob fields within `extent` (world units per axis, the size of the box Q is read over).
+ * With lattice 0 (the default) the lattice covers the extent plus 6 alpha on every axis,
+ * so that no two points of the fields see the same value of Q (the period does not show:
+ * K_Q at the nearest periodic image is below exp(-18)); at most STAM_LATTICE_MAX points per
+ * axis and STAM_LATTICE_POINTS_MAX in all, beyond which the cell grows (docs/stam.md). */
+#define STAM_LATTICE_MAX 256
+#define STAM_LATTICE_POINTS_MAX (1 << 22)
+void stam_randfield_params(const stam_params *p, vec3 extent, randfield_params *out);
+/* The extent of the scene's blob fields (bounds of all of them, per axis; 0 without any). */
+vec3 stam_blob_extent(const brume_scene *s);
 
 /* Builds Q and the light caches; fails (err_set) when a medium is not a blob field. */
 brume_status stam_prepare(const brume_scene *s, void **state);

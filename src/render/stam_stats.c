@@ -72,3 +72,9 @@ double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha
 {
     return eps * blob_T_clamped(br, eta, a, b) / (TWO_PI_3_2 * alpha * alpha * alpha);
 }
+
+double blob_T_sigma_paper_scale(double eps, double alpha)
+{
+    /* sigma_T Q^(0) = sqrt(K_Q(0) eps I_F) sqrt(K_Q(0)) Q = K_Q(0) sqrt(eps I_F) Q, Q of unit variance */
+    return sqrt(eps) / (TWO_PI_3_2 * alpha * alpha * alpha);
+}

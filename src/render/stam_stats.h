@@ -72,5 +72,10 @@ double blob_T_var(const blob_ray *br, double eps, double eta, double alpha, doub
 double blob_T_var_scale(double eps, double alpha, double h);
 /* Eq. 12 as printed, for comparison: K_Q(0) eps integral F_eta, K_Q(0) = (2 pi)^(-3/2) alpha^-3. */
 double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
+/* Eq. 12 and Eq. 13 as printed together: T_i = T_mean + sigma_T Q^(0) with sigma_T^2 from Eq. 12
+ * and Q^(0) a realization of Eq. 5's Q, whose variance is K_Q(0): with brume's unit-variance
+ * Q, T_i = T_mean + K_Q(0) sqrt(eps I_F) Q. Returns K_Q(0) sqrt(eps), the factor of
+ * sqrt(I_F) Q (the variance of T_i is then eps I_F K_Q(0)^2). */
+double blob_T_sigma_paper_scale(double eps, double alpha);
 
 #endif

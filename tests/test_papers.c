@@ -1,0 +1,413 @@
+/* test_papers.c - the papers from the command line: scene overrides (--set), Stam's printed
+ * and corrected variants, the period of Q, Blasi on blob fields, per-run statistics, scoring
+ * a given phase fit and `brume figures`. */
+#include "test.h"
+
+#include "brume.h"
+#include "core/error.h"
+#include "density/blobs.h"
+#include "density/randfield.h"
+#include "render/scene.h"
+#include "render/stam.h"
+
+#define SCENE(name) BRUME_SOURCE_DIR "/scenes/" name
+
+static brume_scene *load_with(const char *path, const char *const *ov, int n, brume_status want, const char *msg_part)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_load_options o = {0.0, 0, ov, n};
+    brume_status st = brume_scene_load_with(ctx, path, &o, &s);
+    if (st != want)
+        TEST_FAIL("load %s with %d overrides: status %d, want %d (%s)", path ? path : "default", n, (int)st, (int)want,
+                  brume_context_last_error(ctx));
+    if (msg_part) {
+        printf("message: %s\n", brume_context_last_error(ctx));
+        ASSERT_CONTAINS(brume_context_last_error(ctx), msg_part);
+        ASSERT_TRUE(strchr(brume_context_last_error(ctx), '\n') == NULL); /* one line */
+    }
+    brume_context_release(ctx);
+    return s;
+}
+
+/* --set on every kind of key: numbers, arrays as values, array indices in the path (both
+ * spellings), keys nested in arrays of objects, bare strings, JSON strings, booleans,
+ * objects created on the way; later overrides win. */
+TEST(set_every_kind_of_key)
+{
+    const char *ov[] = {
+        "camera.fov=30",                                   /* number */
+        "camera.position=[0, 1, 7]",                       /* array value */
+        "media.0.sigma_s=5",                               /* array index, grey colour */
+        "media[0].sigma_a=[0.1, 0.2, 0.3]",                /* bracket spelling, RGB */
+        "media.0.density.generators.0.count=50",           /* inside an array of objects */
+        "stam.eps=0.1",                                    /* a method's key */
+        "stam.variant=paper",                              /* a bare word is a string */
+        "stam.bvh=false",                                  /* boolean */
+        "render.spp=64",
+        "render.method=\"path\"",                          /* a JSON string */
+        "blasi.r=0.25",                                    /* "blasi" is created */
+        "render.spp=65",                                   /* the later one wins */
+    };
+    brume_scene *s = load_with(SCENE("stam-fig5-a.json"), ov, (int)(sizeof ov / sizeof *ov), BRUME_OK, NULL);
+    ASSERT_NEAR(s->cam.fov, 30.0, 0.0);
+    ASSERT_NEAR(s->cam.position.z, 7.0, 0.0);
+    ASSERT_NEAR(s->media[0].sigma_s.c[1], 5.0, 0.0);
+    ASSERT_NEAR(s->media[0].sigma_a.c[2], 0.3, 1e-15);
+    ASSERT_EQ_INT(density_get_blobs(s->media[0].rho)->n, 50);
+    ASSERT_NEAR(s->stam.eps, 0.1, 0.0);
+    ASSERT_TRUE(s->stam.paper);
+    ASSERT_TRUE(!s->stam.bvh);
+    ASSERT_EQ_INT(s->settings.spp, 65);
+    ASSERT_EQ_STR(s->settings.method, "path");
+    ASSERT_NEAR(s->blasi.r, 0.25, 0.0);
+    brume_scene_release(s);
+
+    /* the built-in default scene (path NULL): a key of a generated grid changes the grid */
+    const char *small[] = {"media.0.density.dims=[12, 8, 12]"};
+    const char *seeded[] = {"media.0.density.dims=[12, 8, 12]", "media.0.density.seed=3"};
+    brume_scene *a = load_with(NULL, small, 1, BRUME_OK, NULL), *b = load_with(NULL, seeded, 2, BRUME_OK, NULL);
+    density_info ia;
+    density_get_info(a->media[0].rho, &ia);
+    ASSERT_EQ_INT(ia.n[0], 12);
+    double diff = 0.0;
+    for (int k = 0; k < 12; k++)
+        for (int j = 0; j < 8; j++)
+            for (int i = 0; i < 12; i++)
+                diff += fabs(density_voxel(a->media[0].rho, i, j, k) - density_voxel(b->media[0].rho, i, j, k));
+    ASSERT_TRUE(diff > 0.0);
+    brume_scene_release(a);
+    brume_scene_release(b);
+}
+
+/* Bad overrides: one line each, naming the key and what may be there. */
+TEST(set_bad_keys)
+{
+    const char *unknown[] = {"stam.epz=0.1"};
+    load_with(SCENE("stam-fig5-a.json"), unknown, 1, BRUME_ERROR_PARSE, "stam.epz: unknown key (known here: eps, eta");
+    const char *top[] = {"cmaera.fov=30"};
+    load_with(SCENE("stam-fig5-a.json"), top, 1, BRUME_ERROR_PARSE, "known here: camera, lights, media");
+    const char *index[] = {"media.3.sigma_s=1"};
+    load_with(SCENE("stam-fig5-a.json"), index, 1, BRUME_ERROR_PARSE, "media has 1 element: index 0 to 0");
+    const char *through[] = {"camera.fov.x=1"};
+    load_with(SCENE("stam-fig5-a.json"), through, 1, BRUME_ERROR_PARSE,
+              "camera.fov is a number and has no key 'x' (the document has here: position, look_at, fov)");
+    const char *range[] = {"camera.fov=400"};
+    load_with(SCENE("stam-fig5-a.json"), range, 1, BRUME_ERROR_RANGE, "(set by override camera.fov=400)");
+    const char *variant[] = {"stam.variant=printed"};
+    load_with(SCENE("stam-fig5-a.json"), variant, 1, BRUME_ERROR_PARSE, "known: paper, corrected");
+    const char *noeq[] = {"camera.fov"};
+    load_with(SCENE("stam-fig5-a.json"), noeq, 1, BRUME_ERROR_PARSE, "expected KEY=VALUE");
+
+    /* the tool: exit status 1, one line on stderr naming the key */
+    const char *err = test_tmp_path("set-err.txt");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s render %s --set stam.epz=0.1 -o %s 2>%s", BRUME_EXE, SCENE("stam-fig5-a.json"),
+             test_tmp_path("never.png"), err);
+    ASSERT_EQ_INT(test_system(cmd), 1);
+    size_t n;
+    char *text = test_slurp(err, &n);
+    ASSERT_CONTAINS(text, "stam.epz: unknown key");
+    ASSERT_TRUE(n > 0 && strchr(text, '\n') == text + n - 1);
+    free(text);
+    ASSERT_TRUE(!test_exists(test_tmp_path("never.png")));
+    remove(err);
+}
+
+static brume_image *render_scene(brume_scene *s, const char *method, int threads, bool stats)
+{
+    brume_context *ctx = brume_context_new();
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    snprintf(rs.method, sizeof rs.method, "%s", method);
+    rs.threads = threads;
+    rs.stats = stats;
+    brume_image *img = NULL;
+    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
+        brume_render(ctx, s, &img) != BRUME_OK)
+        TEST_FAIL("render %s: %s", method, brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    return img;
+}
+
+static brume_scene *scene_text(const char *json)
+{
+    brume_scene *s = NULL;
+    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", err_message());
+    return s;
+}
+
+/* Three blobs on the left half of the picture, sky on the right; peaks 0.44-0.88 above eta. */
+#define BLOBS_JSON                                                                                                     \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}, \"background\": 0.5,"                 \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, -0.6, -0.62], \"irradiance\": 3.0}],"                  \
+    " \"media\": [{\"sigma_a\": 0.2, \"sigma_s\": 3, \"density\": {\"type\": \"blobs\","                               \
+    "   \"blobs\": [[-0.8, 0, 0, 0.3, 0.3], [-0.6, 0.2, 0, 0.2, 0.25], [-0.9, -0.2, 0.2, 0.3, 0.3]]}}],"              \
+    " \"stam\": {\"eps\": %g, \"eta\": 0.2, \"alpha\": 0.05, \"variant\": \"%s\", \"ambient\": 0.2},"                \
+    " \"render\": {\"width\": 48, \"height\": 32, \"spp\": 1, \"filter\": {\"type\": \"box\", \"width\": 0.001}}%s}"
+
+static brume_image *stam_image(double eps, const char *variant)
+{
+    char json[4096];
+    snprintf(json, sizeof json, BLOBS_JSON, eps, variant, "");
+    brume_scene *s = scene_text(json);
+    brume_image *img = render_scene(s, "stam", 2, false);
+    brume_scene_release(s);
+    return img;
+}
+
+/* stam.variant: with eps = 0 both variants are the mean field's image, bit for bit; with eps > 0
+ * they agree where no blob is (the right half) and differ where the paper's variance
+ * (Eq. 12-13: K_Q(0)^2 eps I_F, here 4e6 times ours) does: the perturbation's spread over the
+ * blobs' pixels, against the eps = 0 image, is far larger as printed. */
+TEST(stam_variants_differ_where_the_variance_differs)
+{
+    brume_image *m0 = stam_image(0.0, "corrected"), *m1 = stam_image(0.0, "paper");
+    const float *a = brume_image_pixels(m0), *b = brume_image_pixels(m1);
+    for (int i = 0; i < 48 * 32 * 4; i++)
+        ASSERT_TRUE(a[i] == b[i]);
+    brume_image *c = stam_image(0.3, "corrected"), *p = stam_image(0.3, "paper");
+    const float *pc = brume_image_pixels(c), *pp = brume_image_pixels(p);
+    double dev_c = 0.0, dev_p = 0.0;
+    int cloud = 0;
+    for (int y = 0; y < 32; y++)
+        for (int x = 0; x < 48; x++) {
+            size_t i = 4 * ((size_t)y * 48 + (size_t)x);
+            if (x >= 30) { /* sky only: no blob on the ray, nothing random */
+                for (size_t ch = 0; ch < 4; ch++)
+                    ASSERT_TRUE(pc[i + ch] == pp[i + ch] && pc[i + ch] == a[i + ch]);
+                continue;
+            }
+            if (a[i + 3] < 0.05f) /* the mean field's opacity: outside the blobs */
+                continue;
+            cloud++;
+            for (size_t ch = 0; ch < 3; ch++) {
+                dev_c += (pc[i + ch] - a[i + ch]) * (pc[i + ch] - a[i + ch]);
+                dev_p += (pp[i + ch] - a[i + ch]) * (pp[i + ch] - a[i + ch]);
+            }
+        }
+    printf("blob pixels %d: rms deviation from the mean field, corrected %.4f, paper %.4f\n", cloud,
+           sqrt(dev_c / (3 * cloud)), sqrt(dev_p / (3 * cloud)));
+    ASSERT_TRUE(cloud > 50);
+    ASSERT_TRUE(dev_c > 0.0);
+    ASSERT_TRUE(dev_p > 9.0 * dev_c); /* 3 times the spread at least */
+    brume_image_release(m0);
+    brume_image_release(m1);
+    brume_image_release(c);
+    brume_image_release(p);
+}
+
+/* Q as the renderer reads it over the Figure 5 cloud: its autocorrelation at every lag up to
+ * the cloud's size must be the gaussian K_Q (no periodic image inside the field), measured over
+ * 8 realizations (tolerance: 5 standard errors of the mean over realizations, plus 0.01 for the
+ * lattice's aliasing). The paper's 32^3 lattice repeats inside the same cloud: there the
+ * correlation at a lag of one period is 1. */
+static void autocorrelation(const randfield_params *rp, vec3 lo, vec3 ext, const double *lags, int nlags, int reps,
+                            double *mean, double *se)
+{
+    for (int l = 0; l < nlags; l++)
+        mean[l] = se[l] = 0.0;
+    for (int r = 0; r < reps; r++) {
+        randfield_params p = *rp;
+        p.seed = rp->seed + (uint64_t)r;
+        randfield *q = randfield_new(&p);
+        ASSERT_TRUE(q);
+        for (int l = 0; l < nlags; l++) {
+            double s = 0.0, s0 = 0.0;
+            int n = 0;
+            /* lattice nodes on 64 lines along x through the cloud's box */
+            for (int line = 0; line < 64; line++) {
+                double y = lo.y + ext.y * (line % 8 + 0.5) / 8.0, z = lo.z + ext.z * (line / 8 + 0.5) / 8.0;
+                y = floor(y / p.cell) * p.cell;
+                z = floor(z / p.cell) * p.cell;
+                for (double x = floor(lo.x / p.cell) * p.cell; x + lags[l] <= lo.x + ext.x; x += p.cell) {
+                    double a = randfield_eval(q, v3(x, y, z)), b = randfield_eval(q, v3(x + lags[l], y, z));
+                    s += a * b;
+                    s0 += a * a;
+                    n++;
+                }
+            }
+            double rho = n > 0 ? s / s0 : 0.0;
+            mean[l] += rho / reps;
+            se[l] += rho * rho / reps;
+        }
+        randfield_release(q);
+    }
+    for (int l = 0; l < nlags; l++)
+        se[l] = sqrt(fmax(0.0, se[l] - mean[l] * mean[l]) / (reps - 1));
+}
+
+TEST(q_autocorrelation_has_no_period_in_the_field)
+{
+    brume_scene *s = load_with(SCENE("stam-fig5-a.json"), NULL, 0, BRUME_OK, NULL);
+    vec3 ext = stam_blob_extent(s);
+    box3 b = density_get_blobs(s->media[0].rho)->bounds;
+    randfield_params rp;
+    stam_randfield_params(&s->stam, ext, &rp);
+    double alpha = s->stam.alpha;
+    printf("cloud %.3f x %.3f x %.3f, lattice %d x %d x %d, cell %.4f (alpha / %.2f), period along x %.3f\n", ext.x,
+           ext.y, ext.z, rp.n[0], rp.n[1], rp.n[2], rp.cell, alpha / rp.cell, rp.n[0] * rp.cell);
+    ASSERT_TRUE(rp.n[0] * rp.cell >= ext.x + 6.0 * alpha);
+    enum { NL = 12, REPS = 8 };
+    double lags[NL], mean[NL], se[NL];
+    for (int l = 0; l < NL; l++) /* 0, cell, 2 cells, then spread up to the cloud's length */
+        lags[l] = l < 3 ? l * rp.cell : rp.cell * round((ext.x - 4.0 * rp.cell) * (l - 2) / (NL - 3) / rp.cell);
+    autocorrelation(&rp, b.lo, ext, lags, NL, REPS, mean, se);
+    for (int l = 0; l < NL; l++) {
+        double want = exp(-lags[l] * lags[l] / (2.0 * alpha * alpha));
+        printf("lag %.3f (%.2f alpha): autocorrelation %.4f +- %.4f, K_Q %.4f\n", lags[l], lags[l] / alpha, mean[l],
+               se[l], want);
+        ASSERT_NEAR(mean[l], want, 5.0 * se[l] + 0.01);
+    }
+    /* the paper's lattice: 32 points of alpha / 3, a period of 0.64 inside a cloud 3.5 long */
+    s->stam.lattice = 32;
+    stam_randfield_params(&s->stam, ext, &rp);
+    double period = rp.n[0] * rp.cell, m1, s1;
+    ASSERT_TRUE(period < ext.x);
+    autocorrelation(&rp, b.lo, ext, &period, 1, 2, &m1, &s1);
+    printf("lattice 32: period %.3f, autocorrelation there %.4f\n", period, m1);
+    ASSERT_TRUE(m1 > 0.99);
+    brume_scene_release(s);
+}
+
+/* Blasi's method on a blob field: refused with the way out in the message; with blasi.voxels
+ * it renders one realization of the field (stam.eps carried: eps > 0 changes the image). */
+TEST(blasi_on_blobs_refused_or_voxelized)
+{
+    char json[4096];
+    snprintf(json, sizeof json, BLOBS_JSON, 0.0, "corrected", "");
+    brume_scene *s = scene_text(json);
+    brume_context *ctx = brume_context_new();
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    snprintf(rs.method, sizeof rs.method, "blasi");
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_UNSUPPORTED);
+    printf("message: %s\n", brume_context_last_error(ctx));
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "blob field: give blasi.voxels=N");
+    ASSERT_TRUE(img == NULL);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+
+    brume_image *im[2];
+    for (int k = 0; k < 2; k++) {
+        snprintf(json, sizeof json, BLOBS_JSON, k ? 0.3 : 0.0, "corrected",
+                 ", \"blasi\": {\"voxels\": 40, \"light_rays\": 20000}");
+        s = scene_text(json);
+        ASSERT_EQ_INT(s->blasi.voxels, 40);
+        im[k] = render_scene(s, "blasi", 2, true);
+        brume_stats st;
+        ctx = brume_context_new();
+        ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st), BRUME_OK);
+        brume_context_release(ctx);
+        ASSERT_TRUE(st.blasi_interceptions > 0);
+        brume_scene_release(s);
+    }
+    const float *a = brume_image_pixels(im[0]), *b = brume_image_pixels(im[1]);
+    double d = 0.0, cloud = 0.0;
+    for (int i = 0; i < 48 * 32; i++) {
+        d += fabs(a[4 * i] - b[4 * i]);
+        cloud += a[4 * i] != 0.5f;
+    }
+    ASSERT_TRUE(cloud > 0.0);
+    ASSERT_TRUE(d > 0.0);
+    brume_image_release(im[0]);
+    brume_image_release(im[1]);
+}
+
+/* --stats: exact counts that do not depend on the thread count, the identities between
+ * them, and nothing counted when statistics are off. */
+TEST(stats_per_method)
+{
+    char json[4096];
+    snprintf(json, sizeof json, BLOBS_JSON, 0.3, "corrected", ", \"blasi\": {\"voxels\": 32, \"light_rays\": 20000}");
+    brume_stats st[2];
+    const char *methods[] = {"path", "stam", "blasi"};
+    for (int m = 0; m < 3; m++) {
+        for (int t = 0; t < 2; t++) {
+            brume_scene *s = scene_text(json);
+            brume_image_release(render_scene(s, methods[m], t + 1, true));
+            brume_context *ctx = brume_context_new();
+            ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st[t]), BRUME_OK);
+            brume_context_release(ctx);
+            brume_scene_release(s);
+        }
+        printf("%s: %llu rays, path %.3f vertices %.3f collisions %.3f null; stam %.2f blobs/ray %.2f nodes/query; "
+               "blasi %llu interceptions %llu deposits, stored %.4g of %.4g\n",
+               methods[m], (unsigned long long)st[0].camera_rays, st[0].path_vertices, st[0].path_collisions,
+               st[0].path_null_collisions, st[0].stam_blobs_per_ray, st[0].stam_nodes_per_query,
+               (unsigned long long)st[0].blasi_interceptions, (unsigned long long)st[0].blasi_deposits,
+               st[0].blasi_power_stored, st[0].blasi_power_emitted);
+        ASSERT_EQ_STR(st[0].method, methods[m]);
+        ASSERT_EQ_INT(st[0].camera_rays, 48 * 32);
+        ASSERT_NEAR(st[0].path_vertices, st[1].path_vertices, 0.0);
+        ASSERT_NEAR(st[0].path_null_collisions, st[1].path_null_collisions, 0.0);
+        ASSERT_NEAR(st[0].stam_blobs_per_ray, st[1].stam_blobs_per_ray, 0.0);
+        ASSERT_EQ_INT(st[0].blasi_deposits, st[1].blasi_deposits);
+        if (m == 0) {
+            ASSERT_TRUE(st[0].path_collisions > 0.0 && st[0].path_null_collisions > 0.0);
+            ASSERT_TRUE(st[0].path_vertices >= st[0].path_collisions); /* no surfaces: equal */
+            ASSERT_NEAR(st[0].path_vertices, st[0].path_collisions, 0.0);
+            ASSERT_TRUE(st[0].path_tracking_cpu_seconds > 0.0 && st[0].path_nee_cpu_seconds > 0.0);
+        } else if (m == 1) {
+            /* the left third of the picture meets the blobs, the rest none */
+            ASSERT_TRUE(st[0].stam_blobs_per_ray > 0.1 && st[0].stam_blobs_per_ray < 3.0);
+        } else {
+            ASSERT_TRUE(st[0].blasi_deposits >= st[0].blasi_interceptions && st[0].blasi_interceptions > 0);
+            ASSERT_TRUE(st[0].blasi_power_stored > 0.0 && st[0].blasi_power_stored <= st[0].blasi_power_emitted);
+            ASSERT_EQ_INT(st[0].blasi_light_rays, 20000);
+        }
+    }
+    /* off: the path counters stay zero */
+    brume_scene *s = scene_text(json);
+    brume_image_release(render_scene(s, "path", 2, false));
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st[0]), BRUME_OK);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+    ASSERT_EQ_INT(st[0].camera_rays, 0);
+    ASSERT_NEAR(st[0].path_vertices, 0.0, 0.0);
+}
+
+/* `brume phase fit NAME --given r,k,kprime` scores a given mixture in the fit's own norm: the
+ * fit's own parameters score its error; Figure 7's published murky fit scores worse than
+ * brume's fit (which minimizes that norm); a bad triple is a command-line error. */
+static double fit_line(const char *args, const char *key)
+{
+    char cmd[1024], out[512];
+    snprintf(out, sizeof out, "%s", test_tmp_path("fit.txt"));
+    snprintf(cmd, sizeof cmd, "%s phase fit %s > %s", BRUME_EXE, args, out);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    size_t n;
+    char *text = test_slurp(out, &n);
+    const char *at = strstr(text, key);
+    ASSERT_TRUE(at);
+    double v = atof(at + strlen(key));
+    free(text);
+    remove(out);
+    return v;
+}
+
+TEST(phase_fit_given)
+{
+    double r = fit_line("murky", "r "), k = fit_line("murky", "\nk "), kp = fit_line("murky", "\nkprime ");
+    double e = fit_line("murky", "\nerror ");
+    char args[256];
+    snprintf(args, sizeof args, "murky --given %.4f,%.4f,%.4f", r, k, kp);
+    double eg = fit_line(args, "\nerror ");
+    printf("murky (angle norm): our error %.5f, the same parameters given %.5f\n", e, eg);
+    ASSERT_NEAR(eg, e, 0.02 * e); /* the printed parameters are rounded to 4 decimals */
+    double e7 = fit_line("murky --given 0.19,-0.65,0.91", "\nerror ");
+    printf("murky (angle norm): Fig. 7 error %.5f (r 0.19, k -0.65, k' 0.91)\n", e7);
+    ASSERT_TRUE(e7 > e);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "%s phase fit murky --given 0.5,2,0 >/dev/null 2>&1", BRUME_EXE);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+}
+
+TEST_MAIN(set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
+          q_autocorrelation_has_no_period_in_the_field, blasi_on_blobs_refused_or_voxelized, stats_per_method,
+          phase_fit_given)
