@@ -17,7 +17,7 @@
 #include "render/job.h"
 
 #define TILE 16
-#define PASS_MAX 64 /* samples per pixel in one pass at most: a tile stays short, so a
+#define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
@@ -337,9 +337,10 @@ static brume_status job_pass(brume_render_job *job)
 }
 
 /* Samples the next pass adds to each active pixel under the settings' budgets, 0 when
- * the job is finished. A pass that was cut is completed first. Fixed counts go in passes
- * of at most PASS_MAX; budgets start with min_spp and then add a quarter of what each
- * pixel has (so the last pass is a small part of the whole), at most PASS_MAX. */
+ * the job is finished. A pass that was cut is completed first. A noise target starts with
+ * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
+ * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
+ * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX. */
 static int job_next_pass(const brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
@@ -349,7 +350,6 @@ static int job_next_pass(const brume_render_job *job)
         return job->target - job->spp_done;
     if (job->spp_done >= rs->spp)
         return 0;
-    bool budget = rs->time_budget > 0.0 || rs->noise_target > 0.0;
     if (rs->noise_target > 0.0 && job->spp_done > 0) {
         bool any = false;
         for (size_t i = 0; i < job->npix && !any; i++)
@@ -358,12 +358,13 @@ static int job_next_pass(const brume_render_job *job)
             return 0;
     }
     int k;
-    if (!budget)
-        k = PASS_MAX;
-    else if (job->spp_done == 0)
-        k = rs->noise_target > 0.0 ? rs->min_spp : 1; /* a time budget alone: one sample first */
+    if (job->spp_done == 0)
+        k = rs->noise_target > 0.0 ? rs->min_spp : 1;
     else
-        k = job->spp_done / 4 < 1 ? 1 : (job->spp_done / 4 > PASS_MAX ? PASS_MAX : job->spp_done / 4);
+        k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
+    k = k < 1 ? 1 : k;
+    if (job->spp_done > 0 && k > PASS_MAX)
+        k = PASS_MAX;
     return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
 }
 
