@@ -101,8 +101,8 @@ int main(int argc, char **argv)
     printf("scene: %s, %d x %d, %d spp (%.2f M view rays), %llu light rays, variant: exit %s, view %s\n", scene,
            s0->settings.width, s0->settings.height, s0->settings.spp,
            (double)s0->settings.width * s0->settings.height * s0->settings.spp * 1e-6,
-           (unsigned long long)s0->blasi.light_rays, s0->blasi.exit_deposit == BLASI_EXIT_PAPER ? "paper" : "none",
-           s0->blasi.view_attenuation == BLASI_VIEW_ABSORPTION ? "absorption" : "extinction");
+           (unsigned long long)((const blasi_options *)scene_options(s0, METHOD_OPTIONS_BLASI))->light_rays, ((const blasi_options *)scene_options(s0, METHOD_OPTIONS_BLASI))->exit_deposit == BLASI_EXIT_PAPER ? "paper" : "none",
+           ((const blasi_options *)scene_options(s0, METHOD_OPTIONS_BLASI))->view_attenuation == BLASI_VIEW_ABSORPTION ? "absorption" : "extinction");
     brume_scene_release(s0);
 
     /* 1 and 2: the two passes */

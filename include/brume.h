@@ -123,6 +123,7 @@ brume_status brume_context_last_status(const brume_context *ctx);
 /* ---- scene -------------------------------------------------------------------------------- */
 
 typedef struct brume_scene brume_scene;
+typedef struct brume_image brume_image; /* below: rendering and images */
 
 typedef enum brume_filter {
     BRUME_FILTER_BOX = 0,     /* uniform over the pixel square */
@@ -223,15 +224,292 @@ void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *r
 /* Validates and replaces the render settings; only before commit. */
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
 /* Sets a named option of a rendering method from its text form, as the scene file would
- * give it; only before commit. Keys are "METHOD.KEY": the blasi method's are blasi.light_rays,
- * blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources, blasi.exit_deposit
- * (paper|none), blasi.view_attenuation (absorption|extinction), blasi.variant
- * (paper|physical), blasi.save_light PATH and blasi.load_light PATH (docs/blasi.md). An
- * unknown key or a bad value fails with a message naming the key; nothing is changed then. */
+ * give it; only before commit. This is the one option mechanism: each method owns its keys
+ * "METHOD.KEY" (the scene file's "METHOD" object is read through it). The blasi method's are
+ * blasi.light_rays, blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources,
+ * blasi.exit_deposit (paper|none), blasi.view_attenuation (absorption|extinction),
+ * blasi.variant (paper|physical: both of the previous two unless they are set themselves),
+ * blasi.save_light PATH and blasi.load_light PATH (docs/blasi.md); the stam method's are
+ * stam.eps, stam.eta, stam.alpha, stam.lattice, stam.cell, stam.seed, stam.time, stam.rate,
+ * stam.ambient ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false),
+ * stam.voxelize.resolution and stam.voxelize.realization (docs/scene-format.md). Paths are
+ * used as given (a scene file's are relative to its folder). An unknown key or a bad value
+ * fails with a message naming the key; nothing is changed then. */
 brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);
 /* Freezes the scene and builds what rendering needs (majorants, light tables). */
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *scene);
 void brume_scene_release(brume_scene *scene);
+
+/* ---- building a scene in memory ------------------------------------------------------------ */
+/* The one way to make a scene: every field a scene file can give has a builder here, and
+ * the scene file reader (brume_scene_load, brume_scene_from_json) is a client of these
+ * builders. Builders work on an uncommitted scene; each validates its arguments (NaN,
+ * infinities, negative or absurd sizes) and on failure changes nothing and names the
+ * function and the argument, e.g. "brume_scene_set_camera: fov: 400 outside [0.001, 179]".
+ * Units: world units of length, seconds, degrees for angles, linear Rec. 709 RGB. Every
+ * `const double x[3]` is an (x, y, z) point or vector, or an (R, G, B) triple. */
+
+/* A new empty scene: default render settings (640 x 480, 16 spp, path), the default camera
+ * (brume_camera_default), no lights, no media, no surfaces, a black background. `name`
+ * names the scene in messages; NULL gives "<scene>". */
+brume_status brume_scene_new(brume_context *ctx, const char *name, brume_scene **out);
+/* A scene from scene-file JSON text (docs/scene-format.md), at frame time `time` (seconds,
+ * as brume_scene_load_at). `name` names the text in messages and relative file names in it
+ * resolve against name's folder; NULL gives "<json>" and the current folder. */
+brume_status brume_scene_from_json(brume_context *ctx, const char *text, const char *name, double time,
+                                   brume_scene **out);
+/* The scene's frame time in seconds (brume_scene_time), before commit: the camera's shutter
+ * and keyframes are relative to it; what a builder evaluates at a time (a fractal's time, a
+ * light's keyframes) the caller evaluates. */
+brume_status brume_scene_set_time(brume_context *ctx, brume_scene *scene, double time);
+/* Declares that the caller evaluated something besides the camera at the scene's time (a
+ * keyframed light): brume_scene_world_is_static is then false. Moving media and surfaces
+ * (motion keys, drifting blobs, evolving fractals) are known to the scene already. */
+brume_status brume_scene_set_animated(brume_context *ctx, brume_scene *scene);
+
+/* A look-at perspective camera with a thin lens. */
+typedef struct brume_camera {
+    double position[3];     /* world units */
+    double look_at[3];      /* the world point at the image centre, != position */
+    double up[3];           /* approximate up direction, not zero (default +y) */
+    double fov;             /* vertical field of view, degrees, in [0.001, 179] */
+    double aperture_radius; /* lens radius, world units, >= 0; 0 = pinhole */
+    double focus_distance;  /* distance to the plane in focus, world units; 0 = |look_at - position| */
+    double shutter_open, shutter_close; /* seconds relative to the frame time, open <= close */
+} brume_camera;
+/* At (0, 0, 5) looking at the origin, up +y, fov 40, pinhole, shutter [0, 0]. */
+void brume_camera_default(brume_camera *camera);
+brume_status brume_scene_set_camera(brume_context *ctx, brume_scene *scene, const brume_camera *camera);
+/* A keyframed camera: n in [1, 64] complete poses at strictly increasing times (seconds);
+ * between keys every field is interpolated linearly, beyond them the end keys hold. The pose
+ * at the frame time is used for the image, each ray's own time within the shutter. */
+typedef struct brume_camera_key {
+    double time;
+    double position[3], look_at[3], up[3];
+    double fov, aperture_radius, focus_distance; /* as brume_camera; focus_distance > 0 */
+} brume_camera_key;
+brume_status brume_scene_set_camera_keys(brume_context *ctx, brume_scene *scene, const brume_camera_key *keys,
+                                         int n);
+
+/* Lights (at most 4096). Colors are linear RGB, each component finite and >= 0. */
+/* Sunlight-like: irradiance (W m^-2) on a surface facing the light, travelling along
+ * `direction`; angular_radius (degrees, [0, 90]) > 0 makes it a disk of uniform radiance. */
+brume_status brume_scene_add_distant_light(brume_context *ctx, brume_scene *scene, const double direction[3],
+                                           const double irradiance[3], double angular_radius);
+/* Intensity in W sr^-1. */
+brume_status brume_scene_add_point_light(brume_context *ctx, brume_scene *scene, const double position[3],
+                                         const double intensity[3]);
+/* A spot along `direction`: full intensity (W sr^-1) inside falloff_start degrees of its
+ * axis, falling smoothly to 0 at cone_angle degrees; 0 < cone_angle <= 180,
+ * 0 <= falloff_start <= cone_angle. */
+brume_status brume_scene_add_spot_light(brume_context *ctx, brume_scene *scene, const double position[3],
+                                        const double direction[3], const double intensity[3], double cone_angle,
+                                        double falloff_start);
+/* A spot with a goniometric profile: intensity times factor[i] at angle[i] degrees from the
+ * axis, linear between; n in [2, 256] pairs, angles increasing within [0, 180], factors >= 0. */
+brume_status brume_scene_add_spot_light_profile(brume_context *ctx, brume_scene *scene, const double position[3],
+                                                const double direction[3], const double intensity[3],
+                                                const double *angle, const double *factor, int n);
+/* Uniform radiance (W m^-2 sr^-1) leaving a sphere of radius > 0 (world units). */
+brume_status brume_scene_add_sphere_light(brume_context *ctx, brume_scene *scene, const double position[3],
+                                          double radius, const double radiance[3]);
+/* Uniform radiance leaving one side (along `normal`) of a disk of radius > 0. */
+brume_status brume_scene_add_disk_light(brume_context *ctx, brume_scene *scene, const double position[3],
+                                        const double normal[3], double radius, const double radiance[3]);
+
+/* The background: radiance (W m^-2 sr^-1) arriving from infinity. */
+brume_status brume_scene_set_background_color(brume_context *ctx, brume_scene *scene, const double radiance[3]);
+/* An environment in latitude-longitude layout, copied: the top row looks along `up` (NULL:
+ * +y), column u at azimuth 2 pi u - pi; radiance = pixel value * scale (finite, >= 0). */
+brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *scene, const brume_image *image,
+                                              double scale, const double up[3]);
+
+/* Density fields rho(x) >= 0 (unitless), made here and given to a medium. */
+typedef struct brume_density brume_density;
+typedef enum brume_grid_filter {
+    BRUME_GRID_NEAREST = 0,  /* constant over each voxel (Blasi) */
+    BRUME_GRID_TRILINEAR = 1 /* trilinear between cell-centred samples */
+} brume_grid_filter;
+/* Called once when brume no longer needs borrowed memory. */
+typedef void (*brume_release_fn)(void *user);
+/* A dense grid of nx x ny x nz float32 values, x fastest (value (i, j, k) at
+ * data[i + nx (j + ny k)], i.e. a C array [nz][ny][nx]), covering the world box
+ * bounds = {xmin, ymin, zmin, xmax, ymax, zmax} (min < max); sample (i, j, k) sits at its
+ * cell's centre. Each dimension in [1, 65536], values finite and >= 0. With release NULL
+ * the values are copied; else they are borrowed: data must stay valid and unchanged until
+ * brume calls release(user), once, when the density (or the scene it was given to) is
+ * released. On failure nothing is kept and release is not called. */
+brume_status brume_density_new_array(brume_context *ctx, const float *data, int nx, int ny, int nz,
+                                     const double bounds[6], brume_grid_filter filter, brume_release_fn release,
+                                     void *user, brume_density **out);
+/* A constant density `value` (>= 0) filling the box bounds. */
+brume_status brume_density_new_constant(brume_context *ctx, double value, const double bounds[6],
+                                        brume_density **out);
+/* The default scene's cloud: fBm value noise carved by an ellipsoid, resolution^3 voxels
+ * (resolution in [2, 512]) over bounds, max rho 1. */
+brume_status brume_density_new_procedural_cloud(brume_context *ctx, int resolution, uint64_t seed,
+                                                const double bounds[6], brume_density **out);
+/* A NanoVDB buffer holding a float grid (copied; size in bytes), placed by its own map;
+ * values multiplied by scale (> 0). */
+brume_status brume_density_new_nanovdb(brume_context *ctx, const void *buffer, size_t size,
+                                       brume_grid_filter filter, double scale, brume_density **out);
+/* A grid file (docs/grids.md: raw, df3, vol, nvdb, vdb), as a scene file's density of type
+ * "grid". opts may be NULL (defaults). */
+typedef struct brume_grid_file_options {
+    char format[16];        /* "" or "auto" (by extension), "raw", "df3", "vol", "nvdb", "vdb" */
+    int dims[3];            /* raw without a sidecar: nx, ny, nz; all 0 = from the file */
+    bool has_bounds;        /* place the voxel box on bounds (world units), replacing the file's */
+    double bounds[6];       /* xmin, ymin, zmin, xmax, ymax, zmax */
+    bool has_transform;     /* then world = transform(placement(voxel)) */
+    double transform[12];   /* 3 x 4 row-major affine map [R | t], invertible */
+    brume_grid_filter filter; /* default trilinear */
+    double scale;           /* multiplies every density, > 0 (default 1) */
+    double max_memory_mb;   /* MiB the voxels may take; 0 = 4096 */
+} brume_grid_file_options;
+void brume_grid_file_options_default(brume_grid_file_options *opts);
+brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                brume_density **out);
+/* A fractal cloud grid (Blasi et al. 1993, 4.1; docs/grids.md), generated now. */
+typedef enum brume_fractal_method { BRUME_FRACTAL_MIDPOINT, BRUME_FRACTAL_SPECTRAL, BRUME_FRACTAL_PERLIN } brume_fractal_method;
+typedef enum brume_fractal_shape { BRUME_FRACTAL_SHAPE_NONE, BRUME_FRACTAL_SHAPE_ELLIPSOID, BRUME_FRACTAL_SHAPE_SLAB } brume_fractal_shape;
+typedef struct brume_fractal {
+    int dims[3];              /* voxels per axis, each in [1, 1024] */
+    uint64_t seed;
+    brume_fractal_method method;
+    double hurst;             /* Hurst exponent H in [0.001, 0.999] */
+    int octaves;              /* perlin base and turbulence, [1, 16] */
+    double frequency;         /* perlin base: cycles across the largest axis, [0.001, 1000] */
+    brume_fractal_shape shape;
+    double falloff;           /* fraction of the half-extent, [0.001, 1] */
+    double threshold;         /* theta at time 0, [0, 0.99] */
+    double threshold_rate;    /* d theta / dt per second, [-1000, 1000] */
+    double turbulence;        /* amplitude, [0, 1000] */
+    double turbulence_frequency; /* cycles across the largest axis, [0.001, 1000] */
+    double wind[3];           /* turbulence drift, normalized units per second */
+    double time;              /* seconds: the time the field is evaluated at */
+    double density;           /* the largest rho, [1e-9, 1e9] */
+    double bounds[6];         /* world box; default unit voxels centred on the origin */
+    brume_grid_filter filter; /* default nearest */
+} brume_fractal;
+/* Defaults of docs/grids.md (midpoint, slab, 65 x 65 x 10 voxels, ...). */
+void brume_fractal_default(brume_fractal *fractal);
+brume_status brume_density_new_fractal(brume_context *ctx, const brume_fractal *fractal, brume_density **out);
+/* Stam's gaussian blobs (docs/stam.md): explicit blobs and generated ones. */
+typedef enum brume_blob_generator_type { BRUME_BLOBS_CLOUD, BRUME_BLOBS_CLUSTER, BRUME_BLOBS_FIRE } brume_blob_generator_type;
+typedef struct brume_blob_generator {
+    brume_blob_generator_type type;
+    double center[3], radii[3];   /* cloud: ellipsoid centre and semi-axes (> 0) */
+    double bounds_min[3], bounds_max[3], radii_min[3], radii_max[3]; /* cluster: box of centres, semi-axes */
+    int clouds;                   /* cluster: number of clouds, [1, 100000] */
+    int count;                    /* blobs (per cloud), [1, 2^22] */
+    double h[2];                  /* cloud, cluster: blob radius range [min, max], > 0 */
+    double density;               /* peak mean density, >= 0 */
+    double falloff;               /* cloud, cluster: [0, 100] */
+    double base[3], up[3];        /* fire: base point and axis (up not zero) */
+    double height, radius;        /* fire: > 0 and >= 0, world units */
+    double fire_h;                /* fire: blob radius at the base, > 0 */
+    double band[2];               /* fire: relative heights [lo, hi] within [0, 1] */
+    uint64_t seed;
+} brume_blob_generator;
+/* The defaults of a generator type (docs/scene-format.md). */
+void brume_blob_generator_default(brume_blob_generator *gen, brume_blob_generator_type type);
+/* blobs: n rows of 5 doubles (x, y, z, mass >= 0, radius h > 0); then ngens generators; at
+ * least one blob in all. cutoff in [1, 10] (blob radii; 0 = the default 3); velocity NULL
+ * or the drift in world units per second (stam.time moves the blobs). */
+brume_status brume_density_new_blobs(brume_context *ctx, const double *blobs, int n,
+                                     const brume_blob_generator *gens, int ngens, double cutoff,
+                                     const double velocity[3], brume_density **out);
+void brume_density_release(brume_density *density);
+
+/* Phase functions, made here and given to a medium. */
+typedef struct brume_phase brume_phase;
+/* "isotropic", "rayleigh", "hazy" or "murky" (Mie, Nishita et al.). */
+brume_status brume_phase_new_named(brume_context *ctx, const char *name, brume_phase **out);
+/* Henyey-Greenstein with mean cosine g in [-0.999999, 0.999999]. */
+brume_status brume_phase_new_hg(brume_context *ctx, double g, brume_phase **out);
+/* Schlick with k in [-0.999999, 0.999999]. */
+brume_status brume_phase_new_schlick(brume_context *ctx, double k, brume_phase **out);
+/* Blasi Eq. 22: r schlick(k) + (1 - r) schlick(kprime), r in [0, 1]. */
+brume_status brume_phase_new_schlick_mix(brume_context *ctx, double r, double k, double kprime, brume_phase **out);
+/* A table of n values at increasing angles (degrees), normalized by brume. */
+brume_status brume_phase_new_tabulated(brume_context *ctx, const double *angle, const double *value, int n,
+                                       brume_phase **out);
+/* The same from a file (docs/phase-functions.md). */
+brume_status brume_phase_load(brume_context *ctx, const char *path, brume_phase **out);
+/* Blasi Eq. 20: the normalized sum of n in [1, 16] lobes with weights >= 0. On success the
+ * mixture takes over the lobes (do not release them); on failure the caller keeps them. */
+brume_status brume_phase_new_mixture(brume_context *ctx, const double *weights, brume_phase *const *lobes, int n,
+                                     brume_phase **out);
+void brume_phase_release(brume_phase *phase);
+
+/* A participating medium: sigma_t(x) = (sigma_a + sigma_s) rho(x) per world unit. At most 16. */
+typedef struct brume_medium {
+    char name[64];      /* "" or a name for messages */
+    double sigma_a[3];  /* absorption per world unit per unit density, each in [0, 1e12] */
+    double sigma_s[3];  /* scattering per world unit per unit density, each in [0, 1e12] */
+    double emission[3]; /* radiance Le emitted at the rate sigma_a rho Le per unit length, >= 0 */
+} brume_medium;
+/* On success the scene takes over density and phase (phase NULL = isotropic): do not use or
+ * release them again. On failure the caller keeps both. */
+brume_status brume_scene_add_medium(brume_context *ctx, brume_scene *scene, const brume_medium *medium,
+                                    brume_density *density, brume_phase *phase);
+int brume_scene_medium_count(const brume_scene *scene);
+/* Replaces the density of medium `medium` (counting from 0 in the order added: a scene
+ * file's "media" order), e.g. a scene file's placeholder by a simulation's array. On success
+ * the scene takes over density and releases the old one; on failure the caller keeps it. */
+brume_status brume_scene_set_medium_density(brume_context *ctx, brume_scene *scene, int medium,
+                                            brume_density *density);
+
+/* Keyframed motion of a medium or a surface: n in [1, 64] keys at strictly increasing times;
+ * the object at time t is placed by translate(rotate(scale(p))) of the interpolated key
+ * (slerp for the rotation) after its own placement. */
+typedef struct brume_transform_key {
+    double time;         /* seconds */
+    double translate[3]; /* world units */
+    double axis[3];      /* rotation axis, not zero */
+    double angle;        /* degrees, counter-clockwise seen from the axis' tip */
+    double scale[3];     /* factors > 0 */
+} brume_transform_key;
+brume_status brume_scene_set_medium_motion(brume_context *ctx, brume_scene *scene, int medium,
+                                           const brume_transform_key *keys, int n);
+
+/* Surfaces: a Lambertian lobe plus a normalized Phong lobe, and emission. */
+typedef struct brume_material {
+    double albedo[3];   /* diffuse reflectance, each in [0, 1] */
+    double specular[3]; /* Phong reflectance, each in [0, 1], albedo + specular <= 1 */
+    double exponent;    /* Phong exponent, [0, 1e6] */
+    double emission[3]; /* emitted radiance W m^-2 sr^-1 from the front side, >= 0 */
+    bool two_sided;     /* emit from both sides */
+} brume_material;
+/* albedo 0.8, no specular (exponent 50), no emission. */
+void brume_material_default(brume_material *material);
+/* Every shape takes an optional transform (NULL = identity): 12 doubles, a 3 x 4 row-major
+ * affine map [R | t] applied to the shape's points; material NULL = brume_material_default;
+ * name NULL = "surfaces[INDEX]". Shapes are added in order; their index counts from 0. */
+brume_status brume_scene_add_sphere(brume_context *ctx, brume_scene *scene, const double center[3], double radius,
+                                    const double *transform, const brume_material *material, const char *name);
+/* An axis-aligned box min < max (before the transform); faces outward. */
+brume_status brume_scene_add_box(brume_context *ctx, brume_scene *scene, const double min[3], const double max[3],
+                                 const double *transform, const brume_material *material, const char *name);
+/* A parallelogram: corner, edges u and v (not parallel); the front side is along u x v. */
+brume_status brume_scene_add_quad(brume_context *ctx, brume_scene *scene, const double corner[3],
+                                  const double edge_u[3], const double edge_v[3], const double *transform,
+                                  const brume_material *material, const char *name);
+/* A square of side size (> 0) centred on point, front side along normal (not zero). */
+brume_status brume_scene_add_plane(brume_context *ctx, brume_scene *scene, const double point[3],
+                                   const double normal[3], double size, const double *transform,
+                                   const brume_material *material, const char *name);
+/* A triangle mesh: nv vertices (x, y, z triples), ntri triangles (index triples into the
+ * vertices, counter-clockwise seen from the front). Copied. */
+brume_status brume_scene_add_mesh(brume_context *ctx, brume_scene *scene, const double *positions, int nv,
+                                  const int *indices, int ntri, const double *transform,
+                                  const brume_material *material, const char *name);
+/* A mesh file (OBJ, PLY, ... through assimp). */
+brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *scene, const char *path,
+                                       const double *transform, const brume_material *material, const char *name);
+int brume_scene_surface_count(const brume_scene *scene);
+brume_status brume_scene_set_surface_motion(brume_context *ctx, brume_scene *scene, int surface,
+                                            const brume_transform_key *keys, int n);
 
 /* STATISTICS of the last render of a scene (docs/stats.md). Counts are exact sums over the
  * whole run and do not depend on the thread count; times are seconds (wall time, or CPU
@@ -271,7 +549,6 @@ brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene,
 
 /* ---- rendering and images ----------------------------------------------------------------- */
 
-typedef struct brume_image brume_image;
 
 /* Renders a committed scene with its settings. *out is a new image owned by the caller.
  * Work an integrator does once per scene (a light pass) is kept with the scene and reused

@@ -301,9 +301,9 @@ TEST(bad_options_name_the_key)
                                                     "\"paper\"}"),
                                    "<test>", &s),
                   BRUME_OK);
-    /* variant first, then the key beside it */
-    ASSERT_EQ_INT(s->blasi.exit_deposit, BLASI_EXIT_PAPER);
-    ASSERT_EQ_INT(s->blasi.view_attenuation, BLASI_VIEW_EXTINCTION);
+    /* a key given beside the variant wins, whatever the order */
+    ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->exit_deposit, BLASI_EXIT_PAPER);
+    ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->view_attenuation, BLASI_VIEW_EXTINCTION);
     ASSERT_TRUE(brume_scene_set_option(ctx, s, "blasi.kprime", "1") != BRUME_OK);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "blasi.kprime");
     ASSERT_TRUE(brume_scene_set_option(ctx, s, "blasi.sources", "0") != BRUME_OK);
@@ -312,7 +312,7 @@ TEST(bad_options_name_the_key)
     ASSERT_CONTAINS(brume_context_last_error(ctx), "stam.samples");
     ASSERT_TRUE(brume_scene_set_option(ctx, s, "blasi.view_attenuation", "none") != BRUME_OK);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "blasi.view_attenuation");
-    ASSERT_EQ_INT(s->blasi.view_attenuation, BLASI_VIEW_EXTINCTION); /* unchanged on failure */
+    ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->view_attenuation, BLASI_VIEW_EXTINCTION); /* unchanged on failure */
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.r", "0.5"), BRUME_ERROR_STATE);
     brume_scene_release(s);

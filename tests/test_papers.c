@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
+#include "render/blasi_options.h"
 #include "render/scene.h"
 #include "render/stam.h"
 
@@ -55,12 +56,12 @@ TEST(set_every_kind_of_key)
     ASSERT_NEAR(s->media[0].sigma_s.c[1], 5.0, 0.0);
     ASSERT_NEAR(s->media[0].sigma_a.c[2], 0.3, 1e-15);
     ASSERT_EQ_INT(density_get_blobs(s->media[0].rho)->n, 50);
-    ASSERT_NEAR(s->stam.eps, 0.1, 0.0);
-    ASSERT_TRUE(s->stam.paper);
-    ASSERT_TRUE(!s->stam.bvh);
+    ASSERT_NEAR(((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->eps, 0.1, 0.0);
+    ASSERT_TRUE(((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->paper);
+    ASSERT_TRUE(!((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->bvh);
     ASSERT_EQ_INT(s->settings.spp, 65);
     ASSERT_EQ_STR(s->settings.method, "path");
-    ASSERT_NEAR(s->blasi.r, 0.25, 0.0);
+    ASSERT_NEAR(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->r, 0.25, 0.0);
     brume_scene_release(s);
 
     /* the built-in default scene (path NULL): a key of a generated grid changes the grid */
@@ -244,8 +245,8 @@ TEST(q_autocorrelation_has_no_period_in_the_field)
     vec3 ext = stam_blob_extent(s);
     box3 b = density_get_blobs(s->media[0].rho)->bounds;
     randfield_params rp;
-    stam_randfield_params(&s->stam, ext, &rp);
-    double alpha = s->stam.alpha;
+    stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), 0.0, ext, &rp);
+    double alpha = ((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->alpha;
     printf("cloud %.3f x %.3f x %.3f, lattice %d x %d x %d, cell %.4f (alpha / %.2f), period along x %.3f\n", ext.x,
            ext.y, ext.z, rp.n[0], rp.n[1], rp.n[2], rp.cell, alpha / rp.cell, rp.n[0] * rp.cell);
     ASSERT_TRUE(rp.n[0] * rp.cell >= ext.x + 6.0 * alpha);
@@ -261,8 +262,8 @@ TEST(q_autocorrelation_has_no_period_in_the_field)
         ASSERT_NEAR(mean[l], want, 5.0 * se[l] + 0.01);
     }
     /* the paper's lattice: 32 points of alpha / 3, a period of 0.64 inside a cloud 3.5 long */
-    s->stam.lattice = 32;
-    stam_randfield_params(&s->stam, ext, &rp);
+    ASSERT_EQ_INT(brume_scene_set_option(NULL, s, "stam.lattice", "32"), BRUME_OK);
+    stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), 0.0, ext, &rp);
     double period = rp.n[0] * rp.cell, m1, s1;
     ASSERT_TRUE(period < ext.x);
     autocorrelation(&rp, b.lo, ext, &period, 1, 2, &m1, &s1);
@@ -297,7 +298,7 @@ TEST(blasi_on_blobs_refused_or_voxelized)
         snprintf(json, sizeof json, BLOBS_JSON, k ? 0.3 : 0.0, "corrected",
                  ", \"blasi\": {\"voxels\": 40, \"light_rays\": 20000}");
         s = scene_text(json);
-        ASSERT_EQ_INT(s->blasi.voxels, 40);
+        ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->voxels, 40);
         im[k] = render_scene(s, "blasi", 2, true);
         brume_stats st;
         ctx = brume_context_new();

@@ -47,6 +47,12 @@ static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a))
 static inline vec3 v3_min(vec3 a, vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
 static inline double v3_get(vec3 a, int axis) { return axis == 0 ? a.x : (axis == 1 ? a.y : a.z); }
+static inline void v3_to_array(vec3 a, double out[3])
+{
+    out[0] = a.x;
+    out[1] = a.y;
+    out[2] = a.z;
+}
 static inline bool v3_isfinite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 static inline vec3 ray_at(ray r, double t) { return v3_madd(r.o, r.d, t); }

@@ -65,6 +65,9 @@ blob_field *density_get_blobs(const density *d);
 /* Moves the blobs to time t at the given velocity (blob_field_at_time) and rebuilds the
  * majorants; only while loading, before the field is shared. */
 brume_status density_blobs_at_time(density *d, vec3 velocity, double t);
+/* Marks a DENSITY_GRID's values as borrowed: release then calls release(user) instead of
+ * free()ing them. The values are only ever read. */
+void density_grid_borrow(density *d, void (*release)(void *user), void *user);
 void density_release(density *d);
 /* For loaders, before the field is shared: replaces the placement of any grid kind by
  * voxel_to_world (bounds follow). false with err_set() when the map is not invertible. */

@@ -39,7 +39,9 @@ struct density {
     int mn[3];
     float *maj;
     /* DENSITY_GRID */
-    float *data; /* n0 * n1 * n2, x fastest, owned */
+    float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release) */
+    void (*data_release)(void *user); /* non-NULL: data is borrowed; called instead of free */
+    void *data_user;
     /* DENSITY_NANOVDB */
     nanovdb_state *nano;
     /* DENSITY_BLOBS: voxels are the majorant cells (mcell = 1) */

@@ -145,12 +145,23 @@ void density_release(density *d)
     if (!d)
         return;
     switch (d->kind) {
-    case DENSITY_GRID: free(d->data); break;
+    case DENSITY_GRID:
+        if (d->data_release)
+            d->data_release(d->data_user);
+        else
+            free(d->data);
+        break;
     case DENSITY_NANOVDB: nanovdb_free(d); break;
     case DENSITY_BLOBS: blob_field_release(d->blobs); break;
     }
     free(d->maj);
     free(d);
+}
+
+void density_grid_borrow(density *d, void (*release)(void *user), void *user)
+{
+    d->data_release = release;
+    d->data_user = user;
 }
 
 density_kind density_get_kind(const density *d) { return d->kind; }

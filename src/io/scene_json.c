@@ -1,4 +1,6 @@
-/* scene_json.c - the scene file reader (docs/scene-format.md) and brume_scene_load. */
+/* scene_json.c - the scene file reader (docs/scene-format.md) and brume_scene_load: a client
+ * of the public scene builders (render/scene_build.c): it checks the JSON's shape and types,
+ * naming file and key, and builds the scene through the same calls an application makes. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -6,68 +8,114 @@
 
 #include "core/context.h"
 #include "core/error.h"
-#include "density/fractal.h"
-#include "io/grid_io.h"
 #include "io/json.h"
-#include "io/scene_blasi.h"
+#include "io/scene_methods.h"
 #include "io/scene_stam.h"
 #include "io/scene_keys.h"
 #include "io/scene_override.h"
 #include "io/scene_surfaces.h"
-#include "render/film.h"
 #include "render/scene.h"
 
 #define SCENE_FILE_MAX_BYTES (64L << 20)
-#define SCENE_MAX_LIGHTS 4096
 
 static const double BIG = 1e30;
 
-static brume_status parse_camera(const cJSON *j, jloc at, camera *c)
+/* Helpers between JSON values and the builders' plain arrays. */
+static brume_status jvec(const cJSON *j, jloc at, const char *key, int required, double out[3])
+{
+    vec3 v = v3(out[0], out[1], out[2]);
+    brume_status st = json_vec3(j, at, key, required, &v);
+    if (st == BRUME_OK)
+        v3_to_array(v, out);
+    return st;
+}
+
+static brume_status jcolor(const cJSON *j, jloc at, const char *key, int required, double hi, double out[3])
+{
+    color c = col_rgb(out[0], out[1], out[2]);
+    brume_status st = json_color(j, at, key, required, 0.0, hi, &c);
+    for (int i = 0; st == BRUME_OK && i < 3; i++)
+        out[i] = c.c[i];
+    return st;
+}
+
+/* A builder's failure, prefixed with the file and the key path of what it was building. */
+static brume_status built(brume_status st, jloc at)
+{
+    return st ? err_prefix("%s: %s", at.file, at.path) : BRUME_OK;
+}
+
+static brume_status parse_unit_vector(const cJSON *j, jloc at, const char *key, double out[3])
+{
+    brume_status st = jvec(j, at, key, 1, out);
+    if (st)
+        return st;
+    if (!(v3_length(v3(out[0], out[1], out[2])) > 0.0))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: must not be the zero vector", at.file, at.path, key);
+    return BRUME_OK;
+}
+
+static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
                                        "shutter", "keyframes", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    if ((st = json_vec3(j, at, "position", 1, &c->position))) return st;
-    if ((st = json_vec3(j, at, "look_at", 1, &c->look_at))) return st;
-    if ((st = json_vec3(j, at, "up", 0, &c->up))) return st;
-    if (!(v3_length(c->up) > 0.0))
+    brume_camera c;
+    brume_camera_default(&c);
+    if ((st = jvec(j, at, "position", 1, c.position))) return st;
+    if ((st = jvec(j, at, "look_at", 1, c.look_at))) return st;
+    if ((st = jvec(j, at, "up", 0, c.up))) return st;
+    if (!(v3_length(v3(c.up[0], c.up[1], c.up[2])) > 0.0))
         return err_set(BRUME_ERROR_RANGE, "%s: camera.up: must not be the zero vector", at.file);
-    if ((st = json_number(j, at, "fov", 0, 1e-3, 179.0, &c->fov))) return st;
-    if ((st = json_number(j, at, "aperture_radius", 0, 0.0, BIG, &c->aperture_radius))) return st;
-    c->focus_distance = v3_length(v3_sub(c->look_at, c->position));
-    if ((st = json_number(j, at, "focus_distance", 0, 1e-9, BIG, &c->focus_distance))) return st;
+    if ((st = json_number(j, at, "fov", 0, 1e-3, 179.0, &c.fov))) return st;
+    if ((st = json_number(j, at, "aperture_radius", 0, 0.0, BIG, &c.aperture_radius))) return st;
+    if ((st = json_number(j, at, "focus_distance", 0, 1e-9, BIG, &c.focus_distance))) return st;
     const cJSON *sh = cJSON_GetObjectItemCaseSensitive(j, "shutter");
     if (sh) {
         if (!cJSON_IsArray(sh) || cJSON_GetArraySize(sh) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(sh, 0)) ||
             !cJSON_IsNumber(cJSON_GetArrayItem(sh, 1)))
             return err_set(BRUME_ERROR_PARSE, "%s: camera.shutter: expected [open, close] in seconds", at.file);
-        c->shutter_open = cJSON_GetArrayItem(sh, 0)->valuedouble;
-        c->shutter_close = cJSON_GetArrayItem(sh, 1)->valuedouble;
-        if (!isfinite(c->shutter_open) || !isfinite(c->shutter_close) || c->shutter_close < c->shutter_open)
+        c.shutter_open = cJSON_GetArrayItem(sh, 0)->valuedouble;
+        c.shutter_close = cJSON_GetArrayItem(sh, 1)->valuedouble;
+        if (!isfinite(c.shutter_open) || !isfinite(c.shutter_close) || c.shutter_close < c.shutter_open)
             return err_set(BRUME_ERROR_RANGE, "%s: camera.shutter: need finite open <= close, got [%g, %g]", at.file,
-                           c->shutter_open, c->shutter_close);
+                           c.shutter_open, c.shutter_close);
     }
+    if ((st = built(brume_scene_set_camera(NULL, s, &c), at))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
-    if (keys_j)
-        return keys_parse_camera(keys_j, (jloc){at.file, "camera.keyframes"}, c,
-                                 cJSON_HasObjectItem(j, "focus_distance"));
-    return BRUME_OK;
-}
-
-static brume_status parse_unit_vector(const cJSON *j, jloc at, const char *key, vec3 *out)
-{
-    brume_status st = json_vec3(j, at, key, 1, out);
-    if (st)
-        return st;
-    if (!(v3_length(*out) > 0.0))
-        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: must not be the zero vector", at.file, at.path, key);
-    *out = v3_normalize(*out);
-    return BRUME_OK;
+    if (!keys_j)
+        return BRUME_OK;
+    /* keys_parse_camera completes each key from the others and from the camera */
+    jloc kat = {at.file, "camera.keyframes"};
+    camera *tmp = malloc(sizeof *tmp);
+    brume_camera_key *bk = malloc(sizeof *bk * CAMERA_MAX_KEYS);
+    if (!tmp || !bk) {
+        free(tmp);
+        free(bk);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+    }
+    *tmp = s->cam;
+    st = keys_parse_camera(keys_j, kat, tmp, cJSON_HasObjectItem(j, "focus_distance"));
+    for (int i = 0; st == BRUME_OK && i < tmp->nkeys; i++) {
+        const camera_key *k = &tmp->keys[i];
+        bk[i].time = k->time;
+        v3_to_array(k->position, bk[i].position);
+        v3_to_array(k->look_at, bk[i].look_at);
+        v3_to_array(k->up, bk[i].up);
+        bk[i].fov = k->fov;
+        bk[i].aperture_radius = k->aperture_radius;
+        bk[i].focus_distance = k->focus_distance;
+    }
+    if (st == BRUME_OK)
+        st = built(brume_scene_set_camera_keys(NULL, s, bk, tmp->nkeys), kat);
+    free(tmp);
+    free(bk);
+    return st;
 }
 
 /* A spot's goniometric profile: [[angle_deg, factor], ...] with increasing angles. */
-static brume_status parse_profile(const cJSON *j, jloc at, light *l)
+static brume_status parse_profile(const cJSON *j, jloc at, double *angle, double *factor, int *n_out)
 {
     const cJSON *pr = cJSON_GetObjectItemCaseSensitive(j, "profile");
     int n = cJSON_GetArraySize(pr);
@@ -80,75 +128,81 @@ static brume_status parse_profile(const cJSON *j, jloc at, light *l)
         if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 2 || !cJSON_IsNumber(a) || !cJSON_IsNumber(v))
             return err_set(BRUME_ERROR_PARSE, "%s: %s.profile[%d]: expected [angle_deg, factor]", at.file, at.path, i);
         double ang = a->valuedouble, val = v->valuedouble;
-        if (!isfinite(ang) || ang < 0.0 || ang > 180.0 || (i > 0 && !(ang > l->profile_angle[i - 1])))
+        if (!isfinite(ang) || ang < 0.0 || ang > 180.0 || (i > 0 && !(ang > angle[i - 1])))
             return err_set(BRUME_ERROR_RANGE, "%s: %s.profile[%d]: angle %g must increase within [0, 180]", at.file,
                            at.path, i, ang);
         if (!isfinite(val) || val < 0.0)
             return err_set(BRUME_ERROR_RANGE, "%s: %s.profile[%d]: factor %g must be finite and >= 0", at.file,
                            at.path, i, val);
-        l->profile_angle[i] = ang;
-        l->profile_value[i] = val;
+        angle[i] = ang;
+        factor[i] = val;
     }
-    l->profile_n = n;
+    *n_out = n;
     return BRUME_OK;
 }
 
-static brume_status parse_light(const cJSON *j, jloc at, light *l)
+static brume_status parse_light(const cJSON *j, jloc at, brume_scene *s)
 {
     char type[32];
     brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
+    double pos[3] = {0, 0, 0}, dir[3] = {0, 0, 0}, L[3] = {0, 0, 0};
     if (strcmp(type, "distant") == 0) {
         static const char *const keys[] = {"type", "direction", "irradiance", "angular_radius", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
-        l->kind = LIGHT_DISTANT;
-        if ((st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
+        if ((st = parse_unit_vector(j, at, "direction", dir))) return st;
         double deg = 0.0;
         if ((st = json_number(j, at, "angular_radius", 0, 0.0, 90.0, &deg))) return st;
-        l->angular_radius = deg * PI / 180.0;
-        return json_color(j, at, "irradiance", 1, 0.0, BIG, &l->L);
+        if ((st = jcolor(j, at, "irradiance", 1, BIG, L))) return st;
+        return built(brume_scene_add_distant_light(NULL, s, dir, L, deg), at);
     }
     if (strcmp(type, "point") == 0) {
         static const char *const keys[] = {"type", "position", "intensity", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
-        l->kind = LIGHT_POINT;
-        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
-        return json_color(j, at, "intensity", 1, 0.0, BIG, &l->L);
+        if ((st = jvec(j, at, "position", 1, pos))) return st;
+        if ((st = jcolor(j, at, "intensity", 1, BIG, L))) return st;
+        return built(brume_scene_add_point_light(NULL, s, pos, L), at);
     }
     if (strcmp(type, "spot") == 0) {
         static const char *const keys[] = {"type", "position", "direction", "intensity", "cone_angle",
                                            "falloff_start", "profile", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
-        l->kind = LIGHT_SPOT;
-        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
-        if ((st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
-        if ((st = json_color(j, at, "intensity", 1, 0.0, BIG, &l->L))) return st;
+        if ((st = jvec(j, at, "position", 1, pos))) return st;
+        if ((st = parse_unit_vector(j, at, "direction", dir))) return st;
+        if ((st = jcolor(j, at, "intensity", 1, BIG, L))) return st;
         if (cJSON_HasObjectItem(j, "profile")) {
             if (cJSON_HasObjectItem(j, "cone_angle") || cJSON_HasObjectItem(j, "falloff_start"))
                 return err_set(BRUME_ERROR_PARSE, "%s: %s: give either profile or cone_angle/falloff_start", at.file,
                                at.path);
-            return parse_profile(j, at, l);
+            double *ang = malloc(sizeof *ang * 2 * LIGHT_PROFILE_MAX);
+            if (!ang)
+                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+            int n = 0;
+            st = parse_profile(j, at, ang, ang + LIGHT_PROFILE_MAX, &n);
+            if (st == BRUME_OK)
+                st = built(brume_scene_add_spot_light_profile(NULL, s, pos, dir, L, ang, ang + LIGHT_PROFILE_MAX, n), at);
+            free(ang);
+            return st;
         }
-        double cone = 30.0, start = -1.0;
+        double cone = 30.0, start;
         if ((st = json_number(j, at, "cone_angle", 0, 0.01, 180.0, &cone))) return st;
         start = cone;
         if ((st = json_number(j, at, "falloff_start", 0, 0.0, cone, &start))) return st;
-        l->cos_outer = cos(cone * PI / 180.0);
-        l->cos_inner = cos(start * PI / 180.0);
-        if (l->cos_inner <= l->cos_outer)
-            l->cos_inner = l->cos_outer + 1e-9;
-        return BRUME_OK;
+        return built(brume_scene_add_spot_light(NULL, s, pos, dir, L, cone, start), at);
     }
     if (strcmp(type, "sphere") == 0 || strcmp(type, "disk") == 0) {
         static const char *const skeys[] = {"type", "position", "radius", "radiance", NULL};
         static const char *const dkeys[] = {"type", "position", "direction", "radius", "radiance", NULL};
         bool sphere = type[0] == 's';
+        double radius = 0.0;
         if ((st = json_check_object(j, at, sphere ? skeys : dkeys))) return st;
-        l->kind = sphere ? LIGHT_SPHERE : LIGHT_DISK;
-        if ((st = json_vec3(j, at, "position", 1, &l->position))) return st;
-        if (!sphere && (st = parse_unit_vector(j, at, "direction", &l->direction))) return st;
-        if ((st = json_number(j, at, "radius", 1, 1e-9, BIG, &l->radius))) return st;
-        return json_color(j, at, "radiance", 1, 0.0, BIG, &l->L);
+        if ((st = jvec(j, at, "position", 1, pos))) return st;
+        if (!sphere && (st = parse_unit_vector(j, at, "direction", dir))) return st;
+        if ((st = json_number(j, at, "radius", 1, 1e-9, BIG, &radius))) return st;
+        if ((st = jcolor(j, at, "radiance", 1, BIG, L))) return st;
+        return built(sphere ? brume_scene_add_sphere_light(NULL, s, pos, radius, L)
+                            : brume_scene_add_disk_light(NULL, s, pos, dir, radius, L),
+                     at);
     }
     return err_set(BRUME_ERROR_PARSE,
                    "%s: %s.type: unknown light type '%s' (known: distant, point, spot, sphere, disk)", at.file,
@@ -156,38 +210,45 @@ static brume_status parse_light(const cJSON *j, jloc at, light *l)
 }
 
 /* "background": a color, or {"color": c} or {"file": "env.exr", "scale": s, "up": [...]} */
-static brume_status parse_background(const cJSON *root, jloc top, background *bg)
+static brume_status parse_background(const cJSON *root, jloc top, brume_scene *s)
 {
     const cJSON *b = cJSON_GetObjectItemCaseSensitive(root, "background");
+    jloc at = {top.file, "background"};
+    double L[3] = {0, 0, 0};
     if (!b)
         return BRUME_OK;
-    if (!cJSON_IsObject(b))
-        return json_color(root, top, "background", 0, 0.0, BIG, &bg->L);
+    brume_status st;
+    if (!cJSON_IsObject(b)) {
+        if ((st = jcolor(root, top, "background", 0, BIG, L))) return st;
+        return built(brume_scene_set_background_color(NULL, s, L), at);
+    }
     static const char *const keys[] = {"color", "file", "scale", "up", NULL};
-    jloc at = {top.file, "background"};
-    brume_status st = json_check_object(b, at, keys);
-    if (st) return st;
-    if ((st = json_color(b, at, "color", 0, 0.0, BIG, &bg->L))) return st;
-    if ((st = json_number(b, at, "scale", 0, 0.0, BIG, &bg->scale))) return st;
-    if (cJSON_HasObjectItem(b, "up") && (st = parse_unit_vector(b, at, "up", &bg->up))) return st;
+    if ((st = json_check_object(b, at, keys))) return st;
+    double scale = 1.0, up[3] = {0, 1, 0};
+    if ((st = jcolor(b, at, "color", 0, BIG, L))) return st;
+    if ((st = json_number(b, at, "scale", 0, 0.0, BIG, &scale))) return st;
+    if (cJSON_HasObjectItem(b, "up") && (st = parse_unit_vector(b, at, "up", up))) return st;
     char name[1024], path[2048];
     name[0] = '\0';
     if ((st = json_string(b, at, "file", 0, name, sizeof name))) return st;
-    if (name[0]) {
-        if (cJSON_HasObjectItem(b, "color"))
-            return err_set(BRUME_ERROR_PARSE, "%s: background: give either color or file", top.file);
-        json_resolve_path(top.file, name, path, sizeof path);
-        brume_context *ctx = brume_context_new();
-        st = brume_image_read(ctx, path, &bg->img);
-        if (st)
-            err_set(st, "%s: background.file: %s", top.file, brume_context_last_error(ctx));
-        brume_context_release(ctx);
-        if (st) return st;
-    }
-    return BRUME_OK;
+    if (!name[0])
+        return built(brume_scene_set_background_color(NULL, s, L), at);
+    if (cJSON_HasObjectItem(b, "color"))
+        return err_set(BRUME_ERROR_PARSE, "%s: background: give either color or file", top.file);
+    json_resolve_path(top.file, name, path, sizeof path);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    st = ctx ? brume_image_read(ctx, path, &img) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st)
+        err_set(st, "%s: background.file: %s", top.file, ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    if (st) return st;
+    st = built(brume_scene_set_background_image(NULL, s, img, scale, up), at);
+    brume_image_release(img);
+    return st;
 }
 
-static brume_status parse_box(const cJSON *j, jloc at, const char *key, box3 *b)
+static brume_status parse_box(const cJSON *j, jloc at, const char *key, double out[6])
 {
     char kp[256];
     json_key_path(kp, sizeof kp, at.path, key);
@@ -202,29 +263,29 @@ static brume_status parse_box(const cJSON *j, jloc at, const char *key, box3 *b)
     cJSON_AddItemReferenceToObject(wrap, "lo", cJSON_GetArrayItem(it, 0));
     cJSON_AddItemReferenceToObject(wrap, "hi", cJSON_GetArrayItem(it, 1));
     jloc sub = {at.file, kp};
-    box3 r;
-    brume_status st = json_vec3(wrap, sub, "lo", 1, &r.lo);
+    double r[6];
+    brume_status st = jvec(wrap, sub, "lo", 1, r);
     if (!st)
-        st = json_vec3(wrap, sub, "hi", 1, &r.hi);
+        st = jvec(wrap, sub, "hi", 1, r + 3);
     cJSON_Delete(wrap);
     if (st)
         return st;
-    if (!(r.lo.x < r.hi.x && r.lo.y < r.hi.y && r.lo.z < r.hi.z))
+    if (!(r[0] < r[3] && r[1] < r[4] && r[2] < r[5]))
         return err_set(BRUME_ERROR_RANGE, "%s: %s: need min < max on every axis", at.file, kp);
-    *b = r;
+    memcpy(out, r, sizeof r);
     return BRUME_OK;
 }
 
-static brume_status parse_filter(const cJSON *j, jloc at, grid_filter *f)
+static brume_status parse_filter(const cJSON *j, jloc at, brume_grid_filter *f)
 {
     char name[32] = "";
     brume_status st = json_string(j, at, "filter", 0, name, sizeof name);
     if (st || !name[0])
         return st;
     if (strcmp(name, "nearest") == 0)
-        *f = GRID_NEAREST;
+        *f = BRUME_GRID_NEAREST;
     else if (strcmp(name, "trilinear") == 0)
-        *f = GRID_TRILINEAR;
+        *f = BRUME_GRID_TRILINEAR;
     else
         return err_set(BRUME_ERROR_PARSE, "%s: %s.filter: unknown filter '%s' (known: nearest, trilinear)", at.file,
                        at.path, name);
@@ -232,94 +293,83 @@ static brume_status parse_filter(const cJSON *j, jloc at, grid_filter *f)
 }
 
 /* A voxel grid from a file (docs/grids.md lists the formats). */
-static brume_status parse_grid_density(const cJSON *j, jloc at, density **out)
+static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **out)
 {
     static const char *const keys[] = {"type", "file", "format", "dims", "bounds", "transform", "filter", "scale",
                                        "max_memory_mb", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    density_load_options o;
-    density_load_options_default(&o);
-    char name[1024], path[2048], fmt[16] = "";
+    brume_grid_file_options o;
+    brume_grid_file_options_default(&o);
+    char name[1024], path[2048];
     if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
     json_resolve_path(at.file, name, path, sizeof path);
-    if ((st = json_string(j, at, "format", 0, fmt, sizeof fmt))) return st;
-    if (fmt[0]) {
-        o.format = grid_format_from_name(fmt);
-        if (o.format == GRID_FORMAT_AUTO && strcmp(fmt, "auto") != 0)
-            return err_set(BRUME_ERROR_PARSE, "%s: %s.format: unknown grid format '%s'", at.file, at.path, fmt);
-    }
-    vec3 dims = v3(0, 0, 0);
-    if ((st = json_vec3(j, at, "dims", 0, &dims))) return st;
+    if ((st = json_string(j, at, "format", 0, o.format, sizeof o.format))) return st;
     if (cJSON_HasObjectItem(j, "dims")) {
-        double d[3] = {dims.x, dims.y, dims.z};
+        double d[3] = {0, 0, 0};
+        if ((st = jvec(j, at, "dims", 1, d))) return st;
         for (int k = 0; k < 3; k++) {
             if (!(d[k] >= 1 && d[k] <= 65536) || d[k] != floor(d[k]))
                 return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 65536]", at.file,
                                at.path, k, d[k]);
-            o.raw_dims[k] = (int)d[k];
+            o.dims[k] = (int)d[k];
         }
     }
     if (cJSON_HasObjectItem(j, "bounds")) {
-        if ((st = parse_box(j, at, "bounds", &o.bounds))) return st;
+        if ((st = parse_box(j, at, "bounds", o.bounds))) return st;
         o.has_bounds = true;
     }
     const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
     if (tr) {
         char kp[256];
-        if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")},
-                                 &o.transform)))
+        affine3 xf;
+        if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
             return st;
+        memcpy(o.transform, xf.m, sizeof o.transform);
         o.has_transform = true;
     }
     if ((st = parse_filter(j, at, &o.filter))) return st;
     if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &o.scale))) return st;
-    double mb = 0.0;
-    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
-    if (mb > 0.0)
-        o.max_memory = (size_t)(mb * 1048576.0);
-    *out = density_load_file(path, &o);
-    if (!*out)
-        return err_prefix("%s: %s.file", at.file, at.path);
-    return BRUME_OK;
+    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &o.max_memory_mb))) return st;
+    st = brume_density_load(NULL, path, &o, out);
+    return st ? err_prefix("%s: %s.file", at.file, at.path) : BRUME_OK;
 }
 
 /* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1), at the
  * scene's frame time added to its own `time`: the threshold and the turbulence evolve. */
-static brume_status parse_fractal_density(const cJSON *j, jloc at, brume_scene *s, density **out)
+static brume_status parse_fractal_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
 {
     static const char *const keys[] = {"type", "dims", "seed", "method", "hurst", "octaves", "frequency", "shape",
                                        "falloff", "threshold", "threshold_rate", "turbulence",
                                        "turbulence_frequency", "wind", "time", "density", "bounds", "filter", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    fractal_params p;
-    fractal_params_default(&p);
-    vec3 dims = v3(p.n[0], p.n[1], p.n[2]);
-    if ((st = json_vec3(j, at, "dims", 0, &dims))) return st;
-    double d[3] = {dims.x, dims.y, dims.z};
+    brume_fractal p;
+    brume_fractal_default(&p);
+    double d[3] = {p.dims[0], p.dims[1], p.dims[2]};
+    if ((st = jvec(j, at, "dims", 0, d))) return st;
     for (int k = 0; k < 3; k++) {
         if (!(d[k] >= 1 && d[k] <= 1024) || d[k] != floor(d[k]))
             return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 1024]", at.file, at.path,
                            k, d[k]);
-        p.n[k] = (int)d[k];
+        p.dims[k] = (int)d[k];
     }
     char m[32] = "", sh[32] = "";
     if ((st = json_u64(j, at, "seed", 0, &p.seed))) return st;
     if ((st = json_string(j, at, "method", 0, m, sizeof m))) return st;
     if (m[0]) {
-        if (strcmp(m, "midpoint") == 0) p.method = FRACTAL_MIDPOINT;
-        else if (strcmp(m, "spectral") == 0) p.method = FRACTAL_SPECTRAL;
-        else if (strcmp(m, "perlin") == 0) p.method = FRACTAL_PERLIN;
+        if (strcmp(m, "midpoint") == 0) p.method = BRUME_FRACTAL_MIDPOINT;
+        else if (strcmp(m, "spectral") == 0) p.method = BRUME_FRACTAL_SPECTRAL;
+        else if (strcmp(m, "perlin") == 0) p.method = BRUME_FRACTAL_PERLIN;
         else
             return err_set(BRUME_ERROR_PARSE, "%s: %s.method: unknown method '%s' (known: midpoint, spectral, perlin)",
                            at.file, at.path, m);
     }
     if ((st = json_string(j, at, "shape", 0, sh, sizeof sh))) return st;
     if (sh[0]) {
-        if (strcmp(sh, "none") == 0) p.shape = FRACTAL_SHAPE_NONE;
-        else if (strcmp(sh, "ellipsoid") == 0) p.shape = FRACTAL_SHAPE_ELLIPSOID;
-        else if (strcmp(sh, "slab") == 0) p.shape = FRACTAL_SHAPE_SLAB;
+        if (strcmp(sh, "none") == 0) p.shape = BRUME_FRACTAL_SHAPE_NONE;
+        else if (strcmp(sh, "ellipsoid") == 0) p.shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
+        else if (strcmp(sh, "slab") == 0) p.shape = BRUME_FRACTAL_SHAPE_SLAB;
         else
             return err_set(BRUME_ERROR_PARSE, "%s: %s.shape: unknown shape '%s' (known: none, ellipsoid, slab)",
                            at.file, at.path, sh);
@@ -332,24 +382,16 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, brume_scene *
     if ((st = json_number(j, at, "threshold_rate", 0, -1e3, 1e3, &p.threshold_rate))) return st;
     if ((st = json_number(j, at, "turbulence", 0, 0.0, 1e3, &p.turbulence))) return st;
     if ((st = json_number(j, at, "turbulence_frequency", 0, 1e-3, 1e3, &p.turbulence_frequency))) return st;
-    if ((st = json_vec3(j, at, "wind", 0, &p.wind))) return st;
+    if ((st = jvec(j, at, "wind", 0, p.wind))) return st;
     if ((st = json_number(j, at, "time", 0, -1e9, 1e9, &p.time))) return st;
     if ((st = json_number(j, at, "density", 0, 1e-9, 1e9, &p.density))) return st;
-    p.time += s->time;
-    if (p.threshold_rate != 0.0 || (p.turbulence > 0.0 && v3_length(p.wind) > 0.0))
-        s->world_moves = true;
-    /* defaults as in the paper: unit voxels centred on the origin, constant per voxel */
-    box3 b = {v3(-0.5 * p.n[0], -0.5 * p.n[1], -0.5 * p.n[2]), v3(0.5 * p.n[0], 0.5 * p.n[1], 0.5 * p.n[2])};
-    if ((st = parse_box(j, at, "bounds", &b))) return st;
-    grid_filter f = GRID_NEAREST;
-    if ((st = parse_filter(j, at, &f))) return st;
-    *out = fractal_cloud(&p, b, f);
-    if (!*out)
-        return err_prefix("%s: %s", at.file, at.path);
-    return BRUME_OK;
+    if ((st = parse_box(j, at, "bounds", p.bounds))) return st;
+    if ((st = parse_filter(j, at, &p.filter))) return st;
+    p.time += brume_scene_time(s);
+    return built(brume_density_new_fractal(NULL, &p, out), at);
 }
 
-static brume_status parse_density(const cJSON *j, jloc at, brume_scene *s, density **out)
+static brume_status parse_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
 {
     char type[32];
     brume_status st = json_object_type(j, at, type, sizeof type);
@@ -359,35 +401,22 @@ static brume_status parse_density(const cJSON *j, jloc at, brume_scene *s, densi
         if ((st = json_check_object(j, at, keys))) return st;
         int res = 64;
         uint64_t seed = 1;
-        box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+        double b[6] = {-1, -1, -1, 1, 1, 1};
         if ((st = json_int(j, at, "resolution", 0, 2, 512, &res))) return st;
         if ((st = json_u64(j, at, "seed", 0, &seed))) return st;
-        if ((st = parse_box(j, at, "bounds", &b))) return st;
-        *out = density_new_procedural_cloud(res, seed, b);
-        if (!*out)
-            return err_prefix("%s: %s", at.file, at.path);
-        return BRUME_OK;
+        if ((st = parse_box(j, at, "bounds", b))) return st;
+        return built(brume_density_new_procedural_cloud(NULL, res, seed, b, out), at);
     }
     if (strcmp(type, "blobs") == 0)
         return scene_parse_blobs(j, at, out); /* Stam's gaussian blobs (io/scene_stam.c) */
     if (strcmp(type, "constant") == 0) {
-        /* homogeneous fog filling a box: a 1 x 1 x 1 grid */
+        /* homogeneous fog filling a box */
         static const char *const keys[] = {"type", "value", "bounds", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
-        double value = 1.0;
-        box3 b = {v3(-1, -1, -1), v3(1, 1, 1)};
+        double value = 1.0, b[6] = {-1, -1, -1, 1, 1, 1};
         if ((st = json_number(j, at, "value", 0, 0.0, 1e30, &value))) return st;
-        if ((st = parse_box(j, at, "bounds", &b))) return st;
-        float *data = malloc(sizeof *data);
-        if (!data)
-            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
-        data[0] = (float)value;
-        *out = density_new_grid(1, 1, 1, data, b, GRID_NEAREST);
-        if (!*out) {
-            free(data);
-            return err_prefix("%s: %s", at.file, at.path);
-        }
-        return BRUME_OK;
+        if ((st = parse_box(j, at, "bounds", b))) return st;
+        return built(brume_density_new_constant(NULL, value, b, out), at);
     }
     if (strcmp(type, "grid") == 0)
         return parse_grid_density(j, at, out);
@@ -400,7 +429,7 @@ static brume_status parse_density(const cJSON *j, jloc at, brume_scene *s, densi
 
 #define PHASE_MAX_LOBES 16
 
-static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
+static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
 {
     char type[32];
     *out = NULL;
@@ -410,17 +439,16 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
     if (strcmp(type, "isotropic") == 0 || strcmp(type, "rayleigh") == 0 || strcmp(type, "hazy") == 0 ||
         strcmp(type, "murky") == 0) {
         if ((st = json_check_object(j, at, type_only))) return st;
-        *out = type[0] == 'i' ? phase_new_isotropic()
-             : type[0] == 'r' ? phase_new_rayleigh()
-             : type[0] == 'h' ? phase_new_mie_hazy()
-                              : phase_new_mie_murky();
-    } else if (strcmp(type, "hg") == 0) {
+        return built(brume_phase_new_named(NULL, type, out), at);
+    }
+    if (strcmp(type, "hg") == 0) {
         static const char *const keys[] = {"type", "g", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
         double g = 0.0;
         if ((st = json_number(j, at, "g", 1, -0.999999, 0.999999, &g))) return st;
-        *out = phase_new_hg(g);
-    } else if (strcmp(type, "schlick") == 0) {
+        return built(brume_phase_new_hg(NULL, g, out), at);
+    }
+    if (strcmp(type, "schlick") == 0) {
         /* k directly, or g converted by k = 1.55 g - 0.55 g^3 (docs/phase-functions.md) */
         static const char *const keys[] = {"type", "k", "g", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
@@ -429,8 +457,9 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
             return err_set(BRUME_ERROR_PARSE, "%s: %s: give exactly one of k and g", at.file, at.path);
         double v = 0.0;
         if ((st = json_number(j, at, has_k ? "k" : "g", 1, -0.999999, 0.999999, &v))) return st;
-        *out = phase_new_schlick(has_k ? v : phase_schlick_k_from_g(v));
-    } else if (strcmp(type, "schlick_mix") == 0) {
+        return built(brume_phase_new_schlick(NULL, has_k ? v : phase_schlick_k_from_g(v), out), at);
+    }
+    if (strcmp(type, "schlick_mix") == 0) {
         /* Blasi Eq. 22: r schlick(k) + (1 - r) schlick(kprime) */
         static const char *const keys[] = {"type", "r", "k", "kprime", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
@@ -438,15 +467,17 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
         if ((st = json_number(j, at, "r", 1, 0.0, 1.0, &r))) return st;
         if ((st = json_number(j, at, "k", 1, -0.999999, 0.999999, &k))) return st;
         if ((st = json_number(j, at, "kprime", 1, -0.999999, 0.999999, &kp))) return st;
-        *out = phase_new_schlick_mix(r, k, kp);
-    } else if (strcmp(type, "tabulated") == 0) {
+        return built(brume_phase_new_schlick_mix(NULL, r, k, kp, out), at);
+    }
+    if (strcmp(type, "tabulated") == 0) {
         static const char *const keys[] = {"type", "file", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
         char name[1024], path[2048];
         if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
         json_resolve_path(at.file, name, path, sizeof path);
-        *out = phase_load_tabulated(path);
-    } else if (strcmp(type, "mixture") == 0) {
+        return built(brume_phase_load(NULL, path, out), at);
+    }
+    if (strcmp(type, "mixture") == 0) {
         /* Blasi Eq. 20: a normalized sum of lobes, each {"weight": w, "phase": {...}} */
         static const char *const keys[] = {"type", "lobes", NULL};
         static const char *const lobe_keys[] = {"weight", "phase", NULL};
@@ -456,7 +487,7 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
         if (!cJSON_IsArray(lobes) || n < 1 || n > PHASE_MAX_LOBES)
             return err_set(BRUME_ERROR_PARSE, "%s: %s.lobes: expected an array of 1 to %d lobes", at.file, at.path,
                            PHASE_MAX_LOBES);
-        phase *ph[PHASE_MAX_LOBES] = {0};
+        brume_phase *ph[PHASE_MAX_LOBES] = {0};
         double w[PHASE_MAX_LOBES];
         int i = 0;
         for (const cJSON *l = lobes->child; l && st == BRUME_OK; l = l->next, i++) {
@@ -473,80 +504,79 @@ static brume_status parse_phase(const cJSON *j, jloc at, phase **out)
             snprintf(kp2, sizeof kp2, "%s.phase", kp);
             st = parse_phase(lp, (jloc){at.file, kp2}, &ph[i]);
         }
-        if (st == BRUME_OK) {
-            *out = phase_new_mixture(n, w, ph);
-            if (!*out)
-                st = err_prefix("%s: %s", at.file, at.path);
-        }
-        if (!*out)
+        if (st == BRUME_OK)
+            st = built(brume_phase_new_mixture(NULL, w, ph, n, out), at);
+        if (st)
             for (int k = 0; k < n; k++)
-                phase_release(ph[k]);
+                brume_phase_release(ph[k]);
         return st;
-    } else {
-        return err_set(BRUME_ERROR_PARSE,
-                       "%s: %s.type: unknown phase function '%s' (known: isotropic, rayleigh, hazy, murky, hg, "
-                       "schlick, schlick_mix, mixture, tabulated)",
-                       at.file, at.path, type);
     }
-    if (!*out)
-        return err_prefix("%s: %s", at.file, at.path);
-    return BRUME_OK;
+    return err_set(BRUME_ERROR_PARSE,
+                   "%s: %s.type: unknown phase function '%s' (known: isotropic, rayleigh, hazy, murky, hg, "
+                   "schlick, schlick_mix, mixture, tabulated)",
+                   at.file, at.path, type);
 }
 
-static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s, medium *m)
+static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "keyframes",
                                        NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    if ((st = json_string(j, at, "name", 0, m->name, sizeof m->name))) return st;
-    m->sigma_a = col(0.0);
-    m->sigma_s = col(0.0);
-    m->Le = col(0.0);
-    if ((st = json_color(j, at, "sigma_a", 1, 0.0, 1e12, &m->sigma_a))) return st;
-    if ((st = json_color(j, at, "sigma_s", 1, 0.0, 1e12, &m->sigma_s))) return st;
-    if ((st = json_color(j, at, "emission", 0, 0.0, BIG, &m->Le))) return st;
+    brume_medium m = {0};
+    if ((st = json_string(j, at, "name", 0, m.name, sizeof m.name))) return st;
+    if ((st = jcolor(j, at, "sigma_a", 1, 1e12, m.sigma_a))) return st;
+    if ((st = jcolor(j, at, "sigma_s", 1, 1e12, m.sigma_s))) return st;
+    if ((st = jcolor(j, at, "emission", 0, BIG, m.emission))) return st;
     char kp[256];
     const cJSON *d = cJSON_GetObjectItemCaseSensitive(j, "density");
     if (!d)
         return err_set(BRUME_ERROR_PARSE, "%s: %s.density: required key missing", at.file, at.path);
-    if ((st = parse_density(d, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "density")}, s, &m->rho)))
+    brume_density *rho = NULL;
+    brume_phase *ph = NULL;
+    if ((st = parse_density(d, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "density")}, s, &rho)))
         return st;
+    const cJSON *p = cJSON_GetObjectItemCaseSensitive(j, "phase");
+    if (p && (st = parse_phase(p, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "phase")}, &ph))) {
+        brume_density_release(rho);
+        return st;
+    }
+    if ((st = built(brume_scene_add_medium(NULL, s, &m, rho, ph), at))) {
+        brume_density_release(rho);
+        brume_phase_release(ph);
+        return st;
+    }
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (keys_j) {
         /* the field moves: its placement at time t is the keyed transform after its own */
-        m->motion = malloc(sizeof *m->motion);
-        if (!m->motion)
-            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
-        if ((st = keys_parse_motion(keys_j, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "keyframes")},
-                                    m->motion)))
-            return st;
-        s->world_moves = true;
+        brume_transform_key k[MOTION_MAX_KEYS];
+        int n = 0;
+        jloc kat = {at.file, json_key_path(kp, sizeof kp, at.path, "keyframes")};
+        if ((st = keys_parse_motion(keys_j, kat, k, &n))) return st;
+        return built(brume_scene_set_medium_motion(NULL, s, brume_scene_medium_count(s) - 1, k, n), kat);
     }
-    const cJSON *p = cJSON_GetObjectItemCaseSensitive(j, "phase");
-    if (p)
-        return parse_phase(p, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "phase")}, &m->ph);
-    m->ph = phase_new_isotropic();
-    return m->ph ? BRUME_OK : err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+    return BRUME_OK;
 }
 
-static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings *rs)
+static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
                                        "fps", "noise", "time", "min_spp", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    if ((st = json_int(j, at, "width", 0, 1, 65536, &rs->width))) return st;
-    if ((st = json_int(j, at, "height", 0, 1, 65536, &rs->height))) return st;
-    if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs->spp))) return st;
-    if ((st = json_u64(j, at, "seed", 0, &rs->seed))) return st;
-    if ((st = json_int(j, at, "threads", 0, 0, 1024, &rs->threads))) return st;
-    if ((st = json_string(j, at, "method", 0, rs->method, sizeof rs->method))) return st;
-    if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs->max_depth))) return st;
-    if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs->fps))) return st;
-    if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs->noise_target))) return st;
-    if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs->time_budget))) return st;
-    if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs->min_spp))) return st;
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;
+    if ((st = json_int(j, at, "height", 0, 1, 65536, &rs.height))) return st;
+    if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs.spp))) return st;
+    if ((st = json_u64(j, at, "seed", 0, &rs.seed))) return st;
+    if ((st = json_int(j, at, "threads", 0, 0, 1024, &rs.threads))) return st;
+    if ((st = json_string(j, at, "method", 0, rs.method, sizeof rs.method))) return st;
+    if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs.max_depth))) return st;
+    if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs.fps))) return st;
+    if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
+    if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
+    if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
     if (f) {
         static const char *const fkeys[] = {"type", "width", NULL};
@@ -555,18 +585,18 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_render_settings 
         char type[32] = "";
         if ((st = json_string(f, fat, "type", 1, type, sizeof type))) return st;
         if (strcmp(type, "box") == 0) {
-            rs->filter = BRUME_FILTER_BOX;
-            rs->filter_width = 1.0;
+            rs.filter = BRUME_FILTER_BOX;
+            rs.filter_width = 1.0;
         } else if (strcmp(type, "gaussian") == 0) {
-            rs->filter = BRUME_FILTER_GAUSSIAN;
-            rs->filter_width = 2.0;
+            rs.filter = BRUME_FILTER_GAUSSIAN;
+            rs.filter_width = 2.0;
         } else {
             return err_set(BRUME_ERROR_PARSE, "%s: render.filter.type: unknown filter '%s' (known: box, gaussian)",
                            at.file, type);
         }
-        if ((st = json_number(f, fat, "width", 0, 1e-3, 16.0, &rs->filter_width))) return st;
+        if ((st = json_number(f, fat, "width", 0, 1e-3, 16.0, &rs.filter_width))) return st;
     }
-    return scene_check_settings(at.file, rs);
+    return brume_scene_set_settings(NULL, s, &rs); /* names "FILE: render.KEY" */
 }
 
 /* The scene at time `time`, or at frame_no / render.fps when frame_no >= 0. Render settings come
@@ -580,13 +610,15 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, 
     brume_status st = json_check_object(root, top, keys);
     if (st) return st;
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(root, "render");
-    if (render && (st = parse_render(render, (jloc){file, "render"}, &s->settings))) return st;
-    s->time = frame_no >= 0 ? (double)frame_no / s->settings.fps : time;
+    if (render && (st = parse_render(render, (jloc){file, "render"}, s))) return st;
+    if ((st = built(brume_scene_set_time(NULL, s, frame_no >= 0 ? (double)frame_no / s->settings.fps : time),
+                    (jloc){file, "render.fps"})))
+        return st;
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     if (!cam)
         return err_set(BRUME_ERROR_PARSE, "%s: camera: required key missing", file);
-    if ((st = parse_camera(cam, (jloc){file, "camera"}, &s->cam))) return st;
-    if ((st = parse_background(root, top, &s->bg))) return st;
+    if ((st = parse_camera(cam, (jloc){file, "camera"}, s))) return st;
+    if ((st = parse_background(root, top, s))) return st;
 
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights) {
@@ -595,11 +627,6 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, 
         int n = cJSON_GetArraySize(lights);
         if (n > SCENE_MAX_LIGHTS)
             return err_set(BRUME_ERROR_RANGE, "%s: lights: %d lights, at most %d", file, n, SCENE_MAX_LIGHTS);
-        if (n > 0) {
-            s->lights = calloc((size_t)n, sizeof *s->lights);
-            if (!s->lights)
-                return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", file);
-        }
         int i = 0;
         for (const cJSON *l = lights->child; l; l = l->next, i++) {
             char kp[64];
@@ -608,14 +635,13 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, 
                 /* lights are evaluated once per frame, at the frame time */
                 cJSON *now = NULL;
                 if ((st = keys_object_at(l, (jloc){file, kp}, s->time, &now))) return st;
-                st = parse_light(now, (jloc){file, kp}, &s->lights[i]);
+                st = parse_light(now, (jloc){file, kp}, s);
                 cJSON_Delete(now);
-                s->world_moves = true;
                 if (st) return st;
-            } else if ((st = parse_light(l, (jloc){file, kp}, &s->lights[i]))) {
+                if ((st = brume_scene_set_animated(NULL, s))) return st;
+            } else if ((st = parse_light(l, (jloc){file, kp}, s))) {
                 return st;
             }
-            s->nlights = i + 1;
         }
     }
     const cJSON *media = cJSON_GetObjectItemCaseSensitive(root, "media");
@@ -629,16 +655,12 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, 
         for (const cJSON *m = media->child; m; m = m->next, i++) {
             char kp[64];
             snprintf(kp, sizeof kp, "media[%d]", i);
-            s->nmedia = i + 1; /* so that release frees what parse_medium built */
-            if ((st = parse_medium(m, (jloc){file, kp}, s, &s->media[i]))) return st;
+            if ((st = parse_medium(m, (jloc){file, kp}, s))) return st;
         }
     }
     const cJSON *surf = cJSON_GetObjectItemCaseSensitive(root, "surfaces");
-    if (surf && (st = scene_parse_surfaces(surf, file, &s->surf))) return st;
-    if (surfaces_moving(s->surf))
-        s->world_moves = true;
-    if ((st = scene_parse_blasi(root, top, &s->blasi))) return st;
-    return scene_parse_stam(root, s);
+    if (surf && (st = scene_parse_surfaces(surf, file, s))) return st;
+    return scene_parse_method_options(root, top, s);
 }
 
 brume_status scene_parse_json(const char *text, const char *source, brume_scene **out)

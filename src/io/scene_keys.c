@@ -87,12 +87,12 @@ static brume_status track_at(const cJSON *keys, jloc at, const char *name, doubl
     return BRUME_OK;
 }
 
-brume_status keys_parse_motion(const cJSON *keys, jloc at, motion *out)
+brume_status keys_parse_motion(const cJSON *keys, jloc at, brume_transform_key *out, int *n)
 {
     static const char *const allowed[] = {"time", "transform", NULL};
     brume_status st = check_keys(keys, at, MOTION_MAX_KEYS);
     if (st) return st;
-    out->n = 0;
+    *n = 0;
     int i = 0;
     for (const cJSON *k = keys->child; k; k = k->next, i++) {
         char kp[256], tp[300];
@@ -105,11 +105,12 @@ brume_status keys_parse_motion(const cJSON *keys, jloc at, motion *out)
         snprintf(tp, sizeof tp, "%s.transform", kp);
         json_transform_parts parts;
         if ((st = json_transform_split(tr, (jloc){at.file, tp}, &parts))) return st;
-        motion_key *mk = &out->key[out->n++];
-        mk->time = cJSON_GetObjectItemCaseSensitive(k, "time")->valuedouble;
-        mk->translate = parts.translate;
-        motion_quat_axis_angle(parts.axis, parts.angle, mk->q);
-        mk->scale = parts.scale;
+        brume_transform_key *tk = &out[(*n)++];
+        tk->time = cJSON_GetObjectItemCaseSensitive(k, "time")->valuedouble;
+        v3_to_array(parts.translate, tk->translate);
+        v3_to_array(parts.axis, tk->axis);
+        tk->angle = parts.angle;
+        v3_to_array(parts.scale, tk->scale);
     }
     return BRUME_OK;
 }

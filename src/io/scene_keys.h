@@ -12,8 +12,9 @@
 #include "io/json.h"
 #include "render/camera.h"
 
-/* keys: [{"time": t, "transform": {translate, rotate, scale}}, ...] into a motion. */
-brume_status keys_parse_motion(const cJSON *keys, jloc at, motion *out);
+/* keys: [{"time": t, "transform": {translate, rotate, scale}}, ...] into out[0 .. *n)
+ * (room for MOTION_MAX_KEYS), for brume_scene_set_medium_motion / _surface_motion. */
+brume_status keys_parse_motion(const cJSON *keys, jloc at, brume_transform_key *out, int *n);
 
 /* keys: [{"time": t, "position", "look_at", "up", "fov", "aperture_radius",
  * "focus_distance"}, ...] into c->keys, completing each key from the other keys, or from

@@ -44,6 +44,8 @@
 #include "render/stam.h"
 #include "surface/surfaces.h"
 
+static const blasi_options *blasi_opts(const brume_scene *s) { return scene_options(s, METHOD_OPTIONS_BLASI); }
+
 #define BLASI_BATCH 1024           /* light rays per task */
 #define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
@@ -285,7 +287,7 @@ static bool light_ray(const brume_scene *s, const blasi_state *st, const light *
     case LIGHT_DISK: {
         /* elementary source j mod M: a stratum of a k x k grid over the surface's
          * parameter square (both maps preserve area) */
-        int k = (int)ceil(sqrt((double)s->blasi.sources));
+        int k = (int)ceil(sqrt((double)blasi_opts(s)->sources));
         uint64_t cell = j % (uint64_t)(k * k);
         double a = ((double)(cell % (uint64_t)k) + u2) / k, b = ((double)(cell / (uint64_t)k) + u3) / k;
         vec3 y, nrm;
@@ -497,7 +499,7 @@ static void pass1_batch(size_t task, int thread, void *user)
 
 static brume_status first_pass(const brume_scene *s, blasi_state *st)
 {
-    uint64_t nrays = s->nlights > 0 && st->nm > 0 ? s->blasi.light_rays : 0;
+    uint64_t nrays = s->nlights > 0 && st->nm > 0 ? blasi_opts(s)->light_rays : 0;
     if (nrays == 0)
         return BRUME_OK;
     pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH};
@@ -630,7 +632,7 @@ static uint64_t scene_hash(const brume_scene *s, const blasi_state *st)
     }
     long ns = s->surf ? surfaces_count(s->surf) : 0, nt = s->surf ? surfaces_triangle_count(s->surf) : 0;
     h = fnv(fnv(h, &ns, sizeof ns), &nt, sizeof nt);
-    int ex = (int)st->exit, src = s->blasi.sources;
+    int ex = (int)st->exit, src = blasi_opts(s)->sources;
     h = fnv(fnv(h, &ex, sizeof ex), &src, sizeof src);
     return fnv_d(fnv_d(h, st->step), st->threshold);
 }
@@ -742,7 +744,8 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     blasi_state *st = calloc(1, sizeof *st);
     if (!st)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory", s->source);
-    const blasi_options *o = &s->blasi;
+    const blasi_options *o = scene_options(s, METHOD_OPTIONS_BLASI);
+    const stam_params *sp = scene_options(s, METHOD_OPTIONS_STAM);
     st->nm = s->nmedia;
     st->step = o->step;
     st->threshold = o->threshold;
@@ -765,9 +768,9 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             break;
         }
         if (bf) {
-            if (!q && s->stam.eps > 0.0) {
+            if (!q && sp->eps > 0.0) {
                 randfield_params rp;
-                stam_randfield_params(&s->stam, stam_blob_extent(s), &rp);
+                stam_randfield_params(sp, s->time, stam_blob_extent(s), &rp);
                 if (!(q = randfield_new(&rp))) {
                     rc = err_prefix("%s: blasi.voxels", s->source);
                     break;
@@ -775,7 +778,7 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             }
             char who[600];
             snprintf(who, sizeof who, "%s: media[%d]: blasi.voxels", s->source, m);
-            if (!(bm->vox = blob_field_grid(bf, o->voxels, q, s->stam.eps, s->stam.eta, who))) {
+            if (!(bm->vox = blob_field_grid(bf, o->voxels, q, sp->eps, sp->eta, who))) {
                 rc = err_status();
                 break;
             }

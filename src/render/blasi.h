@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "core/rng.h"
+#include "render/blasi_options.h"
 #include "render/scene.h"
 
 typedef struct blasi_state blasi_state;

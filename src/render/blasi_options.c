@@ -70,6 +70,7 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
             n.exit_deposit = BLASI_EXIT_NONE;
         else
             return err_set(BRUME_ERROR_PARSE, "blasi.exit_deposit: '%s' is not one of paper, none", value);
+        n.exit_given = true;
     } else if (strcmp(key, "view_attenuation") == 0) {
         if (strcmp(value, "absorption") == 0)
             n.view_attenuation = BLASI_VIEW_ABSORPTION;
@@ -78,16 +79,15 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
         else
             return err_set(BRUME_ERROR_PARSE, "blasi.view_attenuation: '%s' is not one of absorption, extinction",
                            value);
+        n.view_given = true;
     } else if (strcmp(key, "variant") == 0) {
-        if (strcmp(value, "paper") == 0) {
-            n.exit_deposit = BLASI_EXIT_PAPER;
-            n.view_attenuation = BLASI_VIEW_ABSORPTION;
-        } else if (strcmp(value, "physical") == 0) {
-            n.exit_deposit = BLASI_EXIT_NONE;
-            n.view_attenuation = BLASI_VIEW_EXTINCTION;
-        } else {
+        bool paper = strcmp(value, "paper") == 0;
+        if (!paper && strcmp(value, "physical") != 0)
             return err_set(BRUME_ERROR_PARSE, "blasi.variant: '%s' is not one of paper, physical", value);
-        }
+        if (!n.exit_given)
+            n.exit_deposit = paper ? BLASI_EXIT_PAPER : BLASI_EXIT_NONE;
+        if (!n.view_given)
+            n.view_attenuation = paper ? BLASI_VIEW_ABSORPTION : BLASI_VIEW_EXTINCTION;
     } else if (strcmp(key, "voxels") == 0) {
         if (!parse_double(value, 0.0, 2048.0, false, &v) || v != floor(v) || v == 1.0)
             return err_set(BRUME_ERROR_RANGE, "blasi.voxels: '%s' is not 0 or an integer in [2, 2048]", value);
@@ -98,7 +98,7 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
             return err_set(BRUME_ERROR_RANGE, "blasi.%s: path longer than %d bytes", key, BLASI_PATH_MAX - 1);
         snprintf(dst, BLASI_PATH_MAX, "%s", value);
     } else {
-        return err_set(BRUME_ERROR_PARSE, "blasi.%s: unknown option (known: %s)", key, blasi_option_names());
+        return err_set(BRUME_ERROR_PARSE, "blasi.%s: unknown key (known here: %s)", key, blasi_option_names());
     }
     *o = n;
     return BRUME_OK;

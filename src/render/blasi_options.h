@@ -1,6 +1,6 @@
 /* blasi_options.h - the settings of the `blasi` integrator (Blasi, Le Saec and Schlick
- * 1993, Section 4), read from a scene's "blasi" object (io/scene_blasi.c) or set by name
- * through brume_scene_set_option ("blasi.KEY"). Meanings, units and defaults:
+ * 1993, Section 4), set by name through brume_scene_set_option ("blasi.KEY"; a scene
+ * file's "blasi" object is read through it). Meanings, units and defaults:
  * docs/scene-format.md and docs/blasi.md. */
 #ifndef BRUME_RENDER_BLASI_OPTIONS_H
 #define BRUME_RENDER_BLASI_OPTIONS_H
@@ -40,6 +40,7 @@ typedef struct blasi_options {
                                (stam.eps, stam.eta, Q); 0 = blob fields are refused */
     char save_light[BLASI_PATH_MAX]; /* write the first pass's radiance grid here ("" = no) */
     char load_light[BLASI_PATH_MAX]; /* read it from here instead of running the pass */
+    bool exit_given, view_given; /* set by their own keys: `variant` leaves them alone */
 } blasi_options;
 
 void blasi_options_default(blasi_options *o);
@@ -47,7 +48,8 @@ void blasi_options_default(blasi_options *o);
 /* Sets option `key` (without the "blasi." prefix) from its text form, as the scene file
  * would give it: light_rays, r, kprime, step, threshold, sources, exit_deposit
  * (paper|none), view_attenuation (absorption|extinction), variant (paper|physical: both
- * of the previous two), voxels, save_light, load_light. On failure returns an error status with
+ * of the previous two, except one set by its own key, in any order), voxels, save_light,
+ * load_light. On failure returns an error status with
  * err_set() naming "blasi.KEY" and the bad value, and leaves *o unchanged. */
 brume_status blasi_options_set(blasi_options *o, const char *key, const char *value);
 

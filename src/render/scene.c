@@ -8,6 +8,7 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "render/integrator.h"
+#include "render/stam.h"
 
 void scene_default_settings(brume_render_settings *rs)
 {
@@ -41,8 +42,15 @@ brume_scene *scene_new(const char *source)
         return NULL;
     }
     scene_default_settings(&s->settings);
-    blasi_options_default(&s->blasi);
-    stam_params_default(&s->stam);
+    for (int i = 0; i < METHOD_OPTIONS_COUNT; i++) {
+        const method_options_def *def = method_options_def_get((method_options_id)i);
+        if (!(s->options[i] = malloc(def->size))) {
+            brume_scene_release(s);
+            err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", source);
+            return NULL;
+        }
+        def->defaults(s->options[i]);
+    }
     s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
                       .aperture_radius = 0.0, .focus_distance = 1.0, .shutter_open = 0.0, .shutter_close = 0.0};
     s->bg.L = col(0.0);
@@ -50,6 +58,10 @@ brume_scene *scene_new(const char *source)
     s->bg.up = v3(0, 1, 0);
     return s;
 }
+
+static bool world_moves(const brume_scene *s);
+
+const void *scene_options(const brume_scene *s, method_options_id id) { return s->options[id]; }
 
 brume_status scene_check_settings(const char *source, const brume_render_settings *rs)
 {
@@ -115,6 +127,9 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position", s->source));
     c->time = s->time;
     camera_init(c, s->settings.width, s->settings.height);
+    s->world_moves = world_moves(s); /* before voxelization turns moving blobs into grids */
+    if ((st = stam_commit_media(s)) != BRUME_OK)
+        return ctx_report(ctx, st);
     s->has_emission = false;
     for (int m = 0; m < s->nmedia; m++) {
         medium_init(&s->media[m]);
@@ -138,14 +153,19 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 
 double brume_scene_time(const brume_scene *s) { return s->time; }
 
-bool brume_scene_world_is_static(const brume_scene *s) { return !s->world_moves; }
+static bool world_moves(const brume_scene *s)
+{
+    return s->world_moves || surfaces_moving(s->surf) || stam_media_move(s);
+}
+
+bool brume_scene_world_is_static(const brume_scene *s) { return s && !world_moves(s); }
 
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *s, double time)
 {
     err_clear();
     if (!s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: camera time set before commit", s->source));
-    if (s->world_moves)
+    if (world_moves(s))
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE,
                                        "%s: more than the camera moves: load each frame (brume_scene_load_at)",
                                        s->source));
@@ -172,5 +192,7 @@ void brume_scene_release(brume_scene *s)
     free(s->lights);
     background_release(&s->bg);
     surfaces_release(s->surf);
+    for (int i = 0; i < METHOD_OPTIONS_COUNT; i++)
+        free(s->options[i]);
     free(s);
 }

@@ -1,5 +1,6 @@
 /* scene.h - the scene behind brume_scene: camera, lights, media, background, settings.
- * Built unlocked (by the scene file reader or the API), then frozen by commit; rendering
+ * Built unlocked through the public builders (render/scene_build.c, scene_media.c,
+ * scene_shapes.c; the scene file reader is their client), then frozen by commit; rendering
  * reads it from many threads and never writes. */
 #ifndef BRUME_RENDER_SCENE_H
 #define BRUME_RENDER_SCENE_H
@@ -7,32 +8,33 @@
 #include "brume.h"
 #include "medium/medium.h"
 #include "render/background.h"
-#include "render/blasi_options.h"
 #include "render/camera.h"
 #include "render/light.h"
-#include "render/stam_params.h"
+#include "render/method_options.h"
 #include "surface/surfaces.h"
 
 #define SCENE_MAX_MEDIA 16
+#define SCENE_MAX_LIGHTS 4096
 
 struct brume_scene {
     bool committed;
     char source[512]; /* file the scene came from, or "<default scene>" */
     camera cam;
     light *lights; /* owned */
-    int nlights;
+    int nlights, lights_cap;
     medium media[SCENE_MAX_MEDIA];
     int nmedia;
     surfaces *surf;   /* solid objects (owned), or NULL when the scene has none */
     background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
     brume_render_settings settings;
-    blasi_options blasi; /* the blasi integrator's options (render/blasi_options.h) */
-    stam_params stam; /* Stam's stochastic renderer (render/stam.h) */
+    void *options[METHOD_OPTIONS_COUNT]; /* owned: each method's options, opaque here
+                                            (render/method_options.h; scene_options()) */
     bool has_emission; /* some medium has Le > 0 (set by commit) */
     bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
                                   phase sampling (set by commit) */
-    double time;       /* the frame's time, seconds (brume_scene_load_at) */
-    bool world_moves;  /* something besides the camera depends on time (set by the reader) */
+    double time;       /* the frame's time, seconds (brume_scene_set_time) */
+    bool world_moves;  /* something besides the camera depends on time (set by the builders;
+                          brume_scene_world_is_static adds moving surfaces and blobs) */
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
 };
 
@@ -49,6 +51,9 @@ typedef struct scene_prepared {
 
 /* An empty scene with default settings and camera; NULL when out of memory. */
 brume_scene *scene_new(const char *source);
+/* Method `id`'s options struct (render/method_options.h): blasi_options, stam_params. */
+const void *scene_options(const brume_scene *s, method_options_id id);
+
 /* Validates settings (err_set names the field); BRUME_OK when usable. */
 brume_status scene_check_settings(const char *source, const brume_render_settings *rs);
 void scene_default_settings(brume_render_settings *rs);

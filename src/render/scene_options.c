@@ -1,5 +1,5 @@
-/* scene_options.c - brume_scene_set_option: named options of the rendering methods,
- * "METHOD.KEY" = text, as a scene file would give them (docs/scene-format.md). */
+/* scene_options.c - brume_scene_set_option: the one option mechanism of the rendering
+ * methods, "METHOD.KEY" = text, each method parsing its own keys (render/method_options.h). */
 #include <string.h>
 
 #include "core/context.h"
@@ -10,15 +10,19 @@ brume_status brume_scene_set_option(brume_context *ctx, brume_scene *s, const ch
 {
     err_clear();
     if (!s || !key || !value)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_set_option: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_set_option: %s: NULL",
+                                       !s ? "scene" : !key ? "key" : "value"));
     if (s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: option %s set after commit", s->source, key));
+    method_options_id id;
+    const char *rest = NULL;
+    const method_options_def *def = method_options_find(key, &id, &rest);
     brume_status st;
-    if (strncmp(key, "blasi.", 6) == 0)
-        st = blasi_options_set(&s->blasi, key + 6, value);
+    if (def)
+        st = def->set(s->options[id], rest, value);
     else
-        st = err_set(BRUME_ERROR_PARSE, "%s: unknown option (known: blasi.KEY with KEY one of %s)", key,
-                     blasi_option_names());
+        st = err_set(BRUME_ERROR_PARSE, "%.200s: unknown key (known here: METHOD.KEY for METHOD one of %s)", key,
+                     method_options_methods());
     if (st != BRUME_OK)
         err_prefix("%s", s->source);
     return ctx_report(ctx, st);

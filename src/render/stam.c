@@ -58,7 +58,7 @@ vec3 stam_blob_extent(const brume_scene *s)
     return b.lo.x <= b.hi.x ? v3_sub(b.hi, b.lo) : v3(0, 0, 0);
 }
 
-void stam_randfield_params(const stam_params *p, vec3 extent, randfield_params *out)
+void stam_randfield_params(const stam_params *p, double scene_time, vec3 extent, randfield_params *out)
 {
     out->cell = p->cell > 0.0 ? p->cell : p->alpha / 3.0;
     if (p->lattice > 0) {
@@ -86,7 +86,7 @@ void stam_randfield_params(const stam_params *p, vec3 extent, randfield_params *
     }
     out->alpha = p->alpha;
     out->seed = p->seed;
-    out->time = p->time;
+    out->time = p->time + scene_time;
     out->rate = p->rate;
 }
 
@@ -298,7 +298,7 @@ brume_status stam_prepare(const brume_scene *s, void **state)
     if (!st)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory", s->source);
     stam_stats_init();
-    const stam_params *p = &s->stam;
+    const stam_params *p = scene_options(s, METHOD_OPTIONS_STAM);
     st->s = s;
     st->eps = p->eps;
     st->eta = p->eta;
@@ -320,7 +320,7 @@ brume_status stam_prepare(const brume_scene *s, void **state)
     }
     if (st->eps > 0.0) {
         randfield_params rp;
-        stam_randfield_params(p, stam_blob_extent(s), &rp);
+        stam_randfield_params(p, s->time, stam_blob_extent(s), &rp);
         if (!(st->q = randfield_new(&rp))) {
             stam_finish(st);
             return err_prefix("%s: stam", s->source);
@@ -553,7 +553,7 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
             dtau = col_add(dtau, kd);
             color J = sm->emit;
             if (sm->scatters) {
-                color S = st->s->stam.ambient;
+                color S = ((const stam_params *)scene_options(st->s, METHOD_OPTIONS_STAM))->ambient;
                 if (nl < 0)
                     nl = gather_lights(st, ray_at(r, umin + (k + 0.5) * du), g, lin, STAM_MAX_LIGHTS_PER_POINT);
                 for (int l = 0; l < nl; l++)

@@ -1,11 +1,14 @@
-/* stam_params.h - the scene's settings for Stam's stochastic renderer (scene key "stam",
- * docs/scene-format.md): the statistics of the perturbation and the renderer's options. */
+/* stam_params.h - the options of Stam's stochastic renderer, "stam.KEY" through
+ * brume_scene_set_option (a scene file's "stam" object, docs/scene-format.md): the
+ * statistics of the perturbation, the renderer's options and the voxelization of blob
+ * fields for the reference renderers. */
 #ifndef BRUME_RENDER_STAM_PARAMS_H
 #define BRUME_RENDER_STAM_PARAMS_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "brume.h"
 #include "core/color.h"
 
 typedef struct stam_params {
@@ -16,7 +19,8 @@ typedef struct stam_params {
                        fields (stam_randfield_params) */
     double cell;    /* Q's lattice spacing, world units; 0 = alpha / 3 */
     uint64_t seed;  /* Q's realization */
-    double time;    /* scene time: blobs drift to x + v t, Q evolves */
+    double time;    /* the scene's own time, seconds, added to the frame time: blobs drift to
+                       x + v t, Q evolves */
     double rate;    /* Q's base angular frequency in time, radians per unit time */
     color ambient;  /* constant source term standing in for multiple scattering */
     int steps;      /* steps of the average-source-function quadrature per ray */
@@ -25,23 +29,18 @@ typedef struct stam_params {
     bool paper;     /* variant "paper": Eq. 12 and 13 as printed (Var T_i = K_Q(0) eps I_F with
                        K_Q(0) = (2 pi)^(-3/2) alpha^-3, realized with a Q of variance K_Q(0)) and
                        J-bar's shadows from the mean density; false = "corrected" (docs/stam.md) */
+    int voxelize_resolution;   /* > 0: at commit, every blob field becomes a dense trilinear grid
+                                  with this many cells along its longest axis */
+    bool voxelize_realization; /* the grid holds one realization (mean + Q) rather than the mean */
 } stam_params;
 
-static inline void stam_params_default(stam_params *p)
-{
-    p->eps = 0.0;
-    p->eta = 1e30;
-    p->alpha = 0.05;
-    p->lattice = 0;
-    p->cell = 0.0;
-    p->seed = 1;
-    p->time = 0.0;
-    p->rate = 1.0;
-    p->ambient = col(0.0);
-    p->steps = 16;
-    p->light_grid = 32;
-    p->bvh = true;
-    p->paper = false;
-}
+void stam_params_default(stam_params *p);
+/* Sets KEY (without "stam.") from its text form: eps, eta, alpha, lattice, cell, seed, time,
+ * rate, ambient ("v" or "r,g,b"), steps, light_grid, bvh (true|false), variant
+ * (paper|corrected), voxelize.resolution
+ * ([2, 2048], 0 = off), voxelize.realization (true|false). On failure err_set() names
+ * "stam.KEY" and *p is unchanged. lattice: 0 (covering the blob fields) or [2, 512]. */
+brume_status stam_params_set(stam_params *p, const char *key, const char *value);
+const char *stam_param_names(void);
 
 #endif
