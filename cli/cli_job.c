@@ -254,17 +254,20 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
         brume_render_job_release(job);
         return st;
     }
-    char v[64];
-    const brume_render_progress *p = &res->progress;
-    snprintf(v, sizeof v, "%d", p->spp_min);
-    brume_image_set_attribute(ctx, *out, "brume.spp_min", v);
-    snprintf(v, sizeof v, "%d", p->spp_max);
-    brume_image_set_attribute(ctx, *out, "brume.spp_max", v);
-    snprintf(v, sizeof v, "%.3f", p->spp_mean);
-    brume_image_set_attribute(ctx, *out, "brume.spp_mean", v);
-    if (o->noise_target > 0.0) { /* a figure only a whole job has (not an MPI tile split) */
-        snprintf(v, sizeof v, "%.5g", p->noise);
-        brume_image_set_attribute(ctx, *out, "brume.noise", v);
+    /* the figures of a budgeted render (a fixed count is the command's own --spp) */
+    if (o->noise_target > 0.0 || o->time_budget > 0.0) {
+        char v[64];
+        const brume_render_progress *p = &res->progress;
+        snprintf(v, sizeof v, "%d", p->spp_min);
+        brume_image_set_attribute(ctx, *out, "brume.spp_min", v);
+        snprintf(v, sizeof v, "%d", p->spp_max);
+        brume_image_set_attribute(ctx, *out, "brume.spp_max", v);
+        snprintf(v, sizeof v, "%.3f", p->spp_mean);
+        brume_image_set_attribute(ctx, *out, "brume.spp_mean", v);
+        if (o->noise_target > 0.0) {
+            snprintf(v, sizeof v, "%.5g", p->noise);
+            brume_image_set_attribute(ctx, *out, "brume.noise", v);
+        }
     }
     if (res->interrupted)
         brume_image_set_attribute(ctx, *out, "brume.partial", "yes");

