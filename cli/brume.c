@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "args.h"
 #include "brume.h"
 #include "commands.h"
 
@@ -21,6 +22,7 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
+    args_split_equals(&argc, &argv); /* --key=value as --key value, for every command */
     const char *cmd = argv[1];
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
         printf("brume %s\n", brume_version());

@@ -6,13 +6,15 @@
 #include <stdio.h>
 
 #include "commands.h"
+#include "core/error.h"
 
 void cli_error(const char *fmt, ...)
 {
+    /* formatted as the library's messages are: control characters in arguments escaped */
+    char msg[2048];
     va_list ap;
     va_start(ap, fmt);
-    fputs("brume: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    err_vformat(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    fprintf(stderr, "brume: %s\n", msg);
 }

@@ -41,22 +41,22 @@ int cmd_compare(int argc, char **argv)
     int rc = 1;
     image_diff_stats st;
     if (brume_image_read(ctx, paths[0], &img) != BRUME_OK || brume_image_read(ctx, paths[1], &ref) != BRUME_OK) {
-        cli_error("%s", brume_context_last_error(ctx));
+        cli_error("%.1000s", brume_context_last_error(ctx));
         goto done;
     }
     if (image_compare(img, ref, &st) != BRUME_OK) {
-        cli_error("%s: %s", paths[0], err_message());
+        cli_error("%s: %.1000s", paths[0], err_message());
         goto done;
     }
     printf("rmse %.6g\nrel_rmse %.6g\nmean_rel %.6g\nmax_rel %.6g\nmean %.6g\nmean_ref %.6g\n", st.rmse, st.rel_rmse,
            st.mean_rel, st.max_rel, st.mean_img, st.mean_ref);
     if (diff) {
         if (image_diff_picture(img, ref, scale, &pic) != BRUME_OK) {
-            cli_error("%s", err_message());
+            cli_error("%.1000s", err_message());
             goto done;
         }
         if (brume_image_write(ctx, pic, diff, NULL) != BRUME_OK) {
-            cli_error("%s", brume_context_last_error(ctx));
+            cli_error("%.1000s", brume_context_last_error(ctx));
             goto done;
         }
     }

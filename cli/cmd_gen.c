@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "args.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "core/error.h"
@@ -65,9 +66,8 @@ int cmd_gen(int argc, char **argv)
         else if (strcmp(f, "--dims") == 0)
             ok = cli_parse_dims(v, p.n);
         else if (strcmp(f, "--seed") == 0) {
-            char *end;
-            p.seed = strtoull(v, &end, 10);
-            ok = *v && *end == '\0';
+            if (!arg_u64(f, v, &p.seed)) /* digits only: "-1" is refused, not wrapped */
+                return 2;
         } else if (strcmp(f, "--method") == 0) {
             ok = true;
             if (strcmp(v, "midpoint") == 0)
@@ -137,13 +137,13 @@ int cmd_gen(int argc, char **argv)
     }
     density *d = fractal_cloud(&p, bounds, GRID_NEAREST);
     if (!d) {
-        cli_error("gen: %s", err_message());
+        cli_error("gen: %.1000s", err_message());
         return 2;
     }
     brume_status s = density_write_file(d, out, GRID_FORMAT_AUTO);
     density_release(d);
     if (s != BRUME_OK) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     return 0;

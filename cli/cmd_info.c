@@ -44,7 +44,7 @@ int cmd_info(int argc, char **argv)
     grid_format fmt = o.format != GRID_FORMAT_AUTO ? o.format : grid_format_detect(path, head, nhead);
     density *d = density_load_file(path, &o);
     if (!d) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     density_info in;

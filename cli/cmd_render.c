@@ -86,9 +86,12 @@ static int pattern_kind(const char *p)
             continue;
         }
         p++;
-        while (*p >= '0' && *p <= '9')
+        int digits = 0;
+        while (*p >= '0' && *p <= '9') {
             p++;
-        if (*p != 'd')
+            digits++;
+        }
+        if (*p != 'd' || digits > 2) /* a width up to 99: frame_path's sum cannot overflow */
             return -1;
         convs++;
     }
@@ -455,7 +458,7 @@ int cmd_render(int argc, char **argv)
     long nframes = sequence ? last - first + 1 : 1;
     int kind = pattern_kind(out_path);
     if (kind < 0) {
-        cli_error("-o: '%s': use one %%d conversion (such as %%04d) for the frame number, and %%%% for a percent "
+        cli_error("-o: '%s': use one %%d conversion (such as %%04d, width at most 99) for the frame number, and %%%% for a percent "
                   "sign", out_path);
         return 2;
     }
@@ -703,7 +706,7 @@ int cmd_render(int argc, char **argv)
     }
     goto done;
 fail:
-    cli_error("%s", brume_context_last_error(ctx));
+    cli_error("%.1000s", brume_context_last_error(ctx));
 done:
     if (rc != 0 && d.size > 1)
         dist_abort(&d, rc);

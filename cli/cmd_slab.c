@@ -90,7 +90,7 @@ int cmd_slab(int argc, char **argv)
         ph = phase_new_from_name(phase_name);
     }
     if (!ph) {
-        cli_error("slab: --phase: %s", err_message());
+        cli_error("slab: --phase: %.1000s", err_message());
         return 1;
     }
     p.ph = ph;
@@ -98,7 +98,7 @@ int cmd_slab(int argc, char **argv)
     brume_status st = slab_run(&p, &r);
     phase_release(ph);
     if (st != BRUME_OK) {
-        cli_error("%s", err_message());
+        cli_error("%.1000s", err_message());
         return 1;
     }
     printf("Rd %.6f %.6f\n", r.Rd, r.Rd_stderr);

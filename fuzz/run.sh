@@ -1,11 +1,12 @@
 #!/bin/sh
-# run.sh - build one grid reader's libFuzzer target with clang and run it briefly.
-# Usage: fuzz/run.sh FORMAT BUILD_DIR SECONDS   (FORMAT: raw df3 vol nvdb vdb)
+# run.sh - build one libFuzzer target (a grid reader, or the scene reader) with clang and run it briefly.
+# Usage: fuzz/run.sh FORMAT BUILD_DIR SECONDS   (FORMAT: raw df3 vol nvdb vdb, or scene)
+# FUZZ_RUNS=N runs N inputs instead of SECONDS (the long runs of docs/fuzzing.md).
 # Crashing inputs are saved as BUILD_DIR/fuzz/crash-FORMAT-*. Seeds: BUILD_DIR/fuzz/seeds/FORMAT (made by the fuzz_seeds program) and, for df3, raw
 # and vdb, the real files of ../shared/data. Exits 77 (ctest: skipped) without clang's
 # libFuzzer, or without OpenVDB for vdb.
 set -eu
-fmt=$1 build=$2 secs=$3
+fmt=$1 build=$(cd "$2" && pwd) secs=$3
 src=$(cd "$(dirname "$0")/.." && pwd)
 data="$src/../shared/data"
 out="$build/fuzz"
@@ -19,7 +20,14 @@ upper=$(echo "$fmt" | tr a-z A-Z)
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
 csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
-if [ "$fmt" = vdb ]; then
+if [ "$fmt" = scene ]; then
+    # the whole library but OpenVDB (C++), and the default scene CMake generated
+    flags=$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_SCENE//')
+    csrc="$src/fuzz/fuzz_scene.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c"
+    # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
+    clang -std=c11 $flags "-DBUDGET_DEFAULT_BYTES=((size_t)4<<20)" "-DBUDGET_MAX_BYTES=((size_t)4<<20)" -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp) \
+        $csrc -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3 assimp) -lOpenEXRCore -lembree3 -lpthread -lm
+elif [ "$fmt" = vdb ]; then
     # OpenVDB's TBB headers trip UBSan in their own code (concurrent_hash_map); ASan only
     flags=$(echo "$flags" | sed 's/,undefined//')
     [ -f /usr/include/openvdb/openvdb.h ] && [ -f /usr/include/boost/numeric/conversion/conversion_traits.hpp ] ||
@@ -39,6 +47,8 @@ seeds="$build/fuzz/seeds/$fmt"
 mkdir -p "$seeds"
 extra=""
 case $fmt in
+    scene) for f in "$src"/scenes/*.json; do cp "$f" "$out/corpus-scene/"; done
+           for f in "$src"/tests/bad/scenes/*.json; do cp "$f" "$out/corpus-scene/bad-$(basename "$f")"; done ;;
     df3) extra="$data/spiral.df3" ;;
     vdb) extra="$data/box_fog_21cube.vdb" ;;
     raw) head -c 4099 "$data/cloud64.raw" > "$out/corpus-raw/cloud64-head" ;;
@@ -63,9 +73,15 @@ if [ "$fmt" = vdb ] && [ "${FUZZ_VDB_MUTATE:-0}" != 1 ]; then
     runs="-runs=0"
     rm -rf "$out/corpus-vdb" && mkdir -p "$out/corpus-vdb" && cp "$data/box_fog_21cube.vdb" "$data/wdas_cloud_sixteenth.vdb" "$out/corpus-vdb/"
 fi
+if [ -n "${FUZZ_RUNS:-}" ]; then
+    runs="-runs=$FUZZ_RUNS"
+    secs=0
+fi
+work="$out/work-$fmt" # scenes name files relative to where they run: an empty folder
+mkdir -p "$work"
 rc=0
-"$exe" $runs -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -error_exitcode=1 \
+(cd "$work" && "$exe" $runs -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -error_exitcode=1 \
     -detect_leaks=$leaks -artifact_prefix="$out/crash-$fmt-" \
-    "$out/corpus-$fmt" "$seeds" > "$out/log-$fmt.txt" 2>&1 || rc=$?
+    "$out/corpus-$fmt" "$seeds") > "$out/log-$fmt.txt" 2>&1 || rc=$?
 tail -n 30 "$out/log-$fmt.txt"
 exit $rc

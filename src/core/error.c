@@ -1,18 +1,207 @@
-/* error.c - thread-local last error, status strings, and the context's error hand-off. */
+/* error.c - thread-local last error, status strings, and the context's error hand-off.
+ *
+ * Every message is formatted by err_vformat, the one place where text from input (a key,
+ * a file name, a value quoted from a file) enters a message: each string argument (%s) has
+ * its control characters escaped (newline as \n, tab as \t, escape as \x1b, ...) and is
+ * cut after ERR_ARG_MAX bytes, so that a message is always one line and a hostile key
+ * cannot write to the terminal. */
 #include "core/error.h"
 
 #include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
 static _Thread_local char err_buf[1024];
 static _Thread_local brume_status err_code = BRUME_OK;
 
+/* Appends s to out[*k], escaping control bytes and cutting after ERR_ARG_MAX input bytes,
+ * or after prec bytes when a precision was given (then without the "..."). */
+static void put_escaped(char *out, size_t n, size_t *k, const char *s, int prec)
+{
+    size_t len = s ? strnlen(s, prec >= 0 ? (size_t)prec : SIZE_MAX) : 6;
+    if (!s)
+        s = "(null)";
+    size_t max = prec >= 0 ? (size_t)prec : ERR_ARG_MAX;
+    bool cut = prec < 0 && len > max;
+    if (cut) {
+        len = max;
+        while (len > 0 && ((unsigned char)s[len] & 0xC0) == 0x80) /* not inside a UTF-8 sequence */
+            len--;
+    }
+    for (size_t i = 0; i < len && *k + 1 < n; i++) {
+        unsigned char c = (unsigned char)s[i];
+        char esc[8];
+        const char *e = NULL;
+        if (c == '\n')
+            e = "\\n";
+        else if (c == '\r')
+            e = "\\r";
+        else if (c == '\t')
+            e = "\\t";
+        else if (c < 0x20 || c == 0x7f) {
+            snprintf(esc, sizeof esc, "\\x%02x", c);
+            e = esc;
+        }
+        if (!e) {
+            out[(*k)++] = (char)c;
+            continue;
+        }
+        for (; *e && *k + 1 < n; e++)
+            out[(*k)++] = *e;
+    }
+    if (cut)
+        for (const char *e = "..."; *e && *k + 1 < n; e++)
+            out[(*k)++] = *e;
+    out[*k] = '\0';
+}
+
+void err_vformat(char *out, size_t n, const char *fmt, va_list ap)
+{
+    if (n == 0)
+        return;
+    size_t k = 0;
+    out[0] = '\0';
+    for (const char *p = fmt; *p && k + 1 < n;) {
+        if (*p != '%') {
+            unsigned char c = (unsigned char)*p++;
+            out[k++] = c < 0x20 || c == 0x7f ? ' ' : (char)c;
+            out[k] = '\0';
+            continue;
+        }
+        /* one conversion: %[flags][width][.precision][length]conv */
+        char spec[32];
+        size_t s = 0;
+        const char *q = p + 1;
+        spec[s++] = '%';
+        int star_w = 0, star_p = 0, have_w = 0, have_p = 0, prec = -1;
+        while (*q && strchr("-+ #0", *q) && s < 8)
+            spec[s++] = *q++;
+        if (*q == '*') {
+            star_w = 1;
+            spec[s++] = *q++;
+        } else {
+            while (*q >= '0' && *q <= '9' && s < 16)
+                spec[s++] = *q++;
+        }
+        if (*q == '.') {
+            spec[s++] = *q++;
+            if (*q == '*') {
+                star_p = 1;
+                spec[s++] = *q++;
+            } else {
+                prec = 0;
+                while (*q >= '0' && *q <= '9' && s < 24) {
+                    prec = 10 * prec + (*q - '0');
+                    spec[s++] = *q++;
+                }
+            }
+        }
+        char len[3] = "";
+        size_t ln = 0;
+        while (*q && strchr("hlLzjt", *q) && ln < 2)
+            len[ln++] = *q++;
+        len[ln] = '\0';
+        char conv = *q;
+        if (!conv)
+            break;
+        spec[s++] = conv;
+        spec[s] = '\0';
+        p = q + 1;
+        int w = 0, pr = 0;
+        if (star_w) {
+            w = va_arg(ap, int);
+            have_w = 1;
+        }
+        if (star_p) {
+            pr = va_arg(ap, int);
+            have_p = 1;
+            prec = pr;
+        }
+        char tmp[512];
+        tmp[0] = '\0';
+#define EMIT(v)                                                                                 \
+    do {                                                                                        \
+        if (have_w && have_p)                                                                   \
+            snprintf(tmp, sizeof tmp, spec, w, pr, v);                                          \
+        else if (have_w)                                                                        \
+            snprintf(tmp, sizeof tmp, spec, w, v);                                              \
+        else if (have_p)                                                                        \
+            snprintf(tmp, sizeof tmp, spec, pr, v);                                             \
+        else                                                                                    \
+            snprintf(tmp, sizeof tmp, spec, v);                                                 \
+    } while (0)
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+#endif
+        switch (conv) {
+        case '%': snprintf(tmp, sizeof tmp, "%%"); break;
+        case 'd':
+        case 'i':
+            if (!strcmp(len, "l")) EMIT(va_arg(ap, long));
+            else if (!strcmp(len, "ll")) EMIT(va_arg(ap, long long));
+            else if (!strcmp(len, "z")) EMIT(va_arg(ap, ptrdiff_t));
+            else if (!strcmp(len, "j")) EMIT(va_arg(ap, intmax_t));
+            else if (!strcmp(len, "t")) EMIT(va_arg(ap, ptrdiff_t));
+            else EMIT(va_arg(ap, int));
+            break;
+        case 'u':
+        case 'x':
+        case 'X':
+        case 'o':
+            if (!strcmp(len, "l")) EMIT(va_arg(ap, unsigned long));
+            else if (!strcmp(len, "ll")) EMIT(va_arg(ap, unsigned long long));
+            else if (!strcmp(len, "z")) EMIT(va_arg(ap, size_t));
+            else if (!strcmp(len, "j")) EMIT(va_arg(ap, uintmax_t));
+            else if (!strcmp(len, "t")) EMIT(va_arg(ap, size_t));
+            else EMIT(va_arg(ap, unsigned));
+            break;
+        case 'f':
+        case 'F':
+        case 'e':
+        case 'E':
+        case 'g':
+        case 'G':
+        case 'a':
+        case 'A':
+            if (!strcmp(len, "L")) EMIT(va_arg(ap, long double));
+            else EMIT(va_arg(ap, double));
+            break;
+        case 'c': {
+            char one[2] = {(char)va_arg(ap, int), '\0'};
+            put_escaped(out, n, &k, one, -1);
+            continue;
+        }
+        case 'p': EMIT(va_arg(ap, void *)); break;
+        case 's': put_escaped(out, n, &k, va_arg(ap, const char *), prec); continue;
+        default: snprintf(tmp, sizeof tmp, "?"); break; /* not a conversion brume uses */
+        }
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+#undef EMIT
+        for (const char *t = tmp; *t && k + 1 < n; t++)
+            out[k++] = *t;
+        out[k] = '\0';
+    }
+    out[k] = '\0';
+}
+
+void err_format(char *out, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    err_vformat(out, n, fmt, ap);
+    va_end(ap);
+}
+
 brume_status err_set(brume_status status, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(err_buf, sizeof err_buf, fmt, ap);
+    err_vformat(err_buf, sizeof err_buf, fmt, ap);
     va_end(ap);
     err_code = status;
     return status;
@@ -26,7 +215,7 @@ brume_status err_prefix(const char *fmt, ...)
     snprintf(old, sizeof old, "%s", err_buf);
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(head, sizeof head, fmt, ap);
+    err_vformat(head, sizeof head, fmt, ap);
     va_end(ap);
     size_t hl = strlen(head), ol = strlen(old), cap = sizeof err_buf - 1;
     if (hl > cap - 2)

@@ -8,6 +8,9 @@
 #ifndef BRUME_CORE_ERROR_H
 #define BRUME_CORE_ERROR_H
 
+#include <stdarg.h>
+#include <stddef.h>
+
 #include "brume.h"
 
 #if defined(__GNUC__)
@@ -15,6 +18,17 @@
 #else
 #define BRUME_PRINTF(a, b)
 #endif
+
+/* Longest string argument (bytes) a message quotes; longer ones are cut and end in "...". */
+#define ERR_ARG_MAX 200
+
+/* printf-style formatting into out[n] as every message is formatted: string arguments
+ * (%s, %c) have control characters escaped (\n, \t, \x1b, ...) and a plain %s is cut after
+ * ERR_ARG_MAX bytes (keys, names and values quoted from input); a %s with an explicit
+ * precision ("%.1000s") is cut at that precision instead: the form for passing on a whole
+ * message formatted before. Control characters in fmt itself become spaces. One line. */
+void err_vformat(char *out, size_t n, const char *fmt, va_list ap);
+void err_format(char *out, size_t n, const char *fmt, ...) BRUME_PRINTF(3, 4);
 
 /* Record status and message (printf format) for this thread; returns status. */
 brume_status err_set(brume_status status, const char *fmt, ...) BRUME_PRINTF(2, 3);

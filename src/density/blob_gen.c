@@ -4,6 +4,7 @@
  * parameters only. */
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "density/blobs.h"
@@ -15,8 +16,11 @@ brume_status blob_list_push(blob_list *l, blob b)
 {
     if (l->n == l->cap) {
         int cap = l->cap ? 2 * l->cap : 64;
-        if (cap > (1 << 24))
-            return err_set(BRUME_ERROR_RANGE, "blobs: more than %d blobs", 1 << 24);
+        if (cap > BLOB_MAX_COUNT)
+            return err_set(BRUME_ERROR_RANGE, "blobs: more than %d blobs", BLOB_MAX_COUNT);
+        /* the list and, once built, the field with its hierarchy: counted before allocating */
+        if (budget_take((size_t)(cap - l->cap) * BLOB_BYTES, "blobs") != BRUME_OK)
+            return err_status();
         blob *nb = realloc(l->b, (size_t)cap * sizeof *nb);
         if (!nb)
             return err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory for %d blobs", cap);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/stats.h"
 #include "density/density_impl.h"
@@ -369,6 +370,38 @@ static bool blobs_build_majorant(density *d)
     return true;
 }
 
+/* The cells per axis of a blob field's majorant grid over bounds (density_new_blobs). */
+static void majorant_dims(box3 bounds, int majorant_cells, int n[3])
+{
+    vec3 ext = v3_sub(bounds.hi, bounds.lo);
+    double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    for (int a = 0; a < 3; a++)
+        n[a] = (int)fmax(1.0, fmin((double)majorant_cells, ceil(majorant_cells * v3_get(ext, a) / longest)));
+}
+
+double blob_majorant_pairs(const blob *b, int n, double cutoff, int majorant_cells)
+{
+    box3 bounds = box3_empty();
+    for (int i = 0; i < n; i++)
+        bounds = box_union(bounds, sphere_box(b[i].x, cutoff * b[i].h));
+    int mn[3];
+    majorant_dims(bounds, majorant_cells, mn);
+    vec3 cs = v3((bounds.hi.x - bounds.lo.x) / mn[0], (bounds.hi.y - bounds.lo.y) / mn[1],
+                 (bounds.hi.z - bounds.lo.z) / mn[2]);
+    double pairs = 0.0;
+    for (int i = 0; i < n; i++) {
+        double R = cutoff * b[i].h, cells = 1.0;
+        for (int a = 0; a < 3; a++) {
+            double l = v3_get(bounds.lo, a), s = v3_get(cs, a), x = v3_get(b[i].x, a);
+            double lo = s > 0.0 ? fmax(0.0, floor((x - R - l) / s)) : 0.0;
+            double hi = s > 0.0 ? fmin((double)mn[a] - 1, floor((x + R - l) / s)) : 0.0;
+            cells *= hi >= lo ? hi - lo + 1.0 : 1.0;
+        }
+        pairs += cells;
+    }
+    return pairs;
+}
+
 density *density_new_blobs(blob_field *f, int majorant_cells)
 {
     if (majorant_cells < 1 || majorant_cells > 512) {
@@ -383,9 +416,7 @@ density *density_new_blobs(blob_field *f, int majorant_cells)
     d->kind = DENSITY_BLOBS;
     d->filter = GRID_TRILINEAR;
     vec3 ext = v3_sub(f->bounds.hi, f->bounds.lo);
-    double longest = fmax(ext.x, fmax(ext.y, ext.z));
-    for (int a = 0; a < 3; a++)
-        d->n[a] = (int)fmax(1.0, fmin((double)majorant_cells, ceil(majorant_cells * v3_get(ext, a) / longest)));
+    majorant_dims(f->bounds, majorant_cells, d->n);
     /* "voxel space" is majorant-cell space: one majorant cell per voxel */
     affine3 v2w = {{ext.x / d->n[0], 0, 0, f->bounds.lo.x, 0, ext.y / d->n[1], 0, f->bounds.lo.y, 0, 0,
                     ext.z / d->n[2], f->bounds.lo.z}};
@@ -442,12 +473,18 @@ density *blob_field_grid(const blob_field *f, int resolution, const randfield *q
     int n[3];
     for (int a = 0; a < 3; a++)
         n[a] = (int)fmax(1.0, ceil(resolution * v3_get(ext, a) / longest));
-    float *data = malloc((size_t)n[0] * (size_t)n[1] * (size_t)n[2] * sizeof *data);
+    size_t cells = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+    /* the grid stays in the memory budget; blob_field_voxelize's two accumulators are
+     * given back once it is done */
+    if (budget_take(cells * sizeof(float), who) != BRUME_OK || budget_take(cells * 2 * sizeof(double), who) != BRUME_OK)
+        return NULL;
+    float *data = malloc(cells * sizeof *data);
     if (!data) {
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d x %d x %d voxels", who, n[0], n[1], n[2]);
         return NULL;
     }
     blob_field_voxelize(f, n, b, q, v3_scale(f->velocity, f->time), eps, eta, data);
+    budget_give(cells * 2 * sizeof(double));
     density *g = density_new_grid(n[0], n[1], n[2], data, b, GRID_TRILINEAR);
     if (!g) {
         free(data);

@@ -23,6 +23,13 @@
 #include "density/randfield.h"
 
 #define BLOB_DEFAULT_CUTOFF 3.0
+/* Limits of a blob field from a file (docs/scene-format.md, "Limits"): at most this many
+ * blobs; each counts BLOB_BYTES against the memory budget (blob, derived terms, hierarchy
+ * and its build); and the blob-cell pairs of the majorant grid (blob_majorant_pairs), the
+ * work of building it, at most BLOB_MAX_PAIRS (about 2 s). */
+#define BLOB_MAX_COUNT (1 << 24)
+#define BLOB_BYTES 256
+#define BLOB_MAX_PAIRS 3e7
 
 /* One blob: centre x (world), mass m (world units^3: the integral of its density), and
  * radius h (standard deviation of the gaussian kernel, world units). */
@@ -52,6 +59,9 @@ typedef struct blob_field {
  * NULL with err_set() naming `who` on bad blobs or no memory. */
 blob_field *blob_field_new(const blob *b, int n, double cutoff, const char *who);
 void blob_field_release(blob_field *f);
+/* How many (blob, cell) pairs building the majorant grid of majorant_cells cells along the
+ * longest axis would visit for these n blobs truncated at cutoff h: O(n), before building. */
+double blob_majorant_pairs(const blob *b, int n, double cutoff, int majorant_cells);
 /* Moves every blob to x_i + velocity t (t measured from the positions given to _new) and
  * rebuilds the hierarchy. BRUME_OK or an out-of-memory error. */
 brume_status blob_field_at_time(blob_field *f, vec3 velocity, double t);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/rng.h"
 
@@ -316,7 +317,24 @@ float *fractal_cloud_voxels(const fractal_params *p)
                 "turbulence >= 0, frequencies and density > 0, finite time and rates");
         return NULL;
     }
+    /* the memory budget, before anything is allocated: the grid stays, the lattice or the
+     * Fourier coefficients are given back when the base is made */
+    size_t count = (size_t)p->n[0] * (size_t)p->n[1] * (size_t)p->n[2], temp = 0;
+    if (p->method == FRACTAL_MIDPOINT) {
+        int nmax = p->n[0] > p->n[1] ? p->n[0] : p->n[1], L = 1;
+        nmax = p->n[2] > nmax ? p->n[2] : nmax;
+        while ((1 << L) + 1 < nmax)
+            L++;
+        size_t N = ((size_t)1 << L) + 1;
+        temp = N * N * N * sizeof(float);
+    } else if (p->method == FRACTAL_SPECTRAL) {
+        temp = count * (2 * sizeof(double) + sizeof(double));
+    }
+    if (budget_take(count * sizeof(float), "fractal cloud grid") != BRUME_OK ||
+        budget_take(temp, "fractal cloud lattice") != BRUME_OK)
+        return NULL;
     float *f = fractal_base(p);
+    budget_give(temp);
     if (!f)
         return NULL;
     perlin_table t;

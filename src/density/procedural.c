@@ -1,6 +1,7 @@
 /* procedural.c - the default scene's cloud: value-noise fBm carved by a cumulus shape. */
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "density/density.h"
@@ -71,6 +72,8 @@ density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds)
         return NULL;
     }
     size_t count = (size_t)n * (size_t)n * (size_t)n;
+    if (budget_take(count * sizeof(float), "procedural cloud") != BRUME_OK)
+        return NULL;
     float *data = malloc(count * sizeof *data);
     if (!data) {
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "procedural cloud: out of memory for %d^3 voxels", n);

@@ -5,6 +5,7 @@
 #include <fftw3.h>
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/rng.h"
 
@@ -71,8 +72,12 @@ randfield *randfield_new(const randfield_params *p)
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "random field: need lattice sizes in [2, 512], cell > 0, alpha > 0");
         return NULL;
     }
-    randfield *q = calloc(1, sizeof *q);
     size_t count = (size_t)p->n[0] * (size_t)p->n[1] * (size_t)p->n[2];
+    /* the lattice stays; its complex Fourier coefficients are given back once synthesized */
+    if (budget_take(count * sizeof(float), "random field lattice") != BRUME_OK ||
+        budget_take(count * 2 * sizeof(double), "random field lattice (Fourier coefficients)") != BRUME_OK)
+        return NULL;
+    randfield *q = calloc(1, sizeof *q);
     if (q)
         q->q = malloc(count * sizeof *q->q);
     if (!q || !q->q) {
@@ -83,7 +88,9 @@ randfield *randfield_new(const randfield_params *p)
     for (int a = 0; a < 3; a++)
         q->n[a] = p->n[a];
     q->inv_cell = 1.0 / p->cell;
-    if (randfield_synthesize(p, 0, q->q, NULL) != BRUME_OK) {
+    brume_status st = randfield_synthesize(p, 0, q->q, NULL);
+    budget_give(count * 2 * sizeof(double));
+    if (st != BRUME_OK) {
         randfield_release(q);
         return NULL;
     }

@@ -4,13 +4,19 @@
  * destination atomically (POSIX rename: "If the link named by the new argument exists, it
  * shall be removed and old renamed to new ... a link named new shall remain visible to
  * other threads throughout the renaming operation"). Data are fsync'ed before the rename
- * so that a crash cannot leave a renamed but empty file. */
+ * so that a crash cannot leave a renamed but empty file.
+ *
+ * Interruption: while a temporary file exists its name is in a small table, and the first
+ * atomic_open installs handlers for SIGINT, SIGTERM, SIGHUP and SIGPIPE (only where the
+ * disposition is still the default: a program's own handlers win and are expected to
+ * return to atomic_abort) that remove every listed temporary file, restore the default
+ * and re-raise, so that an interrupted write leaves nothing behind. */
 #include "io/atomic.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdatomic.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -20,40 +26,66 @@
 
 static const char tmp_suffix[] = ".tmp-XXXXXX";
 
-/* The temporary files of writes in progress, for brume_remove_temporaries (a signal
- * handler): a slot is filled, then published by setting `used`; the handler reads only
- * published slots. */
-enum { TMP_SLOTS = 8 };
-static struct {
-    atomic_int used; /* 0 free, 1 claimed (being filled), 2 published */
-    char path[4096];
-} tmp_slots[TMP_SLOTS];
+/* ---- temporary files removed on a fatal signal ------------------------------------------- */
 
-static int tmp_register(const char *path)
+#define ATOMIC_SLOTS 16 /* temporary files open at once (one per writer thread is typical) */
+static char slot_path[ATOMIC_SLOTS][sizeof(((atomic_file *)0)->tmp_path)];
+static atomic_int slot_state[ATOMIC_SLOTS]; /* 0 free, 1 being filled or emptied, 2 listed */
+static atomic_flag handlers_installed = ATOMIC_FLAG_INIT;
+static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+
+static void cleanup_on_signal(int sig)
 {
-    for (int i = 0; i < TMP_SLOTS; i++) {
+    for (int i = 0; i < ATOMIC_SLOTS; i++)
+        if (atomic_load(&slot_state[i]) == 2)
+            (void)unlink(slot_path[i]); /* async-signal-safe */
+    struct sigaction dfl;
+    memset(&dfl, 0, sizeof dfl);
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
+    (void)sigaction(sig, &dfl, NULL);
+    (void)raise(sig);
+}
+
+static void install_handlers(void)
+{
+    if (atomic_flag_test_and_set(&handlers_installed))
+        return;
+    for (size_t i = 0; i < sizeof cleanup_signals / sizeof cleanup_signals[0]; i++) {
+        struct sigaction old;
+        if (sigaction(cleanup_signals[i], NULL, &old) != 0 || (old.sa_flags & SA_SIGINFO) ||
+            old.sa_handler != SIG_DFL)
+            continue; /* ignored, or the program's own handler */
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = cleanup_on_signal;
+        sigemptyset(&sa.sa_mask);
+        (void)sigaction(cleanup_signals[i], &sa, NULL);
+    }
+}
+
+/* Lists tmp for removal on a signal; -1 when the table is full (the file is then only
+ * removed by atomic_commit or atomic_abort). */
+static int slot_take(const char *tmp)
+{
+    install_handlers();
+    for (int i = 0; i < ATOMIC_SLOTS; i++) {
         int expect = 0;
-        if (atomic_compare_exchange_strong(&tmp_slots[i].used, &expect, 1)) {
-            snprintf(tmp_slots[i].path, sizeof tmp_slots[i].path, "%s", path);
-            atomic_store(&tmp_slots[i].used, 2);
+        if (atomic_compare_exchange_strong(&slot_state[i], &expect, 1)) {
+            snprintf(slot_path[i], sizeof slot_path[i], "%s", tmp);
+            atomic_store(&slot_state[i], 2);
             return i;
         }
     }
-    return -1; /* more than TMP_SLOTS writes at once: this one is not tracked */
+    return -1;
 }
 
-static void tmp_unregister(atomic_file *f)
+static void slot_release(atomic_file *f)
 {
-    if (f->slot >= 0)
-        atomic_store(&tmp_slots[f->slot].used, 0);
-    f->slot = -1;
-}
-
-void brume_remove_temporaries(void)
-{
-    for (int i = 0; i < TMP_SLOTS; i++)
-        if (atomic_load(&tmp_slots[i].used) == 2)
-            unlink(tmp_slots[i].path); /* async-signal-safe */
+    int i = f->slot - 1;
+    f->slot = 0;
+    if (i >= 0 && i < ATOMIC_SLOTS)
+        atomic_store(&slot_state[i], 0);
 }
 
 /* Splits path into its folder ("." when none) and its last component. */
@@ -90,7 +122,6 @@ static mode_t default_file_mode(void)
 brume_status atomic_open(atomic_file *f, const char *path)
 {
     memset(f, 0, sizeof *f);
-    f->slot = -1;
     if (!path || !*path)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "atomic write: empty path");
     if (strlen(path) >= sizeof f->path)
@@ -107,14 +138,22 @@ brume_status atomic_open(atomic_file *f, const char *path)
     }
     memcpy(f->path, path, strlen(path) + 1);
 
+    /* blocked while the file is created and listed: a signal in between cannot leave it */
+    sigset_t block, prev;
+    sigemptyset(&block);
+    for (size_t i = 0; i < sizeof cleanup_signals / sizeof cleanup_signals[0]; i++)
+        sigaddset(&block, cleanup_signals[i]);
+    pthread_sigmask(SIG_BLOCK, &block, &prev);
     int fd = mkstemp(f->tmp_path);
+    if (fd >= 0)
+        f->slot = slot_take(f->tmp_path) + 1;
+    pthread_sigmask(SIG_SETMASK, &prev, NULL);
     if (fd < 0) {
         int e = errno;
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: cannot create a temporary file in '%s': %s", path, dir,
                        strerror(e));
     }
-    f->slot = tmp_register(f->tmp_path);
     /* Keep the mode of a file being replaced, else what open(2) would have given. */
     struct stat old;
     mode_t mode = stat(path, &old) == 0 && S_ISREG(old.st_mode) ? (mode_t)(old.st_mode & 07777)
@@ -123,7 +162,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         int e = errno;
         close(fd);
         remove(f->tmp_path);
-        tmp_unregister(f);
+        slot_release(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: cannot set the mode of the temporary file: %s", path,
                        strerror(e));
@@ -133,7 +172,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         int e = errno;
         close(fd);
         remove(f->tmp_path);
-        tmp_unregister(f);
+        slot_release(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: cannot open the temporary file: %s", path, strerror(e));
     }
@@ -184,11 +223,11 @@ brume_status atomic_commit(atomic_file *f)
     }
     if (what) {
         remove(f->tmp_path);
-        tmp_unregister(f);
+        slot_release(f);
         f->tmp_path[0] = '\0';
         return err_set(BRUME_ERROR_IO, "%s: %s: %s", f->path, what, strerror(e));
     }
-    tmp_unregister(f);
+    slot_release(f);
     f->tmp_path[0] = '\0';
     sync_folder(f->path);
     return BRUME_OK;
@@ -202,7 +241,14 @@ void atomic_abort(atomic_file *f)
     }
     if (f->tmp_path[0]) {
         remove(f->tmp_path);
-        tmp_unregister(f);
+        slot_release(f);
         f->tmp_path[0] = '\0';
     }
+}
+
+void brume_remove_temporaries(void)
+{
+    for (int i = 0; i < ATOMIC_SLOTS; i++)
+        if (atomic_load(&slot_state[i]) == 2)
+            (void)unlink(slot_path[i]); /* async-signal-safe */
 }

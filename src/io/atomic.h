@@ -14,7 +14,7 @@ typedef struct atomic_file {
     char path[4096];     /* destination */
     char tmp_path[4096]; /* "<dir>/.<name>.tmp-XXXXXX" */
     FILE *fp;            /* open for writing, binary */
-    int slot;            /* in the table brume_remove_temporaries empties, or -1 */
+    int slot;            /* private: 1 + index in atomic.c's table of files removed on a signal */
 } atomic_file;
 
 brume_status atomic_open(atomic_file *f, const char *path);

@@ -167,6 +167,12 @@ static int raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
             got_dims = 1;
         } else if (strcmp(key, "bounds") == 0 && sscanf(rest, "%lf %lf %lf %lf %lf %lf", &b.lo.x, &b.lo.y, &b.lo.z,
                                                           &b.hi.x, &b.hi.y, &b.hi.z) == 6) {
+            if (!v3_isfinite(b.lo) || !v3_isfinite(b.hi) || !(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z)) {
+                fclose(f);
+                err_set(BRUME_ERROR_RANGE, "%s:%d: bounds need finite min < max on every axis (a mirrored grid "
+                        "is a voxel_to_world with a negative scale)", hdr, lineno);
+                return -1;
+            }
             if (got_dims) {
                 *v2w = box_map(b, n);
                 *has_v2w = true;
@@ -306,9 +312,10 @@ static bool read_vol(const unsigned char *b, size_t size, const char *name, size
     if (!count)
         return false;
     size_t width = enc == 1 ? 4 : 1;
-    if ((size - 48) / width < count) {
-        err_set(BRUME_ERROR_PARSE, "%s: truncated: %zu data bytes, %lld x %lld x %lld voxels need %zu", name,
-                size - 48, (long long)n[0], (long long)n[1], (long long)n[2], count * width);
+    if ((size - 48) / width != count || (size - 48) % width != 0) {
+        err_set(BRUME_ERROR_PARSE, "%s: %s: %zu data bytes, %lld x %lld x %lld voxels need %zu", name,
+                (size - 48) / width < count ? "truncated" : "trailing bytes", size - 48, (long long)n[0],
+                (long long)n[1], (long long)n[2], count * width);
         return false;
     }
     box3 box = {v3(rd_lef(b + 24), rd_lef(b + 28), rd_lef(b + 32)), v3(rd_lef(b + 36), rd_lef(b + 40), rd_lef(b + 44))};
@@ -439,7 +446,7 @@ static density *finish_dense(dense_read *r, const char *name, const density_load
     if (!d) {
         char msg[512];
         snprintf(msg, sizeof msg, "%s", err_message());
-        err_set(err_status(), "%s: %s", name, msg);
+        err_set(err_status(), "%s: %.500s", name, msg);
         free(r->data);
     }
     return d;
@@ -613,29 +620,33 @@ static bool write_floats(FILE *f, const density *d, const int n[3])
     return fwrite(buf, 4, k, f) == k;
 }
 
+/* The sidecar is committed first, then the data: a reader never finds a whole-looking
+ * raw file without its sidecar (it would guess a cube), and a sidecar whose raw file did
+ * not follow names sizes that the old or missing data contradict (read_raw refuses). */
 static brume_status write_raw(const density *d, const density_info *in, const char *path)
 {
     char hdr[4200];
     atomic_file af, ah;
-    FILE *f = open_tmp(&af, path);
-    if (!f)
-        return err_status();
-    bool ok = write_floats(f, d, in->n);
-    brume_status s = commit_tmp(&af, ok);
-    if (s != BRUME_OK)
-        return s;
-    snprintf(hdr, sizeof hdr, "%s.hdr", path);
+    if (snprintf(hdr, sizeof hdr, "%s.hdr", path) >= (int)sizeof hdr)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
     FILE *h = open_tmp(&ah, hdr);
     if (!h)
         return err_status();
     const double *m = in->voxel_to_world.m;
-    ok = fprintf(h,
-                 "# brume raw grid sidecar: float32 little-endian, x fastest\n"
-                 "dims %d %d %d\n"
-                 "voxel_to_world %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
-                 in->n[0], in->n[1], in->n[2], m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10],
-                 m[11]) > 0;
-    return commit_tmp(&ah, ok);
+    bool ok = fprintf(h,
+                      "# brume raw grid sidecar: float32 little-endian, x fastest\n"
+                      "dims %d %d %d\n"
+                      "voxel_to_world %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                      in->n[0], in->n[1], in->n[2], m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
+                      m[10], m[11]) > 0;
+    brume_status s = commit_tmp(&ah, ok);
+    if (s != BRUME_OK)
+        return s;
+    FILE *f = open_tmp(&af, path);
+    if (!f)
+        return err_status();
+    ok = write_floats(f, d, in->n);
+    return commit_tmp(&af, ok);
 }
 
 static brume_status write_df3(const density *d, const density_info *in, const char *path)
@@ -732,7 +743,7 @@ static brume_status write_vdb(const density *d, const density_info *in, const ch
         size_t tl = strlen(tmp);
         snprintf(msg, sizeof msg, "%s", strncmp(m, tmp, tl) == 0 && m[tl] == ':' ? m + tl + 2 : m);
         atomic_abort(&af);
-        return err_set(s, "%s: %s", path, msg);
+        return err_set(s, "%s: %.1000s", path, msg);
     }
     return atomic_commit(&af);
 }

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 
@@ -139,6 +140,10 @@ brume_status image_create(const char *path, int64_t width, int64_t height, brume
     if (width * height > IMAGE_MAX_PIXELS)
         return err_set(BRUME_ERROR_PARSE, "%s: image size %lld x %lld: more than %lld pixels", path,
                        (long long)width, (long long)height, (long long)IMAGE_MAX_PIXELS);
+    /* a read image counts against the scene's memory budget (an environment map) */
+    brume_status st = budget_take((size_t)width * (size_t)height * 4 * sizeof(float), path);
+    if (st != BRUME_OK)
+        return st;
     brume_image *img = image_alloc((int)width, (int)height);
     if (!img)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %lld x %lld image", path,

@@ -166,9 +166,10 @@ brume_status image_read_pfm(const char *path, brume_image **out)
     }
     int64_t need = w * h * channels * 4;
     int64_t have = (int64_t)sb.st_size - data_start;
-    if (S_ISREG(sb.st_mode) && have < need) {
-        st = err_set(BRUME_ERROR_PARSE, "%s: truncated: %lld x %lld x %d floats need %lld bytes, file has %lld",
-                     path, (long long)w, (long long)h, channels, (long long)need, (long long)have);
+    if (S_ISREG(sb.st_mode) && have != need) {
+        st = err_set(BRUME_ERROR_PARSE, "%s: %s: %lld x %lld x %d floats need %lld bytes, file has %lld",
+                     path, have < need ? "truncated" : "trailing bytes", (long long)w, (long long)h, channels,
+                     (long long)need, (long long)have);
         goto done;
     }
     st = image_create(path, w, h, &img);

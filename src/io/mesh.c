@@ -10,9 +10,59 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 
 #define MESH_MAX_TRIANGLES 200000000L
+
+static int ply_type_size(const char *t)
+{
+    static const struct {
+        const char *name;
+        int size;
+    } types[] = {{"char", 1},   {"uchar", 1},  {"int8", 1},   {"uint8", 1},   {"short", 2},  {"ushort", 2},
+                 {"int16", 2},  {"uint16", 2}, {"int", 4},    {"uint", 4},    {"int32", 4},  {"uint32", 4},
+                 {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0)
+            return types[i].size;
+    return 0;
+}
+
+/* A binary PLY file must hold at least the bytes its header announces (assimp reads past
+ * the end of a truncated one); BRUME_OK for anything else, which assimp checks itself. */
+static brume_status ply_check(FILE *f, const char *path, long file_size)
+{
+    char line[512];
+    rewind(f);
+    if (!fgets(line, sizeof line, f) || strncmp(line, "ply", 3) != 0)
+        return BRUME_OK;
+    bool binary = false;
+    double need = 0.0, count = 0.0, elem = 0.0;
+    for (int n = 0; n < 10000 && fgets(line, sizeof line, f); n++) {
+        char a[64], b[64], c[64];
+        double v = 0.0;
+        if (sscanf(line, "format %63s", a) == 1) {
+            binary = strncmp(a, "binary", 6) == 0;
+        } else if (sscanf(line, "element %63s %lf", a, &v) == 2) {
+            need += count * elem;
+            count = v;
+            elem = 0.0;
+        } else if (sscanf(line, "property list %63s %63s %63s", a, b, c) == 3) {
+            elem += ply_type_size(a); /* at least the length of each list */
+        } else if (sscanf(line, "property %63s %63s", a, b) == 2) {
+            elem += ply_type_size(a);
+        } else if (strncmp(line, "end_header", 10) == 0) {
+            need += count * elem;
+            long body = file_size - ftell(f);
+            if (binary && !(need <= (double)body))
+                return err_set(BRUME_ERROR_PARSE, "%s: truncated: the PLY header announces at least %.0f bytes, the "
+                               "file holds %ld", path, need, body);
+            return BRUME_OK;
+        }
+    }
+    return BRUME_OK;
+}
 
 brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out)
 {
@@ -21,7 +71,16 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     FILE *probe = fopen(path, "rb");
     if (!probe)
         return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* assimp holds the whole file and more while it imports: a file larger than the memory
+     * budget is refused unread; the import's share is given back once released */
+    long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;
+    brume_status st = file_size > 0 ? ply_check(probe, path, file_size) : BRUME_OK;
     fclose(probe);
+    if (st != BRUME_OK)
+        return st;
+    size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
+    if (budget_take(import_bytes, path) != BRUME_OK)
+        return err_status();
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                                       aiProcess_SortByPType);
     if (!sc)
@@ -39,7 +98,14 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     }
     if (ntri > MESH_MAX_TRIANGLES || nv > 3 * MESH_MAX_TRIANGLES) {
         aiReleaseImport(sc);
+        budget_give(import_bytes);
         return err_set(BRUME_ERROR_RANGE, "%s: %ld triangles exceed the limit of %ld", path, ntri, MESH_MAX_TRIANGLES);
+    }
+    /* the triangle list here and, about as large again, the ray-tracing hierarchy built on it */
+    if (budget_take(2 * (sizeof(double) * 3 * (size_t)nv + sizeof(int) * 3 * (size_t)ntri), path) != BRUME_OK) {
+        aiReleaseImport(sc);
+        budget_give(import_bytes);
+        return err_status();
     }
     double *pos = malloc(sizeof *pos * 3 * (size_t)nv);
     int *idx = malloc(sizeof *idx * 3 * (size_t)ntri);
@@ -83,6 +149,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         vbase += me->mNumVertices;
     }
     aiReleaseImport(sc);
+    budget_give(import_bytes);
     *pos_out = pos;
     *idx_out = idx;
     *nv_out = (int)nv;

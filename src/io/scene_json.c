@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "io/json.h"
@@ -240,7 +241,7 @@ static brume_status parse_background(const cJSON *root, jloc top, brume_scene *s
     brume_image *img = NULL;
     st = ctx ? brume_image_read(ctx, path, &img) : BRUME_ERROR_OUT_OF_MEMORY;
     if (st)
-        err_set(st, "%s: background.file: %s", top.file, ctx ? brume_context_last_error(ctx) : "out of memory");
+        err_set(st, "%s: background.file: %.1000s", top.file, ctx ? brume_context_last_error(ctx) : "out of memory");
     brume_context_release(ctx);
     if (st) return st;
     st = built(brume_scene_set_background_image(NULL, s, img, scale, up), at);
@@ -561,9 +562,13 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "noise", "time", "min_spp", NULL};
+                                       "fps", "max_memory_mb", "noise", "time", "min_spp", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
+    /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
+    double mb = (double)(BUDGET_DEFAULT_BYTES >> 20);
+    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
+    budget_set_limit((size_t)(mb * 1048576.0));
     brume_render_settings rs;
     brume_scene_get_settings(s, &rs);
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;
@@ -691,7 +696,11 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
         cJSON_Delete(root);
         return err_status();
     }
+    budget_begin(BUDGET_DEFAULT_BYTES);
     st = parse_scene(root, s, time, frame_no);
+    s->max_memory = budget_limit();
+    s->memory_used = budget_used();
+    budget_end();
     cJSON_Delete(root);
     if (st) {
         scene_override_annotate(overrides, noverrides);

@@ -196,7 +196,7 @@ void scene_override_annotate(const char *const *overrides, int n)
             char want[2 * OVERRIDE_KEY_MAX + 4];
             snprintf(want, sizeof want, ": %.*s:", (int)len, norm);
             if (strstr(msg, want)) {
-                err_set(err_status(), "%s (set by override %s)", msg, overrides[i]);
+                err_set(err_status(), "%.1000s (set by override %s)", msg, overrides[i]);
                 return;
             }
             while (len > 0 && norm[len - 1] != '.' && norm[len - 1] != '[')

@@ -3,7 +3,37 @@
 
 #include <stdlib.h>
 
+#include "core/error.h"
+
 void medium_init(medium *m) { m->sigma_t_max = col_max(col_add(m->sigma_a, m->sigma_s)); }
+
+brume_status medium_check_range(const medium *m, const char *source, int index)
+{
+    if (!m->rho)
+        return BRUME_OK;
+    density_info in;
+    density_get_info(m->rho, &in);
+    /* a majorant cell's world size: at most mcell voxels along each voxel-space axis, and
+     * never more than the whole field */
+    const double *a = in.voxel_to_world.m;
+    double edge = 0.0;
+    for (int c = 0; c < 3; c++)
+        edge += sqrt(a[c] * a[c] + a[4 + c] * a[4 + c] + a[8 + c] * a[8 + c]);
+    double cell = fmin(edge * in.majorant_cell, v3_length(v3_sub(in.bounds.hi, in.bounds.lo)));
+    double sigma_hi = m->sigma_t_max * in.rho_max, spread = m->sigma_t_max * (in.rho_max - in.rho_min) * cell;
+    if (!isfinite(sigma_hi))
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: media[%d]: sigma_t %g times density up to %g is not a finite extinction "
+                       "(docs/scene-format.md#limits)",
+                       source, index, m->sigma_t_max, in.rho_max);
+    if (!(spread <= MEDIUM_TAU_SPREAD_MAX))
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: media[%d]: sigma_t %g times densities from %g to %g over a majorant cell %g wide varies "
+                       "by an optical depth of %.3g, more than the %.0f brume can track "
+                       "(docs/scene-format.md#limits)",
+                       source, index, m->sigma_t_max, in.rho_min, in.rho_max, cell, spread, MEDIUM_TAU_SPREAD_MAX);
+    return BRUME_OK;
+}
 
 void medium_release(medium *m)
 {

@@ -28,6 +28,14 @@ typedef struct medium {
 
 /* Fills the derived fields; call after setting the others. */
 void medium_init(medium *m);
+/* The range a medium really supports (docs/scene-format.md, "Limits"): extinction
+ * sigma_t rho finite, and within one majorant cell sigma_t (rho_max - rho_min) times the
+ * cell's width at most MEDIUM_TAU_SPREAD_MAX, which bounds the null collisions a ray makes
+ * crossing a cell. A constant medium (rho_max = rho_min) is tracked at any density: its
+ * collisions are real and end the walk. err_set names source and media[index]; call after
+ * medium_init. */
+#define MEDIUM_TAU_SPREAD_MAX 1e5
+brume_status medium_check_range(const medium *m, const char *source, int index);
 void medium_release(medium *m);
 
 #endif

@@ -10,12 +10,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
 
 /* Entries of the inverse-CDF table of the Mie functions: x = (1 + t) / 2 at u = i / N. */
 #define MIE_TABLE_SIZE 64
+/* A phase table (phase_load_tabulated): lines of at most this many bytes, at most this many
+ * rows; its memory is counted against the scene's budget (core/budget.h). */
+#define PHASE_TABLE_LINE_MAX 4096
+#define PHASE_TABLE_MAX (1 << 24)
 
 struct phase {
     phase_kind kind;
@@ -479,12 +484,28 @@ phase *phase_load_tabulated(const char *path)
     }
     double *angle = NULL, *value = NULL;
     int n = 0, cap = 0, lineno = 0;
-    char *line = NULL;
-    size_t linecap = 0;
+    char line[PHASE_TABLE_LINE_MAX + 1]; /* lines are bounded: /dev/zero is one endless line */
     phase *p = NULL;
-    while (getline(&line, &linecap, f) > 0) {
+    for (;;) {
+        /* one line, byte by byte: a NUL or an overlong line ends the read at once */
+        size_t len = 0;
+        int c = EOF;
+        while ((c = getc(f)) != EOF && c != '\n' && c != '\0' && len < PHASE_TABLE_LINE_MAX)
+            line[len++] = (char)c;
+        line[len] = '\0';
+        if (c == EOF && len == 0)
+            break;
         lineno++;
-        line[strcspn(line, "\r\n")] = '\0';
+        if (c == '\0') {
+            err_set(BRUME_ERROR_PARSE, "%s:%d: contains a NUL byte; not a phase table", path, lineno);
+            goto done;
+        }
+        if (len == PHASE_TABLE_LINE_MAX) {
+            err_set(BRUME_ERROR_PARSE, "%s:%d: line longer than %d bytes; not a phase table", path, lineno,
+                    PHASE_TABLE_LINE_MAX - 1);
+            goto done;
+        }
+        line[strcspn(line, "\r")] = '\0';
         const char *s = next_field(line);
         if (!s)
             continue;
@@ -521,6 +542,12 @@ phase *phase_load_tabulated(const char *path)
             goto done;
         }
         if (n == cap) {
+            if (cap >= PHASE_TABLE_MAX / 2) {
+                err_set(BRUME_ERROR_RANGE, "%s:%d: more than %d rows", path, lineno, PHASE_TABLE_MAX);
+                goto done;
+            }
+            if (budget_take((size_t)(cap ? cap : 64) * 2 * sizeof(double), path) != BRUME_OK)
+                goto done;
             cap = cap ? 2 * cap : 64;
             double *na = realloc(angle, (size_t)cap * sizeof *na);
             if (na)
@@ -544,10 +571,10 @@ phase *phase_load_tabulated(const char *path)
     if (!p) {
         char msg[1024];
         snprintf(msg, sizeof msg, "%s", err_message());
-        err_set(err_status(), "%s: %s", path, msg);
+        err_set(err_status(), "%s: %.1000s", path, msg);
     }
 done:
-    free(line);
+    /* what budget_take counted stays taken: the phase function keeps a copy as large */
     free(angle);
     free(value);
     fclose(f);

@@ -49,6 +49,10 @@ static const blasi_options *blasi_opts(const brume_scene *s) { return scene_opti
 #define BLASI_BATCH 1024           /* light rays per task */
 #define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
+/* Limits that keep every walk finite (docs/scene-format.md#limits): uniform steps across
+ * the media, and interceptions of one light ray. */
+#define BLASI_MAX_STEPS 1e7
+#define BLASI_MAX_INTERCEPTS 100000
 #define BLASI_BLOCK 4              /* voxels per side of an occupancy block (empty-space skipping) */
 #define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
 #define BLASI_FILE_MAGIC "BRUMEBL1"
@@ -374,7 +378,16 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
     double w_stop = st->threshold * col_max(w);
     bool have_last = false; /* the last non-empty voxel crossed, for the exit deposit */
     size_t last = 0;
-    for (;;) { /* one flight from the source or a scattering point */
+    for (int flights = 0;; flights++) { /* one flight from the source or a scattering point */
+        if (flights > BLASI_MAX_INTERCEPTS) {
+            /* A walk that neither leaves nor fades (albedo 1, r = 0, an optically huge
+             * medium) ends here with a defined result: what it still carries stays in
+             * the voxel it has reached, as the paper stores the energy of a ray that
+             * leaves in its last voxel. */
+            if (have_last)
+                deposit(acc, last, w, 1.0);
+            return;
+        }
         double t_end = INFINITY;
         surface_hit h;
         if (s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &h))
@@ -388,6 +401,7 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         walk wk;
         piece pc;
         double t_march = 0.0, t_march_end = 0.0;
+        uint64_t k_march = 0; /* steps are placed by index, t_march + k step: never t += step */
         if (st->step > 0.0) {
             if (!box3_intersect(st->bounds, r, 0.0, t_end, &t_march, &t_march_end))
                 t_march = t_march_end = 0.0;
@@ -397,12 +411,13 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         for (;;) {
             double dl, t_mid = 0.0;
             if (st->step > 0.0) { /* uniform steps: the voxels at the step's midpoint */
-                if (!(t_march < t_march_end))
+                double a = t_march + (double)k_march * st->step;
+                if (!(a < t_march_end))
                     break;
-                dl = fmin(st->step, t_march_end - t_march);
-                t_mid = t_march + 0.5 * dl;
-                pc.t0 = t_march;
-                t_march += dl;
+                k_march++;
+                dl = fmin(st->step, t_march_end - a);
+                t_mid = a + 0.5 * dl;
+                pc.t0 = a;
                 piece_at(st, ray_at(r, t_mid), &pc);
             } else {
                 if (!walk_next(&wk, st, &pc))
@@ -818,6 +833,12 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             bm->dir = bm->dir_owned;
         }
     }
+    if (rc == BRUME_OK && st->step > 0.0 &&
+        !(v3_length(v3_sub(st->bounds.hi, st->bounds.lo)) / st->step <= BLASI_MAX_STEPS))
+        rc = err_set(BRUME_ERROR_RANGE,
+                     "%s: blasi.step: %g is more than %.0f steps across the media (%g wide); use a longer step or "
+                     "0 (voxel by voxel)",
+                     s->source, st->step, BLASI_MAX_STEPS, v3_length(v3_sub(st->bounds.hi, st->bounds.lo)));
     randfield_release(q);
     if (rc == BRUME_OK && st->nvox > 0) {
         st->rho = malloc(st->nvox * sizeof *st->rho);

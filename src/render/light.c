@@ -7,6 +7,11 @@ void light_init(light *l)
 {
     switch (l->kind) {
     case LIGHT_DISTANT:
+        /* Below LIGHT_SUN_POINT_RADIUS the disk is the point sun it tends to: its cone
+         * would be narrower than doubles resolve cosines near 1 (1 - cos underflows to 0
+         * near 1e-8 rad and the sun would vanish), and no picture can tell them apart. */
+        if (l->angular_radius < LIGHT_SUN_POINT_RADIUS)
+            l->angular_radius = 0.0;
         l->cos_max = cos(l->angular_radius);
         l->f = frame_from_n(v3_neg(l->direction)); /* around the direction towards the sun */
         break;

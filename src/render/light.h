@@ -19,6 +19,11 @@
 #include "core/color.h"
 #include "core/vec.h"
 
+/* A sun (distant light) narrower than this (radians, about 2 arcseconds) is sampled as the
+ * point sun it tends to: the image is continuous in angular_radius down to 0. At this radius
+ * 1 - cos is 5e-11, resolved by doubles to a relative 2e-6. docs/scene-format.md. */
+#define LIGHT_SUN_POINT_RADIUS 1e-5
+
 typedef enum light_kind {
     LIGHT_DISTANT,
     LIGHT_POINT,
@@ -35,7 +40,8 @@ typedef struct light {
     vec3 position;         /* point, spot, sphere, disk: centre */
     color L;               /* E (distant), I (point, spot), radiance (sphere, disk, sun disk) */
     double radius;         /* sphere, disk: world units */
-    double angular_radius; /* distant: radians; 0 = a delta direction */
+    double angular_radius; /* distant: radians; 0 = a delta direction (also any radius below
+                              LIGHT_SUN_POINT_RADIUS, set so by light_init) */
     double cos_inner, cos_outer; /* spot cone without a profile */
     int profile_n;         /* spot: number of (angle, factor) pairs, 0 = use the cone */
     double profile_angle[LIGHT_PROFILE_MAX]; /* degrees, increasing from 0 */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "render/integrator.h"
@@ -42,6 +43,7 @@ brume_scene *scene_new(const char *source)
         return NULL;
     }
     scene_default_settings(&s->settings);
+    s->max_memory = BUDGET_DEFAULT_BYTES;
     for (int i = 0; i < METHOD_OPTIONS_COUNT; i++) {
         const method_options_def *def = method_options_def_get((method_options_id)i);
         if (!(s->options[i] = malloc(def->size))) {
@@ -128,11 +130,18 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     c->time = s->time;
     camera_init(c, s->settings.width, s->settings.height);
     s->world_moves = world_moves(s); /* before voxelization turns moving blobs into grids */
-    if ((st = stam_commit_media(s)) != BRUME_OK)
+    /* what commit generates counts against the scene's memory budget, after what reading took */
+    budget_resume(s->max_memory, s->memory_used);
+    st = stam_commit_media(s);
+    s->memory_used = budget_used();
+    budget_end();
+    if (st != BRUME_OK)
         return ctx_report(ctx, st);
     s->has_emission = false;
     for (int m = 0; m < s->nmedia; m++) {
         medium_init(&s->media[m]);
+        if ((st = medium_check_range(&s->media[m], s->source, m)) != BRUME_OK)
+            return ctx_report(ctx, st);
         if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
             s->has_emission = true;
     }

@@ -36,6 +36,8 @@ struct brume_scene {
     bool world_moves;  /* something besides the camera depends on time (set by the builders;
                           brume_scene_world_is_static adds moving surfaces and blobs) */
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
+    size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
+    size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
 };
 
 /* What integrator_prepare built for this scene, reused by later renders of it. Rendering

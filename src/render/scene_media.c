@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "density/blobs.h"
@@ -213,9 +214,19 @@ brume_status brume_density_load(brume_context *ctx, const char *path, const brum
             return ctx_report(ctx, st);
         o.max_memory = (size_t)(opts->max_memory_mb * 1048576.0);
     }
+    /* within what the memory budget of a scene being read has left (core/budget.h) */
+    size_t left = budget_left();
+    if (left < o.max_memory)
+        o.max_memory = left > 0 ? left : 1;
     density *d = density_load_file(path, &o);
     if (!d)
         return ctx_report(ctx, err_status()); /* "PATH: reason" names the file */
+    density_info info;
+    density_get_info(d, &info);
+    if ((st = budget_take(info.memory_bytes, path)) != BRUME_OK) {
+        density_release(d);
+        return ctx_report(ctx, st);
+    }
     return ctx_report(ctx, wrap(fn, d, false, out));
 }
 
@@ -375,6 +386,9 @@ static brume_status generate(const char *fn, int i, const brume_blob_generator *
                 return st;
             if (!(box.lo.x <= box.hi.x && box.lo.y <= box.hi.y && box.lo.z <= box.hi.z))
                 return err_set(BRUME_ERROR_RANGE, "%s: gens[%d]: need bounds_min <= bounds_max", fn, i);
+            if ((double)g->clouds * g->count > BLOB_MAX_COUNT) /* refused before generating any */
+                return err_set(BRUME_ERROR_RANGE, "%s: gens[%d]: clouds x count = %d x %d blobs, more than the limit of %d",
+                               fn, i, g->clouds, g->count, BLOB_MAX_COUNT);
             st = blob_gen_cluster(&p, box, rmin, rmax, g->clouds, list);
         }
     } else if (g->type == BRUME_BLOBS_FIRE) {
@@ -434,6 +448,15 @@ brume_status brume_density_new_blobs(brume_context *ctx, const double *blobs, in
         st = generate(fn, i, &gens[i], &list);
     if (!st && list.n == 0)
         st = err_set(BRUME_ERROR_RANGE, "%s: no blobs (give blobs or generators)", fn);
+    if (!st) {
+        /* the work of the majorant grid, counted in O(n) before any of it is done */
+        double pairs = blob_majorant_pairs(list.b, list.n, cutoff, BLOB_MAJORANT_CELLS);
+        if (pairs > BLOB_MAX_PAIRS)
+            st = err_set(BRUME_ERROR_RANGE,
+                         "%s: %d blobs cover %.3g cells of the %d^3 majorant grid, more than the limit of %.3g "
+                         "(fewer or smaller blobs; docs/scene-format.md#limits)",
+                         fn, list.n, pairs, BLOB_MAJORANT_CELLS, BLOB_MAX_PAIRS);
+    }
     if (st) {
         blob_list_free(&list);
         return ctx_report(ctx, st);

@@ -12,6 +12,8 @@
 #include "render/stam_stats.h"
 #include "surface/surfaces.h"
 
+/* Light-cache lattice points over all lights, at most (docs/scene-format.md#limits). */
+#define STAM_MAX_CACHE_POINTS 6.7e7
 #define STAM_MAX_STEPS 256 /* keeps the per-ray tables (16 media x 257 doubles) on the stack */
 
 /* One blob medium: Stam's kappa_t, Omega and E per channel. */
@@ -255,6 +257,22 @@ static brume_status build_caches(stam_state *st, int cells)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory", s->source);
     vec3 ext = v3_sub(b.hi, b.lo);
     double longest = fmax(ext.x, fmax(ext.y, ext.z));
+    /* memory and work up front: every cached light's lattice, against render.max_memory_mb
+     * and STAM_MAX_CACHE_POINTS (each point integrates the depth towards its light) */
+    double points = 0.0;
+    for (int l = 0; l < s->nlights; l++)
+        if (light_cacheable(&s->lights[l])) {
+            double p = 1.0;
+            for (int a = 0; a < 3; a++)
+                p *= fmax(2.0, ceil(cells * v3_get(ext, a) / longest) + 1.0);
+            points += p;
+        }
+    if (points * 3 * sizeof(double) > (double)s->max_memory || points > STAM_MAX_CACHE_POINTS)
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: stam.light_grid: %d cells for %d lights are %.3g points (%.0f MiB), more than the limit of "
+                       "%.3g points within render.max_memory_mb %.0f",
+                       s->source, cells, s->nlights, points, points * 3 * sizeof(double) / 1048576.0,
+                       STAM_MAX_CACHE_POINTS, (double)s->max_memory / 1048576.0);
     for (int l = 0; l < s->nlights; l++) {
         if (!light_cacheable(&s->lights[l]))
             continue;

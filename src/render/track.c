@@ -55,14 +55,23 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
         /* tau: optical depth (against the majorant) still to cover before the next
          * tentative collision; one exponential per collision, carried across segments. */
         if (sigma_maj > 0.0) {
+            /* Distances are measured from the segment's start: u grows from 0, so a step of
+             * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
+             * origin), and it strictly increases (a step below its resolution moves it by
+             * one ulp), so the walk reaches the segment's end or stops in a finite number
+             * of steps. The range that keeps that number small is checked at commit
+             * (medium_check_range, docs/scene-format.md#limits). */
+            const double t0 = t, len = t_next - t;
+            double u = 0.0;
             for (;;) {
-                double dt = tau / sigma_maj;
-                if (t + dt >= t_next) {
-                    tau = fmax(0.0, tau - sigma_maj * (t_next - t));
+                double du = tau / sigma_maj;
+                if (!(u + du < len)) {
+                    tau = fmax(0.0, tau - sigma_maj * (len - u));
                     break;
                 }
-                t += dt;
-                if (!fn(t, sigma_maj, user))
+                double u_new = u + du;
+                u = u_new > u ? u_new : nextafter(u, INFINITY);
+                if (!fn(t0 + u, sigma_maj, user))
                     return false;
                 tau = sample_exponential(rng_next(g), 1.0);
             }

@@ -1,0 +1,44 @@
+/* budget.h - the one memory limit that every reader and generator counts against.
+ *
+ * Loading a scene opens a budget (budget_begin) of render.max_memory_mb (default 4 GiB);
+ * each reader or generator asks budget_take for the bytes it is about to allocate, before
+ * allocating, and fails with a one-line message naming what wanted the memory, the key
+ * and the limit when the scene's total would exceed it. Outside a scene load (a grid read
+ * by `brume info`, an image read through the API) there is no running total: each request
+ * alone is checked against the default limit. The state is per thread: a scene loads on
+ * one thread. docs/scene-format.md, "Limits". */
+#ifndef BRUME_CORE_BUDGET_H
+#define BRUME_CORE_BUDGET_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "brume.h"
+
+/* 4 GiB: the default of render.max_memory_mb (4096). A build may lower it, and cap what a
+ * scene may ask for with BUDGET_MAX_BYTES (the fuzz targets do: fuzz/run.sh). */
+#ifndef BUDGET_DEFAULT_BYTES
+#define BUDGET_DEFAULT_BYTES ((size_t)4 << 30)
+#endif
+
+/* Opens this thread's budget with `limit` bytes (0 = the default); nests by replacing. */
+void budget_begin(size_t limit);
+/* Changes the open budget's limit (render.max_memory_mb); bytes already taken stay taken. */
+void budget_set_limit(size_t limit);
+void budget_end(void);
+/* Opens this thread's budget again for an object that took `used` of `limit` before (a
+ * scene read earlier and committed now). */
+void budget_resume(size_t limit, size_t used);
+/* Bytes taken from the open budget (0 when none is open). */
+size_t budget_used(void);
+/* Takes `bytes` for `who` (e.g. "scene.json: media[0].phase.file"): BRUME_OK, or
+ * BRUME_ERROR_OUT_OF_MEMORY with err_set() when they exceed what is left. */
+brume_status budget_take(size_t bytes, const char *who);
+/* Gives back bytes taken for something freed while loading. */
+void budget_give(size_t bytes);
+/* Bytes left in the open budget, or the default limit when none is open. */
+size_t budget_left(void);
+/* The open budget's limit, or the default when none is open. */
+size_t budget_limit(void);
+
+#endif

@@ -1,0 +1,364 @@
+/* test_hardening.c - inputs that pass validation cannot hang brume, exhaust its memory,
+ * write outside the scene's folder or draw a silently wrong picture; messages stay on one
+ * line; interrupted writes leave nothing behind (issue 16; the corpus of bad inputs is
+ * tests/bad/). */
+#include "test.h"
+
+#include <dirent.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "brume.h"
+#include "core/error.h"
+#include "io/atomic.h"
+#include "io/grid_io.h"
+#include "render/scene.h"
+
+static double seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void write_file(const char *path, const void *data, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    ASSERT_TRUE(f != NULL);
+    ASSERT_TRUE(fwrite(data, 1, n, f) == n);
+    fclose(f);
+}
+
+static void write_text(const char *path, const char *text) { write_file(path, text, strlen(text)); }
+
+/* A fresh empty folder under the test's temporary space. */
+static const char *fresh_dir(const char *name)
+{
+    const char *d = test_tmp_path(name);
+    char cmd[4200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", d, d);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    return d;
+}
+
+/* Loads and commits a scene file; returns the status, the message in msg. */
+static brume_status load_commit(const char *path, char *msg, size_t n, brume_scene **out)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_status st = brume_scene_load(ctx, path, &s);
+    if (st == BRUME_OK)
+        st = brume_scene_commit(ctx, s);
+    snprintf(msg, n, "%s", brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    if (out && st == BRUME_OK)
+        *out = s;
+    else
+        brume_scene_release(s);
+    return st;
+}
+
+static double image_mean(const char *json)
+{
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    int n = brume_image_width(img) * brume_image_height(img);
+    double mean, se;
+    test_channel_mean(brume_image_pixels(img), n, 1, &mean, &se);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    return mean;
+}
+
+/* A sun's angular radius tends continuously to the point sun: below 1e-5 rad it is one,
+ * above it the disk is sampled; a lit plane has the same brightness on both sides and at
+ * 1e-8 degrees (where 1 - cos underflowed and the sun vanished). */
+TEST(sun_radius_tends_to_point_sun)
+{
+#define SUN_FMT \
+        "{\"camera\": {\"position\": [0, 3, 0.01], \"look_at\": [0, 0, 0], \"fov\": 30}," \
+        " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, 0.2], \"irradiance\": 2, \"angular_radius\": %g}]," \
+        " \"surfaces\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], \"size\": 100," \
+        "   \"material\": {\"albedo\": 0.5}}]," \
+        " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 4, \"threads\": 1, \"seed\": 3}}"
+    const double radii_deg[] = {0.0, 1e-8, 1e-4, 5e-4, 2e-3};
+    double m[5];
+    for (int i = 0; i < 5; i++) {
+        char json[2048];
+        snprintf(json, sizeof json, SUN_FMT, radii_deg[i]);
+        m[i] = image_mean(json);
+    }
+    ASSERT_TRUE(m[0] > 0.05);
+    /* the point sun's plane: radiance albedo / pi E cos; a disk of 2e-3 degrees changes the
+     * irradiance by a relative 1e-12 and its sampling is exact on a plane */
+    for (int i = 1; i < 5; i++)
+        ASSERT_NEAR(m[i] / m[0], 1.0, 1e-6);
+}
+
+/* Control characters from input are escaped, long keys cut, in every message. */
+TEST(messages_stay_on_one_line)
+{
+    char key[6000];
+    memset(key, 'k', sizeof key - 1);
+    key[sizeof key - 1] = '\0';
+    err_set(BRUME_ERROR_PARSE, "scene.json: %s: unknown key; %s", "a\nb\x1b[31mc\r\td\x7f", key);
+    const char *m = err_message();
+    for (const char *c = m; *c; c++)
+        ASSERT_TRUE((unsigned char)*c >= 0x20 && *c != 0x7f);
+    ASSERT_CONTAINS(m, "a\\nb\\x1b[31mc\\r\\td\\x7f");
+    ASSERT_CONTAINS(m, "kkk...");
+    ASSERT_TRUE(strlen(m) < 400);
+    /* a whole message passed on with a precision is kept whole */
+    char whole[900];
+    memset(whole, 'w', sizeof whole - 1);
+    whole[sizeof whole - 1] = '\0';
+    err_set(BRUME_ERROR_IO, "x: %.1000s", whole);
+    ASSERT_TRUE(strlen(err_message()) == 3 + sizeof whole - 1);
+    /* through the scene reader and the context */
+    brume_scene *s = NULL;
+    ASSERT_TRUE(scene_parse_json("{\"camera\": {\"position\": [0,0,1], \"look_at\": [0,0,0], \"f\\nov\\u001b[2J\": 1}}",
+                                 "<test>", &s) != BRUME_OK);
+    m = err_message();
+    ASSERT_TRUE(strchr(m, '\n') == NULL && strchr(m, '\x1b') == NULL);
+    ASSERT_CONTAINS(m, "f\\nov\\x1b[2J");
+}
+
+static const char *scene_with_save(const char *save)
+{
+    static char json[8192];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}],"
+             " \"media\": [{\"density\": {\"type\": \"constant\", \"value\": 1}, \"sigma_a\": 0.1, \"sigma_s\": 1}],"
+             " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 1, \"threads\": 1, \"method\": \"blasi\"},"
+             " \"blasi\": {\"light_rays\": 200, \"save_light\": \"%.4000s\"}}",
+             save);
+    return json;
+}
+
+/* blasi.save_light from a scene file: relative, no "..", no symbolic link out of the
+ * scene's folder; nothing is written outside. Inside, the file is written. */
+TEST(scene_cannot_write_outside_its_folder)
+{
+    const char *root = fresh_dir("writes");
+    char dir[4200], path[4300], outside[4300], msg[1100], link[4300];
+    snprintf(dir, sizeof dir, "%s/scene", root);
+    ASSERT_EQ_INT(mkdir(dir, 0700), 0);
+    snprintf(link, sizeof link, "%s/up", dir);
+    ASSERT_EQ_INT(symlink(root, link), 0);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    const char *bad[] = {"../out.bl", "sub/../../out.bl", "up/out.bl", "up/../out.bl"};
+    for (int i = 0; i < 4; i++) {
+        write_text(path, scene_with_save(bad[i]));
+        ASSERT_TRUE(load_commit(path, msg, sizeof msg, NULL) != BRUME_OK);
+        ASSERT_CONTAINS(msg, "blasi.save_light");
+        ASSERT_TRUE(strchr(msg, '\n') == NULL);
+    }
+    snprintf(outside, sizeof outside, "%s/abs.bl", root);
+    write_text(path, scene_with_save(outside));
+    ASSERT_TRUE(load_commit(path, msg, sizeof msg, NULL) != BRUME_OK);
+    ASSERT_CONTAINS(msg, "absolute");
+    snprintf(outside, sizeof outside, "%s/out.bl", root);
+    ASSERT_TRUE(!test_exists(outside));
+    snprintf(outside, sizeof outside, "%s/abs.bl", root);
+    ASSERT_TRUE(!test_exists(outside));
+    /* inside the folder: written by the render */
+    write_text(path, scene_with_save("light.bl"));
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(load_commit(path, msg, sizeof msg, &s), BRUME_OK);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    brume_image_release(img);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+    snprintf(outside, sizeof outside, "%s/light.bl", dir);
+    ASSERT_TRUE(test_exists(outside));
+}
+
+/* The issue's hangs end: a constant density of 1e18 (near the origin and 1e6 away, where
+ * t + dt == t), by every method that renders it. */
+TEST(huge_density_ends)
+{
+#define HUGE_FMT \
+        "{\"camera\": {\"position\": [%g, 0, 4], \"look_at\": [%g, 0, 0], \"fov\": 40}," \
+        " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}]," \
+        " \"media\": [{\"density\": {\"type\": \"constant\", \"value\": 1e18, \"bounds\": [[%g, -1, -1], [%g, 1, 1]]}," \
+        "   \"sigma_a\": [0.1, 0.2, 0.3], \"sigma_s\": 1}]," \
+        " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 2, \"threads\": 1, \"method\": \"%s\", \"max_depth\": 64}," \
+        " \"blasi\": {\"light_rays\": 2000, \"r\": 0, \"sources\": 1}}"
+    const char *methods[] = {"path", "single", "blasi"};
+    alarm(60); /* a hang fails the test instead of stalling ctest */
+    for (int far = 0; far < 2; far++)
+        for (int k = 0; k < 3; k++) {
+            double x = far ? 1e6 : 0.0;
+            char json[2048];
+            snprintf(json, sizeof json, HUGE_FMT, x, x, x - 1, x + 1, methods[k]);
+            double t0 = seconds(), m = image_mean(json);
+            ASSERT_TRUE(isfinite(m) && m >= 0.0);
+            ASSERT_TRUE(seconds() - t0 < 20.0);
+        }
+    alarm(0);
+}
+
+/* The issue's 20-byte raw grid with one voxel of 3e38: `brume info` reads it, a scene
+ * refuses it at commit, naming the medium and the limit. */
+TEST(huge_voxel_is_refused)
+{
+    const char *dir = fresh_dir("voxel");
+    char raw[4200], scene[4200], msg[1100], json[1024];
+    snprintf(raw, sizeof raw, "%s/hot.raw", dir);
+    float v[5] = {0, 0, 3e38f, 0, 0};
+    write_file(raw, v, sizeof v);
+    density_load_options o;
+    density_load_options_default(&o);
+    o.raw_dims[0] = 5;
+    o.raw_dims[1] = o.raw_dims[2] = 1;
+    density *d = density_load_file(raw, &o);
+    ASSERT_TRUE(d != NULL);
+    density_release(d);
+    snprintf(scene, sizeof scene, "%s/s.json", dir);
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"hot.raw\", \"dims\": [5, 1, 1]},"
+             " \"sigma_a\": 0.1, \"sigma_s\": 1}]}");
+    write_text(scene, json);
+    double t0 = seconds();
+    ASSERT_EQ_INT(load_commit(scene, msg, sizeof msg, NULL), BRUME_ERROR_RANGE);
+    ASSERT_TRUE(seconds() - t0 < 10.0);
+    ASSERT_CONTAINS(msg, "media[0]");
+    ASSERT_CONTAINS(msg, "limits");
+}
+
+/* The issue's work bomb (four million blobs from a few hundred bytes) is refused up front,
+ * quickly, naming the limit; and one memory budget spans every reader and generator. */
+TEST(work_bomb_and_memory_budget)
+{
+    const char *dir = fresh_dir("bomb");
+    char scene[4200], msg[1100];
+    snprintf(scene, sizeof scene, "%s/s.json", dir);
+    write_text(scene, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                      " \"media\": [{\"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\","
+                      " \"center\": [0, 0, 0], \"radii\": 1, \"count\": 4194304}]}, \"sigma_a\": 0.1, \"sigma_s\": 1}]}");
+    double t0 = seconds();
+    ASSERT_EQ_INT(load_commit(scene, msg, sizeof msg, NULL), BRUME_ERROR_RANGE);
+    ASSERT_TRUE(seconds() - t0 < 10.0);
+    ASSERT_CONTAINS(msg, "majorant grid");
+    /* two fractal grids of 1 MiB each: one fits a 1.5 MiB budget, the second does not */
+#define TWO_FMT \
+        "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}," \
+        " \"render\": {\"max_memory_mb\": %s}," \
+        " \"media\": [{\"density\": {\"type\": \"fractal_cloud\", \"dims\": [64, 64, 64], \"method\": \"perlin\"}," \
+        "  \"sigma_a\": 0.1, \"sigma_s\": 1}, {\"density\": {\"type\": \"fractal_cloud\", \"dims\": [64, 64, 64]," \
+        "  \"method\": \"perlin\"}, \"sigma_a\": 0.1, \"sigma_s\": 1}]}"
+    char json[2048];
+    snprintf(json, sizeof json, TWO_FMT, "1.5");
+    write_text(scene, json);
+    ASSERT_EQ_INT(load_commit(scene, msg, sizeof msg, NULL), BRUME_ERROR_OUT_OF_MEMORY);
+    ASSERT_CONTAINS(msg, "media[1]");
+    ASSERT_CONTAINS(msg, "render.max_memory_mb");
+    snprintf(json, sizeof json, TWO_FMT, "3");
+    write_text(scene, json);
+    ASSERT_EQ_INT(load_commit(scene, msg, sizeof msg, NULL), BRUME_OK);
+    /* a phase table read from /dev/zero ends, within the budget */
+    write_text(scene, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                      " \"media\": [{\"density\": {\"type\": \"constant\"}, \"sigma_a\": 0.1, \"sigma_s\": 1,"
+                      " \"phase\": {\"type\": \"tabulated\", \"file\": \"/dev/zero\"}}]}");
+    ASSERT_EQ_INT(load_commit(scene, msg, sizeof msg, NULL), BRUME_ERROR_PARSE);
+    ASSERT_CONTAINS(msg, "/dev/zero");
+}
+
+/* raw + .hdr: the sidecar is committed before the data, so a failed data write leaves a
+ * sidecar (which any stale data contradicts) and never a whole-looking raw without one;
+ * the reader refuses a raw whose size contradicts its sidecar, and inverted bounds. */
+TEST(raw_pairs_and_strict_readers)
+{
+    const char *dir = fresh_dir("pairs");
+    char raw[4200], hdr[4300], cmd[8600];
+    float v[8] = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+    density *d = density_new_grid(2, 2, 2, memcpy(malloc(sizeof v), v, sizeof v),
+                                  (box3){v3(0, 0, 0), v3(1, 1, 1)}, GRID_NEAREST);
+    ASSERT_TRUE(d != NULL);
+    /* the data's destination is a folder: its rename fails after the sidecar's */
+    snprintf(raw, sizeof raw, "%s/g.raw", dir);
+    snprintf(hdr, sizeof hdr, "%s.hdr", raw);
+    ASSERT_EQ_INT(mkdir(raw, 0700), 0);
+    ASSERT_TRUE(density_write_file(d, raw, GRID_FORMAT_RAW) != BRUME_OK);
+    ASSERT_TRUE(test_exists(hdr));
+    rmdir(raw);
+    /* a stale raw of another size beside the new sidecar is refused, not re-read */
+    write_file(raw, v, 4 * sizeof(float));
+    ASSERT_TRUE(density_load_file(raw, NULL) == NULL);
+    ASSERT_CONTAINS(err_message(), "bytes, but");
+    /* a whole pair reads back */
+    ASSERT_EQ_INT(density_write_file(d, raw, GRID_FORMAT_RAW), BRUME_OK);
+    density *back = density_load_file(raw, NULL);
+    ASSERT_TRUE(back != NULL);
+    density_release(back);
+    density_release(d);
+    /* inverted sidecar bounds */
+    write_text(hdr, "dims 2 2 2\nbounds 1 0 0 0 1 1\n");
+    write_file(raw, v, sizeof v);
+    ASSERT_TRUE(density_load_file(raw, NULL) == NULL);
+    ASSERT_CONTAINS(err_message(), "min < max");
+    /* .vol with trailing bytes */
+    char vol[4200];
+    snprintf(vol, sizeof vol, "%s/g.vol", dir);
+    unsigned char buf[48 + 32 + 1] = {'V', 'O', 'L', 3, 1, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0, 0};
+    float box[6] = {0, 0, 0, 1, 1, 1};
+    memcpy(buf + 24, box, sizeof box);
+    memcpy(buf + 48, v, sizeof v);
+    write_file(vol, buf, sizeof buf - 1);
+    back = density_load_file(vol, NULL);
+    ASSERT_TRUE(back != NULL);
+    density_release(back);
+    write_file(vol, buf, sizeof buf);
+    ASSERT_TRUE(density_load_file(vol, NULL) == NULL);
+    ASSERT_CONTAINS(err_message(), "trailing bytes");
+    /* no temporary file was left by any of it */
+    snprintf(cmd, sizeof cmd, "ls -A '%s' | grep -q tmp-", dir);
+    ASSERT_TRUE(test_system(cmd) != 0);
+}
+
+/* A signal in the middle of an atomic write leaves no temporary file. */
+TEST(signal_during_write_leaves_no_temp_file)
+{
+    const char *dir = fresh_dir("signal");
+    int sigs[] = {SIGTERM, SIGINT, SIGHUP};
+    for (int k = 0; k < 3; k++) {
+        pid_t pid = fork();
+        if (pid == 0) {
+            char path[4200];
+            snprintf(path, sizeof path, "%s/out.bin", dir);
+            atomic_file f;
+            if (atomic_open(&f, path) != BRUME_OK)
+                _exit(3);
+            fputs("half of it", f.fp);
+            fflush(f.fp);
+            raise(sigs[k]);
+            _exit(4); /* not reached: the default action ends the process */
+        }
+        int status = 0;
+        ASSERT_TRUE(waitpid(pid, &status, 0) == pid);
+        ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sigs[k]);
+        DIR *dp = opendir(dir);
+        ASSERT_TRUE(dp != NULL);
+        int entries = 0;
+        for (struct dirent *e; (e = readdir(dp));)
+            entries += e->d_name[0] != '.' || (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."));
+        closedir(dp);
+        ASSERT_EQ_INT(entries, 0);
+    }
+}
+
+TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
+          huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
+          signal_during_write_leaves_no_temp_file)
