@@ -82,7 +82,7 @@ int cli_check_image_name(const char *flag, const char *path, bool need_exr)
     }
     if (!ext_is(path, ".png") && !ext_is(path, ".exr") && !ext_is(path, ".pfm")) {
         cli_error("%s: '%s': unknown image format (use .exr, .png or .pfm)", flag, path);
-        return 2;
+        return 1; /* as the library's refusal of the format */
     }
     if (need_exr && !ext_is(path, ".exr")) {
         cli_error("%s: '%s': --aov layers need an .exr output", flag, path);

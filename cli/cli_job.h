@@ -16,8 +16,8 @@ void cli_signals_install(void);
 int cli_signal(void);
 const char *cli_signal_name(int sig);
 
-/* Before any work: the name of an image output (a known extension; .exr when layers are
- * asked). 0, or 2 with a message (a bad command line). */
+/* Before any work: the name of an image output: 0, or with a message 1 for an unknown
+ * format, 2 (a bad command line) for layers asked without .exr. */
 int cli_check_image_name(const char *flag, const char *path, bool need_exr);
 /* Before any work: makes the missing folders of path and checks a file can be made there.
  * 0, or 1 with a message. */

@@ -416,7 +416,7 @@ TEST(outputs_checked_before_rendering)
     struct {
         const char *o, *extra, *needle;
         int rc;
-    } cases[5] = {{"x.jpg", "", "unknown image format", 2},
+    } cases[5] = {{"x.jpg", "", "unknown image format", 1},
                   {"x.png", "--aov depth", "--aov", 2},
                   {"file/x.png", "", "not a folder", 1},
                   {"f_%04d.png", "", "frame pattern", 2},
