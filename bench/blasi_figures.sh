@@ -1,18 +1,17 @@
 #!/bin/sh
-# blasi_figures.sh - the pictures and the comparison table of docs/blasi.md.
-#   sh bench/blasi_figures.sh [BUILD_DIR]     (run from the source tree; writes docs/images/blasi-*)
-# Renders the paper's three views, then for each mixture of Figure 7 the first view at
+# blasi_figures.sh - the comparison table of docs/blasi.md and its pictures.
+#   sh bench/blasi_figures.sh [BUILD_DIR [OUT_DIR]]   (run from the source tree)
+# Writes into OUT_DIR (default $TMPDIR/blasi-figures/out), never into docs/ unless OUT_DIR says
+# so (sh bench/blasi_figures.sh build docs/images refreshes the pictures of docs/blasi.md).
+# The paper's three views are `brume figures` (docs/gallery.md). For each mixture of Figure 7 the first view at
 # 200 x 200 by blasi (paper and physical variants) and by path (the reference), and
 # compares them with `brume compare` (mean and max relative difference, difference images).
 set -e
 B=${1:-build}
 BR=$B/brume
-OUT=docs/images
 TMP=${TMPDIR:-/tmp}/blasi-figures
+OUT=${2:-$TMP/out}
 mkdir -p $OUT $TMP
-for i in 1 2 3; do
-  $BR render scenes/blasi-picture$i.json -q -o $OUT/blasi-picture$i.png
-done
 # scene variants: the first view with each Figure 7 mixture
 for m in rayleigh:0.5:-0.46:0.46 hazy:0.12:-0.5:0.7 murky:0.19:-0.65:0.91; do
   name=${m%%:*}; rest=${m#*:}; r=${rest%%:*}; rest=${rest#*:}; k=${rest%%:*}; kp=${rest#*:}

@@ -11,7 +11,8 @@
     X(compare, "error figures and a difference picture of two images")    \
     X(info, "print a grid file's format, dimensions, bounds, values and memory") \
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
-    X(gen, "generate a fractal cloud grid (brume gen cloud)")
+    X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
+    X(figures, "render every figure of both papers into a folder, with an index")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)

@@ -6,8 +6,12 @@
  * interface; everything under src/ is private.
  *
  * BUILD
- *   cmake -B build && cmake --build build     (scripts/setup.sh installs the dependencies)
- *   link with build/libbrume.a and: -lcjson -lpng -lOpenEXRCore -lpthread -lm
+ *   cmake -B build && cmake --build build && cmake --install build   (scripts/setup.sh
+ *   installs the dependencies; --prefix DIR to install elsewhere than /usr/local), then
+ *     cc app.c $(pkg-config --cflags --libs brume)
+ *   which links the shared libbrume.so.0; for the static libbrume.a, add --static to
+ *   pkg-config's --libs. CMake projects: find_package(brume CONFIG) and link brume::brume.
+ *   Python: import brume (docs/python.md).
  *
  * OBJECTS AND THEIR LIFECYCLE
  *   Every object is an opaque handle with one lifecycle: new (or load), set, commit,
@@ -17,8 +21,10 @@
  *   brume_context  owns the last error message and the error callback. One per thread
  *                  that calls the API (a context is not thread-safe; the renderer itself
  *                  uses its own worker threads).
- *   brume_scene    camera, lights, media, render settings: loaded from a JSON file
- *                  (docs/scene-format.md) or the built-in default scene.
+ *   brume_scene    camera, lights, media, surfaces, background, render settings: built in
+ *                  memory (brume_scene_new and the builders below), read from JSON
+ *                  (docs/scene-format.md; the reader uses the same builders), or the
+ *                  built-in default scene.
  *   brume_image    a rendered or loaded picture: width x height pixels, RGBA float32,
  *                  linear Rec. 709, rows top first, 4 floats per pixel; A = 1 - the
  *                  transmittance of the media along the pixel (1 = opaque cloud).
@@ -29,8 +35,14 @@
  *   the progress callback cancelled: BRUME_ERROR_CANCELLED with the partial image in *out),
  *   and the context holds a one-line
  *   message naming the file and the field at fault, e.g.
- *     "scenes/bad.json: camera.fov: expected a number in (0, 180), got 400"
- *   which brume_context_last_error() returns and the error callback (if set) receives.
+ *     "scenes/bad.json: camera.fov: 400 outside [0.001, 179]"
+ *   which brume_context_last_error() returns and the error callback (if set) receives;
+ *   a builder's message names the function and the argument instead, e.g.
+ *     "brume_density_new_array: nx: 0 outside [1, 65536]"
+ *   A NULL pointer where the header does not allow one is BRUME_ERROR_INVALID_ARGUMENT
+ *   ("brume_scene_commit: scene: NULL"), never a crash; functions without a status return
+ *   0, NULL or nothing for a NULL object. ctx itself may be NULL: the call then reports
+ *   only through its status.
  *
  * DETERMINISM
  *   An image depends on the scene, the seed and the sample count, never on the number of
@@ -659,8 +671,9 @@ typedef struct brume_write_options {
 } brume_write_options;
 
 /* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP, plus every layer as channels
- * "NAME.R/G/B" or "NAME.Y", and render figures as string attributes "brume.*"), .png (8-bit
- * sRGB RGB), .pfm (RGB float32); PNG and PFM hold no layers. opts may be NULL (exposure 0, clamp). The write is atomic: data go to a
+ * "NAME.R/G/B" or "NAME.Y", and the image's attributes as strings), .png (8-bit sRGB RGB:
+ * alpha is dropped), .pfm (RGB float32); PNG and PFM hold no layers. opts may be NULL
+ * (exposure 0, clamp). The write is atomic: data go to a
  * temporary file in the same folder that is renamed over path only when complete, so a
  * failed write never leaves a file that looks whole. */
 brume_status brume_image_write(brume_context *ctx, const brume_image *image, const char *path,

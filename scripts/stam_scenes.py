@@ -9,11 +9,11 @@ SKY = [0.32, 0.48, 0.78]
 SUN = {"type": "distant", "direction": [-0.6, -0.55, -0.58], "irradiance": [3.0, 2.9, 2.7]}
 
 
-def cloud_medium(name, gens, sigma_s=8.0, velocity=None):
+def cloud_medium(name, gens, sigma_s=8.0, velocity=None, sigma_a=0.05):
     d = {"type": "blobs", "generators": gens}
     if velocity:
         d["velocity"] = velocity
-    return {"name": name, "sigma_a": 0.05, "sigma_s": sigma_s, "density": d}
+    return {"name": name, "sigma_a": sigma_a, "sigma_s": sigma_s, "density": d}
 
 
 def write(path, scene):
@@ -27,19 +27,36 @@ CLOUD = {"type": "cloud", "center": [0, 0, 0], "radii": [1.6, 0.75, 1.0], "count
 
 # Figure 5: one cloud, four settings. Left column low perturbation (eps), right high;
 # top row high clamping value (eta), bottom row low.
-for tag, eps, eta, where in [("a", 0.05, 0.15, "top left"), ("b", 0.4, 0.15, "top right"),
-                             ("c", 0.05, 0.03, "bottom left"), ("d", 0.4, 0.03, "bottom right")]:
+# The blobs' peak density is 0.6, four times the top row's eta, so that both rows clamp (with
+# the former 0.15 every peak was at most the top row's eta = 0.15, which then clamped nothing);
+# sigma_a and sigma_s are divided by 4 to keep the mean optical depth of the earlier scenes, and
+# eps is 4 times larger to keep the perturbation's amplitude where nothing is clamped.
+FIG5_CLOUD = dict(CLOUD, density=0.6)
+OURS = ("Ours, as the paper gives no numbers: camera, sun, sky, albedo (0.99) and the ambient term standing in "
+        "for multiple scattering (Section 7 says only 'albedo close to one' and 'a non zero value for the emission "
+        "function'), blob sizes, masses and the ellipsoid, alpha, kappa_t, eps and eta. ")
+LATTICE = ("Q's lattice covers the blobs (stam.lattice 0), not the paper's 32^3, whose period would repeat across "
+           "the cloud (docs/stam.md). ")
+for tag, eps, eta, where in [("a", 0.2, 0.15, "top left"), ("b", 1.6, 0.15, "top right"),
+                             ("c", 0.2, 0.03, "bottom left"), ("d", 1.6, 0.03, "bottom right")]:
     write(f"scenes/stam-fig5-{tag}.json", {
-        "comment": f"Stam 1994, Figure 5 ({where}): one cloud of 200 blobs from an ellipsoid, eps {eps}, eta {eta}",
+        "comment": f"Stam 1994, Figure 5 ({where}): one cloud of 200 blobs from an ellipsoid, eps {eps}, eta {eta}. "
+                   "The paper's: one cloud of blobs from an ellipsoid, mass falling from its centre (Section 7, after "
+                   "Gardner), four pictures, eps low on the left and high on the right, eta high on top and low "
+                   "below. Blob peak density 0.6, above eta in both rows, so that the clamping shows: the bottom row "
+                   "has fewer holes in the dense parts. " + OURS + LATTICE,
         "camera": {"position": [0.0, 0.3, 6.0], "look_at": [0.0, 0.0, 0.0], "fov": 40},
         "background": SKY, "lights": [SUN],
-        "media": [cloud_medium("cloud", [CLOUD])],
+        "media": [cloud_medium("cloud", [FIG5_CLOUD], sigma_s=2.0, sigma_a=0.0125)],
         "stam": {"eps": eps, "eta": eta, "alpha": 0.06, "seed": 3, "ambient": [0.35, 0.4, 0.5]},
         "render": {"width": 320, "height": 240, "spp": 4, "method": "stam"}})
 
 # Figure 6a: a self-shadowed cloud, lit from behind and to the side, over a ground plane.
 write("scenes/stam-fig6-shadow.json", {
-    "comment": "Stam 1994, Figure 6: a cloud with self-shadowing (sun from the side), and its shadow on the ground",
+    "comment": "Stam 1994, Figure 6: a cloud with self-shadowing (sun from the side), and its shadow on the ground. "
+               "The paper's: a cloud of blobs casting its shadow, shadow rays carrying the realized transparency "
+               "(Section 6.3). " + OURS + "The ground plane and the sun from the side are ours, to show both "
+               "shadows. " + LATTICE,
     "camera": {"position": [1.5, 0.4, 6.5], "look_at": [0.0, -0.2, 0.0], "fov": 42},
     "background": SKY,
     "lights": [{"type": "distant", "direction": [0.9, -0.35, 0.25], "irradiance": [3.2, 3.0, 2.8]}],
@@ -52,7 +69,9 @@ write("scenes/stam-fig6-shadow.json", {
 # Figure 6b, c: two clusters of clouds.
 for tag, seed, n in [("a", 21, 6), ("b", 42, 12)]:
     write(f"scenes/stam-fig6-cluster-{tag}.json", {
-        "comment": f"Stam 1994, Figure 6: a cluster of {n} clouds from random ellipsoids",
+        "comment": f"Stam 1994, Figure 6: a cluster of {n} clouds from random ellipsoids. The paper's: clusters "
+                   "made by generating such ellipsoids at random (Section 7). " + OURS + "The number of clouds and "
+                   "the box they are drawn in are ours. " + LATTICE,
         "camera": {"position": [0.0, 1.0, 16.0], "look_at": [0.0, 0.0, 0.0], "fov": 45},
         "background": SKY, "lights": [SUN],
         "media": [cloud_medium("clouds", [{
@@ -77,7 +96,10 @@ for i in range(-4, 5):
         boxes.append({"type": "box", "min": [x - w / 2, 0, z - w / 2], "max": [x + w / 2, h, z + w / 2],
                       "material": {"albedo": [a, a * 0.95, a * 0.9]}})
 write("scenes/stam-fig6-city.json", {
-    "comment": "Stam 1994, Figure 6: downtown on a foggy day, seen from above: a layer of fog blobs among boxes",
+    "comment": "Stam 1994, Figure 6: downtown on a foggy day, seen from above: a layer of fog blobs among boxes. "
+               "The paper's: an aerial view of a city in fog. Ours: the city (random boxes on a 9 x 9 grid, not "
+               "Toronto), the fog as one flat ellipsoid of 900 blobs, the grey sky and sun, and every number. "
+               + LATTICE,
     "camera": {"position": [9.0, 13.0, 11.0], "look_at": [0.0, 0.0, 0.0], "fov": 45},
     "background": [0.55, 0.6, 0.68],
     "lights": [{"type": "distant", "direction": [-0.4, -0.8, -0.45], "irradiance": [2.4, 2.3, 2.1]}],
@@ -98,7 +120,11 @@ tower = [
 for t in range(4):
     write(f"scenes/stam-fig7-t{t}.json", {
         "comment": f"Stam 1994, Figure 7: a cloud drifting past a tall tower, frame {t} (stam.time {t}); "
-                   "the blobs move with the medium's velocity and Q evolves and drifts with them",
+                   "the blobs move with the medium's velocity and Q evolves and drifts with them. The paper's: four "
+                   "frames of a cloud interacting with a tower (Toronto's CN Tower), the cloud occluding it and "
+                   "shadowed by it. Ours: the tower's shape (a box, a sphere, a mast), the drift speed and Q's "
+                   "evolution in time (the paper does not say how Q evolves: each Fourier mode turns, docs/stam.md). "
+                   + OURS + LATTICE,
         "camera": {"position": [0.0, 5.0, 16.0], "look_at": [0.0, 6.0, 0.0], "fov": 45},
         "background": SKY, "lights": [SUN], "surfaces": tower,
         "media": [cloud_medium("cloud", [dict(CLOUD, center=[-3.2, 6.3, 0.2], radii=[2.2, 0.9, 1.3],
@@ -121,7 +147,10 @@ lights = [{"type": "point", "position": p, "intensity": [1.6, 0.9, 0.35]}
           for p in ([0, 0.25, 0], [0.08, 0.45, 0.05], [-0.07, 0.6, -0.04], [0.03, 0.8, 0.03], [0, 1.0, 0])]
 write("scenes/stam-fig8.json", {
     "comment": "Stam 1994, Figure 8: a flame of 14 emissive blobs (albedo 0; emission falls and reddens with height) "
-               "under a plume of absorbing smoke, in a room lit by five point lights inside the flame",
+               "under a plume of absorbing smoke, in a room lit by five point lights inside the flame. The paper's: "
+               "14 blobs with different emission parameters, point lights placed in the flame so that shadow rays "
+               "through the perturbed fire make the patterns on the walls. Ours: the room, the three emission bands, "
+               "the smoke plume, the lights' positions and every number. " + LATTICE,
     "camera": {"position": [0.0, 1.3, 4.4], "look_at": [0.0, 1.0, 0.0], "fov": 50},
     "background": 0, "lights": lights, "surfaces": room,
     "media": [

@@ -405,8 +405,9 @@ TEST(array_density_equals_raw_file)
 /* A failing call returns its status, names the function and the argument on one line. */
 static void expect(brume_context *ctx, brume_status got, brume_status want, const char *frag1, const char *frag2)
 {
-    ASSERT_EQ_INT(got, want);
     const char *msg = brume_context_last_error(ctx);
+    if (got != want)
+        TEST_FAIL("status %d, want %d: %s", (int)got, (int)want, msg);
     ASSERT_CONTAINS(msg, frag1);
     ASSERT_CONTAINS(msg, frag2);
     ASSERT_TRUE(strchr(msg, '\n') == NULL);
@@ -489,8 +490,11 @@ TEST(builders_reject_bad_arguments)
     ASSERT_EQ_INT(brume_scene_surface_count(s), 0);
     expect(ctx, brume_scene_set_option(ctx, s, "stam.eps", "-1"), BRUME_ERROR_RANGE, "stam.eps", "-1");
     expect(ctx, brume_scene_set_option(ctx, s, "path.eps", "1"), BRUME_ERROR_PARSE, "path.eps", "unknown key");
-    expect(ctx, brume_scene_set_medium_motion(ctx, s, 0, NULL, 0), BRUME_ERROR_RANGE,
+    brume_transform_key key = {.axis = {0, 0, 1}, .scale = {1, 1, 1}};
+    expect(ctx, brume_scene_set_medium_motion(ctx, s, 0, &key, 1), BRUME_ERROR_RANGE,
            "brume_scene_set_medium_motion", "medium");
+    expect(ctx, brume_scene_set_medium_motion(ctx, s, 0, NULL, 1), BRUME_ERROR_INVALID_ARGUMENT,
+           "brume_scene_set_medium_motion", "keys: NULL");
 
     brume_scene *j = (brume_scene *)1;
     expect(ctx, brume_scene_from_json(ctx, "{\"camera\": {\"position\": [0, 0, 1]}}", NULL, 0, &j), BRUME_ERROR_PARSE,

@@ -409,6 +409,54 @@ TEST(phase_fit_given)
     ASSERT_EQ_INT(test_system(cmd), 2);
 }
 
+/* `brume figures --quick` writes every figure of both papers, at the quick size, with both
+ * indexes naming each; it refuses to write into the source tree's docs/ unless told. */
+TEST(figures_quick_makes_every_file)
+{
+    static const char *const want[] = {
+        "blasi-fig2", "blasi-fig3", "blasi-fig4", "blasi-fig5", "blasi-fig6", "blasi-fig7", "blasi-picture1",
+        "blasi-picture2", "blasi-picture3", "stam-fig1", "stam-fig4", "stam-fig5-a", "stam-fig5-b", "stam-fig5-c",
+        "stam-fig5-d", "stam-fig6-shadow", "stam-fig6-cluster-a", "stam-fig6-cluster-b", "stam-fig6-city",
+        "stam-fig7-t0", "stam-fig7-t1", "stam-fig7-t2", "stam-fig7-t3", "stam-fig8"};
+    char dir[512], cmd[2048], path[1024];
+    snprintf(dir, sizeof dir, "%s", test_tmp_path("figures"));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && %s figures -o '%s/sub' --quick --scenes %s/scenes 2>/dev/null", dir,
+             BRUME_EXE, dir, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    size_t n;
+    snprintf(path, sizeof path, "%s/sub/index.md", dir);
+    char *md = test_slurp(path, &n);
+    snprintf(path, sizeof path, "%s/sub/index.html", dir);
+    char *html = test_slurp(path, &n);
+    for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
+        snprintf(path, sizeof path, "%s/sub/%s.png", dir, want[i]);
+        unsigned char *png = (unsigned char *)test_slurp(path, &n);
+        /* a PNG, and a render at the quick width of 64 pixels */
+        ASSERT_TRUE(n > 33 && memcmp(png, "\x89PNG\r\n\x1a\n", 8) == 0);
+        unsigned width = (unsigned)png[16] << 24 | (unsigned)png[17] << 16 | (unsigned)png[18] << 8 | png[19];
+        if (strstr(want[i], "picture") || strstr(want[i], "fig5-") || strstr(want[i], "fig6-") ||
+            strstr(want[i], "fig7-") || strcmp(want[i], "stam-fig8") == 0)
+            ASSERT_EQ_INT(width, 64);
+        free(png);
+        char ref[128];
+        snprintf(ref, sizeof ref, "](%s.png)", want[i]);
+        ASSERT_CONTAINS(md, ref);
+        snprintf(ref, sizeof ref, "<img src=\"%s.png\"", want[i]);
+        ASSERT_CONTAINS(html, ref);
+    }
+    ASSERT_CONTAINS(md, "`brume render scenes/stam-fig5-a.json --width 64 --height 48 --spp 1 -o stam-fig5-a.png`");
+    ASSERT_CONTAINS(html, "<table>");
+    free(md);
+    free(html);
+    /* docs/ of the source tree: refused, nothing created */
+    snprintf(cmd, sizeof cmd, "%s figures -o %s/docs/figures-test-never --quick --scenes %s/scenes 2>/dev/null",
+             BRUME_EXE, BRUME_SOURCE_DIR, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    ASSERT_TRUE(!test_exists(BRUME_SOURCE_DIR "/docs/figures-test-never"));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    test_system(cmd);
+}
+
 TEST_MAIN(set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
           q_autocorrelation_has_no_period_in_the_field, blasi_on_blobs_refused_or_voxelized, stats_per_method,
-          phase_fit_given)
+          phase_fit_given, figures_quick_makes_every_file)

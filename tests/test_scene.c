@@ -139,8 +139,8 @@ TEST(phase_functions_in_scenes)
         "{\"type\": \"isotropic\"}", "{\"type\": \"rayleigh\"}", "{\"type\": \"hazy\"}", "{\"type\": \"murky\"}",
         "{\"type\": \"hg\", \"g\": -0.2}", "{\"type\": \"schlick\", \"k\": 0.5}", "{\"type\": \"schlick\", \"g\": 0.5}",
         "{\"type\": \"schlick_mix\", \"r\": 0.19, \"k\": -0.65, \"kprime\": 0.91}",
-        "{\"type\": \"mixture\", \"lobes\": [{\"weight\": 1, \"phase\": {\"type\": \"rayleigh\"}},"
-        " {\"weight\": 3, \"phase\": {\"type\": \"hg\", \"g\": 0.8}}]}"};
+        ("{\"type\": \"mixture\", \"lobes\": [{\"weight\": 1, \"phase\": {\"type\": \"rayleigh\"}},"
+         " {\"weight\": 3, \"phase\": {\"type\": \"hg\", \"g\": 0.8}}]}")};
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
         char text[1024];
         snprintf(text, sizeof text, MEDIUM_WITH("%s"), ok[i]);

@@ -22,6 +22,8 @@ void brume_context_release(brume_context *ctx) { free(ctx); }
 
 void brume_context_set_error_callback(brume_context *ctx, brume_error_fn fn, void *user)
 {
+    if (!ctx)
+        return;
     ctx->callback = fn;
     ctx->callback_user = user;
 }

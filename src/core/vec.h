@@ -3,6 +3,13 @@
 #define BRUME_CORE_VEC_H
 
 #include <math.h>
+
+/* glibc's INFINITY is a float constant, and clang's -Wdouble-promotion flags each use of it
+ * in double arithmetic; brume computes in double, so its infinity is a double. */
+#if defined(__clang__)
+#undef INFINITY
+#define INFINITY (__builtin_inf())
+#endif
 #include <stdbool.h>
 
 #define PI 3.14159265358979323846

@@ -85,7 +85,8 @@ brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *j
 {
     err_clear();
     if (!job || !path || !*path)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_save: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_save: %s: NULL",
+                                       !job ? "job" : "path"));
     ckpt_header hd;
     memset(&hd, 0, sizeof hd);
     memcpy(hd.magic, "BRUMECKP", 8);
@@ -302,10 +303,10 @@ brume_status brume_render_job_resume(brume_context *ctx, const brume_scene *scen
                                      const char *path, brume_render_job **out)
 {
     err_clear();
-    if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_resume: out is NULL"));
-    *out = NULL;
-    if (!scene || !path || !*path)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_resume: NULL argument"));
+    if (out)
+        *out = NULL;
+    if (!out || !scene || !path || !*path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_resume: %s: NULL",
+                                       !scene ? "scene" : !path || !*path ? "path" : "out"));
     return ctx_report(ctx, resume(scene, scene_key, path, out));
 }

@@ -14,10 +14,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include <unistd.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "io/grid_vdb.h"
 
 #ifndef BRUME_HAVE_OPENVDB
@@ -147,9 +149,12 @@ static int raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
     char hdr[4096];
     if (snprintf(hdr, sizeof hdr, "%s.hdr", path) >= (int)sizeof hdr)
         return 0;
-    FILE *f = fopen(hdr, "r");
-    if (!f)
-        return 0;
+    struct stat hs;
+    if (stat(hdr, &hs) != 0)
+        return 0; /* no sidecar */
+    FILE *f = NULL;
+    if (io_open_regular(hdr, &f) != BRUME_OK)
+        return -1;
     char line[512];
     int lineno = 0, got_dims = 0;
     box3 b;
@@ -318,7 +323,8 @@ static bool read_vol(const unsigned char *b, size_t size, const char *name, size
                 (long long)n[1], (long long)n[2], count * width);
         return false;
     }
-    box3 box = {v3(rd_lef(b + 24), rd_lef(b + 28), rd_lef(b + 32)), v3(rd_lef(b + 36), rd_lef(b + 40), rd_lef(b + 44))};
+    box3 box = {v3((double)rd_lef(b + 24), (double)rd_lef(b + 28), (double)rd_lef(b + 32)),
+                v3((double)rd_lef(b + 36), (double)rd_lef(b + 40), (double)rd_lef(b + 44))};
     if (!v3_isfinite(box.lo) || !v3_isfinite(box.hi) || !(box.hi.x > box.lo.x && box.hi.y > box.lo.y && box.hi.z > box.lo.z)) {
         err_set(BRUME_ERROR_PARSE, "%s: .vol bounding box is empty or not finite", name);
         return false;
@@ -544,11 +550,9 @@ density *density_load_memory(const void *bytes, size_t size, const char *name, c
 density *density_load_file(const char *path, const density_load_options *opts)
 {
     size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        err_set(BRUME_ERROR_IO, "%s: %s", path, strerror(errno));
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
         return NULL;
-    }
     long len = -1;
     if (fseek(f, 0, SEEK_END) == 0)
         len = ftell(f);

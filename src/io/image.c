@@ -87,7 +87,8 @@ brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, c
 {
     err_clear();
     if (!image || !key || !*key || !value)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: NULL or empty argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: %s: NULL",
+                                       !image ? "image" : !key || !*key ? "key" : "value"));
     int i = 0;
     while (i < image->nmeta && strcmp(image->meta[i].key, key) != 0)
         i++;
@@ -245,9 +246,13 @@ brume_status brume_image_write(brume_context *ctx, const brume_image *image, con
 {
     err_clear();
     brume_status st = BRUME_OK;
-    if (!path || !*path)
+    if (!path)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: path: NULL");
+    else if (!image)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: image: NULL");
+    else if (!*path)
         st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_write: no path");
-    else if (!image || !image->rgba)
+    else if (!image->rgba)
         st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
     else if (opts && !isfinite(opts->exposure))
         st = err_set(BRUME_ERROR_RANGE, "%s: exposure: expected a finite number of stops, got %g",
@@ -275,7 +280,8 @@ brume_status brume_image_encode_png(brume_context *ctx, const brume_image *image
     if (size)
         *size = 0;
     if (!image || !image->rgba || !data || !size)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_encode_png: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_encode_png: %s: NULL",
+                                       !image || !image->rgba ? "image" : !data ? "data" : "size"));
     if (opts && !isfinite(opts->exposure))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_image_encode_png: exposure: expected a finite number of stops, got %g",
                                        opts->exposure));
@@ -286,9 +292,11 @@ brume_status brume_image_read(brume_context *ctx, const char *path, brume_image 
 {
     err_clear();
     if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: out is NULL"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: out: NULL"));
     *out = NULL;
-    if (!path || !*path)
+    if (!path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: path: NULL"));
+    if (!*path)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_read: no path"));
 
     brume_status st = BRUME_OK;

@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "io/atomic.h"
 #include "io/image.h"
 
@@ -407,9 +408,10 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
 brume_status image_read_exr(const char *path, brume_image **out)
 {
     *out = NULL;
-    FILE *probe = fopen(path, "rb"); /* OpenEXR's own message for this is less direct */
-    if (!probe)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *probe = NULL; /* OpenEXR's own message for this is less direct */
+    brume_status pst = io_open_regular(path, &probe);
+    if (pst != BRUME_OK)
+        return pst;
     fclose(probe);
     exr_io io = {-1, ""};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "io/atomic.h"
 #include "io/image.h"
 
@@ -113,9 +114,10 @@ static int64_t parse_dimension(const char *s)
 brume_status image_read_pfm(const char *path, brume_image **out)
 {
     *out = NULL;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp = NULL;
+    brume_status ost = io_open_regular(path, &fp);
+    if (ost != BRUME_OK)
+        return ost;
 
     brume_status st = BRUME_OK;
     unsigned char *row = NULL;

@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "io/atomic.h"
 #include "io/image.h"
 
@@ -263,9 +264,10 @@ static brume_status png_read_guarded(png_structp png, png_infop info, FILE *fp, 
 brume_status image_read_png(const char *path, brume_image **out)
 {
     *out = NULL;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp = NULL;
+    brume_status ost = io_open_regular(path, &fp);
+    if (ost != BRUME_OK)
+        return ost;
     struct stat sb;
     unsigned char sig[8];
     if (fstat(fileno(fp), &sb) != 0) {

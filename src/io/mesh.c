@@ -12,6 +12,7 @@
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "io/regular_file.h"
 
 #define MESH_MAX_TRIANGLES 200000000L
 
@@ -68,9 +69,9 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
 {
     *pos_out = NULL;
     *idx_out = NULL;
-    FILE *probe = fopen(path, "rb");
-    if (!probe)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *probe = NULL; /* a regular file: assimp would block on a pipe */
+    if (io_open_regular(path, &probe) != BRUME_OK)
+        return err_status();
     /* assimp holds the whole file and more while it imports: a file larger than the memory
      * budget is refused unread; the import's share is given back once released */
     long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;

@@ -760,7 +760,10 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
                          const char *const *overrides, int noverrides, brume_scene **out)
 {
     err_clear();
-    *out = NULL;
+    if (out)
+        *out = NULL;
+    if (!out || !path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load: %s: NULL", !out ? "out" : "path"));
     if (!isfinite(time))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", path, time));
     char *text = NULL;
@@ -782,7 +785,8 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
         err_clear();
         if (out)
             *out = NULL;
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load_with: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load_with: %s",
+                                       !out ? "out: NULL" : "opts.overrides: NULL or noverrides < 0"));
     }
     if (o.frame < 0) {
         err_clear();
@@ -813,7 +817,7 @@ brume_status brume_scene_load_at(brume_context *ctx, const char *path, double ti
 
 brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
 {
-    if (frame_no < 0) {
+    if (frame_no < 0 && out && path) {
         err_clear();
         *out = NULL;
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
@@ -824,5 +828,7 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
 {
     err_clear();
+    if (!out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_default: out: NULL"));
     return ctx_report(ctx, scene_parse_json(scene_default_json, "<default scene>", out));
 }

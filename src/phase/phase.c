@@ -12,6 +12,7 @@
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "io/regular_file.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
 
@@ -477,11 +478,9 @@ static const char *next_field(const char *s)
 
 phase *phase_load_tabulated(const char *path)
 {
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
         return NULL;
-    }
     double *angle = NULL, *value = NULL;
     int n = 0, cap = 0, lineno = 0;
     char line[PHASE_TABLE_LINE_MAX + 1]; /* lines are bounded: /dev/zero is one endless line */

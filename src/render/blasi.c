@@ -906,7 +906,7 @@ static color view_attenuation(const blasi_state *st, ray r, double tmax)
     while (walk_next(&wk, st, &pc)) {
         double dl = pc.t1 - pc.t0;
         for (int i = 0; i < pc.n; i++) {
-            double rho = st->rho[pc.v[i]];
+            double rho = (double)st->rho[pc.v[i]];
             for (int c = 0; c < 3; c++)
                 A.c[c] *= exp(-st->m[pc.m[i]].kappa.c[c] * rho * dl);
         }

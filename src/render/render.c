@@ -509,11 +509,10 @@ static brume_status job_image(const brume_render_job *job, brume_image **out)
 brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_render_job **out)
 {
     err_clear();
-    if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: out is NULL"));
-    *out = NULL;
-    if (!s)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: scene is NULL"));
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
     return ctx_report(ctx, job_create(s, 0, 1, out));
 }
 
@@ -521,7 +520,7 @@ brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int
 {
     err_clear();
     if (!job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job is NULL"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job: NULL"));
     if (spp < 1 || spp > (1 << 24))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_render_job_add: spp: %d outside [1, 16777216]", spp));
     return ctx_report(ctx, job_add(job, spp));
@@ -531,18 +530,17 @@ brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
 {
     err_clear();
     if (!job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job is NULL"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
     return ctx_report(ctx, job_run(job));
 }
 
 brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
 {
     err_clear();
-    if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: out is NULL"));
-    *out = NULL;
-    if (!job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: job is NULL"));
+    if (out)
+        *out = NULL;
+    if (!out || !job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: %s: NULL", !job ? "job" : "out"));
     return ctx_report(ctx, job_image(job, out));
 }
 
@@ -607,11 +605,10 @@ brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image 
 brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
 {
     err_clear();
-    if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: out is NULL"));
-    *out = NULL;
-    if (!s)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: scene is NULL"));
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
     if (nparts < 1 || part < 0 || part >= nparts)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
                                        s->source, part, nparts));
@@ -637,7 +634,8 @@ brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene,
 {
     err_clear();
     if (!scene || !out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: NULL argument"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: %s: NULL",
+                                       !scene ? "scene" : "out"));
     *out = scene->prepared->stats;
     return ctx_report(ctx, BRUME_OK);
 }

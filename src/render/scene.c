@@ -102,11 +102,18 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     return BRUME_OK;
 }
 
-void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs) { *rs = s->settings; }
+void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs)
+{
+    if (s && rs)
+        *rs = s->settings;
+}
 
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const brume_render_settings *rs)
 {
     err_clear();
+    if (!s || !rs)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_set_settings: %s: NULL",
+                                       !s ? "scene" : "settings"));
     if (s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: settings changed after commit", s->source));
     brume_status st = scene_check_settings(s->source, rs);
@@ -118,6 +125,8 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const 
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 {
     err_clear();
+    if (!s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_commit: scene: NULL"));
     if (s->committed)
         return ctx_report(ctx, BRUME_OK);
     brume_status st = scene_check_settings(s->source, &s->settings);
@@ -160,7 +169,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     return ctx_report(ctx, BRUME_OK);
 }
 
-double brume_scene_time(const brume_scene *s) { return s->time; }
+double brume_scene_time(const brume_scene *s) { return s ? s->time : 0.0; }
 
 static bool world_moves(const brume_scene *s)
 {
@@ -172,6 +181,8 @@ bool brume_scene_world_is_static(const brume_scene *s) { return s && !world_move
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *s, double time)
 {
     err_clear();
+    if (!s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_set_camera_time: scene: NULL"));
     if (!s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: camera time set before commit", s->source));
     if (world_moves(s))

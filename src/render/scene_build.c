@@ -5,6 +5,7 @@
  * argument. Densities and phase functions are in scene_media.c, surfaces in
  * scene_shapes.c. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +29,21 @@ brume_status build_check_scene(const char *fn, const brume_scene *s)
 brume_status build_null(const char *fn, const char *arg)
 {
     return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s: NULL", fn, arg);
+}
+
+brume_status build_need(const char *fn, int n, ...)
+{
+    va_list ap;
+    va_start(ap, n);
+    brume_status st = BRUME_OK;
+    for (int i = 0; i < n && st == BRUME_OK; i++) {
+        const char *name = va_arg(ap, const char *);
+        const void *p = va_arg(ap, const void *);
+        if (!p)
+            st = build_null(fn, name);
+    }
+    va_end(ap);
+    return st;
 }
 
 brume_status build_number(const char *fn, const char *arg, double v, double lo, double hi)
@@ -277,6 +293,8 @@ brume_status brume_scene_add_distant_light(brume_context *ctx, brume_scene *s, c
     err_clear();
     light l = {.kind = LIGHT_DISTANT};
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 2, "direction", (const void *)direction, "irradiance", (const void *)irradiance);
     if (!st && !(st = build_direction(fn, "direction", direction, &l.direction)) &&
         !(st = build_color(fn, "irradiance", irradiance, BIG, &l.L)) &&
         !(st = build_number(fn, "angular_radius", angular_radius, 0.0, 90.0))) {
@@ -293,6 +311,8 @@ brume_status brume_scene_add_point_light(brume_context *ctx, brume_scene *s, con
     err_clear();
     light l = {.kind = LIGHT_POINT};
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 2, "position", (const void *)position, "intensity", (const void *)intensity);
     if (!st && !(st = build_point(fn, "position", position, &l.position)) &&
         !(st = build_color(fn, "intensity", intensity, BIG, &l.L)))
         st = add_light(fn, s, &l);
@@ -307,6 +327,9 @@ brume_status brume_scene_add_spot_light(brume_context *ctx, brume_scene *s, cons
     err_clear();
     light l = {.kind = LIGHT_SPOT};
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 3, "position", (const void *)position, "direction", (const void *)direction, "intensity",
+                        (const void *)intensity);
     if (!st && !(st = build_point(fn, "position", position, &l.position)) &&
         !(st = build_direction(fn, "direction", direction, &l.direction)) &&
         !(st = build_color(fn, "intensity", intensity, BIG, &l.L)) &&
@@ -332,6 +355,9 @@ brume_status brume_scene_add_spot_light_profile(brume_context *ctx, brume_scene 
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn));
     l->kind = LIGHT_SPOT;
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 5, "position", (const void *)position, "direction", (const void *)direction, "intensity",
+                        (const void *)intensity, "angle", (const void *)angle, "factor", (const void *)factor);
     if (!st && !(st = build_point(fn, "position", position, &l->position)) &&
         !(st = build_direction(fn, "direction", direction, &l->direction)) &&
         !(st = build_color(fn, "intensity", intensity, BIG, &l->L))) {
@@ -364,6 +390,8 @@ brume_status brume_scene_add_sphere_light(brume_context *ctx, brume_scene *s, co
     err_clear();
     light l = {.kind = LIGHT_SPHERE};
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 2, "position", (const void *)position, "radiance", (const void *)radiance);
     if (!st && !(st = build_point(fn, "position", position, &l.position)) &&
         !(st = build_number(fn, "radius", radius, 1e-9, BIG)) && !(st = build_color(fn, "radiance", radiance, BIG, &l.L))) {
         l.radius = radius;
@@ -379,6 +407,9 @@ brume_status brume_scene_add_disk_light(brume_context *ctx, brume_scene *s, cons
     err_clear();
     light l = {.kind = LIGHT_DISK};
     brume_status st = build_check_scene(fn, s);
+    if (!st)
+        st = build_need(fn, 3, "position", (const void *)position, "normal", (const void *)normal, "radiance",
+                        (const void *)radiance);
     if (!st && !(st = build_point(fn, "position", position, &l.position)) &&
         !(st = build_direction(fn, "normal", normal, &l.direction)) &&
         !(st = build_number(fn, "radius", radius, 1e-9, BIG)) && !(st = build_color(fn, "radiance", radiance, BIG, &l.L))) {
@@ -480,6 +511,8 @@ brume_status brume_scene_set_medium_motion(brume_context *ctx, brume_scene *s, i
     static const char fn[] = "brume_scene_set_medium_motion";
     err_clear();
     brume_status st = build_check_scene(fn, s);
+    if (!st && !keys)
+        st = build_null(fn, "keys");
     if (st)
         return ctx_report(ctx, st);
     if (index < 0 || index >= s->nmedia)

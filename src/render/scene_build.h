@@ -23,6 +23,8 @@ struct brume_phase {
 /* Each returns BRUME_OK or err_set()s "FN: ARG: what is wrong". */
 brume_status build_check_scene(const char *fn, const brume_scene *s); /* not NULL, not committed */
 brume_status build_null(const char *fn, const char *arg);
+/* The first NULL of n (name, pointer) pairs, as build_null; BRUME_OK when none is NULL. */
+brume_status build_need(const char *fn, int n, ...);
 brume_status build_number(const char *fn, const char *arg, double v, double lo, double hi);
 brume_status build_point(const char *fn, const char *arg, const double *p, vec3 *out);     /* finite */
 brume_status build_direction(const char *fn, const char *arg, const double *p, vec3 *out); /* normalized */

@@ -53,8 +53,8 @@ brume_status brume_density_new_array(brume_context *ctx, const float *data, int 
     if (!out)
         return ctx_report(ctx, build_null(fn, "out"));
     *out = NULL;
-    if (!data)
-        return ctx_report(ctx, build_null(fn, "data"));
+    if (!data || !bounds)
+        return ctx_report(ctx, build_null(fn, !data ? "data" : "bounds"));
     int n[3] = {nx, ny, nz};
     for (int a = 0; a < 3; a++)
         if (n[a] < 1 || n[a] > 65536)
@@ -97,7 +97,8 @@ brume_status brume_density_new_constant(brume_context *ctx, double value, const 
     *out = NULL;
     box3 b;
     brume_status st;
-    if ((st = build_number(fn, "value", value, 0.0, BIG)) || (st = build_box(fn, "bounds", bounds, &b)))
+    if ((st = build_need(fn, 1, "bounds", (const void *)bounds)) || (st = build_number(fn, "value", value, 0.0, BIG)) ||
+        (st = build_box(fn, "bounds", bounds, &b)))
         return ctx_report(ctx, st);
     float *data = malloc(sizeof *data);
     if (!data)
@@ -119,7 +120,8 @@ brume_status brume_density_new_procedural_cloud(brume_context *ctx, int resoluti
     *out = NULL;
     box3 b;
     brume_status st;
-    if ((st = build_number(fn, "resolution", resolution, 2, 512)) || (st = build_box(fn, "bounds", bounds, &b)))
+    if ((st = build_need(fn, 1, "bounds", (const void *)bounds)) ||
+        (st = build_number(fn, "resolution", resolution, 2, 512)) || (st = build_box(fn, "bounds", bounds, &b)))
         return ctx_report(ctx, st);
     return ctx_report(ctx, wrap(fn, density_new_procedural_cloud(resolution, seed, b), false, out));
 }
@@ -424,13 +426,13 @@ brume_status brume_density_new_blobs(brume_context *ctx, const double *blobs, in
     if (!out)
         return ctx_report(ctx, build_null(fn, "out"));
     *out = NULL;
-    brume_status st;
-    if ((st = build_number(fn, "n", n, 0, 1 << 24)) || (st = build_number(fn, "ngens", ngens, 0, 1 << 16)))
-        return ctx_report(ctx, st);
     if (n > 0 && !blobs)
         return ctx_report(ctx, build_null(fn, "blobs"));
     if (ngens > 0 && !gens)
         return ctx_report(ctx, build_null(fn, "gens"));
+    brume_status st;
+    if ((st = build_number(fn, "n", n, 0, 1 << 24)) || (st = build_number(fn, "ngens", ngens, 0, 1 << 16)))
+        return ctx_report(ctx, st);
     if (cutoff == 0.0)
         cutoff = BLOB_DEFAULT_CUTOFF;
     vec3 v = v3(0, 0, 0);

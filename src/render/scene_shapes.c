@@ -123,7 +123,8 @@ brume_status brume_scene_add_sphere(brume_context *ctx, brume_scene *s, const do
     err_clear();
     vec3 c;
     brume_status st;
-    if ((st = build_check_scene(fn, s)) || (st = build_point(fn, "center", center, &c)) ||
+    if ((st = build_check_scene(fn, s)) || (st = build_need(fn, 1, "center", (const void *)center)) ||
+        (st = build_point(fn, "center", center, &c)) ||
         (st = build_number(fn, "radius", radius, 1e-12, 1e30)))
         return ctx_report(ctx, st);
     shape_args a;
@@ -146,7 +147,8 @@ brume_status brume_scene_add_box(brume_context *ctx, brume_scene *s, const doubl
     err_clear();
     vec3 lo, hi;
     brume_status st;
-    if ((st = build_check_scene(fn, s)) || (st = build_point(fn, "min", min, &lo)) ||
+    if ((st = build_check_scene(fn, s)) || (st = build_need(fn, 2, "min", (const void *)min, "max", (const void *)max)) ||
+        (st = build_point(fn, "min", min, &lo)) ||
         (st = build_point(fn, "max", max, &hi)))
         return ctx_report(ctx, st);
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
@@ -175,7 +177,10 @@ brume_status brume_scene_add_quad(brume_context *ctx, brume_scene *s, const doub
     err_clear();
     vec3 c, u, v;
     brume_status st;
-    if ((st = build_check_scene(fn, s)) || (st = build_point(fn, "corner", corner, &c)) ||
+    if ((st = build_check_scene(fn, s)) ||
+        (st = build_need(fn, 3, "corner", (const void *)corner, "edge_u", (const void *)edge_u, "edge_v",
+                         (const void *)edge_v)) ||
+        (st = build_point(fn, "corner", corner, &c)) ||
         (st = build_point(fn, "edge_u", edge_u, &u)) || (st = build_point(fn, "edge_v", edge_v, &v)))
         return ctx_report(ctx, st);
     if (!(v3_length(v3_cross(u, v)) > 0.0))
@@ -194,7 +199,8 @@ brume_status brume_scene_add_plane(brume_context *ctx, brume_scene *s, const dou
     err_clear();
     vec3 p, n;
     brume_status st;
-    if ((st = build_check_scene(fn, s)) || (st = build_point(fn, "point", point, &p)) ||
+    if ((st = build_check_scene(fn, s)) || (st = build_need(fn, 2, "point", (const void *)point, "normal", (const void *)normal)) ||
+        (st = build_point(fn, "point", point, &p)) ||
         (st = build_direction(fn, "normal", normal, &n)) || (st = build_number(fn, "size", size, 1e-9, 1e30)))
         return ctx_report(ctx, st);
     shape_args a;
@@ -271,6 +277,8 @@ brume_status brume_scene_set_surface_motion(brume_context *ctx, brume_scene *s, 
     brume_status st = build_check_scene(fn, s);
     if (st)
         return ctx_report(ctx, st);
+    if (!keys)
+        return ctx_report(ctx, build_null(fn, "keys"));
     int count = brume_scene_surface_count(s);
     if (index < 0 || index >= count)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: surface: %d is not a surface of the scene (it has %d)",

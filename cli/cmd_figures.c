@@ -1,0 +1,554 @@
+/* cmd_figures.c - `brume figures -o DIR [--quick] [--only NAME]`: every figure of both papers
+ * (Blasi et al. 1993: Figures 2-7 and the three pictures of Section 5; Stam 1994: Figures 1
+ * and 4-8) into DIR, with index.md and index.html giving each figure beside its caption, the
+ * command that makes it alone, and the time it took. docs/gallery.md shows the result. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "brume.h"
+#include "commands.h"
+#include "core/error.h"
+#include "io/atomic.h"
+#include "phase/phase.h"
+#include "phase/phase_fit.h"
+#include "phase/phase_plot.h"
+#include "render/stam_figures.h"
+
+#ifndef BRUME_SCENES_DIR
+#define BRUME_SCENES_DIR "scenes"
+#endif
+
+typedef enum fig_kind {
+    FIG_RENDER,     /* a scene file rendered as it says */
+    FIG_PHASE_FIT,  /* Blasi Figures 2-4: true function and Figure 7's mixture */
+    FIG_OVERLAY,    /* Blasi Figures 5-6: a family on one axis */
+    FIG_BLASI7,     /* Blasi Figure 7: the table, scored, and its three fits */
+    FIG_STAM1,
+    FIG_STAM4
+} fig_kind;
+
+typedef struct figure {
+    const char *name;  /* file DIR/NAME.png and --only NAME */
+    const char *paper; /* "Blasi 1993" or "Stam 1994" */
+    const char *title; /* "Figure 5 (top left)" */
+    fig_kind kind;
+    const char *arg;   /* scene name, phase names, or the given triple */
+    const char *caption;
+} figure;
+
+static const figure figures[] = {
+    {"blasi-fig2", "Blasi 1993", "Figure 2", FIG_PHASE_FIT, "rayleigh 0.50,-0.46,0.46",
+     "Rayleigh phase function: (a) the true function (solid), (b) the Schlick mixture of Figure 7, r = 0.5, k = -0.46, "
+     "k' = 0.46 (dashed). Polar plot left (light arrives from the left), phi against the angle right."},
+    {"blasi-fig3", "Blasi 1993", "Figure 3", FIG_PHASE_FIT, "hazy 0.12,-0.50,0.70",
+     "Hazy Mie phase function (Eq. 17), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
+     "log scale."},
+    {"blasi-fig4", "Blasi 1993", "Figure 4", FIG_PHASE_FIT, "murky 0.19,-0.65,0.91",
+     "Murky Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.19, k = -0.65, k' = 0.91 (dashed; the "
+     "caption's k' = -0.91 is a slip, DESIGN.md erratum 2); log scale."},
+    {"blasi-fig5", "Blasi 1993", "Figure 5", FIG_OVERLAY, "hg:-0.9 hg:-0.6 hg:0 hg:0.6 hg:0.9",
+     "Henyey-Greenstein phase functions (the paper's \"Henyey-Bernstein\", erratum 1) for g = -0.9, -0.6, 0, 0.6, 0.9 "
+     "on one pair of axes; log scale."},
+    {"blasi-fig6", "Blasi 1993", "Figure 6", FIG_OVERLAY, "schlick:-0.95 schlick:-0.8 schlick:0 schlick:0.8 schlick:0.95",
+     "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; log scale."},
+    {"blasi-fig7", "Blasi 1993", "Figure 7", FIG_BLASI7, "",
+     "Figure 7's parameters for the three theoretical functions: each true function (solid), Figure 7's mixture "
+     "(orange, dashed) and brume's fit in the angle norm (green, dashed), log scale. The table below scores both."},
+    {"blasi-picture1", "Blasi 1993", "Section 5, picture 1", FIG_RENDER, "blasi-picture1",
+     "The 65 x 65 x 10 fractal cloud seen from below and to the side, the sun above it; the paper's variant of the "
+     "two-pass method, 2^21 light rays, 400 x 400."},
+    {"blasi-picture2", "Blasi 1993", "Section 5, picture 2", FIG_RENDER, "blasi-picture2",
+     "The same cloud seen from above on its sunlit side."},
+    {"blasi-picture3", "Blasi 1993", "Section 5, picture 3", FIG_RENDER, "blasi-picture3",
+     "The same cloud seen edge-on, lit from the side (the sun 102 degrees from the view direction)."},
+    {"stam-fig1", "Stam 1994", "Figure 1", FIG_STAM1, "",
+     "A random blob rho = mean + sigma Q along a line through its centre: without clamping sigma^2 = eps mean, so the "
+     "dense centre is the most perturbed; with clamping sigma^2 = eps min(mean, eta) (Section 4) the perturbation is "
+     "bounded where the mean exceeds eta. Drawn as a profile (our choice: the paper shows the blob itself)."},
+    {"stam-fig4", "Stam 1994", "Figure 4", FIG_STAM4, "",
+     "Variance of the optical depth T_i of one blob against the distance d_i of the ray from its centre, for several "
+     "eta: brume's closed form Var T_i = eps sqrt(2 pi) alpha c I_F (lines; docs/stam.md) against the sample variance "
+     "over explicit 3-D realizations of the density (points). Without clamping the variance is proportional to the "
+     "mean T_i, as the paper notes; clamping flattens it near the centre."},
+    {"stam-fig5-a", "Stam 1994", "Figure 5 (top left)", FIG_RENDER, "stam-fig5-a",
+     "One cloud of 200 blobs, eps = 0.05, eta = 0.15 (low perturbation, high threshold)."},
+    {"stam-fig5-b", "Stam 1994", "Figure 5 (top right)", FIG_RENDER, "stam-fig5-b", "eps = 0.4, eta = 0.15."},
+    {"stam-fig5-c", "Stam 1994", "Figure 5 (bottom left)", FIG_RENDER, "stam-fig5-c",
+     "eps = 0.05, eta = 0.03: the lower threshold clamps the dense blobs' variance."},
+    {"stam-fig5-d", "Stam 1994", "Figure 5 (bottom right)", FIG_RENDER, "stam-fig5-d", "eps = 0.4, eta = 0.03."},
+    {"stam-fig6-shadow", "Stam 1994", "Figure 6 (a)", FIG_RENDER, "stam-fig6-shadow",
+     "A self-shadowed cloud and its shadow on the ground."},
+    {"stam-fig6-cluster-a", "Stam 1994", "Figure 6 (b)", FIG_RENDER, "stam-fig6-cluster-a",
+     "A cluster of 6 clouds from random ellipsoids."},
+    {"stam-fig6-cluster-b", "Stam 1994", "Figure 6 (c)", FIG_RENDER, "stam-fig6-cluster-b",
+     "A cluster of 12 clouds."},
+    {"stam-fig6-city", "Stam 1994", "Figure 6 (d)", FIG_RENDER, "stam-fig6-city",
+     "Fog over a city of boxes seen from above (900 blobs)."},
+    {"stam-fig7-t0", "Stam 1994", "Figure 7, t = 0", FIG_RENDER, "stam-fig7-t0",
+     "A cloud drifting past a tower: the tower is occluded by the cloud and shadows it."},
+    {"stam-fig7-t1", "Stam 1994", "Figure 7, t = 1", FIG_RENDER, "stam-fig7-t1", "The same, one time unit later."},
+    {"stam-fig7-t2", "Stam 1994", "Figure 7, t = 2", FIG_RENDER, "stam-fig7-t2", "t = 2."},
+    {"stam-fig7-t3", "Stam 1994", "Figure 7, t = 3", FIG_RENDER, "stam-fig7-t3", "t = 3."},
+    {"stam-fig8", "Stam 1994", "Figure 8", FIG_RENDER, "stam-fig8",
+     "A flame of 14 blobs under a plume of smoke, in a room lit by five point lights inside the flame."},
+};
+#define NFIG ((int)(sizeof figures / sizeof figures[0]))
+
+/* Quick mode: small images, one sample, few light rays, few realizations. */
+#define QUICK_WIDTH 64
+#define QUICK_LIGHT_RAYS "20000"
+
+static const char figures_usage[] =
+    "usage: brume figures -o DIR [--quick] [--only NAME] [--scenes DIR] [--into-docs]\n"
+    "Renders every figure of Blasi et al. 1993 (Figures 2-7, pictures 1-3 of Section 5) and\n"
+    "Stam 1994 (Figures 1, 4-8) into DIR (created if missing), with DIR/index.md and\n"
+    "DIR/index.html: each figure beside its caption, the command that makes it alone and the\n"
+    "time it took.\n\n"
+    "  --quick        small images (64 pixels wide, 1 sample, 20000 light rays, fewer\n"
+    "                 realizations): every file in seconds, for tests\n"
+    "  --only NAME    one figure (its file only, no index); NAME as in the index\n"
+    "  --scenes DIR   the paper scenes (default: ./scenes if present, else the source tree's)\n"
+    "  --into-docs    allow DIR inside the source tree's docs/ (refused otherwise)\n";
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct fig_run {
+    double seconds;
+    char command[1024];
+    char extra[2048]; /* more text for the index (Figure 7's table) */
+} fig_run;
+
+/* Renders a scene file into path; quick: QUICK_WIDTH wide, one sample, few light rays. */
+static int run_render(const char *scenes, const figure *f, const char *path, bool quick, fig_run *r)
+{
+    char scene[PATH_MAX];
+    snprintf(scene, sizeof scene, "%s/%s.json", scenes, f->arg);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_image *img = NULL;
+    int rc = 1;
+    const char *ov[] = {"blasi.light_rays=" QUICK_LIGHT_RAYS};
+    bool blasi = strncmp(f->arg, "blasi", 5) == 0;
+    brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0};
+    if (!ctx || brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)
+        goto fail;
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    char size[160] = "";
+    if (quick) {
+        rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
+        rs.width = QUICK_WIDTH;
+        rs.spp = 1;
+        snprintf(size, sizeof size, " --width %d --height %d --spp 1%s", rs.width, rs.height,
+                 blasi ? " --set blasi.light_rays=" QUICK_LIGHT_RAYS : "");
+    }
+    rs.progress = false;
+    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
+        brume_render(ctx, s, &img) != BRUME_OK || brume_image_write(ctx, img, path, NULL) != BRUME_OK)
+        goto fail;
+    snprintf(r->command, sizeof r->command, "brume render scenes/%s.json%s -o %s.png", f->arg, size, f->name);
+    rc = 0;
+    goto done;
+fail:
+    cli_error("figures: %s: %s", f->name, ctx ? brume_context_last_error(ctx) : "out of memory");
+done:
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    return rc;
+}
+
+/* Figure 7: the three functions with Figure 7's mixture and brume's fit, and the table. */
+static int run_blasi7(const char *path, fig_run *r)
+{
+    static const char *const names[3] = {"rayleigh", "hazy", "murky"};
+    static const double given[3][3] = {{0.50, -0.46, 0.46}, {0.12, -0.50, 0.70}, {0.19, -0.65, 0.91}};
+    phase *ph[3][3] = {{0}};
+    static char titles[3][160];
+    static const char *labels[3][3];
+    static const bool dashed[3] = {false, true, true};
+    phase_plot_row rows[3];
+    int rc = 1;
+    size_t used = 0;
+    used += (size_t)snprintf(r->extra, sizeof r->extra,
+                             "| function | Figure 7: r, k, k' | its error | brume's fit: r, k, k' | its error |\n"
+                             "| --- | --- | --- | --- | --- |\n");
+    for (int i = 0; i < 3; i++) {
+        phase_fit_result fit;
+        ph[i][0] = phase_new_from_name(names[i]);
+        if (!ph[i][0] || phase_fit_schlick_mix(ph[i][0], PHASE_FIT_NORM_ANGLE, &fit) != BRUME_OK)
+            goto fail;
+        double e7 = phase_fit_error(ph[i][0], PHASE_FIT_NORM_ANGLE, given[i][0], given[i][1], given[i][2]);
+        ph[i][1] = phase_new_schlick_mix(given[i][0], given[i][1], given[i][2]);
+        ph[i][2] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime);
+        if (!ph[i][1] || !ph[i][2])
+            goto fail;
+        labels[i][0] = names[i];
+        labels[i][1] = "Figure 7";
+        labels[i][2] = "brume's fit";
+        snprintf(titles[i], sizeof titles[i], "%s: Figure 7 r %.2f k %.2f k' %.2f (error %.4f); ours r %.4f k %.4f "
+                 "k' %.4f (error %.4f)", names[i], given[i][0], given[i][1], given[i][2], e7, fit.r, fit.k, fit.kprime,
+                 fit.error);
+        rows[i] = (phase_plot_row){titles[i], NULL, NULL, 3, (const phase *const *)ph[i], labels[i], dashed};
+        if (used < sizeof r->extra)
+            used += (size_t)snprintf(r->extra + used, sizeof r->extra - used,
+                                     "| %s | %.2f, %.2f, %.2f | %.5f | %.4f, %.4f, %.4f | %.5f |\n", names[i], given[i][0],
+                                     given[i][1], given[i][2], e7, fit.r, fit.k, fit.kprime, fit.error);
+    }
+    if (used < sizeof r->extra)
+        snprintf(r->extra + used, sizeof r->extra - used,
+                 "\nErrors: the relative L2 norm over the angle (`brume phase fit NAME --given r,k,kprime`, "
+                 "docs/phase-functions.md).\n");
+    if (phase_plot_png(path, 3, rows, true) != BRUME_OK)
+        goto fail;
+    rc = 0;
+    goto done;
+fail:
+    cli_error("figures: blasi-fig7: %s", err_message());
+done:
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++)
+            phase_release(ph[i][k]);
+    return rc;
+}
+
+static int run_phase(const figure *f, const char *path, fig_run *r)
+{
+    char names[256];
+    snprintf(names, sizeof names, "%s", f->arg);
+    phase *ph[8] = {0};
+    const char *labels[8];
+    int n = 0, rc = 1;
+    phase_plot_row row = {0};
+    static char title[1024];
+    if (f->kind == FIG_PHASE_FIT) {
+        char *sp = strchr(names, ' ');
+        *sp = '\0';
+        double g[3];
+        sscanf(sp + 1, "%lf,%lf,%lf", &g[0], &g[1], &g[2]);
+        ph[0] = phase_new_from_name(names);
+        ph[1] = phase_new_schlick_mix(g[0], g[1], g[2]);
+        n = 2;
+        if (!ph[0] || !ph[1])
+            goto fail;
+        snprintf(title, sizeof title, "%s: true (solid), Figure 7's Schlick mixture r %.2f, k %.2f, k' %.2f (dashed), "
+                 "error %.4f", names, g[0], g[1], g[2], phase_fit_error(ph[0], PHASE_FIT_NORM_ANGLE, g[0], g[1], g[2]));
+        row = (phase_plot_row){title, ph[0], ph[1], 0, NULL, NULL, NULL};
+        snprintf(r->command, sizeof r->command, "brume phase plot %s --given %s%s -o %s.png", names, sp + 1,
+                 strcmp(names, "rayleigh") == 0 ? "" : " --log", f->name);
+        if (phase_plot_png(path, 1, &row, strcmp(names, "rayleigh") != 0) != BRUME_OK)
+            goto fail;
+    } else {
+        for (char *tok = strtok(names, " "); tok && n < 8; tok = strtok(NULL, " ")) {
+            labels[n] = tok;
+            if (!(ph[n++] = phase_new_from_name(tok)))
+                goto fail;
+        }
+        snprintf(title, sizeof title, "%s", f->caption);
+        char *dot = strchr(title, ';'); /* the caption up to its first remark */
+        if (dot)
+            *dot = '\0';
+        row = (phase_plot_row){title, NULL, NULL, n, (const phase *const *)ph, labels, NULL};
+        snprintf(r->command, sizeof r->command, "brume phase plot %s --overlay --log -o %s.png", f->arg, f->name);
+        if (phase_plot_png(path, 1, &row, true) != BRUME_OK)
+            goto fail;
+    }
+    rc = 0;
+    goto done;
+fail:
+    cli_error("figures: %s: %s", f->name, err_message());
+done:
+    for (int i = 0; i < n; i++)
+        phase_release(ph[i]);
+    return rc;
+}
+
+static int run_figure(const char *scenes, const char *dir, const figure *f, bool quick, fig_run *r)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s.png", dir, f->name);
+    memset(r, 0, sizeof *r);
+    snprintf(r->command, sizeof r->command, "brume figures --only %s%s -o DIR", f->name, quick ? " --quick" : "");
+    double t0 = now();
+    int rc = 1;
+    double z = 0.0;
+    err_clear();
+    switch (f->kind) {
+    case FIG_RENDER: rc = run_render(scenes, f, path, quick, r); break;
+    case FIG_PHASE_FIT:
+    case FIG_OVERLAY: rc = run_phase(f, path, r); break;
+    case FIG_BLASI7: rc = run_blasi7(path, r); break;
+    case FIG_STAM1:
+        rc = stam_figure1_png(path, quick) == BRUME_OK ? 0 : 1;
+        break;
+    case FIG_STAM4:
+        rc = stam_figure4_png(path, quick, &z) == BRUME_OK ? 0 : 1;
+        if (rc == 0)
+            snprintf(r->extra, sizeof r->extra,
+                     "Largest distance between a sample variance and the closed form: %.2f standard errors of the "
+                     "sample variance (the test `stam.transparency_statistics_monte_carlo` checks 5 rays at 5 s.e.).\n",
+                     z);
+        break;
+    }
+    if (rc != 0 && (f->kind == FIG_STAM1 || f->kind == FIG_STAM4))
+        cli_error("figures: %s: %s", f->name, err_message());
+    r->seconds = now() - t0;
+    return rc;
+}
+
+/* The markdown and HTML indexes; text is ours (no markup to escape but <, >, &). */
+static void html_text(FILE *fp, const char *s)
+{
+    for (; *s; s++) {
+        if (*s == '<')
+            fputs("&lt;", fp);
+        else if (*s == '>')
+            fputs("&gt;", fp);
+        else if (*s == '&')
+            fputs("&amp;", fp);
+        else
+            fputc(*s, fp);
+    }
+}
+
+/* Figure 7's markdown table as HTML rows. */
+static void html_table(FILE *fp, const char *md)
+{
+    fputs("<table>\n", fp);
+    int row = 0;
+    for (const char *line = md; *line == '|'; row++) {
+        const char *end = strchr(line, '\n');
+        if (!end)
+            break;
+        if (row != 1) {
+            fputs("<tr>", fp);
+            for (const char *c = line + 1; c < end;) {
+                const char *bar = memchr(c, '|', (size_t)(end - c));
+                if (!bar)
+                    break;
+                fputs(row == 0 ? "<th>" : "<td>", fp);
+                char cell[256];
+                snprintf(cell, sizeof cell, "%.*s", (int)(bar - c), c);
+                html_text(fp, cell);
+                fputs(row == 0 ? "</th>" : "</td>", fp);
+                c = bar + 1;
+            }
+            fputs("</tr>\n", fp);
+        }
+        line = end + 1;
+    }
+    fputs("</table>\n", fp);
+    const char *after = strstr(md, "\n\n");
+    if (after) {
+        fputs("<p>", fp);
+        html_text(fp, after + 2);
+        fputs("</p>\n", fp);
+    }
+}
+
+static int write_indexes(const char *dir, const fig_run *runs, bool quick, double total)
+{
+    char path[PATH_MAX];
+    atomic_file md, html;
+    snprintf(path, sizeof path, "%s/index.md", dir);
+    if (atomic_open(&md, path) != BRUME_OK) {
+        cli_error("figures: %s", err_message());
+        return 1;
+    }
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    if (atomic_open(&html, path) != BRUME_OK) {
+        atomic_abort(&md);
+        cli_error("figures: %s", err_message());
+        return 1;
+    }
+    FILE *m = md.fp, *h = html.fp;
+    fprintf(m, "# The figures of both papers%s\n\nMade by `brume figures -o DIR%s` (brume %s) in %.1f s. Each figure "
+               "is followed by its caption, the command that makes it alone, and the time it took. The papers: "
+               "Blasi, Le Saec and Schlick, *A Rendering Algorithm for Discrete Volume Density Objects* "
+               "(Eurographics 1993); Stam, *Stochastic Rendering of Density Fields* (Graphics Interface 1994). "
+               "Which choices in each scene are the papers' and which are ours: the scene files' comments, "
+               "docs/blasi.md and docs/stam.md.\n",
+            quick ? " (quick sizes)" : "", quick ? " --quick" : "", brume_version(), total);
+    fprintf(h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brume: the figures of both "
+               "papers</title>\n<style>body{font-family:sans-serif;max-width:980px;margin:auto;padding:1em}"
+               "figure{margin:2em 0;border-top:1px solid #ccc;padding-top:1em}img{max-width:100%%}"
+               "code{background:#f3f3f3;padding:2px 4px}table{border-collapse:collapse}"
+               "td,th{border:1px solid #bbb;padding:2px 8px}.time{color:#666}</style></head><body>\n"
+               "<h1>The figures of both papers%s</h1>\n<p>Made by <code>brume figures -o DIR%s</code> (brume %s) in "
+               "%.1f s. Each figure is followed by its caption, the command that makes it alone, and the time it "
+               "took.</p>\n",
+            quick ? " (quick sizes)" : "", quick ? " --quick" : "", brume_version(), total);
+    const char *last_paper = "";
+    for (int i = 0; i < NFIG; i++) {
+        const figure *f = &figures[i];
+        if (strcmp(f->paper, last_paper) != 0) {
+            fprintf(m, "\n## %s\n", f->paper);
+            fprintf(h, "<h2>%s</h2>\n", f->paper);
+            last_paper = f->paper;
+        }
+        fprintf(m, "\n### %s: %s\n\n![%s](%s.png)\n\n%s\n\n", f->paper, f->title, f->name, f->name, f->caption);
+        if (runs[i].extra[0])
+            fprintf(m, "%s\n", runs[i].extra);
+        fprintf(m, "`%s` (%.2f s)\n", runs[i].command, runs[i].seconds);
+        fprintf(h, "<figure id=\"%s\"><h3>%s: %s</h3><img src=\"%s.png\" alt=\"%s\">\n<figcaption><p>", f->name,
+                f->paper, f->title, f->name, f->name);
+        html_text(h, f->caption);
+        fputs("</p>\n", h);
+        if (runs[i].extra[0]) {
+            if (runs[i].extra[0] == '|')
+                html_table(h, runs[i].extra);
+            else {
+                fputs("<p>", h);
+                html_text(h, runs[i].extra);
+                fputs("</p>\n", h);
+            }
+        }
+        fputs("<p><code>", h);
+        html_text(h, runs[i].command);
+        fprintf(h, "</code> <span class=\"time\">(%.2f s)</span></p></figcaption></figure>\n", runs[i].seconds);
+    }
+    fputs("</body></html>\n", h);
+    brume_status a = atomic_commit(&md), b = atomic_commit(&html);
+    if (a != BRUME_OK || b != BRUME_OK) {
+        cli_error("figures: %s", err_message());
+        return 1;
+    }
+    return 0;
+}
+
+/* mkdir -p */
+static bool make_dirs(const char *dir)
+{
+    char p[PATH_MAX];
+    snprintf(p, sizeof p, "%s", dir);
+    for (char *s = p + 1; *s; s++)
+        if (*s == '/') {
+            *s = '\0';
+            if (mkdir(p, 0777) != 0 && errno != EEXIST)
+                return false;
+            *s = '/';
+        }
+    return mkdir(p, 0777) == 0 || errno == EEXIST;
+}
+
+/* The absolute, resolved form of path, which need not exist yet: its longest existing
+ * prefix resolved, the rest appended. */
+static bool resolve(const char *path, char *out, size_t n)
+{
+    char abs[2 * PATH_MAX + 2], r[PATH_MAX], cwd[PATH_MAX];
+    if (path[0] == '/')
+        cwd[0] = '\0';
+    else if (!getcwd(cwd, sizeof cwd))
+        return false;
+    if (snprintf(abs, sizeof abs, "%s/%s", cwd, path) >= (int)sizeof abs)
+        return false;
+    for (size_t i = strlen(abs); i > 0; i--) {
+        if (abs[i] != '/' && abs[i] != '\0')
+            continue;
+        char keep = abs[i];
+        abs[i] = '\0';
+        bool ok = realpath(abs, r) != NULL;
+        abs[i] = keep;
+        if (ok)
+            return snprintf(out, n, "%s%s", r, abs + i) < (int)n;
+    }
+    return false;
+}
+
+/* True when dir lies in the docs/ folder beside the scenes folder (the source tree's). */
+static bool inside_docs(const char *scenes, const char *dir)
+{
+    char docs[PATH_MAX], d[PATH_MAX + 8], rd[PATH_MAX], rdocs[PATH_MAX];
+    snprintf(docs, sizeof docs, "%s/../docs", scenes);
+    if (!realpath(docs, rdocs) || !resolve(dir, rd, sizeof rd))
+        return false;
+    size_t n = strlen(rdocs);
+    snprintf(d, sizeof d, "%s/", rd);
+    return strncmp(d, rdocs, n) == 0 && d[n] == '/';
+}
+
+int cmd_figures(int argc, char **argv)
+{
+    const char *dir = NULL, *only = NULL, *scenes = NULL;
+    bool quick = false, into_docs = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            fputs(figures_usage, stdout);
+            return 0;
+        } else if ((strcmp(a, "-o") == 0 || strcmp(a, "--only") == 0 || strcmp(a, "--scenes") == 0) && i + 1 < argc) {
+            const char **dst = a[1] == 'o' ? &dir : a[2] == 'o' ? &only : &scenes;
+            *dst = argv[++i];
+        } else if (strcmp(a, "--quick") == 0) {
+            quick = true;
+        } else if (strcmp(a, "--into-docs") == 0) {
+            into_docs = true;
+        } else {
+            cli_error("figures: unknown or incomplete option '%s' (try `brume figures --help`)", a);
+            return 2;
+        }
+    }
+    if (!dir) {
+        cli_error("figures: -o DIR is required (try `brume figures --help`)");
+        return 2;
+    }
+    int which = -1;
+    if (only) {
+        for (int i = 0; i < NFIG; i++)
+            if (strcmp(figures[i].name, only) == 0)
+                which = i;
+        if (which < 0) {
+            char list[1024] = "";
+            for (int i = 0; i < NFIG; i++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", figures[i].name);
+            cli_error("figures: --only: unknown figure '%s' (known: %s)", only, list);
+            return 2;
+        }
+    }
+    struct stat sb;
+    if (!scenes)
+        scenes = stat("scenes/blasi-picture1.json", &sb) == 0 ? "scenes" : BRUME_SCENES_DIR;
+    char probe[PATH_MAX];
+    snprintf(probe, sizeof probe, "%s/blasi-picture1.json", scenes);
+    if (stat(probe, &sb) != 0) {
+        cli_error("figures: %s: no paper scenes there (give --scenes DIR)", scenes);
+        return 1;
+    }
+    if (!into_docs && inside_docs(scenes, dir)) {
+        cli_error("figures: %s is inside the source tree's docs/: give --into-docs to write there", dir);
+        return 2;
+    }
+    if (!make_dirs(dir)) {
+        cli_error("figures: %s: cannot create: %s", dir, strerror(errno));
+        return 1;
+    }
+    static fig_run runs[NFIG];
+    double t0 = now();
+    int failed = 0;
+    for (int i = 0; i < NFIG; i++) {
+        if (which >= 0 && i != which)
+            continue;
+        if (run_figure(scenes, dir, &figures[i], quick, &runs[i]) != 0) {
+            failed++;
+            continue;
+        }
+        fprintf(stderr, "brume: figures: %s/%s.png (%.2f s)\n", dir, figures[i].name, runs[i].seconds);
+    }
+    if (failed)
+        return 1;
+    if (which >= 0)
+        return 0;
+    return write_indexes(dir, runs, quick, now() - t0);
+}

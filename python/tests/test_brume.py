@@ -1,0 +1,171 @@
+"""test_brume.py - the Python package over the build tree's libbrume (ctest python.package):
+a dict scene with a numpy density renders byte for byte as the same values read from a raw
+file, shapes and types, zero-copy borrowing and its release, errors carrying brume's
+message, repeated renders, options, and (when the library has them) progress,
+cancellation, progressive passes and AOVs."""
+import gc
+import json
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import brume
+from brume._lib import has
+
+BOUNDS = [[-1.0, -0.8, -0.6], [1.2, 0.8, 0.6]]
+
+
+def cloud(nz=8, ny=10, nx=12):
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    r = np.sqrt((i - (nx - 1) / 2) ** 2 + (j - (ny - 1) / 2) ** 2 + 2.0 * (k - (nz - 1) / 2) ** 2)
+    v = np.where(r < 5.0, (5.0 - r) * (1.0 + 0.3 * np.sin(i + 2.0 * j + 3.0 * k)), 0.0)
+    return v.astype(np.float32)
+
+
+def scene_with(density):
+    return {"render": {"width": 32, "height": 24, "spp": 4},
+            "camera": {"position": [0.3, 0.5, 4], "look_at": [0, 0, 0]},
+            "lights": [{"type": "distant", "direction": [-1, -1, -1], "irradiance": 3}],
+            "media": [{"sigma_a": 0.3, "sigma_s": 2, "density": density}]}
+
+
+class PackageTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(dir=os.environ.get("BRUME_TMP"))
+
+    def tearDown(self):
+        for f in os.listdir(self.tmp):
+            os.remove(os.path.join(self.tmp, f))
+        os.rmdir(self.tmp)
+
+    def test_dict_with_numpy_density_equals_raw_file(self):
+        rho = cloud()
+        raw = os.path.join(self.tmp, "cloud.raw")
+        rho.tofile(raw)  # float32, x fastest: what a [z, y, x] C array is in memory
+        nz, ny, nx = rho.shape
+        path = os.path.join(self.tmp, "cloud.json")
+        with open(path, "w") as f:
+            json.dump(scene_with({"type": "grid", "file": raw, "format": "raw", "dims": [nx, ny, nz],
+                                  "bounds": BOUNDS, "filter": "trilinear"}), f)
+        want = brume.render(path)
+        got = brume.render(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}))
+        self.assertEqual(got.shape, (24, 32, 4))
+        self.assertEqual(got.dtype, np.float32)
+        self.assertGreater(float(want[..., 3].max()), 0.1)  # the cloud is in the picture
+        self.assertEqual(want.tobytes(), got.tobytes())
+        # a non-contiguous view (same values) is copied, and renders the same
+        fortran = np.asfortranarray(rho)
+        self.assertFalse(fortran.flags["C_CONTIGUOUS"])
+        got2 = brume.render(scene_with({"type": "array", "data": fortran, "bounds": BOUNDS}))
+        self.assertEqual(want.tobytes(), got2.tobytes())
+        # settings given to render override the file's
+        small = brume.render(path, width=8, height=6, spp=1)
+        self.assertEqual(small.shape, (6, 8, 4))
+
+    def test_zero_copy_borrow_and_release(self):
+        rho = cloud()
+        s = brume.Scene(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}))
+        held = [a for a in brume._borrowed.values() if a is rho]
+        self.assertEqual(len(held), 1)  # the caller's own array, not a copy
+        img = s.render()
+        s.close()
+        self.assertFalse(any(a is rho for a in brume._borrowed.values()))  # released with the scene
+        self.assertEqual(img.shape, (24, 32, 4))
+        # an array given to a scene that fails later is not kept either
+        with self.assertRaises(brume.Error):
+            brume.Scene(dict(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}), camera={}))
+        gc.collect()
+        self.assertFalse(any(a is rho for a in brume._borrowed.values()))
+
+    def test_errors_carry_brumes_message(self):
+        bad = scene_with({"type": "constant", "value": 1})
+        bad["camera"]["fov"] = 400
+        with self.assertRaises(brume.Error) as e:
+            brume.render(bad)
+        self.assertIn("camera.fov: 400 outside [0.001, 179]", e.exception.message)
+        self.assertNotIn("\n", e.exception.message)
+        rho = cloud()
+        rho[1, 2, 3] = np.nan
+        with self.assertRaises(brume.Error) as e:
+            brume.render(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}))
+        self.assertIn("media[0].density", str(e.exception))
+        self.assertIn("brume_density_new_array: data", str(e.exception))
+        self.assertIn("nan", str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.render(scene_with({"type": "array", "data": np.zeros((4, 4), np.float32), "bounds": BOUNDS}))
+        self.assertIn("expected a 3-d array", str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.render(scene_with({"type": "array", "data": cloud(), "bounds": [[1, 0, 0], [0, 1, 1]]}))
+        self.assertIn("min < max", str(e.exception))
+        missing = os.path.join(self.tmp, "missing.json")
+        with self.assertRaises(brume.Error) as e:
+            brume.render(missing)
+        self.assertIn(missing, str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.render(scene_with({"type": "constant"}), options={"blasi.rays": 3})
+        self.assertIn("blasi.rays: unknown key", str(e.exception))
+
+    def test_scene_renders_again_and_takes_options(self):
+        s = brume.Scene(scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS}), spp=2,
+                        method="blasi", options={"blasi.light_rays": 2000, "blasi.variant": "physical"})
+        a, b = s.render(), s.render()
+        self.assertEqual(a.tobytes(), b.tobytes())
+        self.assertEqual(s.settings["method"], "blasi")
+        self.assertEqual(s.settings["spp"], 2)
+        with self.assertRaises(brume.Error):
+            s.render(spp=3)  # committed: frozen
+        s.close()
+        default = brume.render(None, width=12, height=8, spp=1)
+        self.assertEqual(default.shape, (8, 12, 4))
+
+    @unittest.skipUnless(has("brume_progress_fn"), "this libbrume has no progress callback")
+    def test_progress_and_cancel(self):
+        calls = []
+
+        def progress(done, total):
+            calls.append((done, total))
+            return True
+
+        brume.render(scene_with({"type": "constant", "value": 0.5}), progress=progress)
+        self.assertTrue(calls)
+        self.assertTrue(all(0 <= d <= t for d, t in calls))
+        self.assertEqual(calls[-1][0], calls[-1][1])
+        with self.assertRaises(brume.Cancelled) as e:
+            brume.render(scene_with({"type": "constant", "value": 0.5}), progress=lambda d, t: d == 0)
+        self.assertEqual(e.exception.image.shape, (24, 32, 4))
+        brume.render(scene_with({"type": "constant", "value": 0.5}), width=8, height=6, progress=True)
+
+    @unittest.skipUnless(has("brume_render_begin"), "this libbrume has no render jobs")
+    def test_progressive_passes_equal_one_render(self):
+        scene = scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS})
+        one = brume.render(scene, spp=4)
+        with brume.Scene(scene) as s:
+            s.begin(spp=4)
+            s.add(2)
+            half = s.image()
+            s.add(2)
+            self.assertEqual(s.samples, 4)
+            self.assertEqual(s.image().tobytes(), one.tobytes())
+            self.assertEqual(half.shape, one.shape)
+
+    @unittest.skipUnless("depth" in brume.AOVS and "albedo" in brume.AOVS, "this libbrume has no AOVs")
+    def test_aovs_as_arrays(self):
+        # a matte wall 3 units in front of the camera: depth 3 on every pixel, albedo its own
+        scene = {"render": {"width": 16, "height": 12, "spp": 2},
+                 "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 30},
+                 "lights": [{"type": "distant", "direction": [0, 0, -1], "irradiance": 1}],
+                 "surfaces": [{"type": "quad", "corner": [-5, -5, 0], "edge_u": [10, 0, 0], "edge_v": [0, 10, 0],
+                               "material": {"albedo": [0.2, 0.4, 0.6]}}]}
+        rgba, aovs = brume.render(scene, aovs=["depth", "albedo"])
+        self.assertEqual(rgba.shape, (12, 16, 4))
+        self.assertEqual(aovs["depth"].shape, (12, 16))
+        self.assertEqual(aovs["albedo"].shape, (12, 16, 3))
+        centre = aovs["depth"][6, 8]
+        self.assertAlmostEqual(float(centre), 3.0, delta=0.05)
+        np.testing.assert_allclose(aovs["albedo"][6, 8], [0.2, 0.4, 0.6], atol=1e-6)
+
+
+if __name__ == "__main__":
+    unittest.main()
