@@ -681,8 +681,8 @@ brume_status brume_image_write(brume_context *ctx, const brume_image *image, con
 /* Reads .exr (R, G, B and optional A channels; "NAME.C" channels become layers), .pfm or .png
  * into a new linear image. */
 brume_status brume_image_read(brume_context *ctx, const char *path, brume_image **out);
-/* The image as PNG bytes (as brume_image_write would write them) in a new buffer of *size
- * bytes that the caller frees with free(). */
+/* The image as PNG bytes (as brume_image_write would write them; opts may be NULL) in a new
+ * buffer of *size bytes that the caller frees with free(). */
 brume_status brume_image_encode_png(brume_context *ctx, const brume_image *image, const brume_write_options *opts,
                                     unsigned char **data, size_t *size);
 
