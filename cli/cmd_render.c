@@ -252,25 +252,37 @@ typedef struct render_opts {
     double time_budget, noise; /* --time, --noise; 0 = the scene's */
     int min_spp;               /* --min-spp; 0 = the scene's */
     unsigned aovs;             /* --aov */
-    int nsets; /* scene overrides "KEY=VALUE" (--set, --save-light, --load-light) */
+    int nsets; /* scene overrides "KEY=VALUE" (--set) */
     const char *sets[MAX_SETS];
     char set_buf[MAX_SETS][4200];
+    /* files the command line names for blasi's light pass (--save-light, --load-light and
+     * --set blasi.save_light / load_light): set as method options after loading, relative to
+     * the working directory, since a scene file (and so an override of it) may write only
+     * inside its own folder */
+    int nlight;
+    const char *light_key[MAX_SETS], *light_value[MAX_SETS];
 } render_opts;
 
 /* Scene overrides name files relative to the scene file's folder; on the command line a
- * relative name means the working directory, so such values are made absolute here. */
+ * relative name means the working directory, so the files a scene reads ("file" keys) are
+ * made absolute here, and blasi's light files go to set_option (render_opts). */
 static bool set_override(render_opts *o, const char *key, size_t keylen, const char *value)
 {
-    if (o->nsets == MAX_SETS) {
+    if (o->nsets == MAX_SETS || o->nlight == MAX_SETS) {
         cli_error("render: more than %d --set options", MAX_SETS);
         return false;
+    }
+    if ((keylen == 16 && strncmp(key, "blasi.save_light", 16) == 0) ||
+        (keylen == 16 && strncmp(key, "blasi.load_light", 16) == 0)) {
+        o->light_key[o->nlight] = key[6] == 's' ? "blasi.save_light" : "blasi.load_light";
+        o->light_value[o->nlight++] = value;
+        return true;
     }
     const char *leaf = key + keylen;
     while (leaf > key && leaf[-1] != '.' && leaf[-1] != ']')
         leaf--;
     size_t leaflen = (size_t)(key + keylen - leaf);
-    bool is_file = (leaflen == 4 && strncmp(leaf, "file", 4) == 0) || (leaflen == 10 && strncmp(leaf, "save_light", 10) == 0) ||
-                   (leaflen == 10 && strncmp(leaf, "load_light", 10) == 0);
+    bool is_file = leaflen == 4 && strncmp(leaf, "file", 4) == 0; /* files read by the scene */
     char cwd[2048] = "";
     if (is_file && value[0] && value[0] != '/' && value[0] != '"' && !getcwd(cwd, sizeof cwd)) {
         cli_error("--set %.*s: cannot read the working directory: %s", (int)keylen, key, strerror(errno));
@@ -298,6 +310,11 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     st = brume_scene_load_with(ctx, o->scene_path, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
+    for (int k = 0; k < o->nlight; k++)
+        if (brume_scene_set_option(ctx, scene, o->light_key[k], o->light_value[k]) != BRUME_OK) {
+            brume_scene_release(scene);
+            return NULL;
+        }
     brume_render_settings rs;
     brume_scene_get_settings(scene, &rs);
     if (o->spp) rs.spp = o->spp;

@@ -209,7 +209,9 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
  * The edited document then goes through the scene reader, so every override is validated
  * as the file's own keys are; an unknown key fails with the keys known at that place, an
  * index outside an array with the indices there. Relative file names in VALUE are relative
- * to the scene file's folder. opts may be NULL (time 0, no overrides); the strings are
+ * to the scene file's folder, and a file an override writes (blasi.save_light) must lie
+ * inside it, as for the file's own keys: a caller's own output path goes to
+ * brume_scene_set_option instead. opts may be NULL (time 0, no overrides); the strings are
  * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
 typedef struct brume_load_options {
     double time;                   /* scene time, seconds (used when frame is 0) */
@@ -242,10 +244,12 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, co
  * blasi.light_rays, blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources,
  * blasi.exit_deposit (paper|none), blasi.view_attenuation (absorption|extinction),
  * blasi.variant (paper|physical: both of the previous two unless they are set themselves),
- * blasi.save_light PATH and blasi.load_light PATH (docs/blasi.md); the stam method's are
- * stam.eps, stam.eta, stam.alpha, stam.lattice, stam.cell, stam.seed, stam.time, stam.rate,
- * stam.ambient ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false),
- * stam.voxelize.resolution and stam.voxelize.realization (docs/scene-format.md). Paths are
+ * blasi.voxels (cells of a blob field's grid), blasi.save_light PATH and blasi.load_light
+ * PATH (docs/blasi.md); the stam method's are stam.eps, stam.eta, stam.alpha, stam.lattice
+ * (0 = covering the blob fields), stam.cell, stam.seed, stam.time, stam.rate, stam.ambient
+ * ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false), stam.variant
+ * (paper|corrected), stam.voxelize.resolution and stam.voxelize.realization
+ * (docs/scene-format.md, docs/stam.md). Paths are
  * used as given (a scene file's are relative to its folder). An unknown key or a bad value
  * fails with a message naming the key; nothing is changed then. */
 brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);

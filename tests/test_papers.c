@@ -457,6 +457,29 @@ TEST(figures_quick_makes_every_file)
     test_system(cmd);
 }
 
+/* The light pass's files named on the command line are relative to the working directory and
+ * may be anywhere the user says (a scene file may write only inside its folder): --save-light
+ * and --set blasi.save_light write there, --load-light reads it back, with --set beside them. */
+TEST(cli_light_files_beside_overrides)
+{
+    char dir[512], cmd[4096];
+    snprintf(dir, sizeof dir, "%s", test_tmp_path("lightdir"));
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && mkdir -p '%s' && cd '%s' && %s render %s --save-light a.light --set blasi.light_rays=2000 "
+             "--width 16 --height 16 --spp 1 -q -o a.png && %s render %s --set blasi.save_light=b.light "
+             "--set blasi.light_rays=2000 --width 16 --height 16 --spp 1 -q -o b.png && cmp a.light b.light && "
+             "%s render %s --load-light a.light --set blasi.light_rays=2000 --set camera.fov=30 --width 16 "
+             "--height 16 --spp 1 -q -o c.png",
+             dir, dir, dir, BRUME_EXE, SCENE("blasi-picture1.json"), BRUME_EXE, SCENE("blasi-picture1.json"), BRUME_EXE,
+             SCENE("blasi-picture2.json"));
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/c.png", dir);
+    ASSERT_TRUE(test_exists(path));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    test_system(cmd);
+}
+
 TEST_MAIN(set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
           q_autocorrelation_has_no_period_in_the_field, blasi_on_blobs_refused_or_voxelized, stats_per_method,
-          phase_fit_given, figures_quick_makes_every_file)
+          phase_fit_given, figures_quick_makes_every_file, cli_light_files_beside_overrides)
