@@ -208,10 +208,12 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, co
  * blasi.light_rays, blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources,
  * blasi.exit_deposit (paper|none), blasi.view_attenuation (absorption|extinction),
  * blasi.variant (paper|physical: both of the previous two unless they are set themselves),
- * blasi.save_light PATH and blasi.load_light PATH (docs/blasi.md); the stam method's are
- * stam.eps, stam.eta, stam.alpha, stam.lattice, stam.cell, stam.seed, stam.time, stam.rate,
- * stam.ambient ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false),
- * stam.voxelize.resolution and stam.voxelize.realization (docs/scene-format.md). Paths are
+ * blasi.voxels (cells of a blob field's grid), blasi.save_light PATH and blasi.load_light
+ * PATH (docs/blasi.md); the stam method's are stam.eps, stam.eta, stam.alpha, stam.lattice
+ * (0 = covering the blob fields), stam.cell, stam.seed, stam.time, stam.rate, stam.ambient
+ * ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false), stam.variant
+ * (paper|corrected), stam.voxelize.resolution and stam.voxelize.realization
+ * (docs/scene-format.md, docs/stam.md). Paths are
  * used as given (a scene file's are relative to its folder). An unknown key or a bad value
  * fails with a message naming the key; nothing is changed then. */
 brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);

@@ -80,7 +80,7 @@ def value(ptype, pname, fname):
         return "density"
     if base == "brume_phase*":
         return "phase"
-    if base == "brume_phase**":  # brume_phase *const *lobes
+    if t == "brume_phase*const*":  # the lobes of a mixture (an out pointer is brume_phase **)
         return "lobes"
     if base == "brume_render_job*":
         return "job"
@@ -169,8 +169,7 @@ def main():
             call = "%s(%s)" % (fname, ", ".join(args))
             what = "%s with %s NULL" % (fname, pname)
             ncalls += 1
-            has_out = any(qt.replace(" ", "").endswith("**") and qt.replace(" ", "").replace("const", "") != "brume_phase**"
-                          for j, (qt, qn, qp, qf) in enumerate(params) if j != i)
+            has_out = any(qt.replace(" ", "").endswith("**") for j, (qt, qn, qp, qf) in enumerate(params) if j != i)
             w("    /* %s */" % what)
             if has_out:
                 w("    out_ptr = (void *)blob;")

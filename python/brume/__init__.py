@@ -192,6 +192,7 @@ class Scene:
         self._job = None
         self._committed = False
         self._progress_cb = None
+        self._aovs = False
         out = ffi.new("brume_scene **")
         if scene is None:
             self._ctx.check(lib.brume_scene_new_default(self._ctx.ptr, out))
@@ -361,6 +362,29 @@ class Scene:
                 raise Cancelled(msg, st, self.image())
             raise Error(msg, st)
         return self
+
+    def run(self):
+        """Runs passes until the settings say stop (spp, time_budget or noise_target)."""
+        if self._job is None:
+            raise Error("run: no render job (call begin() first)")
+        if not has("brume_render_job_run"):
+            raise Error("run: this libbrume cannot run a job to its settings' end")
+        st = lib.brume_render_job_run(self._ctx.ptr, self._job)
+        if st != 0:
+            msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
+            if _CANCELLED is not None and st == _CANCELLED:
+                raise Cancelled(msg, st, self.image())
+            raise Error(msg, st)
+        return self
+
+    @property
+    def progress(self):
+        """The job's figures (brume_render_progress) as a dict: done, total, spp_min, ..."""
+        if self._job is None or not has("brume_render_job_progress"):
+            return {}
+        p = ffi.new("brume_render_progress *")
+        lib.brume_render_job_progress(self._job, p)
+        return {name: getattr(p, name) for name, _ in ffi.typeof("brume_render_progress").fields}
 
     def image(self):
         """The job's image so far (and its AOVs, as render returns them)."""
