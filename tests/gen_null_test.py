@@ -17,7 +17,7 @@ OPTIONAL = {
     "brume_scene_from_json": {"name"},
     "brume_scene_load_with": {"path", "opts"},
     "brume_image_write": {"opts"},
-    "brume_image_encode_png": {"opts"},
+    "brume_image_encode_png": {"opts"},  # issue-15's, like brume_image_write
     "brume_scene_set_background_image": {"up"},
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},

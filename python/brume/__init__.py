@@ -156,7 +156,7 @@ def _progress_bar(description="brume"):
         if tqdm is not None:
             bar = state.get("bar")
             if bar is None:
-                bar = state["bar"] = tqdm(total=total, desc=description, unit="px")
+                bar = state["bar"] = tqdm(total=total, desc=description, unit="samples")
             bar.total = total
             bar.n = done
             bar.refresh()
