@@ -12,6 +12,7 @@
 #include "args.h"
 #include "brume.h"
 #include "cli_dist.h"
+#include "cli_job.h"
 #include "commands.h"
 
 static void render_usage(FILE *out)
@@ -44,7 +45,21 @@ static void render_usage(FILE *out)
             "  --stats             per-run statistics of the method on stderr (docs/stats.md)\n"
             "  --save-light PATH   blasi: write the first pass's radiance grid (= --set blasi.save_light=PATH)\n"
             "  --load-light PATH   blasi: reuse a saved first pass instead of running it\n"
+            "  --time SECONDS      time budget: passes until it is spent (--spp is then a maximum)\n"
+            "  --noise TARGET      noise target in (0, 1]: adaptive sampling until every pixel that carries\n"
+            "                      signal has a relative standard error <= TARGET (--spp is then a maximum)\n"
+            "  --min-spp N         samples every pixel gets before adaptive sampling may stop it (16)\n"
+            "  --aov LIST          extra layers in the EXR: depth,albedo,normal,variance,samples\n"
+            "  --checkpoint FILE   save the render's state to FILE every few seconds and when interrupted\n"
+            "  --resume FILE       continue from a checkpoint: the image is the one an uninterrupted render\n"
+            "                      gives (same scene, options and settings)\n"
+            "  --serve [HOST:]PORT live view in a browser (default host 127.0.0.1; port 0: any free port);\n"
+            "                      after the render it serves the final image until Ctrl-C\n"
+            "  --serve-exit        with --serve: exit when the render is written\n"
             "  --quiet             no progress bar or summary\n\n"
+            "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
+            "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
+            "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once.\n"
             "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
             "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
             "This build: %s.\n",
@@ -170,6 +185,27 @@ static bool find_in_path(const char *name, char *out, size_t n)
     return false;
 }
 
+/* "depth,albedo,..." -> bits of brume_aov. */
+static bool parse_aovs(const char *text, unsigned *out)
+{
+    static const char *const names[5] = {"depth", "albedo", "normal", "variance", "samples"};
+    *out = 0;
+    for (const char *p = text;;) {
+        size_t n = strcspn(p, ",");
+        int k = 0;
+        while (k < 5 && !(strlen(names[k]) == n && strncmp(p, names[k], n) == 0))
+            k++;
+        if (k == 5) {
+            cli_error("--aov: unknown layer '%.*s' (known: depth, albedo, normal, variance, samples)", (int)n, p);
+            return false;
+        }
+        *out |= 1u << k;
+        if (!p[n])
+            return true;
+        p += n + 1;
+    }
+}
+
 /* ffmpeg -framerate FPS -start_number FIRST -i PATTERN ... VIDEO (H.264, yuv420p). */
 static int make_video(const char *pattern, long first, double fps, const char *video)
 {
@@ -213,6 +249,9 @@ typedef struct render_opts {
     bool have_seed, quiet;
     const char *method;
     bool stats;
+    double time_budget, noise; /* --time, --noise; 0 = the scene's */
+    int min_spp;               /* --min-spp; 0 = the scene's */
+    unsigned aovs;             /* --aov */
     int nsets; /* scene overrides "KEY=VALUE" (--set) */
     const char *sets[MAX_SETS];
     char set_buf[MAX_SETS][4200];
@@ -286,6 +325,13 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     if (o->have_seed) rs.seed = o->seed;
     if (o->method)
         snprintf(rs.method, sizeof rs.method, "%s", o->method);
+    if (o->time_budget > 0.0) rs.time_budget = o->time_budget;
+    if (o->noise > 0.0) rs.noise_target = o->noise;
+    if ((o->time_budget > 0.0 || o->noise > 0.0) && !o->spp)
+        rs.spp = 1 << 24; /* a budget without --spp: no sample maximum */
+    if (o->min_spp) rs.min_spp = o->min_spp;
+    rs.aovs |= o->aovs;
+    cli_job_callback(&rs.progress_fn, &rs.progress_user);
     rs.progress = progress;
     rs.stats = o->stats;
     if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK) {
@@ -337,6 +383,8 @@ int cmd_render(int argc, char **argv)
     long first = -1, last = -1;
     int shard = 0, nshards = 1;
     brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
+    const char *checkpoint = NULL, *resume = NULL, *serve_spec = NULL;
+    bool serve_exit = false;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
@@ -393,6 +441,22 @@ int cmd_render(int argc, char **argv)
             if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
         } else if (strcmp(a, "--filmic") == 0) {
             wopts.tonemap = BRUME_TONEMAP_FILMIC;
+        } else if (strcmp(a, "--time") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-3, 1e9, &o.time_budget)) return 2;
+        } else if (strcmp(a, "--noise") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-6, 1.0, &o.noise)) return 2;
+        } else if (strcmp(a, "--min-spp") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o.min_spp)) return 2;
+        } else if (strcmp(a, "--aov") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !parse_aovs(v, &o.aovs)) return 2;
+        } else if (strcmp(a, "--checkpoint") == 0) {
+            if (!(checkpoint = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--resume") == 0) {
+            if (!(resume = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--serve") == 0) {
+            if (!(serve_spec = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--serve-exit") == 0) {
+            serve_exit = true;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
             o.quiet = true;
         } else if (a[0] == '-' && a[1] != '\0') {
@@ -441,6 +505,17 @@ int cmd_render(int argc, char **argv)
             return 2;
         }
     }
+    int bad = cli_check_image_name("-o", out_path, o.aovs != 0);
+    if (bad)
+        return bad;
+    if ((checkpoint || resume) && sequence) {
+        cli_error("%s: one frame at a time (a checkpoint holds one image's state)", checkpoint ? "--checkpoint" : "--resume");
+        return 2;
+    }
+    if (serve_exit && !serve_spec) {
+        cli_error("--serve-exit: only with --serve");
+        return 2;
+    }
 
     dist d;
     if (!dist_begin(&d))
@@ -455,6 +530,53 @@ int cmd_render(int argc, char **argv)
     bool split_frames = d.size > 1 && (nframes % d.size == 0 || nframes >= 4L * d.size);
     bool split_tiles = d.size > 1 && !split_frames;
     bool root = d.rank == 0;
+    if (d.size > 1 && (checkpoint || resume || serve_spec || o.time_budget > 0.0 || o.noise > 0.0)) {
+        cli_error("%s: not under mpirun", checkpoint ? "--checkpoint" : resume ? "--resume" : serve_spec ? "--serve"
+                                                                      : o.time_budget > 0.0 ? "--time" : "--noise");
+        dist_end(&d);
+        return 2;
+    }
+    /* outputs: folders made and writable before any work (every frame's, once per folder) */
+    if (root) {
+        char prev[4096] = "", path[4096];
+        for (long k = 0; k < nframes; k++) {
+            long f = sequence ? first + k : -1;
+            if (nshards > 1 && f % nshards != shard)
+                continue;
+            if (kind == 1)
+                frame_path(out_path, f, path, sizeof path);
+            else
+                snprintf(path, sizeof path, "%s", out_path);
+            const char *slash = strrchr(path, '/');
+            size_t dl = slash ? (size_t)(slash - path) : 0;
+            if (k > 0 && strlen(prev) == dl && strncmp(prev, path, dl) == 0)
+                continue;
+            snprintf(prev, sizeof prev, "%.*s", (int)dl, path);
+            if (cli_prepare_folder("-o", path) != 0) {
+                dist_end(&d);
+                return 1;
+            }
+        }
+        if (checkpoint && cli_prepare_folder("--checkpoint", checkpoint) != 0) {
+            dist_end(&d);
+            return 1;
+        }
+        if (resume && access(resume, R_OK) != 0) {
+            cli_error("--resume: %s: %s", resume, strerror(errno));
+            dist_end(&d);
+            return 1;
+        }
+    }
+    cli_signals_install();
+    cli_serve *serve = NULL;
+    if (serve_spec) {
+        if (!(serve = cli_serve_start(serve_spec))) {
+            dist_end(&d);
+            return 1;
+        }
+        fprintf(stderr, "brume: live view at %s\n", cli_serve_url(serve));
+    }
+    brume_render_job *job = NULL;
 
     brume_context *ctx = brume_context_new();
     if (!ctx) {
@@ -466,11 +588,18 @@ int cmd_render(int argc, char **argv)
     brume_image *image = NULL;
     int rc = 1;
     long done = 0;
+    cli_job_result jr = {0};
     double t_all = now_seconds();
     for (long k = 0; k < nframes; k++) {
         long f = sequence ? first + k : -1;
         if (nshards > 1 && f % nshards != shard)
             continue;
+        if (cli_signal()) { /* between frames: the finished ones stay */
+            fprintf(stderr, "brume: interrupted by %s after %ld frame%s\n", cli_signal_name(cli_signal()), done,
+                    done == 1 ? "" : "s");
+            rc = 128 + cli_signal();
+            goto done;
+        }
         int owner = split_frames ? (int)(k % d.size) : d.rank;
         if (owner != d.rank && !root)
             continue;
@@ -505,10 +634,20 @@ int cmd_render(int argc, char **argv)
                     goto fail;
             }
             brume_scene_get_settings(scene, &rs);
-            brume_status st = split_tiles ? brume_render_part(ctx, scene, d.rank, d.size, &image)
-                                          : brume_render(ctx, scene, &image);
-            if (st != BRUME_OK)
-                goto fail;
+            if (split_tiles) {
+                if (brume_render_part(ctx, scene, d.rank, d.size, &image) != BRUME_OK)
+                    goto fail;
+            } else {
+                if (serve)
+                    cli_serve_show(serve, NULL, NULL);
+                brume_render_job_release(job);
+                job = NULL;
+                cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, rs.time_budget, serve, path};
+                if (checkpoint || resume)
+                    jo.scene_key = cli_scene_key(o.scene_path, o.nsets, o.sets, f);
+                if (cli_run_job(ctx, scene, &jo, &job, &image, &jr) != BRUME_OK)
+                    goto fail;
+            }
             size_t n = (size_t)rs.width * (size_t)rs.height * 4;
             if (split_tiles && !dist_reduce_to_root(&d, brume_image_pixels(image), n)) {
                 cli_error("frame %ld: gathering the tiles on rank 0 failed", f);
@@ -526,6 +665,22 @@ int cmd_render(int argc, char **argv)
         }
         if (o.stats && owner == d.rank)
             print_stats(ctx, scene, path);
+        if (root && jr.interrupted && jr.progress.spp_max == 0) {
+            fprintf(stderr, "brume: interrupted by %s before any sample of %s: nothing written\n",
+                    cli_signal_name(jr.signal), path);
+            rc = 128 + jr.signal;
+            goto done;
+        }
+        if (root && jr.interrupted) {
+            if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
+                goto fail;
+            const brume_render_progress *p = &jr.progress;
+            fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s (%d to %d samples per pixel, %.1f on "
+                            "average)%s%s\n", cli_signal_name(jr.signal), path, p->spp_min, p->spp_max, p->spp_mean,
+                    jr.checkpoint_written ? "; checkpoint " : "", jr.checkpoint_written ? checkpoint : "");
+            rc = 128 + jr.signal;
+            goto done;
+        }
         if (root) {
             if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
                 goto fail;
@@ -533,7 +688,15 @@ int cmd_render(int argc, char **argv)
             if (!o.quiet && owner != d.rank)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs.width,
                         rs.height, rs.spp, rs.method, owner);
-            else if (!o.quiet)
+            else if (!o.quiet && job && (rs.time_budget > 0.0 || rs.noise_target > 0.0)) {
+                const brume_render_progress *p = &jr.progress;
+                char noise[64] = "";
+                if (rs.noise_target > 0.0)
+                    snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
+                             100.0 * rs.noise_target);
+                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s\n", path,
+                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs);
+            } else if (!o.quiet)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
                         rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
         }
@@ -545,6 +708,14 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "brume: %ld frame%s in %.2f s (%d process%s)\n", done, done == 1 ? "" : "s",
                 now_seconds() - t_all, d.size, d.size == 1 ? "" : "es");
     rc = 0;
+    if (serve && !serve_exit && root && !cli_signal()) {
+        if (!o.quiet)
+            fprintf(stderr, "brume: serving the final image at %s until Ctrl-C\n", cli_serve_url(serve));
+        while (!cli_signal()) {
+            struct timespec ts = {0, 50000000};
+            nanosleep(&ts, NULL);
+        }
+    }
     if (root && video && scene) {
         brume_render_settings rs;
         brume_scene_get_settings(scene, &rs);
@@ -556,6 +727,8 @@ fail:
 done:
     if (rc != 0 && d.size > 1)
         dist_abort(&d, rc);
+    cli_serve_stop(serve);
+    brume_render_job_release(job);
     brume_image_release(image);
     brume_scene_release(scene);
     brume_context_release(ctx);

@@ -31,7 +31,9 @@
  *
  * ERRORS
  *   Functions that can fail return a brume_status. On failure nothing is allocated or
- *   changed for the caller (out pointers are set to NULL), and the context holds a one-line
+ *   changed for the caller (out pointers are set to NULL; the one exception is a render that
+ *   the progress callback cancelled: BRUME_ERROR_CANCELLED with the partial image in *out),
+ *   and the context holds a one-line
  *   message naming the file and the field at fault, e.g.
  *     "scenes/bad.json: camera.fov: 400 outside [0.001, 179]"
  *   which brume_context_last_error() returns and the error callback (if set) receives;
@@ -103,7 +105,10 @@ typedef enum brume_status {
     BRUME_ERROR_OUT_OF_MEMORY,    /* allocation failed, or a size exceeds the memory limit */
     BRUME_ERROR_UNSUPPORTED,      /* valid request this build or method cannot do */
     BRUME_ERROR_RANGE,            /* a value is NaN, infinite, negative or out of range */
-    BRUME_ERROR_STATE             /* an object used before commit, or changed after */
+    BRUME_ERROR_STATE,            /* an object used before commit, or changed after */
+    BRUME_ERROR_CANCELLED         /* the progress callback asked to stop: a render's out-image
+                                     then holds the samples finished so far (the one exception to
+                                     "out is NULL on failure") */
 } brume_status;
 
 /* A short English phrase for a status ("malformed input"). Never NULL. */
@@ -137,6 +142,30 @@ typedef enum brume_filter {
     BRUME_FILTER_GAUSSIAN = 1 /* truncated gaussian, standard deviation filter_width / 4 px */
 } brume_filter;
 
+/* Progress of a render: `done` and `total` count pixel samples (total is exact for a fixed
+ * sample count, an estimate that may change between calls under a time budget or a noise
+ * target; never below done). Called after each finished tile, from the calling thread or a
+ * worker, never two at once. Return true to go on, false to cancel: every worker then stops
+ * after the tile it is rendering. */
+typedef bool (*brume_progress_fn)(void *user, uint64_t done, uint64_t total);
+
+/* Extra image layers (AOVs), a bit mask for brume_render_settings.aovs. Each layer is the
+ * mean over the pixel's samples unless said otherwise. */
+typedef enum brume_aov {
+    BRUME_AOV_DEPTH = 1u << 0,    /* "depth": distance (world units) from the camera to the first
+                                     scattering event (media: the first real collision of a
+                                     delta-tracked flight) or surface hit, mean over the samples
+                                     that hit something; 0 = nothing hit */
+    BRUME_AOV_ALBEDO = 1u << 1,   /* "albedo": RGB, the first vertex's single-scattering albedo
+                                     sigma_s / sigma_t (media) or diffuse albedo (surfaces); 0 for
+                                     samples that hit nothing */
+    BRUME_AOV_NORMAL = 1u << 2,   /* "normal": RGB = xyz unit world normal at the first surface hit,
+                                     facing the camera; 0 for samples that hit no surface first */
+    BRUME_AOV_VARIANCE = 1u << 3, /* "variance": RGB per-pixel variance of the pixel mean, the
+                                     unbiased sample variance / n (0 when n < 2) */
+    BRUME_AOV_SAMPLES = 1u << 4   /* "samples": one channel, samples the pixel received */
+} brume_aov;
+
 /* Render settings. The scene file provides them; a caller may override before commit. */
 typedef struct brume_render_settings {
     int width, height;  /* image size in pixels, each in [1, 65536] */
@@ -149,6 +178,14 @@ typedef struct brume_render_settings {
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
     bool progress;       /* draw a progress bar when stderr is a terminal */
     double fps;          /* frames per second of a sequence: frame f is at time f / fps, > 0 */
+    brume_progress_fn progress_fn; /* NULL: none. See brume_progress_fn */
+    void *progress_user;           /* passed to progress_fn */
+    unsigned aovs;       /* bit mask of brume_aov: extra layers of the rendered image */
+    double time_budget;  /* seconds, 0 = none: passes until spent (spp is then a maximum), in [0, 1e9] */
+    double noise_target; /* relative standard error, 0 = none: adaptive sampling until every pixel
+                            that carries signal meets it (spp is then a maximum), in [0, 1]
+                            (docs/render-jobs.md gives the estimator) */
+    int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
     bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
 } brume_render_settings;
 
@@ -194,9 +231,8 @@ bool brume_scene_world_is_static(const brume_scene *scene);
 /* Moves a committed scene whose world is static to frame time `time`: the camera takes its
  * keyframed pose there. Fails with BRUME_ERROR_STATE when the world is not static. */
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *scene, double time);
-/* The built-in default scene (scenes/default.json): a fractal cumulus (spectral fBm, 96 x 64 x
- * 96 voxels) over a ground plane, lit by the sun (a distant light of 0.27 degrees) under a
- * constant blue sky, 480 x 320 pixels, 32 spp, path tracing. */
+/* The built-in default scene (scenes/default.json): a cumulus of five fractal clouds over a ground
+ * plane, lit by the sun and a blue sky, rendered to a 3 % noise target. */
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
 /* Copies the scene's render settings into *rs. */
 void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
@@ -566,7 +602,10 @@ brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene,
 
 /* Renders a committed scene with its settings. *out is a new image owned by the caller.
  * Work an integrator does once per scene (a light pass) is kept with the scene and reused
- * by later renders of it; call brume_render on one scene from one thread at a time. */
+ * by later renders of it; call brume_render on one scene from one thread at a time.
+ * It is one render job (below) run to its end: begin, run, image, release. When the
+ * progress callback cancels, it returns BRUME_ERROR_CANCELLED and *out is the image of the
+ * samples finished so far (the "samples" layer tells how many each pixel has). */
 brume_status brume_render(brume_context *ctx, const brume_scene *scene, brume_image **out);
 /* Renders part `part` of `nparts` (0 <= part < nparts): the image tiles t with
  * t % nparts == part, the other pixels left +0. Every pixel is computed exactly as by
@@ -574,6 +613,65 @@ brume_status brume_render(brume_context *ctx, const brume_scene *scene, brume_im
  * nonzero contributor): what distributed rendering (`mpirun brume render`) relies on. */
 brume_status brume_render_part(brume_context *ctx, const brume_scene *scene, int part, int nparts,
                                brume_image **out);
+
+/* ---- render jobs: progressive rendering, budgets, checkpoints ------------------------------
+ *
+ * A job holds, per pixel, the sums and sums of squares of its samples and their count.
+ * Sample i of pixel p always draws the random numbers of (seed, p, i), so N passes of k
+ * samples are bit-identical to one render of N x k, and a job resumed from a checkpoint
+ * ends with the bytes of one that never stopped. With a noise target, a pixel stops
+ * receiving samples at a pass boundary once its own statistics meet the target (after
+ * min_spp samples): the decisions never depend on the thread count or on timing. */
+typedef struct brume_render_job brume_render_job;
+
+/* Starts a job on a committed scene (runs the integrator's once-per-scene work). *out is
+ * owned by the caller; the scene must outlive it. */
+brume_status brume_render_begin(brume_context *ctx, const brume_scene *scene, brume_render_job **out);
+/* Adds spp >= 1 samples to every pixel that is still sampled (a pass). May return
+ * BRUME_ERROR_CANCELLED (the progress callback): the pixels then hold what finished; a
+ * later call continues, and a pass that was cut is completed first. */
+brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp);
+/* Runs passes until the settings say stop: spp samples per pixel, the time budget spent, or
+ * every pixel at the noise target. May return BRUME_ERROR_CANCELLED; call again to go on. */
+brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job);
+/* The image so far (RGBA, plus the layers the settings ask for), a new image owned by the
+ * caller. Safe to call from another thread while a pass runs (use another context): it sees
+ * every finished tile. */
+brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out);
+/* Samples per pixel so far (the maximum over pixels). */
+int brume_render_job_samples(const brume_render_job *job);
+
+/* Figures of a job, for a progress display; safe from any thread at any time. */
+typedef struct brume_render_progress {
+    uint64_t done, total;  /* pixel samples, as the progress callback gets them */
+    int spp_min, spp_max;  /* samples per pixel over the pixels */
+    double spp_mean;
+    double noise;          /* largest estimated relative standard error over the pixels that
+                              carry signal, at the last pass boundary (0 before the first) */
+    double converged;      /* fraction of pixels that adaptive sampling has stopped, [0, 1] */
+    double elapsed;        /* seconds spent rendering (across resumes) */
+    double eta;            /* seconds left, an estimate (0 when finished) */
+    bool finished;         /* nothing left to do under the settings */
+} brume_render_progress;
+void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out);
+
+/* Checkpoints (docs/render-jobs.md gives the format). brume_render_job_save writes the
+ * job's whole state atomically to path: sums, counts, the settings that shape the image,
+ * brume's version and scene_key, a number the caller derives from what the scene was made
+ * of (brume render hashes the scene file and its options). Safe to call while a pass runs
+ * (from another thread, with another context): it saves every finished tile.
+ * brume_render_job_resume starts a job on a committed scene from such a file; a file from
+ * another brume version, another scene_key or other settings, or one truncated or
+ * corrupt, is refused with a one-line message naming the file and what differs. */
+brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *job, uint64_t scene_key,
+                                   const char *path);
+brume_status brume_render_job_resume(brume_context *ctx, const brume_scene *scene, uint64_t scene_key,
+                                     const char *path, brume_render_job **out);
+void brume_render_job_release(brume_render_job *job);
+
+/* Removes the temporary files of writes in progress (brume_image_write, checkpoints).
+ * Async-signal-safe: for a signal handler that then calls _exit. */
+void brume_remove_temporaries(void);
 
 /* A new black, transparent image; NULL on bad size or out of memory. */
 brume_image *brume_image_new(int width, int height);
@@ -583,6 +681,20 @@ int brume_image_height(const brume_image *image);
 float *brume_image_pixels(brume_image *image);
 const float *brume_image_pixels_const(const brume_image *image);
 void brume_image_release(brume_image *image);
+
+/* Image layers: besides RGBA an image carries named extra layers (AOVs, in the order of
+ * brume_aov's bits). A layer has 1 or 3 channels of float32, rows top first. */
+int brume_image_layer_count(const brume_image *image);               /* extra layers, >= 0 */
+const char *brume_image_layer_name(const brume_image *image, int i);  /* "depth", "albedo", ...; NULL if no layer i */
+int brume_image_layer_channels(const brume_image *image, int i);      /* 1 or 3; 0 if no layer i */
+const float *brume_image_layer_pixels(const brume_image *image, int i); /* w * h * channels; NULL if no layer i */
+
+/* String attributes of an image, written into EXR headers (brume render stores the sample
+ * counts and the noise estimate as "brume.spp_min", "brume.spp_mean", ...). key and value are
+ * copied (at most 47 and 79 bytes kept); at most 8 attributes. */
+brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, const char *key, const char *value);
+/* The value of an attribute, or NULL. Owned by the image. */
+const char *brume_image_attribute(const brume_image *image, const char *key);
 
 typedef enum brume_tonemap {
     BRUME_TONEMAP_CLAMP = 0, /* sRGB of the exposed linear value, clamped to [0, 1] */
@@ -595,14 +707,21 @@ typedef struct brume_write_options {
     brume_tonemap tonemap;
 } brume_write_options;
 
-/* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP), .png (8-bit sRGB RGB: alpha is
- * dropped), .pfm (RGB float32). opts may be NULL (exposure 0, clamp). The write is atomic: data go to a
+/* Writes by extension: .exr (OpenEXR, RGBA float32, ZIP, plus every layer as channels
+ * "NAME.R/G/B" or "NAME.Y", and the image's attributes as strings), .png (8-bit sRGB RGB:
+ * alpha is dropped), .pfm (RGB float32); PNG and PFM hold no layers. opts may be NULL
+ * (exposure 0, clamp). The write is atomic: data go to a
  * temporary file in the same folder that is renamed over path only when complete, so a
  * failed write never leaves a file that looks whole. */
 brume_status brume_image_write(brume_context *ctx, const brume_image *image, const char *path,
                                const brume_write_options *opts);
-/* Reads .exr (R, G, B and optional A channels), .pfm or .png into a new linear image. */
+/* Reads .exr (R, G, B and optional A channels; "NAME.C" channels become layers), .pfm or .png
+ * into a new linear image. */
 brume_status brume_image_read(brume_context *ctx, const char *path, brume_image **out);
+/* The image as PNG bytes (as brume_image_write would write them; opts may be NULL) in a new
+ * buffer of *size bytes that the caller frees with free(). */
+brume_status brume_image_encode_png(brume_context *ctx, const brume_image *image, const brume_write_options *opts,
+                                    unsigned char **data, size_t *size);
 
 #ifdef __cplusplus
 }

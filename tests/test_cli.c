@@ -74,8 +74,8 @@ TEST(malformed_scene_leaves_no_output)
     ASSERT_CONTAINS(msg, "camera.zoom");
     ASSERT_TRUE(n > 0 && strchr(msg, '\n') == msg + n - 1); /* exactly one line */
     free(msg);
-    /* an unwritable destination: exit 1 and nothing left behind */
-    snprintf(args, sizeof args, "render --width 8 --height 8 --spp 1 --quiet -o /nonexistent-dir/x.png");
+    /* an unwritable destination (its folder would be a file): exit 1 and nothing left behind */
+    snprintf(args, sizeof args, "render --width 8 --height 8 --spp 1 --quiet -o %s/x.png", scene);
     ASSERT_EQ_INT(run(args, err), 1);
     remove(scene);
     remove(err);

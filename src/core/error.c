@@ -246,6 +246,7 @@ const char *brume_status_string(brume_status s)
     case BRUME_ERROR_UNSUPPORTED: return "unsupported";
     case BRUME_ERROR_RANGE: return "value out of range";
     case BRUME_ERROR_STATE: return "object used in the wrong state";
+    case BRUME_ERROR_CANCELLED: return "cancelled";
     }
     return "unknown status";
 }

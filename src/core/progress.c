@@ -53,6 +53,19 @@ void progress_add(progress *p, size_t n)
     pthread_mutex_unlock(&p->lock);
 }
 
+void progress_update(progress *p, size_t done, size_t total)
+{
+    if (!p->active)
+        return;
+    pthread_mutex_lock(&p->lock);
+    p->done = done;
+    p->total = total;
+    double now = progress_now();
+    if (now - p->t_last_draw > 0.1 || p->done >= p->total)
+        progress_draw(p, now);
+    pthread_mutex_unlock(&p->lock);
+}
+
 void progress_end(progress *p)
 {
     if (p->active) {

@@ -18,6 +18,8 @@ typedef struct progress {
 void progress_begin(progress *p, const char *label, size_t total, bool enabled);
 /* Thread-safe; redraws at most ten times a second. */
 void progress_add(progress *p, size_t n);
+/* Sets both figures (a total that is an estimate may change); thread-safe. */
+void progress_update(progress *p, size_t done, size_t total);
 void progress_end(progress *p);
 
 /* Monotonic wall-clock seconds. */

@@ -245,3 +245,10 @@ void atomic_abort(atomic_file *f)
         f->tmp_path[0] = '\0';
     }
 }
+
+void brume_remove_temporaries(void)
+{
+    for (int i = 0; i < ATOMIC_SLOTS; i++)
+        if (atomic_load(&slot_state[i]) == 2)
+            (void)unlink(slot_path[i]); /* async-signal-safe */
+}

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,7 +23,7 @@ static brume_image *image_alloc(int width, int height)
     size_t n = (size_t)width * (size_t)height;
     if (n > SIZE_MAX / (4 * sizeof(float)))
         return NULL;
-    brume_image *img = malloc(sizeof *img);
+    brume_image *img = calloc(1, sizeof *img);
     if (!img)
         return NULL;
     img->rgba = calloc(n * 4, sizeof(float));
@@ -46,8 +47,88 @@ void brume_image_release(brume_image *image)
 {
     if (!image)
         return;
+    for (int i = 0; i < image->nlayers; i++)
+        free(image->layers[i].px);
     free(image->rgba);
     free(image);
+}
+
+float *image_add_layer(brume_image *img, const char *name, int channels, const char *const *chan)
+{
+    if (img->nlayers >= IMAGE_MAX_LAYERS || channels < 1 || channels > 3)
+        return NULL;
+    image_layer *l = &img->layers[img->nlayers];
+    memset(l, 0, sizeof *l);
+    l->px = calloc((size_t)img->width * (size_t)img->height * (size_t)channels, sizeof(float));
+    if (!l->px)
+        return NULL;
+    snprintf(l->name, sizeof l->name, "%s", name);
+    l->channels = channels;
+    for (int c = 0; c < channels; c++)
+        snprintf(l->chan[c], sizeof l->chan[c], "%s", chan[c]);
+    img->nlayers++;
+    return l->px;
+}
+
+void image_set_meta(brume_image *img, const char *key, const char *value)
+{
+    int i = 0;
+    while (i < img->nmeta && strcmp(img->meta[i].key, key) != 0)
+        i++;
+    if (i == IMAGE_MAX_META)
+        return;
+    snprintf(img->meta[i].key, sizeof img->meta[i].key, "%s", key);
+    snprintf(img->meta[i].value, sizeof img->meta[i].value, "%s", value);
+    if (i == img->nmeta)
+        img->nmeta++;
+}
+
+brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, const char *key, const char *value)
+{
+    err_clear();
+    if (!image || !key || !*key || !value)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: %s: NULL",
+                                       !image ? "image" : !key || !*key ? "key" : "value"));
+    int i = 0;
+    while (i < image->nmeta && strcmp(image->meta[i].key, key) != 0)
+        i++;
+    if (i == IMAGE_MAX_META)
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_image_set_attribute: %s: more than %d attributes", key,
+                                       IMAGE_MAX_META));
+    image_set_meta(image, key, value);
+    return ctx_report(ctx, BRUME_OK);
+}
+
+const char *brume_image_attribute(const brume_image *image, const char *key)
+{
+    if (!image || !key)
+        return NULL;
+    for (int i = 0; i < image->nmeta; i++)
+        if (strcmp(image->meta[i].key, key) == 0)
+            return image->meta[i].value;
+    return NULL;
+}
+
+static const image_layer *layer_at(const brume_image *image, int i)
+{
+    return image && i >= 0 && i < image->nlayers ? &image->layers[i] : NULL;
+}
+
+int brume_image_layer_count(const brume_image *image) { return image ? image->nlayers : 0; }
+const char *brume_image_layer_name(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->name : NULL;
+}
+int brume_image_layer_channels(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->channels : 0;
+}
+const float *brume_image_layer_pixels(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->px : NULL;
 }
 
 brume_status image_create(const char *path, int64_t width, int64_t height, brume_image **out)
@@ -188,6 +269,23 @@ brume_status brume_image_write(brume_context *ctx, const brume_image *image, con
     case FORMAT_UNKNOWN: break;
     }
     return ctx_report(ctx, st);
+}
+
+brume_status brume_image_encode_png(brume_context *ctx, const brume_image *image, const brume_write_options *opts,
+                                    unsigned char **data, size_t *size)
+{
+    err_clear();
+    if (data)
+        *data = NULL;
+    if (size)
+        *size = 0;
+    if (!image || !image->rgba || !data || !size)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_encode_png: %s: NULL",
+                                       !image || !image->rgba ? "image" : !data ? "data" : "size"));
+    if (opts && !isfinite(opts->exposure))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_image_encode_png: exposure: expected a finite number of stops, got %g",
+                                       opts->exposure));
+    return ctx_report(ctx, image_encode_png(image, opts, data, size));
 }
 
 brume_status brume_image_read(brume_context *ctx, const char *path, brume_image **out)

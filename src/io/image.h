@@ -5,15 +5,46 @@
 
 #include "brume.h"
 
+#define IMAGE_MAX_LAYERS 8
+#define IMAGE_MAX_META 8
+
+/* An extra layer (AOV): `channels` floats per pixel, channel names for EXR ("R", "G", "B";
+ * "X", "Y", "Z"; or one name). */
+typedef struct image_layer {
+    char name[32];
+    int channels;      /* 1 or 3 */
+    char chan[3][8];   /* EXR channel suffixes */
+    float *px;         /* width * height * channels, owned */
+} image_layer;
+
+/* A string attribute written into EXR headers ("brume.spp_mean" = "24.5"). */
+typedef struct image_meta {
+    char key[48];
+    char value[80];
+} image_meta;
+
 struct brume_image {
     int width, height; /* pixels, >= 1 */
     float *rgba;       /* width * height * 4, owned */
+    int nlayers;
+    image_layer layers[IMAGE_MAX_LAYERS];
+    int nmeta;
+    image_meta meta[IMAGE_MAX_META];
 };
+
+/* Adds a zeroed layer with channel suffixes chan[0..channels-1]; returns its pixels, or NULL
+ * (out of memory, too many layers). */
+float *image_add_layer(brume_image *img, const char *name, int channels, const char *const *chan);
+/* Sets (or replaces) a string attribute; silently ignored past IMAGE_MAX_META. */
+void image_set_meta(brume_image *img, const char *key, const char *value);
 
 /* Each writer is atomic (io/atomic.h) and sets err_set() naming the path on failure. */
 brume_status image_write_exr(const char *path, const brume_image *img);
 brume_status image_write_png(const char *path, const brume_image *img, const brume_write_options *opts);
 brume_status image_write_pfm(const char *path, const brume_image *img);
+/* PNG bytes in memory (malloc'd, *size bytes), as image_write_png would write them. */
+brume_status image_encode_png(const brume_image *img, const brume_write_options *opts, unsigned char **data,
+                              size_t *size);
 brume_status image_read_exr(const char *path, brume_image **out);
 brume_status image_read_png(const char *path, brume_image **out);
 brume_status image_read_pfm(const char *path, brume_image **out);

@@ -1,12 +1,16 @@
 /* image_exr.c - OpenEXR images through the OpenEXR C core API (libOpenEXRCore, 3.1).
  *
- * Writing: one scanline part, channels R, G, B, A as 32-bit float, ZIP compression (16
- * scanlines per chunk), increasing y, data and display windows (0,0)-(w-1,h-1). The bytes
+ * Writing: one scanline part, channels R, G, B, A as 32-bit float, then each layer of the
+ * image as channels "NAME.C" (OpenEXR's naming of layers: "albedo.R", "depth.Z"), ZIP
+ * compression (16 scanlines per chunk), increasing y, data and display windows
+ * (0,0)-(w-1,h-1); the image's attributes as string attributes. The bytes
  * go through a write callback to the temporary file of io/atomic.c, renamed over the
  * destination when complete.
  *
  * Reading: part 0 of a scanline file with channels R, G, B (half or float, converted to
- * float) and optionally A (default 1); other channels are skipped. The image is the data
+ * float) and optionally A (default 1); channels "NAME.C" become layers (at most three
+ * channels each, R G B or X Y Z order), other channels are skipped; string attributes
+ * "brume.*" come back as the image's attributes. The image is the data
  * window, top row = its smallest y. Tiled and deep files are refused.
  *
  * The core API keeps a channel list sorted by name (A, B, G, R), so channels are found by
@@ -14,6 +18,7 @@
  * "Reading and Writing Image Files with the C API" (openexr.com, OpenEXR 3.1). */
 #include <errno.h>
 #include <openexr.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -85,6 +90,29 @@ static int rgba_index(const char *name)
 
 /* ---- writing ------------------------------------------------------------------------------ */
 
+/* Where channel `name` of img lives: its first pixel and the stride between pixels in
+ * floats; NULL for no channel of this image. */
+static const float *channel_source(const brume_image *img, const char *name, int *stride)
+{
+    int k = rgba_index(name);
+    if (k >= 0) {
+        *stride = 4;
+        return img->rgba + k;
+    }
+    for (int i = 0; i < img->nlayers; i++) {
+        const image_layer *l = &img->layers[i];
+        size_t n = strlen(l->name);
+        if (strncmp(name, l->name, n) != 0 || name[n] != '.')
+            continue;
+        for (int c = 0; c < l->channels; c++)
+            if (strcmp(name + n + 1, l->chan[c]) == 0) {
+                *stride = l->channels;
+                return l->px + c;
+            }
+    }
+    return NULL;
+}
+
 static brume_status exr_write_body(const char *path, const brume_image *img, exr_context_t ctxt, exr_io *io)
 {
     static const char *const names[4] = {"R", "G", "B", "A"};
@@ -100,6 +128,17 @@ static brume_status exr_write_body(const char *path, const brume_image *img, exr
         if (rv != EXR_ERR_SUCCESS)
             return exr_fail(path, "adding a channel", rv, io);
     }
+    for (int i = 0; i < img->nlayers; i++) /* layers: channels "NAME.C" (OpenEXR's layer naming) */
+        for (int c = 0; c < img->layers[i].channels; c++) {
+            char name[64];
+            snprintf(name, sizeof name, "%s.%s", img->layers[i].name, img->layers[i].chan[c]);
+            rv = exr_add_channel(ctxt, part, name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+            if (rv != EXR_ERR_SUCCESS)
+                return exr_fail(path, "adding a channel", rv, io);
+        }
+    for (int i = 0; i < img->nmeta; i++)
+        if ((rv = exr_attr_set_string(ctxt, part, img->meta[i].key, img->meta[i].value)) != EXR_ERR_SUCCESS)
+            return exr_fail(path, "writing an attribute", rv, io);
     if ((rv = exr_set_version(ctxt, part, 1)) != EXR_ERR_SUCCESS ||
         (rv = exr_write_header(ctxt)) != EXR_ERR_SUCCESS)
         return exr_fail(path, "writing the header", rv, io);
@@ -111,7 +150,6 @@ static brume_status exr_write_body(const char *path, const brume_image *img, exr
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
     int initialized = 0;
     brume_status st = BRUME_OK;
-    const int32_t pixel_stride = 4 * (int32_t)sizeof(float);
     for (int y = 0; y < img->height && st == BRUME_OK; y += lines) {
         exr_chunk_info_t cinfo;
         rv = exr_write_scanline_chunk_info(ctxt, part, y, &cinfo);
@@ -122,13 +160,15 @@ static brume_status exr_write_body(const char *path, const brume_image *img, exr
             st = exr_fail(path, "writing pixels", rv, io);
             break;
         }
-        const float *first = img->rgba + (size_t)y * (size_t)img->width * 4;
         for (int16_t c = 0; c < enc.channel_count; c++) {
             exr_coding_channel_info_t *ch = &enc.channels[c];
-            int k = rgba_index(ch->channel_name);
-            ch->encode_from_ptr = (const uint8_t *)(first + (k < 0 ? 0 : k));
-            ch->user_pixel_stride = pixel_stride;
-            ch->user_line_stride = pixel_stride * img->width;
+            int stride = 4;
+            const float *src = channel_source(img, ch->channel_name, &stride);
+            if (!src)
+                src = img->rgba;
+            ch->encode_from_ptr = (const uint8_t *)(src + (size_t)y * (size_t)img->width * (size_t)stride);
+            ch->user_pixel_stride = stride * (int32_t)sizeof(float);
+            ch->user_line_stride = stride * (int32_t)sizeof(float) * img->width;
             ch->user_data_type = EXR_PIXEL_FLOAT;
             ch->user_bytes_per_element = (int16_t)sizeof(float);
         }
@@ -210,6 +250,66 @@ static brume_status exr_check_channels(const char *path, exr_const_context_t ctx
     return BRUME_OK; /* without an A channel, image_create's A = 1 stays */
 }
 
+/* Rank of a channel suffix within its layer: R, G, B and X, Y, Z in that order. */
+static int suffix_rank(const char *c)
+{
+    static const char *const order[6] = {"R", "G", "B", "X", "Y", "Z"};
+    for (int i = 0; i < 6; i++)
+        if (strcmp(c, order[i]) == 0)
+            return i % 3;
+    return 3;
+}
+
+/* Channels "NAME.C" (half or float, not subsampled) become layers of img, at most three
+ * channels each; others are skipped. */
+static brume_status exr_read_layers(const char *path, exr_const_context_t ctxt, brume_image *img)
+{
+    const exr_attr_chlist_t *chl = NULL;
+    if (exr_get_channels(ctxt, 0, &chl) != EXR_ERR_SUCCESS || !chl)
+        return BRUME_OK;
+    for (int i = 0; i < chl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *e = &chl->entries[i];
+        const char *dot = strrchr(e->name.str, '.');
+        if (!dot || dot == e->name.str || (size_t)(dot - e->name.str) >= sizeof img->layers[0].name ||
+            strlen(dot + 1) >= sizeof img->layers[0].chan[0] || !dot[1] ||
+            (e->pixel_type != EXR_PIXEL_HALF && e->pixel_type != EXR_PIXEL_FLOAT) || e->x_sampling != 1 ||
+            e->y_sampling != 1)
+            continue;
+        int n = (int)(dot - e->name.str);
+        bool seen = false;
+        for (int k = 0; k < img->nlayers; k++)
+            seen |= strncmp(img->layers[k].name, e->name.str, (size_t)n) == 0 && img->layers[k].name[n] == '\0';
+        if (seen || img->nlayers >= IMAGE_MAX_LAYERS)
+            continue;
+        /* every channel of this layer, in R G B / X Y Z order */
+        const char *chan[3];
+        int nc = 0;
+        bool ok = true;
+        for (int j = 0; j < chl->num_channels && ok; j++) {
+            const char *nm = chl->entries[j].name.str;
+            if (strncmp(nm, e->name.str, (size_t)n + 1) != 0 || strchr(nm + n + 1, '.'))
+                continue;
+            if (nc == 3 || strlen(nm + n + 1) >= sizeof img->layers[0].chan[0])
+                ok = false;
+            else
+                chan[nc++] = nm + n + 1;
+        }
+        if (!ok || nc == 2)
+            continue;
+        for (int a = 1; a < nc; a++) /* insertion sort by rank */
+            for (int b = a; b > 0 && suffix_rank(chan[b]) < suffix_rank(chan[b - 1]); b--) {
+                const char *t = chan[b];
+                chan[b] = chan[b - 1];
+                chan[b - 1] = t;
+            }
+        char name[32];
+        snprintf(name, sizeof name, "%.*s", n, e->name.str);
+        if (!image_add_layer(img, name, nc, chan))
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for layer %s", path, name);
+    }
+    return BRUME_OK;
+}
+
 static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, exr_io *io, brume_image **out)
 {
     exr_result_t rv;
@@ -243,10 +343,25 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
     brume_image *img = NULL;
     if ((st = image_create(path, w, h, &img)) != BRUME_OK)
         return st;
+    if ((st = exr_read_layers(path, ctxt, img)) != BRUME_OK) {
+        brume_image_release(img);
+        return st;
+    }
+    int32_t nattr = 0; /* brume's own string attributes come back (brume_image_attribute) */
+    if (exr_get_attribute_count(ctxt, 0, &nattr) == EXR_ERR_SUCCESS)
+        for (int32_t i = 0; i < nattr; i++) {
+            const exr_attribute_t *a = NULL;
+            if (exr_get_attribute_by_index(ctxt, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) == EXR_ERR_SUCCESS && a &&
+                a->type == EXR_ATTR_STRING && a->name && strncmp(a->name, "brume.", 6) == 0 && a->string &&
+                a->string->str && a->string->length >= 0) {
+                char v[80];
+                snprintf(v, sizeof v, "%.*s", a->string->length, a->string->str);
+                image_set_meta(img, a->name, v);
+            }
+        }
 
     exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
     int initialized = 0;
-    const int32_t pixel_stride = 4 * (int32_t)sizeof(float);
     for (int64_t y = dw.min.y; y <= dw.max.y && st == BRUME_OK; y += lines) {
         exr_chunk_info_t cinfo;
         rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &cinfo);
@@ -264,13 +379,13 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
                          cinfo.start_y);
             break;
         }
-        float *first = img->rgba + (size_t)row * (size_t)w * 4;
         for (int16_t c = 0; c < dec.channel_count; c++) {
             exr_coding_channel_info_t *ch = &dec.channels[c];
-            int k = rgba_index(ch->channel_name);
-            ch->decode_to_ptr = k < 0 ? NULL : (uint8_t *)(first + k);
-            ch->user_pixel_stride = pixel_stride;
-            ch->user_line_stride = pixel_stride * (int32_t)w;
+            int stride = 4;
+            const float *dst = channel_source(img, ch->channel_name, &stride);
+            ch->decode_to_ptr = dst ? (uint8_t *)(dst + (size_t)row * (size_t)w * (size_t)stride) : NULL;
+            ch->user_pixel_stride = stride * (int32_t)sizeof(float);
+            ch->user_line_stride = stride * (int32_t)sizeof(float) * (int32_t)w;
             ch->user_data_type = EXR_PIXEL_FLOAT;
             ch->user_bytes_per_element = (int16_t)sizeof(float);
         }

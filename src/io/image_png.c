@@ -45,10 +45,37 @@ static void on_png_warning(png_structp png, png_const_charp msg)
 
 /* ---- writing ------------------------------------------------------------------------------ */
 
+/* A growing memory buffer that libpng writes into (image_encode_png). */
+typedef struct png_membuf {
+    unsigned char *data;
+    size_t size, cap;
+} png_membuf;
+
+static void png_mem_write(png_structp png, png_bytep bytes, size_t n)
+{
+    png_membuf *b = png_get_io_ptr(png);
+    if (b->size + n > b->cap) {
+        size_t cap = b->cap ? b->cap : 65536;
+        while (cap < b->size + n)
+            cap *= 2;
+        unsigned char *p = realloc(b->data, cap);
+        if (!p)
+            png_error(png, "out of memory");
+        b->data = p;
+        b->cap = cap;
+    }
+    memcpy(b->data + b->size, bytes, n);
+    b->size += n;
+}
+
+static void png_mem_flush(png_structp png) { (void)png; }
+
+/* fp NULL: the bytes go to the png_membuf given as io pointer by the caller. */
 static void png_write_body(png_structp png, png_infop info, FILE *fp, const brume_image *img,
                            const brume_write_options *opts, unsigned char *row)
 {
-    png_init_io(png, fp);
+    if (fp)
+        png_init_io(png, fp);
     png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
@@ -97,6 +124,35 @@ brume_status image_write_png(const char *path, const brume_image *img, const bru
         return st;
     }
     return atomic_commit(&f);
+}
+
+brume_status image_encode_png(const brume_image *img, const brume_write_options *opts, unsigned char **data,
+                              size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    brume_status st = BRUME_OK;
+    png_msg msg = {""};
+    png_membuf buf = {NULL, 0, 0};
+    unsigned char *row = malloc((size_t)img->width * 4);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &msg, on_png_error, on_png_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (!row || !png || !info) {
+        st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "PNG encoding: out of memory");
+    } else {
+        png_set_write_fn(png, &buf, png_mem_write, png_mem_flush);
+        if (!png_write_guarded(png, info, NULL, img, opts, row))
+            st = err_set(BRUME_ERROR_IO, "PNG encoding: %s", msg.text);
+    }
+    png_destroy_write_struct(&png, &info);
+    free(row);
+    if (st != BRUME_OK) {
+        free(buf.data);
+        return st;
+    }
+    *data = buf.data;
+    *size = buf.size;
+    return BRUME_OK;
 }
 
 /* ---- reading ------------------------------------------------------------------------------ */

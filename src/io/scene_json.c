@@ -674,7 +674,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", NULL};
+                                       "fps", "max_memory_mb", "noise", "time", "min_spp", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
@@ -691,6 +691,9 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_string(j, at, "method", 0, rs.method, sizeof rs.method))) return st;
     if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs.max_depth))) return st;
     if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs.fps))) return st;
+    if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
+    if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
+    if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
     if (f) {
         static const char *const fkeys[] = {"type", "width", NULL};

@@ -59,6 +59,18 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
  * motion blur (docs/animation.md). */
 color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
 
+/* What the first vertex of a camera ray is, for the image's extra layers (AOVs): found by
+ * its own walk, so the estimators above are untouched. In media, the first real collision
+ * of delta tracking (a tentative collision is real with probability avg(sigma_t) /
+ * sigma_maj); else the first surface hit. */
+typedef struct first_vertex {
+    bool hit;      /* false: the ray met nothing (other fields 0) */
+    double depth;  /* distance from the ray origin, world units */
+    color albedo;  /* medium: sigma_s / sigma_t per channel; surface: diffuse albedo */
+    vec3 normal;   /* surface: unit normal facing the ray; medium: 0 */
+} first_vertex;
+void integrator_first_vertex(const brume_scene *s, ray r, rng *g, first_vertex *v);
+
 /* ---- building blocks ---------------------------------------------------------------- */
 
 /* One free flight along r over [0, tmax] (docs/path-tracer.md, "Free flights"). The

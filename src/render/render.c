@@ -1,5 +1,8 @@
-/* render.c - brume_render: tiles over the thread pool, samples per pixel, the film; parts
- * of a frame (interleaved tiles) for distributed rendering. */
+/* render.c - render jobs: tiles over the thread pool, passes of samples accumulated per
+ * pixel, budgets (samples, time, noise) with adaptive sampling, the image and its layers;
+ * brume_render and brume_render_part are one job run to its end (render/job.h states the
+ * invariants, docs/render-jobs.md the estimator and the schedule). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,79 +10,19 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "core/pool.h"
-#include "core/progress.h"
 #include "core/stats.h"
 #include "io/image.h"
 #include "render/blasi.h"
 #include "render/film.h"
-#include "render/integrator.h"
-#include "render/track.h"
+#include "render/job.h"
 
 #define TILE 16
-#define ALPHA_SAMPLES 8 /* camera samples per pixel that estimate alpha */
-
-typedef struct render_job {
-    const brume_scene *s;
-    integrator_kind kind;
-    const void *state; /* integrator_prepare's */
-    brume_image *img;
-    int tiles_x;
-    int part, nparts; /* this job renders tiles part, part + nparts, ... */
-    progress prog;
-    stats_counters *counters; /* one per thread when statistics are on, else NULL */
-} render_job;
-
-static void render_tile(size_t task, int thread, void *user)
-{
-    render_job *job = user;
-    stats_counters *sc = job->counters ? &job->counters[thread] : NULL;
-    stats_tls = sc;
-    const brume_scene *s = job->s;
-    const brume_render_settings *rs = &s->settings;
-    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
-    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
-    int x0 = tx * TILE, y0 = ty * TILE;
-    int x1 = x0 + TILE < rs->width ? x0 + TILE : rs->width;
-    int y1 = y0 + TILE < rs->height ? y0 + TILE : rs->height;
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            uint64_t pixel = (uint64_t)y * (uint64_t)rs->width + (uint64_t)x;
-            color sum = col(0.0);
-            double alpha = 0.0;
-            for (int sidx = 0; sidx < rs->spp; sidx++) {
-                rng g = rng_make(rs->seed, pixel, (uint64_t)sidx);
-                double dx, dy;
-                film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-                double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
-                ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
-                bool opaque = false;
-                double t0 = sc ? stats_now() : 0.0;
-                color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
-                if (sc) {
-                    sc->t_li += stats_now() - t0;
-                    sc->camera_rays++;
-                }
-                if (col_isfinite(L))
-                    sum = col_add(sum, L);
-                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                 * ray, estimated by the method on the first ALPHA_SAMPLES samples only: a
-                 * smooth estimator that needs few samples, and no cost for the others */
-                if (sidx < ALPHA_SAMPLES)
-                    alpha += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
-            }
-            float *px = job->img->rgba + 4 * pixel;
-            double inv = 1.0 / rs->spp;
-            for (int c = 0; c < 3; c++)
-                px[c] = (float)(sum.c[c] * inv);
-            int na = rs->spp < ALPHA_SAMPLES ? rs->spp : ALPHA_SAMPLES;
-            px[3] = (float)fmin(1.0, fmax(0.0, alpha / na));
-        }
-    stats_tls = NULL;
-    progress_add(&job->prog, 1);
-}
-
-static void render_fill_stats(const brume_scene *s, integrator_kind kind, const void *state, const stats_counters *c,
-                              double seconds, double view_seconds, brume_stats *out);
+#define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
+                       cancellation or the end of a time budget takes effect soon */
+#define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
+                            pixels darker than this carry no signal (docs/render-jobs.md) */
+#define AOV_DIMENSION (1ULL << 40) /* the first-vertex walk draws from this dimension on, so
+                                      it never shares a number with the sample's path */
 
 /* The integrator state for s, prepared at the scene's first render and kept with it. */
 static brume_status prepared_state(const brume_scene *s, integrator_kind kind, const void **state)
@@ -102,76 +45,362 @@ static brume_status prepared_state(const brume_scene *s, integrator_kind kind, c
     return BRUME_OK;
 }
 
-brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
-{
-    return brume_render_part(ctx, s, 0, 1, out);
-}
+/* ---- the job ------------------------------------------------------------------------------ */
 
-brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
+brume_status job_create(const brume_scene *s, int part, int nparts, brume_render_job **out)
 {
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!out || !s)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
-    if (nparts < 1 || part < 0 || part >= nparts)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
-                                       s->source, part, nparts));
+    *out = NULL;
     if (!s->committed)
-        return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source));
+        return err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source);
     integrator_kind kind;
     if (!integrator_from_name(s->settings.method, &kind))
-        return ctx_report(ctx, err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)",
-                                       s->source, s->settings.method, integrator_names()));
-    brume_image *img = brume_image_new(s->settings.width, s->settings.height);
-    if (!img)
-        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", s->source,
-                                       s->settings.width, s->settings.height));
-    double t_start = stats_now();
-    const void *state = NULL;
-    brume_status st = prepared_state(s, kind, &state);
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)", s->source,
+                       s->settings.method, integrator_names());
+    brume_render_job *job = calloc(1, sizeof *job);
+    if (!job)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a render job", s->source);
+    job->s = s;
+    job->rs = s->settings;
+    job->kind = kind;
+    job->part = part;
+    job->nparts = nparts;
+    const brume_render_settings *rs = &job->rs;
+    job->tiles_x = (rs->width + TILE - 1) / TILE;
+    job->ntiles_all = (size_t)job->tiles_x * (size_t)((rs->height + TILE - 1) / TILE);
+    job->ntiles = job->ntiles_all / (size_t)nparts + ((size_t)part < job->ntiles_all % (size_t)nparts ? 1 : 0);
+    job->npix = (size_t)rs->width * (size_t)rs->height;
+    job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
+    job->t_start = stats_now();
+    job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
+    if (rs->stats && !(job->counters = calloc((size_t)job->nthreads, sizeof *job->counters))) {
+        free(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for statistics", s->source);
+    }
+    job->n = calloc(job->npix, sizeof *job->n);
+    job->active = malloc(job->npix);
+    job->sum = calloc(job->npix * JOB_SUMS, sizeof *job->sum);
+    job->sq = calloc(job->npix * JOB_SQS, sizeof *job->sq);
+    job->aov = job->trace_aovs ? calloc(job->npix * JOB_AOVS, sizeof *job->aov) : NULL;
+    pthread_mutex_init(&job->lock, NULL);
+    pthread_mutex_init(&job->cb_lock, NULL);
+    atomic_init(&job->stop, false);
+    if (!job->n || !job->active || !job->sum || !job->sq || (job->trace_aovs && !job->aov)) {
+        brume_render_job_release(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source,
+                       rs->width, rs->height);
+    }
+    memset(job->active, 1, job->npix);
+    brume_status st = prepared_state(s, kind, &job->state);
     if (st != BRUME_OK) {
-        brume_image_release(img);
-        return ctx_report(ctx, st);
+        brume_render_job_release(job);
+        return st;
     }
-    render_job job = {s, kind, state, img, (s->settings.width + TILE - 1) / TILE, part, nparts, {0}, NULL};
-    int nthreads = s->settings.threads > 0 ? s->settings.threads : pool_default_threads();
-    if (s->settings.stats && !(job.counters = calloc((size_t)(nthreads > 0 ? nthreads : 1), sizeof *job.counters))) {
-        brume_image_release(img);
-        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for statistics", s->source));
+    job->total = (uint64_t)job->ntiles * TILE * TILE * (uint64_t)rs->spp; /* refined by job_refresh */
+    job_refresh(job);
+    *out = job;
+    return BRUME_OK;
+}
+
+void brume_render_job_release(brume_render_job *job)
+{
+    if (!job)
+        return;
+    if (job->bar_started)
+        progress_end(&job->bar);
+    pthread_mutex_destroy(&job->lock);
+    pthread_mutex_destroy(&job->cb_lock);
+    free(job->n);
+    free(job->active);
+    free(job->sum);
+    free(job->sq);
+    free(job->aov);
+    free(job->counters);
+    free(job);
+}
+
+/* The pixel rectangle [x0, x1) x [y0, y1) of the job's task-th tile. */
+static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1)
+{
+    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
+    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
+    *x0 = tx * TILE;
+    *y0 = ty * TILE;
+    *x1 = *x0 + TILE < job->rs.width ? *x0 + TILE : job->rs.width;
+    *y1 = *y0 + TILE < job->rs.height ? *y0 + TILE : job->rs.height;
+}
+
+double job_pixel_error(const brume_render_job *job, size_t i)
+{
+    uint32_t n = job->n[i];
+    if (n < 2)
+        return INFINITY;
+    const double *s = job->sum + JOB_SUMS * i;
+    double sy = (s[0] + s[1] + s[2]) / 3.0;
+    double mean = sy / n;
+    double var = (job->sq[JOB_SQS * i + 3] - sy * mean) / (n - 1.0); /* unbiased sample variance of y */
+    if (!(var > 0.0))
+        return 0.0;
+    return sqrt(var / n) / fmax(mean, NOISE_FLOOR);
+}
+
+static bool in_part(const brume_render_job *job, size_t i)
+{
+    size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
+    size_t tile = (y / TILE) * (size_t)job->tiles_x + x / TILE;
+    return tile % (size_t)job->nparts == (size_t)job->part;
+}
+
+/* Under job->lock (or before any pass): done, total and noise from the per-pixel state. The
+ * total is what a fixed count would take, or with a noise target the samples each active
+ * pixel is predicted to need: n (error / target)^2, the error falling as 1 / sqrt(n). */
+void job_refresh(brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    uint64_t done = 0, total = 0;
+    double noise = 0.0;
+    for (size_t i = 0; i < job->npix; i++) {
+        if (job->nparts > 1 && !in_part(job, i))
+            continue;
+        uint32_t n = job->n[i];
+        done += n;
+        double err = job_pixel_error(job, i);
+        const double *s = job->sum + JOB_SUMS * i;
+        if (n >= 2 && (s[0] + s[1] + s[2]) / (3.0 * n) >= NOISE_FLOOR && err > noise)
+            noise = err;
+        double want = (double)(job->target > rs->spp ? job->target : rs->spp);
+        if (!job->active[i]) {
+            want = n;
+        } else if (rs->noise_target > 0.0 && job->spp_done == 0) {
+            want = job->target; /* nothing known before the first pass */
+        } else if (rs->noise_target > 0.0 && n >= 2) {
+            double need = n * (err / rs->noise_target) * (err / rs->noise_target);
+            want = fmin(want, fmax(need, (double)job->target));
+        }
+        total += (uint64_t)fmax(want, (double)n);
     }
-    size_t ntiles = (size_t)job.tiles_x * (size_t)((s->settings.height + TILE - 1) / TILE);
-    size_t mine = ntiles / (size_t)nparts + ((size_t)part < ntiles % (size_t)nparts ? 1 : 0);
-    double t_view = stats_now();
-    progress_begin(&job.prog, "render", mine, s->settings.progress);
-    pool_run(s->settings.threads, mine, render_tile, &job);
-    progress_end(&job.prog);
-    double t_end = stats_now();
-    stats_counters sum = {0};
-    for (int t = 0; job.counters && t < nthreads; t++)
-        stats_merge(&sum, &job.counters[t]);
-    free(job.counters);
-    render_fill_stats(s, kind, state, &sum, t_end - t_start, t_end - t_view, &s->prepared->stats);
-    *out = img;
-    return ctx_report(ctx, BRUME_OK);
+    job->done = done;
+    job->total = total;
+    job->noise = noise;
+}
+
+/* One tile: every active pixel of it from its sample count to job->target. */
+static void job_tile(size_t task, int thread, void *user)
+{
+    brume_render_job *job = user;
+    if (atomic_load(&job->stop))
+        return;
+    stats_counters *sc = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
+    stats_tls = sc;
+    const brume_render_settings *rs = &job->rs;
+    /* the time budget never cuts the first pass: every pixel gets samples */
+    if (rs->time_budget > 0.0 && job->spp_done > 0 && job->elapsed + (progress_now() - job->t_pass) >= rs->time_budget) {
+        pthread_mutex_lock(&job->lock);
+        job->out_of_time = true;
+        pthread_mutex_unlock(&job->lock);
+        atomic_store(&job->stop, true);
+        return;
+    }
+    const brume_scene *s = job->s;
+    int x0, y0, x1, y1;
+    tile_rect(job, task, &x0, &y0, &x1, &y1);
+    int target = job->target;
+    enum { P = TILE * TILE };
+    uint32_t n[P];
+    double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
+    uint64_t taken = 0;
+    /* this task alone writes these pixels: read them without the lock */
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
+            int k = (y - y0) * TILE + (x - x0);
+            n[k] = job->n[i];
+            memcpy(sum[k], job->sum + JOB_SUMS * i, sizeof sum[k]);
+            memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
+            if (job->trace_aovs)
+                memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
+            if (!job->active[i])
+                continue;
+            for (uint32_t sidx = n[k]; sidx < (uint32_t)target; sidx++) {
+                rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)sidx);
+                double dx, dy;
+                film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
+                double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
+                ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+                if (job->trace_aovs) {
+                    rng ga = g;
+                    ga.counter += AOV_DIMENSION;
+                    first_vertex v;
+                    integrator_first_vertex(s, r, &ga, &v);
+                    if (v.hit) {
+                        aov[k][0] += v.depth;
+                        aov[k][1] += 1.0;
+                    }
+                    for (int c = 0; c < 3; c++)
+                        aov[k][2 + c] += v.albedo.c[c];
+                    aov[k][5] += v.normal.x;
+                    aov[k][6] += v.normal.y;
+                    aov[k][7] += v.normal.z;
+                }
+                bool opaque = false;
+                double t0 = sc ? stats_now() : 0.0;
+                color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
+                if (sc) {
+                    sc->t_li += stats_now() - t0;
+                    sc->camera_rays++;
+                }
+                if (!col_isfinite(L))
+                    L = col(0.0); /* a failed sample counts as black */
+                for (int c = 0; c < 3; c++) {
+                    sum[k][c] += L.c[c];
+                    sq[k][c] += L.c[c] * L.c[c];
+                }
+                double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
+                sq[k][3] += yv * yv;
+                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
+                 * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
+                 * smooth estimator that needs few samples, and no cost for the others */
+                if (sidx < JOB_ALPHA_SAMPLES)
+                    sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
+                taken++;
+            }
+            n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
+        }
+    stats_tls = NULL;
+    pthread_mutex_lock(&job->lock);
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
+            int k = (y - y0) * TILE + (x - x0);
+            if (!job->active[i])
+                continue;
+            job->n[i] = n[k];
+            memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
+            memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
+            if (job->trace_aovs)
+                memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
+        }
+    job->done += taken;
+    double elapsed = job->elapsed + (progress_now() - job->t_pass);
+    if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
+        job->total = (uint64_t)fmax((double)job->done, (double)job->done * rs->time_budget / elapsed);
+    if (job->total < job->done)
+        job->total = job->done;
+    uint64_t done = job->done, total = job->total;
+    pthread_mutex_unlock(&job->lock);
+
+    if (job->bar_started)
+        progress_update(&job->bar, (size_t)done, (size_t)total);
+    if (rs->progress_fn) {
+        pthread_mutex_lock(&job->cb_lock);
+        if (!atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
+            atomic_store(&job->stop, true);
+            job->cancelled = true;
+        }
+        pthread_mutex_unlock(&job->cb_lock);
+    }
+}
+
+/* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
+ * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. */
+static brume_status job_pass(brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    if (rs->progress && !job->bar_started) {
+        progress_begin(&job->bar, "render", (size_t)job->total, true);
+        job->bar_started = true;
+    }
+    atomic_store(&job->stop, false);
+    job->cancelled = false;
+    pthread_mutex_lock(&job->lock);
+    job->t_pass = progress_now();
+    job_refresh(job);
+    pthread_mutex_unlock(&job->lock);
+    pool_run(rs->threads, job->ntiles, job_tile, job);
+    pthread_mutex_lock(&job->lock);
+    job->elapsed += progress_now() - job->t_pass;
+    job->t_pass = 0.0;
+    bool complete = !atomic_load(&job->stop);
+    if (complete) {
+        job->spp_done = job->target;
+        if (rs->noise_target > 0.0) /* adaptive sampling: each pixel by its own statistics */
+            for (size_t i = 0; i < job->npix; i++)
+                if (job->active[i] && job->n[i] >= (uint32_t)rs->min_spp && job->n[i] >= 2 &&
+                    job_pixel_error(job, i) <= rs->noise_target)
+                    job->active[i] = 0;
+    }
+    job_refresh(job);
+    pthread_mutex_unlock(&job->lock);
+    if (job->cancelled)
+        return err_set(BRUME_ERROR_CANCELLED, "%s: render cancelled by the progress callback (%d to %d samples per pixel)",
+                       job->s->source, job->spp_done, job->target);
+    return BRUME_OK;
+}
+
+/* Samples the next pass adds to each active pixel under the settings' budgets, 0 when
+ * the job is finished. A pass that was cut is completed first. A noise target starts with
+ * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
+ * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
+ * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX. */
+static int job_next_pass(const brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    if (job->out_of_time)
+        return 0;
+    if (job->target > job->spp_done)
+        return job->target - job->spp_done;
+    if (job->spp_done >= rs->spp)
+        return 0;
+    if (rs->noise_target > 0.0 && job->spp_done > 0) {
+        bool any = false;
+        for (size_t i = 0; i < job->npix && !any; i++)
+            any = job->active[i] && (job->nparts == 1 || in_part(job, i));
+        if (!any)
+            return 0;
+    }
+    int k;
+    if (job->spp_done == 0)
+        k = rs->noise_target > 0.0 ? rs->min_spp : 1;
+    else
+        k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
+    k = k < 1 ? 1 : k;
+    if (job->spp_done > 0 && k > PASS_MAX)
+        k = PASS_MAX;
+    return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
+}
+
+static brume_status job_add(brume_render_job *job, int spp)
+{
+    pthread_mutex_lock(&job->lock);
+    if (job->target <= job->spp_done) {
+        long long t = (long long)job->spp_done + spp;
+        job->target = t > (1 << 30) ? (1 << 30) : (int)t;
+    }
+    pthread_mutex_unlock(&job->lock);
+    return job_pass(job);
 }
 
 static double per(double a, uint64_t n) { return n ? a / (double)n : 0.0; }
 
-static void render_fill_stats(const brume_scene *s, integrator_kind kind, const void *state, const stats_counters *c,
-                              double seconds, double view_seconds, brume_stats *out)
+/* The scene's statistics (brume_scene_get_stats) from the job's counters. */
+static void job_fill_stats(const brume_render_job *job)
 {
+    const brume_scene *s = job->s;
+    stats_counters sum = {0};
+    for (int t = 0; job->counters && t < job->nthreads; t++)
+        stats_merge(&sum, &job->counters[t]);
+    const stats_counters *c = &sum;
+    brume_stats *out = &s->prepared->stats;
     memset(out, 0, sizeof *out);
     snprintf(out->method, sizeof out->method, "%s", s->settings.method);
-    out->seconds = seconds;
+    out->seconds = stats_now() - job->t_start;
     out->camera_rays = c->camera_rays;
     out->li_cpu_seconds = c->t_li;
-    switch (kind) {
+    switch (job->kind) {
     case INTEGRATOR_BLASI: {
         blasi_stats b;
-        blasi_get_stats(state, &b);
+        blasi_get_stats(job->state, &b);
         out->blasi_light_seconds = b.light_seconds;
-        out->blasi_view_seconds = view_seconds;
+        out->blasi_view_seconds = job->elapsed;
         out->blasi_light_rays = b.light_rays;
         out->blasi_interceptions = b.interceptions;
         out->blasi_deposits = b.deposits;
@@ -195,6 +424,210 @@ static void render_fill_stats(const brume_scene *s, integrator_kind kind, const 
         out->path_shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);
         break;
     }
+}
+
+static brume_status job_run(brume_render_job *job)
+{
+    int k;
+    while ((k = job_next_pass(job)) > 0) {
+        brume_status st = job_add(job, k);
+        if (st != BRUME_OK)
+            return st;
+    }
+    if (job->bar_started) {
+        progress_end(&job->bar);
+        job->bar_started = false;
+    }
+    job_fill_stats(job);
+    return BRUME_OK;
+}
+
+/* ---- the image ----------------------------------------------------------------------------- */
+
+static brume_status job_image(const brume_render_job *job, brume_image **out)
+{
+    const brume_render_settings *rs = &job->rs;
+    *out = NULL;
+    brume_image *img = brume_image_new(rs->width, rs->height);
+    if (!img)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", job->s->source, rs->width,
+                       rs->height);
+    static const char *const rgb[3] = {"R", "G", "B"}, *const xyz[3] = {"X", "Y", "Z"}, *const z[1] = {"Z"},
+                             *const yy[1] = {"Y"};
+    float *depth = NULL, *albedo = NULL, *normal = NULL, *var = NULL, *count = NULL;
+    bool ok = true;
+    if (rs->aovs & BRUME_AOV_DEPTH)
+        ok &= (depth = image_add_layer(img, "depth", 1, z)) != NULL;
+    if (rs->aovs & BRUME_AOV_ALBEDO)
+        ok &= (albedo = image_add_layer(img, "albedo", 3, rgb)) != NULL;
+    if (rs->aovs & BRUME_AOV_NORMAL)
+        ok &= (normal = image_add_layer(img, "normal", 3, xyz)) != NULL;
+    if (rs->aovs & BRUME_AOV_VARIANCE)
+        ok &= (var = image_add_layer(img, "variance", 3, rgb)) != NULL;
+    if (rs->aovs & BRUME_AOV_SAMPLES)
+        ok &= (count = image_add_layer(img, "samples", 1, yy)) != NULL;
+    if (!ok) {
+        brume_image_release(img);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate the image's layers", job->s->source);
+    }
+    brume_render_job *j = (brume_render_job *)job; /* the lock only */
+    pthread_mutex_lock(&j->lock);
+    for (size_t i = 0; i < job->npix; i++) {
+        uint32_t n = job->n[i];
+        if (n == 0)
+            continue; /* +0 everywhere: not rendered (yet, or by another part) */
+        const double *s = job->sum + JOB_SUMS * i;
+        float *px = img->rgba + 4 * i;
+        double inv = 1.0 / n;
+        for (int c = 0; c < 3; c++)
+            px[c] = (float)(s[c] * inv);
+        uint32_t na = n < JOB_ALPHA_SAMPLES ? n : JOB_ALPHA_SAMPLES;
+        px[3] = (float)fmin(1.0, fmax(0.0, s[3] / na));
+        const double *a = job->aov ? job->aov + JOB_AOVS * i : NULL;
+        if (depth)
+            depth[i] = a[1] > 0.0 ? (float)(a[0] / a[1]) : 0.0f;
+        for (size_t c = 0; c < 3; c++) {
+            if (albedo)
+                albedo[3 * i + c] = (float)(a[2 + c] * inv);
+            if (normal)
+                normal[3 * i + c] = (float)(a[5 + c] * inv);
+            if (var)
+                var[3 * i + c] = n < 2 ? 0.0f
+                                       : (float)fmax(0.0, (job->sq[JOB_SQS * i + c] - s[c] * s[c] * inv) /
+                                                              ((n - 1.0) * n));
+        }
+        if (count)
+            count[i] = (float)n;
+    }
+    pthread_mutex_unlock(&j->lock);
+    *out = img;
+    return BRUME_OK;
+}
+
+/* ---- public ---------------------------------------------------------------------------------- */
+
+brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_render_job **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
+    return ctx_report(ctx, job_create(s, 0, 1, out));
+}
+
+brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp)
+{
+    err_clear();
+    if (!job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job: NULL"));
+    if (spp < 1 || spp > (1 << 24))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_render_job_add: spp: %d outside [1, 16777216]", spp));
+    return ctx_report(ctx, job_add(job, spp));
+}
+
+brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
+{
+    err_clear();
+    if (!job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
+    return ctx_report(ctx, job_run(job));
+}
+
+brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: %s: NULL", !job ? "job" : "out"));
+    return ctx_report(ctx, job_image(job, out));
+}
+
+int brume_render_job_samples(const brume_render_job *job)
+{
+    if (!job)
+        return 0;
+    brume_render_job *j = (brume_render_job *)job;
+    pthread_mutex_lock(&j->lock);
+    uint32_t m = 0;
+    for (size_t i = 0; i < job->npix; i++)
+        m = job->n[i] > m ? job->n[i] : m;
+    pthread_mutex_unlock(&j->lock);
+    return (int)m;
+}
+
+void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out)
+{
+    if (!out)
+        return;
+    memset(out, 0, sizeof *out);
+    if (!job)
+        return;
+    brume_render_job *j = (brume_render_job *)job;
+    pthread_mutex_lock(&j->lock);
+    uint32_t nmin = UINT32_MAX, nmax = 0;
+    double ntotal = 0.0;
+    size_t npart = 0, stopped = 0;
+    for (size_t i = 0; i < job->npix; i++) {
+        if (job->nparts > 1 && !in_part(job, i))
+            continue;
+        uint32_t n = job->n[i];
+        nmin = n < nmin ? n : nmin;
+        nmax = n > nmax ? n : nmax;
+        ntotal += n;
+        npart++;
+        stopped += !job->active[i];
+    }
+    out->done = job->done;
+    out->total = job->total;
+    out->spp_min = npart ? (int)nmin : 0;
+    out->spp_max = (int)nmax;
+    out->spp_mean = npart ? ntotal / (double)npart : 0.0;
+    out->noise = job->noise;
+    out->converged = npart ? (double)stopped / (double)npart : 0.0;
+    out->elapsed = job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
+    out->finished = job->t_pass == 0.0 && job_next_pass(job) == 0;
+    if (out->finished)
+        out->eta = 0.0;
+    else if (job->rs.time_budget > 0.0)
+        out->eta = fmax(0.0, job->rs.time_budget - out->elapsed);
+    else
+        out->eta = job->done > 0 ? out->elapsed * (double)(job->total - job->done) / (double)job->done : 0.0;
+    pthread_mutex_unlock(&j->lock);
+}
+
+brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
+{
+    return brume_render_part(ctx, s, 0, 1, out);
+}
+
+brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
+    if (nparts < 1 || part < 0 || part >= nparts)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
+                                       s->source, part, nparts));
+    brume_render_job *job = NULL;
+    brume_status st = job_create(s, part, nparts, &job);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    st = job_run(job);
+    if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", err_message());
+        brume_status sti = job_image(job, out);
+        if (sti != BRUME_OK)
+            st = sti;
+        else if (st != BRUME_OK)
+            err_set(st, "%s", msg);
+    }
+    brume_render_job_release(job);
+    return ctx_report(ctx, st);
 }
 
 brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out)

@@ -25,6 +25,7 @@ void scene_default_settings(brume_render_settings *rs)
     rs->filter_width = 2.0;
     rs->progress = false;
     rs->fps = 24.0;
+    rs->min_spp = 16;
 }
 
 brume_scene *scene_new(const char *source)
@@ -85,6 +86,15 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
     if (!(rs->fps > 0.0 && rs->fps <= 1e6))
         return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %g outside (0, 1e6]", source, rs->fps);
+    if (!(rs->time_budget >= 0.0 && rs->time_budget <= 1e9))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.time: %g outside [0, 1e9] seconds", source, rs->time_budget);
+    if (!(rs->noise_target >= 0.0 && rs->noise_target <= 1.0))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %g outside [0, 1]", source, rs->noise_target);
+    if (rs->min_spp < 1 || rs->min_spp > (1 << 24))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.min_spp: %d outside [1, 16777216]", source, rs->min_spp);
+    if (rs->aovs & ~(unsigned)(BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_VARIANCE |
+                               BRUME_AOV_SAMPLES))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.aovs: unknown bits 0x%x", source, rs->aovs);
     integrator_kind k;
     if (!memchr(rs->method, '\0', sizeof rs->method) || !integrator_from_name(rs->method, &k))
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%.31s' (known: %s)", source,

@@ -451,7 +451,7 @@ cli('render_scene_missing', 1, 'nothing.json', 'render {D}/scenes/nothing.json -
 cli('render_scene_name_escape', 1, r'\\x1b\[31m', 'render {D}/\\e[31mred.json -o {T}/o.png')
 cli('render_scene_name_newline', 1, r'a\\nb', 'render {D}/a\\nb.json -o {T}/o.png')
 cli('render_flag_escape', 2, r'\\x1b', 'render %s --\\e[2J' % S)
-cli('render_output_no_folder', 1, 'no/such', 'render {D}/scenes/sun_tiny_radius_renders.json -o {T}/no/such/o.png --quiet')
+cli('render_output_folder_is_a_file', 1, 'not a folder', 'render {D}/scenes/sun_tiny_radius_renders.json -o {D}/cases.txt/o.png --quiet')
 cli('render_output_unknown_type', 1, 'o.bmp', 'render {D}/scenes/sun_tiny_radius_renders.json -o {T}/o.bmp --quiet')
 cli('render_video_no_pattern', 2, 'video', 'render {D}/scenes/sun_tiny_radius_renders.json -o {T}/o.png --video {T}/v.mp4 --quiet')
 cli('gen_no_kind', 2, 'gen', 'gen')

@@ -1,0 +1,276 @@
+/* cli_job.c - how `brume render` runs a render job: signals that stop it and keep the work,
+ * checkpoints every few seconds and on interruption, resume, and the checks of output paths
+ * made before any work. */
+#include "cli_job.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "commands.h"
+
+/* ---- signals ------------------------------------------------------------------------------ */
+
+static volatile sig_atomic_t g_signal; /* the first SIGINT, SIGTERM or SIGHUP, 0 before */
+
+/* The first signal asks the render to stop (the progress callback sees it within a tile);
+ * a second one ends the process at once, removing the temporary files of writes under way. */
+static void on_signal(int sig)
+{
+    if (g_signal) {
+        brume_remove_temporaries();
+        _exit(128 + sig);
+    }
+    g_signal = sig;
+}
+
+void cli_signals_install(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+}
+
+int cli_signal(void) { return (int)g_signal; }
+
+const char *cli_signal_name(int sig)
+{
+    switch (sig) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    }
+    return "a signal";
+}
+
+/* ---- outputs -------------------------------------------------------------------------------- */
+
+static bool ext_is(const char *path, const char *want)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    if (!dot || dot == base)
+        return false;
+    for (; *dot && *want; dot++, want++) {
+        char c = *dot;
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != *want)
+            return false;
+    }
+    return *dot == *want;
+}
+
+int cli_check_image_name(const char *flag, const char *path, bool need_exr)
+{
+    const char *slash = strrchr(path, '/');
+    if (!*path || (slash && !slash[1])) {
+        cli_error("%s: '%s' is not a file name", flag, path);
+        return 2;
+    }
+    if (!ext_is(path, ".png") && !ext_is(path, ".exr") && !ext_is(path, ".pfm")) {
+        cli_error("%s: '%s': unknown image format (use .exr, .png or .pfm)", flag, path);
+        return 1; /* as the library's refusal of the format */
+    }
+    if (need_exr && !ext_is(path, ".exr")) {
+        cli_error("%s: '%s': --aov layers need an .exr output", flag, path);
+        return 2;
+    }
+    return 0;
+}
+
+int cli_prepare_folder(const char *flag, const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else if ((size_t)(slash - path) >= sizeof dir) {
+        cli_error("%s: '%s': path too long", flag, path);
+        return 1;
+    } else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    /* make the missing folders, parents first */
+    for (char *p = dir + 1;; p++) {
+        if (*p != '/' && *p != '\0')
+            continue;
+        char keep = *p;
+        *p = '\0';
+        struct stat st;
+        if (stat(dir, &st) != 0) {
+            if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+                cli_error("%s: '%s': cannot make the folder '%s': %s", flag, path, dir, strerror(errno));
+                return 1;
+            }
+        } else if (!S_ISDIR(st.st_mode)) {
+            cli_error("%s: '%s': '%s' is not a folder", flag, path, dir);
+            return 1;
+        }
+        *p = keep;
+        if (!keep)
+            break;
+    }
+    /* a file can be made there (write permission, a writable file system) */
+    char probe[4200];
+    snprintf(probe, sizeof probe, "%s/.brume-probe-XXXXXX", dir);
+    int fd = mkstemp(probe);
+    if (fd < 0) {
+        cli_error("%s: '%s': cannot write in the folder '%s': %s", flag, path, dir, strerror(errno));
+        return 1;
+    }
+    close(fd);
+    unlink(probe);
+    return 0;
+}
+
+/* ---- running a job -------------------------------------------------------------------------- */
+
+/* What the progress callback needs; one job runs at a time in brume render. */
+typedef struct job_state {
+    const brume_render_job *job;
+    const char *checkpoint;
+    uint64_t scene_key;
+    double every, t_last;
+    brume_context *ctx; /* the callback's own: it runs on a worker thread */
+    bool warned;
+} job_state;
+
+static job_state g_job;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static bool on_progress(void *user, uint64_t done, uint64_t total)
+{
+    (void)done;
+    (void)total;
+    job_state *st = user;
+    if (g_signal)
+        return false;
+    if (st->checkpoint && st->job && now_seconds() - st->t_last >= st->every) {
+        if (brume_render_job_save(st->ctx, st->job, st->scene_key, st->checkpoint) != BRUME_OK && !st->warned) {
+            cli_error("warning: %s", brume_context_last_error(st->ctx));
+            st->warned = true;
+        }
+        st->t_last = now_seconds();
+    }
+    return true;
+}
+
+void cli_job_callback(brume_progress_fn *fn, void **user)
+{
+    *fn = on_progress;
+    *user = &g_job;
+}
+
+uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *sets, long frame)
+{
+    uint64_t h = 0xcbf29ce484222325ULL;
+#define FOLD(p, n)                                                                                              \
+    for (size_t k_ = 0; k_ < (n); k_++) {                                                                      \
+        h ^= ((const unsigned char *)(p))[k_];                                                                 \
+        h *= 0x100000001b3ULL;                                                                                 \
+    }
+    if (scene_path) {
+        FILE *fp = fopen(scene_path, "rb");
+        unsigned char buf[65536];
+        size_t n;
+        while (fp && (n = fread(buf, 1, sizeof buf, fp)) > 0)
+            FOLD(buf, n)
+        if (fp)
+            fclose(fp);
+    } else {
+        FOLD("<default scene>", 15) /* compiled in: the brume version in the checkpoint covers it */
+    }
+    for (int i = 0; i < nsets; i++)
+        FOLD(sets[i], strlen(sets[i]) + 1)
+    FOLD(&frame, sizeof frame)
+#undef FOLD
+    return h;
+}
+
+brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli_job_opts *o, brume_render_job **job_out,
+                         brume_image **out, cli_job_result *res)
+{
+    memset(res, 0, sizeof *res);
+    *out = NULL;
+    *job_out = NULL;
+    brume_render_job *job = NULL;
+    brume_status st = o->resume ? brume_render_job_resume(ctx, scene, o->scene_key, o->resume, &job)
+                                : brume_render_begin(ctx, scene, &job);
+    if (st != BRUME_OK)
+        return st;
+    g_job = (job_state){job, o->checkpoint, o->scene_key, o->checkpoint_every, now_seconds(), NULL, false};
+    if (o->checkpoint && !(g_job.ctx = brume_context_new())) {
+        brume_render_job_release(job);
+        return BRUME_ERROR_OUT_OF_MEMORY;
+    }
+    if (o->serve)
+        cli_serve_show(o->serve, job, o->label);
+    st = g_signal ? BRUME_ERROR_CANCELLED : brume_render_job_run(ctx, job);
+    g_job.job = NULL;
+    brume_context_release(g_job.ctx);
+    g_job.ctx = NULL;
+    if (st == BRUME_ERROR_CANCELLED && g_signal) {
+        res->interrupted = true;
+        res->signal = g_signal;
+    } else if (st != BRUME_OK) {
+        brume_render_job_release(job);
+        if (o->serve)
+            cli_serve_show(o->serve, NULL, NULL);
+        return st;
+    }
+    if (o->checkpoint) {
+        if (res->interrupted) {
+            if ((st = brume_render_job_save(ctx, job, o->scene_key, o->checkpoint)) != BRUME_OK) {
+                brume_render_job_release(job);
+                return st;
+            }
+            res->checkpoint_written = true;
+        } else {
+            remove(o->checkpoint); /* finished: the image is the result */
+        }
+    }
+    brume_render_job_progress(job, &res->progress);
+    if ((st = brume_render_job_image(ctx, job, out)) != BRUME_OK) {
+        brume_render_job_release(job);
+        return st;
+    }
+    /* the figures of a budgeted render (a fixed count is the command's own --spp) */
+    if (o->noise_target > 0.0 || o->time_budget > 0.0) {
+        char v[64];
+        const brume_render_progress *p = &res->progress;
+        snprintf(v, sizeof v, "%d", p->spp_min);
+        brume_image_set_attribute(ctx, *out, "brume.spp_min", v);
+        snprintf(v, sizeof v, "%d", p->spp_max);
+        brume_image_set_attribute(ctx, *out, "brume.spp_max", v);
+        snprintf(v, sizeof v, "%.3f", p->spp_mean);
+        brume_image_set_attribute(ctx, *out, "brume.spp_mean", v);
+        if (o->noise_target > 0.0) {
+            snprintf(v, sizeof v, "%.5g", p->noise);
+            brume_image_set_attribute(ctx, *out, "brume.noise", v);
+        }
+    }
+    if (res->interrupted)
+        brume_image_set_attribute(ctx, *out, "brume.partial", "yes");
+    *job_out = job;
+    return BRUME_OK;
+}

@@ -1,0 +1,58 @@
+/* cli_job.h - how `brume render` runs a render job: signals, checkpoints, resume, output
+ * checks (cli/cli_job.c). */
+#ifndef BRUME_CLI_JOB_H
+#define BRUME_CLI_JOB_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "brume.h"
+#include "cli_serve.h"
+
+/* SIGINT, SIGTERM, SIGHUP: the first stops the render within a tile (the work is kept), a
+ * second ends the process at once after removing temporary files (exit 128 + signal). */
+void cli_signals_install(void);
+/* The first signal received, 0 if none. */
+int cli_signal(void);
+const char *cli_signal_name(int sig);
+
+/* Before any work: the name of an image output: 0, or with a message 1 for an unknown
+ * format, 2 (a bad command line) for layers asked without .exr. */
+int cli_check_image_name(const char *flag, const char *path, bool need_exr);
+/* Before any work: makes the missing folders of path and checks a file can be made there.
+ * 0, or 1 with a message. */
+int cli_prepare_folder(const char *flag, const char *path);
+
+/* The progress callback to put in the render settings: it stops the job on a signal and
+ * writes checkpoints. */
+void cli_job_callback(brume_progress_fn *fn, void **user);
+/* What a checkpoint is tied to: the scene file's bytes (or the default scene), the scene
+ * overrides (--set KEY=VALUE) and the frame. */
+uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *sets, long frame);
+
+typedef struct cli_job_opts {
+    const char *checkpoint;  /* --checkpoint FILE, or NULL */
+    double checkpoint_every; /* seconds between checkpoints */
+    const char *resume;      /* --resume FILE, or NULL */
+    uint64_t scene_key;
+    double noise_target;     /* the render's budgets: the figures written with the image */
+    double time_budget;
+    cli_serve *serve;        /* the live view, or NULL */
+    const char *label;       /* what the live view calls this render */
+} cli_job_opts;
+
+typedef struct cli_job_result {
+    bool interrupted;        /* a signal stopped it: the image is partial */
+    int signal;
+    bool checkpoint_written;
+    brume_render_progress progress;
+} cli_job_result;
+
+/* Begins (or resumes) a job on the committed scene and runs it to its end or to a signal;
+ * *out is the image (partial when res->interrupted) with its figures as attributes, *job
+ * the job (the caller releases it, after the live view lets go of it). On failure returns
+ * the status (the context has the message) and nothing is allocated. */
+brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli_job_opts *o, brume_render_job **job,
+                         brume_image **out, cli_job_result *res);
+
+#endif

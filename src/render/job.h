@@ -1,0 +1,80 @@
+/* job.h - the render job behind brume_render_job: per-pixel accumulation state, passes,
+ * adaptive sampling (render/render.c), and its checkpoint file (io/checkpoint.c).
+ *
+ * Invariants (docs/render-jobs.md):
+ * - Pixel p's samples are numbered 0, 1, ... in the order they were taken; sample i draws
+ *   the random numbers of (seed, p, i). The sums are accumulated in that order in double,
+ *   so any split of the samples into passes (or into a run, a checkpoint and a resume)
+ *   gives the same bits.
+ * - A pixel is written by one tile task at a time. Its stored state changes only under
+ *   `lock`, a whole tile at once: a reader holding the lock (job_image, a checkpoint) sees
+ *   every finished tile and nothing half done.
+ * - A pass brings every active pixel to `target` samples. Pixels already there take none,
+ *   so a pass that was cut (cancelled, out of time) is completed by running it again.
+ *   Adaptive decisions happen only when a pass completes, from each pixel's own sums. */
+#ifndef BRUME_RENDER_JOB_H
+#define BRUME_RENDER_JOB_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
+
+#include "core/progress.h"
+#include "core/stats.h"
+#include "render/integrator.h"
+
+#define JOB_SUMS 4 /* per pixel: R, G, B, alpha (sum over the first JOB_ALPHA_SAMPLES) */
+#define JOB_SQS 4  /* per pixel: R^2, G^2, B^2, y^2 with y = (R + G + B) / 3 */
+#define JOB_AOVS 8 /* per pixel: depth sum, depth hits, albedo RGB, normal XYZ */
+#define JOB_ALPHA_SAMPLES 8 /* camera samples per pixel that estimate alpha */
+
+struct brume_render_job {
+    const brume_scene *s;
+    brume_render_settings rs; /* the scene's, copied at begin */
+    integrator_kind kind;
+    const void *state; /* integrator_prepare's */
+    int tiles_x;
+    size_t ntiles_all;  /* tiles of the whole image */
+    size_t ntiles;      /* tiles of this job's part */
+    int part, nparts;   /* the job renders tiles part, part + nparts, ... */
+    size_t npix;        /* width * height */
+    bool trace_aovs;    /* depth, albedo or normal asked: one extra first-vertex walk a sample */
+
+    /* per pixel (npix each; aov only when trace_aovs) */
+    uint32_t *n;      /* samples taken */
+    uint8_t *active;  /* 1: still receives samples; 0: stopped by adaptive sampling */
+    double *sum;      /* JOB_SUMS per pixel */
+    double *sq;       /* JOB_SQS per pixel */
+    double *aov;      /* JOB_AOVS per pixel */
+
+    int spp_done;     /* samples of every active pixel at the last completed pass */
+    int target;       /* samples every active pixel reaches at the end of the pass in progress */
+    double noise;     /* at the last completed pass: largest relative error on signal pixels */
+    uint64_t done;    /* pixel samples taken */
+    uint64_t total;   /* estimate of the pixel samples the whole job takes */
+    double elapsed;   /* seconds spent in passes before the current one */
+    double t_pass;    /* progress_now() when the current pass started, 0 outside passes */
+    bool out_of_time; /* the time budget ran out */
+
+    pthread_mutex_t lock; /* the per-pixel state, done, total, noise, elapsed */
+    pthread_mutex_t cb_lock; /* serialises the progress callback */
+    atomic_bool stop;        /* set when the callback cancels or time runs out */
+    bool cancelled;          /* the callback cancelled the pass in progress (under cb_lock) */
+    progress bar;
+    bool bar_started;
+    double t_start;          /* stats_now() at job_create: the statistics' seconds */
+    int nthreads;            /* threads the pool runs */
+    struct stats_counters *counters; /* one per thread when rs.stats, else NULL */
+};
+
+/* Allocates a job for tiles part, part + nparts, ... of the scene's image, with the
+ * integrator state prepared; fails with err_set(). */
+brume_status job_create(const brume_scene *s, int part, int nparts, brume_render_job **out);
+
+/* Relative standard error of pixel i's mean as adaptive sampling sees it (docs/render-jobs.md). */
+double job_pixel_error(const brume_render_job *job, size_t i);
+
+/* Recomputes done, total and noise from the per-pixel state (after a resume). */
+void job_refresh(brume_render_job *job);
+
+#endif

@@ -1,0 +1,367 @@
+/* test_serve.c - `brume render --serve`: the live view's endpoints with a plain HTTP client,
+ * the page in headless Chromium (its screenshot must show the image), and bad input (a port
+ * in use, a bad host). Loopback addresses only; every wait is bounded. */
+#include "test.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "brume.h"
+
+/* Pure red background, nothing else: the image is red everywhere, so a screenshot shows
+ * whether it is on the page. */
+static const char red_json[] = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+                               " \"background\": [1, 0, 0], \"render\": {\"width\": 96, \"height\": 64}}";
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void sleep_s(double s)
+{
+    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    nanosleep(&ts, NULL);
+}
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *fp = fopen(path, "w");
+    ASSERT_TRUE(fp != NULL);
+    fputs(text, fp);
+    fclose(fp);
+}
+
+/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
+static pid_t children[64];
+static int nchildren;
+
+static void kill_children(void)
+{
+    for (int i = 0; i < nchildren; i++)
+        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
+            kill(children[i], SIGKILL);
+            waitpid(children[i], NULL, 0);
+        }
+}
+
+static void track_child(pid_t pid)
+{
+    if (nchildren == 0)
+        atexit(kill_children);
+    if (nchildren < 64)
+        children[nchildren++] = pid;
+}
+
+/* Starts argv[0] = exe with args split on spaces; stdout to /dev/null, stderr to err_path. */
+static pid_t spawn(const char *exe, const char *args, const char *err_path)
+{
+    static char buf[4096];
+    snprintf(buf, sizeof buf, "%s", args);
+    char *argv[64];
+    int n = 0;
+    argv[n++] = (char *)exe;
+    for (char *tok = strtok(buf, " "); tok && n < 63; tok = strtok(NULL, " "))
+        argv[n++] = tok;
+    argv[n] = NULL;
+    fflush(NULL);
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid > 0)
+        track_child(pid);
+    if (pid == 0) {
+        int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(out, 1);
+        dup2(err, 2);
+        execv(exe, argv);
+        _exit(127);
+    }
+    return pid;
+}
+
+static int wait_exit(pid_t pid, double timeout)
+{
+    double t0 = now();
+    for (;;) {
+        int status = 0;
+        if (waitpid(pid, &status, WNOHANG) == pid)
+            return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        if (now() - t0 > timeout) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            return -1;
+        }
+        sleep_s(0.01);
+    }
+}
+
+/* The port from "live view at http://127.0.0.1:PORT/" in err_path, waiting up to 60 s. */
+static int wait_port(const char *err_path, pid_t pid)
+{
+    double t0 = now();
+    while (now() - t0 < 60.0) {
+        size_t n;
+        if (!test_exists(err_path)) { /* the child has not opened it yet */
+            sleep_s(0.01);
+            continue;
+        }
+        char *text = test_slurp(err_path, &n);
+        const char *at = strstr(text, "live view at http://127.0.0.1:");
+        int port = at ? atoi(at + strlen("live view at http://127.0.0.1:")) : 0;
+        free(text);
+        if (port > 0)
+            return port;
+        int status;
+        if (waitpid(pid, &status, WNOHANG) == pid)
+            TEST_FAIL("brume ended before serving");
+        sleep_s(0.05);
+    }
+    TEST_FAIL("no live view announced on stderr");
+}
+
+typedef struct response {
+    int status;
+    char *head, *body; /* malloc'd; body NUL-terminated */
+    size_t body_len;
+} response;
+
+/* A plain HTTP/1.0 request to 127.0.0.1:port, 10 s timeouts. */
+static response http(int port, const char *method, const char *path)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    ASSERT_TRUE(fd >= 0);
+    struct timeval tv = {10, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+    struct sockaddr_in sa = {0};
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)port);
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ_INT(connect(fd, (struct sockaddr *)&sa, sizeof sa), 0);
+    char req[512];
+    int n = snprintf(req, sizeof req, "%s %s HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n", method, path);
+    ASSERT_EQ_INT(write(fd, req, (size_t)n), n);
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    for (;;) {
+        if (len + 1 >= cap)
+            buf = realloc(buf, cap *= 2);
+        ssize_t r = read(fd, buf + len, cap - len - 1);
+        if (r <= 0)
+            break;
+        len += (size_t)r;
+    }
+    close(fd);
+    buf[len] = '\0';
+    response res = {0, NULL, NULL, 0};
+    char *sep = strstr(buf, "\r\n\r\n");
+    ASSERT_TRUE(sep != NULL && strncmp(buf, "HTTP/1.", 7) == 0);
+    res.status = atoi(buf + 9);
+    size_t hl = (size_t)(sep - buf);
+    res.head = malloc(hl + 1);
+    memcpy(res.head, buf, hl);
+    res.head[hl] = '\0';
+    res.body_len = len - hl - 4;
+    res.body = malloc(res.body_len + 1);
+    memcpy(res.body, sep + 4, res.body_len);
+    res.body[res.body_len] = '\0';
+    free(buf);
+    return res;
+}
+
+static void response_free(response *r)
+{
+    free(r->head);
+    free(r->body);
+}
+
+/* The three endpoints and nothing else; the server keeps serving the final image after the
+ * render until SIGINT (exit 0: the image was written), or exits with --serve-exit. */
+TEST(endpoints)
+{
+    char scene[512], err[512];
+    snprintf(scene, sizeof scene, "%s", test_tmp_path("serve.json"));
+    snprintf(err, sizeof err, "%s", test_tmp_path("serve-err.txt"));
+    remove(err);
+    char out[512], args[2048];
+    snprintf(out, sizeof out, "%s", test_tmp_path("serve-out.png"));
+    remove(out);
+    write_file(scene, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+                      " \"background\": [0.3, 0.45, 0.8],"
+                      " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, -0.7, -0.5], \"irradiance\": 3.0}],"
+                      " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 6,"
+                      "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 16, \"seed\": 5}}],"
+                      " \"render\": {\"width\": 48, \"height\": 32, \"max_depth\": 16}}");
+    snprintf(args, sizeof args, "render %s --noise 0.03 --serve 127.0.0.1:0 -o %s", scene, out);
+    pid_t pid = spawn(BRUME_EXE, args, err);
+    int port = wait_port(err, pid);
+    response r = http(port, "GET", "/");
+    ASSERT_EQ_INT(r.status, 200);
+    ASSERT_CONTAINS(r.head, "text/html");
+    ASSERT_CONTAINS(r.body, "<img id=\"img\" src=\"/image.png\"");
+    ASSERT_CONTAINS(r.body, "exposure");
+    ASSERT_CONTAINS(r.body, "/status.json");
+    response_free(&r);
+    /* status until finished */
+    double t0 = now();
+    bool finished = false;
+    while (!finished && now() - t0 < 120.0) {
+        r = http(port, "GET", "/status.json");
+        ASSERT_EQ_INT(r.status, 200);
+        ASSERT_CONTAINS(r.head, "application/json");
+        ASSERT_CONTAINS(r.body, "\"spp_mean\":");
+        ASSERT_CONTAINS(r.body, "\"eta\":");
+        ASSERT_CONTAINS(r.body, "\"noise\":");
+        finished = strstr(r.body, "\"finished\": true") != NULL;
+        if (finished)
+            fprintf(stderr, "status: %s", r.body);
+        response_free(&r);
+        if (!finished)
+            sleep_s(0.1);
+    }
+    ASSERT_TRUE(finished);
+    /* the final image is written, and served as the same PNG */
+    t0 = now();
+    while (!test_exists(out) && now() - t0 < 30.0)
+        sleep_s(0.05);
+    r = http(port, "GET", "/image.png");
+    ASSERT_EQ_INT(r.status, 200);
+    ASSERT_CONTAINS(r.head, "image/png");
+    size_t n;
+    char *file = test_slurp(out, &n);
+    ASSERT_TRUE(r.body_len == n && memcmp(r.body, file, n) == 0);
+    free(file);
+    response_free(&r);
+    r = http(port, "GET", "/image.png?exposure=2");
+    ASSERT_EQ_INT(r.status, 200);
+    ASSERT_TRUE(r.body_len > 8 && memcmp(r.body, "\x89PNG", 4) == 0);
+    response_free(&r);
+    const char *refused[4] = {"/image.png?exposure=abc", "/etc/passwd", "/../README.md", "/index.html"};
+    const int codes[4] = {400, 404, 404, 404};
+    for (int k = 0; k < 4; k++) {
+        r = http(port, "GET", refused[k]);
+        ASSERT_EQ_INT(r.status, codes[k]);
+        response_free(&r);
+    }
+    r = http(port, "POST", "/");
+    ASSERT_EQ_INT(r.status, 405);
+    response_free(&r);
+    /* still serving; Ctrl-C ends it, with success: the render was complete */
+    ASSERT_TRUE(waitpid(pid, NULL, WNOHANG) == 0);
+    kill(pid, SIGINT);
+    ASSERT_EQ_INT(wait_exit(pid, 10.0), 0);
+    /* --serve-exit: ends by itself once the image is written */
+    snprintf(args, sizeof args, "render %s --spp 4 --serve 127.0.0.1:0 --serve-exit -o %s", scene, out);
+    ASSERT_EQ_INT(wait_exit(spawn(BRUME_EXE, args, err), 60.0), 0);
+    remove(out);
+    remove(scene);
+    remove(err);
+}
+
+/* One line on stderr containing needle, exit 1, and no output file. */
+static void refused(const char *serve, const char *needle)
+{
+    const char *err = test_tmp_path("serve-err.txt");
+    char out[512], args[2048];
+    snprintf(out, sizeof out, "%s", test_tmp_path("never.png"));
+    remove(out);
+    snprintf(args, sizeof args, "render --spp 16777216 --serve %s -o %s", serve, out);
+    ASSERT_EQ_INT(wait_exit(spawn(BRUME_EXE, args, err), 30.0), 1);
+    size_t n;
+    char *msg = test_slurp(err, &n);
+    fprintf(stderr, "--serve %s: %s", serve, msg);
+    ASSERT_CONTAINS(msg, needle);
+    ASSERT_TRUE(n > 0 && strchr(msg, '\n') == msg + n - 1);
+    free(msg);
+    ASSERT_TRUE(!test_exists(out));
+}
+
+/* A port in use, a host that does not resolve, a port out of range: exit 1 before any work. */
+TEST(bad_port_and_host)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in sa = {0};
+    sa.sin_family = AF_INET;
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ_INT(bind(fd, (struct sockaddr *)&sa, sizeof sa), 0);
+    ASSERT_EQ_INT(listen(fd, 1), 0);
+    socklen_t len = sizeof sa;
+    getsockname(fd, (struct sockaddr *)&sa, &len);
+    char spec[64];
+    snprintf(spec, sizeof spec, "127.0.0.1:%d", ntohs(sa.sin_port));
+    refused(spec, "in use");
+    close(fd);
+    refused("no-such-host.invalid:8080", "no-such-host.invalid");
+    refused("127.0.0.1:70000", "port");
+}
+
+/* The page in a real browser: headless Chromium loads it and takes a screenshot, which
+ * must show the (pure red) image. Skipped (77) only when chromium is not installed. */
+TEST(browser_shows_the_image)
+{
+    const char *chromium = NULL;
+    const char *candidates[3] = {"/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"};
+    for (int k = 0; k < 3 && !chromium; k++)
+        if (access(candidates[k], X_OK) == 0)
+            chromium = candidates[k];
+    if (!chromium) {
+        fprintf(stderr, "chromium is not installed: skipped\n");
+        exit(77);
+    }
+    char scene[512], err[512];
+    snprintf(scene, sizeof scene, "%s", test_tmp_path("red.json"));
+    snprintf(err, sizeof err, "%s", test_tmp_path("red-err.txt"));
+    remove(err);
+    char out[512], shot[512], profile[512], args[4096];
+    snprintf(out, sizeof out, "%s", test_tmp_path("red.png"));
+    snprintf(shot, sizeof shot, "%s", test_tmp_path("screenshot.png"));
+    snprintf(profile, sizeof profile, "%s", test_tmp_path("chromium-profile"));
+    write_file(scene, red_json);
+    remove(shot);
+    snprintf(args, sizeof args, "render %s --spp 2 --serve 127.0.0.1:0 -o %s", scene, out);
+    pid_t pid = spawn(BRUME_EXE, args, err);
+    int port = wait_port(err, pid);
+    snprintf(args, sizeof args,
+             "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=%s "
+             "--window-size=640,480 --virtual-time-budget=5000 --screenshot=%s http://127.0.0.1:%d/",
+             profile, shot, port);
+    const char *cerr = test_tmp_path("chromium-err.txt");
+    int rc = wait_exit(spawn(chromium, args, cerr), 180.0);
+    kill(pid, SIGINT);
+    ASSERT_EQ_INT(wait_exit(pid, 10.0), 0);
+    if (rc != 0) {
+        size_t n;
+        char *msg = test_slurp(cerr, &n);
+        TEST_FAIL("chromium exit %d: %s", rc, msg);
+    }
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    if (brume_image_read(ctx, shot, &img) != BRUME_OK)
+        TEST_FAIL("screenshot: %s", brume_context_last_error(ctx));
+    int w = brume_image_width(img), h = brume_image_height(img), red = 0;
+    const float *px = brume_image_pixels_const(img);
+    for (int i = 0; i < w * h; i++)
+        red += px[4 * i] > 0.9f && px[4 * i + 1] < 0.05f && px[4 * i + 2] < 0.05f;
+    fprintf(stderr, "screenshot %d x %d: %d pure red pixels (the image has %d)\n", w, h, red, 96 * 64);
+    /* the image at its size on the page (the page itself has no red) */
+    ASSERT_TRUE(red >= 96 * 64 * 9 / 10 && red <= 96 * 64 * 11 / 10);
+    brume_image_release(img);
+    brume_context_release(ctx);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", profile);
+    test_system(cmd);
+    remove(shot);
+    remove(out);
+    remove(scene);
+}
+
+TEST_MAIN(endpoints, bad_port_and_host, browser_shows_the_image)
