@@ -177,7 +177,7 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     struct stat sb;
     if (j->path && stat(j->path, &sb) == 0)
         in_size = (size_t)sb.st_size;
-    double cpu = 5.0 + 2.0 * (double)in_size / 1048576.0;
+    double cpu = (5.0 + 2.0 * (double)in_size / 1048576.0) * (SANDBOX_ASAN ? 4.0 : 1.0); /* ASan: slower */
     double deadline = now_seconds() + 2.0 * cpu + 5.0;
     int fds[2];
     if (pipe(fds) != 0)
