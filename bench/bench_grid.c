@@ -195,7 +195,7 @@ int main(int argc, char **argv)
     if (grid_have_openvdb()) {
         char nv[512];
         snprintf(nv, sizeof nv, "/tmp/bench-grid-%ld.nvdb", (long)getpid());
-        if (grid_convert_vdb_to_nvdb(BRUME_DATA_DIR "/wdas_cloud_sixteenth.vdb", nv) != BRUME_OK) {
+        if (grid_convert_vdb_to_nvdb(BRUME_DATA_DIR "/wdas_cloud_sixteenth.vdb", nv, NULL) != BRUME_OK) {
             fprintf(stderr, "bench: %s\n", err_message());
             return 1;
         }

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "commands.h"
@@ -76,7 +77,7 @@ int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_o
 {
     const char *f = argv[*i];
     static const char *const with_value[] = {"--format", "--dims", "--bounds", "--transform",
-                                             "--filter", "--scale", "--max-memory"};
+                                             "--filter", "--scale", "--max-memory", "--grid"};
     int known = 0;
     for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
         known |= strcmp(f, with_value[k]) == 0;
@@ -106,6 +107,9 @@ int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_o
         o->filter = strcmp(v, "nearest") == 0 ? GRID_NEAREST : GRID_TRILINEAR;
     } else if (strcmp(f, "--scale") == 0) {
         ok = cli_parse_doubles(v, &o->scale, 1) && o->scale > 0.0;
+    } else if (strcmp(f, "--grid") == 0) {
+        ok = v[0] != '\0' && strlen(v) < sizeof o->grid;
+        snprintf(o->grid, sizeof o->grid, "%s", v);
     } else {
         ok = cli_parse_bytes(v, &o->max_memory);
     }

@@ -18,7 +18,7 @@ bool cli_parse_bytes(const char *s, size_t *out);
 /* If argv[*i] is a loading flag, consumes it (and its value) and returns 1; returns 0 when
  * it is not one, and -1 (after printing the usage error) when its value is bad. Flags:
  *   --format F  --dims NXxNYxNZ  --bounds X0,Y0,Z0,X1,Y1,Z1  --transform 12 numbers (row-major 3x4)
- *   --filter nearest|trilinear  --scale S  --max-memory BYTES */
+ *   --filter nearest|trilinear  --scale S  --max-memory BYTES  --grid NAME */
 int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_options *o);
 #define CLI_LOAD_FLAGS_HELP                                                                     \
     "  --format raw|df3|vol|nvdb|vdb   override detection by extension and magic\n"            \
@@ -27,6 +27,7 @@ int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_o
     "  --transform M00,...,M23         then apply this affine map (row-major 3x4)\n"            \
     "  --filter nearest|trilinear      lookup between samples (default trilinear)\n"            \
     "  --scale S                       multiply densities by S (default 1)\n"                   \
-    "  --max-memory BYTES              refuse grids larger than this (K/M/G suffixes; default 4G)\n"
+    "  --max-memory BYTES              refuse grids larger than this (K/M/G suffixes; default 4G)\n" \
+    "  --grid NAME                     .vdb/.nvdb: the grid to read (default: \"density\", else the only float grid)\n"
 
 #endif

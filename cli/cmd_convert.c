@@ -63,7 +63,7 @@ int cmd_convert(int argc, char **argv)
     }
     /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
     if (fin == GRID_FORMAT_VDB && fout == GRID_FORMAT_NVDB && !placed) {
-        if (grid_convert_vdb_to_nvdb(in, out) != BRUME_OK) {
+        if (grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
             cli_error("%.1000s", err_message());
             return 1;
         }

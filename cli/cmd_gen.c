@@ -1,4 +1,4 @@
-/* cmd_gen.c - `brume gen cloud`: a fractal cloud grid (Blasi et al. 1993, sec. 4.1; the
+/* cmd_gen.c - `brume gen cloud`, and `gen fire|upres` (cli_gen_sparse.c): a fractal cloud grid (Blasi et al. 1993, sec. 4.1; the
  * generator is src/density/fractal.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
  * cloud.vol` makes the paper's grid. */
 #include <stddef.h>
@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "args.h"
+#include "cli_gen_sparse.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "core/error.h"
@@ -14,6 +15,7 @@
 
 static const char usage[] =
     "usage: brume gen cloud [flags] -o OUT(.vol|.raw|.df3|.nvdb|.vdb)\n"
+    "       brume gen fire|upres ... (see brume gen fire --help, brume gen upres --help)\n"
     "  --dims NXxNYxNZ          voxels (default 65x65x10, the paper's grid)\n"
     "  --seed N                 random seed (default 1)\n"
     "  --method midpoint|spectral|perlin   fBm base (default midpoint)\n"
@@ -39,8 +41,12 @@ int cmd_gen(int argc, char **argv)
         fputs(usage, stdout);
         return 0;
     }
+    if (argc >= 2 && strcmp(argv[1], "fire") == 0)
+        return gen_fire(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "upres") == 0)
+        return gen_upres(argc - 1, argv + 1);
     if (argc < 2 || strcmp(argv[1], "cloud") != 0) {
-        cli_error("gen: expected `brume gen cloud` (see brume gen --help)");
+        cli_error("gen: expected `brume gen cloud|fire|upres` (see brume gen --help)");
         return 2;
     }
     fractal_params p;

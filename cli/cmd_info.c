@@ -1,6 +1,8 @@
-/* cmd_info.c - `brume info FILE`: a grid file's format, dimensions, world bounds, value
- * range, memory and active voxels. */
+/* cmd_info.c - `brume info FILE`: every grid of a .vdb/.nvdb (name, value type, class,
+ * index box, active voxels, value range, NanoVDB memory), then the grid brume reads (or the
+ * one of --grid): format, dimensions, world bounds, value range, memory and active voxels. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli_grid.h"
@@ -42,11 +44,35 @@ int cmd_info(int argc, char **argv)
         fclose(f);
     }
     grid_format fmt = o.format != GRID_FORMAT_AUTO ? o.format : grid_format_detect(path, head, nhead);
+    int ngrids = 0;
+    if (fmt == GRID_FORMAT_VDB || fmt == GRID_FORMAT_NVDB) {
+        gridvdb_info *gi = NULL;
+        if (grid_list_file(path, o.max_memory, &gi, &ngrids) != BRUME_OK) {
+            cli_error("%.1000s", err_message());
+            return 1;
+        }
+        printf("file:           %s\n", path);
+        printf("grids:          %d\n", ngrids);
+        for (int g = 0; g < ngrids; g++) {
+            printf("  grid \"%s\": %s, %s, index box (%d, %d, %d) to (%d, %d, %d), %llu active voxels, values %.6g to "
+                   "%.6g, NanoVDB %.2f MiB\n",
+                   gi[g].name, gi[g].type, gi[g].cls, gi[g].bbmin[0], gi[g].bbmin[1], gi[g].bbmin[2], gi[g].bbmax[0],
+                   gi[g].bbmax[1], gi[g].bbmax[2], gi[g].active, gi[g].vmin, gi[g].vmax,
+                   (double)gi[g].nano_bytes / 1048576.0);
+        }
+        free(gi);
+    }
     density *d = density_load_file(path, &o);
     if (!d) {
+        if (ngrids > 0 && !o.grid[0]) { /* the listing stands; no default grid to detail */
+            printf("density grid:   none by default (%s)\n", err_message());
+            return 0;
+        }
         cli_error("%.1000s", err_message());
         return 1;
     }
+    if (ngrids > 0)
+        printf("density grid:   %s\n", o.grid[0] ? o.grid : "the default (see docs/grids.md)");
     density_info in;
     density_get_info(d, &in);
     const double *m = in.voxel_to_world.m;
@@ -60,8 +86,12 @@ int cmd_info(int argc, char **argv)
     printf("values:         %.6g to %.6g\n", in.rho_min, in.rho_max);
     printf("memory:         %zu bytes (%.2f MiB)\n", in.memory_bytes, (double)in.memory_bytes / 1048576.0);
     printf("active voxels:  %llu\n", (unsigned long long)in.active_voxels);
-    printf("majorant grid:  %d x %d x %d cells of %d^3 voxels\n", in.majorant_n[0], in.majorant_n[1], in.majorant_n[2],
-           in.majorant_cell);
+    if (in.kind == DENSITY_NANOVDB)
+        printf("majorants:      from the tree: %d blocks of 128^3 voxels with bounds per 8^3 leaf cell\n",
+               in.majorant_n[0]);
+    else
+        printf("majorant grid:  %d x %d x %d cells of %d^3 voxels\n", in.majorant_n[0], in.majorant_n[1],
+               in.majorant_n[2], in.majorant_cell);
     density_release(d);
     return 0;
 }

@@ -382,10 +382,17 @@ typedef struct brume_grid_file_options {
     brume_grid_filter filter; /* default trilinear */
     double scale;           /* multiplies every density, > 0 (default 1) */
     double max_memory_mb;   /* MiB the voxels may take; 0 = 4096 */
+    char grid[128];         /* .vdb/.nvdb: the grid by name; "" = the one named "density", else the
+                               only float grid (several and none named density is an error) */
 } brume_grid_file_options;
 void brume_grid_file_options_default(brume_grid_file_options *opts);
 brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                 brume_density **out);
+/* The three components (out[0..2], an array of 3) of a vec3 grid of a .vdb/.nvdb (a float grid gives the same field
+ * three times), e.g. Houdini's Cd, sharing one sparse buffer: out[0..2] (each released or
+ * given away on its own). opts.grid names the grid. */
+brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                    brume_density **out);
 /* A fractal cloud grid (Blasi et al. 1993, 4.1; docs/grids.md), generated now. */
 typedef enum brume_fractal_method { BRUME_FRACTAL_MIDPOINT, BRUME_FRACTAL_SPECTRAL, BRUME_FRACTAL_PERLIN } brume_fractal_method;
 typedef enum brume_fractal_shape { BRUME_FRACTAL_SHAPE_NONE, BRUME_FRACTAL_SHAPE_ELLIPSOID, BRUME_FRACTAL_SHAPE_SLAB } brume_fractal_shape;
@@ -476,6 +483,32 @@ int brume_scene_medium_count(const brume_scene *scene);
  * the scene takes over density and releases the old one; on failure the caller keeps it. */
 brume_status brume_scene_set_medium_density(brume_context *ctx, brume_scene *scene, int medium,
                                             brume_density *density);
+
+/* Fields of a medium besides its density, each with its own placement (docs/grids.md,
+ * "Media with several fields"); rendered by the path and single methods. On success the
+ * scene takes over the densities given; on failure the caller keeps them.
+ * Albedo A(x) per channel (albedo: an array of 3): sigma_s(x) = sigma_s rho(x) A(x) (values >= 0). */
+brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *scene, int medium,
+                                           brume_density *const *albedo);
+/* Blackbody emission from a temperature grid, pbrt-v4's convention: where
+ * T' = (T(x) - temperature_offset) temperature_scale exceeds cutoff, the medium emits
+ * Le(x) = scale * blackbody(T'), the peak-normalized Planck spectrum in linear Rec. 709,
+ * at the rate sigma_a rho(x) Le(x) per unit length. */
+typedef struct brume_blackbody {
+    double scale;              /* radiance scale (W m^-2 sr^-1), > 0; default 1 */
+    double temperature_scale;  /* > 0; default 1 */
+    double temperature_offset; /* kelvin; default 0 */
+    double cutoff;             /* kelvin, >= 0; default 100 */
+} brume_blackbody;
+void brume_blackbody_default(brume_blackbody *bb);
+/* bb NULL = the defaults. */
+brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene *scene, int medium,
+                                                brume_density *temperature, const brume_blackbody *bb);
+/* An emission field E(x): n = 1 (a float grid) or 3 (per channel, e.g. from
+ * brume_density_load_rgb); the medium emits color * E(x) (W m^-2 sr^-1, >= 0) at the rate
+ * sigma_a rho(x), besides its constant emission. */
+brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_scene *scene, int medium,
+                                                   brume_density *const *fields, int n, const double color[3]);
 
 /* Keyframed motion of a medium or a surface: n in [1, 64] keys at strictly increasing times;
  * the object at time t is placed by translate(rotate(scale(p))) of the interpolated key

@@ -21,6 +21,7 @@ OPTIONAL = {
     "brume_scene_set_background_image": {"up"},
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},
+    "brume_density_load_rgb": {"opts"},
     "brume_density_new_blobs": {"velocity"},
     "brume_scene_add_medium": {"phase"},
     "brume_scene_add_sphere": {"transform", "material", "name"},

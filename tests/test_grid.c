@@ -468,7 +468,7 @@ TEST(nanovdb_matches_openvdb)
     const char *files[] = {DATA("wdas_cloud_sixteenth.vdb"), DATA("box_fog_21cube.vdb")};
     for (int fi = 0; fi < 2; fi++) {
         const char *nv = test_tmp_path("conv.nvdb");
-        if (grid_convert_vdb_to_nvdb(files[fi], nv) != BRUME_OK)
+        if (grid_convert_vdb_to_nvdb(files[fi], nv, NULL) != BRUME_OK)
             TEST_FAIL("%s", err_message());
         for (int filter = 0; filter < 2; filter++) {
             density_load_options o;

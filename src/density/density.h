@@ -52,9 +52,16 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
  * bounding box, placed by the grid's own map, then by `extra` (may be NULL); values are
  * multiplied by scale (> 0). Every value that a lookup can reach is checked finite and
  * >= 0, and every read is bounds-checked, so a hostile buffer cannot crash a lookup.
- * max_memory bounds the coarse majorant grid built here (bytes; 0 = no limit). */
+ * Majorants come from the tree (nanovdb.c): nothing is allocated over the bounding box;
+ * max_memory bounds the majorant tables built here (bytes; 0 = no limit). */
 density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
                              size_t max_memory, const char *name);
+/* One field per component of a NanoVDB buffer: count = 1 needs a float grid (out[0]);
+ * count = 3 gives the three components of a vec3f grid (or the float grid three times)
+ * in out[0..2], sharing the buffer, which they own together on success (freed with the
+ * last). Other arguments as density_new_nanovdb. */
+bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
+                                double scale, size_t max_memory, const char *name, density **out);
 /* The mean density of a blob field (density/blobs.h), with a majorant grid of at most
  * majorant_cells cells along the longest axis of its bounds; "voxels" are those cells.
  * Takes ownership of f on success; on failure returns NULL with err_set() and frees nothing. */
@@ -74,6 +81,9 @@ void density_release(density *d);
 bool density_place(density *d, const affine3 *voxel_to_world);
 
 density_kind density_get_kind(const density *d);
+/* Bytes of a NanoVDB buffer that d shares with the other components of its grid (0 for
+ * other kinds): memory_bytes counts it in each of them. */
+size_t density_shared_bytes(const density *d);
 /* rho(p), p in world units; 0 outside the bounds. */
 double density_eval(const density *d, vec3 p);
 /* World box outside which rho = 0. */
@@ -92,7 +102,8 @@ typedef struct density_info {
     size_t memory_bytes;    /* voxel data + majorant grid */
     uint64_t active_voxels; /* voxels with rho > 0 (dense); the tree's active count (NanoVDB) */
     int majorant_cell;      /* voxels per majorant cell edge */
-    int majorant_n[3];      /* majorant cells per axis */
+    int majorant_n[3];      /* majorant cells per axis (dense grids; for NanoVDB, majorant_n[0]
+                               counts the 128^3-voxel blocks that have bounds of their own) */
 } density_info;
 void density_get_info(const density *d, density_info *info);
 
@@ -111,14 +122,22 @@ typedef struct majorant_seg {
 } majorant_seg;
 
 /* Iterator state; lives on the caller's stack. Fields are private to density/.
- * It walks the field's coarse majorant grid with a DDA and merges consecutive cells of
- * equal majorant into one segment. */
+ * It walks the field's coarse majorant grid with a DDA (dense grids, blobs) or the
+ * NanoVDB tree's regions, blocks and leaf cells with three nested DDAs (nanovdb.c), and
+ * merges consecutive cells of equal majorant into one segment. */
 typedef struct majorant_iter {
-    grid_dda dda;        /* over majorant cells */
+    grid_dda dda;        /* over majorant cells; NanoVDB: over 4096^3 regions */
     const float *maj;    /* cell majorants, x fastest */
     int mn[3];           /* majorant cells per axis */
     majorant_seg next;   /* looked-ahead segment not returned yet */
     bool has_next;
+    /* NanoVDB only */
+    const struct nanovdb_state *nano; /* NULL for the other kinds */
+    int level;           /* 0: regions, 1: blocks in a region, 2: leaf cells in a block */
+    grid_dda sub[2];     /* blocks, leaf cells */
+    int32_t base[2][3];  /* first region; first block of the current region */
+    vec3 o_idx, d_idx;   /* the ray in index space (voxel idx spans [idx, idx + 1)) */
+    const float *table;  /* the current block's leaf-cell bounds */
 } majorant_iter;
 
 /* Starts iterating the segments of r in [tmin, tmax] inside the field. */

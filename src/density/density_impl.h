@@ -55,6 +55,9 @@ bool density_set_placement(density *d, const affine3 *voxel_to_world, const char
 double nanovdb_eval_voxel(const density *d, vec3 u);
 double nanovdb_voxel(const density *d, int i, int j, int k);
 void nanovdb_free(density *d);
+/* Hierarchical majorants (nanovdb.c): o, dir in voxel space, [t0, t1] inside the box. */
+void nanovdb_majorant_begin(const density *d, vec3 o, vec3 dir, double t0, double t1, majorant_iter *it);
+bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
 
 
 /* Trilinear reconstruction between voxel centres, clamped to the outermost samples, shared

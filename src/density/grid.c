@@ -235,6 +235,7 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
 {
     it->maj = d->maj;
     it->has_next = false;
+    it->nano = NULL;
     for (int a = 0; a < 3; a++)
         it->mn[a] = d->mn[a];
     /* Clip to the voxel box in voxel space, then walk cells in cell space. */
@@ -245,6 +246,10 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
         it->dda.done = true;
         return;
     }
+    if (d->kind == DENSITY_NANOVDB) {
+        nanovdb_majorant_begin(d, o, dir, t0, t1, it);
+        return;
+    }
     double s = 1.0 / d->mcell;
     vec3 oc = v3((o.x + d->moff[0]) * s, (o.y + d->moff[1]) * s, (o.z + d->moff[2]) * s);
     if (!grid_dda_begin(&it->dda, d->mn, oc, v3_scale(dir, s), t0, t1))
@@ -253,6 +258,8 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
 
 static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
 {
+    if (it->nano)
+        return nanovdb_majorant_cell(it, seg);
     grid_dda_step st;
     if (!grid_dda_next(&it->dda, &st))
         return false;

@@ -1,14 +1,28 @@
-/* nanovdb.c - sparse float grids in a NanoVDB buffer, traversed in C through PNanoVDB
- * (the portable C/HLSL/GLSL header of NanoVDB, Museth 2021, Debian's libnanovdb-dev).
+/* nanovdb.c - sparse grids in a NanoVDB buffer, traversed in C through PNanoVDB (the
+ * portable C/HLSL/GLSL header of NanoVDB, Museth 2021, Debian's libnanovdb-dev), with
+ * majorants built from the tree itself.
  *
  * The buffer stays as it was written: a root table, 32^3 upper and 16^3 lower internal
- * nodes, 8^3 leaves; lookups go through a PNanoVDB read accessor, which caches the path
- * to the last leaf. Every buffer read is bounds-checked (PNANOVDB_BUF_BOUNDS_CHECK: a read
- * outside the buffer returns 0), so a hostile buffer can give wrong values but never read
- * outside its memory; and at construction every value reachable from inside the grid's
- * bounding box is visited once (one 8^3 block at a time, the unit the tree resolves to a
- * single leaf or tile) and checked finite and >= 0. That visit also builds the majorant
- * grid: one cell per 8^3 block, the max of its leaf (or its tile value). */
+ * nodes, 8^3 leaves; lookups go through a PNanoVDB read accessor, which caches the path to
+ * the last leaf. Float grids give their value; Vec3f grids give one component (a medium's
+ * albedo is three such fields sharing one buffer). Every buffer read is bounds-checked
+ * (PNANOVDB_BUF_BOUNDS_CHECK: a read outside the buffer returns 0), so a hostile buffer can
+ * give wrong values but never read outside its memory.
+ *
+ * Construction walks the tree as lookups do (root tiles, then child pointers), with the
+ * number of nodes visited bounded by what the buffer can hold, so that the work is linear
+ * in the buffer's size whatever the pointers say. Every value a lookup can reach (background,
+ * tiles, all 512 values of each leaf) is checked finite and >= 0 on the way.
+ *
+ * Majorants (docs/grids.md, "Majorants of sparse grids"): the walk records, for each lower
+ * node (a "block" of 128^3 voxels), the max of each of its 16^3 leaf cells (a leaf's max or a
+ * tile value); tiles above the lower level give uniform blocks. For the trilinear filter
+ * every leaf cell's bound is then widened to the max of its 27 neighbours (a lookup reads at
+ * most one voxel beyond its own cell), which adds the blocks next to occupied ones. Blocks
+ * live in a hash table keyed by block coordinate; a block whose 16^3 bounds are all equal
+ * keeps one number. A second table marks the 4096^3 "regions" holding any block. Along a ray
+ * three nested DDAs walk regions, blocks and leaf cells: space outside the tables is the
+ * background's bound and costs one step per region, so nothing is dense over the bounding box. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,20 +46,121 @@
 #pragma GCC diagnostic pop
 #endif
 
+#define BLOCK_CELLS 4096 /* leaf cells (8^3 voxels) per block: 16^3 */
+
+/* The buffer, shared by the fields made from it (components of a vec3 grid). */
+typedef struct nano_buffer {
+    void *mem;
+    size_t size;
+    int refs;
+} nano_buffer;
+
+/* Open-addressing hash of integer cell coordinates to an entry index. */
+typedef struct cell_hash {
+    int32_t *keys; /* 3 per slot */
+    int32_t *val;  /* -1 = empty */
+    size_t cap;    /* power of two */
+    size_t count;
+} cell_hash;
+
+typedef struct block_entry {
+    float maj;  /* uniform bound, or the max of the table */
+    int32_t at; /* offset / BLOCK_CELLS into the table pool, -1 when uniform */
+} block_entry;
+
 struct nanovdb_state {
-    void *mem; /* the buffer, owned */
+    nano_buffer *shared;
     pnanovdb_buf_t buf;
     pnanovdb_grid_type_t type;
     pnanovdb_root_handle_t root;
-    int bbmin[3]; /* index of voxel (0, 0, 0) */
-    double scale; /* multiplies every stored value */
+    uint32_t comp_off; /* byte offset of the component within a value */
+    int bbmin[3];      /* index of voxel (0, 0, 0) */
+    double scale;      /* multiplies every stored value */
+    /* majorants */
+    cell_hash blocks;     /* block coordinate (index >> 7) -> entry */
+    block_entry *entries;
+    float *tables;        /* BLOCK_CELLS floats per non-uniform block, leaf cell x fastest */
+    cell_hash regions;    /* region coordinate (index >> 12) -> 0 */
+    float bg_maj;         /* bound outside every block */
 };
+
+/* ---- hash ------------------------------------------------------------------------------- */
+
+static size_t hash3(const int32_t k[3], size_t cap)
+{
+    uint64_t h = (uint64_t)(uint32_t)k[0] * 0x9E3779B97F4A7C15ull ^ (uint64_t)(uint32_t)k[1] * 0xC2B2AE3D27D4EB4Full ^
+                 (uint64_t)(uint32_t)k[2] * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    return (size_t)h & (cap - 1);
+}
+
+static bool hash_init(cell_hash *h, size_t expect)
+{
+    h->cap = 16;
+    while (h->cap < 2 * expect + 2)
+        h->cap *= 2;
+    h->count = 0;
+    h->keys = malloc(h->cap * 3 * sizeof *h->keys);
+    h->val = malloc(h->cap * sizeof *h->val);
+    if (!h->keys || !h->val)
+        return false;
+    for (size_t i = 0; i < h->cap; i++)
+        h->val[i] = -1;
+    return true;
+}
+
+static void hash_free(cell_hash *h)
+{
+    free(h->keys);
+    free(h->val);
+    h->keys = NULL;
+    h->val = NULL;
+}
+
+static inline int32_t hash_find(const cell_hash *h, const int32_t k[3])
+{
+    for (size_t i = hash3(k, h->cap);; i = (i + 1) & (h->cap - 1)) {
+        if (h->val[i] < 0)
+            return -1;
+        const int32_t *q = h->keys + 3 * i;
+        if (q[0] == k[0] && q[1] == k[1] && q[2] == k[2])
+            return h->val[i];
+    }
+}
+
+/* Inserts k with value v unless present; returns the value stored; -2 when out of memory. */
+static int32_t hash_insert(cell_hash *h, const int32_t k[3], int32_t v)
+{
+    if (2 * (h->count + 1) > h->cap) {
+        cell_hash g;
+        if (!hash_init(&g, h->count + 1))
+            return -2;
+        for (size_t i = 0; i < h->cap; i++)
+            if (h->val[i] >= 0)
+                hash_insert(&g, h->keys + 3 * i, h->val[i]);
+        hash_free(h);
+        *h = g;
+    }
+    for (size_t i = hash3(k, h->cap);; i = (i + 1) & (h->cap - 1)) {
+        if (h->val[i] < 0) {
+            memcpy(h->keys + 3 * i, k, 3 * sizeof *k);
+            h->val[i] = v;
+            h->count++;
+            return v;
+        }
+        const int32_t *q = h->keys + 3 * i;
+        if (q[0] == k[0] && q[1] == k[1] && q[2] == k[2])
+            return h->val[i];
+    }
+}
+
+/* ---- lookups ----------------------------------------------------------------------------- */
 
 static inline double nano_fetch(const nanovdb_state *s, pnanovdb_readaccessor_t *acc, int i, int j, int k)
 {
     pnanovdb_coord_t ijk = {i + s->bbmin[0], j + s->bbmin[1], k + s->bbmin[2]};
     pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address(s->type, s->buf, acc, &ijk);
-    return (double)pnanovdb_read_float(s->buf, a) * s->scale;
+    return (double)pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, s->comp_off)) * s->scale;
 }
 
 double nanovdb_voxel(const density *d, int i, int j, int k)
@@ -71,87 +186,380 @@ double nanovdb_eval_voxel(const density *d, vec3 u)
     return trilinear_blend(c, a);
 }
 
+static void nano_free_majorants(nanovdb_state *s)
+{
+    hash_free(&s->blocks);
+    hash_free(&s->regions);
+    free(s->entries);
+    free(s->tables);
+    s->entries = NULL;
+    s->tables = NULL;
+}
+
 void nanovdb_free(density *d)
 {
-    if (d->nano) {
-        free(d->nano->mem);
-        free(d->nano);
+    nanovdb_state *s = d->nano;
+    if (!s)
+        return;
+    nano_free_majorants(s);
+    if (s->shared && --s->shared->refs == 0) {
+        free(s->shared->mem);
+        free(s->shared);
     }
+    free(s);
 }
 
-static int floor8(int v) { return (int)((unsigned)v & ~7u); } /* two's complement: floor to a multiple of 8 */
+/* ---- the tree walk ------------------------------------------------------------------------- */
 
-/* Visits every 8^3 block of the bounding box: checks its values, records its max, counts
- * min and max. Returns false (err_set) on a bad value. */
-static bool nano_scan(density *d, const char *name)
+/* Raw bounds while walking: one table of 16^3 leaf-cell maxima per block. */
+typedef struct walk {
+    const char *name;
+    nanovdb_state *s;
+    cell_hash raw;     /* block -> index into rawmaj / rawtab */
+    float *rawmaj;     /* per raw block: its max */
+    float *rawtab;     /* per raw block: BLOCK_CELLS maxima, or none (uniform) */
+    int32_t *rawat;    /* per raw block: table index or -1 */
+    size_t nraw, capraw, ntab, captab;
+    double vmin, vmax;
+    float bg;          /* the background value */
+    int n[3];          /* the bounding box's voxels per axis */
+    size_t budget[3];  /* upper, lower, leaf nodes the buffer can hold */
+} walk;
+
+static bool value_ok(walk *w, float v, int x, int y, int z)
 {
-    nanovdb_state *s = d->nano;
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, s->root);
-    double vmin = INFINITY, vmax = 0.0;
-    for (int ck = 0; ck < d->mn[2]; ck++)
-        for (int cj = 0; cj < d->mn[1]; cj++)
-            for (int ci = 0; ci < d->mn[0]; ci++) {
-                pnanovdb_coord_t org = {floor8(s->bbmin[0]) + 8 * ci, floor8(s->bbmin[1]) + 8 * cj,
-                                        floor8(s->bbmin[2]) + 8 * ck};
-                pnanovdb_uint32_t level = 0;
-                pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(s->type, s->buf, &acc, &org, &level);
-                int count = level == 0 ? 512 : 1; /* a leaf's table, or one tile/background value */
-                float m = 0.0f;
-                for (int n = 0; n < count; n++) {
-                    float v = pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, 4u * (pnanovdb_uint32_t)n));
-                    if (!isfinite(v) || v < 0.0f) {
-                        /* leaf table order is x-major: n = (x & 7) << 6 | (y & 7) << 3 | (z & 7) */
-                        int x = org.x + (count > 1 ? n >> 6 : 0), y = org.y + (count > 1 ? (n >> 3) & 7 : 0),
-                            z = org.z + (count > 1 ? n & 7 : 0);
-                        err_set(BRUME_ERROR_RANGE, "%s: voxel (%d, %d, %d) has density %g: need finite and >= 0", name,
-                                x, y, z, (double)v);
-                        return false;
-                    }
-                    m = v > m ? v : m;
-                    vmin = fmin(vmin, (double)v);
-                }
-                vmax = fmax(vmax, (double)m);
-                d->maj[(size_t)ci + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck)] =
-                    (float)((double)m * s->scale);
-            }
-    d->rho_min = vmin * s->scale;
-    d->rho_max = vmax * s->scale;
+    if (!isfinite(v) || v < 0.0f) {
+        err_set(BRUME_ERROR_RANGE, "%s: voxel (%d, %d, %d) has density %g: need finite and >= 0", w->name, x, y, z,
+                (double)v);
+        return false;
+    }
+    w->vmin = fmin(w->vmin, (double)v);
+    w->vmax = fmax(w->vmax, (double)v);
     return true;
 }
 
-/* Trilinear lookups read one voxel beyond their own, possibly in the next block: widen
- * each cell's majorant to the max of its 3^3 neighbourhood (separably, axis by axis). */
-static bool nano_dilate(density *d)
+static inline float read_value(const nanovdb_state *s, pnanovdb_address_t a)
 {
-    size_t count = (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2];
-    float *tmp = malloc(count * sizeof *tmp);
-    if (!tmp)
-        return false;
-    size_t stride[3] = {1, (size_t)d->mn[0], (size_t)d->mn[0] * (size_t)d->mn[1]};
-    for (int a = 0; a < 3; a++) {
-        memcpy(tmp, d->maj, count * sizeof *tmp);
-        for (size_t c = 0; c < count; c++) {
-            size_t coord = c / stride[a] % (size_t)d->mn[a];
-            float m = tmp[c];
-            if (coord > 0)
-                m = fmaxf(m, tmp[c - stride[a]]);
-            if (coord + 1 < (size_t)d->mn[a])
-                m = fmaxf(m, tmp[c + stride[a]]);
-            d->maj[c] = m;
+    return pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, s->comp_off));
+}
+
+/* The raw block at key, created uniform-0 if absent, with a table if `table`. Index or -1. */
+static int32_t raw_block(walk *w, const int32_t key[3], bool table)
+{
+    if (w->nraw == w->capraw) {
+        size_t cap = w->capraw ? 2 * w->capraw : 64;
+        float *m = realloc(w->rawmaj, cap * sizeof *m);
+        if (m)
+            w->rawmaj = m;
+        int32_t *a = realloc(w->rawat, cap * sizeof *a);
+        if (a)
+            w->rawat = a;
+        if (!m || !a)
+            return -1;
+        w->capraw = cap;
+    }
+    int32_t idx = hash_insert(&w->raw, key, (int32_t)w->nraw);
+    if (idx < 0)
+        return -1;
+    if ((size_t)idx == w->nraw) {
+        w->rawmaj[idx] = 0.0f;
+        w->rawat[idx] = -1;
+        w->nraw++;
+    }
+    if (table && w->rawat[idx] < 0) {
+        if (w->ntab == w->captab) {
+            size_t cap = w->captab ? 2 * w->captab : 16;
+            float *t = realloc(w->rawtab, cap * BLOCK_CELLS * sizeof *t);
+            if (!t)
+                return -1;
+            w->rawtab = t;
+            w->captab = cap;
+        }
+        float *t = w->rawtab + w->ntab * BLOCK_CELLS;
+        for (int c = 0; c < BLOCK_CELLS; c++)
+            t[c] = w->rawmaj[idx];
+        w->rawat[idx] = (int32_t)w->ntab++;
+    }
+    return idx;
+}
+
+static bool oom(walk *w)
+{
+    err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the majorants", w->name);
+    return false;
+}
+
+static bool walk_lower(walk *w, pnanovdb_lower_handle_t lower, const int org[3])
+{
+    nanovdb_state *s = w->s;
+    int32_t key[3] = {org[0] >> 7, org[1] >> 7, org[2] >> 7};
+    int32_t b = raw_block(w, key, true);
+    if (b < 0)
+        return oom(w);
+    float *tab = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+    float bmax = w->rawmaj[b];
+    for (uint32_t n = 0; n < BLOCK_CELLS; n++) {
+        int lx = (int)(n >> 8), ly = (int)((n >> 4) & 15), lz = (int)(n & 15);
+        int x = org[0] + 8 * lx, y = org[1] + 8 * ly, z = org[2] + 8 * lz;
+        float m;
+        if (pnanovdb_lower_get_child_mask(s->buf, lower, n)) {
+            if (w->budget[2]-- == 0) {
+                err_set(BRUME_ERROR_PARSE, "%s: the tree reaches more leaves than the buffer holds", w->name);
+                return false;
+            }
+            pnanovdb_leaf_handle_t leaf = pnanovdb_lower_get_child(s->type, s->buf, lower, n);
+            m = 0.0f;
+            for (uint32_t v = 0; v < 512; v++) {
+                float f = read_value(s, pnanovdb_leaf_get_table_address(s->type, s->buf, leaf, v));
+                if (!value_ok(w, f, x + (int)(v >> 6), y + (int)((v >> 3) & 7), z + (int)(v & 7)))
+                    return false;
+                m = f > m ? f : m;
+            }
+        } else {
+            m = read_value(s, pnanovdb_lower_get_table_address(s->type, s->buf, lower, n));
+            if (!value_ok(w, m, x, y, z))
+                return false;
+        }
+        size_t c = (size_t)lx + 16 * ((size_t)ly + 16 * (size_t)lz);
+        tab[c] = m > tab[c] ? m : tab[c];
+        bmax = m > bmax ? m : bmax;
+    }
+    w->rawmaj[b] = bmax;
+    return true;
+}
+
+/* A uniform bound v over the block at key (a tile above the lower level). */
+static bool walk_tile_block(walk *w, const int32_t key[3], float v)
+{
+    int32_t b = raw_block(w, key, false);
+    if (b < 0)
+        return oom(w);
+    if (w->rawat[b] >= 0) {
+        float *t = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+        for (int c = 0; c < BLOCK_CELLS; c++)
+            t[c] = v > t[c] ? v : t[c];
+    }
+    w->rawmaj[b] = v > w->rawmaj[b] ? v : w->rawmaj[b];
+    return true;
+}
+
+static bool walk_upper(walk *w, pnanovdb_upper_handle_t upper, const int org[3])
+{
+    nanovdb_state *s = w->s;
+    for (uint32_t n = 0; n < 32768; n++) {
+        int o[3] = {org[0] + 128 * (int)(n >> 10), org[1] + 128 * (int)((n >> 5) & 31), org[2] + 128 * (int)(n & 31)};
+        if (pnanovdb_upper_get_child_mask(s->buf, upper, n)) {
+            if (w->budget[1]-- == 0) {
+                err_set(BRUME_ERROR_PARSE, "%s: the tree reaches more lower nodes than the buffer holds", w->name);
+                return false;
+            }
+            if (!walk_lower(w, pnanovdb_upper_get_child(s->type, s->buf, upper, n), o))
+                return false;
+        } else {
+            float v = read_value(s, pnanovdb_upper_get_table_address(s->type, s->buf, upper, n));
+            if (!value_ok(w, v, o[0], o[1], o[2]))
+                return false;
+            if (v > w->bg) {
+                int32_t key[3] = {o[0] >> 7, o[1] >> 7, o[2] >> 7};
+                if (!walk_tile_block(w, key, v))
+                    return false;
+            }
         }
     }
-    free(tmp);
     return true;
 }
 
-density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
-                             size_t max_memory, const char *name)
+static bool walk_tree(walk *w, uint64_t tiles, float background)
+{
+    nanovdb_state *s = w->s;
+    pnanovdb_buf_t b = s->buf;
+    for (uint64_t t = 0; t < tiles; t++) {
+        pnanovdb_root_tile_handle_t tile = pnanovdb_root_get_tile(s->type, s->root, (pnanovdb_uint32_t)t);
+        uint64_t key = pnanovdb_root_tile_get_key(b, tile);
+        int org[3] = {(int)((uint32_t)((key >> 42) & 0xFFFFF) << 12), (int)((uint32_t)((key >> 21) & 0xFFFFF) << 12),
+                      (int)((uint32_t)(key & 0xFFFFF) << 12)};
+        if (pnanovdb_int64_is_zero(pnanovdb_root_tile_get_child(b, tile))) {
+            float v = read_value(s, pnanovdb_address_offset(tile.address, PNANOVDB_GRID_TYPE_GET(s->type, root_tile_off_value)));
+            if (!value_ok(w, v, org[0], org[1], org[2]))
+                return false;
+            if (v > background) { /* a 4096^3 tile: its blocks inside the bounding box */
+                int32_t klo[3], khi[3];
+                for (int a = 0; a < 3; a++) {
+                    int64_t blo = (int64_t)s->bbmin[a] >> 7, bhi = ((int64_t)s->bbmin[a] + w->n[a] - 1) >> 7;
+                    int64_t tlo = org[a] >> 7, thi = tlo + 31;
+                    klo[a] = (int32_t)(blo > tlo ? blo : tlo);
+                    khi[a] = (int32_t)(bhi < thi ? bhi : thi);
+                }
+                for (int32_t z = klo[2]; z <= khi[2]; z++)
+                    for (int32_t y = klo[1]; y <= khi[1]; y++)
+                        for (int32_t x = klo[0]; x <= khi[0]; x++) {
+                            int32_t k[3] = {x, y, z};
+                            if (!walk_tile_block(w, k, v))
+                                return false;
+                        }
+            }
+            continue;
+        }
+        if (w->budget[0]-- == 0) {
+            err_set(BRUME_ERROR_PARSE, "%s: the tree reaches more upper nodes than the buffer holds", w->name);
+            return false;
+        }
+        if (!walk_upper(w, pnanovdb_root_get_child(s->type, b, s->root, tile), org))
+            return false;
+    }
+    return true;
+}
+
+/* Final bounds of one block: its raw leaf-cell bounds widened over the 27 neighbours
+ * (trilinear) or kept (nearest), times the scale; into out[BLOCK_CELLS]. */
+static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float bg, float *out)
+{
+    if (!dilate) {
+        int32_t b = hash_find(&w->raw, key);
+        for (int c = 0; c < BLOCK_CELLS; c++)
+            out[c] = b < 0 ? bg : (w->rawat[b] < 0 ? w->rawmaj[b] : w->rawtab[(size_t)w->rawat[b] * BLOCK_CELLS + (size_t)c]);
+        return;
+    }
+    /* padded 18^3 raw table: the block and one leaf cell of each neighbour */
+    static _Thread_local float pad[18 * 18 * 18], tmp[18 * 18 * 18];
+    const float *nb_tab[27];
+    float nb_uni[27];
+    for (int q = 0; q < 27; q++) {
+        int32_t k[3] = {key[0] + q % 3 - 1, key[1] + (q / 3) % 3 - 1, key[2] + q / 9 - 1};
+        int32_t b = hash_find(&w->raw, k);
+        nb_tab[q] = b >= 0 && w->rawat[b] >= 0 ? w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS : NULL;
+        nb_uni[q] = b < 0 ? bg : w->rawmaj[b];
+    }
+    for (int z = -1; z <= 16; z++)
+        for (int y = -1; y <= 16; y++)
+            for (int x = -1; x <= 16; x++) {
+                int qx = x < 0 ? 0 : (x > 15 ? 2 : 1), qy = y < 0 ? 0 : (y > 15 ? 2 : 1), qz = z < 0 ? 0 : (z > 15 ? 2 : 1);
+                int q = qx + 3 * qy + 9 * qz;
+                int lx = (x + 16) & 15, ly = (y + 16) & 15, lz = (z + 16) & 15;
+                pad[(x + 1) + 18 * ((y + 1) + 18 * (z + 1))] =
+                    nb_tab[q] ? nb_tab[q][lx + 16 * (ly + 16 * lz)] : nb_uni[q];
+            }
+    /* separable max over 3 cells per axis */
+    const int stride[3] = {1, 18, 324};
+    float *src = pad, *dst = tmp;
+    for (int a = 0; a < 3; a++) {
+        for (int i = 0; i < 18 * 18 * 18; i++) {
+            int c = i / stride[a] % 18;
+            float m = src[i];
+            if (c > 0 && src[i - stride[a]] > m)
+                m = src[i - stride[a]];
+            if (c < 17 && src[i + stride[a]] > m)
+                m = src[i + stride[a]];
+            dst[i] = m;
+        }
+        float *t = src;
+        src = dst;
+        dst = t;
+    }
+    for (int z = 0; z < 16; z++)
+        for (int y = 0; y < 16; y++)
+            for (int x = 0; x < 16; x++)
+                out[x + 16 * (y + 16 * z)] = src[(x + 1) + 18 * ((y + 1) + 18 * (z + 1))];
+}
+
+/* v scale as a float no smaller than the double product lookups compute. */
+static float scale_up(float v, double scale)
+{
+    double p = (double)v * scale;
+    float f = (float)p;
+    return (double)f < p ? nextafterf(f, INFINITY) : f;
+}
+
+/* From the raw tables of the walk to the final blocks and regions of s. */
+static bool build_majorants(walk *w, bool dilate, float bg)
+{
+    nanovdb_state *s = w->s;
+    /* the keys: raw blocks, and with dilation their neighbours */
+    cell_hash keys;
+    if (!hash_init(&keys, w->nraw * (dilate ? 4 : 1)))
+        return oom(w);
+    for (size_t i = 0; i < w->raw.cap; i++) {
+        if (w->raw.val[i] < 0)
+            continue;
+        const int32_t *k = w->raw.keys + 3 * i;
+        for (int q = 0; q < (dilate ? 27 : 1); q++) {
+            int32_t n[3] = {k[0] + (dilate ? q % 3 - 1 : 0), k[1] + (dilate ? (q / 3) % 3 - 1 : 0),
+                            k[2] + (dilate ? q / 9 - 1 : 0)};
+            if (hash_insert(&keys, n, (int32_t)keys.count) == -2) {
+                hash_free(&keys);
+                return oom(w);
+            }
+        }
+    }
+    s->entries = malloc((keys.count + 1) * sizeof *s->entries);
+    float *block = malloc(BLOCK_CELLS * sizeof *block);
+    if (!s->entries || !block || !hash_init(&s->blocks, keys.count) || !hash_init(&s->regions, keys.count / 8 + 1)) {
+        free(block);
+        hash_free(&keys);
+        return oom(w);
+    }
+    size_t ntab = 0, captab = 0;
+    int32_t ne = 0;
+    for (size_t i = 0; i < keys.cap; i++) {
+        if (keys.val[i] < 0)
+            continue;
+        const int32_t *k = keys.keys + 3 * i;
+        block_bounds(w, k, dilate, bg, block);
+        float mx = 0.0f, mn = INFINITY;
+        for (int c = 0; c < BLOCK_CELLS; c++) {
+            block[c] = scale_up(block[c], s->scale);
+            mx = block[c] > mx ? block[c] : mx;
+            mn = block[c] < mn ? block[c] : mn;
+        }
+        block_entry e = {mx, -1};
+        if (mn != mx) {
+            if (ntab == captab) {
+                size_t cap = captab ? 2 * captab : 16;
+                float *t = realloc(s->tables, cap * BLOCK_CELLS * sizeof *t);
+                if (!t) {
+                    free(block);
+                    hash_free(&keys);
+                    return oom(w);
+                }
+                s->tables = t;
+                captab = cap;
+            }
+            memcpy(s->tables + ntab * BLOCK_CELLS, block, BLOCK_CELLS * sizeof *block);
+            e.at = (int32_t)ntab++;
+        }
+        s->entries[ne] = e;
+        int32_t r[3] = {k[0] >> 5, k[1] >> 5, k[2] >> 5};
+        if (hash_insert(&s->blocks, k, ne) == -2 || hash_insert(&s->regions, r, 0) == -2) {
+            free(block);
+            hash_free(&keys);
+            return oom(w);
+        }
+        ne++;
+    }
+    free(block);
+    hash_free(&keys);
+    if (ntab > 0 && ntab < captab) { /* give back the unused tail */
+        float *t = realloc(s->tables, ntab * BLOCK_CELLS * sizeof *t);
+        if (t)
+            s->tables = t;
+    }
+    s->bg_maj = scale_up(bg, s->scale);
+    return true;
+}
+
+static size_t hash_bytes(const cell_hash *h) { return h->cap * 4 * sizeof(int32_t); }
+
+/* ---- construction ---------------------------------------------------------------------------- */
+
+static density *nano_make(nano_buffer *shared, int component, grid_filter filter, const affine3 *extra, double scale,
+                          size_t max_memory, const char *name)
 {
     if (!(scale > 0.0) || !isfinite(scale)) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: density scale %g must be finite and > 0", name, scale);
         return NULL;
     }
+    void *buf = shared->mem;
+    size_t size = shared->size;
     if (size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE || ((uintptr_t)buf & 7u) != 0) {
         err_set(BRUME_ERROR_PARSE, "%s: NanoVDB grid of %zu bytes is too small or misaligned", name, size);
         return NULL;
@@ -163,8 +571,13 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
         return NULL;
     }
     pnanovdb_uint32_t type = pnanovdb_grid_get_grid_type(b, grid);
-    if (type != PNANOVDB_GRID_TYPE_FLOAT) {
-        err_set(BRUME_ERROR_UNSUPPORTED, "%s: NanoVDB grid type %u is not float (type 1)", name, (unsigned)type);
+    if (type != PNANOVDB_GRID_TYPE_FLOAT && type != PNANOVDB_GRID_TYPE_VEC3F) {
+        err_set(BRUME_ERROR_UNSUPPORTED, "%s: NanoVDB grid type %u is neither float (1) nor vec3f (6)", name,
+                (unsigned)type);
+        return NULL;
+    }
+    if (type == PNANOVDB_GRID_TYPE_VEC3F && component < 0) {
+        err_set(BRUME_ERROR_UNSUPPORTED, "%s: a vec3 grid where a float grid is needed", name);
         return NULL;
     }
     uint64_t gsize = pnanovdb_grid_get_grid_size(b, grid);
@@ -209,6 +622,8 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
 
     density *d = calloc(1, sizeof *d);
     nanovdb_state *s = calloc(1, sizeof *s);
+    walk w;
+    memset(&w, 0, sizeof w);
     if (!d || !s) {
         free(d);
         free(s);
@@ -222,40 +637,179 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
     s->type = type;
     s->root = root;
     s->scale = scale;
+    s->comp_off = type == PNANOVDB_GRID_TYPE_VEC3F ? 4u * (uint32_t)component : 0u;
     s->bbmin[0] = lo.x;
     s->bbmin[1] = lo.y;
     s->bbmin[2] = lo.z;
-    size_t cells = 1;
-    d->mcell = 8;
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < 3; a++)
         d->n[a] = (int)ext[a];
-        d->moff[a] = s->bbmin[a] - floor8(s->bbmin[a]);
-        d->mn[a] = (d->moff[a] + d->n[a] + 7) / 8;
-        cells *= (size_t)d->mn[a];
-    }
-    if (max_memory && cells > max_memory / (2 * sizeof(float))) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: majorant grid of %zu cells exceeds the memory limit of %zu bytes", name,
-                cells, max_memory);
+    d->mcell = 8;
+    if (!density_set_placement(d, &v2w, name))
+        goto fail;
+    w.name = name;
+    w.s = s;
+    w.vmin = INFINITY;
+    w.vmax = 0.0;
+    w.budget[0] = size / PNANOVDB_GRID_TYPE_GET(type, upper_size) + 1;
+    w.budget[1] = size / PNANOVDB_GRID_TYPE_GET(type, lower_size) + 1;
+    w.budget[2] = size / PNANOVDB_GRID_TYPE_GET(type, leaf_size) + 1;
+    float bg = read_value(s, pnanovdb_address_offset(root.address, PNANOVDB_GRID_TYPE_GET(type, root_off_background)));
+    if (!hash_init(&w.raw, 64)) {
+        oom(&w);
         goto fail;
     }
-    d->maj = malloc(cells * sizeof *d->maj);
-    if (!d->maj) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the majorant grid (%zu cells)", name, cells);
+    w.bg = bg;
+    memcpy(w.n, d->n, sizeof w.n);
+    if (!value_ok(&w, bg, lo.x, lo.y, lo.z) || !walk_tree(&w, tiles, bg))
+        goto fail;
+    /* the tables of the walk and the final ones must fit the memory limit */
+    if (max_memory && (w.ntab * 2 + 16) * BLOCK_CELLS * sizeof(float) > max_memory) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: majorants of %zu blocks exceed the memory limit of %zu bytes", name,
+                w.ntab, max_memory);
         goto fail;
     }
-    if (!density_set_placement(d, &v2w, name) || !nano_scan(d, name))
+    if (!build_majorants(&w, filter == GRID_TRILINEAR, bg))
         goto fail;
-    if (filter == GRID_TRILINEAR && !nano_dilate(d)) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
-        goto fail;
-    }
+    d->rho_min = w.vmin * scale;
+    d->rho_max = w.vmax * scale;
+    hash_free(&w.raw);
+    free(w.rawmaj);
+    free(w.rawtab);
+    free(w.rawat);
     d->active = pnanovdb_tree_get_voxel_count(b, tree);
-    d->memory = size + cells * sizeof(float);
-    s->mem = buf; /* ownership passes only on success */
+    d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
+    for (size_t i = 0; i < s->blocks.count; i++)
+        d->memory += s->entries[i].at >= 0 ? BLOCK_CELLS * sizeof(float) : 0;
+    d->mn[0] = (int)s->blocks.count; /* blocks with their own bounds (density_get_info) */
+    s->shared = shared; /* ownership (a reference) passes only on success */
+    shared->refs++;
     return d;
 fail:
-    free(d->maj);
+    hash_free(&w.raw);
+    free(w.rawmaj);
+    free(w.rawtab);
+    free(w.rawat);
+    nano_free_majorants(s);
     free(s);
     free(d);
     return NULL;
+}
+
+density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
+                             size_t max_memory, const char *name)
+{
+    density *out[1];
+    return density_new_nanovdb_fields(buf, size, 1, filter, extra, scale, max_memory, name, out) ? out[0] : NULL;
+}
+
+bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
+                                double scale, size_t max_memory, const char *name, density **out)
+{
+    nano_buffer *shared = calloc(1, sizeof *shared);
+    if (!shared) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+        return false;
+    }
+    shared->mem = buf;
+    shared->size = size;
+    for (int c = 0; c < count; c++) {
+        out[c] = nano_make(shared, count == 1 ? -1 : c, filter, extra, scale, max_memory, name);
+        if (!out[c]) {
+            /* undo: the buffer stays the caller's */
+            shared->refs += 1;
+            for (int k = 0; k < c; k++)
+                density_release(out[k]);
+            free(shared);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* ---- majorant traversal ------------------------------------------------------------------------ */
+
+/* Ray in index space: o_idx + t d; a DDA over the cells of size `cell` of a region whose
+ * first cell is c0, n cells per axis, over [t0, t1]. */
+static bool sub_begin(grid_dda *g, const majorant_iter *it, double cell, const int32_t c0[3], int n, double t0,
+                      double t1)
+{
+    double inv = 1.0 / cell;
+    vec3 o = v3(it->o_idx.x * inv - c0[0], it->o_idx.y * inv - c0[1], it->o_idx.z * inv - c0[2]);
+    const int nn[3] = {n, n, n};
+    return grid_dda_begin(g, nn, o, v3_scale(it->d_idx, inv), t0, t1);
+}
+
+void nanovdb_majorant_begin(const density *d, vec3 o, vec3 dir, double t0, double t1, majorant_iter *it)
+{
+    const nanovdb_state *s = d->nano;
+    it->nano = s;
+    it->level = 0;
+    it->o_idx = v3(o.x + s->bbmin[0], o.y + s->bbmin[1], o.z + s->bbmin[2]);
+    it->d_idx = dir;
+    /* regions of 4096^3 voxels over the box */
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = s->bbmin[a] >> 12;
+        hi[a] = (int)(((int64_t)s->bbmin[a] + d->n[a] - 1) >> 12);
+        it->base[0][a] = lo[a];
+    }
+    const int nr[3] = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
+    double inv = 1.0 / 4096.0;
+    vec3 oc = v3(it->o_idx.x * inv - lo[0], it->o_idx.y * inv - lo[1], it->o_idx.z * inv - lo[2]);
+    if (!grid_dda_begin(&it->dda, nr, oc, v3_scale(dir, inv), t0, t1))
+        it->dda.done = true;
+}
+
+bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
+{
+    const nanovdb_state *s = it->nano;
+    grid_dda_step st;
+    for (;;) {
+        if (it->level == 2) {
+            if (grid_dda_next(&it->sub[1], &st)) {
+                seg->t0 = st.t0;
+                seg->t1 = st.t1;
+                seg->rho_maj = (double)it->table[st.i + 16 * (st.j + 16 * st.k)];
+                return true;
+            }
+            it->level = 1;
+        }
+        if (it->level == 1) {
+            if (grid_dda_next(&it->sub[0], &st)) {
+                int32_t k[3] = {it->base[1][0] + st.i, it->base[1][1] + st.j, it->base[1][2] + st.k};
+                int32_t e = hash_find(&s->blocks, k);
+                if (e < 0 || s->entries[e].at < 0) {
+                    seg->t0 = st.t0;
+                    seg->t1 = st.t1;
+                    seg->rho_maj = e < 0 ? (double)s->bg_maj : (double)s->entries[e].maj;
+                    return true;
+                }
+                it->table = s->tables + (size_t)s->entries[e].at * BLOCK_CELLS;
+                int32_t c0[3] = {k[0] * 16, k[1] * 16, k[2] * 16};
+                if (sub_begin(&it->sub[1], it, 8.0, c0, 16, st.t0, st.t1))
+                    it->level = 2;
+                continue;
+            }
+            it->level = 0;
+        }
+        if (!grid_dda_next(&it->dda, &st))
+            return false;
+        int32_t r[3] = {it->base[0][0] + st.i, it->base[0][1] + st.j, it->base[0][2] + st.k};
+        if (hash_find(&s->regions, r) < 0) {
+            seg->t0 = st.t0;
+            seg->t1 = st.t1;
+            seg->rho_maj = (double)s->bg_maj;
+            return true;
+        }
+        int32_t c0[3] = {r[0] * 32, r[1] * 32, r[2] * 32};
+        if (sub_begin(&it->sub[0], it, 128.0, c0, 32, st.t0, st.t1)) {
+            memcpy(it->base[1], c0, sizeof c0);
+            it->level = 1;
+        }
+    }
+}
+
+size_t density_shared_bytes(const density *d)
+{
+    return d->kind == DENSITY_NANOVDB && d->nano->shared ? d->nano->shared->size : 0;
 }

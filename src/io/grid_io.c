@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "io/grid_sandbox.h"
 #include "io/regular_file.h"
 #include "io/grid_vdb.h"
 
@@ -348,87 +349,210 @@ static bool read_vol(const unsigned char *b, size_t size, const char *name, size
 #define NVDB_META 176
 #define NVDB_MAJOR 32 /* NanoVDB file format (ABI) version of libnanovdb-dev 10.0 */
 
-static density *read_nvdb(const unsigned char *b, size_t size, const char *name, const density_load_options *o)
+/* NanoVDB grid type codes (NanoVDB.h GridType) and class codes (GridClass), for listings. */
+static const char *nvdb_type_name(uint32_t t)
 {
+    static const char *const n[] = {"unknown", "float", "double", "int16", "int32", "int64", "vec3s", "vec3d", "mask",
+                                    "half", "uint32", "bool", "rgba8", "fp4", "fp8", "fp16", "fpn", "vec4s", "vec4d",
+                                    "index", "onindex"};
+    return t < sizeof n / sizeof *n ? n[t] : "unknown";
+}
+static const char *nvdb_class_name(uint32_t c)
+{
+    static const char *const n[] = {"unknown", "level set", "fog volume", "staggered", "point index", "point data",
+                                    "topology", "voxel volume", "index grid"};
+    return c < sizeof n / sizeof *n ? n[c] : "unknown";
+}
+
+/* One grid's place in a NanoVDB file, from its metadata. */
+typedef struct nvdb_entry {
+    size_t at;       /* byte offset of its grid data */
+    uint64_t size;   /* bytes */
+    uint32_t type, cls;
+    uint64_t voxels;
+    int32_t bbox[6];
+    char name[128];
+} nvdb_entry;
+
+/* Reads the file header and every grid's metadata; *out malloc'd. */
+static bool nvdb_entries(const unsigned char *b, size_t size, const char *name, nvdb_entry **out, unsigned *count)
+{
+    *out = NULL;
+    *count = 0;
     if (size < NVDB_HEADER) {
         err_set(BRUME_ERROR_PARSE, "%s: truncated NanoVDB header (%zu of 16 bytes)", name, size);
-        return NULL;
+        return false;
     }
     if (memcmp(b, "NanoVDB0", 8) != 0) {
         err_set(BRUME_ERROR_PARSE, "%s: not a NanoVDB file (wrong magic number)", name);
-        return NULL;
+        return false;
     }
     uint32_t version = rd_le32(b + 8);
     unsigned grids = (unsigned)(b[12] | b[13] << 8), codec = (unsigned)(b[14] | b[15] << 8);
     if (version >> 21 != NVDB_MAJOR) {
         err_set(BRUME_ERROR_UNSUPPORTED, "%s: NanoVDB file version %u.%u, this reader knows %d.x", name,
                 (unsigned)(version >> 21), (unsigned)(version >> 10 & 2047), NVDB_MAJOR);
-        return NULL;
+        return false;
     }
     if (codec != 0) {
         err_set(BRUME_ERROR_UNSUPPORTED, "%s: compressed NanoVDB (codec %u) unsupported; write it uncompressed", name,
                 codec);
-        return NULL;
+        return false;
     }
-    /* metadata of every grid first, then the grids */
-    size_t at = NVDB_HEADER, data_at = 0;
-    uint64_t want_size = 0, skip = 0;
-    int found = -1;
+    nvdb_entry *e = calloc(grids + 1u, sizeof *e);
+    if (!e) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+        return false;
+    }
+    /* metadata of every grid first, then the grids in the same order */
+    size_t at = NVDB_HEADER;
     for (unsigned g = 0; g < grids; g++) {
         if (size - at < NVDB_META) {
             err_set(BRUME_ERROR_PARSE, "%s: truncated metadata of grid %u", name, g);
-            return NULL;
+            goto fail;
         }
         const unsigned char *m = b + at;
         uint64_t gsize = rd_le64(m), fsize = rd_le64(m + 8);
-        uint32_t type = rd_le32(m + 32), nsize = rd_le32(m + 136);
+        uint32_t nsize = rd_le32(m + 136);
         if (nsize > size - at - NVDB_META) {
             err_set(BRUME_ERROR_PARSE, "%s: truncated name of grid %u", name, g);
-            return NULL;
+            goto fail;
         }
+        if (fsize != gsize) {
+            err_set(BRUME_ERROR_PARSE, "%s: grid %u stored in %llu bytes, expected %llu", name, g,
+                    (unsigned long long)fsize, (unsigned long long)gsize);
+            goto fail;
+        }
+        e[g].size = gsize;
+        e[g].voxels = rd_le64(m + 24);
+        e[g].type = rd_le32(m + 32);
+        e[g].cls = rd_le32(m + 36);
+        for (int k = 0; k < 6; k++)
+            e[g].bbox[k] = (int32_t)rd_le32(m + 88 + 4 * k);
+        size_t nl = nsize < sizeof e[g].name ? nsize : sizeof e[g].name - 1;
+        const unsigned char *nul = memchr(m + NVDB_META, 0, nl); /* the stored size counts the NUL */
+        nl = nul ? (size_t)(nul - (m + NVDB_META)) : nl;
+        memcpy(e[g].name, m + NVDB_META, nl);
+        e[g].name[nl] = '\0';
+        for (size_t k = 0; k < nl; k++) /* names are shown in one-line messages */
+            if ((unsigned char)e[g].name[k] < 32 || e[g].name[k] == 127)
+                e[g].name[k] = '?';
         at += NVDB_META + nsize;
-        if (found < 0 && type == 1 /* float */) {
-            found = (int)g;
-            want_size = gsize;
-            if (fsize != gsize) {
-                err_set(BRUME_ERROR_PARSE, "%s: grid %u stored in %llu bytes, expected %llu", name, g,
-                        (unsigned long long)fsize, (unsigned long long)gsize);
-                return NULL;
+    }
+    for (unsigned g = 0; g < grids; g++) {
+        if (e[g].size > size - at) {
+            err_set(BRUME_ERROR_PARSE, "%s: truncated: grid %u needs %llu bytes, %zu remain", name, g,
+                    (unsigned long long)e[g].size, size - at);
+            goto fail;
+        }
+        e[g].at = at;
+        at += (size_t)e[g].size;
+    }
+    *out = e;
+    *count = grids;
+    return true;
+fail:
+    free(e);
+    return false;
+}
+
+static void nvdb_names(const nvdb_entry *e, unsigned n, char *out, size_t cap)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (unsigned g = 0; g < n && used < cap; g++) {
+        int w = snprintf(out + used, cap - used, "%s\"%s\" (%s)", g ? ", " : "", e[g].name, nvdb_type_name(e[g].type));
+        used += w > 0 ? (size_t)w : 0;
+    }
+    if (n == 0)
+        snprintf(out, cap, "none");
+}
+
+/* The grid asked for, by the rule of density_load_options.grid; -1 with err_set. */
+static int nvdb_pick(const nvdb_entry *e, unsigned n, const char *name, const char *grid, int count)
+{
+    char names[512];
+    nvdb_names(e, n, names, sizeof names);
+    bool want_vec3 = count == 3;
+    if (grid[0]) {
+        for (unsigned g = 0; g < n; g++)
+            if (strcmp(e[g].name, grid) == 0) {
+                if (e[g].type != 1 && !(want_vec3 && e[g].type == 6)) {
+                    err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: grid \"%s\" holds %s values; %s grid is needed", name,
+                            grid, nvdb_type_name(e[g].type), want_vec3 ? "a float or vec3s" : "a float");
+                    return -1;
+                }
+                return (int)g;
             }
-        } else if (found < 0) {
-            if (fsize > UINT64_MAX - skip) {
-                err_set(BRUME_ERROR_PARSE, "%s: grid sizes overflow", name);
-                return NULL;
-            }
-            skip += fsize;
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no grid named \"%s\"; grids: %s", name, grid, names);
+        return -1;
+    }
+    int only = -1, nfloat = 0;
+    for (unsigned g = 0; g < n; g++) {
+        if (e[g].type == 1 && strcmp(e[g].name, "density") == 0)
+            return (int)g;
+        if (e[g].type == 1) {
+            only = (int)g;
+            nfloat++;
         }
     }
-    if (found < 0) {
-        err_set(BRUME_ERROR_UNSUPPORTED, "%s: no float grid among its %u grids", name, grids);
-        return NULL;
+    if (nfloat == 1)
+        return only;
+    if (nfloat == 0)
+        err_set(BRUME_ERROR_UNSUPPORTED, "%s: no float grid; grids: %s", name, names);
+    else
+        err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                "%s: several float grids and none named \"density\": pick one with \"grid\" (--grid); grids: %s", name,
+                names);
+    return -1;
+}
+
+static bool read_nvdb(const unsigned char *b, size_t size, const char *name, const density_load_options *o, int count,
+                      density **out)
+{
+    nvdb_entry *e;
+    unsigned n;
+    if (!nvdb_entries(b, size, name, &e, &n))
+        return false;
+    int g = nvdb_pick(e, n, name, o->grid, count);
+    if (g < 0) {
+        free(e);
+        return false;
     }
-    if (skip > size - at || want_size > size - at - skip) {
-        err_set(BRUME_ERROR_PARSE, "%s: truncated: grid %d needs %llu bytes, %zu remain", name, found,
-                (unsigned long long)want_size, skip > size - at ? (size_t)0 : (size_t)(size - at - skip));
-        return NULL;
+    size_t gbytes = (size_t)e[g].size, at = e[g].at;
+    free(e);
+    if (gbytes > o->max_memory) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: grid of %zu bytes exceeds the memory limit of %zu", name, gbytes,
+                o->max_memory);
+        return false;
     }
-    if (want_size > o->max_memory) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: grid of %llu bytes exceeds the memory limit of %zu", name,
-                (unsigned long long)want_size, o->max_memory);
-        return NULL;
-    }
-    data_at = at + (size_t)skip;
-    size_t gbytes = (size_t)want_size;
     void *buf = aligned_alloc(32, (gbytes + 31) / 32 * 32 + 32);
     if (!buf) {
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name, gbytes);
-        return NULL;
+        return false;
     }
-    memcpy(buf, b + data_at, gbytes);
-    density *d = density_new_nanovdb(buf, gbytes, o->filter, NULL, o->scale, o->max_memory, name);
-    if (!d)
+    memcpy(buf, b + at, gbytes);
+    if (!density_new_nanovdb_fields(buf, gbytes, count, o->filter, NULL, o->scale, o->max_memory, name, out)) {
         free(buf);
-    return d;
+        return false;
+    }
+    return true;
+}
+
+/* A .vdb: the chosen grid straight into a NanoVDB buffer, in a child process. From the
+ * file at `path` when given (brume never holds the file's bytes), else from the bytes. */
+static bool read_vdb(const char *path, const unsigned char *b, size_t size, const char *name,
+                     const density_load_options *o, int count, density **out)
+{
+    void *buf = NULL;
+    size_t n = 0;
+    if (grid_sandbox_to_nano(path, b, size, name, o->grid, count == 3, o->max_memory, &buf, &n) != BRUME_OK)
+        return false;
+    if (!density_new_nanovdb_fields(buf, n, count, o->filter, NULL, o->scale, o->max_memory, name, out)) {
+        free(buf);
+        return false;
+    }
+    return true;
 }
 
 /* ---- loading ---------------------------------------------------------------------------------- */
@@ -458,132 +582,258 @@ static density *finish_dense(dense_read *r, const char *name, const density_load
     return d;
 }
 
-static density *load_bytes(const unsigned char *b, size_t size, const char *name, const char *path,
-                           const density_load_options *opts)
+static bool load_fields(const unsigned char *b, size_t size, const char *name, const char *path,
+                        const density_load_options *opts, int count, density **out)
 {
     density_load_options o;
     if (opts)
         o = *opts;
     else
         density_load_options_default(&o);
+    o.grid[sizeof o.grid - 1] = '\0';
     if (o.scale == 0.0)
         o.scale = 1.0;
     if (o.max_memory == 0)
         o.max_memory = DENSITY_DEFAULT_MAX_MEMORY;
     if (!(o.scale > 0.0) || !isfinite(o.scale)) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: density scale %g must be finite and > 0", name, o.scale);
-        return NULL;
+        return false;
     }
-    grid_format f = o.format != GRID_FORMAT_AUTO ? o.format : grid_format_detect(name, b, size);
-    density *d = NULL;
+    grid_format f = o.format != GRID_FORMAT_AUTO ? o.format : grid_format_detect(name, b, b ? size : 0);
+    if (count != 1 && f != GRID_FORMAT_NVDB && f != GRID_FORMAT_VDB) {
+        err_set(BRUME_ERROR_UNSUPPORTED, "%s: a colour (vec3) field needs a .vdb or .nvdb grid", name);
+        return false;
+    }
+    if (o.grid[0] && f != GRID_FORMAT_NVDB && f != GRID_FORMAT_VDB) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: grid \"%s\": only .vdb and .nvdb files hold named grids", name,
+                o.grid);
+        return false;
+    }
     dense_read r = {{0, 0, 0}, NULL, affine3_identity()};
+    out[0] = NULL;
     switch (f) {
     case GRID_FORMAT_AUTO:
         err_set(BRUME_ERROR_UNSUPPORTED, "%s: unknown grid format (extension or magic number)", name);
-        return NULL;
+        return false;
     case GRID_FORMAT_RAW: {
         int dims[3] = {o.raw_dims[0], o.raw_dims[1], o.raw_dims[2]};
         bool has_v2w = false;
         affine3 v2w = affine3_identity();
         if (path && (dims[0] | dims[1] | dims[2]) == 0 && raw_sidecar(path, dims, &has_v2w, &v2w) < 0)
-            return NULL;
+            return false;
         if (!read_raw(b, size, name, dims, has_v2w, &v2w, o.max_memory, &r))
-            return NULL;
-        d = finish_dense(&r, name, &o);
+            return false;
+        out[0] = finish_dense(&r, name, &o);
         break;
     }
     case GRID_FORMAT_DF3:
         if (!read_df3(b, size, name, o.max_memory, &r))
-            return NULL;
-        d = finish_dense(&r, name, &o);
+            return false;
+        out[0] = finish_dense(&r, name, &o);
         break;
     case GRID_FORMAT_VOL:
         if (!read_vol(b, size, name, o.max_memory, &r))
-            return NULL;
-        d = finish_dense(&r, name, &o);
+            return false;
+        out[0] = finish_dense(&r, name, &o);
         break;
-    case GRID_FORMAT_NVDB: d = read_nvdb(b, size, name, &o); break;
-    case GRID_FORMAT_VDB: {
-#if BRUME_HAVE_OPENVDB
-        gridvdb_dense g;
-        if (gridvdb_read(b, size, name, o.max_memory, &g) != BRUME_OK)
-            return NULL;
-        memcpy(r.n, g.n, sizeof r.n);
-        r.data = g.data;
-        memcpy(r.v2w.m, g.voxel_to_world, sizeof r.v2w.m);
-        d = finish_dense(&r, name, &o);
+    case GRID_FORMAT_NVDB:
+        if (!read_nvdb(b, size, name, &o, count, out))
+            return false;
         break;
-#else
-        err_set(BRUME_ERROR_UNSUPPORTED, "%s: .vdb needs OpenVDB, and brume was built without OpenVDB", name);
-        return NULL;
-#endif
+    case GRID_FORMAT_VDB:
+        if (!read_vdb(b ? NULL : path, b, size, name, &o, count, out))
+            return false;
+        break;
     }
-    }
-    if (!d)
-        return NULL;
+    if (!out[0])
+        return false;
     if (o.has_bounds || o.has_transform) {
-        density_info info;
-        density_get_info(d, &info);
-        affine3 v2w = o.has_bounds ? box_map(o.bounds, info.n) : info.voxel_to_world;
         if (o.has_bounds && !(o.bounds.hi.x > o.bounds.lo.x && o.bounds.hi.y > o.bounds.lo.y &&
                               o.bounds.hi.z > o.bounds.lo.z)) {
-            density_release(d);
+            for (int c = 0; c < count; c++)
+                density_release(out[c]);
             err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement bounds must have lo < hi", name);
-            return NULL;
+            return false;
         }
-        if (o.has_transform)
-            v2w = affine3_compose(&o.transform, &v2w);
-        if (!density_place(d, &v2w)) {
-            density_release(d);
-            err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement transform is singular or not finite", name);
-            return NULL;
+        for (int c = 0; c < count; c++) {
+            density_info info;
+            density_get_info(out[c], &info);
+            affine3 v2w = o.has_bounds ? box_map(o.bounds, info.n) : info.voxel_to_world;
+            if (o.has_transform)
+                v2w = affine3_compose(&o.transform, &v2w);
+            if (!density_place(out[c], &v2w)) {
+                for (int k = 0; k < count; k++)
+                    density_release(out[k]);
+                err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement transform is singular or not finite", name);
+                return false;
+            }
         }
     }
-    return d;
+    return true;
 }
 
 density *density_load_memory(const void *bytes, size_t size, const char *name, const density_load_options *opts)
 {
-    return load_bytes(bytes, size, name, NULL, opts);
+    density *d[1];
+    return load_fields(bytes, size, name, NULL, opts, 1, d) ? d[0] : NULL;
 }
 
-density *density_load_file(const char *path, const density_load_options *opts)
+/* Reads the whole file (not for .vdb, which the child process reads itself). */
+static bool load_path(const char *path, const density_load_options *opts, int count, density **out)
 {
     size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
     FILE *f = NULL;
     if (io_open_regular(path, &f) != BRUME_OK)
-        return NULL;
+        return false;
     long len = -1;
     if (fseek(f, 0, SEEK_END) == 0)
         len = ftell(f);
     if (len < 0 || fseek(f, 0, SEEK_SET) != 0) {
         fclose(f);
         err_set(BRUME_ERROR_IO, "%s: cannot determine the file size", path);
-        return NULL;
+        return false;
+    }
+    unsigned char head[16] = {0};
+    size_t nhead = fread(head, 1, sizeof head, f);
+    grid_format fmt = opts && opts->format != GRID_FORMAT_AUTO ? opts->format : grid_format_detect(path, head, nhead);
+    if (fmt == GRID_FORMAT_VDB) {
+        fclose(f);
+        return load_fields(NULL, (size_t)len, path, path, opts, count, out);
     }
     /* a file larger than the voxel budget (plus headers) cannot fit once decoded */
     if ((size_t)len > max_memory + ((size_t)1 << 20)) {
         fclose(f);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: file of %ld bytes exceeds the memory limit of %zu", path, len,
                 max_memory);
-        return NULL;
+        return false;
     }
     unsigned char *b = malloc((size_t)len + 1);
-    if (!b) {
+    if (!b || fseek(f, 0, SEEK_SET) != 0) {
+        free(b);
         fclose(f);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %ld bytes", path, len);
-        return NULL;
+        return false;
     }
     size_t got = fread(b, 1, (size_t)len, f);
     fclose(f);
     if (got != (size_t)len) {
         free(b);
         err_set(BRUME_ERROR_IO, "%s: read %zu of %ld bytes", path, got, len);
-        return NULL;
+        return false;
     }
-    density *d = load_bytes(b, got, path, path, opts);
+    bool ok = load_fields(b, got, path, path, opts, count, out);
     free(b);
-    return d;
+    return ok;
+}
+
+density *density_load_file(const char *path, const density_load_options *opts)
+{
+    density *d[1];
+    return load_path(path, opts, 1, d) ? d[0] : NULL;
+}
+
+bool density_load_file_fields(const char *path, const density_load_options *opts, int count, density **out)
+{
+    if (count != 1 && count != 3) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %d fields (1 or 3)", path, count);
+        return false;
+    }
+    return load_path(path, opts, count, out);
+}
+
+brume_status grid_list_file(const char *path, size_t max_memory, gridvdb_info **out, int *count)
+{
+    *out = NULL;
+    *count = 0;
+    if (max_memory == 0)
+        max_memory = DENSITY_DEFAULT_MAX_MEMORY;
+    unsigned char head[16] = {0};
+    size_t nhead = 0;
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
+        return err_status();
+    nhead = fread(head, 1, sizeof head, f);
+    fclose(f);
+    grid_format fmt = grid_format_detect(path, head, nhead);
+    if (fmt == GRID_FORMAT_VDB)
+        return grid_sandbox_list(path, NULL, 0, path, max_memory, out, count);
+    if (fmt != GRID_FORMAT_NVDB)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: only .vdb and .nvdb files hold named grids", path);
+    size_t n = 0;
+    unsigned char *b = NULL;
+    {
+        FILE *g = NULL;
+        long len = -1;
+        if (io_open_regular(path, &g) != BRUME_OK)
+            return err_status();
+        if (g && fseek(g, 0, SEEK_END) == 0)
+            len = ftell(g);
+        if (!g || len < 0 || fseek(g, 0, SEEK_SET) != 0 || (size_t)len > max_memory + ((size_t)1 << 20) ||
+            !(b = malloc((size_t)len + 1)) || (n = fread(b, 1, (size_t)len, g)) != (size_t)len) {
+            if (g)
+                fclose(g);
+            free(b);
+            return err_set(BRUME_ERROR_IO, "%s: cannot read the file (or over the memory limit)", path);
+        }
+        fclose(g);
+    }
+    nvdb_entry *e;
+    unsigned ng;
+    if (!nvdb_entries(b, n, path, &e, &ng)) {
+        free(b);
+        return err_status();
+    }
+    gridvdb_info *in = calloc(ng + 1u, sizeof *in);
+    if (!in) {
+        free(e);
+        free(b);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    for (unsigned g = 0; g < ng; g++) {
+        snprintf(in[g].name, sizeof in[g].name, "%s", e[g].name);
+        snprintf(in[g].type, sizeof in[g].type, "%s", nvdb_type_name(e[g].type));
+        snprintf(in[g].cls, sizeof in[g].cls, "%s", nvdb_class_name(e[g].cls));
+        for (int a = 0; a < 3; a++) {
+            in[g].bbmin[a] = e[g].bbox[a];
+            in[g].bbmax[a] = e[g].bbox[3 + a];
+        }
+        in[g].active = e[g].voxels;
+        in[g].nano_bytes = e[g].size;
+        /* the value range: of the field brume would build (float and vec3s grids) */
+        if (e[g].type == 1 || e[g].type == 6) {
+            int k = e[g].type == 1 ? 1 : 3;
+            void *buf = aligned_alloc(32, ((size_t)e[g].size + 31) / 32 * 32 + 32);
+            density *d[3];
+            if (buf) {
+                memcpy(buf, b + e[g].at, (size_t)e[g].size);
+                if (density_new_nanovdb_fields(buf, (size_t)e[g].size, k, GRID_NEAREST, NULL, 1.0, max_memory, path,
+                                               d)) {
+                    in[g].vmin = INFINITY;
+                    for (int c = 0; c < k; c++) {
+                        density_info di;
+                        density_get_info(d[c], &di);
+                        in[g].vmin = fmin(in[g].vmin, di.rho_min);
+                        in[g].vmax = fmax(in[g].vmax, di.rho_max);
+                    }
+                    for (int c = 0; c < k; c++)
+                        density_release(d[c]);
+                } else {
+                    char gname[128];
+                    snprintf(gname, sizeof gname, "%s", e[g].name);
+                    free(buf);
+                    free(in);
+                    free(e);
+                    free(b);
+                    return err_prefix("grid \"%s\"", gname);
+                }
+            }
+        }
+    }
+    free(e);
+    free(b);
+    *out = in;
+    *count = (int)ng;
+    return BRUME_OK;
 }
 
 /* ---- writing ---------------------------------------------------------------------------------- */
@@ -775,7 +1025,7 @@ brume_status density_write_file(const density *d, const char *path, grid_format 
     return err_set(BRUME_ERROR_UNSUPPORTED, "%s: unknown grid format (use .raw, .df3, .vol, .nvdb or .vdb)", path);
 }
 
-brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out)
+brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out, const char *grid)
 {
 #if BRUME_HAVE_OPENVDB
     atomic_file af;
@@ -783,7 +1033,7 @@ brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out)
         return err_status();
     fclose(af.fp); /* the converter writes the temporary file by name */
     af.fp = NULL;
-    if (gridvdb_vdb_to_nvdb(in, af.tmp_path) != BRUME_OK) {
+    if (grid_sandbox_vdb_to_nvdb(in, af.tmp_path, grid, DENSITY_DEFAULT_MAX_MEMORY) != BRUME_OK) {
         brume_status st = err_status();
         atomic_abort(&af);
         return st;
@@ -791,6 +1041,7 @@ brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out)
     return atomic_commit(&af);
 #else
     (void)out;
+    (void)grid;
     return err_set(BRUME_ERROR_UNSUPPORTED, "%s: .vdb needs OpenVDB, and brume was built without OpenVDB", in);
 #endif
 }

@@ -12,14 +12,16 @@
 
 #include "brume.h"
 #include "density/density.h"
+#include "io/grid_vdb.h"
 
 typedef enum grid_format {
     GRID_FORMAT_AUTO = 0, /* by extension, else by magic number */
     GRID_FORMAT_RAW,      /* float32 little-endian, x fastest, no header; dims from a sidecar or options */
     GRID_FORMAT_DF3,      /* POV-Ray density file: 3 big-endian uint16 dims, then 1, 2 or 4-byte samples */
     GRID_FORMAT_VOL,      /* Mitsuba 0.6 grid volume: "VOL" 3, encoding, dims, channels, bbox, data */
-    GRID_FORMAT_NVDB,     /* NanoVDB file (uncompressed), first float grid */
-    GRID_FORMAT_VDB       /* OpenVDB file, the float grid named "density" or else the first one */
+    GRID_FORMAT_NVDB,     /* NanoVDB file (uncompressed), a grid chosen by name (below), kept sparse */
+    GRID_FORMAT_VDB       /* OpenVDB file, a grid chosen by name, read into NanoVDB (kept sparse)
+                             in a child process under resource limits (io/grid_sandbox.h) */
 } grid_format;
 
 /* Default limit on the memory a loaded grid may take: 4 GiB. */
@@ -40,6 +42,9 @@ typedef struct density_load_options {
     grid_filter filter; /* GRID_NEAREST (Blasi: constant per voxel) or GRID_TRILINEAR */
     double scale;       /* multiplies every density, > 0 (0 is taken as 1) */
     size_t max_memory;  /* bytes the voxels may take; 0 = DENSITY_DEFAULT_MAX_MEMORY */
+    char grid[128];     /* .vdb/.nvdb: the grid's name; "" = the grid named "density", else the
+                           only float grid (several float grids and none named density is an
+                           error that lists them) */
 } density_load_options;
 
 /* Defaults: AUTO format, file placement, trilinear, scale 1, 4 GiB. */
@@ -52,6 +57,16 @@ density *density_load_file(const char *path, const density_load_options *opts);
  * messages and, with format AUTO, gives the extension. A raw sidecar is not looked for. */
 density *density_load_memory(const void *bytes, size_t size, const char *name, const density_load_options *opts);
 
+/* `count` fields from one grid: 1 = a float grid (as density_load_file); 3 = the components
+ * of a vec3 grid (a float grid gives the same field three times), sharing one NanoVDB
+ * buffer: .vdb and .nvdb only. out[0..count-1] receive them (the caller releases each);
+ * false with err_message() "PATH: reason" on failure. */
+bool density_load_file_fields(const char *path, const density_load_options *opts, int count, density **out);
+
+/* Every grid of a .vdb or .nvdb file, as `brume info` lists it: *out malloc'd (free()), *count
+ * entries. Returns BRUME_OK or sets "PATH: reason". */
+brume_status grid_list_file(const char *path, size_t max_memory, gridvdb_info **out, int *count);
+
 /* Writes d to path (format AUTO = by extension), atomically: a temporary file in the same
  * folder renamed over path when complete. raw also writes the sidecar PATH.hdr (dims and
  * placement); df3 stores values in [0, 1] with the fewest bytes per sample that represent
@@ -60,8 +75,9 @@ density *density_load_memory(const void *bytes, size_t size, const char *name, c
  * "PATH: reason". Only voxel values are written (not the filter). */
 brume_status density_write_file(const density *d, const char *path, grid_format format);
 
-/* Converts a .vdb file straight to .nvdb (OpenVDB -> NanoVDB, keeping the tree). */
-brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out);
+/* Converts a .vdb file straight to .nvdb (OpenVDB -> NanoVDB, keeping the trees and the
+ * names): every grid NanoVDB can hold, or only `grid` when not NULL/"". */
+brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out, const char *grid);
 
 const char *grid_format_name(grid_format f);     /* "raw", "df3", ... ; "auto" */
 grid_format grid_format_from_name(const char *s); /* AUTO when unknown */

@@ -1,6 +1,11 @@
-/* grid_vdb.h - the C interface of grid_vdb.cpp, the one C++ file: OpenVDB reading and
- * writing, and NanoVDB writing (both need C++). Built only when CMake finds libopenvdb
- * (BRUME_HAVE_OPENVDB); otherwise grid_io.c reports "built without OpenVDB". */
+/* grid_vdb.h - the C interface of grid_vdb.cpp, the one C++ file: OpenVDB reading (straight
+ * to a NanoVDB buffer, never through a dense array), listing and writing. Built only when
+ * CMake finds libopenvdb (BRUME_HAVE_OPENVDB); otherwise grid_io.c reports "built without
+ * OpenVDB".
+ *
+ * The readers here trust libopenvdb, which does not survive hostile files (a flipped bit can
+ * make it loop for minutes or allocate gigabytes): grid_io.c calls them only inside a child
+ * process under resource limits (grid_sandbox.c), never in brume's own process. */
 #ifndef BRUME_IO_GRID_VDB_H
 #define BRUME_IO_GRID_VDB_H
 
@@ -12,18 +17,36 @@
 extern "C" {
 #endif
 
-/* A dense copy of a VDB grid's active bounding box. */
-typedef struct gridvdb_dense {
-    int n[3];                  /* voxels per axis */
-    float *data;               /* n0 n1 n2 floats, x fastest, malloc'd; the caller frees */
-    double voxel_to_world[12]; /* row-major 3x4: voxel (i, j, k) spans [i, i+1) x ...; centre = index coord */
-    unsigned long long active; /* active voxel count of the tree */
-} gridvdb_dense;
+/* One grid of a file, as `brume info` lists it. */
+typedef struct gridvdb_info {
+    char name[128];
+    char type[32];                 /* value type: "float", "vec3s", "double", "int32", "bool", ... */
+    char cls[32];                  /* grid class: "fog volume", "level set", "staggered", "unknown" */
+    int bbmin[3], bbmax[3];        /* active voxels' index box, inclusive (min > max: no active voxel) */
+    unsigned long long active;     /* active voxel count */
+    double vmin, vmax;             /* range of the active values (vec3: of their components) */
+    unsigned long long nano_bytes; /* size of the grid as NanoVDB (float and vec3s grids; else 0) */
+} gridvdb_info;
 
-/* Reads the float grid "density" (or the first float grid) of the .vdb bytes. Fails with
- * err_set("NAME: reason") on malformed input, no float grid, a non-linear transform or
- * more voxels than max_memory bytes. */
-brume_status gridvdb_read(const void *bytes, size_t size, const char *name, size_t max_memory, gridvdb_dense *out);
+/* The sink that receives a NanoVDB buffer, in pieces; returns 0 on success. */
+typedef int (*gridvdb_sink)(void *user, const void *data, size_t size);
+
+/* Lists every grid of a .vdb (from `path`, or from bytes when path is NULL); `name` names
+ * the input in messages. *out is malloc'd (the caller frees), *count its length. */
+brume_status gridvdb_list(const char *path, const void *bytes, size_t size, const char *name, gridvdb_info **out,
+                          int *count);
+
+/* Converts one grid of a .vdb to a NanoVDB buffer handed to sink. `grid` is a name, or
+ * NULL/"" for the default: the grid named "density", else the only float grid (several
+ * float grids and none named density is an error listing them). vec3 = 0 needs a float
+ * grid; vec3 = 1 takes a float or a vec3 (vec3s/vec3d) grid, converted to NanoVDB Vec3f.
+ * Errors name the file and the grids found. */
+brume_status gridvdb_to_nano(const char *path, const void *bytes, size_t size, const char *name, const char *grid,
+                             int vec3, gridvdb_sink sink, void *user);
+
+/* .vdb file to .nvdb file keeping every float and vec3s grid (grid NULL/"") or one grid,
+ * with their names and sparse trees (other value types are left out). */
+brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, const char *grid);
 
 /* Writes a dense grid as one float grid "density" (fog volume) to `path`: .vdb (OpenVDB)
  * or .nvdb (NanoVDB) by `nanovdb`. Voxels equal to 0 are inactive background, except the
@@ -31,8 +54,20 @@ brume_status gridvdb_read(const void *bytes, size_t size, const char *name, size
 brume_status gridvdb_write_dense(const char *path, int nanovdb, const int n[3], const float *data,
                                  const double voxel_to_world[12]);
 
-/* .vdb file to .nvdb file, keeping the sparse tree. */
-brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out);
+/* A sparse multi-grid writer (brume gen fire|upres, tests): grids of float or vec3 values,
+ * voxels set one at a time (only the ones given become active), saved as .vdb or .nvdb.
+ * Placement: the centre of voxel (i, j, k) is at world origin + voxel_size (i, j, k). */
+typedef struct gridvdb_writer gridvdb_writer;
+gridvdb_writer *gridvdb_writer_new(void);
+/* Adds a fog-volume grid; returns its index, or -1 (err_set) on failure. */
+int gridvdb_writer_add(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size, const double origin[3]);
+/* Sets voxel (i, j, k) of grid g active with value v[0] (float) or v[0..2] (vec3). */
+void gridvdb_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v);
+/* Active voxels of grid g so far. */
+unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g);
+/* Writes every grid to path (written as is: callers go through io/atomic.h). */
+brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path, int nanovdb);
+void gridvdb_writer_free(gridvdb_writer *w);
 
 #ifdef __cplusplus
 }

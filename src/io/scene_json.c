@@ -293,19 +293,28 @@ static brume_status parse_filter(const cJSON *j, jloc at, brume_grid_filter *f)
     return BRUME_OK;
 }
 
-/* A voxel grid from a file (docs/grids.md lists the formats). */
-static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **out)
+/* The file and loading options of a grid object (a density of type "grid", or a medium's
+ * field); `extra` lists keys the caller handles itself. */
+static brume_status parse_grid_options(const cJSON *j, jloc at, const char *const *extra, char *path, size_t cap,
+                                       brume_grid_file_options *o)
 {
-    static const char *const keys[] = {"type", "file", "format", "dims", "bounds", "transform", "filter", "scale",
-                                       "max_memory_mb", NULL};
+    static const char *const base[] = {"type", "file", "grid", "format", "dims", "bounds", "transform", "filter",
+                                       "scale", "max_memory_mb"};
+    const char *keys[16];
+    int nk = 0;
+    for (size_t k = 0; k < sizeof base / sizeof *base; k++)
+        keys[nk++] = base[k];
+    for (int k = 0; extra && extra[k] && nk < 15; k++)
+        keys[nk++] = extra[k];
+    keys[nk] = NULL;
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    brume_grid_file_options o;
-    brume_grid_file_options_default(&o);
-    char name[1024], path[2048];
+    brume_grid_file_options_default(o);
+    char name[1024];
     if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
-    json_resolve_path(at.file, name, path, sizeof path);
-    if ((st = json_string(j, at, "format", 0, o.format, sizeof o.format))) return st;
+    json_resolve_path(at.file, name, path, cap);
+    if ((st = json_string(j, at, "grid", 0, o->grid, sizeof o->grid))) return st;
+    if ((st = json_string(j, at, "format", 0, o->format, sizeof o->format))) return st;
     if (cJSON_HasObjectItem(j, "dims")) {
         double d[3] = {0, 0, 0};
         if ((st = jvec(j, at, "dims", 1, d))) return st;
@@ -313,12 +322,12 @@ static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **
             if (!(d[k] >= 1 && d[k] <= 65536) || d[k] != floor(d[k]))
                 return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 65536]", at.file,
                                at.path, k, d[k]);
-            o.dims[k] = (int)d[k];
+            o->dims[k] = (int)d[k];
         }
     }
     if (cJSON_HasObjectItem(j, "bounds")) {
-        if ((st = parse_box(j, at, "bounds", o.bounds))) return st;
-        o.has_bounds = true;
+        if ((st = parse_box(j, at, "bounds", o->bounds))) return st;
+        o->has_bounds = true;
     }
     const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
     if (tr) {
@@ -326,12 +335,22 @@ static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **
         affine3 xf;
         if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
             return st;
-        memcpy(o.transform, xf.m, sizeof o.transform);
-        o.has_transform = true;
+        memcpy(o->transform, xf.m, sizeof o->transform);
+        o->has_transform = true;
     }
-    if ((st = parse_filter(j, at, &o.filter))) return st;
-    if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &o.scale))) return st;
-    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &o.max_memory_mb))) return st;
+    if ((st = parse_filter(j, at, &o->filter))) return st;
+    if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &o->scale))) return st;
+    if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &o->max_memory_mb))) return st;
+    return BRUME_OK;
+}
+
+/* A voxel grid from a file (docs/grids.md lists the formats). */
+static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **out)
+{
+    brume_grid_file_options o;
+    char path[2048];
+    brume_status st = parse_grid_options(j, at, NULL, path, sizeof path, &o);
+    if (st) return st;
     st = brume_density_load(NULL, path, &o, out);
     return st ? err_prefix("%s: %s.file", at.file, at.path) : BRUME_OK;
 }
@@ -518,10 +537,102 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
                    at.file, at.path, type);
 }
 
+/* A medium's field object ("albedo", "temperature", "emission_field"): a grid object whose
+ * keys default to the medium's grid density's (same file, placement, filter), so that
+ * {"grid": "temperature"} is the temperature grid of the density's file. Loads `count`
+ * fields (1: a float grid; 3: a vec3 grid's components, or a float grid's thrice). */
+static brume_status parse_field(const cJSON *medium_j, jloc at, const char *key, const char *const *extra,
+                                int count, brume_density **out)
+{
+    char kp[256];
+    jloc fat = {at.file, json_key_path(kp, sizeof kp, at.path, key)};
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(medium_j, key);
+    if (!cJSON_IsObject(f))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object such as {\"grid\": \"NAME\"}", at.file, kp);
+    cJSON *merged = cJSON_Duplicate(f, 1);
+    if (!merged)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", at.file);
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(medium_j, "density");
+    const cJSON *dt = d ? cJSON_GetObjectItemCaseSensitive(d, "type") : NULL;
+    if (cJSON_IsString(dt) && strcmp(dt->valuestring, "grid") == 0) {
+        static const char *const inherit[] = {"file", "format", "dims", "bounds", "transform", "filter",
+                                              "max_memory_mb"};
+        bool own_place = cJSON_HasObjectItem(f, "bounds") || cJSON_HasObjectItem(f, "transform");
+        for (size_t k = 0; k < sizeof inherit / sizeof *inherit; k++) {
+            const cJSON *v = cJSON_GetObjectItemCaseSensitive(d, inherit[k]);
+            bool place = strcmp(inherit[k], "bounds") == 0 || strcmp(inherit[k], "transform") == 0;
+            if (v && !cJSON_HasObjectItem(f, inherit[k]) && !(place && own_place))
+                cJSON_AddItemToObject(merged, inherit[k], cJSON_Duplicate(v, 1));
+        }
+    }
+    brume_grid_file_options o;
+    char path[2048];
+    brume_status st = parse_grid_options(merged, fat, extra, path, sizeof path, &o);
+    cJSON_Delete(merged);
+    if (st) return st;
+    st = count == 3 ? brume_density_load_rgb(NULL, path, &o, out) : brume_density_load(NULL, path, &o, out);
+    return st ? err_prefix("%s: %s", at.file, kp) : BRUME_OK;
+}
+
+/* "albedo", "temperature" + "blackbody", "emission_field": the medium's optional fields. */
+static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s, int index)
+{
+    brume_status st;
+    char kp[256];
+    if (cJSON_HasObjectItem(j, "albedo")) {
+        brume_density *rgb[3];
+        if ((st = parse_field(j, at, "albedo", NULL, 3, rgb))) return st;
+        if ((st = built(brume_scene_set_medium_albedo(NULL, s, index, rgb),
+                        (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "albedo")}))) {
+            for (int c = 0; c < 3; c++)
+                brume_density_release(rgb[c]);
+            return st;
+        }
+    }
+    const cJSON *bbj = cJSON_GetObjectItemCaseSensitive(j, "blackbody");
+    if (bbj && !cJSON_HasObjectItem(j, "temperature"))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.blackbody: needs a \"temperature\" grid", at.file, at.path);
+    if (cJSON_HasObjectItem(j, "temperature")) {
+        brume_blackbody bb;
+        brume_blackbody_default(&bb);
+        if (bbj) {
+            static const char *const bkeys[] = {"scale", "temperature_scale", "temperature_offset", "cutoff", NULL};
+            jloc bat = {at.file, json_key_path(kp, sizeof kp, at.path, "blackbody")};
+            if ((st = json_check_object(bbj, bat, bkeys))) return st;
+            if ((st = json_number(bbj, bat, "scale", 0, 1e-30, 1e30, &bb.scale))) return st;
+            if ((st = json_number(bbj, bat, "temperature_scale", 0, 1e-30, 1e30, &bb.temperature_scale))) return st;
+            if ((st = json_number(bbj, bat, "temperature_offset", 0, -1e30, 1e30, &bb.temperature_offset))) return st;
+            if ((st = json_number(bbj, bat, "cutoff", 0, 0.0, 1e30, &bb.cutoff))) return st;
+        }
+        brume_density *t = NULL;
+        if ((st = parse_field(j, at, "temperature", NULL, 1, &t))) return st;
+        if ((st = built(brume_scene_set_medium_temperature(NULL, s, index, t, &bb),
+                        (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "temperature")}))) {
+            brume_density_release(t);
+            return st;
+        }
+    }
+    if (cJSON_HasObjectItem(j, "emission_field")) {
+        static const char *const extra[] = {"color", NULL};
+        double c[3] = {1, 1, 1};
+        const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "emission_field");
+        jloc eat = {at.file, json_key_path(kp, sizeof kp, at.path, "emission_field")};
+        if (cJSON_IsObject(f) && (st = jcolor(f, eat, "color", 0, BIG, c))) return st;
+        brume_density *e[3];
+        if ((st = parse_field(j, at, "emission_field", extra, 3, e))) return st;
+        if ((st = built(brume_scene_set_medium_emission_field(NULL, s, index, e, 3, c), eat))) {
+            for (int k = 0; k < 3; k++)
+                brume_density_release(e[k]);
+            return st;
+        }
+    }
+    return BRUME_OK;
+}
+
 static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "keyframes",
-                                       NULL};
+                                       "albedo", "temperature", "blackbody", "emission_field", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_medium m = {0};
@@ -547,6 +658,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
         brume_phase_release(ph);
         return st;
     }
+    if ((st = parse_medium_fields(j, at, s, brume_scene_medium_count(s) - 1))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (keys_j) {
         /* the field moves: its placement at time t is the keyed transform after its own */

@@ -4,7 +4,16 @@
  *   sigma_t(x) = (sigma_a + sigma_s) rho(x)   [1 / world unit]
  * and the albedo is sigma_s / (sigma_a + sigma_s). Emission Le is a radiance added along a
  * ray at the rate sigma_a rho(x) Le per unit length (Stam's (1 - Omega) E term).
- * Blasi's alpha and sigma are sigma_a and sigma_s; Stam's kappa_t is sigma_a + sigma_s. */
+ * Blasi's alpha and sigma are sigma_a and sigma_s; Stam's kappa_t is sigma_a + sigma_s.
+ *
+ * Optional fields (docs/grids.md, "Media with several fields"), each a grid with its own
+ * placement, evaluated at the same medium-local point as rho:
+ *   albedo A(x) (3 fields, one per channel): sigma_s(x) = sigma_s rho(x) A(x) per channel;
+ *   temperature T(x) (kelvin): adds Le_bb(x) = bb_scale blackbody((T(x) - bb_offset) bb_tscale)
+ *     where that temperature exceeds bb_cutoff (medium/blackbody.h, pbrt-v4's convention);
+ *   emission E(x) (1 field, or 3 for a vec3 grid): adds emission_color E(x).
+ * The emitted radiance Le(x) = Le + Le_bb(x) + emission_color E(x) is added at the rate
+ * sigma_a rho(x) Le(x), as the constant Le is. */
 #ifndef BRUME_MEDIUM_MEDIUM_H
 #define BRUME_MEDIUM_MEDIUM_H
 
@@ -20,12 +29,25 @@ typedef struct medium {
     color sigma_s;      /* scattering per unit length per unit density, >= 0 */
     color Le;           /* emitted radiance (W sr^-1 m^-2 in world units), >= 0 */
     double sigma_t_max; /* max over channels of sigma_a + sigma_s (set by medium_init) */
+    density *albedo[3];      /* NULL, or per-channel factors of sigma_s (owned, >= 0) */
+    density *temperature;    /* NULL, or the temperature grid (owned), kelvin before scale/offset */
+    double bb_scale;         /* blackbody radiance scale, > 0 (radiance units) */
+    double bb_tscale;        /* temperature scale, > 0 */
+    double bb_offset;        /* temperature offset, kelvin */
+    double bb_cutoff;        /* kelvin: nothing glows at or below it, >= 0 */
+    density *emission[3];    /* NULL, or an emission field: [0] alone (float grid) or [0..2] */
+    color emission_color;    /* multiplies the emission field (radiance units), >= 0 */
+    double albedo_max[3];    /* max of each albedo field (set by medium_init; 1 without) */
     char name[64];
     motion *motion;     /* owned; NULL = fixed. Else the field is placed in world space at
                            time t by motion_at(motion, t) applied after its own placement:
                            rays are moved into the field's frame at their own time */
 } medium;
 
+/* Whether the medium has any field besides rho (albedo, temperature, emission). */
+bool medium_has_fields(const medium *m);
+/* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0). */
+bool medium_emits(const medium *m);
 /* Fills the derived fields; call after setting the others. */
 void medium_init(medium *m);
 /* The range a medium really supports (docs/scene-format.md, "Limits"): extinction

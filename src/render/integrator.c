@@ -15,6 +15,7 @@
 
 #include <string.h>
 
+#include "core/error.h"
 #include "core/stats.h"
 #include "render/blasi.h"
 #include "render/stam.h"
@@ -324,6 +325,12 @@ color path_Li(const brume_scene *s, ray r, int max_depth, rng *g) { return path_
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state)
 {
     *state = NULL;
+    /* albedo, temperature and emission grids are rendered by path and single only */
+    for (int m = 0; (kind == INTEGRATOR_BLASI || kind == INTEGRATOR_STAM) && m < s->nmedia; m++)
+        if (medium_has_fields(&s->media[m]))
+            return err_set(BRUME_ERROR_UNSUPPORTED,
+                           "%s: media[%d]: albedo, temperature and emission grids need the path or single method",
+                           s->source, m);
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: return BRUME_OK;

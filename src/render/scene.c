@@ -151,7 +151,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         medium_init(&s->media[m]);
         if ((st = medium_check_range(&s->media[m], s->source, m)) != BRUME_OK)
             return ctx_report(ctx, st);
-        if (!col_is_black(s->media[m].Le) && !col_is_black(s->media[m].sigma_a))
+        if (medium_emits(&s->media[m]))
             s->has_emission = true;
     }
     for (int i = 0; i < s->nlights; i++)

@@ -162,6 +162,9 @@ void brume_grid_file_options_default(brume_grid_file_options *o)
     o->transform[0] = o->transform[5] = o->transform[10] = 1.0;
 }
 
+/* The public grid file options as the loader's (err_set naming fn and the field). */
+static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out);
+
 brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                 brume_density **out)
 {
@@ -172,50 +175,10 @@ brume_status brume_density_load(brume_context *ctx, const char *path, const brum
     *out = NULL;
     if (!path)
         return ctx_report(ctx, build_null(fn, "path"));
-    brume_grid_file_options def;
-    if (!opts) {
-        brume_grid_file_options_default(&def);
-        opts = &def;
-    }
     density_load_options o;
-    density_load_options_default(&o);
-    brume_status st;
-    if (!memchr(opts->format, '\0', sizeof opts->format))
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: opts.format: not NUL-terminated", fn));
-    if (opts->format[0]) {
-        o.format = grid_format_from_name(opts->format);
-        if (o.format == GRID_FORMAT_AUTO && strcmp(opts->format, "auto") != 0)
-            return ctx_report(ctx, err_set(BRUME_ERROR_PARSE, "%s: opts.format: unknown grid format '%s'", fn,
-                                           opts->format));
-    }
-    bool any_dims = opts->dims[0] || opts->dims[1] || opts->dims[2];
-    for (int k = 0; k < 3 && any_dims; k++) {
-        if (opts->dims[k] < 1 || opts->dims[k] > 65536)
-            return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: opts.dims[%d]: %d outside [1, 65536]", fn, k,
-                                           opts->dims[k]));
-        o.raw_dims[k] = opts->dims[k];
-    }
-    if (opts->has_bounds) {
-        if ((st = build_box(fn, "opts.bounds", opts->bounds, &o.bounds)))
-            return ctx_report(ctx, st);
-        o.has_bounds = true;
-    }
-    if (opts->has_transform) {
-        affine3 inv;
-        memcpy(o.transform.m, opts->transform, sizeof o.transform.m);
-        if (!affine3_invert(&o.transform, &inv))
-            return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: opts.transform: not finite and invertible", fn));
-        o.has_transform = true;
-    }
-    if ((st = check_filter(fn, opts->filter)) || (st = build_number(fn, "opts.scale", opts->scale, 1e-30, BIG)))
+    brume_status st = file_options(fn, opts, &o);
+    if (st)
         return ctx_report(ctx, st);
-    o.filter = to_filter(opts->filter);
-    o.scale = opts->scale;
-    if (opts->max_memory_mb != 0.0) {
-        if ((st = build_number(fn, "opts.max_memory_mb", opts->max_memory_mb, 1.0, 1e9)))
-            return ctx_report(ctx, st);
-        o.max_memory = (size_t)(opts->max_memory_mb * 1048576.0);
-    }
     /* within what the memory budget of a scene being read has left (core/budget.h) */
     size_t left = budget_left();
     if (left < o.max_memory)
@@ -230,6 +193,103 @@ brume_status brume_density_load(brume_context *ctx, const char *path, const brum
         return ctx_report(ctx, st);
     }
     return ctx_report(ctx, wrap(fn, d, false, out));
+}
+
+brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                    brume_density **out)
+{
+    static const char fn[] = "brume_density_load_rgb";
+    err_clear();
+    if (!out)
+        return ctx_report(ctx, build_null(fn, "out"));
+    out[0] = out[1] = out[2] = NULL;
+    if (!path)
+        return ctx_report(ctx, build_null(fn, "path"));
+    density_load_options o;
+    brume_status st = file_options(fn, opts, &o);
+    if (st)
+        return ctx_report(ctx, st);
+    size_t left = budget_left();
+    if (left < o.max_memory)
+        o.max_memory = left > 0 ? left : 1;
+    density *d[3];
+    if (!density_load_file_fields(path, &o, 3, d))
+        return ctx_report(ctx, err_status());
+    size_t bytes = 0; /* one shared buffer: count it once, and each component's majorants */
+    for (int c = 0; c < 3; c++) {
+        density_info info;
+        density_get_info(d[c], &info);
+        bytes = c == 0 ? info.memory_bytes : bytes + info.memory_bytes - density_shared_bytes(d[c]);
+    }
+    if ((st = budget_take(bytes, path)) != BRUME_OK) {
+        for (int c = 0; c < 3; c++)
+            density_release(d[c]);
+        return ctx_report(ctx, st);
+    }
+    for (int c = 0; c < 3; c++)
+        if ((st = wrap(fn, d[c], false, &out[c])) != BRUME_OK) {
+            for (int k = 0; k < c; k++) {
+                brume_density_release(out[k]);
+                out[k] = NULL;
+            }
+            for (int k = c + 1; k < 3; k++)
+                density_release(d[k]);
+            return ctx_report(ctx, st);
+        }
+    return ctx_report(ctx, BRUME_OK);
+}
+
+static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out)
+{
+    brume_grid_file_options def;
+    if (!opts) {
+        brume_grid_file_options_default(&def);
+        opts = &def;
+    }
+    density_load_options o;
+    density_load_options_default(&o);
+    brume_status st;
+    if (!memchr(opts->format, '\0', sizeof opts->format))
+        return err_set(BRUME_ERROR_RANGE, "%s: opts.format: not NUL-terminated", fn);
+    if (opts->format[0]) {
+        o.format = grid_format_from_name(opts->format);
+        if (o.format == GRID_FORMAT_AUTO && strcmp(opts->format, "auto") != 0)
+            return err_set(BRUME_ERROR_PARSE, "%s: opts.format: unknown grid format '%s'", fn,
+                                           opts->format);
+    }
+    bool any_dims = opts->dims[0] || opts->dims[1] || opts->dims[2];
+    for (int k = 0; k < 3 && any_dims; k++) {
+        if (opts->dims[k] < 1 || opts->dims[k] > 65536)
+            return err_set(BRUME_ERROR_RANGE, "%s: opts.dims[%d]: %d outside [1, 65536]", fn, k,
+                                           opts->dims[k]);
+        o.raw_dims[k] = opts->dims[k];
+    }
+    if (opts->has_bounds) {
+        if ((st = build_box(fn, "opts.bounds", opts->bounds, &o.bounds)))
+            return st;
+        o.has_bounds = true;
+    }
+    if (opts->has_transform) {
+        affine3 inv;
+        memcpy(o.transform.m, opts->transform, sizeof o.transform.m);
+        if (!affine3_invert(&o.transform, &inv))
+            return err_set(BRUME_ERROR_RANGE, "%s: opts.transform: not finite and invertible", fn);
+        o.has_transform = true;
+    }
+    if ((st = check_filter(fn, opts->filter)) || (st = build_number(fn, "opts.scale", opts->scale, 1e-30, BIG)))
+        return st;
+    o.filter = to_filter(opts->filter);
+    o.scale = opts->scale;
+    if (opts->max_memory_mb != 0.0) {
+        if ((st = build_number(fn, "opts.max_memory_mb", opts->max_memory_mb, 1.0, 1e9)))
+            return st;
+        o.max_memory = (size_t)(opts->max_memory_mb * 1048576.0);
+    }
+    if (!memchr(opts->grid, '\0', sizeof opts->grid))
+        return err_set(BRUME_ERROR_RANGE, "%s: opts.grid: not NUL-terminated within 128 bytes", fn);
+    snprintf(o.grid, sizeof o.grid, "%s", opts->grid);
+    *out = o;
+    return BRUME_OK;
 }
 
 void brume_fractal_default(brume_fractal *f)

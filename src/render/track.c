@@ -2,6 +2,28 @@
 #include "render/track.h"
 
 #include "core/sampling.h"
+#include "medium/blackbody.h"
+
+/* The optional fields of a medium at its local point p: albedo scales sigma_s per
+ * channel; temperature and emission fields add to Le (medium.h). */
+static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
+{
+    if (md->albedo[0])
+        for (int c = 0; c < BRUME_NSAMPLES; c++)
+            ss->c[c] *= density_eval(md->albedo[c], p);
+    if (md->temperature) {
+        double T = (density_eval(md->temperature, p) - md->bb_offset) * md->bb_tscale;
+        if (T > md->bb_cutoff)
+            *Le = col_madd(*Le, blackbody_rgb(T), md->bb_scale);
+    }
+    if (md->emission[0]) {
+        if (md->emission[1])
+            for (int c = 0; c < BRUME_NSAMPLES; c++)
+                Le->c[c] += md->emission_color.c[c] * density_eval(md->emission[c], p);
+        else
+            *Le = col_madd(*Le, md->emission_color, density_eval(md->emission[0], p));
+    }
+}
 
 typedef struct track_stream {
     majorant_iter it;
@@ -99,9 +121,13 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
         if (rho <= 0.0)
             continue;
         color sa = col_scale(md->sigma_a, rho), ss = col_scale(md->sigma_s, rho);
+        color Le = md->Le;
+        if (medium_has_fields(md)) {
+            medium_fields_at(md, pm, &ss, &Le);
+        }
         ms->sigma_a = col_add(ms->sigma_a, sa);
         ms->sigma_s = col_add(ms->sigma_s, ss);
-        ms->emission = col_add(ms->emission, col_mul(sa, md->Le));
+        ms->emission = col_add(ms->emission, col_mul(sa, Le));
         ms->index[ms->n] = m;
         ms->weight[ms->n] = col_avg(ss);
         ms->n++;

@@ -1,0 +1,26 @@
+/* blackbody.h - the colour of blackbody emission (fire from a temperature grid).
+ *
+ * Convention (pbrt-v4's BlackbodySpectrum, used by its nanovdb medium): Planck's spectral
+ * radiance B(lambda, T) normalized by its own peak, so the spectrum's maximum is 1 at every
+ * temperature; integrated against the CIE 1931 2-degree observer over 360-830 nm and
+ * divided by the integral of y-bar (a flat spectrum of 1 has Y = 1), then converted to
+ * linear Rec. 709 RGB (D65 white). The colour matching functions are Wyman, Sloan and
+ * Shirley's multi-lobe fit (JCGT 2(2), 2013). Units: T in kelvin; the result is a radiance
+ * factor (dimensionless), multiplied by the medium's blackbody scale (radiance units).
+ * Derivation and checks: docs/grids.md, "Fire: temperature and blackbody emission". */
+#ifndef BRUME_MEDIUM_BLACKBODY_H
+#define BRUME_MEDIUM_BLACKBODY_H
+
+#include "core/color.h"
+
+/* CIE XYZ of the peak-normalized blackbody at T kelvin (T > 0), 1 nm steps. Slow (470
+ * wavelengths): for tables and tests. */
+void blackbody_xyz(double T, double xyz[3]);
+/* Linear Rec. 709 RGB of the same (may have small negative components far from white). */
+color blackbody_rgb_exact(double T);
+/* The same from a table built once (log-spaced in T over [100 K, 100000 K], linear in
+ * between; clamped outside): for rendering. blackbody_init() must have run (thread-safe). */
+color blackbody_rgb(double T);
+void blackbody_init(void);
+
+#endif
