@@ -22,6 +22,7 @@ OPTIONAL = {
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},
     "brume_density_load_rgb": {"opts"},
+    "brume_scene_set_medium_temperature": {"bb"},
     "brume_density_new_blobs": {"velocity"},
     "brume_scene_add_medium": {"phase"},
     "brume_scene_add_sphere": {"transform", "material", "name"},
@@ -87,7 +88,7 @@ def value(ptype, pname, fname):
     if base == "brume_render_job*":
         return "job"
     if base.endswith("**"):
-        return "(%s)&out_ptr" % ptype
+        return "(%s)out_ptr" % ptype
     if base == "char*":
         return {"key": "\"blasi.r\"", "value": "\"0.5\"", "text": "\"{}\"", "name": "\"isotropic\""}.get(
             pname, "\"brume-null-test\"")
@@ -126,7 +127,7 @@ def main():
     w("int main(void)")
     w("{")
     w("    static _Alignas(64) unsigned char blob[1 << 16];")
-    w("    void *out_ptr;")
+    w("    void *out_ptr[3]; /* out arrays (brume_density_load_rgb) take three */")
     w("    brume_context *ctx = brume_context_new();")
     w("    brume_scene *scene_u = NULL, *scene_c = NULL;")
     w("    if (brume_scene_new(ctx, NULL, &scene_u) != BRUME_OK || brume_scene_new(ctx, NULL, &scene_c) != BRUME_OK ||")
@@ -174,7 +175,7 @@ def main():
             has_out = any(qt.replace(" ", "").endswith("**") for j, (qt, qn, qp, qf) in enumerate(params) if j != i)
             w("    /* %s */" % what)
             if has_out:
-                w("    out_ptr = (void *)blob;")
+                w("    out_ptr[0] = out_ptr[1] = out_ptr[2] = (void *)blob;")
             r = ret.replace(" ", "")
             if fname in NO_RESULT_CHECK:
                 w("    (void)%s;" % call)
@@ -186,7 +187,7 @@ def main():
             else:
                 w("    (void)%s;" % call if r != "void" else "    %s;" % call)
             if has_out:
-                w("    check(out_ptr == NULL, \"%s: out pointer set to NULL\");" % what)
+                w("    check(out_ptr[0] == NULL, \"%s: out pointer set to NULL\");" % what)
     w("    /* the objects given beside the NULL ones were left whole: they still work */")
     w("    brume_scene *s = NULL;")
     w("    check(brume_scene_new(ctx, NULL, &s) == BRUME_OK, \"scene after the calls\");")

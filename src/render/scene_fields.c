@@ -31,11 +31,11 @@ brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *s, i
 {
     static const char fn[] = "brume_scene_set_medium_albedo";
     err_clear();
+    if (!albedo)
+        return ctx_report(ctx, build_null(fn, "albedo"));
     brume_status st = check_medium(fn, s, index);
     if (st)
         return ctx_report(ctx, st);
-    if (!albedo)
-        return ctx_report(ctx, build_null(fn, "albedo"));
     for (int c = 0; c < 3; c++)
         if (!albedo[c])
             return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: albedo[%d]: NULL", fn, c));
@@ -59,11 +59,11 @@ brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene 
 {
     static const char fn[] = "brume_scene_set_medium_temperature";
     err_clear();
+    if (!temperature)
+        return ctx_report(ctx, build_null(fn, "temperature"));
     brume_status st = check_medium(fn, s, index);
     if (st)
         return ctx_report(ctx, st);
-    if (!temperature)
-        return ctx_report(ctx, build_null(fn, "temperature"));
     brume_blackbody def;
     brume_blackbody_default(&def);
     if (!bb)
@@ -87,11 +87,13 @@ brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_sce
 {
     static const char fn[] = "brume_scene_set_medium_emission_field";
     err_clear();
+    if (!fields)
+        return ctx_report(ctx, build_null(fn, "fields"));
+    if (!rgb)
+        return ctx_report(ctx, build_null(fn, "color"));
     brume_status st = check_medium(fn, s, index);
     if (st)
         return ctx_report(ctx, st);
-    if (!fields)
-        return ctx_report(ctx, build_null(fn, "fields"));
     if (n != 1 && n != 3)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: n: %d fields, need 1 or 3", fn, n));
     for (int c = 0; c < n; c++)
