@@ -1045,3 +1045,41 @@ brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out, const cha
     return err_set(BRUME_ERROR_UNSUPPORTED, "%s: .vdb needs OpenVDB, and brume was built without OpenVDB", in);
 #endif
 }
+
+#if !BRUME_HAVE_OPENVDB
+/* Built without OpenVDB: the sparse writer (io/grid_vdb.h) exists only to say so; its users
+ * (brume gen fire|upres) check grid_have_openvdb() first. */
+gridvdb_writer *gridvdb_writer_new(void)
+{
+    err_set(BRUME_ERROR_UNSUPPORTED, "writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
+    return NULL;
+}
+
+int gridvdb_writer_add(gridvdb_writer *w, const char *grid_name, int is_vec3, double voxel_size, const double origin[3])
+{
+    (void)w, (void)is_vec3, (void)voxel_size, (void)origin;
+    err_set(BRUME_ERROR_UNSUPPORTED, "%s: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB",
+            grid_name ? grid_name : "grid");
+    return -1;
+}
+
+void gridvdb_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v)
+{
+    (void)w, (void)g, (void)i, (void)j, (void)k, (void)v;
+}
+
+unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g)
+{
+    (void)w, (void)g;
+    return 0;
+}
+
+brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path, int nanovdb)
+{
+    (void)w, (void)nanovdb;
+    return err_set(BRUME_ERROR_UNSUPPORTED, "%s: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB",
+                   path);
+}
+
+void gridvdb_writer_free(gridvdb_writer *w) { (void)w; }
+#endif
