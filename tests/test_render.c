@@ -190,5 +190,32 @@ TEST(single_scattering_closed_form)
     brume_image_release(img);
 }
 
+/* The same slab with a forward phase function (HG g = 0.6): p(-1) = 0.0124 is a sixth of
+ * an isotropic phase function's 1 / (4 pi), so next-event estimation traces the shadow ray
+ * with probability q = 4 pi p(-1) = 0.156 and divides by it (integrator.c, nee_roulette).
+ * The tolerance is 5 standard errors of the image mean, which include the roulette's
+ * variance; an estimate not divided by q would be 0.156 times the expectation. */
+TEST(single_scattering_forward_hg_shadow_roulette)
+{
+    const char *json = "{\"camera\": {\"position\": [0, 0, 20], \"look_at\": [0, 0, 0], \"fov\": 2},"
+                       " \"lights\": [{\"type\": \"distant\", \"direction\": [0, 0, -1], \"irradiance\": 3.0}],"
+                       " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 0.8,"
+                       "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
+                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.6}}],"
+                       " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 2560, \"method\": \"single\"}}";
+    brume_image *img = render_json(json, 0, 5);
+    const float *px = brume_image_pixels(img);
+    double g = 0.6, cos_t = -1.0;
+    double p = (1 - g * g) / (4 * 3.14159265358979323846 * pow(1 + g * g - 2 * g * cos_t, 1.5));
+    double expect = 3.0 * p * (1 - exp(-2 * 0.8 * 1.0)) / 2;
+    double mean, se;
+    test_channel_mean(px, 16 * 16, 0, &mean, &se);
+    fprintf(stderr, "single scattering, g 0.6: mean %.6f, expected %.6f, standard error %.6f\n", mean, expect, se);
+    ASSERT_NEAR(mean, expect, 5.0 * se + 1e-9);
+    ASSERT_TRUE(5.0 * se < 0.03 * expect);
+    brume_image_release(img);
+}
+
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
-          white_furnace_gray, single_scattering_closed_form)
+          white_furnace_gray, single_scattering_closed_form,
+          single_scattering_forward_hg_shadow_roulette)

@@ -129,6 +129,19 @@ color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, do
     return track_transmittance(s, (ray){p, wi, time}, dist, g);
 }
 
+/* Russian roulette on a shadow ray by what it can bring (docs/path-tracer.md, "Shadow-ray
+ * roulette"): with f the scattering kernel and w the MIS weight, the ray is traced with
+ * probability q = min(1, 4 pi max_c(f) w), i.e. always where the kernel is at least an
+ * isotropic phase function's 1 / (4 pi), and its estimate divided by q. Returns q, or 0
+ * when the ray is not traced. */
+static double nee_roulette(color f, double w, rng *g)
+{
+    double q = 4.0 * PI * col_max(f) * w;
+    if (q >= 1.0)
+        return 1.0;
+    return rng_next(g) < q ? q : 0.0;
+}
+
 /* Next-event estimation at a vertex: every light, emissive surfaces and the background. */
 static color direct_light(const brume_scene *s, const vertex *v, rng *g)
 {
@@ -142,8 +155,11 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
         if (col_is_black(f))
             continue;
         double w = ls.delta ? 1.0 : mis_weight(ls.pdf, vertex_pdf(v, ls.wi));
+        double q = nee_roulette(f, w, g);
+        if (q == 0.0)
+            continue;
         color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, v->time, g);
-        Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / ls.pdf));
+        Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / (q * ls.pdf)));
     }
     if (surfaces_has_emitters(s->surf)) {
         vec3 wi;
@@ -154,8 +170,11 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
-                Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / pdf));
+                double q = nee_roulette(f, w, g);
+                if (q > 0.0) {
+                    color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
+                    Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / (q * pdf)));
+                }
             }
         }
     }
@@ -167,8 +186,11 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                color Tr = scene_transmittance(s, v->p, wi, INFINITY, v->time, g);
-                Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / pdf));
+                double q = nee_roulette(f, w, g);
+                if (q > 0.0) {
+                    color Tr = scene_transmittance(s, v->p, wi, INFINITY, v->time, g);
+                    Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / (q * pdf)));
+                }
             }
         }
     }
