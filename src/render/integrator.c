@@ -130,13 +130,13 @@ color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, do
 }
 
 /* Russian roulette on a shadow ray by what it can bring (docs/path-tracer.md, "Shadow-ray
- * roulette"): with f the scattering kernel and w the MIS weight, the ray is traced with
- * probability q = min(1, 4 pi max_c(f) w), i.e. always where the kernel is at least an
- * isotropic phase function's 1 / (4 pi), and its estimate divided by q. Returns q, or 0
- * when the ray is not traced. */
-static double nee_roulette(color f, double w, rng *g)
+ * roulette"): with f the scattering kernel, the ray is traced with probability
+ * q = min(1, 4 pi max_c(f)), i.e. always where the kernel is at least an isotropic phase
+ * function's 1 / (4 pi), and its estimate divided by q. Returns q, or 0 when the ray is
+ * not traced. */
+static double nee_roulette(color f, rng *g)
 {
-    double q = 4.0 * PI * col_max(f) * w;
+    double q = 4.0 * PI * col_max(f);
     if (q >= 1.0)
         return 1.0;
     return rng_next(g) < q ? q : 0.0;
@@ -155,7 +155,7 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
         if (col_is_black(f))
             continue;
         double w = ls.delta ? 1.0 : mis_weight(ls.pdf, vertex_pdf(v, ls.wi));
-        double q = nee_roulette(f, w, g);
+        double q = nee_roulette(f, g);
         if (q == 0.0)
             continue;
         color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, v->time, g);
@@ -170,7 +170,7 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                double q = nee_roulette(f, w, g);
+                double q = nee_roulette(f, g);
                 if (q > 0.0) {
                     color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / (q * pdf)));
@@ -186,7 +186,7 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
             color f = vertex_f(v, wi);
             if (!col_is_black(f)) {
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
-                double q = nee_roulette(f, w, g);
+                double q = nee_roulette(f, g);
                 if (q > 0.0) {
                     color Tr = scene_transmittance(s, v->p, wi, INFINITY, v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / (q * pdf)));
