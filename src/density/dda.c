@@ -1,4 +1,5 @@
-/* dda.c - setting up the 3-D DDA (see dda.h): box clipping and the first cell. */
+/* dda.c - setting up the 3-D DDA (see dda.h): box clipping, the first cell and its exact
+ * plane crossings. */
 #include "density/dda.h"
 
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax)
@@ -19,12 +20,14 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
         if (dd[a] == 0.0) {
             g->step[a] = 0;
             g->inv[a] = 0.0;
+            g->delta[a] = INFINITY;
             if (!(oo[a] >= 0.0 && oo[a] < (double)n[a]))
                 return false;
             continue;
         }
         double inv = 1.0 / dd[a];
         g->inv[a] = inv;
+        g->delta[a] = fabs(inv);
         g->step[a] = dd[a] > 0.0 ? 1 : -1;
         double ta = (0.0 - oo[a]) * inv, tb = ((double)n[a] - oo[a]) * inv;
         if (ta > tb) {
