@@ -37,10 +37,12 @@ typedef struct grid_dda {
     int step[3];      /* +1, -1 or 0 per axis */
     int n[3];         /* cells per axis */
     double o[3];      /* ray origin in cell space */
+    double d[3];      /* ray direction in cell space */
     double inv[3];    /* 1 / direction in cell space (0 where the direction is 0) */
     double t_next[3]; /* ray parameter of the next plane crossing per axis (+inf if none) */
     double delta[3];  /* |inv|: ray parameter across one cell per axis (+inf if no step) */
     double t, tmax;   /* entry of the current cell; end of the walk */
+    double t_in, t_out; /* the interval begin clipped to the grid (grid_dda_restart stays in it) */
     bool done;
 } grid_dda;
 
@@ -53,6 +55,11 @@ typedef struct grid_dda_step {
 /* Starts walking the ray o + t d (cell space) over t in [tmin, tmax] through a grid of
  * n[0] x n[1] x n[2] cells. Returns false (and a finished iterator) when the ray misses. */
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax);
+
+/* Walks the same ray again over [t0, t1], a part of the interval g was begun with (an
+ * empty-space skipper's jump): no clipping and no division. Returns false (and a finished
+ * iterator) when the part is empty. g must come from a successful grid_dda_begin. */
+bool grid_dda_restart(grid_dda *g, double t0, double t1);
 
 /* The next cell with a positive-length overlap, in increasing t; false when done.
  * The axis to step is picked without branches (the choice is unpredictable, a branch
