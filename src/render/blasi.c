@@ -75,6 +75,7 @@ typedef struct blasi_medium {
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
     bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
+    box3 occupied;       /* voxel space: the box of the voxels with rho > 0 (walks start and end in it) */
     int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
     unsigned char *occ;  /* per block: 1 if any of its voxels has rho > 0 */
 } blasi_medium;
@@ -133,8 +134,10 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
          * restarts it (grid_dda_restart: no clipping, no division) */
         const blasi_medium *bm = &st->m[0];
         vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
-        if (!bm->skip) { /* a small grid: every voxel, empty ones cost a step */
-            w->live[0] = grid_dda_begin(&w->dda[0], bm->n, o, d, 0.0, tmax);
+        if (!bm->skip) { /* a small grid: every voxel of the occupied box, empty ones cost a step */
+            double t0, t1;
+            w->live[0] = box3_intersect(bm->occupied, (ray){o, d, r.time}, 0.0, tmax, &t0, &t1) &&
+                         grid_dda_begin(&w->dda[0], bm->n, o, d, t0, t1);
             w->blocks_live = false;
             return;
         }
@@ -433,8 +436,11 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         double target = sample_exponential(rng_next(g), 1.0); /* Eq. 11: scatter where the depth reaches this */
         double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
         color D = col(0.0), lim;
-        for (int c = 0; c < 3; c++)
-            lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+        if (w.c[0] == w.c[1] && w.c[1] == w.c[2] && w.c[0] > 0.0) /* grey: one log */
+            lim = col(log(w.c[0] / w_stop));
+        else
+            for (int c = 0; c < 3; c++)
+                lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
         bool scattered = false;
         walk wk;
         piece pc;
@@ -898,11 +904,14 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             break;
         }
         float *dst = st->rho + bm->offset;
+        bm->occupied = box3_empty();
         for (int k = 0; k < bm->n[2]; k++)
             for (int j = 0; j < bm->n[1]; j++)
                 for (int i = 0; i < bm->n[0]; i++) {
                     float rho = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
                     *dst++ = rho;
+                    if (rho != 0.0f)
+                        bm->occupied = (box3){v3_min(bm->occupied.lo, v3(i, j, k)), v3_max(bm->occupied.hi, v3(i + 1, j + 1, k + 1))};
                     if (rho != 0.0f)
                         bm->occ[(size_t)(i / BLASI_BLOCK) +
                                 (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
