@@ -53,13 +53,20 @@ bool grid_dda_restart(grid_dda *g, double t0, double t1)
 
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax)
 {
+    static const int zero[3] = {0, 0, 0};
+    return grid_dda_begin_box(g, n, zero, n, o, d, tmin, tmax);
+}
+
+bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int hi[3], vec3 o, vec3 d, double tmin,
+                        double tmax)
+{
     const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
     g->done = true;
     g->t = tmin;
     g->tmax = tmax;
     if (!(tmin < tmax))
         return false;
-    /* Clip [tmin, tmax] to the grid box [0, n) with the same formula as the steps use. */
+    /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;
     for (int a = 0; a < 3; a++) {
         g->n[a] = n[a];
@@ -67,11 +74,13 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
         g->d[a] = dd[a];
         if (n[a] < 1 || !isfinite(oo[a]) || !isfinite(dd[a]))
             return false;
+        if (!(0 <= lo[a] && lo[a] < hi[a] && hi[a] <= n[a]))
+            return false;
         if (dd[a] == 0.0) {
             g->step[a] = 0;
             g->inv[a] = 0.0;
             g->delta[a] = INFINITY;
-            if (!(oo[a] >= 0.0 && oo[a] < (double)n[a]))
+            if (!(oo[a] >= (double)lo[a] && oo[a] < (double)hi[a]))
                 return false;
             continue;
         }
@@ -79,7 +88,7 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
         g->inv[a] = inv;
         g->delta[a] = fabs(inv);
         g->step[a] = dd[a] > 0.0 ? 1 : -1;
-        double ta = (0.0 - oo[a]) * inv, tb = ((double)n[a] - oo[a]) * inv;
+        double ta = ((double)lo[a] - oo[a]) * inv, tb = ((double)hi[a] - oo[a]) * inv;
         if (ta > tb) {
             double s = ta;
             ta = tb;

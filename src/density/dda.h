@@ -56,6 +56,12 @@ typedef struct grid_dda_step {
  * n[0] x n[1] x n[2] cells. Returns false (and a finished iterator) when the ray misses. */
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax);
 
+/* The same walk restricted to the cells of the box [lo, hi) (0 <= lo < hi <= n per axis),
+ * e.g. the box of a grid's non-empty cells: the steps are those of grid_dda_begin that lie
+ * in the box. */
+bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int hi[3], vec3 o, vec3 d, double tmin,
+                        double tmax);
+
 /* Walks the same ray again over [t0, t1], a part of the interval g was begun with (an
  * empty-space skipper's jump): no clipping and no division. Returns false (and a finished
  * iterator) when the part is empty. g must come from a successful grid_dda_begin. */

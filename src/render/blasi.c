@@ -75,7 +75,7 @@ typedef struct blasi_medium {
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
     bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
-    box3 occupied;       /* voxel space: the box of the voxels with rho > 0 (walks start and end in it) */
+    int occ_lo[3], occ_hi[3]; /* the box of the voxels with rho > 0, [lo, hi) (all 0 if none) */
     int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
     unsigned char *occ;  /* per block: 1 if any of its voxels has rho > 0 */
 } blasi_medium;
@@ -135,9 +135,7 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
         const blasi_medium *bm = &st->m[0];
         vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
         if (!bm->skip) { /* a small grid: every voxel of the occupied box, empty ones cost a step */
-            double t0, t1;
-            w->live[0] = box3_intersect(bm->occupied, (ray){o, d, r.time}, 0.0, tmax, &t0, &t1) &&
-                         grid_dda_begin(&w->dda[0], bm->n, o, d, t0, t1);
+            w->live[0] = bm->occ_hi[0] > 0 && grid_dda_begin_box(&w->dda[0], bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
             w->blocks_live = false;
             return;
         }
@@ -435,12 +433,13 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
             t_end = h.t;
         double target = sample_exponential(rng_next(g), 1.0); /* Eq. 11: scatter where the depth reaches this */
         double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
-        color D = col(0.0), lim;
-        if (w.c[0] == w.c[1] && w.c[1] == w.c[2] && w.c[0] > 0.0) /* grey: one log */
-            lim = col(log(w.c[0] / w_stop));
-        else
-            for (int c = 0; c < 3; c++)
-                lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+        /* The stop test D > lim = log(w / w_stop) per channel, with the logs taken only when
+         * D passes their lower bound 1 - w_stop / w (log x >= 1 - 1/x): most flights end
+         * long before. */
+        color D = col(0.0), lim = col(0.0), lim_lo;
+        bool lim_known = false;
+        for (int c = 0; c < 3; c++)
+            lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
         bool scattered = false;
         walk wk;
         piece pc;
@@ -510,8 +509,15 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
                 D.c[c] += kx.c[c] * dl;
             have_last = true;
             last = pc.v[0];
-            if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
-                return; /* the while condition: L_R > THRESHOLD */
+            if (D.c[0] > lim_lo.c[0] && D.c[1] > lim_lo.c[1] && D.c[2] > lim_lo.c[2]) {
+                if (!lim_known) {
+                    for (int c = 0; c < 3; c++)
+                        lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+                    lim_known = true;
+                }
+                if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
+                    return; /* the while condition: L_R > THRESHOLD */
+            }
         }
         if (scattered)
             continue;
@@ -537,14 +543,19 @@ static void pass1_batch(size_t task, int thread, void *user)
     out->emitted = 0.0;
     uint64_t nl = (uint64_t)s->nlights, b = job->wave0 + task;
     uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
+    /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl); found once per batch */
+    uint64_t l = (first * nl) / job->nrays;
+    while (l + 1 < nl && (l + 1) * job->nrays / nl <= first)
+        l++;
+    while (l > 0 && l * job->nrays / nl > first)
+        l--;
+    uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
     for (uint64_t i = first; i < end; i++) {
-        /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl) */
-        uint64_t l = (i * nl) / job->nrays;
-        while (l + 1 < nl && (l + 1) * job->nrays / nl <= i)
+        while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
-        while (l > 0 && l * job->nrays / nl > i)
-            l--;
-        uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
+            l0 = l1;
+            l1 = (l + 1) * job->nrays / nl;
+        }
         rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
         ray r;
         color W;
@@ -904,14 +915,20 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             break;
         }
         float *dst = st->rho + bm->offset;
-        bm->occupied = box3_empty();
+        bool any = false; /* occ_lo, occ_hi stay 0 (calloc) for an empty grid */
         for (int k = 0; k < bm->n[2]; k++)
             for (int j = 0; j < bm->n[1]; j++)
                 for (int i = 0; i < bm->n[0]; i++) {
                     float rho = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
                     *dst++ = rho;
-                    if (rho != 0.0f)
-                        bm->occupied = (box3){v3_min(bm->occupied.lo, v3(i, j, k)), v3_max(bm->occupied.hi, v3(i + 1, j + 1, k + 1))};
+                    if (rho != 0.0f) {
+                        const int c[3] = {i, j, k};
+                        for (int a = 0; a < 3; a++) {
+                            bm->occ_lo[a] = !any || c[a] < bm->occ_lo[a] ? c[a] : bm->occ_lo[a];
+                            bm->occ_hi[a] = !any || c[a] + 1 > bm->occ_hi[a] ? c[a] + 1 : bm->occ_hi[a];
+                        }
+                        any = true;
+                    }
                     if (rho != 0.0f)
                         bm->occ[(size_t)(i / BLASI_BLOCK) +
                                 (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
