@@ -1,7 +1,11 @@
 /* harness.c - runs the cases of one test executable (see test.h). */
 #include "test.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 int test_run(const test_case *cases, int ncases, int argc, char **argv)
@@ -78,4 +82,83 @@ void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se
     }
     *mean = s / n;
     *se = sqrt(fmax(s2 / n - *mean * *mean, 1e-12) / n);
+}
+
+void test_write_file(const char *path, const char *text)
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp)
+        TEST_FAIL("cannot write %s", path);
+    fputs(text, fp);
+    fclose(fp);
+}
+
+double test_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void test_sleep(double s)
+{
+    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    nanosleep(&ts, NULL);
+}
+
+/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
+static pid_t children[64];
+static int nchildren;
+
+static void kill_children(void)
+{
+    for (int i = 0; i < nchildren; i++)
+        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
+            kill(children[i], SIGKILL);
+            waitpid(children[i], NULL, 0);
+        }
+}
+
+int test_spawn(const char *exe, const char *args, const char *err_path)
+{
+    static char buf[4096];
+    snprintf(buf, sizeof buf, "%s", args);
+    char *argv[64];
+    int n = 0;
+    argv[n++] = (char *)exe;
+    for (char *tok = strtok(buf, " "); tok && n < 63; tok = strtok(NULL, " "))
+        argv[n++] = tok;
+    argv[n] = NULL;
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0)
+        TEST_FAIL("fork failed");
+    if (pid == 0) {
+        int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(out, 1);
+        dup2(err, 2);
+        execv(exe, argv);
+        _exit(127);
+    }
+    if (nchildren == 0)
+        atexit(kill_children);
+    if (nchildren < 64)
+        children[nchildren++] = pid;
+    return (int)pid;
+}
+
+int test_wait_exit(int pid, double timeout)
+{
+    double t0 = test_now();
+    for (;;) {
+        int status = 0;
+        if (waitpid(pid, &status, WNOHANG) == pid)
+            return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        if (test_now() - t0 > timeout) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            return -1;
+        }
+        test_sleep(0.01);
+    }
 }

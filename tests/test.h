@@ -31,6 +31,18 @@ char *test_slurp(const char *path, size_t *n);
 void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se);
 /* 1 if the path names an existing file or folder. */
 int test_exists(const char *path);
+/* Writes text to path (the test fails if it cannot). */
+void test_write_file(const char *path, const char *text);
+/* Monotonic seconds, and a sleep of s seconds. */
+double test_now(void);
+void test_sleep(double s);
+/* Starts exe with args split on spaces (argv[0] = exe), stdout to /dev/null, stderr to
+ * err_path; returns its pid. Children still running when the test process exits (a failed
+ * assertion exits) are killed then. */
+int test_spawn(const char *exe, const char *args, const char *err_path);
+/* The exit status of pid within timeout seconds (128 + the signal if killed), or -1 after
+ * killing it when it did not end. */
+int test_wait_exit(int pid, double timeout);
 
 #define TEST(name) static void name(void)
 

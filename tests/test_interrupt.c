@@ -23,19 +23,6 @@ static const char scene_json[] =
     "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],\n"
     " \"render\": {\"width\": 48, \"height\": 32, \"spp\": 256, \"max_depth\": 16}}\n";
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void sleep_s(double s)
-{
-    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
-    nanosleep(&ts, NULL);
-}
-
 /* A fresh folder for one test. */
 static const char *fresh_dir(const char *name)
 {
@@ -47,83 +34,9 @@ static const char *fresh_dir(const char *name)
     return dir;
 }
 
-static void write_file(const char *path, const char *text)
-{
-    FILE *fp = fopen(path, "w");
-    ASSERT_TRUE(fp != NULL);
-    fputs(text, fp);
-    fclose(fp);
-}
-
-/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
-static pid_t children[64];
-static int nchildren;
-
-static void kill_children(void)
-{
-    for (int i = 0; i < nchildren; i++)
-        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
-            kill(children[i], SIGKILL);
-            waitpid(children[i], NULL, 0);
-        }
-}
-
-static void track_child(pid_t pid)
-{
-    if (nchildren == 0)
-        atexit(kill_children);
-    if (nchildren < 64)
-        children[nchildren++] = pid;
-}
-
-/* Starts `brume ARGS` (split on spaces), stdout to /dev/null, stderr to err_path. */
-static pid_t spawn(const char *args, const char *err_path)
-{
-    static char buf[4096];
-    snprintf(buf, sizeof buf, "%s", args);
-    char *argv[64];
-    int n = 0;
-    argv[n++] = (char *)BRUME_EXE;
-    for (char *tok = strtok(buf, " "); tok && n < 63; tok = strtok(NULL, " "))
-        argv[n++] = tok;
-    argv[n] = NULL;
-    fflush(NULL);
-    pid_t pid = fork();
-    ASSERT_TRUE(pid >= 0);
-    if (pid > 0)
-        track_child(pid);
-    if (pid == 0) {
-        int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(out, 1);
-        dup2(err, 2);
-        execv(BRUME_EXE, argv);
-        _exit(127);
-    }
-    return pid;
-}
-
-/* The exit status of pid within `timeout` seconds (128 + signal if killed), or -1 after
- * killing it when it did not end. */
-static int wait_exit(pid_t pid, double timeout)
-{
-    double t0 = now();
-    for (;;) {
-        int status = 0;
-        pid_t r = waitpid(pid, &status, WNOHANG);
-        if (r == pid)
-            return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        if (now() - t0 > timeout) {
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            return -1;
-        }
-        sleep_s(0.01);
-    }
-}
-
 static int run(const char *args, const char *err_path)
 {
-    return wait_exit(spawn(args, err_path), 300.0);
+    return test_wait_exit(test_spawn(BRUME_EXE, args, err_path), 300.0);
 }
 
 /* Number of temporary files (".NAME.tmp-XXXXXX", ".brume-probe-*") left in dir. */
@@ -175,14 +88,14 @@ TEST(signal_writes_partial_image)
         snprintf(scene, sizeof scene, "%s/scene.json", dir);
         snprintf(out, sizeof out, "%s/out.exr", dir);
         snprintf(err, sizeof err, "%s/err.txt", dir);
-        write_file(scene, scene_json);
+        test_write_file(scene, scene_json);
         snprintf(args, sizeof args, "render %s --spp 1000000 --threads 2 --aov samples -o %s", scene, out);
-        pid_t pid = spawn(args, err);
-        sleep_s(1.5);
-        double t0 = now();
+        pid_t pid = test_spawn(BRUME_EXE, args, err);
+        test_sleep(1.5);
+        double t0 = test_now();
         kill(pid, sigs[k]);
-        int rc = wait_exit(pid, 30.0);
-        double took = now() - t0;
+        int rc = test_wait_exit(pid, 30.0);
+        double took = test_now() - t0;
         fprintf(stderr, "signal %d: exit %d after %.2f s\n", sigs[k], rc, took);
         ASSERT_EQ_INT(rc, 128 + sigs[k]);
         ASSERT_TRUE(took < 5.0);
@@ -215,15 +128,15 @@ TEST(second_sigint_ends_at_once)
     snprintf(scene, sizeof scene, "%s/scene.json", dir);
     snprintf(out, sizeof out, "%s/out.png", dir);
     snprintf(err, sizeof err, "%s/err.txt", dir);
-    write_file(scene, scene_json);
+    test_write_file(scene, scene_json);
     for (int k = 0; k < 3; k++) {
         snprintf(args, sizeof args, "render %s --spp 1000000 -o %s --checkpoint %s/ck", scene, out, dir);
-        pid_t pid = spawn(args, err);
-        sleep_s(0.8 + 0.3 * k);
+        pid_t pid = test_spawn(BRUME_EXE, args, err);
+        test_sleep(0.8 + 0.3 * k);
         kill(pid, SIGINT);
-        sleep_s(0.002 * k);
+        test_sleep(0.002 * k);
         kill(pid, SIGINT);
-        int rc = wait_exit(pid, 10.0);
+        int rc = test_wait_exit(pid, 10.0);
         ASSERT_EQ_INT(rc, 130);
         ASSERT_EQ_INT(temporaries(dir), 0);
         if (test_exists(out)) {
@@ -243,16 +156,16 @@ TEST(sequence_keeps_finished_frames)
     char scene[400], err[400], args[8192], frame[600];
     snprintf(scene, sizeof scene, "%s/scene.json", dir);
     snprintf(err, sizeof err, "%s/err.txt", dir);
-    write_file(scene, scene_json);
+    test_write_file(scene, scene_json);
     snprintf(args, sizeof args, "render %s --spp 64 --frames 0-99 -o %s/frames/f_%%02d.pfm", scene, dir);
-    pid_t pid = spawn(args, err);
+    pid_t pid = test_spawn(BRUME_EXE, args, err);
     snprintf(frame, sizeof frame, "%s/frames/f_02.pfm", dir);
-    double t0 = now();
-    while (!test_exists(frame) && now() - t0 < 60.0)
-        sleep_s(0.02);
+    double t0 = test_now();
+    while (!test_exists(frame) && test_now() - t0 < 60.0)
+        test_sleep(0.02);
     ASSERT_TRUE(test_exists(frame));
     kill(pid, SIGINT);
-    ASSERT_EQ_INT(wait_exit(pid, 30.0), 130);
+    ASSERT_EQ_INT(test_wait_exit(pid, 30.0), 130);
     int whole = 0;
     for (int f = 0; f < 100; f++) {
         snprintf(frame, sizeof frame, "%s/frames/f_%02d.pfm", dir, f);
@@ -282,16 +195,16 @@ TEST(resume_is_byte_identical)
     snprintf(scene, sizeof scene, "%s/scene.json", dir);
     snprintf(err, sizeof err, "%s/err.txt", dir);
     snprintf(ck, sizeof ck, "%s/render.ckpt", dir);
-    write_file(scene, scene_json);
+    test_write_file(scene, scene_json);
     const char *common = "--noise 0.012 --min-spp 8 --spp 65536 --aov samples,variance";
     char ref1[400];
     snprintf(ref1, sizeof ref1, "%s/ref1.exr", dir);
     for (int threads = 1; threads <= 2; threads++) {
         snprintf(ref, sizeof ref, "%s/ref%d.exr", dir, threads);
         snprintf(args, sizeof args, "render %s %s --threads %d -o %s", scene, common, threads, ref);
-        double t0 = now();
+        double t0 = test_now();
         ASSERT_EQ_INT(run(args, err), 0);
-        double D = now() - t0;
+        double D = test_now() - t0;
         fprintf(stderr, "%d thread(s): uninterrupted render %.2f s\n", threads, D);
         if (threads == 2)
             ASSERT_TRUE(same_file(ref, ref1));
@@ -302,10 +215,10 @@ TEST(resume_is_byte_identical)
             remove(ck);
             snprintf(args, sizeof args, "render %s %s --threads %d -o %s --checkpoint %s", scene, common, threads, out,
                      ck);
-            pid_t pid = spawn(args, err);
-            sleep_s(cuts[c] * D);
+            pid_t pid = test_spawn(BRUME_EXE, args, err);
+            test_sleep(cuts[c] * D);
             kill(pid, SIGINT);
-            int rc = wait_exit(pid, 60.0);
+            int rc = test_wait_exit(pid, 60.0);
             if (rc == 0) { /* finished before the signal: nothing to resume */
                 ASSERT_TRUE(same_file(ref, out));
                 continue;
@@ -316,10 +229,10 @@ TEST(resume_is_byte_identical)
             if (c == 1) { /* interrupted twice */
                 snprintf(args, sizeof args, "render %s %s --threads %d -o %s --resume %s --checkpoint %s", scene, common,
                          3 - threads, out, ck, ck);
-                pid = spawn(args, err);
-                sleep_s(0.2 * D);
+                pid = test_spawn(BRUME_EXE, args, err);
+                test_sleep(0.2 * D);
                 kill(pid, SIGINT);
-                rc = wait_exit(pid, 60.0);
+                rc = test_wait_exit(pid, 60.0);
                 ASSERT_TRUE(rc == 130 || rc == 0);
             }
             if (test_exists(ck)) {
@@ -350,17 +263,17 @@ TEST(bad_checkpoints_refused)
     snprintf(out, sizeof out, "%s/out.pfm", dir);
     snprintf(ck, sizeof ck, "%s/render.ckpt", dir);
     snprintf(bad, sizeof bad, "%s/bad.ckpt", dir);
-    write_file(scene, scene_json);
-    write_file(scene2, scene_json);
+    test_write_file(scene, scene_json);
+    test_write_file(scene2, scene_json);
     FILE *fp = fopen(scene2, "a");
     fputs(" ", fp); /* another file's bytes */
     fclose(fp);
     snprintf(args, sizeof args, "render %s --spp 1000000 -o %s --checkpoint %s", scene, out, ck);
-    pid_t pid = spawn(args, err);
-    sleep_s(1.0);
+    pid_t pid = test_spawn(BRUME_EXE, args, err);
+    test_sleep(1.0);
     kill(pid, SIGINT);
-    ASSERT_EQ_INT(wait_exit(pid, 30.0), 130);
-    write_file(out, "previous output");
+    ASSERT_EQ_INT(test_wait_exit(pid, 30.0), 130);
+    test_write_file(out, "previous output");
     size_t n;
     char *bytes = test_slurp(ck, &n);
     struct {
@@ -412,7 +325,7 @@ TEST(outputs_checked_before_rendering)
     char err[400], args[8192], path[400];
     snprintf(err, sizeof err, "%s/err.txt", dir);
     snprintf(path, sizeof path, "%s/file", dir);
-    write_file(path, "a file, not a folder");
+    test_write_file(path, "a file, not a folder");
     struct {
         const char *o, *extra, *needle;
         int rc;
@@ -429,9 +342,9 @@ TEST(outputs_checked_before_rendering)
             snprintf(extra, sizeof extra, "%s", cases[k].extra);
         snprintf(args, sizeof args, "render --spp 16777216 --width 4000 --height 4000 %s -o %s/%s", extra, dir,
                  cases[k].o);
-        double t0 = now();
-        ASSERT_EQ_INT(wait_exit(spawn(args, err), 20.0), cases[k].rc);
-        fprintf(stderr, "%s: refused in %.2f s\n", cases[k].o, now() - t0);
+        double t0 = test_now();
+        ASSERT_EQ_INT(test_wait_exit(test_spawn(BRUME_EXE, args, err), 20.0), cases[k].rc);
+        fprintf(stderr, "%s: refused in %.2f s\n", cases[k].o, test_now() - t0);
         assert_one_line(err, cases[k].needle);
     }
     snprintf(args, sizeof args, "render --spp 1 --width 8 --height 8 --quiet -o %s/a/b/c.png", dir);
@@ -461,7 +374,7 @@ TEST(budgets_on_the_command_line)
     }
     ASSERT_TRUE(!test_exists(out));
     /* constant absorbing fog: Bernoulli samples, relative error sqrt((1 - T) / (T n)) */
-    write_file(scene, "{\"camera\": {\"position\": [0, 0, 10], \"look_at\": [0, 0, 0], \"fov\": 5},"
+    test_write_file(scene, "{\"camera\": {\"position\": [0, 0, 10], \"look_at\": [0, 0, 0], \"fov\": 5},"
                       " \"background\": [2.0, 1.0, 0.5],"
                       " \"media\": [{\"sigma_a\": 0.5, \"sigma_s\": 0,"
                       "   \"density\": {\"type\": \"constant\", \"bounds\": [[-5, -5, -1], [5, 5, 1]]}}],"
@@ -480,9 +393,9 @@ TEST(budgets_on_the_command_line)
     ASSERT_TRUE(mean >= 0.85 * n_need && mean <= 1.35 * n_need);
     brume_image_release(img);
     snprintf(args, sizeof args, "render %s --time 0.5 -o %s", scene, out);
-    double t0 = now();
+    double t0 = test_now();
     ASSERT_EQ_INT(run(args, err), 0);
-    fprintf(stderr, "--time 0.5: %.2f s\n", now() - t0);
+    fprintf(stderr, "--time 0.5: %.2f s\n", test_now() - t0);
     ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
     ASSERT_TRUE(atoi(brume_image_attribute(img, "brume.spp_min")) >= 1);
     brume_image_release(img);

@@ -20,98 +20,14 @@
 static const char red_json[] = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
                                " \"background\": [1, 0, 0], \"render\": {\"width\": 96, \"height\": 64}}";
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void sleep_s(double s)
-{
-    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
-    nanosleep(&ts, NULL);
-}
-
-static void write_file(const char *path, const char *text)
-{
-    FILE *fp = fopen(path, "w");
-    ASSERT_TRUE(fp != NULL);
-    fputs(text, fp);
-    fclose(fp);
-}
-
-/* Children still running when a test fails (TEST_FAIL exits) are killed at exit. */
-static pid_t children[64];
-static int nchildren;
-
-static void kill_children(void)
-{
-    for (int i = 0; i < nchildren; i++)
-        if (children[i] > 0 && waitpid(children[i], NULL, WNOHANG) == 0) {
-            kill(children[i], SIGKILL);
-            waitpid(children[i], NULL, 0);
-        }
-}
-
-static void track_child(pid_t pid)
-{
-    if (nchildren == 0)
-        atexit(kill_children);
-    if (nchildren < 64)
-        children[nchildren++] = pid;
-}
-
-/* Starts argv[0] = exe with args split on spaces; stdout to /dev/null, stderr to err_path. */
-static pid_t spawn(const char *exe, const char *args, const char *err_path)
-{
-    static char buf[4096];
-    snprintf(buf, sizeof buf, "%s", args);
-    char *argv[64];
-    int n = 0;
-    argv[n++] = (char *)exe;
-    for (char *tok = strtok(buf, " "); tok && n < 63; tok = strtok(NULL, " "))
-        argv[n++] = tok;
-    argv[n] = NULL;
-    fflush(NULL);
-    pid_t pid = fork();
-    ASSERT_TRUE(pid >= 0);
-    if (pid > 0)
-        track_child(pid);
-    if (pid == 0) {
-        int out = open("/dev/null", O_WRONLY), err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(out, 1);
-        dup2(err, 2);
-        execv(exe, argv);
-        _exit(127);
-    }
-    return pid;
-}
-
-static int wait_exit(pid_t pid, double timeout)
-{
-    double t0 = now();
-    for (;;) {
-        int status = 0;
-        if (waitpid(pid, &status, WNOHANG) == pid)
-            return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        if (now() - t0 > timeout) {
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            return -1;
-        }
-        sleep_s(0.01);
-    }
-}
-
 /* The port from "live view at http://127.0.0.1:PORT/" in err_path, waiting up to 60 s. */
 static int wait_port(const char *err_path, pid_t pid)
 {
-    double t0 = now();
-    while (now() - t0 < 60.0) {
+    double t0 = test_now();
+    while (test_now() - t0 < 60.0) {
         size_t n;
         if (!test_exists(err_path)) { /* the child has not opened it yet */
-            sleep_s(0.01);
+            test_sleep(0.01);
             continue;
         }
         char *text = test_slurp(err_path, &n);
@@ -123,7 +39,7 @@ static int wait_port(const char *err_path, pid_t pid)
         int status;
         if (waitpid(pid, &status, WNOHANG) == pid)
             TEST_FAIL("brume ended before serving");
-        sleep_s(0.05);
+        test_sleep(0.05);
     }
     TEST_FAIL("no live view announced on stderr");
 }
@@ -195,14 +111,14 @@ TEST(endpoints)
     char out[512], args[2048];
     snprintf(out, sizeof out, "%s", test_tmp_path("serve-out.png"));
     remove(out);
-    write_file(scene, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+    test_write_file(scene, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
                       " \"background\": [0.3, 0.45, 0.8],"
                       " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, -0.7, -0.5], \"irradiance\": 3.0}],"
                       " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 6,"
                       "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 16, \"seed\": 5}}],"
                       " \"render\": {\"width\": 48, \"height\": 32, \"max_depth\": 16}}");
     snprintf(args, sizeof args, "render %s --noise 0.03 --serve 127.0.0.1:0 -o %s", scene, out);
-    pid_t pid = spawn(BRUME_EXE, args, err);
+    pid_t pid = test_spawn(BRUME_EXE, args, err);
     int port = wait_port(err, pid);
     response r = http(port, "GET", "/");
     ASSERT_EQ_INT(r.status, 200);
@@ -212,9 +128,9 @@ TEST(endpoints)
     ASSERT_CONTAINS(r.body, "/status.json");
     response_free(&r);
     /* status until finished */
-    double t0 = now();
+    double t0 = test_now();
     bool finished = false;
-    while (!finished && now() - t0 < 120.0) {
+    while (!finished && test_now() - t0 < 120.0) {
         r = http(port, "GET", "/status.json");
         ASSERT_EQ_INT(r.status, 200);
         ASSERT_CONTAINS(r.head, "application/json");
@@ -226,13 +142,13 @@ TEST(endpoints)
             fprintf(stderr, "status: %s", r.body);
         response_free(&r);
         if (!finished)
-            sleep_s(0.1);
+            test_sleep(0.1);
     }
     ASSERT_TRUE(finished);
     /* the final image is written, and served as the same PNG */
-    t0 = now();
-    while (!test_exists(out) && now() - t0 < 30.0)
-        sleep_s(0.05);
+    t0 = test_now();
+    while (!test_exists(out) && test_now() - t0 < 30.0)
+        test_sleep(0.05);
     r = http(port, "GET", "/image.png");
     ASSERT_EQ_INT(r.status, 200);
     ASSERT_CONTAINS(r.head, "image/png");
@@ -258,10 +174,10 @@ TEST(endpoints)
     /* still serving; Ctrl-C ends it, with success: the render was complete */
     ASSERT_TRUE(waitpid(pid, NULL, WNOHANG) == 0);
     kill(pid, SIGINT);
-    ASSERT_EQ_INT(wait_exit(pid, 10.0), 0);
+    ASSERT_EQ_INT(test_wait_exit(pid, 10.0), 0);
     /* --serve-exit: ends by itself once the image is written */
     snprintf(args, sizeof args, "render %s --spp 4 --serve 127.0.0.1:0 --serve-exit -o %s", scene, out);
-    ASSERT_EQ_INT(wait_exit(spawn(BRUME_EXE, args, err), 60.0), 0);
+    ASSERT_EQ_INT(test_wait_exit(test_spawn(BRUME_EXE, args, err), 60.0), 0);
     remove(out);
     remove(scene);
     remove(err);
@@ -275,7 +191,7 @@ static void refused(const char *serve, const char *needle)
     snprintf(out, sizeof out, "%s", test_tmp_path("never.png"));
     remove(out);
     snprintf(args, sizeof args, "render --spp 16777216 --serve %s -o %s", serve, out);
-    ASSERT_EQ_INT(wait_exit(spawn(BRUME_EXE, args, err), 30.0), 1);
+    ASSERT_EQ_INT(test_wait_exit(test_spawn(BRUME_EXE, args, err), 30.0), 1);
     size_t n;
     char *msg = test_slurp(err, &n);
     fprintf(stderr, "--serve %s: %s", serve, msg);
@@ -325,19 +241,19 @@ TEST(browser_shows_the_image)
     snprintf(out, sizeof out, "%s", test_tmp_path("red.png"));
     snprintf(shot, sizeof shot, "%s", test_tmp_path("screenshot.png"));
     snprintf(profile, sizeof profile, "%s", test_tmp_path("chromium-profile"));
-    write_file(scene, red_json);
+    test_write_file(scene, red_json);
     remove(shot);
     snprintf(args, sizeof args, "render %s --spp 2 --serve 127.0.0.1:0 -o %s", scene, out);
-    pid_t pid = spawn(BRUME_EXE, args, err);
+    pid_t pid = test_spawn(BRUME_EXE, args, err);
     int port = wait_port(err, pid);
     snprintf(args, sizeof args,
              "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=%s "
              "--window-size=640,480 --virtual-time-budget=5000 --screenshot=%s http://127.0.0.1:%d/",
              profile, shot, port);
     const char *cerr = test_tmp_path("chromium-err.txt");
-    int rc = wait_exit(spawn(chromium, args, cerr), 180.0);
+    int rc = test_wait_exit(test_spawn(chromium, args, cerr), 180.0);
     kill(pid, SIGINT);
-    ASSERT_EQ_INT(wait_exit(pid, 10.0), 0);
+    ASSERT_EQ_INT(test_wait_exit(pid, 10.0), 0);
     if (rc != 0) {
         size_t n;
         char *msg = test_slurp(cerr, &n);

@@ -2,14 +2,13 @@
 #include "io/chart.h"
 
 #include <cairo.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "core/vec.h"
+#include "io/atomic.h"
 
 #define PANEL_W 460
 #define PANEL_H 340
@@ -19,7 +18,9 @@ static const double palette[8][3] = {{0.10, 0.25, 0.60}, {0.85, 0.33, 0.10}, {0.
                                      {0.60, 0.20, 0.60}, {0.75, 0.60, 0.05}, {0.10, 0.60, 0.70},
                                      {0.45, 0.45, 0.45}, {0.80, 0.10, 0.30}};
 
-static void text_at(cairo_t *cr, double x, double y, const char *s, double align)
+const double *chart_color(int i) { return palette[(unsigned)i % 8u]; }
+
+void chart_text(cairo_t *cr, double x, double y, const char *s, double align)
 {
     cairo_text_extents_t e;
     cairo_text_extents(cr, s, &e);
@@ -81,7 +82,7 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
     char label[64];
     cairo_set_font_size(cr, 12.0);
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-    text_at(cr, 0.5 * (left + right), y0 + 15.0, p->title ? p->title : "", 0.5);
+    chart_text(cr, 0.5 * (left + right), y0 + 15.0, p->title ? p->title : "", 0.5);
     cairo_set_font_size(cr, 10.5);
     cairo_set_line_width(cr, 1.0);
     cairo_set_dash(cr, NULL, 0, 0.0);
@@ -94,7 +95,7 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(label, sizeof label, "%g", fabs(v) < 1e-12 * xs ? 0.0 : v);
-        text_at(cr, x, bottom + 14.0, label, 0.5);
+        chart_text(cr, x, bottom + 14.0, label, 0.5);
     }
     for (double v = ceil(ylo / ys) * ys; v <= yhi + 1e-9 * ys; v += ys) {
         double y = bottom - (bottom - top) * (v - ylo) / (yhi - ylo);
@@ -104,14 +105,14 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(label, sizeof label, "%g", fabs(v) < 1e-12 * ys ? 0.0 : v);
-        text_at(cr, left - 4.0, y + 4.0, label, 1.0);
+        chart_text(cr, left - 4.0, y + 4.0, label, 1.0);
     }
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    text_at(cr, 0.5 * (left + right), bottom + 30.0, p->xlabel ? p->xlabel : "", 0.5);
+    chart_text(cr, 0.5 * (left + right), bottom + 30.0, p->xlabel ? p->xlabel : "", 0.5);
     cairo_save(cr);
     cairo_move_to(cr, x0 + 14.0, 0.5 * (top + bottom));
     cairo_rotate(cr, -PI / 2.0);
-    text_at(cr, 0.0, 0.0, p->ylabel ? p->ylabel : "", 0.5);
+    chart_text(cr, 0.0, 0.0, p->ylabel ? p->ylabel : "", 0.5);
     cairo_restore(cr);
     cairo_rectangle(cr, left, top, right - left, bottom - top);
     cairo_stroke(cr);
@@ -167,9 +168,37 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
             cairo_stroke(cr);
         }
         cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-        text_at(cr, right - 132.0, ly, s->label, 0.0);
+        chart_text(cr, right - 132.0, ly, s->label, 0.0);
         ly += 14.0;
     }
+}
+
+static cairo_status_t png_to_file(void *closure, const unsigned char *data, unsigned int length)
+{
+    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+}
+
+brume_status chart_write_png(cairo_surface_t *s, cairo_t *cr, const char *path)
+{
+    cairo_status_t cst = cairo_status(cr);
+    cairo_destroy(cr);
+    if (cst != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(s);
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: drawing failed: %s", path, cairo_status_to_string(cst));
+    }
+    atomic_file f;
+    brume_status st = atomic_open(&f, path);
+    if (st != BRUME_OK) {
+        cairo_surface_destroy(s);
+        return st;
+    }
+    cst = cairo_surface_write_to_png_stream(s, png_to_file, f.fp);
+    cairo_surface_destroy(s);
+    if (cst != CAIRO_STATUS_SUCCESS) {
+        atomic_abort(&f);
+        return err_set(BRUME_ERROR_IO, "%s: cannot write: %s", path, cairo_status_to_string(cst));
+    }
+    return atomic_commit(&f);
 }
 
 brume_status chart_png(const char *path, const char *title, int npanels, const chart_panel *panels)
@@ -184,30 +213,8 @@ brume_status chart_png(const char *path, const char *title, int npanels, const c
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 13.5);
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-    text_at(cr, 10.0, 19.0, title ? title : "", 0.0);
+    chart_text(cr, 10.0, 19.0, title ? title : "", 0.0);
     for (int i = 0; i < npanels; i++)
         draw_panel(cr, &panels[i], (double)i * PANEL_W, TITLE_H);
-    cairo_status_t cst = cairo_status(cr);
-    cairo_destroy(cr);
-    if (cst != CAIRO_STATUS_SUCCESS) {
-        cairo_surface_destroy(s);
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: drawing failed: %s", path, cairo_status_to_string(cst));
-    }
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp) {
-        cairo_surface_destroy(s);
-        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
-    }
-    cst = cairo_surface_write_to_png(s, tmp);
-    cairo_surface_destroy(s);
-    if (cst != CAIRO_STATUS_SUCCESS) {
-        remove(tmp);
-        return err_set(BRUME_ERROR_IO, "%s: cannot write: %s", path, cairo_status_to_string(cst));
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        return err_set(BRUME_ERROR_IO, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
-    }
-    return BRUME_OK;
+    return chart_write_png(s, cr, path);
 }

@@ -2,12 +2,11 @@
 #include "phase/phase_plot.h"
 
 #include <cairo.h>
-#include <errno.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "core/error.h"
+#include "io/chart.h"
 
 #define PLOT_WIDTH 900
 #define ROW_HEIGHT 300 /* panels */
@@ -20,10 +19,6 @@ static double plot_phi(const phase *p, double theta) { return 4.0 * PI * phase_e
 
 /* The value plotted for phi: itself, or its decimal log. */
 static double plot_value(double phi, bool log_scale) { return log_scale ? log10(fmax(phi, 1e-300)) : phi; }
-
-static const double overlay_palette[8][3] = {{0.10, 0.25, 0.60}, {0.85, 0.33, 0.10}, {0.20, 0.60, 0.25},
-                                             {0.60, 0.20, 0.60}, {0.75, 0.60, 0.05}, {0.10, 0.60, 0.70},
-                                             {0.45, 0.45, 0.45}, {0.80, 0.10, 0.30}};
 
 /* The curves of a row: truth and approx, or the overlay's. */
 static int row_count(const phase_plot_row *row) { return row->ncurves > 0 ? row->ncurves : 2; }
@@ -43,7 +38,7 @@ static void set_style(cairo_t *cr, const phase_plot_row *row, int c)
         return;
     }
     static const double dash[] = {7.0, 4.0};
-    const double *rgb = overlay_palette[c % 8];
+    const double *rgb = chart_color(c);
     bool d = row->dashed && row->dashed[c];
     cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
     cairo_set_dash(cr, d ? dash : NULL, d ? 2 : 0, 0.0);
@@ -61,14 +56,6 @@ static void set_color(cairo_t *cr, int approx)
         cairo_set_dash(cr, NULL, 0, 0.0);
     }
     cairo_set_line_width(cr, 1.8);
-}
-
-static void draw_text(cairo_t *cr, double x, double y, const char *s, double align)
-{
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, s, &e);
-    cairo_move_to(cr, x - align * e.x_advance, y);
-    cairo_show_text(cr, s);
 }
 
 /* The range [*lo, *hi] of plot_value over the curves of one row. */
@@ -152,7 +139,7 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
     }
     cairo_set_dash(cr, NULL, 0, 0.0);
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-    draw_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, log_scale ? "polar, log10 phi" : "polar", 0.0);
+    chart_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, log_scale ? "polar, log10 phi" : "polar", 0.0);
 }
 
 /* phi against theta in degrees, in [x0, x0 + w] x [y0, y0 + ROW_HEIGHT]. */
@@ -182,9 +169,9 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(label, sizeof label, "%d", a);
-        draw_text(cr, x, bottom + 15.0, label, 0.5);
+        chart_text(cr, x, bottom + 15.0, label, 0.5);
     }
-    draw_text(cr, 0.5 * (left + right), bottom + 28.0, "scattering angle (degrees)", 0.5);
+    chart_text(cr, 0.5 * (left + right), bottom + 28.0, "scattering angle (degrees)", 0.5);
     /* Value grid: decades on a log scale, about five round steps otherwise. */
     double step = log_scale ? 1.0 : pow(10.0, floor(log10(hi / 5.0)));
     if (!log_scale && hi / step > 10.0)
@@ -197,7 +184,7 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(label, sizeof label, "%g", log_scale ? pow(10.0, v) : v);
-        draw_text(cr, left - 4.0, y + 4.0, label, 1.0);
+        chart_text(cr, left - 4.0, y + 4.0, label, 1.0);
     }
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
     cairo_rectangle(cr, left, top, right - left, bottom - top);
@@ -234,7 +221,7 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
         cairo_line_to(cr, right - 126.0, ly - 4.0);
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-        draw_text(cr, right - 120.0, ly, row->labels[c], 0.0);
+        chart_text(cr, right - 120.0, ly, row->labels[c], 0.0);
         ly += 14.0;
     }
 }
@@ -254,33 +241,10 @@ brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows,
         double y0 = i * (ROW_HEIGHT + TITLE_HEIGHT) + 4.0;
         cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
         cairo_set_font_size(cr, 13.0);
-        draw_text(cr, 8.0, y0 + 16.0, rows[i].title ? rows[i].title : "", 0.0);
+        chart_text(cr, 8.0, y0 + 16.0, rows[i].title ? rows[i].title : "", 0.0);
         cairo_set_font_size(cr, 11.0);
         draw_polar(cr, &rows[i], log_scale, 0.0, y0 + TITLE_HEIGHT);
         draw_cartesian(cr, &rows[i], log_scale, POLAR_SIZE, y0 + TITLE_HEIGHT, PLOT_WIDTH - POLAR_SIZE);
     }
-    cairo_status_t cst = cairo_status(cr);
-    cairo_destroy(cr);
-    if (cst != CAIRO_STATUS_SUCCESS) {
-        cairo_surface_destroy(s);
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: drawing failed: %s", path, cairo_status_to_string(cst));
-    }
-    /* Atomic write: a temporary file in the same folder, renamed over path when whole. */
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp) {
-        cairo_surface_destroy(s);
-        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
-    }
-    cst = cairo_surface_write_to_png(s, tmp);
-    cairo_surface_destroy(s);
-    if (cst != CAIRO_STATUS_SUCCESS) {
-        remove(tmp);
-        return err_set(BRUME_ERROR_IO, "%s: cannot write: %s", path, cairo_status_to_string(cst));
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        return err_set(BRUME_ERROR_IO, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
-    }
-    return BRUME_OK;
+    return chart_write_png(s, cr, path);
 }
