@@ -2,6 +2,10 @@
 # run.sh - build one libFuzzer target (a grid reader, or the scene reader) with clang and run it briefly.
 # Usage: fuzz/run.sh FORMAT BUILD_DIR SECONDS   (FORMAT: raw df3 vol nvdb vdb, or scene)
 # FUZZ_RUNS=N runs N inputs instead of SECONDS (the long runs of docs/fuzzing.md).
+# FUZZ_TIMEOUT=S: the per-input time limit in wall-clock seconds (default 10, vdb 40); the long
+# runs share a loaded machine at low priority and use 60, reporting the slowest input.
+# FUZZ_ASAN=0 builds without AddressSanitizer (vdb only: its long run, where forking an ASan
+# process per input for the OpenVDB reader costs a second each; see docs/fuzzing.md).
 # Crashing inputs are saved as BUILD_DIR/fuzz/crash-FORMAT-*. Seeds: BUILD_DIR/fuzz/seeds/FORMAT (made by the fuzz_seeds program) and, for df3, raw
 # and vdb, the real files of ../shared/data. Exits 77 (ctest: skipped) without clang's
 # libFuzzer, or without OpenVDB for vdb.
@@ -30,6 +34,10 @@ if [ "$fmt" = scene ]; then
 elif [ "$fmt" = vdb ]; then
     # OpenVDB's TBB headers trip UBSan in their own code (concurrent_hash_map); ASan only
     flags=$(echo "$flags" | sed 's/,undefined//')
+    if [ "${FUZZ_ASAN:-1}" = 0 ]; then
+        flags=$(echo "$flags" | sed 's/,address//')
+        exe="$out/fuzz_vdb_noasan"
+    fi
     [ -f /usr/include/openvdb/openvdb.h ] && [ -f /usr/include/boost/numeric/conversion/conversion_traits.hpp ] ||
         { echo "fuzz: OpenVDB headers missing, skipped"; exit 77; }
     objs=""
@@ -71,6 +79,7 @@ if [ "$fmt" = vdb ]; then
     export ASAN_OPTIONS
     cp "$data/wdas_cloud_sixteenth.vdb" "$out/corpus-$fmt/"
 fi
+timeout=${FUZZ_TIMEOUT:-$timeout}
 runs="${FUZZ_RUNS:+-runs=$FUZZ_RUNS}"
 if [ -n "${FUZZ_RUNS:-}" ]; then
     secs=0

@@ -352,6 +352,96 @@ TEST(nanovdb_matches_dense)
     }
 }
 
+/* The per-thread lookup cache (the path to the last leaf, one slot per grid) gives the
+ * uncached values: lookups along rays at quarter-voxel steps (most share a leaf with the
+ * previous one, the trilinear stencil often straddles two leaves), alternating between ten
+ * NanoVDB grids, copies of two files on the same index box with different trees (the
+ * Disney cloud, and the same with a slab emptied: every leaf past the slab sits elsewhere
+ * in the buffer, so a leaf cached for one grid would give wrong values in the other), more
+ * grids than cache slots so slots are shared and retaken, one released and reloaded
+ * mid-way; each against the dense grid it was written from. */
+TEST(nanovdb_cached_lookups)
+{
+    if (!grid_have_openvdb())
+        return;
+    enum { COPIES = 10 };
+    density *src = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), NULL);
+    if (!src)
+        TEST_FAIL("%s", err_message());
+    density_info in;
+    density_get_info(src, &in);
+    const int *n = in.n;
+    const size_t cells = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+    char file[2][1024];
+    float *data[2];
+    for (int k = 0; k < 2; k++) {
+        snprintf(file[k], sizeof file[k], "%s", test_tmp_path(k ? "cache-b.nvdb" : "cache-a.nvdb"));
+        data[k] = malloc(cells * sizeof(float));
+        ASSERT_TRUE(data[k] != NULL);
+        for (int z = 0; z < n[2]; z++)
+            for (int y = 0; y < n[1]; y++)
+                for (int x = 0; x < n[0]; x++)
+                    data[k][(size_t)x + (size_t)n[0] * ((size_t)y + (size_t)n[1] * (size_t)z)] =
+                        k && x >= 40 && x < 60 ? 0.0f : (float)density_voxel(src, x, y, z);
+    }
+    density_release(src);
+    for (int f = 0; f < 2; f++) {
+        grid_filter filter = f ? GRID_TRILINEAR : GRID_NEAREST;
+        density *dense[2], *nano[COPIES];
+        for (int k = 0; k < 2; k++) {
+            float *copy = malloc(cells * sizeof(float));
+            ASSERT_TRUE(copy != NULL);
+            memcpy(copy, data[k], cells * sizeof(float));
+            dense[k] = density_new_grid_affine(n[0], n[1], n[2], copy, &in.voxel_to_world, filter);
+            if (!dense[k])
+                TEST_FAIL("%s", err_message());
+            if (f == 0)
+                ASSERT_TRUE(density_write_file(dense[k], file[k], GRID_FORMAT_NVDB) == BRUME_OK);
+        }
+        density_load_options o;
+        density_load_options_default(&o);
+        o.filter = filter;
+        for (int c = 0; c < COPIES; c++) {
+            nano[c] = density_load_file(file[c % 2], &o);
+            if (!nano[c])
+                TEST_FAIL("%s", err_message());
+            ASSERT_EQ_INT(density_get_kind(nano[c]), DENSITY_NANOVDB);
+        }
+        box3 bx = density_bounds(dense[0]);
+        vec3 ext = v3_sub(bx.hi, bx.lo), mid = v3_scale(v3_add(bx.lo, bx.hi), 0.5);
+        double step = 0.25 * ext.x / n[0];
+        rng g = rng_make(11, (uint64_t)f, 0);
+        long count = 0, nonzero = 0;
+        for (int r = 0; r < 200; r++) {
+            if (r == 100) { /* a released grid's slot must not serve the grid loaded after it */
+                density_release(nano[3]);
+                nano[3] = density_load_file(file[1], &o);
+                if (!nano[3])
+                    TEST_FAIL("%s", err_message());
+            }
+            vec3 p = v3(bx.lo.x + ext.x * rng_next(&g), bx.lo.y + ext.y * rng_next(&g), bx.lo.z + ext.z * rng_next(&g));
+            vec3 d = v3_normalize(v3_sub(mid, p));
+            for (int k = 0; k < 2000; k++, count++) {
+                vec3 q = v3_madd(p, d, step * k);
+                int c = (k / 3 + r) % COPIES; /* a few lookups per grid, then the next */
+                double a = density_eval(nano[c], q), e = density_eval(dense[c % 2], q);
+                if (fabs(a - e) > 1e-6)
+                    TEST_FAIL("filter %d, ray %d, step %d, grid %d: cached NanoVDB %.9g, dense %.9g", f, r, k, c, a, e);
+                nonzero += a > 0;
+            }
+        }
+        ASSERT_TRUE(nonzero > count / 10);
+        for (int c = 0; c < COPIES; c++)
+            density_release(nano[c]);
+        density_release(dense[0]);
+        density_release(dense[1]);
+    }
+    free(data[0]);
+    free(data[1]);
+    unlink(file[0]);
+    unlink(file[1]);
+}
+
 /* Hierarchical majorants bound the field at random points of random rays, for both
  * filters, on the far-apart puffs and on the Disney cloud; and empty space is cheap: a ray
  * through both puffs (1200 voxels apart) takes few segments. */
@@ -824,4 +914,4 @@ TEST(gen_upres_and_fire)
 }
 
 TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense,
-          sparse_majorants_bound, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)
+          nanovdb_cached_lookups, sparse_majorants_bound, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)

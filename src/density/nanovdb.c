@@ -23,6 +23,7 @@
  * keeps one number. A second table marks the 4096^3 "regions" holding any block. Along a ray
  * three nested DDAs walk regions, blocks and leaf cells: space outside the tables is the
  * background's bound and costs one step per region, so nothing is dense over the bounding box. */
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -69,6 +70,7 @@ typedef struct block_entry {
 } block_entry;
 
 struct nanovdb_state {
+    uint64_t id;          /* unique for the process's lifetime: keys the per-thread accessors */
     nano_buffer *shared;
     pnanovdb_buf_t buf;
     pnanovdb_grid_type_t type;
@@ -156,33 +158,71 @@ static int32_t hash_insert(cell_hash *h, const int32_t k[3], int32_t v)
 
 /* ---- lookups ----------------------------------------------------------------------------- */
 
+/* Each thread keeps a read accessor per grid (NanoVDB's ReadAccessor: the path to the last
+ * leaf, lower and upper node), so that successive lookups along a ray, which mostly fall in
+ * the leaf of the previous one, skip the descent from the root. Slots are keyed by the
+ * grid's id, which is never reused, so a slot left by a released grid can never be taken for
+ * a live one; a collision between live grids only costs a descent. */
+#define NANO_ACC_SLOTS 8 /* power of two */
+typedef struct nano_acc_slot {
+    uint64_t id; /* 0: empty */
+    pnanovdb_readaccessor_t acc;
+} nano_acc_slot;
+static _Thread_local nano_acc_slot nano_acc_cache[NANO_ACC_SLOTS];
+static atomic_uint_fast64_t nano_next_id = 1;
+
+static inline pnanovdb_readaccessor_t *nano_accessor(const nanovdb_state *s)
+{
+    nano_acc_slot *slot = &nano_acc_cache[s->id & (NANO_ACC_SLOTS - 1)];
+    if (slot->id != s->id) {
+        slot->id = s->id;
+        pnanovdb_readaccessor_init(&slot->acc, s->root);
+    }
+    return &slot->acc;
+}
+
+static inline double nano_read(const nanovdb_state *s, pnanovdb_address_t a)
+{
+    return (double)pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, s->comp_off)) * s->scale;
+}
+
 static inline double nano_fetch(const nanovdb_state *s, pnanovdb_readaccessor_t *acc, int i, int j, int k)
 {
     pnanovdb_coord_t ijk = {i + s->bbmin[0], j + s->bbmin[1], k + s->bbmin[2]};
-    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address(s->type, s->buf, acc, &ijk);
-    return (double)pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, s->comp_off)) * s->scale;
+    return nano_read(s, pnanovdb_readaccessor_get_value_address(s->type, s->buf, acc, &ijk));
 }
 
 double nanovdb_voxel(const density *d, int i, int j, int k)
 {
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, d->nano->root);
-    return nano_fetch(d->nano, &acc, i, j, k);
+    return nano_fetch(d->nano, nano_accessor(d->nano), i, j, k);
 }
 
 /* u in voxel space, inside [0, n); same filters as the dense grid (grid.c). */
 double nanovdb_eval_voxel(const density *d, vec3 u)
 {
     const nanovdb_state *s = d->nano;
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, s->root);
+    pnanovdb_readaccessor_t *acc = nano_accessor(s);
     if (d->filter == GRID_NEAREST)
-        return nano_fetch(s, &acc, (int)u.x, (int)u.y, (int)u.z);
+        return nano_fetch(s, acc, (int)u.x, (int)u.y, (int)u.z);
     int ijk[3][2];
     double a[3], c[8];
     trilinear_corners(u, d->n, ijk, a);
+    pnanovdb_coord_t p0 = {ijk[0][0] + s->bbmin[0], ijk[1][0] + s->bbmin[1], ijk[2][0] + s->bbmin[2]};
+    if (ijk[0][1] == ijk[0][0] + 1 && ijk[1][1] == ijk[1][0] + 1 && ijk[2][1] == ijk[2][0] + 1 && (p0.x & 7) != 7 &&
+        (p0.y & 7) != 7 && (p0.z & 7) != 7) {
+        /* the 2 x 2 x 2 corners lie in one 8^3 leaf cell (two times in three): one descent,
+         * then the leaf's table (x slowest: offsets 64, 8, 1 values), or one tile value */
+        pnanovdb_uint32_t level;
+        pnanovdb_address_t a0 = pnanovdb_readaccessor_get_value_address_and_level(s->type, s->buf, acc, &p0, &level);
+        if (level != 0)
+            return nano_read(s, a0);
+        uint32_t v = PNANOVDB_GRID_TYPE_GET(s->type, value_stride_bits) >> 3;
+        for (int q = 0; q < 8; q++)
+            c[q] = nano_read(s, pnanovdb_address_offset(a0, v * (64u * (q & 1) + 8u * ((q >> 1) & 1) + (uint32_t)(q >> 2))));
+        return trilinear_blend(c, a);
+    }
     for (int q = 0; q < 8; q++)
-        c[q] = nano_fetch(s, &acc, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
+        c[q] = nano_fetch(s, acc, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
     return trilinear_blend(c, a);
 }
 
@@ -633,6 +673,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     d->kind = DENSITY_NANOVDB;
     d->filter = filter;
     d->nano = s;
+    s->id = atomic_fetch_add(&nano_next_id, 1);
     s->buf = b;
     s->type = type;
     s->root = root;

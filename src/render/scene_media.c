@@ -165,44 +165,16 @@ void brume_grid_file_options_default(brume_grid_file_options *o)
 /* The public grid file options as the loader's (err_set naming fn and the field). */
 static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out);
 
-brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
-                                brume_density **out)
+/* The count (1 or 3) fields of a grid file as public densities, within what the memory
+ * budget of a scene being read has left (core/budget.h). */
+static brume_status load_fields(brume_context *ctx, const char *fn, const char *path,
+                                const brume_grid_file_options *opts, int count, brume_density **out)
 {
-    static const char fn[] = "brume_density_load";
     err_clear();
     if (!out)
         return ctx_report(ctx, build_null(fn, "out"));
-    *out = NULL;
-    if (!path)
-        return ctx_report(ctx, build_null(fn, "path"));
-    density_load_options o;
-    brume_status st = file_options(fn, opts, &o);
-    if (st)
-        return ctx_report(ctx, st);
-    /* within what the memory budget of a scene being read has left (core/budget.h) */
-    size_t left = budget_left();
-    if (left < o.max_memory)
-        o.max_memory = left > 0 ? left : 1;
-    density *d = density_load_file(path, &o);
-    if (!d)
-        return ctx_report(ctx, err_status()); /* "PATH: reason" names the file */
-    density_info info;
-    density_get_info(d, &info);
-    if ((st = budget_take(info.memory_bytes, path)) != BRUME_OK) {
-        density_release(d);
-        return ctx_report(ctx, st);
-    }
-    return ctx_report(ctx, wrap(fn, d, false, out));
-}
-
-brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
-                                    brume_density **out)
-{
-    static const char fn[] = "brume_density_load_rgb";
-    err_clear();
-    if (!out)
-        return ctx_report(ctx, build_null(fn, "out"));
-    out[0] = out[1] = out[2] = NULL;
+    for (int c = 0; c < count; c++)
+        out[c] = NULL;
     if (!path)
         return ctx_report(ctx, build_null(fn, "path"));
     density_load_options o;
@@ -213,30 +185,42 @@ brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const 
     if (left < o.max_memory)
         o.max_memory = left > 0 ? left : 1;
     density *d[3];
-    if (!density_load_file_fields(path, &o, 3, d))
-        return ctx_report(ctx, err_status());
-    size_t bytes = 0; /* one shared buffer: count it once, and each component's majorants */
-    for (int c = 0; c < 3; c++) {
+    if (!density_load_file_fields(path, &o, count, d))
+        return ctx_report(ctx, err_status()); /* "PATH: reason" names the file */
+    size_t bytes = 0; /* a vec3 grid's components share one buffer: count it once, and each one's majorants */
+    for (int c = 0; c < count; c++) {
         density_info info;
         density_get_info(d[c], &info);
         bytes = c == 0 ? info.memory_bytes : bytes + info.memory_bytes - density_shared_bytes(d[c]);
     }
     if ((st = budget_take(bytes, path)) != BRUME_OK) {
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < count; c++)
             density_release(d[c]);
         return ctx_report(ctx, st);
     }
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < count; c++)
         if ((st = wrap(fn, d[c], false, &out[c])) != BRUME_OK) {
             for (int k = 0; k < c; k++) {
                 brume_density_release(out[k]);
                 out[k] = NULL;
             }
-            for (int k = c + 1; k < 3; k++)
+            for (int k = c + 1; k < count; k++)
                 density_release(d[k]);
             return ctx_report(ctx, st);
         }
     return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                brume_density **out)
+{
+    return load_fields(ctx, "brume_density_load", path, opts, 1, out);
+}
+
+brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                    brume_density **out)
+{
+    return load_fields(ctx, "brume_density_load_rgb", path, opts, 3, out);
 }
 
 static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out)
