@@ -59,27 +59,118 @@ static int brute_force(const int n[3], vec3 o, vec3 d, double tmin, double tmax,
     return count;
 }
 
+/* The DDA's steps against a reference list of cells (sorted by entry): the steps are
+ * contiguous and increasing, and every cell's overlap length agrees within tol (a cell the
+ * DDA omits or adds may be only that short), as does the total. dda.h states the bound:
+ * accumulated plane crossings, a few ulps per cell crossed; tol is 1e-9 of the ray's
+ * length in the grid, a million times that. */
+static void check_against(const int n[3], vec3 o, vec3 d, double tmin, double tmax, const hit *want, int nw)
+{
+    static hit got[1 << 16];
+    grid_dda g;
+    grid_dda_step s;
+    int ng = 0;
+    if (grid_dda_begin(&g, n, o, d, tmin, tmax))
+        while (grid_dda_next(&g, &s)) {
+            if (ng == (int)(sizeof got / sizeof got[0]))
+                TEST_FAIL("DDA: more than %d cells", ng);
+            if (ng > 0 && s.t0 != got[ng - 1].t1)
+                TEST_FAIL("DDA steps not contiguous: %.17g after %.17g", s.t0, got[ng - 1].t1);
+            if (!(s.t1 > s.t0))
+                TEST_FAIL("DDA step of length %g", s.t1 - s.t0);
+            got[ng++] = (hit){s.i, s.j, s.k, s.t0, s.t1};
+        }
+    double len = nw > 0 ? want[nw - 1].t1 - want[0].t0 : 0.0;
+    if (isinf(len)) /* a ray along a face with tmax infinite: compare the cells only */
+        len = 1.0;
+    double tol = 1e-9 * (len > 0.0 ? len : 1.0), sum_w = 0.0, sum_g = 0.0;
+    for (int a = 0; a < nw; a++)
+        sum_w += isinf(want[a].t1) ? 0.0 : want[a].t1 - want[a].t0;
+    for (int a = 0; a < ng; a++)
+        sum_g += isinf(got[a].t1) ? 0.0 : got[a].t1 - got[a].t0;
+    if (!(fabs(sum_w - sum_g) <= tol))
+        TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): total length DDA %.17g, reference %.17g", o.x, o.y,
+                  o.z, d.x, d.y, d.z, sum_g, sum_w);
+    /* both lists are in t order: walk them together, matching cells */
+    int a = 0, b = 0;
+    while (a < nw || b < ng) {
+        if (a < nw && b < ng && want[a].i == got[b].i && want[a].j == got[b].j && want[a].k == got[b].k) {
+            double lw = want[a].t1 - want[a].t0, lg = got[b].t1 - got[b].t0;
+            bool inf_ok = isinf(want[a].t1) && isinf(got[b].t1);
+            if (!inf_ok && !(fabs(want[a].t0 - got[b].t0) <= tol && fabs(lw - lg) <= tol))
+                TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g) cell (%d %d %d): DDA [%.17g, %.17g], "
+                          "reference [%.17g, %.17g] (tolerance %g)",
+                          o.x, o.y, o.z, d.x, d.y, d.z, got[b].i, got[b].j, got[b].k, got[b].t0, got[b].t1, want[a].t0,
+                          want[a].t1, tol);
+            a++, b++;
+        } else if (a < nw && want[a].t1 - want[a].t0 <= tol) {
+            a++; /* a sliver the DDA may miss */
+        } else if (b < ng && got[b].t1 - got[b].t0 <= tol) {
+            b++; /* a sliver the reference may not have */
+        } else {
+            TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): DDA cell %d (%d %d %d) [%.17g, %.17g], "
+                      "reference cell %d (%d %d %d) [%.17g, %.17g]",
+                      o.x, o.y, o.z, d.x, d.y, d.z, b, b < ng ? got[b].i : -1, b < ng ? got[b].j : -1,
+                      b < ng ? got[b].k : -1, b < ng ? got[b].t0 : NAN, b < ng ? got[b].t1 : NAN, a,
+                      a < nw ? want[a].i : -1, a < nw ? want[a].j : -1, a < nw ? want[a].k : -1,
+                      a < nw ? want[a].t0 : NAN, a < nw ? want[a].t1 : NAN);
+        }
+    }
+}
+
 static void check_dda(const int n[3], vec3 o, vec3 d, double tmin, double tmax)
 {
     static hit want[4096];
     int nw = brute_force(n, o, d, tmin, tmax, want, 4096);
-    grid_dda g;
-    grid_dda_step s;
-    int got = 0;
-    if (grid_dda_begin(&g, n, o, d, tmin, tmax))
-        while (grid_dda_next(&g, &s)) {
-            if (got >= nw)
-                TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): DDA visits extra cell (%d %d %d) [%g, %g]",
-                          o.x, o.y, o.z, d.x, d.y, d.z, s.i, s.j, s.k, s.t0, s.t1);
-            hit w = want[got++];
-            if (w.i != s.i || w.j != s.j || w.k != s.k || w.t0 != s.t0 || w.t1 != s.t1)
-                TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g) cell %d: DDA (%d %d %d) [%.17g, %.17g], "
-                          "brute force (%d %d %d) [%.17g, %.17g]",
-                          o.x, o.y, o.z, d.x, d.y, d.z, got - 1, s.i, s.j, s.k, s.t0, s.t1, w.i, w.j, w.k, w.t0, w.t1);
+    check_against(n, o, d, tmin, tmax, want, nw);
+}
+
+/* Reference for grids too big to test every cell: every plane crossing inside the clipped
+ * interval, each as (plane - o) / d from its integer plane, sorted; the cell of each
+ * interval between two crossings is the one holding its midpoint. */
+static int cmp_t(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+static int crossings_reference(const int n[3], vec3 o, vec3 d, hit *out, int cap)
+{
+    static double t[3 * 4200];
+    const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    double t0 = 0.0, t1 = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        double ta = (0.0 - oo[a]) / dd[a], tb = ((double)n[a] - oo[a]) / dd[a];
+        t0 = fmax(t0, fmin(ta, tb));
+        t1 = fmin(t1, fmax(ta, tb));
+    }
+    if (!(t1 > t0))
+        return 0;
+    int nt = 0;
+    t[nt++] = t0;
+    for (int a = 0; a < 3; a++)
+        for (int p = 1; p < n[a]; p++) {
+            double x = ((double)p - oo[a]) / dd[a];
+            if (x > t0 && x < t1)
+                t[nt++] = x;
         }
-    if (got != nw)
-        TEST_FAIL("ray o=(%.17g %.17g %.17g) d=(%.17g %.17g %.17g): DDA found %d cells, brute force %d", o.x, o.y, o.z,
-                  d.x, d.y, d.z, got, nw);
+    t[nt++] = t1;
+    qsort(t, (size_t)nt, sizeof t[0], cmp_t);
+    int count = 0;
+    for (int q = 0; q + 1 < nt; q++) {
+        if (!(t[q + 1] > t[q]))
+            continue;
+        double tm = 0.5 * (t[q] + t[q + 1]);
+        int c[3];
+        for (int a = 0; a < 3; a++) {
+            c[a] = (int)floor(oo[a] + tm * dd[a]);
+            c[a] = c[a] < 0 ? 0 : (c[a] >= n[a] ? n[a] - 1 : c[a]);
+        }
+        if (count == cap)
+            TEST_FAIL("reference: more than %d cells", cap);
+        out[count++] = (hit){c[0], c[1], c[2], t[q], t[q + 1]};
+    }
+    return count;
 }
 
 TEST(dda_random_rays)
@@ -97,6 +188,24 @@ TEST(dda_random_rays)
         double tmin = it % 3 == 0 ? rng_next(&r) * 3 : 0.0;
         double tmax = it % 5 == 0 ? tmin + rng_next(&r) * 10 : (double)INFINITY;
         check_dda(n, o, d, tmin, tmax);
+    }
+}
+
+/* Long walks through a 1000 x 700 x 1200 grid (no voxels needed: the DDA sees only n):
+ * the accumulated crossings stay within the tolerance over thousands of cells. */
+TEST(dda_long_rays_within_tolerance)
+{
+    const int n[3] = {1000, 700, 1200};
+    static hit want[3 * 4200];
+    rng r = rng_make(11, 0, 0);
+    for (int it = 0; it < 200; it++) {
+        vec3 target = v3(rng_next(&r) * n[0], rng_next(&r) * n[1], rng_next(&r) * n[2]);
+        double z = 2 * rng_next(&r) - 1, phi = 2 * PI * rng_next(&r), sn = sqrt(1 - z * z);
+        vec3 d = v3(sn * cos(phi), sn * sin(phi), z);
+        vec3 o = v3_madd(target, d, -3000.0);
+        int nw = crossings_reference(n, o, d, want, 3 * 4200);
+        ASSERT_TRUE(nw > 0);
+        check_against(n, o, d, 0.0, INFINITY, want, nw);
     }
 }
 
@@ -671,7 +780,7 @@ TEST(hostile_values)
     free(b);
 }
 
-TEST_MAIN(dda_random_rays, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
+TEST_MAIN(dda_random_rays, dda_long_rays_within_tolerance, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
           majorant_tighter_than_global, roundtrip_raw_vol, roundtrip_df3, real_wdas_cloud, real_box_fog_transmittance,
           real_spiral_df3, real_cloud64_raw, nanovdb_matches_openvdb, nanovdb_write_dense, load_options_placement,
           hostile_truncated_real_files, hostile_headers, hostile_values)

@@ -1,7 +1,64 @@
-/* dda.c - setting up the 3-D DDA (see dda.h): box clipping and the first cell. */
+/* dda.c - setting up the 3-D DDA (see dda.h): box clipping, the first cell and its exact
+ * plane crossings. */
 #include "density/dda.h"
 
+/* First cell per axis at t0 (inside the clipped interval): the one whose slab interval
+ * [enter, exit) holds t0. Start from the rounded position, then correct with the exact
+ * crossing formula. */
+static bool dda_seed(grid_dda *g, double t0)
+{
+    g->done = true;
+    for (int a = 0; a < 3; a++) {
+        const double oa = g->o[a];
+        if (g->step[a] == 0) {
+            g->ijk[a] = (int)floor(oa);
+            g->t_next[a] = INFINITY;
+            continue;
+        }
+        const double inv = g->inv[a];
+        double x = floor(oa + t0 * g->d[a]);
+        int c = x < 0.0 ? 0 : (x > (double)(g->n[a] - 1) ? g->n[a] - 1 : (int)x);
+        int up = g->step[a] > 0; /* plane index of the exit face is c + up */
+        for (int guard = 0; guard < 4; guard++) {
+            double t_exit = ((double)(c + up) - oa) * inv;
+            double t_enter = ((double)(c + 1 - up) - oa) * inv;
+            if (t_exit <= t0 && c + g->step[a] >= 0 && c + g->step[a] < g->n[a])
+                c += g->step[a];
+            else if (t_enter > t0 && c - g->step[a] >= 0 && c - g->step[a] < g->n[a])
+                c -= g->step[a];
+            else
+                break;
+        }
+        g->ijk[a] = c;
+        g->t_next[a] = ((double)(c + up) - oa) * inv;
+        if (!(g->t_next[a] > t0)) /* leaves the grid at t0 */
+            return false;
+    }
+    g->t = t0;
+    g->done = false;
+    return true;
+}
+
+bool grid_dda_restart(grid_dda *g, double t0, double t1)
+{
+    t0 = t0 > g->t_in ? t0 : g->t_in;
+    t1 = t1 < g->t_out ? t1 : g->t_out;
+    g->done = true;
+    if (!(t0 < t1))
+        return false;
+    g->tmax = g->t_out = t1;
+    g->t_in = t0;
+    return dda_seed(g, t0);
+}
+
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax)
+{
+    static const int zero[3] = {0, 0, 0};
+    return grid_dda_begin_box(g, n, zero, n, o, d, tmin, tmax);
+}
+
+bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int hi[3], vec3 o, vec3 d, double tmin,
+                        double tmax)
 {
     const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
     g->done = true;
@@ -9,24 +66,29 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
     g->tmax = tmax;
     if (!(tmin < tmax))
         return false;
-    /* Clip [tmin, tmax] to the grid box [0, n) with the same formula as the steps use. */
+    /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;
     for (int a = 0; a < 3; a++) {
         g->n[a] = n[a];
         g->o[a] = oo[a];
+        g->d[a] = dd[a];
         if (n[a] < 1 || !isfinite(oo[a]) || !isfinite(dd[a]))
+            return false;
+        if (!(0 <= lo[a] && lo[a] < hi[a] && hi[a] <= n[a]))
             return false;
         if (dd[a] == 0.0) {
             g->step[a] = 0;
             g->inv[a] = 0.0;
-            if (!(oo[a] >= 0.0 && oo[a] < (double)n[a]))
+            g->delta[a] = INFINITY;
+            if (!(oo[a] >= (double)lo[a] && oo[a] < (double)hi[a]))
                 return false;
             continue;
         }
         double inv = 1.0 / dd[a];
         g->inv[a] = inv;
+        g->delta[a] = fabs(inv);
         g->step[a] = dd[a] > 0.0 ? 1 : -1;
-        double ta = (0.0 - oo[a]) * inv, tb = ((double)n[a] - oo[a]) * inv;
+        double ta = ((double)lo[a] - oo[a]) * inv, tb = ((double)hi[a] - oo[a]) * inv;
         if (ta > tb) {
             double s = ta;
             ta = tb;
@@ -37,35 +99,7 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
     }
     if (!(t0 < t1))
         return false;
-    /* First cell per axis: the one whose slab interval [enter, exit) holds t0. Start from
-     * the rounded position, then correct with the exact crossing formula. */
-    for (int a = 0; a < 3; a++) {
-        if (g->step[a] == 0) {
-            g->ijk[a] = (int)floor(oo[a]);
-            g->t_next[a] = INFINITY;
-            continue;
-        }
-        double x = floor(oo[a] + t0 * dd[a]);
-        int c = x < 0.0 ? 0 : (x > (double)(n[a] - 1) ? n[a] - 1 : (int)x);
-        int up = g->step[a] > 0; /* plane index of the exit face is c + up */
-        double inv = g->inv[a];
-        for (int guard = 0; guard < 4; guard++) {
-            double t_exit = ((double)(c + up) - oo[a]) * inv;
-            double t_enter = ((double)(c + 1 - up) - oo[a]) * inv;
-            if (t_exit <= t0 && c + g->step[a] >= 0 && c + g->step[a] < n[a])
-                c += g->step[a];
-            else if (t_enter > t0 && c - g->step[a] >= 0 && c - g->step[a] < n[a])
-                c -= g->step[a];
-            else
-                break;
-        }
-        g->ijk[a] = c;
-        g->t_next[a] = ((double)(c + up) - oo[a]) * inv;
-        if (!(g->t_next[a] > t0)) /* leaves the grid at t0 */
-            return false;
-    }
-    g->t = t0;
-    g->tmax = t1;
-    g->done = false;
-    return true;
+    g->tmax = g->t_out = t1;
+    g->t_in = t0;
+    return dda_seed(g, t0);
 }

@@ -54,6 +54,8 @@ static const blasi_options *blasi_opts(const brume_scene *s) { return scene_opti
 #define BLASI_MAX_STEPS 1e7
 #define BLASI_MAX_INTERCEPTS 100000
 #define BLASI_BLOCK 4              /* voxels per side of an occupancy block (empty-space skipping) */
+#define BLASI_SKIP_CELLS 192       /* skip empty blocks when nx + ny + nz exceeds this: a ray through a
+                                      smaller grid crosses too few voxels for the restarts to pay */
 #define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
 #define BLASI_FILE_MAGIC "BRUMEBL1"
 #define BLASI_FILE_VERSION 1u
@@ -72,6 +74,8 @@ typedef struct blasi_medium {
     double r;            /* fraction stored isotropically at an interception */
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
+    bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
+    int occ_lo[3], occ_hi[3]; /* the box of the voxels with rho > 0, [lo, hi) (all 0 if none) */
     int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
     unsigned char *occ;  /* per block: 1 if any of its voxels has rho > 0 */
 } blasi_medium;
@@ -114,7 +118,6 @@ typedef struct walk {
     double t;
     grid_dda blocks; /* one medium: the walk over occupancy blocks */
     bool blocks_live;
-    vec3 o, d;       /* one medium: the ray in voxel space */
 } walk;
 
 static inline size_t voxel_index(const blasi_medium *bm, int i, int j, int k)
@@ -127,12 +130,19 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
     w->nm = st->nm;
     w->t = INFINITY;
     if (w->nm == 1) {
+        /* the voxel walk is begun once over the whole ray; each run of occupied blocks
+         * restarts it (grid_dda_restart: no clipping, no division) */
         const blasi_medium *bm = &st->m[0];
-        w->o = affine3_apply(&bm->w2v, r.o);
-        w->d = affine3_apply_dir(&bm->w2v, r.d);
+        vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
+        if (!bm->skip) { /* a small grid: every voxel of the occupied box, empty ones cost a step */
+            w->live[0] = bm->occ_hi[0] > 0 && grid_dda_begin_box(&w->dda[0], bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
+            w->blocks_live = false;
+            return;
+        }
         double s = 1.0 / BLASI_BLOCK;
         w->live[0] = false;
-        w->blocks_live = grid_dda_begin(&w->blocks, bm->bn, v3_scale(w->o, s), v3_scale(w->d, s), 0.0, tmax);
+        w->blocks_live = grid_dda_begin(&w->blocks, bm->bn, v3_scale(o, s), v3_scale(d, s), 0.0, tmax) &&
+                         grid_dda_begin(&w->dda[0], bm->n, o, d, 0.0, tmax);
         return;
     }
     for (int m = 0; m < st->nm; m++) {
@@ -144,7 +154,36 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
     }
 }
 
-static bool walk_next(walk *w, const blasi_state *st, piece *p)
+/* One small grid (no block skipping): the next non-empty voxel. Empty voxels hold nothing
+ * (no density, no source: nothing is ever deposited in them), so they are stepped over
+ * here, in a tight loop that the callers inline. */
+static inline bool walk_next_small(walk *w, const blasi_medium *bm, const float *rho, piece *p)
+{
+    grid_dda_step c;
+    size_t v;
+    do {
+        if (!w->live[0] || !(w->live[0] = grid_dda_next(&w->dda[0], &c)))
+            return false;
+        v = (size_t)c.i + (size_t)bm->n[0] * ((size_t)c.j + (size_t)bm->n[1] * (size_t)c.k);
+    } while (rho[v] == 0.0f);
+    p->t0 = c.t0;
+    p->t1 = c.t1;
+    p->n = 1;
+    p->m[0] = 0;
+    p->v[0] = bm->offset + v;
+    return true;
+}
+
+static bool walk_next_any(walk *w, const blasi_state *st, piece *p);
+
+static inline bool walk_next(walk *w, const blasi_state *st, piece *p)
+{
+    if (w->nm == 1 && !st->m[0].skip)
+        return walk_next_small(w, &st->m[0], st->rho + st->m[0].offset, p);
+    return walk_next_any(w, st, p);
+}
+
+static bool walk_next_any(walk *w, const blasi_state *st, piece *p)
 {
     if (w->nm == 1) { /* the usual case: one grid, its own walk, empty blocks skipped */
         const blasi_medium *bm = &st->m[0];
@@ -158,7 +197,7 @@ static bool walk_next(walk *w, const blasi_state *st, piece *p)
             while ((w->blocks_live = grid_dda_next(&w->blocks, &b)) &&
                    bm->occ[(size_t)b.i + (size_t)bm->bn[0] * ((size_t)b.j + (size_t)bm->bn[1] * (size_t)b.k)])
                 t1 = b.t1;
-            w->live[0] = grid_dda_begin(&w->dda[0], bm->n, w->o, w->d, t0, t1) && grid_dda_next(&w->dda[0], &w->cur[0]);
+            w->live[0] = grid_dda_restart(&w->dda[0], t0, t1) && grid_dda_next(&w->dda[0], &w->cur[0]);
         }
         const grid_dda_step *c = &w->cur[0];
         p->t0 = c->t0;
@@ -394,9 +433,13 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
             t_end = h.t;
         double target = sample_exponential(rng_next(g), 1.0); /* Eq. 11: scatter where the depth reaches this */
         double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
-        color D = col(0.0), lim;
+        /* The stop test D > lim = log(w / w_stop) per channel, with the logs taken only when
+         * D passes their lower bound 1 - w_stop / w (log x >= 1 - 1/x): most flights end
+         * long before. */
+        color D = col(0.0), lim = col(0.0), lim_lo;
+        bool lim_known = false;
         for (int c = 0; c < 3; c++)
-            lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+            lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
         bool scattered = false;
         walk wk;
         piece pc;
@@ -466,8 +509,15 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
                 D.c[c] += kx.c[c] * dl;
             have_last = true;
             last = pc.v[0];
-            if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
-                return; /* the while condition: L_R > THRESHOLD */
+            if (D.c[0] > lim_lo.c[0] && D.c[1] > lim_lo.c[1] && D.c[2] > lim_lo.c[2]) {
+                if (!lim_known) {
+                    for (int c = 0; c < 3; c++)
+                        lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+                    lim_known = true;
+                }
+                if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
+                    return; /* the while condition: L_R > THRESHOLD */
+            }
         }
         if (scattered)
             continue;
@@ -493,14 +543,19 @@ static void pass1_batch(size_t task, int thread, void *user)
     out->emitted = 0.0;
     uint64_t nl = (uint64_t)s->nlights, b = job->wave0 + task;
     uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
+    /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl); found once per batch */
+    uint64_t l = (first * nl) / job->nrays;
+    while (l + 1 < nl && (l + 1) * job->nrays / nl <= first)
+        l++;
+    while (l > 0 && l * job->nrays / nl > first)
+        l--;
+    uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
     for (uint64_t i = first; i < end; i++) {
-        /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl) */
-        uint64_t l = (i * nl) / job->nrays;
-        while (l + 1 < nl && (l + 1) * job->nrays / nl <= i)
+        while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
-        while (l > 0 && l * job->nrays / nl > i)
-            l--;
-        uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
+            l0 = l1;
+            l1 = (l + 1) * job->nrays / nl;
+        }
         rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
         ray r;
         color W;
@@ -853,17 +908,27 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
             bm->bn[a] = (bm->n[a] + BLASI_BLOCK - 1) / BLASI_BLOCK;
             nblocks *= (size_t)bm->bn[a];
         }
+        bm->skip = bm->n[0] + bm->n[1] + bm->n[2] > BLASI_SKIP_CELLS;
         bm->occ = calloc(nblocks, 1);
         if (!bm->occ) {
             rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
             break;
         }
         float *dst = st->rho + bm->offset;
+        bool any = false; /* occ_lo, occ_hi stay 0 (calloc) for an empty grid */
         for (int k = 0; k < bm->n[2]; k++)
             for (int j = 0; j < bm->n[1]; j++)
                 for (int i = 0; i < bm->n[0]; i++) {
                     float rho = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
                     *dst++ = rho;
+                    if (rho != 0.0f) {
+                        const int c[3] = {i, j, k};
+                        for (int a = 0; a < 3; a++) {
+                            bm->occ_lo[a] = !any || c[a] < bm->occ_lo[a] ? c[a] : bm->occ_lo[a];
+                            bm->occ_hi[a] = !any || c[a] + 1 > bm->occ_hi[a] ? c[a] + 1 : bm->occ_hi[a];
+                        }
+                        any = true;
+                    }
                     if (rho != 0.0f)
                         bm->occ[(size_t)(i / BLASI_BLOCK) +
                                 (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
@@ -896,6 +961,23 @@ void blasi_get_stats(const blasi_state *st, blasi_stats *out) { *out = st->stats
 
 /* ---- second pass ------------------------------------------------------------------------- */
 
+/* T = exp(-tau) and f = (1 - T) / tau, the fraction of a voxel's length that its source
+ * fills, for tau >= 0. Most voxels are optically thin (tau ~ 0.01 in the paper's scenes):
+ * there the Taylor series of f to tau^7 (truncation below 1e-15 for tau < 1/16) gives
+ * both without calling exp. */
+static inline void voxel_exp(double tau, double *T, double *f)
+{
+    if (tau < 0.0625) {
+        double x = tau;
+        *f = 1.0 - x * (1.0 / 2 - x * (1.0 / 6 - x * (1.0 / 24 - x * (1.0 / 120 - x * (1.0 / 720 - x * (1.0 / 5040 -
+                                                                                                    x / 40320.0))))));
+        *T = 1.0 - x * *f;
+        return;
+    }
+    *T = exp(-tau);
+    *f = (1.0 - *T) / tau;
+}
+
 /* exp(-kappa delta) per channel over [0, tmax] along r: the view attenuation of a segment. */
 static color view_attenuation(const blasi_state *st, ray r, double tmax)
 {
@@ -913,6 +995,18 @@ static color view_attenuation(const blasi_state *st, ray r, double tmax)
     }
     return A;
 }
+
+/* The extinction optical depth of the last camera ray blasi_Li walked to its end, per
+ * thread: the render asks for the transmittance of the same ray right after (the pixel's
+ * alpha), and gets the same sum without a second walk. */
+typedef struct tau_cache {
+    const blasi_state *st;
+    vec3 o, d;
+    color tau;
+} tau_cache;
+static _Thread_local tau_cache last_tau;
+
+static inline bool v3_equal(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 /* Radiance leaving a surface towards -r.d: emission and direct light from every light,
  * through the media with the view attenuation (the paper has no surfaces; docs/blasi.md). */
@@ -940,6 +1034,7 @@ static color shade_surface(const brume_scene *s, const blasi_state *st, ray r, c
 
 color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool *hit_surface)
 {
+    last_tau.st = NULL; /* valid again only if this walk reaches the end of the ray */
     if (hit_surface)
         *hit_surface = false;
     /* what ends the walk: a surface, an area light, or nothing (the background) */
@@ -963,7 +1058,7 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
     if (hit_surface)
         *hit_surface = on_surface;
 
-    color L = col(0.0), A = col(1.0);
+    color L = col(0.0), A = col(1.0), tau_t = col(0.0);
     if (st->nm > 0) {
         walk wk;
         piece pc;
@@ -974,6 +1069,7 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
             for (int i = 0; i < pc.n; i++) {
                 const blasi_medium *bm = &st->m[pc.m[i]];
                 double rho = (double)st->rho[pc.v[i]];
+                tau_t = col_madd(tau_t, bm->sigma_t, rho * dl); /* as blasi_transmittance sums it */
                 const float *sv = st->S + 3 * pc.v[i];
                 for (int c = 0; c < 3; c++) {
                     S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
@@ -986,21 +1082,19 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
                 continue;
             }
             bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
-            double T = 0.0, len = 0.0;
+            double T = 0.0, f = 0.0;
             for (int c = 0; c < 3; c++) {
-                if (c == 0 || !grey) {
-                    double tau = kap.c[c] * dl;
-                    T = exp(-tau);
-                    /* the integral of exp(-kappa s) over the voxel: delta for a thin one */
-                    len = tau > 1e-4 ? (1.0 - T) / kap.c[c] : dl * (1.0 - 0.5 * tau);
-                }
-                L.c[c] += A.c[c] * S.c[c] * len;
+                if (c == 0 || !grey) /* the integral of exp(-kappa s) over the voxel is dl f */
+                    voxel_exp(kap.c[c] * dl, &T, &f);
+                L.c[c] += A.c[c] * S.c[c] * dl * f;
                 A.c[c] *= T;
             }
             if (!(col_max(A) > st->threshold)) /* "While A > THRESHOLD" */
                 return L;
         }
     }
+    if (isinf(t_end)) /* the whole ray walked: its transmittance is known */
+        last_tau = (tau_cache){st, r.o, r.d, tau_t};
     if (on_surface)
         return col_add(L, col_mul(A, shade_surface(s, st, r, &h, g)));
     if (hit_light >= 0)
@@ -1015,4 +1109,26 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
             Lb = col_add(Lb, c);
     }
     return col_add(L, col_mul(A, Lb));
+}
+
+color blasi_transmittance(const brume_scene *s, const blasi_state *st, ray r)
+{
+    (void)s;
+    color tau = col(0.0);
+    if (last_tau.st == st && v3_equal(last_tau.o, r.o) && v3_equal(last_tau.d, r.d)) {
+        tau = last_tau.tau; /* the render asks right after blasi_Li walked this ray */
+        goto done;
+    }
+    walk wk;
+    piece pc;
+    walk_begin(&wk, st, r, INFINITY);
+    while (walk_next(&wk, st, &pc)) {
+        double dl = pc.t1 - pc.t0;
+        for (int i = 0; i < pc.n; i++)
+            tau = col_madd(tau, st->m[pc.m[i]].sigma_t, (double)st->rho[pc.v[i]] * dl);
+    }
+done:
+    if (tau.c[0] == tau.c[1] && tau.c[1] == tau.c[2])
+        return col(exp(-tau.c[0]));
+    return col_rgb(exp(-tau.c[0]), exp(-tau.c[1]), exp(-tau.c[2]));
 }

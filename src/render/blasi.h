@@ -37,6 +37,10 @@ void blasi_finish(blasi_state *st);
  * lights when shading a surface. */
 color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool *hit_surface);
 
+/* exp(-integral of sigma_t rho) along r through the voxels as blasi sees them (constant
+ * per voxel): the transmittance behind a pixel's alpha. Surfaces are not considered. */
+color blasi_transmittance(const brume_scene *s, const blasi_state *st, ray r);
+
 /* What the first pass did, for benchmarks and tests. */
 typedef struct blasi_stats {
     double light_seconds;   /* wall time of the first pass (or of loading it) */

@@ -371,8 +371,8 @@ color integrator_transmittance(integrator_kind kind, const brume_scene *s, const
 {
     switch (kind) {
     case INTEGRATOR_PATH:
-    case INTEGRATOR_SINGLE:
-    case INTEGRATOR_BLASI: return track_transmittance(s, r, INFINITY, g);
+    case INTEGRATOR_SINGLE: return track_transmittance(s, r, INFINITY, g);
+    case INTEGRATOR_BLASI: return blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
     case INTEGRATOR_STAM: return stam_transmittance(state, r.o, r.d, INFINITY);
     }
     return col(1.0);
