@@ -323,15 +323,15 @@ TEST(bad_options_name_the_key)
 }
 
 /* The transmittance behind a pixel's alpha (blasi_transmittance) against a brute-force
- * reference: 200,000 midpoint steps through the grid, each reading the voxel that holds
+ * reference: 400,000 midpoint steps through the grid, each reading the voxel that holds
  * it. A step that straddles a voxel face charges its whole length dt to one side, so the
  * reference's optical depth is off by at most (faces crossed + 2) dt sigma_t rho_max per
  * channel: that is the tolerance (about 1e-3 here). The value blasi_Li leaves for the same
  * ray (the render asks for both) is the same bits as a fresh walk. */
-TEST(transmittance_matches_brute_force)
+static void check_transmittance(const char *json, const char *what)
 {
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_context *ctx = brume_context_new();
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -352,7 +352,7 @@ TEST(transmittance_matches_brute_force)
         ray r = {v3_madd(target, d, -5.0), d, 0.0};
         double t0, t1;
         ASSERT_TRUE(box3_intersect(info.bounds, r, 0.0, INFINITY, &t0, &t1));
-        enum { N = 200000 };
+        enum { N = 400000 };
         double dt = (t1 - t0) / N, rho_max = 0.0;
         color tau = col(0.0);
         for (int q = 0; q < N; q++) {
@@ -378,10 +378,26 @@ TEST(transmittance_matches_brute_force)
         for (int c = 0; c < 3; c++)
             ASSERT_TRUE(Tc.c[c] == T.c[c]);
     }
+    fprintf(stderr, "%s: %d of 40 rays with optical depth > 0.1\n", what, crossed_cloud);
     ASSERT_TRUE(crossed_cloud >= 10); /* the rays do cross the cloud: the comparison can fail */
     blasi_finish(st);
     brume_scene_release(s);
     brume_context_release(ctx);
+}
+
+/* The test cloud (32 x 32 x 8: every voxel of its occupied box walked), and a grid of
+ * 120 x 120 x 16 voxels (nx + ny + nz > 192: the walk over occupancy blocks, restarted
+ * per run of occupied blocks) with a sparse threshold, so that both walks are checked. */
+TEST(transmittance_matches_brute_force)
+{
+    check_transmittance(CLOUD_SCENE(SUN, ""), "32 x 32 x 8");
+    check_transmittance("{\"camera\": {\"position\": [0.6, -3.5, 3.0], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]},"
+                        " \"lights\": [" SUN "],"
+                        " \"media\": [{\"sigma_a\": [0.2, 0.1, 0.4], \"sigma_s\": [3, 1.5, 0.75],"
+                        "   \"density\": {\"type\": \"fractal_cloud\", \"dims\": [120, 120, 16], \"seed\": 4,"
+                        "     \"threshold\": 0.45, \"bounds\": [[-1.6, -1.6, -0.4], [1.6, 1.6, 0.4]]}}],"
+                        " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"method\": \"blasi\"}}",
+                        "120 x 120 x 16");
 }
 
 TEST_MAIN(r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,

@@ -64,14 +64,23 @@ static int brute_force(const int n[3], vec3 o, vec3 d, double tmin, double tmax,
  * DDA omits or adds may be only that short), as does the total. dda.h states the bound:
  * accumulated plane crossings, a few ulps per cell crossed; tol is 1e-9 of the ray's
  * length in the grid, a million times that. */
+static void check_steps(grid_dda *g, bool live, vec3 o, vec3 d, const hit *want, int nw);
+
 static void check_against(const int n[3], vec3 o, vec3 d, double tmin, double tmax, const hit *want, int nw)
 {
-    static hit got[1 << 16];
     grid_dda g;
+    bool live = grid_dda_begin(&g, n, o, d, tmin, tmax);
+    check_steps(&g, live, o, d, want, nw);
+}
+
+/* The steps of a begun (or restarted) walk g against the reference. */
+static void check_steps(grid_dda *gp, bool live, vec3 o, vec3 d, const hit *want, int nw)
+{
+    static hit got[1 << 16];
     grid_dda_step s;
     int ng = 0;
-    if (grid_dda_begin(&g, n, o, d, tmin, tmax))
-        while (grid_dda_next(&g, &s)) {
+    if (live)
+        while (grid_dda_next(gp, &s)) {
             if (ng == (int)(sizeof got / sizeof got[0]))
                 TEST_FAIL("DDA: more than %d cells", ng);
             if (ng > 0 && s.t0 != got[ng - 1].t1)
@@ -189,6 +198,41 @@ TEST(dda_random_rays)
         double tmax = it % 5 == 0 ? tmin + rng_next(&r) * 10 : (double)INFINITY;
         check_dda(n, o, d, tmin, tmax);
     }
+}
+
+/* grid_dda_restart (an empty-space skipper's jump) walks exactly the cells of the part
+ * [t0, t1] it is given, within the interval the walk was begun with: two parts of one ray
+ * in turn, each against brute force on it. */
+TEST(dda_restart_walks_the_part)
+{
+    const int n[3] = {7, 5, 9};
+    rng r = rng_make(43, 0, 0);
+    static hit want[4096];
+    int restarted = 0;
+    for (int it = 0; it < 2000; it++) {
+        vec3 o = v3(rng_next(&r) * 13 - 3, rng_next(&r) * 11 - 3, rng_next(&r) * 15 - 3);
+        vec3 d = v3(rng_next(&r) - 0.5, rng_next(&r) - 0.5, rng_next(&r) - 0.5);
+        grid_dda g;
+        if (!grid_dda_begin(&g, n, o, d, 0.0, INFINITY))
+            continue;
+        double u[4];
+        for (int k = 0; k < 4; k++) /* the parts may start before or end after the grid */
+            u[k] = g.t_in - 0.2 * (g.t_out - g.t_in) + 1.4 * (g.t_out - g.t_in) * rng_next(&r);
+        for (int a = 1; a < 4; a++) /* sorted: the second part after the first */
+            for (int b = a; b > 0 && u[b] < u[b - 1]; b--) {
+                double t = u[b];
+                u[b] = u[b - 1];
+                u[b - 1] = t;
+            }
+        const double t_in = g.t_in, t_out = g.t_out; /* the walk begun: [0, inf) clipped to the grid */
+        for (int part = 0; part < 2; part++) {
+            int nw = brute_force(n, o, d, fmax(u[2 * part], t_in), fmin(u[2 * part + 1], t_out), want, 4096);
+            bool live = grid_dda_restart(&g, u[2 * part], u[2 * part + 1]);
+            restarted += live;
+            check_steps(&g, live, o, d, want, nw);
+        }
+    }
+    ASSERT_TRUE(restarted > 1000);
 }
 
 /* Long walks through a 1000 x 700 x 1200 grid (no voxels needed: the DDA sees only n):
@@ -780,7 +824,7 @@ TEST(hostile_values)
     free(b);
 }
 
-TEST_MAIN(dda_random_rays, dda_long_rays_within_tolerance, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
+TEST_MAIN(dda_random_rays, dda_long_rays_within_tolerance, dda_restart_walks_the_part, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
           majorant_tighter_than_global, roundtrip_raw_vol, roundtrip_df3, real_wdas_cloud, real_box_fog_transmittance,
           real_spiral_df3, real_cloud64_raw, nanovdb_matches_openvdb, nanovdb_write_dense, load_options_placement,
           hostile_truncated_real_files, hostile_headers, hostile_values)

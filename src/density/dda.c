@@ -46,8 +46,7 @@ bool grid_dda_restart(grid_dda *g, double t0, double t1)
     g->done = true;
     if (!(t0 < t1))
         return false;
-    g->tmax = g->t_out = t1;
-    g->t_in = t0;
+    g->tmax = t1; /* t_in, t_out stay: a later run may lie anywhere in them */
     return dda_seed(g, t0);
 }
 
