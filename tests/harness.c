@@ -1,6 +1,10 @@
 /* harness.c - runs the cases of one test executable (see test.h). */
 #include "test.h"
 
+#include "brume.h"
+#include "core/error.h"
+#include "render/scene.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -161,4 +165,22 @@ int test_wait_exit(int pid, double timeout)
         }
         test_sleep(0.01);
     }
+}
+
+brume_image *test_render_json(const char *json, unsigned long long seed)
+{
+    brume_scene *s = NULL;
+    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", err_message());
+    brume_context *ctx = brume_context_new();
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    rs.seed = seed;
+    brume_image *img = NULL;
+    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
+        brume_render(ctx, s, &img) != BRUME_OK)
+        TEST_FAIL("render: %s", brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    brume_scene_release(s);
+    return img;
 }

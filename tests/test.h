@@ -31,6 +31,11 @@ char *test_slurp(const char *path, size_t *n);
 void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se);
 /* 1 if the path names an existing file or folder. */
 int test_exists(const char *path);
+/* Renders the scene of a JSON text with the given seed (its other settings as written);
+ * the test fails with the reader's or the renderer's message. Release with
+ * brume_image_release. */
+struct brume_image;
+struct brume_image *test_render_json(const char *json, unsigned long long seed);
 /* Writes text to path (the test fails if it cannot). */
 void test_write_file(const char *path, const char *text);
 /* Monotonic seconds, and a sleep of s seconds. */

@@ -252,24 +252,6 @@ TEST(vdb_ambiguous_float_grids)
     unlink(txt);
 }
 
-static brume_image *render_scene_text(const char *json, uint64_t seed)
-{
-    brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
-    brume_context *ctx = brume_context_new();
-    brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
-    rs.seed = seed;
-    brume_image *img = NULL;
-    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
-        brume_render(ctx, s, &img) != BRUME_OK)
-        TEST_FAIL("render: %s", brume_context_last_error(ctx));
-    brume_context_release(ctx);
-    brume_scene_release(s);
-    return img;
-}
-
 /* The 1218^3 index box would need 7 GB dense; sparse it loads and renders in a process
  * limited to 512 MB of address space. */
 TEST(sparse_big_box_under_512mb)
@@ -296,7 +278,7 @@ TEST(sparse_big_box_under_512mb)
                  " \"media\": [{\"sigma_a\": 20, \"sigma_s\": 0, \"density\": {\"type\": \"grid\", \"file\": \"%s\"}}],"
                  " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 4, \"threads\": 1}}",
                  path);
-        brume_image *img = render_scene_text(json, 1);
+        brume_image *img = test_render_json(json, 1);
         const float *px = brume_image_pixels_const(img);
         /* the centre is darkened by the puff (optical depth about 20 x 0.12 x 0.9), a corner is not */
         int c = 4 * (8 * 16 + 8);
@@ -563,7 +545,7 @@ TEST(sparse_furnace)
              "   \"density\": {\"type\": \"grid\", \"file\": \"%s\"}, \"phase\": {\"type\": \"hg\", \"g\": 0.6}}],"
              " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 64, \"max_depth\": 100000}}",
              DATA("wdas_cloud_sixteenth.vdb"));
-    brume_image *img = render_scene_text(json, 9);
+    brume_image *img = test_render_json(json, 9);
     const float *px = brume_image_pixels_const(img);
     for (int c = 0; c < 3; c++) {
         double mean, se;
@@ -829,7 +811,7 @@ TEST(blackbody_emission_closed_form)
              "   \"temperature\": {\"file\": \"%s\"}, \"blackbody\": {\"scale\": 3}}],"
              " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 64}}",
              path);
-    brume_image *img = render_scene_text(json, 4);
+    brume_image *img = test_render_json(json, 4);
     const float *px = brume_image_pixels_const(img);
     blackbody_init();
     color B = col_scale(blackbody_rgb(3000.0), 3.0);

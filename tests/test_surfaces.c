@@ -10,24 +10,6 @@
 
 #define PI_D 3.14159265358979323846
 
-static brume_image *render_json(const char *json, uint64_t seed)
-{
-    brume_scene *s = NULL;
-    brume_context *ctx = brume_context_new();
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message_for_test());
-    brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
-    rs.seed = seed;
-    brume_image *img = NULL;
-    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
-        brume_render(ctx, s, &img) != BRUME_OK)
-        TEST_FAIL("render: %s", brume_context_last_error(ctx));
-    brume_scene_release(s);
-    brume_context_release(ctx);
-    return img;
-}
-
 /* Mean and standard error of channel c over the pixels of img. */
 static void image_mean(const brume_image *img, int c, double *mean, double *se)
 {
@@ -48,7 +30,7 @@ TEST(lit_plane_through_fog)
         " \"media\": [{\"sigma_a\": 0.4, \"sigma_s\": 0,"
         "   \"density\": {\"type\": \"constant\", \"bounds\": [[-100, 0, -100], [100, 1.5, 100]]}}],"
         " \"render\": {\"width\": 24, \"height\": 24, \"spp\": 256, \"max_depth\": 1}}";
-    brume_image *img = render_json(json, 1);
+    brume_image *img = test_render_json(json, 1);
     double mean, se;
     image_mean(img, 0, &mean, &se);
     double expect = 0.7 / PI_D * 2.0 * 0.5 * exp(-0.4 * 1.5 / 0.5) * exp(-0.4 * 1.5);
@@ -74,7 +56,7 @@ TEST(fog_shadow_matches_transmittance)
         "   \"density\": {\"type\": \"constant\", \"bounds\": [[-0.5, 2, -0.5], [0.5, 3, 0.5]]}}],"
         " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 1,"
         "             \"filter\": {\"type\": \"box\", \"width\": 0.001}}}";
-    brume_image *img = render_json(json, 2);
+    brume_image *img = test_render_json(json, 2);
     const float *px = brume_image_pixels_const(img);
     /* the camera sees, through pixel (x, y) centre, the plane point below; the fog box
      * (seen from above) covers |x|, |z| < 0.5 and also dims the view ray itself */
@@ -120,7 +102,7 @@ TEST(fog_shadow_matches_transmittance)
  * energy error of rel_tol would fail). */
 static void check_furnace(const char *what, const char *json, uint64_t seed, int c, double expect, double rel_tol)
 {
-    brume_image *img = render_json(json, seed);
+    brume_image *img = test_render_json(json, seed);
     double mean, se;
     image_mean(img, c, &mean, &se);
     fprintf(stderr, "%s: %.5f +- %.5f\n", what, mean, se);
@@ -192,7 +174,7 @@ TEST(emitter_front_side)
         " \"surfaces\": [{\"type\": \"quad\", \"corner\": [-5, 0, -5], \"edge_u\": [0, 0, 10], \"edge_v\": [10, 0, 0],"
         "                 \"material\": {\"albedo\": 0, \"emission\": 2.5}}],"
         " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 2}}";
-    brume_image *a = render_json(above, 1), *b = render_json(below, 1);
+    brume_image *a = test_render_json(above, 1), *b = test_render_json(below, 1);
     for (int i = 0; i < 16; i++) {
         ASSERT_NEAR(brume_image_pixels(a)[4 * i], 2.5, 1e-6);
         ASSERT_NEAR(brume_image_pixels(b)[4 * i], 0.0, 0.0);
@@ -285,7 +267,7 @@ TEST(large_mesh_renders)
     ASSERT_EQ_INT(scene_parse_json(json, "<mesh>", &s), BRUME_OK);
     ASSERT_EQ_INT(surfaces_triangle_count(s->surf), 2 * N * N);
     brume_scene_release(s);
-    brume_image *img = render_json(json, 5);
+    brume_image *img = test_render_json(json, 5);
     double mean, se;
     image_mean(img, 0, &mean, &se);
     ASSERT_TRUE(mean > 0.05); /* the terrain is lit and visible */
