@@ -89,8 +89,10 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (runs < 1 || runs > MAX_RUNS)
-        runs = 5;
+    if (runs < 1 || runs > MAX_RUNS) {
+        fprintf(stderr, "bench_blasi: --runs must be in 1..%d\n", MAX_RUNS);
+        return 2;
+    }
     /* BRUME_DATA_DIR is <source>/../shared/data: the scene is under the source tree */
     char def[1024];
     snprintf(def, sizeof def, "%s", BRUME_DATA_DIR);

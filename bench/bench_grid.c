@@ -198,9 +198,13 @@ static void cpu_model(char *out, size_t cap)
 
 int main(int argc, char **argv)
 {
-    int runs = argc > 1 ? atoi(argv[1]) : 5;
-    if (runs < 1 || runs > 50)
-        runs = 5;
+    char *end = NULL;
+    long n = argc > 1 ? strtol(argv[1], &end, 10) : 5;
+    if (argc > 2 || (argc > 1 && (*end || n < 1 || n > 50))) {
+        fprintf(stderr, "usage: bench_grid [RUNS in 1..50]\n");
+        return 2;
+    }
+    int runs = (int)n;
     char cpu[256];
     cpu_model(cpu, sizeof cpu);
     int cores = pool_default_threads();
