@@ -195,6 +195,41 @@ TEST(cancel_stops_within_one_tile)
     }
 }
 
+static bool count_cb(void *user, uint64_t done, uint64_t total)
+{
+    cancel_state *c = user;
+    if (done < c->last_done || total < done)
+        c->monotone = false;
+    c->last_done = done;
+    c->last_total = total;
+    c->calls++;
+    return true;
+}
+
+static void set_count(brume_render_settings *rs, void *user)
+{
+    rs->progress_fn = count_cb;
+    rs->progress_user = user;
+    rs->spp = 1;
+    rs->threads = 2;
+}
+
+/* Two workers finishing tiles together: the callback never sees `done` go back, and its last
+ * call reports every sample (cheap 1-sample tiles, many renders, to give the race room). */
+TEST(progress_counts_never_go_back)
+{
+    for (int rep = 0; rep < 40; rep++) {
+        cancel_state c = {0, 0, 0, 0, true};
+        brume_scene *s = load_default(160, 96, set_count, &c);
+        brume_image *img = render(s);
+        ASSERT_TRUE(c.monotone);
+        ASSERT_EQ_INT(c.calls, 60);
+        ASSERT_TRUE(c.last_done == 160u * 96u && c.last_total == 160u * 96u);
+        brume_image_release(img);
+        brume_scene_release(s);
+    }
+}
+
 static void set_aovs(brume_render_settings *rs, void *user)
 {
     (void)user;
@@ -550,6 +585,6 @@ TEST(time_budget_ends_the_render)
     brume_scene_release(s);
 }
 
-TEST_MAIN(progressive_passes_equal_one_render, cancel_stops_within_one_tile, aovs_known_depth_albedo_normal,
+TEST_MAIN(progressive_passes_equal_one_render, cancel_stops_within_one_tile, progress_counts_never_go_back, aovs_known_depth_albedo_normal,
           adaptive_sampling_independent_of_threads, noise_target_constant_fog_closed_form, noise_target_white_furnace,
           checkpoint_resume_is_bit_identical, time_budget_ends_the_render)

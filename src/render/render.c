@@ -285,19 +285,22 @@ static void job_tile(size_t task, int thread, void *user)
         job->total = (uint64_t)fmax((double)job->done, (double)job->done * rs->time_budget / elapsed);
     if (job->total < job->done)
         job->total = job->done;
-    uint64_t done = job->done, total = job->total;
     pthread_mutex_unlock(&job->lock);
 
+    /* Reports are serialized by cb_lock, and the counts are read inside it: two workers that
+     * finish tiles together must not report the later count first (lock order: cb_lock, then
+     * lock). */
+    pthread_mutex_lock(&job->cb_lock);
+    pthread_mutex_lock(&job->lock);
+    uint64_t done = job->done, total = job->total;
+    pthread_mutex_unlock(&job->lock);
     if (job->bar_started)
         progress_update(&job->bar, (size_t)done, (size_t)total);
-    if (rs->progress_fn) {
-        pthread_mutex_lock(&job->cb_lock);
-        if (!atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
-            atomic_store(&job->stop, true);
-            job->cancelled = true;
-        }
-        pthread_mutex_unlock(&job->cb_lock);
+    if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
+        atomic_store(&job->stop, true);
+        job->cancelled = true;
     }
+    pthread_mutex_unlock(&job->cb_lock);
 }
 
 /* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
