@@ -155,6 +155,39 @@ static double bench_dda(const density *d, int mode, int threads, size_t tasks)
     return (double)steps / dt / used;
 }
 
+/* The machine's own scaling, for the per-core figures above: a loop that touches no memory
+ * (four independent xorshift chains, integer only), per thread, with one thread and with
+ * every core busy. On a machine whose cores share nothing this ratio is 1; below 1 the
+ * cores share execution resources (SMT siblings, or a host that throttles busy vCPUs), and
+ * the DDA's per-core rate with every core busy can fall by as much for that reason alone. */
+#define ALU_ITERS 50000000ull
+static void alu_task(size_t task, int thread, void *user)
+{
+    dda_job *j = user;
+    uint64_t a = 0x9e3779b97f4a7c15ull + task, b = a * 3, c = a * 5, d = a * 7;
+    for (unsigned long long q = 0; q < ALU_ITERS; q++) {
+        a ^= a << 13, a ^= a >> 7, a ^= a << 17;
+        b ^= b << 13, b ^= b >> 7, b ^= b << 17;
+        c ^= c << 13, c ^= c >> 7, c ^= c << 17;
+        d ^= d << 13, d ^= d >> 7, d ^= d << 17;
+    }
+    j->steps[thread] += ALU_ITERS;
+    j->checksum[thread] += (double)((a ^ b ^ c ^ d) & 0xffff);
+}
+
+static double bench_alu(int threads)
+{
+    dda_job j;
+    memset(&j, 0, sizeof j);
+    double t0 = now();
+    int used = pool_run(threads, (size_t)threads, alu_task, &j);
+    double dt = now() - t0;
+    unsigned long long n = 0;
+    for (int i = 0; i < 64; i++)
+        n += j.steps[i];
+    return (double)n / dt / used;
+}
+
 /* ---- lookups ------------------------------------------------------------------------------ */
 
 static double bench_lookup(const density *d, size_t n)
@@ -239,12 +272,16 @@ int main(int argc, char **argv)
     for (int k = 0; k < runs; k++)
         res[k] = bench_dda(dn, 1, 1, 8);
     maj = median(res, runs);
+    for (int k = 0; k < runs; k++) /* interleaved: the ratio survives load */
+        ratio[k] = bench_alu(cores) / bench_alu(1);
+    double alu_scaling = median(ratio, runs);
     printf("DDA, 256^3 voxels, random rays through the box:\n");
     printf("  voxel steps/s/core, 1 thread:   %8.1f M\n", one * 1e-6);
     printf("  previous exact-crossing step:   %8.1f M  (this step / previous, median of run ratios: %.2fx)\n",
            old * 1e-6, gain);
     printf("  voxel steps/s/core, %d threads:  %8.1f M  (total %.1f M/s)\n", cores, all * 1e-6, all * cores * 1e-6);
     printf("  majorant segments/s, 1 thread:  %8.1f M  (8^3-voxel cells, equal ones merged)\n", maj * 1e-6);
+    printf("  the machine: a register-only loop per thread, %d threads / 1 thread: %.2fx\n", cores, alu_scaling);
 
     size_t nl = 4000000;
     double ln, lt;

@@ -207,6 +207,16 @@ uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *set
     return h;
 }
 
+/* Releases a job that failed: the live view stops showing it first (its server thread reads
+ * the job until then). */
+static brume_status job_failed(const cli_job_opts *o, brume_render_job *job, brume_status st)
+{
+    if (o->serve)
+        cli_serve_show(o->serve, NULL, NULL);
+    brume_render_job_release(job);
+    return st;
+}
+
 brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli_job_opts *o, brume_render_job **job_out,
                          brume_image **out, cli_job_result *res)
 {
@@ -233,27 +243,20 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
         res->interrupted = true;
         res->signal = g_signal;
     } else if (st != BRUME_OK) {
-        brume_render_job_release(job);
-        if (o->serve)
-            cli_serve_show(o->serve, NULL, NULL);
-        return st;
+        return job_failed(o, job, st);
     }
     if (o->checkpoint) {
         if (res->interrupted) {
-            if ((st = brume_render_job_save(ctx, job, o->scene_key, o->checkpoint)) != BRUME_OK) {
-                brume_render_job_release(job);
-                return st;
-            }
+            if ((st = brume_render_job_save(ctx, job, o->scene_key, o->checkpoint)) != BRUME_OK)
+                return job_failed(o, job, st);
             res->checkpoint_written = true;
         } else {
             remove(o->checkpoint); /* finished: the image is the result */
         }
     }
     brume_render_job_progress(job, &res->progress);
-    if ((st = brume_render_job_image(ctx, job, out)) != BRUME_OK) {
-        brume_render_job_release(job);
-        return st;
-    }
+    if ((st = brume_render_job_image(ctx, job, out)) != BRUME_OK)
+        return job_failed(o, job, st);
     /* the figures of a budgeted render (a fixed count is the command's own --spp) */
     if (o->noise_target > 0.0 || o->time_budget > 0.0) {
         char v[64];

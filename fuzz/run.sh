@@ -66,16 +66,21 @@ esac
 # The vdb target reads through brume's sandbox: libopenvdb runs in a child process per
 # input, under CPU and address-space limits, and a hang, a crash or an exhausted limit
 # there is a one-line error in brume (docs/grids.md). What the fuzzer watches is brume's
-# own process: no crash, leak, hang (-timeout is above the sandbox's own 25 s wall-clock
-# limit for small inputs) or multi-line message. Coverage inside the child is not fed
+# own process: no crash, leak, hang (-timeout is above the sandbox's own wall-clock limit,
+# 15 s for small inputs and 45 s or more under ASan, with room for a loaded machine) or
+# multi-line message. Coverage inside the child is not fed
 # back (it is another process), so mutation there is blind; it still mutates.
 # Under ASan the child has no address-space limit (the shadow needs terabytes): an
 # impossible allocation then returns null (a std::bad_alloc, reported) instead of aborting.
+# -timeout is per input, in wall-clock seconds: a hang takes minutes, and a machine running
+# other tests beside the fuzzer (ctest -j2) can slow one input several times over.
 leaks=1
-timeout=10
+timeout=60
 if [ "$fmt" = vdb ]; then
-    timeout=40
-    ASAN_OPTIONS="allocator_may_return_null=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+    timeout=150
+    # and ASan's own allocation cap stands in for the address-space limit, as in
+    # `make test-sanitize`: one mutant must not have the reader touch gigabytes
+    ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=2048${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
     export ASAN_OPTIONS
     cp "$data/wdas_cloud_sixteenth.vdb" "$out/corpus-$fmt/"
 fi

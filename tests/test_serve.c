@@ -216,7 +216,11 @@ TEST(bad_port_and_host)
     snprintf(spec, sizeof spec, "127.0.0.1:%d", ntohs(sa.sin_port));
     refused(spec, "in use");
     close(fd);
+    /* a machine whose DNS servers do not answer would wait 5 s per server and attempt: one
+     * second, once, is enough to learn that the name does not resolve */
+    setenv("RES_OPTIONS", "timeout:1 attempts:1", 1);
     refused("no-such-host.invalid:8080", "no-such-host.invalid");
+    unsetenv("RES_OPTIONS");
     refused("127.0.0.1:70000", "port");
 }
 
@@ -246,6 +250,18 @@ TEST(browser_shows_the_image)
     snprintf(args, sizeof args, "render %s --spp 2 --serve 127.0.0.1:0 -o %s", scene, out);
     pid_t pid = test_spawn(BRUME_EXE, args, err);
     int port = wait_port(err, pid);
+    /* the render finished first, so that the page shows the whole image however slowly
+     * this machine runs (Chromium's virtual time budget is not wall-clock time) */
+    double t0 = test_now();
+    bool finished = false;
+    while (!finished && test_now() - t0 < 120.0) {
+        response r = http(port, "GET", "/status.json");
+        finished = r.status == 200 && strstr(r.body, "\"finished\": true") != NULL;
+        response_free(&r);
+        if (!finished)
+            test_sleep(0.1);
+    }
+    ASSERT_TRUE(finished);
     snprintf(args, sizeof args,
              "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=%s "
              "--window-size=640,480 --virtual-time-budget=5000 --screenshot=%s http://127.0.0.1:%d/",
