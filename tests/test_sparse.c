@@ -460,6 +460,33 @@ static void check_majorants(const density *d, uint64_t seed, int rays, int min_p
     ASSERT_TRUE(positive >= min_positive);
 }
 
+/* Rays through points within +-half_box/2 voxels of the points aim[] (in turn), each
+ * `half_len` voxels either side: density at random points of every majorant segment must not
+ * exceed its bound. Returns how many of those points had density > 0. */
+static int check_near(const density *d, const vec3 *aim, int naim, double box, double half_len, uint64_t seed, int rays)
+{
+    rng g = rng_make(seed, 0, 0);
+    int positive = 0;
+    for (int n = 0; n < rays; n++) {
+        vec3 a = v3_add(aim[n % naim], v3(VOXEL * box * (rng_next(&g) - 0.5), VOXEL * box * (rng_next(&g) - 0.5),
+                                           VOXEL * box * (rng_next(&g) - 0.5)));
+        vec3 dir = v3_normalize(v3(rng_next(&g) - 0.5, rng_next(&g) - 0.5, rng_next(&g) - 0.5));
+        ray r = {v3_sub(a, v3_scale(dir, half_len * VOXEL)), dir, 0};
+        majorant_iter mi;
+        majorant_seg s;
+        density_majorant_begin(d, r, 0, 2.0 * half_len * VOXEL, &mi);
+        while (majorant_next(&mi, &s))
+            for (int q = 0; q < 8; q++) {
+                double tt = s.t0 + (s.t1 - s.t0) * rng_next(&g);
+                double rho = density_eval(d, ray_at(r, tt));
+                if (rho > s.rho_maj)
+                    TEST_FAIL("rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_maj, tt, s.t0, s.t1);
+                positive += rho > 0;
+            }
+    }
+    return positive;
+}
+
 TEST(sparse_majorants_bound)
 {
     if (!grid_have_openvdb())
@@ -475,29 +502,9 @@ TEST(sparse_majorants_bound)
         if (!d)
             TEST_FAIL("%s", err_message());
         /* rays aimed at the puffs' voxels: most points of interest are inside them */
-        rng g = rng_make(3, (uint64_t)f, 0);
-        int positive = 0;
-        for (int n = 0; n < 4000; n++) {
-            int p = n & 1;
-            vec3 c = centre(puff_c[p][0], puff_c[p][1], puff_c[p][2]);
-            vec3 aim = v3_add(c, v3(VOXEL * 8 * (rng_next(&g) - 0.5), VOXEL * 8 * (rng_next(&g) - 0.5),
-                                    VOXEL * 8 * (rng_next(&g) - 0.5)));
-            vec3 dir = v3_normalize(v3(rng_next(&g) - 0.5, rng_next(&g) - 0.5, rng_next(&g) - 0.5));
-            ray r = {v3_sub(aim, v3_scale(dir, 0.2)), dir, 0};
-            majorant_iter mi;
-            majorant_seg s;
-            density_majorant_begin(d, r, 0, 0.4, &mi);
-            while (majorant_next(&mi, &s))
-                for (int q = 0; q < 8; q++) {
-                    double tt = s.t0 + (s.t1 - s.t0) * rng_next(&g);
-                    double rho = density_eval(d, ray_at(r, tt));
-                    if (rho > s.rho_maj)
-                        TEST_FAIL("filter %d: rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", f, rho, s.rho_maj,
-                                  tt, s.t0, s.t1);
-                    positive += rho > 0;
-                }
-        }
-        ASSERT_TRUE(positive > 10000);
+        const vec3 aims[2] = {centre(puff_c[0][0], puff_c[0][1], puff_c[0][2]),
+                              centre(puff_c[1][0], puff_c[1][1], puff_c[1][2])};
+        ASSERT_TRUE(check_near(d, aims, 2, 8.0, 20.0, 3 + (uint64_t)f, 4000) > 10000);
         check_majorants(d, 11 + (uint64_t)f, 500, 0);
         /* the diagonal through both puffs: empty space between them in few segments */
         vec3 a = centre(puff_c[0][0], puff_c[0][1], puff_c[0][2]), b = centre(puff_c[1][0], puff_c[1][1], puff_c[1][2]);
@@ -527,6 +534,67 @@ TEST(sparse_majorants_bound)
         check_majorants(d, 21 + (uint64_t)f, 1500, 1000);
         density_release(d);
     }
+    unlink(path);
+}
+
+/* Trilinear majorants are as tight as the filter allows: a lookup reads one voxel beyond its
+ * 8^3 leaf cell, so a voxel in the middle of a leaf (A, value 1, at local (4, 4, 4)) raises
+ * only its own cell's bound, while one on a leaf's face would raise the neighbour's. The
+ * cell next to A's along +x holds B (value 0.5, at its far corner): its bound must be 0.5
+ * (it was 1, the max over all 27 neighbouring cells, before the face maxima). C (0.25, at
+ * (31, 23, 23)) puts the cell diagonal to B's inside the box: lookups there near B read B
+ * across a corner, which random rays check against the bounds. */
+TEST(sparse_trilinear_majorants_tight)
+{
+    if (!grid_have_openvdb())
+        return;
+    const char *path = test_tmp_path("tight.vdb");
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) {
+        gridvdb_writer *w = gridvdb_writer_new();
+        const double origin[3] = {0, 0, 0};
+        int g = gridvdb_writer_add(w, "density", 0, VOXEL, origin);
+        const float a = 1.0f, b = 0.5f, c = 0.25f;
+        gridvdb_writer_set(w, g, 12, 12, 12, &a);
+        gridvdb_writer_set(w, g, 23, 15, 15, &b);
+        gridvdb_writer_set(w, g, 31, 23, 23, &c);
+        _exit(gridvdb_writer_save(w, path, 0) == BRUME_OK ? 0 : 1);
+    }
+    int st = 0;
+    waitpid(pid, &st, 0);
+    ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    density_load_options o;
+    density_load_options_default(&o);
+    o.filter = GRID_TRILINEAR;
+    density *d = density_load_file(path, &o);
+    if (!d)
+        TEST_FAIL("%s", err_message());
+    /* along +x through B's cell only (voxels 16 to 23), at B's y and z */
+    ray r = {centre(16, 15, 15), v3(1, 0, 0), 0};
+    majorant_iter mi;
+    majorant_seg sg;
+    density_majorant_begin(d, r, 0.0, 7.5 * VOXEL, &mi);
+    int segs = 0;
+    while (majorant_next(&mi, &sg)) {
+        fprintf(stderr, "B's cell: [%g, %g) majorant %.9g\n", sg.t0, sg.t1, sg.rho_maj);
+        ASSERT_TRUE(sg.rho_maj >= 0.5 && sg.rho_maj <= 0.5000001);
+        segs++;
+    }
+    ASSERT_TRUE(segs >= 1);
+    /* and through A's cell the bound holds A */
+    r.o = centre(8, 12, 12);
+    density_majorant_begin(d, r, 0.0, 7.5 * VOXEL, &mi);
+    double mx = 0.0;
+    while (majorant_next(&mi, &sg))
+        mx = fmax(mx, sg.rho_maj);
+    ASSERT_TRUE(mx >= 1.0);
+    /* short rays around the three voxels, where the corners and faces matter */
+    const vec3 aims[3] = {centre(12, 12, 12), centre(23, 15, 15), centre(31, 23, 23)};
+    int positive = check_near(d, aims, 3, 3.0, 2.0, 41, 6000);
+    fprintf(stderr, "%d points with density > 0 near the voxels\n", positive);
+    ASSERT_TRUE(positive > 5000);
+    density_release(d);
     unlink(path);
 }
 
@@ -895,5 +963,5 @@ TEST(gen_upres_and_fire)
     unlink(fire);
 }
 
-TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense,
+TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense, sparse_trilinear_majorants_tight,
           nanovdb_cached_lookups, sparse_majorants_bound, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)

@@ -17,8 +17,10 @@
  * Majorants (docs/grids.md, "Majorants of sparse grids"): the walk records, for each lower
  * node (a "block" of 128^3 voxels), the max of each of its 16^3 leaf cells (a leaf's max or a
  * tile value); tiles above the lower level give uniform blocks. For the trilinear filter
- * every leaf cell's bound is then widened to the max of its 27 neighbours (a lookup reads at
- * most one voxel beyond its own cell), which adds the blocks next to occupied ones. Blocks
+ * it also records each cell's six face maxima (its one-voxel layers x = 0, x = 7, ...), and
+ * every cell's bound is widened by what a lookup in it can read of its 26 neighbours (one
+ * voxel beyond the cell: the facing face, or a line or corner bounded by a face), which adds
+ * the blocks next to occupied ones. Blocks
  * live in a hash table keyed by block coordinate; a block whose 16^3 bounds are all equal
  * keeps one number. A second table marks the 4096^3 "regions" holding any block. Along a ray
  * three nested DDAs walk regions, blocks and leaf cells: space outside the tables is the
@@ -258,6 +260,9 @@ typedef struct walk {
     cell_hash raw;     /* block -> index into rawmaj / rawtab */
     float *rawmaj;     /* per raw block: its max */
     float *rawtab;     /* per raw block: BLOCK_CELLS maxima, or none (uniform) */
+    float *rawface;    /* per table: 6 maxima per cell, over its faces x = 0, x = 7, y = 0, y = 7,
+                          z = 0, z = 7 (one voxel thick): what a trilinear lookup in the next
+                          cell can read of it */
     int32_t *rawat;    /* per raw block: table index or -1 */
     size_t nraw, capraw, ntab, captab;
     double vmin, vmax;
@@ -310,14 +315,20 @@ static int32_t raw_block(walk *w, const int32_t key[3], bool table)
         if (w->ntab == w->captab) {
             size_t cap = w->captab ? 2 * w->captab : 16;
             float *t = realloc(w->rawtab, cap * BLOCK_CELLS * sizeof *t);
-            if (!t)
+            if (t)
+                w->rawtab = t;
+            float *f = realloc(w->rawface, cap * BLOCK_CELLS * 6 * sizeof *f);
+            if (f)
+                w->rawface = f;
+            if (!t || !f)
                 return -1;
-            w->rawtab = t;
             w->captab = cap;
         }
-        float *t = w->rawtab + w->ntab * BLOCK_CELLS;
+        float *t = w->rawtab + w->ntab * BLOCK_CELLS, *f = w->rawface + w->ntab * BLOCK_CELLS * 6;
         for (int c = 0; c < BLOCK_CELLS; c++)
             t[c] = w->rawmaj[idx];
+        for (int c = 0; c < BLOCK_CELLS * 6; c++)
+            f[c] = w->rawmaj[idx];
         w->rawat[idx] = (int32_t)w->ntab++;
     }
     return idx;
@@ -336,12 +347,12 @@ static bool walk_lower(walk *w, pnanovdb_lower_handle_t lower, const int org[3])
     int32_t b = raw_block(w, key, true);
     if (b < 0)
         return oom(w);
-    float *tab = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+    float *tab = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS, *face = w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6;
     float bmax = w->rawmaj[b];
     for (uint32_t n = 0; n < BLOCK_CELLS; n++) {
         int lx = (int)(n >> 8), ly = (int)((n >> 4) & 15), lz = (int)(n & 15);
         int x = org[0] + 8 * lx, y = org[1] + 8 * ly, z = org[2] + 8 * lz;
-        float m;
+        float m, fm[6];
         if (pnanovdb_lower_get_child_mask(s->buf, lower, n)) {
             if (w->budget[2]-- == 0) {
                 err_set(BRUME_ERROR_PARSE, "%s: the tree reaches more leaves than the buffer holds", w->name);
@@ -349,19 +360,30 @@ static bool walk_lower(walk *w, pnanovdb_lower_handle_t lower, const int org[3])
             }
             pnanovdb_leaf_handle_t leaf = pnanovdb_lower_get_child(s->type, s->buf, lower, n);
             m = 0.0f;
+            for (int k = 0; k < 6; k++)
+                fm[k] = 0.0f;
             for (uint32_t v = 0; v < 512; v++) {
                 float f = read_value(s, pnanovdb_leaf_get_table_address(s->type, s->buf, leaf, v));
-                if (!value_ok(w, f, x + (int)(v >> 6), y + (int)((v >> 3) & 7), z + (int)(v & 7)))
+                const int vx = (int)(v >> 6), vy = (int)((v >> 3) & 7), vz = (int)(v & 7);
+                if (!value_ok(w, f, x + vx, y + vy, z + vz))
                     return false;
                 m = f > m ? f : m;
+                const int on[6] = {vx == 0, vx == 7, vy == 0, vy == 7, vz == 0, vz == 7};
+                for (int k = 0; k < 6; k++)
+                    if (on[k] && f > fm[k])
+                        fm[k] = f;
             }
         } else {
             m = read_value(s, pnanovdb_lower_get_table_address(s->type, s->buf, lower, n));
             if (!value_ok(w, m, x, y, z))
                 return false;
+            for (int k = 0; k < 6; k++)
+                fm[k] = m;
         }
         size_t c = (size_t)lx + 16 * ((size_t)ly + 16 * (size_t)lz);
         tab[c] = m > tab[c] ? m : tab[c];
+        for (int k = 0; k < 6; k++)
+            face[6 * c + (size_t)k] = fm[k] > face[6 * c + (size_t)k] ? fm[k] : face[6 * c + (size_t)k];
         bmax = m > bmax ? m : bmax;
     }
     w->rawmaj[b] = bmax;
@@ -375,9 +397,11 @@ static bool walk_tile_block(walk *w, const int32_t key[3], float v)
     if (b < 0)
         return oom(w);
     if (w->rawat[b] >= 0) {
-        float *t = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+        float *t = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS, *f = w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6;
         for (int c = 0; c < BLOCK_CELLS; c++)
             t[c] = v > t[c] ? v : t[c];
+        for (int c = 0; c < BLOCK_CELLS * 6; c++)
+            f[c] = v > f[c] ? v : f[c];
     }
     w->rawmaj[b] = v > w->rawmaj[b] ? v : w->rawmaj[b];
     return true;
@@ -450,8 +474,12 @@ static bool walk_tree(walk *w, uint64_t tiles, float background)
     return true;
 }
 
-/* Final bounds of one block: its raw leaf-cell bounds widened over the 27 neighbours
- * (trilinear) or kept (nearest), times the scale; into out[BLOCK_CELLS]. */
+/* Final bounds of one block: its raw leaf-cell bounds (nearest), or for the trilinear filter
+ * each cell's bound widened by what a lookup inside it can read of its 26 neighbours, the
+ * one-voxel layer of each that touches it; times the scale comes later. A neighbour across a
+ * face contributes its facing face's max; across an edge or a corner, the layer it
+ * contributes (an edge line, a corner voxel) lies in its face on the first axis it is
+ * offset along, and that face's max bounds it. Into out[BLOCK_CELLS]. */
 static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float bg, float *out)
 {
     if (!dilate) {
@@ -460,14 +488,17 @@ static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float
             out[c] = b < 0 ? bg : (w->rawat[b] < 0 ? w->rawmaj[b] : w->rawtab[(size_t)w->rawat[b] * BLOCK_CELLS + (size_t)c]);
         return;
     }
-    /* padded 18^3 raw table: the block and one leaf cell of each neighbour */
-    static _Thread_local float pad[18 * 18 * 18], tmp[18 * 18 * 18];
-    const float *nb_tab[27];
+    /* the block and one cell of each neighbour, padded to 18^3: the cells' own maxima and
+     * their 6 face maxima */
+    static _Thread_local float pad[18 * 18 * 18], padf[6][18 * 18 * 18];
+    const float *nb_tab[27], *nb_face[27];
     float nb_uni[27];
     for (int q = 0; q < 27; q++) {
         int32_t k[3] = {key[0] + q % 3 - 1, key[1] + (q / 3) % 3 - 1, key[2] + q / 9 - 1};
         int32_t b = hash_find(&w->raw, k);
-        nb_tab[q] = b >= 0 && w->rawat[b] >= 0 ? w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS : NULL;
+        bool tab = b >= 0 && w->rawat[b] >= 0;
+        nb_tab[q] = tab ? w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS : NULL;
+        nb_face[q] = tab ? w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6 : NULL;
         nb_uni[q] = b < 0 ? bg : w->rawmaj[b];
     }
     for (int z = -1; z <= 16; z++)
@@ -475,31 +506,36 @@ static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float
             for (int x = -1; x <= 16; x++) {
                 int qx = x < 0 ? 0 : (x > 15 ? 2 : 1), qy = y < 0 ? 0 : (y > 15 ? 2 : 1), qz = z < 0 ? 0 : (z > 15 ? 2 : 1);
                 int q = qx + 3 * qy + 9 * qz;
-                int lx = (x + 16) & 15, ly = (y + 16) & 15, lz = (z + 16) & 15;
-                pad[(x + 1) + 18 * ((y + 1) + 18 * (z + 1))] =
-                    nb_tab[q] ? nb_tab[q][lx + 16 * (ly + 16 * lz)] : nb_uni[q];
+                size_t lc = (size_t)((x + 16) & 15) + 16 * ((size_t)((y + 16) & 15) + 16 * (size_t)((z + 16) & 15));
+                size_t pc = (size_t)(x + 1) + 18 * ((size_t)(y + 1) + 18 * (size_t)(z + 1));
+                pad[pc] = nb_tab[q] ? nb_tab[q][lc] : nb_uni[q];
+                for (int f = 0; f < 6; f++)
+                    padf[f][pc] = nb_face[q] ? nb_face[q][6 * lc + (size_t)f] : nb_uni[q];
             }
-    /* separable max over 3 cells per axis */
-    const int stride[3] = {1, 18, 324};
-    float *src = pad, *dst = tmp;
-    for (int a = 0; a < 3; a++) {
-        for (int i = 0; i < 18 * 18 * 18; i++) {
-            int c = i / stride[a] % 18;
-            float m = src[i];
-            if (c > 0 && src[i - stride[a]] > m)
-                m = src[i - stride[a]];
-            if (c < 17 && src[i + stride[a]] > m)
-                m = src[i + stride[a]];
-            dst[i] = m;
-        }
-        float *t = src;
-        src = dst;
-        dst = t;
-    }
+    /* per neighbour offset (dx, dy, dz): the pad step and the face of the neighbour that
+     * faces the cell (an offset of +1 on the first axis it has: the neighbour's low face) */
+    int step[26], face[26], nd = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                if (!dx && !dy && !dz)
+                    continue;
+                int axis = dx ? 0 : (dy ? 1 : 2), sign = dx ? dx : (dy ? dy : dz);
+                step[nd] = dx + 18 * (dy + 18 * dz);
+                face[nd] = 2 * axis + (sign > 0 ? 0 : 1);
+                nd++;
+            }
     for (int z = 0; z < 16; z++)
         for (int y = 0; y < 16; y++)
-            for (int x = 0; x < 16; x++)
-                out[x + 16 * (y + 16 * z)] = src[(x + 1) + 18 * ((y + 1) + 18 * (z + 1))];
+            for (int x = 0; x < 16; x++) {
+                int pc = (x + 1) + 18 * ((y + 1) + 18 * (z + 1));
+                float m = pad[pc];
+                for (int k = 0; k < 26; k++) {
+                    float f = padf[face[k]][pc + step[k]];
+                    m = f > m ? f : m;
+                }
+                out[x + 16 * (y + 16 * z)] = m;
+            }
 }
 
 /* v scale as a float no smaller than the double product lookups compute. */
@@ -704,7 +740,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     if (!value_ok(&w, bg, lo.x, lo.y, lo.z) || !walk_tree(&w, tiles, bg))
         goto fail;
     /* the tables of the walk and the final ones must fit the memory limit */
-    if (max_memory && (w.ntab * 2 + 16) * BLOCK_CELLS * sizeof(float) > max_memory) {
+    if (max_memory && (w.ntab * (2 + 6) + 16) * BLOCK_CELLS * sizeof(float) > max_memory) {
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: majorants of %zu blocks exceed the memory limit of %zu bytes", name,
                 w.ntab, max_memory);
         goto fail;
@@ -716,6 +752,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     hash_free(&w.raw);
     free(w.rawmaj);
     free(w.rawtab);
+    free(w.rawface);
     free(w.rawat);
     d->active = pnanovdb_tree_get_voxel_count(b, tree);
     d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
@@ -729,6 +766,7 @@ fail:
     hash_free(&w.raw);
     free(w.rawmaj);
     free(w.rawtab);
+    free(w.rawface);
     free(w.rawat);
     nano_free_majorants(s);
     free(s);
