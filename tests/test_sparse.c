@@ -541,7 +541,7 @@ TEST(sparse_majorants_bound)
  * 8^3 leaf cell, so a voxel in the middle of a leaf (A, value 1, at local (4, 4, 4)) raises
  * only its own cell's bound, while one on a leaf's face would raise the neighbour's. The
  * cell next to A's along +x holds B (value 0.5, at its far corner): its bound must be 0.5
- * (it was 1, the max over all 27 neighbouring cells, before the face maxima). C (0.25, at
+ * (it was 1, the max over all 27 neighbouring cells, before the leaves' slabs). C (0.25, at
  * (31, 23, 23)) puts the cell diagonal to B's inside the box: lookups there near B read B
  * across a corner, which random rays check against the bounds. */
 TEST(sparse_trilinear_majorants_tight)

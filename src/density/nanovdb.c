@@ -17,10 +17,10 @@
  * Majorants (docs/grids.md, "Majorants of sparse grids"): the walk records, for each lower
  * node (a "block" of 128^3 voxels), the max of each of its 16^3 leaf cells (a leaf's max or a
  * tile value); tiles above the lower level give uniform blocks. For the trilinear filter
- * it also records each cell's six face maxima (its one-voxel layers x = 0, x = 7, ...), and
- * every cell's bound is widened by what a lookup in it can read of its 26 neighbours (one
- * voxel beyond the cell: the facing face, or a line or corner bounded by a face), which adds
- * the blocks next to occupied ones. Blocks
+ * it also records each leaf's 27 slab maxima (per axis its layer at 0, all of it, or its
+ * layer at 7), and every cell's bound is widened by exactly what a lookup in it can read of
+ * its 26 neighbours (one voxel beyond the cell: a face, an edge line or a corner of each),
+ * which adds the blocks next to occupied ones. Blocks
  * live in a hash table keyed by block coordinate; a block whose 16^3 bounds are all equal
  * keeps one number. A second table marks the 4096^3 "regions" holding any block. Along a ray
  * three nested DDAs walk regions, blocks and leaf cells: space outside the tables is the
@@ -260,14 +260,15 @@ typedef struct walk {
     cell_hash raw;     /* block -> index into rawmaj / rawtab */
     float *rawmaj;     /* per raw block: its max */
     float *rawtab;     /* per raw block: BLOCK_CELLS maxima, or none (uniform) */
-    float *rawface;    /* per table: 6 maxima per cell, over its faces x = 0, x = 7, y = 0, y = 7,
-                          z = 0, z = 7 (one voxel thick): what a trilinear lookup in the next
-                          cell can read of it */
+    int32_t *rawleaf;  /* per table: per cell, its leaf's slot in slabs, or -1 (uniform cell) */
+    float *slabs;      /* per leaf: SLABS maxima over its one-voxel layers (see slab_index) */
+    size_t nleaf, capleaf;
     int32_t *rawat;    /* per raw block: table index or -1 */
     size_t nraw, capraw, ntab, captab;
     double vmin, vmax;
     float bg;          /* the background value */
     int n[3];          /* the bounding box's voxels per axis */
+    bool trilinear;    /* record the leaves' slabs (trilinear majorants) */
     size_t budget[3];  /* upper, lower, leaf nodes the buffer can hold */
 } walk;
 
@@ -286,6 +287,41 @@ static bool value_ok(walk *w, float v, int x, int y, int z)
 static inline float read_value(const nanovdb_state *s, pnanovdb_address_t a)
 {
     return pnanovdb_read_float(s->buf, pnanovdb_address_offset(a, s->comp_off));
+}
+
+/* A leaf cell's layers, for the trilinear filter: per axis 0 = its layer at 0, 1 = all of
+ * it, 2 = its layer at 7 (one voxel thick). Slab (1, 1, 1) is the whole leaf; a neighbour
+ * offset by d from a cell can be read, by a lookup in that cell, only in its slab
+ * (d > 0 ? 0 : d < 0 ? 2 : 1) per axis. */
+#define SLABS 27
+static inline int slab_index(int sx, int sy, int sz) { return sx + 3 * (sy + 3 * sz); }
+
+/* Raises every slab of leaf slot `slot` to at least v. */
+static void slabs_raise(walk *w, int32_t slot, float v)
+{
+    float *sl = w->slabs + (size_t)slot * SLABS;
+    for (int q = 0; q < SLABS; q++)
+        sl[q] = v > sl[q] ? v : sl[q];
+}
+
+/* The slabs of a leaf cell whose slot is *slot (a new one, each slab at `init`, if -1);
+ * NULL when out of memory. */
+static float *leaf_slabs(walk *w, int32_t *slot, float init)
+{
+    if (*slot < 0) {
+        if (w->nleaf == w->capleaf) {
+            size_t cap = w->capleaf ? 2 * w->capleaf : 256;
+            float *t = realloc(w->slabs, cap * SLABS * sizeof *t);
+            if (!t)
+                return NULL;
+            w->slabs = t;
+            w->capleaf = cap;
+        }
+        *slot = (int32_t)w->nleaf++;
+        for (int q = 0; q < SLABS; q++)
+            w->slabs[(size_t)*slot * SLABS + (size_t)q] = init;
+    }
+    return w->slabs + (size_t)*slot * SLABS;
 }
 
 /* The raw block at key, created uniform-0 if absent, with a table if `table`. Index or -1. */
@@ -317,18 +353,19 @@ static int32_t raw_block(walk *w, const int32_t key[3], bool table)
             float *t = realloc(w->rawtab, cap * BLOCK_CELLS * sizeof *t);
             if (t)
                 w->rawtab = t;
-            float *f = realloc(w->rawface, cap * BLOCK_CELLS * 6 * sizeof *f);
-            if (f)
-                w->rawface = f;
-            if (!t || !f)
+            int32_t *l = realloc(w->rawleaf, cap * BLOCK_CELLS * sizeof *l);
+            if (l)
+                w->rawleaf = l;
+            if (!t || !l)
                 return -1;
             w->captab = cap;
         }
-        float *t = w->rawtab + w->ntab * BLOCK_CELLS, *f = w->rawface + w->ntab * BLOCK_CELLS * 6;
-        for (int c = 0; c < BLOCK_CELLS; c++)
+        float *t = w->rawtab + w->ntab * BLOCK_CELLS;
+        int32_t *l = w->rawleaf + w->ntab * BLOCK_CELLS;
+        for (int c = 0; c < BLOCK_CELLS; c++) {
             t[c] = w->rawmaj[idx];
-        for (int c = 0; c < BLOCK_CELLS * 6; c++)
-            f[c] = w->rawmaj[idx];
+            l[c] = -1;
+        }
         w->rawat[idx] = (int32_t)w->ntab++;
     }
     return idx;
@@ -347,43 +384,48 @@ static bool walk_lower(walk *w, pnanovdb_lower_handle_t lower, const int org[3])
     int32_t b = raw_block(w, key, true);
     if (b < 0)
         return oom(w);
-    float *tab = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS, *face = w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6;
+    float *tab = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+    int32_t *lslot = w->rawleaf + (size_t)w->rawat[b] * BLOCK_CELLS;
     float bmax = w->rawmaj[b];
     for (uint32_t n = 0; n < BLOCK_CELLS; n++) {
         int lx = (int)(n >> 8), ly = (int)((n >> 4) & 15), lz = (int)(n & 15);
         int x = org[0] + 8 * lx, y = org[1] + 8 * ly, z = org[2] + 8 * lz;
-        float m, fm[6];
+        float m;
+        size_t c = (size_t)lx + 16 * ((size_t)ly + 16 * (size_t)lz);
         if (pnanovdb_lower_get_child_mask(s->buf, lower, n)) {
             if (w->budget[2]-- == 0) {
                 err_set(BRUME_ERROR_PARSE, "%s: the tree reaches more leaves than the buffer holds", w->name);
                 return false;
             }
             pnanovdb_leaf_handle_t leaf = pnanovdb_lower_get_child(s->type, s->buf, lower, n);
+            float *sl = w->trilinear ? leaf_slabs(w, &lslot[c], tab[c]) : NULL;
+            if (w->trilinear && !sl)
+                return oom(w);
             m = 0.0f;
-            for (int k = 0; k < 6; k++)
-                fm[k] = 0.0f;
             for (uint32_t v = 0; v < 512; v++) {
                 float f = read_value(s, pnanovdb_leaf_get_table_address(s->type, s->buf, leaf, v));
                 const int vx = (int)(v >> 6), vy = (int)((v >> 3) & 7), vz = (int)(v & 7);
                 if (!value_ok(w, f, x + vx, y + vy, z + vz))
                     return false;
                 m = f > m ? f : m;
-                const int on[6] = {vx == 0, vx == 7, vy == 0, vy == 7, vz == 0, vz == 7};
-                for (int k = 0; k < 6; k++)
-                    if (on[k] && f > fm[k])
-                        fm[k] = f;
+                if (sl) { /* every layer holding the voxel: per axis "all", and its own end if at one */
+                    const int ex = vx == 0 ? 0 : (vx == 7 ? 2 : 1), ey = vy == 0 ? 0 : (vy == 7 ? 2 : 1),
+                              ez = vz == 0 ? 0 : (vz == 7 ? 2 : 1);
+                    for (int q = 0; q < 8; q++) {
+                        const int sx = q & 1 ? ex : 1, sy = q & 2 ? ey : 1, sz = q & 4 ? ez : 1;
+                        float *t = &sl[slab_index(sx, sy, sz)];
+                        *t = f > *t ? f : *t;
+                    }
+                }
             }
         } else {
             m = read_value(s, pnanovdb_lower_get_table_address(s->type, s->buf, lower, n));
             if (!value_ok(w, m, x, y, z))
                 return false;
-            for (int k = 0; k < 6; k++)
-                fm[k] = m;
+            if (lslot[c] >= 0) /* a malformed tree: raise the cell's slabs too */
+                slabs_raise(w, lslot[c], m);
         }
-        size_t c = (size_t)lx + 16 * ((size_t)ly + 16 * (size_t)lz);
         tab[c] = m > tab[c] ? m : tab[c];
-        for (int k = 0; k < 6; k++)
-            face[6 * c + (size_t)k] = fm[k] > face[6 * c + (size_t)k] ? fm[k] : face[6 * c + (size_t)k];
         bmax = m > bmax ? m : bmax;
     }
     w->rawmaj[b] = bmax;
@@ -397,11 +439,13 @@ static bool walk_tile_block(walk *w, const int32_t key[3], float v)
     if (b < 0)
         return oom(w);
     if (w->rawat[b] >= 0) {
-        float *t = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS, *f = w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6;
-        for (int c = 0; c < BLOCK_CELLS; c++)
+        float *t = w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS;
+        const int32_t *l = w->rawleaf + (size_t)w->rawat[b] * BLOCK_CELLS;
+        for (int c = 0; c < BLOCK_CELLS; c++) {
             t[c] = v > t[c] ? v : t[c];
-        for (int c = 0; c < BLOCK_CELLS * 6; c++)
-            f[c] = v > f[c] ? v : f[c];
+            if (l[c] >= 0)
+                slabs_raise(w, l[c], v);
+        }
     }
     w->rawmaj[b] = v > w->rawmaj[b] ? v : w->rawmaj[b];
     return true;
@@ -475,11 +519,10 @@ static bool walk_tree(walk *w, uint64_t tiles, float background)
 }
 
 /* Final bounds of one block: its raw leaf-cell bounds (nearest), or for the trilinear filter
- * each cell's bound widened by what a lookup inside it can read of its 26 neighbours, the
- * one-voxel layer of each that touches it; times the scale comes later. A neighbour across a
- * face contributes its facing face's max; across an edge or a corner, the layer it
- * contributes (an edge line, a corner voxel) lies in its face on the first axis it is
- * offset along, and that face's max bounds it. Into out[BLOCK_CELLS]. */
+ * each cell's bound widened by exactly what a lookup inside it can read of its 26
+ * neighbours: the one-voxel layer of each that touches it (a face, an edge line, a corner
+ * voxel), from the leaves' slabs (a uniform cell's layers are its value). Times the scale
+ * comes later. Into out[BLOCK_CELLS]. */
 static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float bg, float *out)
 {
     if (!dilate) {
@@ -488,17 +531,19 @@ static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float
             out[c] = b < 0 ? bg : (w->rawat[b] < 0 ? w->rawmaj[b] : w->rawtab[(size_t)w->rawat[b] * BLOCK_CELLS + (size_t)c]);
         return;
     }
-    /* the block and one cell of each neighbour, padded to 18^3: the cells' own maxima and
-     * their 6 face maxima */
-    static _Thread_local float pad[18 * 18 * 18], padf[6][18 * 18 * 18];
-    const float *nb_tab[27], *nb_face[27];
+    /* the block and one cell of each neighbour, padded to 18^3: each cell's value (uniform)
+     * or its leaf's slabs */
+    static _Thread_local float pad[18 * 18 * 18];
+    static _Thread_local const float *padsl[18 * 18 * 18];
+    const float *nb_tab[27];
+    const int32_t *nb_leaf[27];
     float nb_uni[27];
     for (int q = 0; q < 27; q++) {
         int32_t k[3] = {key[0] + q % 3 - 1, key[1] + (q / 3) % 3 - 1, key[2] + q / 9 - 1};
         int32_t b = hash_find(&w->raw, k);
         bool tab = b >= 0 && w->rawat[b] >= 0;
         nb_tab[q] = tab ? w->rawtab + (size_t)w->rawat[b] * BLOCK_CELLS : NULL;
-        nb_face[q] = tab ? w->rawface + (size_t)w->rawat[b] * BLOCK_CELLS * 6 : NULL;
+        nb_leaf[q] = tab ? w->rawleaf + (size_t)w->rawat[b] * BLOCK_CELLS : NULL;
         nb_uni[q] = b < 0 ? bg : w->rawmaj[b];
     }
     for (int z = -1; z <= 16; z++)
@@ -509,20 +554,18 @@ static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float
                 size_t lc = (size_t)((x + 16) & 15) + 16 * ((size_t)((y + 16) & 15) + 16 * (size_t)((z + 16) & 15));
                 size_t pc = (size_t)(x + 1) + 18 * ((size_t)(y + 1) + 18 * (size_t)(z + 1));
                 pad[pc] = nb_tab[q] ? nb_tab[q][lc] : nb_uni[q];
-                for (int f = 0; f < 6; f++)
-                    padf[f][pc] = nb_face[q] ? nb_face[q][6 * lc + (size_t)f] : nb_uni[q];
+                padsl[pc] = nb_leaf[q] && nb_leaf[q][lc] >= 0 ? w->slabs + (size_t)nb_leaf[q][lc] * SLABS : NULL;
             }
-    /* per neighbour offset (dx, dy, dz): the pad step and the face of the neighbour that
-     * faces the cell (an offset of +1 on the first axis it has: the neighbour's low face) */
-    int step[26], face[26], nd = 0;
+    /* per neighbour offset (dx, dy, dz): the pad step and the neighbour's slab that touches
+     * the cell (per axis: offset +1, its layer at 0; -1, its layer at 7; 0, all of it) */
+    int step[26], slab[26], nd = 0;
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
                 if (!dx && !dy && !dz)
                     continue;
-                int axis = dx ? 0 : (dy ? 1 : 2), sign = dx ? dx : (dy ? dy : dz);
                 step[nd] = dx + 18 * (dy + 18 * dz);
-                face[nd] = 2 * axis + (sign > 0 ? 0 : 1);
+                slab[nd] = slab_index(1 - dx, 1 - dy, 1 - dz);
                 nd++;
             }
     for (int z = 0; z < 16; z++)
@@ -531,7 +574,8 @@ static void block_bounds(const walk *w, const int32_t key[3], bool dilate, float
                 int pc = (x + 1) + 18 * ((y + 1) + 18 * (z + 1));
                 float m = pad[pc];
                 for (int k = 0; k < 26; k++) {
-                    float f = padf[face[k]][pc + step[k]];
+                    const float *sl = padsl[pc + step[k]];
+                    float f = sl ? sl[slab[k]] : pad[pc + step[k]];
                     m = f > m ? f : m;
                 }
                 out[x + 16 * (y + 16 * z)] = m;
@@ -736,11 +780,12 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
         goto fail;
     }
     w.bg = bg;
+    w.trilinear = filter == GRID_TRILINEAR;
     memcpy(w.n, d->n, sizeof w.n);
     if (!value_ok(&w, bg, lo.x, lo.y, lo.z) || !walk_tree(&w, tiles, bg))
         goto fail;
     /* the tables of the walk and the final ones must fit the memory limit */
-    if (max_memory && (w.ntab * (2 + 6) + 16) * BLOCK_CELLS * sizeof(float) > max_memory) {
+    if (max_memory && (w.ntab * 3 + 16) * BLOCK_CELLS * sizeof(float) + w.nleaf * SLABS * sizeof(float) > max_memory) {
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: majorants of %zu blocks exceed the memory limit of %zu bytes", name,
                 w.ntab, max_memory);
         goto fail;
@@ -752,7 +797,8 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     hash_free(&w.raw);
     free(w.rawmaj);
     free(w.rawtab);
-    free(w.rawface);
+    free(w.rawleaf);
+    free(w.slabs);
     free(w.rawat);
     d->active = pnanovdb_tree_get_voxel_count(b, tree);
     d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
@@ -766,7 +812,8 @@ fail:
     hash_free(&w.raw);
     free(w.rawmaj);
     free(w.rawtab);
-    free(w.rawface);
+    free(w.rawleaf);
+    free(w.slabs);
     free(w.rawat);
     nano_free_majorants(s);
     free(s);
