@@ -85,6 +85,43 @@ static void write_puffs(const char *path, const char *const names[3], int nanovd
     ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
 }
 
+/* Writes one float grid `name` (voxel size `voxel`, origin 0) to path, its voxels set by
+ * fill; in a child process, as write_puffs. */
+static void write_grid(const char *path, const char *name, double voxel, void (*fill)(gridvdb_writer *w, int g))
+{
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) {
+        gridvdb_writer *w = gridvdb_writer_new();
+        const double origin[3] = {0, 0, 0};
+        int g = gridvdb_writer_add(w, name, 0, voxel, origin);
+        fill(w, g);
+        _exit(gridvdb_writer_save(w, path, 0) == BRUME_OK ? 0 : 1);
+    }
+    int st = 0;
+    waitpid(pid, &st, 0);
+    ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+}
+
+/* A (1 at (12, 12, 12)), B (0.5 at (23, 15, 15)), C (0.25 at (31, 23, 23)) */
+static void fill_three_voxels(gridvdb_writer *w, int g)
+{
+    const float a = 1.0f, b = 0.5f, c = 0.25f;
+    gridvdb_writer_set(w, g, 12, 12, 12, &a);
+    gridvdb_writer_set(w, g, 23, 15, 15, &b);
+    gridvdb_writer_set(w, g, 31, 23, 23, &c);
+}
+
+/* 3000 K over [-7, 7]^3 voxels (a box covering the density's) */
+static void fill_3000K(gridvdb_writer *w, int g)
+{
+    float t = 3000.0f;
+    for (int k = -7; k <= 7; k++)
+        for (int j = -7; j <= 7; j++)
+            for (int i = -7; i <= 7; i++)
+                gridvdb_writer_set(w, g, i, j, k, &t);
+}
+
 static const char *const all_names[3] = {"density", "temperature", "Cd"};
 
 /* world centre of voxel (i, j, k) */
@@ -424,6 +461,29 @@ TEST(nanovdb_cached_lookups)
     unlink(file[1]);
 }
 
+/* The majorant segments of r over [0, tmax]: in order, and the density at `per_seg` random
+ * points of each no larger than its bound. Returns how many points had density > 0. */
+static int check_segments(const density *d, ray r, double tmax, int per_seg, rng *g)
+{
+    majorant_iter mi;
+    majorant_seg s;
+    density_majorant_begin(d, r, 0, tmax, &mi);
+    double last = -INFINITY;
+    int positive = 0;
+    while (majorant_next(&mi, &s)) {
+        ASSERT_TRUE(s.t0 < s.t1 && s.t0 >= last - 1e-9);
+        last = s.t1;
+        for (int q = 0; q < per_seg; q++) {
+            double tt = s.t0 + (s.t1 - s.t0) * rng_next(g);
+            double rho = density_eval(d, ray_at(r, tt));
+            if (rho > s.rho_maj)
+                TEST_FAIL("rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_maj, tt, s.t0, s.t1);
+            positive += rho > 0;
+        }
+    }
+    return positive;
+}
+
 /* Hierarchical majorants bound the field at random points of random rays, for both
  * filters, on the far-apart puffs and on the Disney cloud; and empty space is cheap: a ray
  * through both puffs (1200 voxels apart) takes few segments. */
@@ -440,22 +500,7 @@ static void check_majorants(const density *d, uint64_t seed, int rays, int min_p
         if (n % 4 == 0) /* through a puff or the middle: where the field is */
             t = v3_scale(v3_add(b.lo, b.hi), 0.5);
         vec3 dir = v3_normalize(v3_sub(t, o));
-        ray r = {o, dir, 0};
-        majorant_iter mi;
-        majorant_seg s;
-        density_majorant_begin(d, r, 0, INFINITY, &mi);
-        double last = -INFINITY;
-        while (majorant_next(&mi, &s)) {
-            ASSERT_TRUE(s.t0 < s.t1 && s.t0 >= last - 1e-9);
-            last = s.t1;
-            for (int q = 0; q < 4; q++) {
-                double tt = s.t0 + (s.t1 - s.t0) * rng_next(&g);
-                double rho = density_eval(d, ray_at(r, tt));
-                if (rho > s.rho_maj)
-                    TEST_FAIL("rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_maj, tt, s.t0, s.t1);
-                positive += rho > 0;
-            }
-        }
+        positive += check_segments(d, (ray){o, dir, 0}, INFINITY, 4, &g);
     }
     ASSERT_TRUE(positive >= min_positive);
 }
@@ -472,17 +517,7 @@ static int check_near(const density *d, const vec3 *aim, int naim, double box, d
                                            VOXEL * box * (rng_next(&g) - 0.5)));
         vec3 dir = v3_normalize(v3(rng_next(&g) - 0.5, rng_next(&g) - 0.5, rng_next(&g) - 0.5));
         ray r = {v3_sub(a, v3_scale(dir, half_len * VOXEL)), dir, 0};
-        majorant_iter mi;
-        majorant_seg s;
-        density_majorant_begin(d, r, 0, 2.0 * half_len * VOXEL, &mi);
-        while (majorant_next(&mi, &s))
-            for (int q = 0; q < 8; q++) {
-                double tt = s.t0 + (s.t1 - s.t0) * rng_next(&g);
-                double rho = density_eval(d, ray_at(r, tt));
-                if (rho > s.rho_maj)
-                    TEST_FAIL("rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_maj, tt, s.t0, s.t1);
-                positive += rho > 0;
-            }
+        positive += check_segments(d, r, 2.0 * half_len * VOXEL, 8, &g);
     }
     return positive;
 }
@@ -549,21 +584,7 @@ TEST(sparse_trilinear_majorants_tight)
     if (!grid_have_openvdb())
         return;
     const char *path = test_tmp_path("tight.vdb");
-    pid_t pid = fork();
-    ASSERT_TRUE(pid >= 0);
-    if (pid == 0) {
-        gridvdb_writer *w = gridvdb_writer_new();
-        const double origin[3] = {0, 0, 0};
-        int g = gridvdb_writer_add(w, "density", 0, VOXEL, origin);
-        const float a = 1.0f, b = 0.5f, c = 0.25f;
-        gridvdb_writer_set(w, g, 12, 12, 12, &a);
-        gridvdb_writer_set(w, g, 23, 15, 15, &b);
-        gridvdb_writer_set(w, g, 31, 23, 23, &c);
-        _exit(gridvdb_writer_save(w, path, 0) == BRUME_OK ? 0 : 1);
-    }
-    int st = 0;
-    waitpid(pid, &st, 0);
-    ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    write_grid(path, "density", VOXEL, fill_three_voxels);
     density_load_options o;
     density_load_options_default(&o);
     o.filter = GRID_TRILINEAR;
@@ -854,22 +875,7 @@ TEST(blackbody_emission_closed_form)
     if (!grid_have_openvdb())
         return;
     const char *path = test_tmp_path("hot.vdb");
-    pid_t pid = fork();
-    ASSERT_TRUE(pid >= 0);
-    if (pid == 0) { /* 3000 K over [-6, 6]^3 voxels of size 1 (a box covering the density's) */
-        gridvdb_writer *w = gridvdb_writer_new();
-        const double origin[3] = {0, 0, 0};
-        int g = gridvdb_writer_add(w, "temperature", 0, 1.0, origin);
-        float t = 3000.0f;
-        for (int k = -7; k <= 7; k++)
-            for (int j = -7; j <= 7; j++)
-                for (int i = -7; i <= 7; i++)
-                    gridvdb_writer_set(w, g, i, j, k, &t);
-        _exit(gridvdb_writer_save(w, path, 0) == BRUME_OK ? 0 : 1);
-    }
-    int wst = 0;
-    waitpid(pid, &wst, 0);
-    ASSERT_TRUE(WIFEXITED(wst) && WEXITSTATUS(wst) == 0);
+    write_grid(path, "temperature", 1.0, fill_3000K);
     char json[2048];
     snprintf(json, sizeof json,
              "{\"camera\": {\"position\": [0, 0, 10], \"look_at\": [0, 0, 0], \"fov\": 5},"
