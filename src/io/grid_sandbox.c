@@ -182,6 +182,7 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     int fds[2];
     if (pipe(fds) != 0)
         return err_set(BRUME_ERROR_IO, "%s: cannot create a pipe: %s", j->name, strerror(errno));
+    gridvdb_before_fork();
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {

@@ -5,6 +5,8 @@
 #include "io/grid_vdb.h"
 
 #include <cmath>
+#include <dlfcn.h>
+#include <mutex>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -265,6 +267,22 @@ extern "C" brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, con
     } catch (...) {
         return err_set(BRUME_ERROR_PARSE, "%s: OpenVDB: unknown error", in);
     }
+}
+
+extern "C" void gridvdb_before_fork(void)
+{
+    static std::once_flag once;
+    std::call_once(once, [] {
+        /* log4cplus::shutdownThreadPool(), looked up where it is: brume links OpenVDB, which
+         * brings log4cplus without its headers */
+        void *f = dlsym(RTLD_DEFAULT, "_ZN9log4cplus18shutdownThreadPoolEv");
+        if (f) {
+            try {
+                reinterpret_cast<void (*)()>(f)();
+            } catch (...) {
+            }
+        }
+    });
 }
 
 extern "C" brume_status gridvdb_write_dense(const char *path, int nanovdb, const int n[3], const float *data,

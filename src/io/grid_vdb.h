@@ -48,6 +48,13 @@ brume_status gridvdb_to_nano(const char *path, const void *bytes, size_t size, c
  * with their names and sparse trees (other value types are left out). */
 brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, const char *grid);
 
+/* Makes this process fit to fork a reader (grid_sandbox.c), once: OpenVDB's logging library
+ * (log4cplus) starts a pool of idle threads when it is loaded, and a fork while one of them
+ * is inside the allocator deadlocks the child where the allocator is not fork-safe
+ * (AddressSanitizer's). The pool is stopped; OpenVDB does not use it (it logs nothing
+ * asynchronously). Without that library loaded, nothing happens. */
+void gridvdb_before_fork(void);
+
 /* Writes a dense grid as one float grid "density" (fog volume) to `path`: .vdb (OpenVDB)
  * or .nvdb (NanoVDB) by `nanovdb`. Voxels equal to 0 are inactive background, except the
  * two corners of the box, kept active so that the bounding box round-trips. */
