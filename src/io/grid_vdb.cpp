@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <dlfcn.h>
+#include <unistd.h>
 #include <mutex>
 #include <cstdlib>
 #include <cstring>
@@ -269,8 +270,16 @@ extern "C" brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, con
     }
 }
 
+/* The process the libraries were loaded in: only there do log4cplus's pool threads exist. A
+ * process forked from it has the pool's bookkeeping without its threads, and stopping that
+ * pool would wait for them for ever; it has no other thread of log4cplus's either, so its
+ * forks are safe as they are. */
+static const pid_t load_pid = getpid();
+
 extern "C" void gridvdb_before_fork(void)
 {
+    if (getpid() != load_pid)
+        return;
     static std::once_flag once;
     std::call_once(once, [] {
         /* log4cplus::shutdownThreadPool(), looked up where it is: brume links OpenVDB, which

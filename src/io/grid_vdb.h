@@ -52,7 +52,8 @@ brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, const char *gr
  * (log4cplus) starts a pool of idle threads when it is loaded, and a fork while one of them
  * is inside the allocator deadlocks the child where the allocator is not fork-safe
  * (AddressSanitizer's). The pool is stopped; OpenVDB does not use it (it logs nothing
- * asynchronously). Without that library loaded, nothing happens. */
+ * asynchronously). Without that library loaded, or in a process forked from the one that
+ * loaded it (where the pool's threads do not exist), nothing happens. */
 void gridvdb_before_fork(void);
 
 /* Writes a dense grid as one float grid "density" (fog volume) to `path`: .vdb (OpenVDB)
