@@ -55,6 +55,7 @@ static void puff_colour(int i, int j, int k, float c[3])
  * of the test's own process, which later forks the sandboxed reader. */
 static void write_puffs(const char *path, const char *const names[3], int nanovdb)
 {
+    grid_before_fork(); /* no idle library thread holds a lock the child needs */
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
     if (pid == 0) {
@@ -89,6 +90,7 @@ static void write_puffs(const char *path, const char *const names[3], int nanovd
  * fill; in a child process, as write_puffs. */
 static void write_grid(const char *path, const char *name, double voxel, void (*fill)(gridvdb_writer *w, int g))
 {
+    grid_before_fork(); /* no idle library thread holds a lock the child needs */
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
     if (pid == 0) {
@@ -297,6 +299,7 @@ TEST(sparse_big_box_under_512mb)
         return;
     const char *path = test_tmp_path("big.vdb");
     write_puffs(path, all_names, 0);
+    grid_before_fork(); /* no idle library thread holds a lock the child needs */
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
     if (pid == 0) {

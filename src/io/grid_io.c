@@ -46,6 +46,13 @@ grid_format grid_format_from_name(const char *s)
 
 bool grid_have_openvdb(void) { return BRUME_HAVE_OPENVDB; }
 
+void grid_before_fork(void)
+{
+#if BRUME_HAVE_OPENVDB
+    gridvdb_before_fork();
+#endif
+}
+
 grid_format grid_format_detect(const char *path, const unsigned char *head, size_t n)
 {
     const char *dot = path ? strrchr(path, '.') : NULL;

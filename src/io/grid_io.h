@@ -86,4 +86,9 @@ grid_format grid_format_detect(const char *path, const unsigned char *head, size
 /* Whether this build reads and writes .vdb and writes .nvdb. */
 bool grid_have_openvdb(void);
 
+/* Call before fork() in a process that then does more than exec: stops the idle threads
+ * OpenVDB's logging library starts at load (gridvdb_before_fork, io/grid_vdb.h), so that no
+ * other thread can hold a lock the child needs. Nothing without OpenVDB. */
+void grid_before_fork(void);
+
 #endif
