@@ -167,20 +167,28 @@ int test_wait_exit(int pid, double timeout)
     }
 }
 
-brume_image *test_render_json(const char *json, unsigned long long seed)
+brume_image *test_render_scene(brume_scene *s, int threads, unsigned long long seed)
 {
-    brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_get_settings(s, &rs);
+    if (threads >= 0)
+        rs.threads = threads;
     rs.seed = seed;
     brume_image *img = NULL;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
         brume_render(ctx, s, &img) != BRUME_OK)
         TEST_FAIL("render: %s", brume_context_last_error(ctx));
     brume_context_release(ctx);
+    return img;
+}
+
+brume_image *test_render_json(const char *json, unsigned long long seed)
+{
+    brume_scene *s = NULL;
+    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", err_message());
+    brume_image *img = test_render_scene(s, -1, seed);
     brume_scene_release(s);
     return img;
 }

@@ -36,6 +36,10 @@ int test_exists(const char *path);
  * brume_image_release. */
 struct brume_image;
 struct brume_image *test_render_json(const char *json, unsigned long long seed);
+/* Commits and renders a scene with the given seed and thread count (< 0: the scene's own);
+ * the test fails with the renderer's message. */
+struct brume_scene;
+struct brume_image *test_render_scene(struct brume_scene *s, int threads, unsigned long long seed);
 /* Writes text to path (the test fails if it cannot). */
 void test_write_file(const char *path, const char *text);
 /* Monotonic seconds, and a sleep of s seconds. */

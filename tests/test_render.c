@@ -5,39 +5,6 @@
 #include "brume.h"
 #include "render/scene.h"
 
-static brume_scene *scene_from(const char *json)
-{
-    brume_scene *s = NULL;
-    brume_context *ctx = brume_context_new();
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
-    brume_context_release(ctx);
-    return s;
-}
-
-static brume_image *render(brume_scene *s, int threads, uint64_t seed)
-{
-    brume_context *ctx = brume_context_new();
-    brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
-    rs.threads = threads;
-    rs.seed = seed;
-    brume_image *img = NULL;
-    if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
-        brume_render(ctx, s, &img) != BRUME_OK)
-        TEST_FAIL("render: %s", brume_context_last_error(ctx));
-    brume_context_release(ctx);
-    return img;
-}
-
-static brume_image *render_json(const char *json, int threads, uint64_t seed)
-{
-    brume_scene *s = scene_from(json);
-    brume_image *img = render(s, threads, seed);
-    brume_scene_release(s);
-    return img;
-}
-
 /* Built-in default scene at a small size, 1 vs 2 threads: bit-identical pixels. */
 TEST(threads_do_not_change_the_image)
 {
@@ -52,7 +19,7 @@ TEST(threads_do_not_change_the_image)
         rs.height = 32;
         rs.spp = 2;
         ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
-        img[k] = render(s, k == 0 ? 1 : 2, k == 2 ? 99 : 1);
+        img[k] = test_render_scene(s, k == 0 ? 1 : 2, k == 2 ? 99 : 1);
         brume_scene_release(s);
         brume_context_release(ctx);
     }
@@ -75,7 +42,7 @@ TEST(absorbing_fog_closed_form)
                        " \"media\": [{\"sigma_a\": 1.5, \"sigma_s\": 0,"
                        "   \"density\": {\"type\": \"constant\", \"bounds\": [[-5, -5, -1], [5, 5, 1]]}}],"
                        " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 64}}";
-    brume_image *img = render_json(json, 0, 5);
+    brume_image *img = test_render_json(json, 5);
     const float *px = brume_image_pixels(img);
     int n = 32 * 32;
     double T = exp(-3.0), bg[3] = {2.0, 1.0, 0.5};
@@ -101,7 +68,7 @@ TEST(absorbing_fog_closed_form)
  * are below rel_tol expect[c], so an energy error of rel_tol cannot pass. */
 static void check_furnace(const char *json, uint64_t seed, const double expect[3], int c0, int c1, double rel_tol)
 {
-    brume_image *img = render_json(json, 0, seed);
+    brume_image *img = test_render_json(json, seed);
     const float *px = brume_image_pixels(img);
     for (int c = c0; c < c1; c++) {
         double mean, se;
@@ -176,7 +143,7 @@ TEST(single_scattering_closed_form)
                        "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
                        "   \"phase\": {\"type\": \"hg\", \"g\": -0.3}}],"
                        " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 2560, \"method\": \"single\"}}";
-    brume_image *img = render_json(json, 0, 3);
+    brume_image *img = test_render_json(json, 3);
     const float *px = brume_image_pixels(img);
     double g = -0.3, cos_t = -1.0;
     double p = (1 - g * g) / (4 * 3.14159265358979323846 * pow(1 + g * g - 2 * g * cos_t, 1.5));
@@ -203,7 +170,7 @@ TEST(single_scattering_forward_hg_shadow_roulette)
                        "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.6}}],"
                        " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 2560, \"method\": \"single\"}}";
-    brume_image *img = render_json(json, 0, 5);
+    brume_image *img = test_render_json(json, 5);
     const float *px = brume_image_pixels(img);
     double g = 0.6, cos_t = -1.0;
     double p = (1 - g * g) / (4 * 3.14159265358979323846 * pow(1 + g * g - 2 * g * cos_t, 1.5));

@@ -50,35 +50,17 @@ static void puff_colour(int i, int j, int k, float c[3])
     (void)j;
 }
 
-/* Writes the puffs to path: grids named by `names` (NULL skips one): [0] density (float),
- * [1] temperature (float), [2] Cd (vec3). In a child process: OpenVDB (and TBB) stay out
- * of the test's own process, which later forks the sandboxed reader. */
-static void write_puffs(const char *path, const char *const names[3], int nanovdb)
+/* Writes path through OpenVDB (as NanoVDB if nanovdb): fill adds the grids and their voxels.
+ * In a child process: OpenVDB (and TBB) stay out of the test's own process, which later
+ * forks the sandboxed reader. */
+static void write_vdb(const char *path, int nanovdb, void (*fill)(gridvdb_writer *w, const void *user), const void *user)
 {
     grid_before_fork(); /* no idle library thread holds a lock the child needs */
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
     if (pid == 0) {
         gridvdb_writer *w = gridvdb_writer_new();
-        const double origin[3] = {0, 0, 0};
-        int g[3];
-        for (int q = 0; q < 3; q++)
-            g[q] = names[q] ? gridvdb_writer_add(w, names[q], q == 2, VOXEL, origin) : -1;
-        for (int p = 0; p < 2; p++)
-            for (int k = puff_c[p][2] - PUFF_R; k <= puff_c[p][2] + PUFF_R; k++)
-                for (int j = puff_c[p][1] - PUFF_R; j <= puff_c[p][1] + PUFF_R; j++)
-                    for (int i = puff_c[p][0] - PUFF_R; i <= puff_c[p][0] + PUFF_R; i++) {
-                        float v = (float)puff_density(i, j, k), t = (float)puff_temperature(i, j, k), c[3];
-                        puff_colour(i, j, k, c);
-                        if (v <= 0.0f)
-                            continue;
-                        if (g[0] >= 0)
-                            gridvdb_writer_set(w, g[0], i, j, k, &v);
-                        if (g[1] >= 0)
-                            gridvdb_writer_set(w, g[1], i, j, k, &t);
-                        if (g[2] >= 0)
-                            gridvdb_writer_set(w, g[2], i, j, k, c);
-                    }
+        fill(w, user);
         _exit(gridvdb_writer_save(w, path, nanovdb) == BRUME_OK ? 0 : 1);
     }
     int st = 0;
@@ -86,37 +68,55 @@ static void write_puffs(const char *path, const char *const names[3], int nanovd
     ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
 }
 
-/* Writes one float grid `name` (voxel size `voxel`, origin 0) to path, its voxels set by
- * fill; in a child process, as write_puffs. */
-static void write_grid(const char *path, const char *name, double voxel, void (*fill)(gridvdb_writer *w, int g))
+static const double origin0[3] = {0, 0, 0};
+
+/* The puffs, in the grids named by names ([0] density (float), [1] temperature (float),
+ * [2] Cd (vec3); NULL skips one). */
+static void fill_puffs(gridvdb_writer *w, const void *user)
 {
-    grid_before_fork(); /* no idle library thread holds a lock the child needs */
-    pid_t pid = fork();
-    ASSERT_TRUE(pid >= 0);
-    if (pid == 0) {
-        gridvdb_writer *w = gridvdb_writer_new();
-        const double origin[3] = {0, 0, 0};
-        int g = gridvdb_writer_add(w, name, 0, voxel, origin);
-        fill(w, g);
-        _exit(gridvdb_writer_save(w, path, 0) == BRUME_OK ? 0 : 1);
-    }
-    int st = 0;
-    waitpid(pid, &st, 0);
-    ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    const char *const *names = user;
+    int g[3];
+    for (int q = 0; q < 3; q++)
+        g[q] = names[q] ? gridvdb_writer_add(w, names[q], q == 2, VOXEL, origin0) : -1;
+    for (int p = 0; p < 2; p++)
+        for (int k = puff_c[p][2] - PUFF_R; k <= puff_c[p][2] + PUFF_R; k++)
+            for (int j = puff_c[p][1] - PUFF_R; j <= puff_c[p][1] + PUFF_R; j++)
+                for (int i = puff_c[p][0] - PUFF_R; i <= puff_c[p][0] + PUFF_R; i++) {
+                    float v = (float)puff_density(i, j, k), t = (float)puff_temperature(i, j, k), c[3];
+                    puff_colour(i, j, k, c);
+                    if (v <= 0.0f)
+                        continue;
+                    if (g[0] >= 0)
+                        gridvdb_writer_set(w, g[0], i, j, k, &v);
+                    if (g[1] >= 0)
+                        gridvdb_writer_set(w, g[1], i, j, k, &t);
+                    if (g[2] >= 0)
+                        gridvdb_writer_set(w, g[2], i, j, k, c);
+                }
 }
 
-/* A (1 at (12, 12, 12)), B (0.5 at (23, 15, 15)), C (0.25 at (31, 23, 23)) */
-static void fill_three_voxels(gridvdb_writer *w, int g)
+/* The puffs as .vdb (nanovdb 0) or .nvdb (1). */
+static void write_puffs(const char *path, const char *const names[3], int nanovdb)
 {
+    write_vdb(path, nanovdb, fill_puffs, names);
+}
+
+/* "density": A (1 at (12, 12, 12)), B (0.5 at (23, 15, 15)), C (0.25 at (31, 23, 23)) */
+static void fill_three_voxels(gridvdb_writer *w, const void *user)
+{
+    (void)user;
+    int g = gridvdb_writer_add(w, "density", 0, VOXEL, origin0);
     const float a = 1.0f, b = 0.5f, c = 0.25f;
     gridvdb_writer_set(w, g, 12, 12, 12, &a);
     gridvdb_writer_set(w, g, 23, 15, 15, &b);
     gridvdb_writer_set(w, g, 31, 23, 23, &c);
 }
 
-/* 3000 K over [-7, 7]^3 voxels (a box covering the density's) */
-static void fill_3000K(gridvdb_writer *w, int g)
+/* "temperature": 3000 K over [-7, 7]^3 voxels of size 1 (a box covering the density's) */
+static void fill_3000K(gridvdb_writer *w, const void *user)
 {
+    (void)user;
+    int g = gridvdb_writer_add(w, "temperature", 0, 1.0, origin0);
     float t = 3000.0f;
     for (int k = -7; k <= 7; k++)
         for (int j = -7; j <= 7; j++)
@@ -587,7 +587,7 @@ TEST(sparse_trilinear_majorants_tight)
     if (!grid_have_openvdb())
         return;
     const char *path = test_tmp_path("tight.vdb");
-    write_grid(path, "density", VOXEL, fill_three_voxels);
+    write_vdb(path, 0, fill_three_voxels, NULL);
     density_load_options o;
     density_load_options_default(&o);
     o.filter = GRID_TRILINEAR;
@@ -878,7 +878,7 @@ TEST(blackbody_emission_closed_form)
     if (!grid_have_openvdb())
         return;
     const char *path = test_tmp_path("hot.vdb");
-    write_grid(path, "temperature", 1.0, fill_3000K);
+    write_vdb(path, 0, fill_3000K, NULL);
     char json[2048];
     snprintf(json, sizeof json,
              "{\"camera\": {\"position\": [0, 0, 10], \"look_at\": [0, 0, 0], \"fov\": 5},"
