@@ -38,6 +38,21 @@ bool integrator_from_name(const char *name, integrator_kind *out)
 
 const char *integrator_names(void) { return "path, single, blasi, stam"; }
 
+/* Offers the collision at t, with the media f->cur and the scattering weight w, to the
+ * flight's one-element reservoir. */
+static void flight_offer(flight *f, color w, double t)
+{
+    double a = col_avg(w);
+    if (!(a > 0.0))
+        return;
+    f->A += a;
+    if (rng_next(f->g) * f->A < a) {
+        f->beta_s = col_scale(w, 1.0 / a);
+        f->t = t;
+        f->ms = f->cur;
+    }
+}
+
 /* A tentative collision of a flight. Without a control density (sigma_c = 0), every
  * tentative collision looks the media up and is weighed by ratio tracking. With one (a
  * single medium whose sigma_t is gray: f->control), the collision is a real collision of
@@ -58,18 +73,10 @@ static bool flight_step(const track_event *e, void *user)
         double inv_t = 1.0 / md->sigma_t_max;
         if (!col_is_black(md->Le))
             f->L = col_add(f->L, col_scale(col_mul(beta_Tr, col_mul(md->sigma_a, md->Le)), inv_t));
-        color w = col_scale(col_mul(beta_Tr, md->sigma_s), inv_t);
-        double a = col_avg(w);
-        if (a > 0.0) {
-            f->A += a;
-            if (rng_next(f->g) * f->A < a) {
-                f->beta_s = col_scale(w, 1.0 / a);
-                f->t = e->t;
-                f->ms.n = 1;
-                f->ms.index[0] = 0;
-                f->ms.weight[0] = 1.0;
-            }
-        }
+        f->cur.n = 1;
+        f->cur.index[0] = 0;
+        f->cur.weight[0] = 1.0;
+        flight_offer(f, col_scale(col_mul(beta_Tr, md->sigma_s), inv_t), e->t);
         f->Tr = col(0.0);
         return false;
     }
@@ -85,16 +92,7 @@ static bool flight_step(const track_event *e, void *user)
     double inv_maj = 1.0 / (e->sigma_maj - sigma_c);
     if (!col_is_black(ms->emission))
         f->L = col_add(f->L, col_scale(col_mul(beta_Tr, ms->emission), inv_maj));
-    color w = col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj);
-    double a = col_avg(w);
-    if (a > 0.0) {
-        f->A += a;
-        if (rng_next(f->g) * f->A < a) {
-            f->beta_s = col_scale(w, 1.0 / a);
-            f->t = e->t;
-            f->ms = *ms;
-        }
-    }
+    flight_offer(f, col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj), e->t);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         f->Tr.c[c] *= 1.0 - (ms->sigma_a.c[c] + ms->sigma_s.c[c]) * inv_maj;
     return track_roulette(&f->Tr, f->g);
