@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "brume.h"
@@ -59,14 +60,27 @@ static brume_scene *load(const char *path, const char *method, int threads, int 
     return s;
 }
 
+/* CPU time of the calling thread: with one render thread the pool runs every task on the
+ * caller, so this is the render's CPU time, which a loaded machine inflates far less than
+ * the wall time */
+static double thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double last_cpu; /* CPU seconds of the calling thread in the last render() */
+
 static brume_image *render(brume_scene *s, double *secs)
 {
     brume_context *ctx = brume_context_new();
     brume_image *img = NULL;
-    double t0 = progress_now();
+    double t0 = progress_now(), c0 = thread_cpu();
     if (brume_render(ctx, s, &img) != BRUME_OK)
         die(ctx);
     *secs = progress_now() - t0;
+    last_cpu = thread_cpu() - c0;
     brume_context_release(ctx);
     return img;
 }
@@ -125,11 +139,12 @@ int main(int argc, char **argv)
     double both2 = 0.0, view2 = 0.0;
     uint64_t inter = 0, nrays = 0;
     for (int threads = only_threads ? only_threads : 1; threads <= (only_threads ? only_threads : 2); threads++) {
-        double tb[MAX_RUNS], tv[MAX_RUNS], tl[MAX_RUNS];
+        double tb[MAX_RUNS], tv[MAX_RUNS], tl[MAX_RUNS], cb[MAX_RUNS], cv[MAX_RUNS];
         int w = 0, h = 0, spp = 0;
         for (int r = 0; r < runs; r++) {
             brume_scene *s = load(scene, "blasi", threads, 0, 0, 1, NULL, NULL);
             brume_image *img = render(s, &tb[r]);
+            cb[r] = last_cpu;
             brume_image_release(img);
             blasi_stats bs;
             blasi_get_stats(s->prepared->state, &bs);
@@ -137,6 +152,7 @@ int main(int argc, char **argv)
             nrays = bs.light_rays;
             inter = bs.interceptions;
             img = render(s, &tv[r]);
+            cv[r] = last_cpu;
             brume_image_release(img);
             w = s->settings.width;
             h = s->settings.height;
@@ -144,8 +160,11 @@ int main(int argc, char **argv)
             brume_scene_release(s);
         }
         double both = bench_median(tb, runs), view = bench_median(tv, runs), t_light = bench_median(tl, runs);
-        printf("%8d %16.3f %16.3f %14.2f %14.2f\n", threads, both, view, (double)nrays / t_light * 1e-6,
+        printf("%8d %16.3f %16.3f %14.2f %14.2f", threads, both, view, (double)nrays / t_light * 1e-6,
                (double)w * h * spp / view * 1e-6);
+        if (threads == 1) /* one thread: the CPU time too, robust to load */
+            printf("   CPU s: both %.3f, view %.3f", bench_median(cb, runs), bench_median(cv, runs));
+        printf("\n");
         if (threads == 2 || only_threads) {
             both2 = both;
             view2 = view;
