@@ -2,6 +2,26 @@
  * plane crossings. */
 #include "density/dda.h"
 
+/* a < b ? a : b and a > b ? a : b (b when unordered), as selects: a compiler may turn the
+ * ternaries into a branch, which mispredicts on data such as a ray's direction */
+static inline double dda_min(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a < b ? a : b;
+#endif
+}
+
+static inline double dda_max(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a > b ? a : b;
+#endif
+}
+
 /* First cell per axis at t0 (inside the clipped interval): the one whose slab interval
  * [enter, exit) holds t0. Start from the rounded position, then correct with the exact
  * crossing formula. */
@@ -88,13 +108,10 @@ bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int 
         g->delta[a] = fabs(inv);
         g->step[a] = dd[a] > 0.0 ? 1 : -1;
         double ta = ((double)lo[a] - oo[a]) * inv, tb = ((double)hi[a] - oo[a]) * inv;
-        if (ta > tb) {
-            double s = ta;
-            ta = tb;
-            tb = s;
-        }
-        t0 = ta > t0 ? ta : t0;
-        t1 = tb < t1 ? tb : t1;
+        /* ordered by selects, not a branch: the sign of a ray's direction is unpredictable */
+        const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
+        t0 = t_near > t0 ? t_near : t0;
+        t1 = t_far < t1 ? t_far : t1;
     }
     if (!(t0 < t1))
         return false;

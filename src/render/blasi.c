@@ -125,6 +125,14 @@ static inline size_t voxel_index(const blasi_medium *bm, int i, int j, int k)
     return bm->offset + (size_t)i + (size_t)bm->n[0] * ((size_t)j + (size_t)bm->n[1] * (size_t)k);
 }
 
+/* One medium and a small grid (!bm->skip): the walk over every voxel of the box of its
+ * non-empty voxels, empty ones cost a step. False when the ray misses that box. */
+static inline bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g)
+{
+    vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
+    return bm->occ_hi[0] > 0 && grid_dda_begin_box(g, bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
+}
+
 static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
 {
     w->nm = st->nm;
@@ -133,12 +141,12 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
         /* the voxel walk is begun once over the whole ray; each run of occupied blocks
          * restarts it (grid_dda_restart: no clipping, no division) */
         const blasi_medium *bm = &st->m[0];
-        vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
-        if (!bm->skip) { /* a small grid: every voxel of the occupied box, empty ones cost a step */
-            w->live[0] = bm->occ_hi[0] > 0 && grid_dda_begin_box(&w->dda[0], bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
+        if (!bm->skip) {
+            w->live[0] = walk_begin_one(bm, r, tmax, &w->dda[0]);
             w->blocks_live = false;
             return;
         }
+        vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
         double s = 1.0 / BLASI_BLOCK;
         w->live[0] = false;
         w->blocks_live = grid_dda_begin(&w->blocks, bm->bn, v3_scale(o, s), v3_scale(d, s), 0.0, tmax) &&
@@ -296,7 +304,11 @@ static vec3 towards_media(const blasi_state *st, vec3 y, double u1, double u2, d
 static bool light_ray(const brume_scene *s, const blasi_state *st, const light *l, uint64_t j, uint64_t n, rng *g,
                       ray *r, color *W)
 {
-    double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g), u3 = rng_next(g), u4 = rng_next(g);
+    double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g), u3 = 0.0, u4 = 0.0;
+    if (l->kind == LIGHT_DISTANT && !(l->angular_radius > 0.0))
+        g->counter += 2; /* a delta sun needs no u3, u4: skipped, so what follows draws the same numbers */
+    else
+        u3 = rng_next(g), u4 = rng_next(g);
     double inv_n = 1.0 / (double)n, omega;
     r->time = 0.0;
     switch (l->kind) {
@@ -409,11 +421,215 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
     return sb;
 }
 
-/* Follows one light ray through the media (Algorithm of the First Pass). Within a flight
- * the decay is kept as an optical depth D per channel and exponentiated once, at the
- * interception or the exit; the threshold test compares D with log(w / w_stop). */
+/* exp(-x) per channel, with one exp when the channels are equal (a grey medium). */
+static inline color col_exp_neg(color x)
+{
+    color e;
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        e.c[c] = c > 0 && x.c[c] == x.c[c - 1] ? e.c[c - 1] : exp(-x.c[c]);
+    return e;
+}
+
+/* One flight of a light ray, from the source or a scattering point to the next
+ * interception. tau is the sigma_bar optical depth since it began; it scatters where tau
+ * reaches -ln(1 - u) (Eq. 11), with u drawn when the flight begins and the log taken at
+ * its first non-empty voxel (most light rays miss the media). The weight's decay is kept
+ * as an optical depth D per channel and exponentiated once, at the interception or the
+ * exit; the stop test is D > lim = log(w / w_stop) per channel, with the logs taken only
+ * when D passes their lower bound 1 - w_stop / w (log x >= 1 - 1/x): most flights end long
+ * before. */
+typedef struct flight {
+    double u, target, tau;
+    bool have_target, lim_known;
+    color D, lim, lim_lo;
+} flight;
+
+static inline void flight_begin(flight *f, color w, double w_stop, rng *g)
+{
+    f->u = rng_next(g);
+    f->have_target = false;
+    f->lim_known = false;
+    f->target = f->tau = 0.0;
+    f->D = f->lim = col(0.0);
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        f->lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
+}
+
+/* True when a stretch of length dl with sigma_bar rho = sb scatters in it. */
+static inline bool flight_scatters(flight *f, double sb, double dl)
+{
+    if (!(sb > 0.0))
+        return false;
+    if (!f->have_target) {
+        f->target = sample_exponential(f->u, 1.0);
+        f->have_target = true;
+    }
+    return f->tau + sb * dl >= f->target;
+}
+
+/* A stretch of length dl with coefficients sb, kx that the flight crosses whole. True when
+ * the weight falls under the threshold there (the while condition: L_R > THRESHOLD). */
+static inline bool flight_cross(flight *f, double sb, color kx, double dl, color w, double w_stop)
+{
+    f->tau += sb * dl;
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        f->D.c[c] += kx.c[c] * dl;
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        if (!(f->D.c[c] > f->lim_lo.c[c]))
+            return false;
+    if (!f->lim_known) {
+        for (int c = 0; c < BRUME_NSAMPLES; c++)
+            f->lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
+        f->lim_known = true;
+    }
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        if (!(f->D.c[c] > f->lim.c[c]))
+            return false;
+    return true;
+}
+
+/* The interception in piece pc, at ds into it (ray parameter t_hit), for a flight that
+ * has reached its target there: the RGB weight (Eq. 10) and the decay, the fraction r
+ * stored, and the new direction from the lobe (Eq. 23 for Schlick lobes). False when what
+ * goes on is under the threshold (the ray ends). */
+static bool intercept(const blasi_state *st, const piece *pc, double sb, color kx, const flight *f, double ds,
+                      double t_hit, ray *r, color *w, double w_stop, rng *g, deposit_list *acc, size_t *last)
+{
+    int pick = 0;
+    if (pc->n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
+        double x = rng_next(g) * sb;
+        for (pick = 0; pick < pc->n - 1; pick++) {
+            double wi = st->m[pc->m[pick]].sigma_bar * (double)st->rho[pc->v[pick]];
+            if (x < wi)
+                break;
+            x -= wi;
+        }
+    }
+    color sig_s = col(0.0), dep; /* RGB weight sigma_s / sigma_bar (Eq. 10) */
+    for (int i = 0; i < pc->n; i++)
+        sig_s = col_madd(sig_s, st->m[pc->m[i]].md->sigma_s, (double)st->rho[pc->v[i]]);
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        dep.c[c] = f->D.c[c] + kx.c[c] * ds;
+    color T = col_exp_neg(dep);
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        w->c[c] *= T.c[c] * sig_s.c[c] / sb;
+    const blasi_medium *bm = &st->m[pc->m[pick]];
+    deposit(acc, pc->v[pick], *w, bm->r);
+    acc->intercepts++;
+    *last = pc->v[pick];
+    *w = col_scale(*w, 1.0 - bm->r);
+    if (!(col_max(*w) > w_stop))
+        return false;
+    double pdf, ua = rng_next(g), ub = rng_next(g);
+    vec3 d = phase_sample(bm->dir, r->d, ua, ub, &pdf); /* Eq. 23 for Schlick lobes */
+    *r = (ray){ray_at(*r, t_hit), d, 0.0};
+    return true;
+}
+
+/* What a flight ended with. */
+typedef enum flight_end { FLIGHT_LEFT, FLIGHT_SCATTERED, FLIGHT_STOPPED } flight_end;
+
+/* A flight through one small grid (one medium, no block skipping, the voxel walk: the
+ * usual case), the general loop of fly() with the piece reduced to one voxel and the
+ * walk's state in locals the loop keeps in registers. */
+static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
+                          deposit_list *acc, bool *have_last, size_t *last)
+{
+    const blasi_medium *bm = &st->m[0];
+    grid_dda g0;
+    if (!walk_begin_one(bm, *r, t_end, &g0))
+        return FLIGHT_LEFT;
+    grid_dda gd = g0; /* never escapes */
+    const float *rho = st->rho;
+    const size_t nx = (size_t)bm->n[0], ny = (size_t)bm->n[1];
+    const double sigma_bar = bm->sigma_bar;
+    color kx1; /* (sigma_t - sigma_bar) per unit density */
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        kx1.c[c] = bm->sigma_t.c[c] - sigma_bar;
+    grid_dda_step c;
+    while (grid_dda_next(&gd, &c)) {
+        size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
+        double rh = (double)rho[v];
+        if (rh == 0.0) /* empty: nothing to cross */
+            continue;
+        double dl = c.t1 - c.t0, sb = sigma_bar * rh;
+        color kx;
+        for (int k = 0; k < BRUME_NSAMPLES; k++)
+            kx.c[k] = kx1.c[k] * rh;
+        if (flight_scatters(f, sb, dl)) {
+            double ds = (f->target - f->tau) / sb;
+            piece pc; /* only what intercept reads */
+            pc.n = 1;
+            pc.m[0] = 0;
+            pc.v[0] = v;
+            *have_last = true;
+            return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
+                                                                                          : FLIGHT_STOPPED;
+        }
+        if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
+            continue;
+        *have_last = true;
+        *last = v;
+        if (flight_cross(f, sb, kx, dl, *w, w_stop))
+            return FLIGHT_STOPPED;
+    }
+    return FLIGHT_LEFT;
+}
+
+/* A flight through any media: the merged voxel walks, or uniform steps (blasi.step). */
+static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
+                      deposit_list *acc, bool *have_last, size_t *last)
+{
+    walk wk;
+    piece pc;
+    double t_march = 0.0, t_march_end = 0.0;
+    uint64_t k_march = 0; /* steps are placed by index, t_march + k step: never t += step */
+    if (st->step > 0.0) {
+        if (!box3_intersect(st->bounds, *r, 0.0, t_end, &t_march, &t_march_end))
+            t_march = t_march_end = 0.0;
+    } else {
+        walk_begin(&wk, st, *r, t_end);
+    }
+    for (;;) {
+        double dl, t_mid = 0.0;
+        if (st->step > 0.0) { /* uniform steps: the voxels at the step's midpoint */
+            double a = t_march + (double)k_march * st->step;
+            if (!(a < t_march_end))
+                return FLIGHT_LEFT;
+            k_march++;
+            dl = fmin(st->step, t_march_end - a);
+            t_mid = a + 0.5 * dl;
+            pc.t0 = a;
+            piece_at(st, ray_at(*r, t_mid), &pc);
+        } else {
+            if (!walk_next(&wk, st, &pc))
+                return FLIGHT_LEFT;
+            dl = pc.t1 - pc.t0;
+        }
+        color kx;
+        double sb = piece_coeffs(st, &pc, &kx);
+        if (flight_scatters(f, sb, dl)) {
+            /* interception: exactly inside the voxel, or at the step's midpoint */
+            double ds = st->step > 0.0 ? dl : (f->target - f->tau) / sb;
+            double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
+            *have_last = true;
+            return intercept(st, &pc, sb, kx, f, ds, t_hit, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
+                                                                                     : FLIGHT_STOPPED;
+        }
+        if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
+            continue; /* empty voxel */
+        *have_last = true;
+        *last = pc.v[0];
+        if (flight_cross(f, sb, kx, dl, *w, w_stop))
+            return FLIGHT_STOPPED;
+    }
+}
+
+/* Follows one light ray through the media (Algorithm of the First Pass), flight by
+ * flight. */
 static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, deposit_list *acc)
 {
+    const bool one = st->nm == 1 && !st->m[0].skip && !(st->step > 0.0);
     double w_stop = st->threshold * col_max(w);
     bool have_last = false; /* the last non-empty voxel crossed, for the exit deposit */
     size_t last = 0;
@@ -431,101 +647,16 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         surface_hit h;
         if (s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &h))
             t_end = h.t;
-        double target = sample_exponential(rng_next(g), 1.0); /* Eq. 11: scatter where the depth reaches this */
-        double tau = 0.0;                      /* sigma_bar depth since the last scattering point */
-        /* The stop test D > lim = log(w / w_stop) per channel, with the logs taken only when
-         * D passes their lower bound 1 - w_stop / w (log x >= 1 - 1/x): most flights end
-         * long before. */
-        color D = col(0.0), lim = col(0.0), lim_lo;
-        bool lim_known = false;
-        for (int c = 0; c < 3; c++)
-            lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
-        bool scattered = false;
-        walk wk;
-        piece pc;
-        double t_march = 0.0, t_march_end = 0.0;
-        uint64_t k_march = 0; /* steps are placed by index, t_march + k step: never t += step */
-        if (st->step > 0.0) {
-            if (!box3_intersect(st->bounds, r, 0.0, t_end, &t_march, &t_march_end))
-                t_march = t_march_end = 0.0;
-        } else {
-            walk_begin(&wk, st, r, t_end);
-        }
-        for (;;) {
-            double dl, t_mid = 0.0;
-            if (st->step > 0.0) { /* uniform steps: the voxels at the step's midpoint */
-                double a = t_march + (double)k_march * st->step;
-                if (!(a < t_march_end))
-                    break;
-                k_march++;
-                dl = fmin(st->step, t_march_end - a);
-                t_mid = a + 0.5 * dl;
-                pc.t0 = a;
-                piece_at(st, ray_at(r, t_mid), &pc);
-            } else {
-                if (!walk_next(&wk, st, &pc))
-                    break;
-                dl = pc.t1 - pc.t0;
-            }
-            color kx;
-            double sb = piece_coeffs(st, &pc, &kx);
-            if (sb > 0.0 && tau + sb * dl >= target) {
-                /* interception: exactly inside the voxel, or at the step's midpoint */
-                double ds = st->step > 0.0 ? dl : (target - tau) / sb;
-                double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
-                int pick = 0;
-                if (pc.n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
-                    double x = rng_next(g) * sb;
-                    for (pick = 0; pick < pc.n - 1; pick++) {
-                        double wi = st->m[pc.m[pick]].sigma_bar * (double)st->rho[pc.v[pick]];
-                        if (x < wi)
-                            break;
-                        x -= wi;
-                    }
-                }
-                color sig_s = col(0.0); /* RGB weight sigma_s / sigma_bar (Eq. 10) */
-                for (int i = 0; i < pc.n; i++)
-                    sig_s = col_madd(sig_s, st->m[pc.m[i]].md->sigma_s, (double)st->rho[pc.v[i]]);
-                for (int c = 0; c < 3; c++)
-                    w.c[c] *= exp(-(D.c[c] + kx.c[c] * ds)) * sig_s.c[c] / sb;
-                const blasi_medium *bm = &st->m[pc.m[pick]];
-                deposit(acc, pc.v[pick], w, bm->r);
-                acc->intercepts++;
-                have_last = true;
-                last = pc.v[pick];
-                w = col_scale(w, 1.0 - bm->r);
-                if (!(col_max(w) > w_stop))
-                    return;
-                double pdf, ua = rng_next(g), ub = rng_next(g);
-                vec3 d = phase_sample(bm->dir, r.d, ua, ub, &pdf); /* Eq. 23 for Schlick lobes */
-                r = (ray){ray_at(r, t_hit), d, 0.0};
-                scattered = true;
-                break;
-            }
-            if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
-                continue; /* empty voxel */
-            tau += sb * dl;
-            for (int c = 0; c < 3; c++)
-                D.c[c] += kx.c[c] * dl;
-            have_last = true;
-            last = pc.v[0];
-            if (D.c[0] > lim_lo.c[0] && D.c[1] > lim_lo.c[1] && D.c[2] > lim_lo.c[2]) {
-                if (!lim_known) {
-                    for (int c = 0; c < 3; c++)
-                        lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
-                    lim_known = true;
-                }
-                if (D.c[0] > lim.c[0] && D.c[1] > lim.c[1] && D.c[2] > lim.c[2])
-                    return; /* the while condition: L_R > THRESHOLD */
-            }
-        }
-        if (scattered)
+        flight f;
+        flight_begin(&f, w, w_stop, g);
+        flight_end e = one ? fly_one(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last)
+                           : fly(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last);
+        if (e == FLIGHT_SCATTERED)
             continue;
-        if (isfinite(t_end)) /* stopped by a surface */
+        if (e == FLIGHT_STOPPED || isfinite(t_end)) /* under the threshold, or stopped by a surface */
             return;
         if (st->exit == BLASI_EXIT_PAPER && have_last) { /* "stored in the last non-empty voxel" */
-            for (int c = 0; c < 3; c++)
-                w.c[c] *= exp(-D.c[c]);
+            w = col_mul(w, col_exp_neg(f.D));
             deposit(acc, last, w, 1.0);
         }
         return;
@@ -968,9 +1099,12 @@ void blasi_get_stats(const blasi_state *st, blasi_stats *out) { *out = st->stats
 static inline void voxel_exp(double tau, double *T, double *f)
 {
     if (tau < 0.0625) {
-        double x = tau;
-        *f = 1.0 - x * (1.0 / 2 - x * (1.0 / 6 - x * (1.0 / 24 - x * (1.0 / 120 - x * (1.0 / 720 - x * (1.0 / 5040 -
-                                                                                                    x / 40320.0))))));
+        /* Estrin's scheme: the terms in pairs, so the series costs a few multiplications of
+         * latency rather than a chain of eight */
+        double x = tau, x2 = x * x, x4 = x2 * x2;
+        double p01 = 1.0 - x * (1.0 / 2), p23 = 1.0 / 6 - x * (1.0 / 24), p45 = 1.0 / 120 - x * (1.0 / 720),
+               p67 = 1.0 / 5040 - x * (1.0 / 40320);
+        *f = (p01 + x2 * p23) + x4 * (p45 + x2 * p67);
         *T = 1.0 - x * *f;
         return;
     }
@@ -1032,6 +1166,112 @@ static color shade_surface(const brume_scene *s, const blasi_state *st, ray r, c
     return L;
 }
 
+/* What a view ray has gathered so far: radiance L, view attenuation A, and the extinction
+ * optical depth tau_t (the transmittance behind the pixel's alpha). */
+typedef struct view_sums {
+    color L, A, tau_t;
+} view_sums;
+
+/* One voxel of one medium crossed over length dl (the second pass's loop body): its source,
+ * attenuated by A and integrated over the voxel, and A attenuated. False when A fell under
+ * the threshold ("While A > THRESHOLD"). */
+static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *st, const blasi_medium *bm, size_t v, double dl, view_sums *s)
+{
+    double rho = (double)st->rho[v];
+    const float *sv = st->S + 3 * v;
+    color S, kap;
+#pragma GCC unroll 3
+    for (int c = 0; c < BRUME_NSAMPLES; c++) {
+        s->tau_t.c[c] += bm->sigma_t.c[c] * (rho * dl); /* as blasi_transmittance sums it */
+        S.c[c] = (double)sv[c] + bm->emit.c[c] * rho;
+        kap.c[c] = bm->kappa.c[c] * rho;
+    }
+    if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
+        if (!col_is_black(S)) /* a source without attenuation (e.g. alpha = 0, paper variant) */
+            s->L = col_add(s->L, col_scale(col_mul(s->A, S), dl));
+        return true;
+    }
+    bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
+    double T = 0.0, f = 0.0;
+#pragma GCC unroll 3
+    for (int c = 0; c < BRUME_NSAMPLES; c++) {
+        if (c == 0 || !grey) /* the integral of exp(-kappa s) over the voxel is dl f */
+            voxel_exp(kap.c[c] * dl, &T, &f);
+        s->L.c[c] += s->A.c[c] * S.c[c] * dl * f;
+        s->A.c[c] *= T;
+    }
+    return col_max(s->A) > st->threshold;
+}
+
+/* The view walk over [0, t_end) through one small grid (one medium, no block skipping:
+ * the usual case). The same sums as view_walk, with the walk's state in locals the loop
+ * keeps in registers. False when the threshold stopped the ray. */
+static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
+{
+    const blasi_medium *bm = &st->m[0];
+    grid_dda g0;
+    if (!walk_begin_one(bm, r, t_end, &g0))
+        return true;
+    grid_dda g = g0; /* never escapes: the compiler keeps it in registers */
+    const float *rho = st->rho;
+    const size_t nx = (size_t)bm->n[0], ny = (size_t)bm->n[1];
+    view_sums s = *out;
+    grid_dda_step c;
+    bool on = true;
+    while (grid_dda_next(&g, &c)) {
+        size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
+        if (rho[v] == 0.0f) /* empty: no density, no source */
+            continue;
+        if (!(on = view_voxel(st, bm, v, c.t1 - c.t0, &s)))
+            break;
+    }
+    *out = s;
+    return on;
+}
+
+/* The view walk over [0, t_end) through any media: each piece's voxels summed. */
+static bool view_walk(const blasi_state *st, ray r, double t_end, view_sums *out)
+{
+    walk wk;
+    piece pc;
+    walk_begin(&wk, st, r, t_end);
+    while (walk_next(&wk, st, &pc)) {
+        double dl = pc.t1 - pc.t0;
+        if (pc.n == 1) {
+            if (!view_voxel(st, &st->m[pc.m[0]], pc.v[0], dl, out))
+                return false;
+            continue;
+        }
+        color S = col(0.0), kap = col(0.0);
+        for (int i = 0; i < pc.n; i++) {
+            const blasi_medium *bm = &st->m[pc.m[i]];
+            double rho = (double)st->rho[pc.v[i]];
+            out->tau_t = col_madd(out->tau_t, bm->sigma_t, rho * dl);
+            const float *sv = st->S + 3 * pc.v[i];
+            for (int c = 0; c < 3; c++) {
+                S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
+                kap.c[c] += bm->kappa.c[c] * rho;
+            }
+        }
+        if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
+            if (!col_is_black(S))
+                out->L = col_add(out->L, col_scale(col_mul(out->A, S), dl));
+            continue;
+        }
+        bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
+        double T = 0.0, f = 0.0;
+        for (int c = 0; c < 3; c++) {
+            if (c == 0 || !grey)
+                voxel_exp(kap.c[c] * dl, &T, &f);
+            out->L.c[c] += out->A.c[c] * S.c[c] * dl * f;
+            out->A.c[c] *= T;
+        }
+        if (!(col_max(out->A) > st->threshold))
+            return false;
+    }
+    return true;
+}
+
 color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool *hit_surface)
 {
     last_tau.st = NULL; /* valid again only if this walk reaches the end of the ray */
@@ -1060,38 +1300,13 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
 
     color L = col(0.0), A = col(1.0), tau_t = col(0.0);
     if (st->nm > 0) {
-        walk wk;
-        piece pc;
-        walk_begin(&wk, st, r, t_end);
-        while (walk_next(&wk, st, &pc)) {
-            double dl = pc.t1 - pc.t0;
-            color S = col(0.0), kap = col(0.0);
-            for (int i = 0; i < pc.n; i++) {
-                const blasi_medium *bm = &st->m[pc.m[i]];
-                double rho = (double)st->rho[pc.v[i]];
-                tau_t = col_madd(tau_t, bm->sigma_t, rho * dl); /* as blasi_transmittance sums it */
-                const float *sv = st->S + 3 * pc.v[i];
-                for (int c = 0; c < 3; c++) {
-                    S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
-                    kap.c[c] += bm->kappa.c[c] * rho;
-                }
-            }
-            if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
-                if (!col_is_black(S)) /* a source without attenuation (e.g. alpha = 0, paper variant) */
-                    L = col_add(L, col_scale(col_mul(A, S), dl));
-                continue;
-            }
-            bool grey = kap.c[0] == kap.c[1] && kap.c[1] == kap.c[2];
-            double T = 0.0, f = 0.0;
-            for (int c = 0; c < 3; c++) {
-                if (c == 0 || !grey) /* the integral of exp(-kappa s) over the voxel is dl f */
-                    voxel_exp(kap.c[c] * dl, &T, &f);
-                L.c[c] += A.c[c] * S.c[c] * dl * f;
-                A.c[c] *= T;
-            }
-            if (!(col_max(A) > st->threshold)) /* "While A > THRESHOLD" */
-                return L;
-        }
+        view_sums v = {L, A, tau_t};
+        bool on = st->nm == 1 && !st->m[0].skip ? view_walk_one(st, r, t_end, &v) : view_walk(st, r, t_end, &v);
+        L = v.L;
+        A = v.A;
+        tau_t = v.tau_t;
+        if (!on)
+            return L;
     }
     if (isinf(t_end)) /* the whole ray walked: its transmittance is known */
         last_tau = (tau_cache){st, r.o, r.d, tau_t};
@@ -1128,7 +1343,7 @@ color blasi_transmittance(const brume_scene *s, const blasi_state *st, ray r)
             tau = col_madd(tau, st->m[pc.m[i]].sigma_t, (double)st->rho[pc.v[i]] * dl);
     }
 done:
-    if (tau.c[0] == tau.c[1] && tau.c[1] == tau.c[2])
-        return col(exp(-tau.c[0]));
+    if (tau.c[0] == tau.c[1] && tau.c[1] == tau.c[2]) /* grey; 0 for the rays that miss the media */
+        return col(tau.c[0] == 0.0 ? 1.0 : exp(-tau.c[0]));
     return col_rgb(exp(-tau.c[0]), exp(-tau.c[1]), exp(-tau.c[2]));
 }

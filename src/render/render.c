@@ -355,7 +355,11 @@ static brume_status job_pass(brume_render_job *job)
  * the job is finished. A pass that was cut is completed first. A noise target starts with
  * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
  * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
- * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX. */
+ * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX.
+ * A render that nothing watches or can stop (no callback, no progress bar, no budget)
+ * takes PASS_MAX at once: its passes would only cost (each rereads every pixel's sums and
+ * statistics, and waits for the slowest thread), and the image is the same (a pixel's
+ * samples are numbered, whatever the passes). */
 static int job_next_pass(const brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
@@ -373,7 +377,9 @@ static int job_next_pass(const brume_render_job *job)
             return 0;
     }
     int k;
-    if (job->spp_done == 0)
+    if (!rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0))
+        k = PASS_MAX;
+    else if (job->spp_done == 0)
         k = rs->noise_target > 0.0 ? rs->min_spp : 1;
     else
         k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
