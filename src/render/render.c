@@ -21,6 +21,7 @@
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
+#define RENDER_SOBOL_DIMS 8 /* dimensions of a camera sample drawn from Sobol points */
 #define AOV_DIMENSION (1ULL << 40) /* the first-vertex walk draws from this dimension on, so
                                       it never shares a number with the sample's path */
 
@@ -204,6 +205,9 @@ static void job_tile(size_t task, int thread, void *user)
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
     int target = job->target;
+    uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
+    bool lens = s->cam.aperture_radius > 0.0;
+    bool shutter = s->cam.shutter_close > s->cam.shutter_open;
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -221,10 +225,18 @@ static void job_tile(size_t task, int thread, void *user)
             if (!job->active[i])
                 continue;
             for (uint32_t sidx = n[k]; sidx < (uint32_t)target; sidx++) {
-                rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)sidx);
+                /* dimensions: the filter's offset takes the first pair; the lens and the
+                 * shutter take the next ones only when the camera has them; the path the rest */
+                rng g = rng_make_qmc(rs->seed, (uint64_t)i, sidx, qmc_dims);
                 double dx, dy;
                 film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-                double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
+                double u1 = 0.5, u2 = 0.5, ut = 0.5;
+                if (lens) {
+                    u1 = rng_next(&g);
+                    u2 = rng_next(&g);
+                }
+                if (shutter)
+                    ut = rng_next(&g);
                 ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
                 if (job->trace_aovs) {
                     rng ga = g;
