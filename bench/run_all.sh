@@ -14,6 +14,8 @@ echo "### bench_render (default scene, 240 x 160)"
 "$build/bench/bench_render" --width 240 --height 160 --ref-spp 512
 echo "### cloud64 vs Blender Cycles"
 REF_SPP=${REF_SPP:-512} sh bench/cloud64_vs_cycles.sh "$build"
+echo "### render.sampler: sobol against independent (cloud64, wdas-dense)"
+python3 bench/sampler_efficiency.py --build "$build"
 echo "### bench_phase"
 "$build/bench/bench_phase"
 echo "### bench_grid"
