@@ -1,7 +1,7 @@
 #!/bin/sh
 # run_all.sh - every benchmark in one run, on an otherwise idle machine, printed in the
 # order of docs/performance.md. Usage: sh bench/run_all.sh [BUILD_DIR] > bench.txt
-# Takes about 15 minutes on 2 cores; Blender for the Cycles comparison is installed when
+# Takes about 20 minutes on 2 cores; Blender for the Cycles comparison is installed when
 # run as root (bench/cloud64_vs_cycles.sh).
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
