@@ -46,11 +46,19 @@ static void flight_offer(flight *f, color w, double t)
     if (!(a > 0.0))
         return;
     f->A += a;
-    if (rng_next(f->g) * f->A < a) {
+    /* the i-th candidate replaces the kept one with probability a / A, decided by the one
+     * uniform u of the flight, rescaled to a fresh uniform after each decision */
+    double pr = a / f->A;
+    if (f->u < pr) {
+        f->u /= pr;
         f->beta_s = col_scale(w, 1.0 / a);
         f->t = t;
         f->ms = f->cur;
+    } else {
+        f->u = (f->u - pr) / (1.0 - pr);
     }
+    if (!(f->u < 1.0)) /* rounding */
+        f->u = 0x1.fffffffffffffp-1;
 }
 
 /* A tentative collision of a flight. Without a control density (sigma_c = 0), every
@@ -109,9 +117,10 @@ static bool flight_control_ok(const brume_scene *s)
     return !medium_has_fields(md) && col_min(sigma_t) == col_max(sigma_t);
 }
 
-bool flight_run(flight *f, ray r, double tmax)
+bool flight_run(flight *f, ray r, double tmax, double u)
 {
     f->r = r;
+    f->u = u;
     f->Tr = col(1.0);
     f->A = 0.0;
     f->control = flight_control_ok(f->s);
@@ -300,9 +309,17 @@ static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
 
 color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface)
 {
+    /* Dimensions (docs/sampling.md, "The path's dimensions"): scattering event `depth` takes
+     * four fixed dimensions of the camera sample's sequence g from its current one on (the
+     * flight's reservoir choice, the branch or phase-function choice, the direction), so
+     * that a Sobol sampler stratifies the same decision in every sample of a pixel; the
+     * numbers whose count varies (tentative collisions, shadow rays, roulettes, light
+     * samples) come from a second sequence of the same sample. */
+    const uint64_t dim0 = g->counter;
+    rng gt = rng_make(g->key, 0x7472616b5f646d73ULL, 0);
     flight f;
     f.s = s;
-    f.g = g;
+    f.g = &gt;
     f.beta = col(1.0);
     f.L = col(0.0);
     double pdf_dir = 0.0; /* solid-angle pdf of the current direction; 0 for camera rays */
@@ -318,7 +335,8 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             *hit_surface = on_surface;
         stats_counters *sc = stats_tls;
         double t0 = sc ? stats_now() : 0.0;
-        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light) && depth < max_depth;
+        g->counter = dim0 + 4 * (uint64_t)depth;
+        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, rng_next(g)) && depth < max_depth;
         if (sc)
             sc->t_tracking += stats_now() - t0;
         /* What lies past the flight, seen through Tr: light reached now is added at once;
@@ -340,7 +358,7 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         }
         if (reflect && scattered) { /* one branch, in proportion to the weights */
             double a_past = col_avg(beta_past), p_past = a_past / (a_past + f.A);
-            if (rng_next(g) < p_past) {
+            if (rng_next(g) < p_past) { /* dimension dim0 + 4 depth + 1 */
                 beta_past = col_scale(beta_past, 1.0 / p_past);
                 scattered = false;
             } else {
@@ -355,14 +373,15 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
             v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
             v.p = surface_offset(&sh, v.n);
-            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, g)));
+            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, &gt)));
             vec3 wi;
-            double u0 = rng_next(g), u1 = rng_next(g), u2 = rng_next(g);
+            g->counter = dim0 + 4 * (uint64_t)depth + 2;
+            double u0 = rng_next(&gt), u1 = rng_next(g), u2 = rng_next(g);
             if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
                 break;
             f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
             r = (ray){v.p, wi, r.time};
-            if (!path_roulette(&f.beta, depth, g))
+            if (!path_roulette(&f.beta, depth, &gt))
                 break;
             continue;
         }
@@ -370,19 +389,21 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             break;
         /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
         f.beta = f.beta_s;
+        g->counter = dim0 + 4 * (uint64_t)depth + 1;
         vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
                     .time = r.time};
         if (sc) {
             sc->path_scatterings++;
             sc->path_vertices++;
         }
-        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, g)));
+        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, &gt)));
         if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */
-        vec3 wo = phase_sample(v.ph, r.d, rng_next(g), rng_next(g), &pdf_dir);
+        double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
+        vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
         /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
         r = (ray){v.p, wo, r.time};
-        if (!path_roulette(&f.beta, depth, g))
+        if (!path_roulette(&f.beta, depth, &gt))
             break;
     }
     return f.L;
