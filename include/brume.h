@@ -195,7 +195,7 @@ typedef struct brume_render_settings {
                             (docs/render-jobs.md gives the estimator) */
     int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
     bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
-    brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_INDEPENDENT */
+    brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
 } brume_render_settings;
 
 /* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted

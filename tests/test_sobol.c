@@ -287,7 +287,7 @@ static const char *scene_json(const char *sampler)
     return buf;
 }
 
-/* render.sampler: independent is the default, sobol differs, an unknown name is an error
+/* render.sampler: sobol is the default, independent differs, an unknown name is an error
  * naming the key; the two samplers agree on the image's mean within its standard error. */
 TEST(sobol_render_option)
 {
@@ -297,7 +297,7 @@ TEST(sobol_render_option)
     ASSERT_EQ_INT(brume_scene_load(NULL, path, &s), BRUME_OK);
     brume_render_settings rs;
     brume_scene_get_settings(s, &rs);
-    ASSERT_EQ_INT(rs.sampler, BRUME_SAMPLER_INDEPENDENT);
+    ASSERT_EQ_INT(rs.sampler, BRUME_SAMPLER_SOBOL); /* the default */
     brume_scene_release(s);
     test_write_file(path, scene_json("halton"));
     brume_context *ctx = brume_context_new();
@@ -311,7 +311,7 @@ TEST(sobol_render_option)
     struct brume_image *c = test_render_json(scene_json(NULL), 3);
     const float *pa = brume_image_pixels(a), *pb = brume_image_pixels(b), *pc = brume_image_pixels(c);
     int n = 24 * 24;
-    ASSERT_TRUE(memcmp(pb, pc, sizeof(float) * 4 * (size_t)n) == 0);
+    ASSERT_TRUE(memcmp(pa, pc, sizeof(float) * 4 * (size_t)n) == 0);
     ASSERT_TRUE(memcmp(pa, pb, sizeof(float) * 4 * (size_t)n) != 0);
     for (int ch = 0; ch < 3; ch++) {
         double ma, sa, mb, sb;

@@ -26,7 +26,7 @@ void scene_default_settings(brume_render_settings *rs)
     rs->progress = false;
     rs->fps = 24.0;
     rs->min_spp = 16;
-    rs->sampler = BRUME_SAMPLER_INDEPENDENT; /* docs/sampling.md: Sobol measured no gain for path */
+    rs->sampler = BRUME_SAMPLER_SOBOL; /* docs/sampling.md and docs/performance.md, "Low-discrepancy sampling" */
 }
 
 brume_scene *scene_new(const char *source)
