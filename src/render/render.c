@@ -17,6 +17,7 @@
 #include "render/job.h"
 
 #define TILE 16
+#define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
 #define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
@@ -204,6 +205,8 @@ static void job_tile(size_t task, int thread, void *user)
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
     int target = job->target;
+    const bool lens = s->cam.aperture_radius > 0.0 || camera_moving(&s->cam),
+               shutter = s->cam.shutter_close != s->cam.shutter_open; /* else ut has no effect */
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -220,12 +223,37 @@ static void job_tile(size_t task, int thread, void *user)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
             if (!job->active[i])
                 continue;
-            for (uint32_t sidx = n[k]; sidx < (uint32_t)target; sidx++) {
-                rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)sidx);
+            /* in batches: first the batch's camera rays, then their radiance. Each camera
+             * sample is a chain of hashes, divisions and a square root, independent of the
+             * others: side by side, the processor overlaps them */
+            for (uint32_t s0 = n[k]; s0 < (uint32_t)target; s0 += CAMERA_BATCH) {
+              uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
+              rng gb[CAMERA_BATCH];
+              ray rb[CAMERA_BATCH];
+              for (uint32_t b = 0; b < nb; b++) {
+                rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)(s0 + b));
                 double dx, dy;
                 film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-                double u1 = rng_next(&g), u2 = rng_next(&g), ut = rng_next(&g);
-                ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+                /* the lens and shutter numbers, or their dimensions skipped when the camera
+                 * would not use them: the numbers that follow are the same either way */
+                double u1 = 0.0, u2 = 0.0, ut = 0.0;
+                if (lens) {
+                    u1 = rng_next(&g);
+                    u2 = rng_next(&g);
+                } else {
+                    g.counter += 2;
+                }
+                if (shutter)
+                    ut = rng_next(&g);
+                else
+                    g.counter += 1;
+                rb[b] = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+                gb[b] = g;
+              }
+              for (uint32_t b = 0; b < nb; b++) {
+                const uint32_t sidx = s0 + b;
+                rng g = gb[b];
+                const ray r = rb[b];
                 if (job->trace_aovs) {
                     rng ga = g;
                     ga.counter += AOV_DIMENSION;
@@ -262,6 +290,7 @@ static void job_tile(size_t task, int thread, void *user)
                 if (sidx < JOB_ALPHA_SAMPLES)
                     sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
                 taken++;
+              }
             }
             n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
         }
