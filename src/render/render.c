@@ -184,6 +184,32 @@ void job_refresh(brume_render_job *job)
     job->noise = noise;
 }
 
+/* Camera sample sidx of pixel (x, y), index i: its ray, and in *out its random sequence
+ * positioned after the camera's numbers. The lens and shutter numbers are drawn only when
+ * the camera uses them (lens, shutter) and otherwise skipped by their dimensions, so the
+ * numbers that follow are the same either way. */
+static ray camera_sample(const brume_render_job *job, bool lens, bool shutter, size_t i, int x, int y, uint32_t sidx,
+                         rng *out)
+{
+    const brume_render_settings *rs = &job->rs;
+    rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)sidx);
+    double dx, dy;
+    film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
+    double u1 = 0.0, u2 = 0.0, ut = 0.0;
+    if (lens) {
+        u1 = rng_next(&g);
+        u2 = rng_next(&g);
+    } else {
+        g.counter += 2;
+    }
+    if (shutter)
+        ut = rng_next(&g);
+    else
+        g.counter += 1;
+    *out = g;
+    return camera_ray(&job->s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+}
+
 /* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
@@ -227,70 +253,52 @@ static void job_tile(size_t task, int thread, void *user)
              * sample is a chain of hashes, divisions and a square root, independent of the
              * others: side by side, the processor overlaps them */
             for (uint32_t s0 = n[k]; s0 < (uint32_t)target; s0 += CAMERA_BATCH) {
-              uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
-              rng gb[CAMERA_BATCH];
-              ray rb[CAMERA_BATCH];
-              for (uint32_t b = 0; b < nb; b++) {
-                rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)(s0 + b));
-                double dx, dy;
-                film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-                /* the lens and shutter numbers, or their dimensions skipped when the camera
-                 * would not use them: the numbers that follow are the same either way */
-                double u1 = 0.0, u2 = 0.0, ut = 0.0;
-                if (lens) {
-                    u1 = rng_next(&g);
-                    u2 = rng_next(&g);
-                } else {
-                    g.counter += 2;
-                }
-                if (shutter)
-                    ut = rng_next(&g);
-                else
-                    g.counter += 1;
-                rb[b] = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
-                gb[b] = g;
-              }
-              for (uint32_t b = 0; b < nb; b++) {
-                const uint32_t sidx = s0 + b;
-                rng g = gb[b];
-                const ray r = rb[b];
-                if (job->trace_aovs) {
-                    rng ga = g;
-                    ga.counter += AOV_DIMENSION;
-                    first_vertex v;
-                    integrator_first_vertex(s, r, &ga, &v);
-                    if (v.hit) {
-                        aov[k][0] += v.depth;
-                        aov[k][1] += 1.0;
+                uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
+                rng gb[CAMERA_BATCH];
+                ray rb[CAMERA_BATCH];
+                for (uint32_t b = 0; b < nb; b++)
+                    rb[b] = camera_sample(job, lens, shutter, i, x, y, s0 + b, &gb[b]);
+                for (uint32_t b = 0; b < nb; b++) {
+                    const uint32_t sidx = s0 + b;
+                    rng g = gb[b];
+                    const ray r = rb[b];
+                    if (job->trace_aovs) {
+                        rng ga = g;
+                        ga.counter += AOV_DIMENSION;
+                        first_vertex v;
+                        integrator_first_vertex(s, r, &ga, &v);
+                        if (v.hit) {
+                            aov[k][0] += v.depth;
+                            aov[k][1] += 1.0;
+                        }
+                        for (int c = 0; c < 3; c++)
+                            aov[k][2 + c] += v.albedo.c[c];
+                        aov[k][5] += v.normal.x;
+                        aov[k][6] += v.normal.y;
+                        aov[k][7] += v.normal.z;
                     }
-                    for (int c = 0; c < 3; c++)
-                        aov[k][2 + c] += v.albedo.c[c];
-                    aov[k][5] += v.normal.x;
-                    aov[k][6] += v.normal.y;
-                    aov[k][7] += v.normal.z;
+                    bool opaque = false;
+                    double t0 = sc ? stats_now() : 0.0;
+                    color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
+                    if (sc) {
+                        sc->t_li += stats_now() - t0;
+                        sc->camera_rays++;
+                    }
+                    if (!col_isfinite(L))
+                        L = col(0.0); /* a failed sample counts as black */
+                    for (int c = 0; c < 3; c++) {
+                        sum[k][c] += L.c[c];
+                        sq[k][c] += L.c[c] * L.c[c];
+                    }
+                    double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
+                    sq[k][3] += yv * yv;
+                    /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
+                     * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
+                     * smooth estimator that needs few samples, and no cost for the others */
+                    if (sidx < JOB_ALPHA_SAMPLES)
+                        sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
+                    taken++;
                 }
-                bool opaque = false;
-                double t0 = sc ? stats_now() : 0.0;
-                color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
-                if (sc) {
-                    sc->t_li += stats_now() - t0;
-                    sc->camera_rays++;
-                }
-                if (!col_isfinite(L))
-                    L = col(0.0); /* a failed sample counts as black */
-                for (int c = 0; c < 3; c++) {
-                    sum[k][c] += L.c[c];
-                    sq[k][c] += L.c[c] * L.c[c];
-                }
-                double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
-                sq[k][3] += yv * yv;
-                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                 * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
-                 * smooth estimator that needs few samples, and no cost for the others */
-                if (sidx < JOB_ALPHA_SAMPLES)
-                    sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
-                taken++;
-              }
             }
             n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
         }
