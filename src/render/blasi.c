@@ -47,7 +47,7 @@
 static const blasi_options *blasi_opts(const brume_scene *s) { return scene_options(s, METHOD_OPTIONS_BLASI); }
 
 #define BLASI_BATCH 1024           /* light rays per task */
-#define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
+#define BLASI_WAVE 256             /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
 /* Limits that keep every walk finite (docs/scene-format.md#limits): uniform steps across
  * the media, and interceptions of one light ray. */
