@@ -586,7 +586,8 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
             return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
                                                                                           : FLIGHT_STOPPED;
         }
-        const bool counts = !(sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0);
+        /* !(sb <= 0 && kx == 0), with | so that no branch is mispredicted on it */
+        const bool counts = !(sb <= 0.0) | (kx.c[0] != 0.0) | (kx.c[1] != 0.0) | (kx.c[2] != 0.0);
         tau += counts ? sb * dl : 0.0;
 #pragma GCC unroll 3
         for (int k = 0; k < BRUME_NSAMPLES; k++)
