@@ -381,11 +381,12 @@ static brume_status job_pass(brume_render_job *job)
  * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
  * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
  * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX.
- * A render that nothing watches or can stop (no callback, no progress bar, no budget)
- * takes PASS_MAX at once: its passes would only cost (each rereads every pixel's sums and
- * statistics, and waits for the slowest thread), and the image is the same (a pixel's
- * samples are numbered, whatever the passes). */
-static int job_next_pass(const brume_render_job *job)
+ * An unwatched render (brume_render with no callback, no progress bar and no budget: no
+ * one holds the job, sees its progress or can stop it) takes PASS_MAX at once: its passes
+ * would only cost (each rereads every pixel's sums and statistics, and waits for the
+ * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
+ * the passes). */
+static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
     if (job->out_of_time)
@@ -402,7 +403,7 @@ static int job_next_pass(const brume_render_job *job)
             return 0;
     }
     int k;
-    if (!rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0))
+    if (unwatched)
         k = PASS_MAX;
     else if (job->spp_done == 0)
         k = rs->noise_target > 0.0 ? rs->min_spp : 1;
@@ -472,10 +473,10 @@ static void job_fill_stats(const brume_render_job *job)
     }
 }
 
-static brume_status job_run(brume_render_job *job)
+static brume_status job_run(brume_render_job *job, bool unwatched)
 {
     int k;
-    while ((k = job_next_pass(job)) > 0) {
+    while ((k = job_next_pass(job, unwatched)) > 0) {
         brume_status st = job_add(job, k);
         if (st != BRUME_OK)
             return st;
@@ -577,7 +578,7 @@ brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
     err_clear();
     if (!job)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
-    return ctx_report(ctx, job_run(job));
+    return ctx_report(ctx, job_run(job, false)); /* the caller holds the job: passes as scheduled */
 }
 
 brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
@@ -633,7 +634,7 @@ void brume_render_job_progress(const brume_render_job *job, brume_render_progres
     out->noise = job->noise;
     out->converged = npart ? (double)stopped / (double)npart : 0.0;
     out->elapsed = job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
-    out->finished = job->t_pass == 0.0 && job_next_pass(job) == 0;
+    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) == 0;
     if (out->finished)
         out->eta = 0.0;
     else if (job->rs.time_budget > 0.0)
@@ -662,7 +663,8 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     brume_status st = job_create(s, part, nparts, &job);
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
-    st = job_run(job);
+    const brume_render_settings *rs = &s->settings;
+    st = job_run(job, !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0));
     if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
         char msg[1024];
         snprintf(msg, sizeof msg, "%s", err_message());
