@@ -1,7 +1,7 @@
 #!/bin/sh
 # run_all.sh - every benchmark in one run, on an otherwise idle machine, printed in the
 # order of docs/performance.md. Usage: sh bench/run_all.sh [BUILD_DIR] > bench.txt
-# Takes about 15 minutes on 2 cores; Blender for the Cycles comparison is installed when
+# Takes about 20 minutes on 2 cores; Blender for the Cycles comparison is installed when
 # run as root (bench/cloud64_vs_cycles.sh).
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -14,6 +14,8 @@ echo "### bench_render (default scene, 240 x 160)"
 "$build/bench/bench_render" --width 240 --height 160 --ref-spp 512
 echo "### cloud64 vs Blender Cycles"
 REF_SPP=${REF_SPP:-512} sh bench/cloud64_vs_cycles.sh "$build"
+echo "### render.sampler: sobol against independent (cloud64, wdas-dense)"
+python3 bench/sampler_efficiency.py --build "$build"
 echo "### bench_phase"
 "$build/bench/bench_phase"
 echo "### bench_grid"

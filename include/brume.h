@@ -142,6 +142,14 @@ typedef enum brume_filter {
     BRUME_FILTER_GAUSSIAN = 1 /* truncated gaussian, standard deviation filter_width / 4 px */
 } brume_filter;
 
+/* Where a camera sample's random numbers come from (docs/sampling.md). Either way every
+ * number is uniform and the image unbiased; the image depends on the choice. */
+typedef enum brume_sampler {
+    BRUME_SAMPLER_INDEPENDENT = 0, /* "independent": a hash of (seed, pixel, sample, dimension) */
+    BRUME_SAMPLER_SOBOL = 1        /* "sobol": the first dimensions of each sample are the pixel's
+                                      Owen-scrambled Sobol points, the rest the same hash */
+} brume_sampler;
+
 /* Progress of a render: `done` and `total` count pixel samples (total is exact for a fixed
  * sample count, an estimate that may change between calls under a time budget or a noise
  * target; never below done). Called after each finished tile, from the calling thread or a
@@ -187,6 +195,7 @@ typedef struct brume_render_settings {
                             (docs/render-jobs.md gives the estimator) */
     int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
     bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
+    brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_INDEPENDENT */
 } brume_render_settings;
 
 /* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted

@@ -15,7 +15,7 @@
 
 static slab_result slab(double albedo, double tau, phase *ph, uint64_t samples, int max_depth)
 {
-    slab_params p = {albedo, tau, ph, samples, 12345, 0, max_depth};
+    slab_params p = {albedo, tau, ph, samples, 12345, 0, max_depth, BRUME_SAMPLER_INDEPENDENT};
     slab_result r;
     ASSERT_EQ_INT(slab_run(&p, &r), BRUME_OK);
     phase_release(ph);
@@ -163,7 +163,7 @@ TEST(white_furnace_slab)
 TEST(slab_threads_identical)
 {
     phase *ph = phase_new_hg(0.5);
-    slab_params p1 = {0.9, 1.0, ph, 100000, 7, 1, 1 << 30}, p2 = p1;
+    slab_params p1 = {0.9, 1.0, ph, 100000, 7, 1, 1 << 30, BRUME_SAMPLER_INDEPENDENT}, p2 = p1;
     p2.threads = 2;
     slab_result r1, r2;
     ASSERT_EQ_INT(slab_run(&p1, &r1), BRUME_OK);

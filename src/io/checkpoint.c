@@ -4,13 +4,16 @@
  * Layout, every number in the writing machine's byte order (the marker tells which):
  *   "BRUMECKP"  u32 format (1)  u32 0x01020304  char[32] brume version  u64 scene key
  *   settings:   i32 width height spp min_spp max_depth filter  u32 aovs  i32 part nparts
- *               u64 seed  f64 filter_width noise_target  char[32] method
+ *               i32 sampler (0 independent, 1 sobol; 0 in checkpoints older than the field, which
+ *               filled padding that was written as 0)  u64 seed  f64 filter_width noise_target
+ *               char[32] method
  *   job:        i32 spp_done target  f64 elapsed  u64 pixels
  *   per pixel:  u32 n[pixels]  u8 active[pixels]  f64 sum[4 pixels]  f64 sq[4 pixels]
  *               f64 aov[8 pixels] (only when depth, albedo or normal are asked)
  *   u64 FNV-1a hash of every byte before it
  * A checkpoint is written atomically (io/atomic.c): it is whole or absent. */
 #include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,10 +30,13 @@ typedef struct ckpt_settings {
     int32_t width, height, spp, min_spp, max_depth, filter;
     uint32_t aovs;
     int32_t part, nparts;
+    int32_t sampler; /* brume_sampler; takes what was 4 bytes of padding before the seed */
     uint64_t seed;
     double filter_width, noise_target;
     char method[32];
 } ckpt_settings;
+
+_Static_assert(offsetof(ckpt_settings, seed) == 40, "ckpt_settings: the seed stays where format 1 put it");
 
 typedef struct ckpt_header {
     char magic[8];
@@ -67,6 +73,7 @@ static void settings_record(const brume_render_job *job, ckpt_settings *c)
     c->aovs = rs->aovs;
     c->part = job->part;
     c->nparts = job->nparts;
+    c->sampler = (int32_t)rs->sampler;
     c->seed = rs->seed;
     c->filter_width = rs->filter_width;
     c->noise_target = rs->noise_target;
@@ -197,6 +204,7 @@ static brume_status compare_settings(const char *path, const ckpt_settings *a, c
     SAME_INT(part, "render part")
     SAME_INT(nparts, "render parts")
     SAME_INT(seed, "render.seed")
+    SAME_INT(sampler, "render.sampler")
 #undef SAME_INT
     if (a->filter_width != b->filter_width)
         return err_set(BRUME_ERROR_STATE, "%s: render.filter.width: the checkpoint has %g, this render %g", path,

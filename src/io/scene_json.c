@@ -674,7 +674,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "noise", "time", "min_spp", NULL};
+                                       "fps", "max_memory_mb", "noise", "time", "min_spp", "sampler", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
@@ -694,6 +694,15 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
     if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
     if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
+    char sampler[32] = "";
+    if ((st = json_string(j, at, "sampler", 0, sampler, sizeof sampler))) return st;
+    if (strcmp(sampler, "sobol") == 0)
+        rs.sampler = BRUME_SAMPLER_SOBOL;
+    else if (strcmp(sampler, "independent") == 0)
+        rs.sampler = BRUME_SAMPLER_INDEPENDENT;
+    else if (cJSON_HasObjectItem(j, "sampler"))
+        return err_set(BRUME_ERROR_PARSE, "%s: render.sampler: unknown sampler '%s' (known: sobol, independent)",
+                       at.file, sampler);
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "filter");
     if (f) {
         static const char *const fkeys[] = {"type", "width", NULL};

@@ -22,6 +22,7 @@
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
+#define RENDER_SOBOL_DIMS 8 /* dimensions of a camera sample drawn from Sobol points */
 #define AOV_DIMENSION (1ULL << 40) /* the first-vertex walk draws from this dimension on, so
                                       it never shares a number with the sample's path */
 
@@ -185,27 +186,24 @@ void job_refresh(brume_render_job *job)
 }
 
 /* Camera sample sidx of pixel (x, y), index i: its ray, and in *out its random sequence
- * positioned after the camera's numbers. The lens and shutter numbers are drawn only when
- * the camera uses them (lens, shutter) and otherwise skipped by their dimensions, so the
- * numbers that follow are the same either way. */
-static ray camera_sample(const brume_render_job *job, bool lens, bool shutter, size_t i, int x, int y, uint32_t sidx,
-                         rng *out)
+ * positioned after the camera's numbers. Dimensions: the filter's offset takes the first
+ * pair; the lens and the shutter take the next ones only when the camera has them (lens,
+ * shutter); the path the rest. The first qmc_dims dimensions are Sobol points
+ * (render.sampler, docs/sampling.md). */
+static ray camera_sample(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
+                         int y, uint32_t sidx, rng *out)
 {
     const brume_render_settings *rs = &job->rs;
-    rng g = rng_make(rs->seed, (uint64_t)i, (uint64_t)sidx);
+    rng g = rng_make_qmc(rs->seed, (uint64_t)i, sidx, qmc_dims);
     double dx, dy;
     film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-    double u1 = 0.0, u2 = 0.0, ut = 0.0;
+    double u1 = 0.5, u2 = 0.5, ut = 0.5;
     if (lens) {
         u1 = rng_next(&g);
         u2 = rng_next(&g);
-    } else {
-        g.counter += 2;
     }
     if (shutter)
         ut = rng_next(&g);
-    else
-        g.counter += 1;
     *out = g;
     return camera_ray(&job->s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
 }
@@ -231,8 +229,8 @@ static void job_tile(size_t task, int thread, void *user)
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
     int target = job->target;
-    const bool lens = s->cam.aperture_radius > 0.0 || camera_moving(&s->cam),
-               shutter = s->cam.shutter_close != s->cam.shutter_open; /* else ut has no effect */
+    const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
+    const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -257,7 +255,7 @@ static void job_tile(size_t task, int thread, void *user)
                 rng gb[CAMERA_BATCH];
                 ray rb[CAMERA_BATCH];
                 for (uint32_t b = 0; b < nb; b++)
-                    rb[b] = camera_sample(job, lens, shutter, i, x, y, s0 + b, &gb[b]);
+                    rb[b] = camera_sample(job, qmc_dims, lens, shutter, i, x, y, s0 + b, &gb[b]);
                 for (uint32_t b = 0; b < nb; b++) {
                     const uint32_t sidx = s0 + b;
                     rng g = gb[b];

@@ -11,6 +11,7 @@
 #define SLAB_BATCH 4096
 #define SLAB_HALF_WIDTH 1e9     /* lateral extent: photons never leave sideways */
 #define SLAB_SEMI_INFINITE 1e9  /* depth standing for tau = 0 */
+#define SLAB_SOBOL_DIMS 8       /* as the renderer's camera samples (render.c) */
 
 typedef struct slab_sums {
     double r, r2, t, t2;
@@ -31,7 +32,8 @@ static void slab_batch(size_t batch, int thread, void *user)
     uint64_t last = first + SLAB_BATCH < p->samples ? first + SLAB_BATCH : p->samples;
     slab_sums acc = {0, 0, 0, 0};
     for (uint64_t i = first; i < last; i++) {
-        rng g = rng_make(p->seed, i, 0);
+        rng g = p->sampler == BRUME_SAMPLER_SOBOL ? rng_make_qmc(p->seed, i >> 32, (uint32_t)i, SLAB_SOBOL_DIMS)
+                                                  : rng_make(p->seed, i, 0);
         flight f = {.s = job->s, .g = &g, .beta = col(1.0), .L = col(0.0)};
         ray r = {v3(0, 0, 0), v3(0, 0, -1), 0.0}; /* enters the lit face z = 0 going down */
         double rd = 0.0, td = 0.0; /* this photon's reflected and transmitted weight */

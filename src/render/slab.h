@@ -24,6 +24,7 @@ typedef struct slab_params {
     uint64_t seed;
     int threads;      /* 0 = one per core */
     int max_depth;    /* scattering events counted, >= 1 (1 = single scattering) */
+    brume_sampler sampler; /* sobol: photon i is sample i of one Sobol sequence (per 2^32) */
 } slab_params;
 
 typedef struct slab_result {
