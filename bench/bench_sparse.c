@@ -5,6 +5,8 @@
  * child process (peak RSS is per process): load time, peak RSS against the NanoVDB buffer,
  * time per path sample; and NanoVDB against dense lookups, interleaved in one process.
  * Build: cmake --build build --target bench; run: build/bench/bench_sparse [max_factor].
+ * The last lines repeat the time-per-sample ratios with factor 1 on the tree's majorants
+ * too (it has the cell grid by default).
  * The generated files stay in build/bench/sparse/ (regenerated when missing). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -301,5 +303,17 @@ int main(int argc, char **argv)
                render_ratio(a, b));
         fflush(stdout);
     }
+    /* Factor 1's box is small enough for the cell grid (docs/grids.md, "Small sparse grids"),
+     * the others walk the tree: the same ratio with the tree at every factor says what the
+     * tree's walk costs as the resolution grows. */
+    uint64_t limit = nanovdb_set_cell_grid_limit(0);
+    for (int f = 2; f <= max_factor; f *= 2) {
+        char a[256], b[256];
+        snprintf(a, sizeof a, "sparse/wdas-x1.vdb");
+        snprintf(b, sizeof b, "sparse/wdas-x%d.vdb", f);
+        printf("the same with the tree's majorants at factor 1 too: %.2f\n", render_ratio(a, b));
+        fflush(stdout);
+    }
+    nanovdb_set_cell_grid_limit(limit);
     return 0;
 }

@@ -86,7 +86,7 @@ int cmd_info(int argc, char **argv)
     printf("values:         %.6g to %.6g\n", in.rho_min, in.rho_max);
     printf("memory:         %zu bytes (%.2f MiB)\n", in.memory_bytes, (double)in.memory_bytes / 1048576.0);
     printf("active voxels:  %llu\n", (unsigned long long)in.active_voxels);
-    if (in.kind == DENSITY_NANOVDB)
+    if (in.majorant_tree)
         printf("majorants:      from the tree: %d blocks of 128^3 voxels with bounds per 8^3 leaf cell\n",
                in.majorant_n[0]);
     else

@@ -349,7 +349,10 @@ static void check_majorants(const density *d, uint64_t seed, int rays)
                 double rho = density_eval(d, ray_at(ry, t));
                 if (rho > seg.rho_maj * (1 + 1e-6) + 1e-12)
                     TEST_FAIL("rho %.9g > majorant %.9g at t %.9g in [%.9g, %.9g]", rho, seg.rho_maj, t, seg.t0, seg.t1);
+                if (rho < seg.rho_min * (1 - 1e-12))
+                    TEST_FAIL("rho %.9g < minorant %.9g at t %.9g in [%.9g, %.9g]", rho, seg.rho_min, t, seg.t0, seg.t1);
             }
+            ASSERT_TRUE(seg.rho_min >= 0.0 && seg.rho_min <= seg.rho_maj);
             ASSERT_TRUE(seg.rho_maj <= density_max(d) * (1 + 1e-6));
             prev = seg.t1;
         }

@@ -481,6 +481,8 @@ static int check_segments(const density *d, ray r, double tmax, int per_seg, rng
             double rho = density_eval(d, ray_at(r, tt));
             if (rho > s.rho_maj)
                 TEST_FAIL("rho %.9g > majorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_maj, tt, s.t0, s.t1);
+            if (rho < s.rho_min * (1.0 - 1e-12))
+                TEST_FAIL("rho %.9g < minorant %.9g at t %.9g on [%.9g, %.9g)", rho, s.rho_min, tt, s.t0, s.t1);
             positive += rho > 0;
         }
     }
@@ -562,14 +564,39 @@ TEST(sparse_majorants_bound)
         ASSERT_TRUE(covered > v3_length(v3_sub(b, a))); /* the segments cover the way */
         density_release(d);
     }
-    for (int f = 0; f < 2; f++) {
+    /* the Disney cloud's small box, with its cell grid and with the tree's walk */
+    for (int f = 0; f < 4; f++) {
         density_load_options o;
         density_load_options_default(&o);
-        o.filter = f ? GRID_TRILINEAR : GRID_NEAREST;
+        o.filter = f % 2 ? GRID_TRILINEAR : GRID_NEAREST;
+        uint64_t limit = nanovdb_set_cell_grid_limit(f < 2 ? UINT64_MAX : 0);
         density *d = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), &o);
+        nanovdb_set_cell_grid_limit(limit);
         if (!d)
             TEST_FAIL("%s", err_message());
+        density_info in;
+        density_get_info(d, &in);
+        ASSERT_TRUE(in.majorant_tree == (f >= 2));
         check_majorants(d, 21 + (uint64_t)f, 1500, 1000);
+        if (f < 2) { /* the cell grid's minorant is positive over much of the cloud's inside */
+            box3 b = density_bounds(d);
+            rng g = rng_make(31, 0, 0);
+            double len_maj = 0.0, len_min = 0.0;
+            for (int n = 0; n < 200; n++) {
+                vec3 dir = v3_normalize(v3(rng_next(&g) - 0.5, rng_next(&g) - 0.5, rng_next(&g) - 0.5));
+                vec3 c = v3_scale(v3_add(b.lo, b.hi), 0.5);
+                majorant_iter mi;
+                majorant_seg sg;
+                density_majorant_begin(d, (ray){v3_sub(c, v3_scale(dir, 1e4)), dir, 0}, 0, INFINITY, &mi);
+                while (majorant_next(&mi, &sg)) {
+                    len_maj += sg.rho_maj > 0 ? sg.t1 - sg.t0 : 0.0;
+                    len_min += sg.rho_min > 0 ? sg.t1 - sg.t0 : 0.0;
+                }
+            }
+            fprintf(stderr, "filter %d: minorant > 0 on %.3f of the length where the majorant is\n", f % 2,
+                    len_min / len_maj);
+            ASSERT_TRUE(len_min > 0.1 * len_maj);
+        }
         density_release(d);
     }
     unlink(path);
@@ -591,7 +618,9 @@ TEST(sparse_trilinear_majorants_tight)
     density_load_options o;
     density_load_options_default(&o);
     o.filter = GRID_TRILINEAR;
+    uint64_t limit = nanovdb_set_cell_grid_limit(0); /* the tree's leaf slabs, whatever the box */
     density *d = density_load_file(path, &o);
+    nanovdb_set_cell_grid_limit(limit);
     if (!d)
         TEST_FAIL("%s", err_message());
     /* along +x through B's cell only (voxels 16 to 23), at B's y and z */

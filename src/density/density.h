@@ -60,6 +60,10 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
  * count = 3 gives the three components of a vec3f grid (or the float grid three times)
  * in out[0..2], sharing the buffer, which they own together on success (freed with the
  * last). Other arguments as density_new_nanovdb. */
+/* NanoVDB grids whose index box holds at most this many voxels (default 2^23) get a grid of
+ * 4^3-voxel cells with exact bounds; larger ones the tree's nested majorants. Returns the
+ * previous limit. For tests and benchmarks that compare the two; set it before loading. */
+uint64_t nanovdb_set_cell_grid_limit(uint64_t voxels);
 bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
                                 double scale, size_t max_memory, const char *name, density **out);
 /* The mean density of a blob field (density/blobs.h), with a majorant grid of at most
@@ -102,8 +106,10 @@ typedef struct density_info {
     size_t memory_bytes;    /* voxel data + majorant grid */
     uint64_t active_voxels; /* voxels with rho > 0 (dense); the tree's active count (NanoVDB) */
     int majorant_cell;      /* voxels per majorant cell edge */
-    int majorant_n[3];      /* majorant cells per axis (dense grids; for NanoVDB, majorant_n[0]
-                               counts the 128^3-voxel blocks that have bounds of their own) */
+    int majorant_n[3];      /* majorant cells per axis (a cell grid; for the tree's majorants,
+                               majorant_n[0] counts the 128^3-voxel blocks that have bounds of
+                               their own) */
+    bool majorant_tree;     /* NanoVDB with a large box: majorants from the tree's nested walk */
 } density_info;
 void density_get_info(const density *d, density_info *info);
 
@@ -115,10 +121,11 @@ double density_voxel(const density *d, int i, int j, int k);
  * when the ray misses the grid. */
 bool density_voxel_dda_begin(const density *d, ray r, double tmin, double tmax, grid_dda *it);
 
-/* One stretch of a ray with rho <= rho_maj on [t0, t1). */
+/* One stretch of a ray with rho_min <= rho <= rho_maj on [t0, t1). */
 typedef struct majorant_seg {
     double t0, t1;  /* ray parameters, t0 < t1 */
     double rho_maj; /* upper bound of rho on the segment (unitless) */
+    double rho_min; /* lower bound of rho on the segment (unitless, >= 0; 0 when none is known) */
 } majorant_seg;
 
 /* Iterator state; lives on the caller's stack. Fields are private to density/.
@@ -128,6 +135,7 @@ typedef struct majorant_seg {
 typedef struct majorant_iter {
     grid_dda dda;        /* over majorant cells; NanoVDB: over 4096^3 regions */
     const float *maj;    /* cell majorants, x fastest */
+    const float *mino;   /* cell minorants, or NULL (0) */
     int mn[3];           /* majorant cells per axis */
     majorant_seg next;   /* looked-ahead segment not returned yet */
     bool has_next;

@@ -11,7 +11,9 @@
  * Majorant grid: cells of mcell^3 voxels on a lattice offset by moff voxels (so that NanoVDB
  * cells coincide with its 8^3 leaves): voxel-space point u lies in majorant cell
  * floor((u + moff) / mcell). maj[] holds an upper bound of rho over each cell (already
- * multiplied by any density scale). */
+ * multiplied by any density scale), mino[] (when not NULL) a lower bound: the min over the
+ * same voxels, which is what the path tracer's control density uses (docs/path-tracer.md,
+ * "Control density"). */
 #ifndef BRUME_DENSITY_DENSITY_IMPL_H
 #define BRUME_DENSITY_DENSITY_IMPL_H
 
@@ -20,7 +22,7 @@
 #include "density/density.h"
 
 /* Voxels per majorant cell edge: 8^3 = one NanoVDB leaf. Measured in docs/grids.md. */
-#define DENSITY_MAJORANT_CELL 8
+#define DENSITY_MAJORANT_CELL 4
 
 typedef struct nanovdb_state nanovdb_state;
 
@@ -38,6 +40,7 @@ struct density {
     int moff[3];
     int mn[3];
     float *maj;
+    float *mino;           /* NULL: no lower bound (0) */
     /* DENSITY_GRID */
     float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release) */
     void (*data_release)(void *user); /* non-NULL: data is borrowed; called instead of free */
@@ -47,6 +50,10 @@ struct density {
     /* DENSITY_BLOBS: voxels are the majorant cells (mcell = 1) */
     blob_field *blobs;
 };
+
+/* Fills maj, mino, mn, mcell, moff: the cells' bounds over the voxels fetch reads (grid.c).
+ * false when out of memory. */
+bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int));
 
 /* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */
 bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who);

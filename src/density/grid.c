@@ -38,9 +38,14 @@ static inline double dense_at(const density *d, int i, int j, int k)
     return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
 }
 
-/* Max over each majorant cell of the voxels a lookup inside it can read: the cell itself
- * (nearest) or the cell dilated by one voxel (trilinear). */
-static bool dense_build_majorant(density *d)
+static double dense_fetch(const density *d, int i, int j, int k) { return dense_at(d, i, j, k); }
+
+/* Max and min over each majorant cell of the voxels a lookup inside it can read: the cell
+ * itself (nearest) or the cell dilated by one voxel (trilinear). A trilinear value is a
+ * convex combination of those voxels, so it lies between the two. Cells of
+ * DENSITY_MAJORANT_CELL^3 voxels from the box's corner; fetch(d, i, j, k) reads voxel
+ * (i, j, k) of the box, already scaled. */
+bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int))
 {
     int C = DENSITY_MAJORANT_CELL, r = d->filter == GRID_TRILINEAR ? 1 : 0;
     size_t count = 1;
@@ -51,8 +56,13 @@ static bool dense_build_majorant(density *d)
     }
     d->mcell = C;
     d->maj = malloc(count * sizeof *d->maj);
-    if (!d->maj)
+    d->mino = malloc(count * sizeof *d->mino);
+    if (!d->maj || !d->mino) {
+        free(d->maj);
+        free(d->mino);
+        d->maj = d->mino = NULL;
         return false;
+    }
     for (int ck = 0; ck < d->mn[2]; ck++)
         for (int cj = 0; cj < d->mn[1]; cj++)
             for (int ci = 0; ci < d->mn[0]; ci++) {
@@ -62,14 +72,19 @@ static bool dense_build_majorant(density *d)
                     lo[a] = lo[a] < 0 ? 0 : lo[a];
                     hi[a] = hi[a] > d->n[a] ? d->n[a] : hi[a];
                 }
-                float m = 0.0f;
+                double m = 0.0, mi = INFINITY;
                 for (int k = lo[2]; k < hi[2]; k++)
-                    for (int j = lo[1]; j < hi[1]; j++) {
-                        const float *row = d->data + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k);
-                        for (int i = lo[0]; i < hi[0]; i++)
-                            m = row[i] > m ? row[i] : m;
-                    }
-                d->maj[(size_t)ci + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck)] = m;
+                    for (int j = lo[1]; j < hi[1]; j++)
+                        for (int i = lo[0]; i < hi[0]; i++) {
+                            double v = fetch(d, i, j, k);
+                            m = v > m ? v : m;
+                            mi = v < mi ? v : mi;
+                        }
+                size_t c = (size_t)ci + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck);
+                /* rounded outwards to float */
+                float fm = (float)m, fmi = (float)mi;
+                d->maj[c] = (double)fm < m ? nextafterf(fm, INFINITY) : fm;
+                d->mino[c] = (double)fmi > mi ? nextafterf(fmi, 0.0f) : fmi;
             }
     return true;
 }
@@ -109,7 +124,7 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
         return NULL;
     }
     d->data = data;
-    if (!dense_build_majorant(d)) {
+    if (!density_build_cell_bounds(d, dense_fetch)) {
         free(d);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid: out of memory for the majorant grid");
         return NULL;
@@ -117,7 +132,7 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
     d->rho_min = rho_min;
     d->rho_max = rho_max;
     d->active = active;
-    d->memory = n * sizeof(float) + (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
+    d->memory = n * sizeof(float) + 2 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
     return d;
 }
 
@@ -155,6 +170,7 @@ void density_release(density *d)
     case DENSITY_BLOBS: blob_field_release(d->blobs); break;
     }
     free(d->maj);
+    free(d->mino);
     free(d);
 }
 
@@ -179,6 +195,7 @@ void density_get_info(const density *d, density_info *info)
     info->memory_bytes = d->memory;
     info->active_voxels = d->active;
     info->majorant_cell = d->mcell;
+    info->majorant_tree = d->kind == DENSITY_NANOVDB && !d->maj;
     for (int a = 0; a < 3; a++) {
         info->n[a] = d->n[a];
         info->majorant_n[a] = d->mn[a];
@@ -234,6 +251,7 @@ bool density_voxel_dda_begin(const density *d, ray r, double tmin, double tmax, 
 void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it)
 {
     it->maj = d->maj;
+    it->mino = d->mino;
     it->has_next = false;
     it->nano = NULL;
     for (int a = 0; a < 3; a++)
@@ -246,7 +264,7 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
         it->dda.done = true;
         return;
     }
-    if (d->kind == DENSITY_NANOVDB) {
+    if (d->kind == DENSITY_NANOVDB && !d->maj) {
         nanovdb_majorant_begin(d, o, dir, t0, t1, it);
         return;
     }
@@ -265,7 +283,9 @@ static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
         return false;
     seg->t0 = st.t0;
     seg->t1 = st.t1;
-    seg->rho_maj = (double)it->maj[(size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k)];
+    size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);
+    seg->rho_maj = (double)it->maj[c];
+    seg->rho_min = it->mino ? (double)it->mino[c] : 0.0;
     return true;
 }
 
@@ -281,7 +301,7 @@ bool majorant_next(majorant_iter *it, majorant_seg *seg)
     }
     majorant_seg s;
     while (majorant_cell_next(it, &s)) {
-        if (s.rho_maj == seg->rho_maj) {
+        if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
             seg->t1 = s.t1;
         } else {
             it->next = s;

@@ -50,6 +50,13 @@
 #endif
 
 #define BLOCK_CELLS 4096 /* leaf cells (8^3 voxels) per block: 16^3 */
+/* Index boxes of at most this many voxels get the dense grids' cell bounds instead of the
+ * tree's nested walk: at most 2^23 / 64 cells (1 MiB of bounds), built in about 3.4 reads
+ * per voxel of the box (docs/grids.md, "Majorants of sparse grids"). */
+#define NANO_CELL_GRID_VOXELS ((uint64_t)1 << 23)
+static _Atomic uint64_t nano_cell_grid_voxels = NANO_CELL_GRID_VOXELS;
+
+uint64_t nanovdb_set_cell_grid_limit(uint64_t voxels) { return atomic_exchange(&nano_cell_grid_voxels, voxels); }
 
 /* The buffer, shared by the fields made from it (components of a vec3 grid). */
 typedef struct nano_buffer {
@@ -801,10 +808,20 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     free(w.slabs);
     free(w.rawat);
     d->active = pnanovdb_tree_get_voxel_count(b, tree);
-    d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
-    for (size_t i = 0; i < s->blocks.count; i++)
-        d->memory += s->entries[i].at >= 0 ? BLOCK_CELLS * sizeof(float) : 0;
-    d->mn[0] = (int)s->blocks.count; /* blocks with their own bounds (density_get_info) */
+    if ((uint64_t)ext[0] * (uint64_t)ext[1] * (uint64_t)ext[2] <= atomic_load(&nano_cell_grid_voxels)) {
+        /* a small box: one grid of cells with exact bounds, walked by one DDA (grid.c) */
+        if (!density_build_cell_bounds(d, nanovdb_voxel)) {
+            err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the majorant grid", name);
+            goto fail;
+        }
+        nano_free_majorants(s);
+        d->memory = size + 2 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
+    } else {
+        d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
+        for (size_t i = 0; i < s->blocks.count; i++)
+            d->memory += s->entries[i].at >= 0 ? BLOCK_CELLS * sizeof(float) : 0;
+        d->mn[0] = (int)s->blocks.count; /* blocks with their own bounds (density_get_info) */
+    }
     s->shared = shared; /* ownership (a reference) passes only on success */
     shared->refs++;
     return d;
@@ -816,6 +833,8 @@ fail:
     free(w.slabs);
     free(w.rawat);
     nano_free_majorants(s);
+    free(d->maj);
+    free(d->mino);
     free(s);
     free(d);
     return NULL;
@@ -896,6 +915,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
                 seg->t0 = st.t0;
                 seg->t1 = st.t1;
                 seg->rho_maj = (double)it->table[st.i + 16 * (st.j + 16 * st.k)];
+                seg->rho_min = 0.0;
                 return true;
             }
             it->level = 1;
@@ -908,6 +928,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
                     seg->t0 = st.t0;
                     seg->t1 = st.t1;
                     seg->rho_maj = e < 0 ? (double)s->bg_maj : (double)s->entries[e].maj;
+                    seg->rho_min = 0.0;
                     return true;
                 }
                 it->table = s->tables + (size_t)s->entries[e].at * BLOCK_CELLS;
@@ -925,6 +946,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
             seg->t0 = st.t0;
             seg->t1 = st.t1;
             seg->rho_maj = (double)s->bg_maj;
+            seg->rho_min = 0.0;
             return true;
         }
         int32_t c0[3] = {r[0] * 32, r[1] * 32, r[2] * 32};

@@ -38,30 +38,75 @@ bool integrator_from_name(const char *name, integrator_kind *out)
 
 const char *integrator_names(void) { return "path, single, blasi, stam"; }
 
-static bool flight_step(double t, double sigma_maj, void *user)
+/* Offers the collision at t, with the media f->cur and the scattering weight w, to the
+ * flight's one-element reservoir. */
+static void flight_offer(flight *f, color w, double t)
+{
+    double a = col_avg(w);
+    if (!(a > 0.0))
+        return;
+    f->A += a;
+    if (rng_next(f->g) * f->A < a) {
+        f->beta_s = col_scale(w, 1.0 / a);
+        f->t = t;
+        f->ms = f->cur;
+    }
+}
+
+/* A tentative collision of a flight. Without a control density (sigma_c = 0), every
+ * tentative collision looks the media up and is weighed by ratio tracking. With one (a
+ * single medium whose sigma_t is gray: f->control), the collision is a real collision of
+ * the control medium sigma_c with probability sigma_c / sigma_maj, which needs no lookup and
+ * ends the walk (its Tr factor is 0), or else a collision of the residual
+ * sigma_t(x) - sigma_c against sigma_maj - sigma_c (docs/path-tracer.md, "Control density").
+ * Both keep every weight's expectation that of plain ratio tracking. */
+static bool flight_step(const track_event *e, void *user)
 {
     flight *f = user;
     if (stats_tls)
         stats_tls->path_tentative++;
-    media_at(f->s, ray_at(f->r, t), f->r.time, &f->cur);
-    const medium_sample *ms = &f->cur;
-    double inv_maj = 1.0 / sigma_maj;
     color beta_Tr = col_mul(f->beta, f->Tr);
+    double sigma_c = f->control ? e->sigma_c : 0.0;
+    if (sigma_c > 0.0 && rng_next(f->g) * e->sigma_maj < sigma_c) {
+        /* the control medium, rho_c = sigma_c / sigma_t: beta Tr sigma_x rho_c / (sigma_maj p_c) */
+        const medium *md = &f->s->media[0];
+        double inv_t = 1.0 / md->sigma_t_max;
+        if (!col_is_black(md->Le))
+            f->L = col_add(f->L, col_scale(col_mul(beta_Tr, col_mul(md->sigma_a, md->Le)), inv_t));
+        f->cur.n = 1;
+        f->cur.index[0] = 0;
+        f->cur.weight[0] = 1.0;
+        flight_offer(f, col_scale(col_mul(beta_Tr, md->sigma_s), inv_t), e->t);
+        f->Tr = col(0.0);
+        return false;
+    }
+    media_at(f->s, ray_at(f->r, e->t), f->r.time, &f->cur);
+    medium_sample *ms = &f->cur;
+    if (sigma_c > 0.0) { /* the residual: rho - rho_c */
+        const medium *md = &f->s->media[0];
+        double rho_c = sigma_c / md->sigma_t_max;
+        ms->sigma_a = col_sub(ms->sigma_a, col_scale(md->sigma_a, rho_c));
+        ms->sigma_s = col_sub(ms->sigma_s, col_scale(md->sigma_s, rho_c));
+        ms->emission = col_sub(ms->emission, col_scale(col_mul(md->sigma_a, md->Le), rho_c));
+    }
+    double inv_maj = 1.0 / (e->sigma_maj - sigma_c);
     if (!col_is_black(ms->emission))
         f->L = col_add(f->L, col_scale(col_mul(beta_Tr, ms->emission), inv_maj));
-    color w = col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj);
-    double a = col_avg(w);
-    if (a > 0.0) {
-        f->A += a;
-        if (rng_next(f->g) * f->A < a) {
-            f->beta_s = col_scale(w, 1.0 / a);
-            f->t = t;
-            f->ms = *ms;
-        }
-    }
+    flight_offer(f, col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj), e->t);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         f->Tr.c[c] *= 1.0 - (ms->sigma_a.c[c] + ms->sigma_s.c[c]) * inv_maj;
     return track_roulette(&f->Tr, f->g);
+}
+
+/* Whether flights may use the control density: one medium, gray sigma_t, no fields (which
+ * would make sigma_s or Le vary otherwise than rho does). */
+static bool flight_control_ok(const brume_scene *s)
+{
+    if (s->nmedia != 1)
+        return false;
+    const medium *md = &s->media[0];
+    color sigma_t = col_add(md->sigma_a, md->sigma_s);
+    return !medium_has_fields(md) && col_min(sigma_t) == col_max(sigma_t);
 }
 
 bool flight_run(flight *f, ray r, double tmax)
@@ -69,7 +114,8 @@ bool flight_run(flight *f, ray r, double tmax)
     f->r = r;
     f->Tr = col(1.0);
     f->A = 0.0;
-    track_collisions(f->s, r, tmax, f->g, flight_step, f);
+    f->control = flight_control_ok(f->s);
+    track_collisions(f->s, r, tmax, f->g, false, flight_step, f, NULL);
     if (!(f->A > 0.0))
         return false;
     f->beta_s = col_scale(f->beta_s, f->A);
@@ -410,14 +456,14 @@ typedef struct first_walk {
     medium_sample ms;
 } first_walk;
 
-static bool first_step(double t, double sigma_maj, void *user)
+static bool first_step(const track_event *e, void *user)
 {
     first_walk *w = user;
-    media_at(w->s, ray_at(w->r, t), w->r.time, &w->ms);
+    media_at(w->s, ray_at(w->r, e->t), w->r.time, &w->ms);
     double sigma_t = col_avg(col_add(w->ms.sigma_a, w->ms.sigma_s));
-    if (rng_next(w->g) * sigma_maj < sigma_t) {
+    if (rng_next(w->g) * e->sigma_maj < sigma_t) {
         w->hit = true;
-        w->t = t;
+        w->t = e->t;
         return false;
     }
     return true;
@@ -429,7 +475,7 @@ void integrator_first_vertex(const brume_scene *s, ray r, rng *g, first_vertex *
     surface_hit sh;
     bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &sh);
     first_walk w = {.s = s, .r = r, .g = g, .hit = false};
-    track_collisions(s, r, on_surface ? sh.t : (double)INFINITY, g, first_step, &w);
+    track_collisions(s, r, on_surface ? sh.t : (double)INFINITY, g, false, first_step, &w, NULL);
     if (w.hit) {
         v->hit = true;
         v->depth = w.t;

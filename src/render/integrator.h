@@ -93,6 +93,7 @@ typedef struct flight {
     double t;         /* out: where the kept collision is */
     medium_sample ms; /* out: the media there */
     medium_sample cur; /* scratch: the media at the current collision */
+    bool control;     /* scratch: the flight uses the control density (flight_step) */
 } flight;
 
 /* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta and f->L

@@ -30,9 +30,11 @@ typedef struct track_stream {
     majorant_seg seg;
     bool live;
     double sigma_t_max;
+    double sigma_t_min; /* control: 0 when the medium's sigma_t is not rho times a constant */
 } track_stream;
 
-bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn fn, void *user)
+bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn, void *user,
+                      double *tau_c_end)
 {
     track_stream st[SCENE_MAX_MEDIA];
     int n = s->nmedia;
@@ -51,12 +53,17 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
         }
         density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
-        st[m].sigma_t_max = s->media[m].sigma_t_max;
+        const medium *md = &s->media[m];
+        st[m].sigma_t_max = md->sigma_t_max;
+        st[m].sigma_t_min = md->albedo[0] ? 0.0 : col_min(col_add(md->sigma_a, md->sigma_s));
     }
+    track_event e = {0.0, 0.0, 0.0, 0.0};
     double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
+    if (tau_c_end)
+        *tau_c_end = 0.0;
     for (;;) {
-        /* Majorant on [t, t_next): media whose current segment covers t. */
-        double sigma_maj = 0.0, t_next = INFINITY;
+        /* Majorant and control on [t, t_next): media whose current segment covers t. */
+        double sigma_maj = 0.0, sigma_c = 0.0, t_next = INFINITY;
         bool any = false;
         for (int m = 0; m < n; m++) {
             while (st[m].live && st[m].seg.t1 <= t)
@@ -68,15 +75,25 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
                 t_next = fmin(t_next, st[m].seg.t0);
             } else {
                 sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
+                sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
                 t_next = fmin(t_next, st[m].seg.t1);
             }
         }
-        if (!any || t >= tmax)
+        if (!any || t >= tmax) {
+            if (tau_c_end)
+                *tau_c_end = e.tau_c;
             return true;
+        }
         t_next = fmin(t_next, tmax);
+        sigma_c = fmin(sigma_c, sigma_maj);
+        /* the rate of tentative collisions */
+        double sigma_n = residual ? sigma_maj - sigma_c : sigma_maj;
+        e.sigma_maj = sigma_maj;
+        e.sigma_c = sigma_c;
+        const double tau_c0 = e.tau_c;
         /* tau: optical depth (against the majorant) still to cover before the next
          * tentative collision; one exponential per collision, carried across segments. */
-        if (sigma_maj > 0.0) {
+        if (sigma_n > 0.0) {
             /* Distances are measured from the segment's start: u grows from 0, so a step of
              * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
              * origin), and it strictly increases (a step below its resolution moves it by
@@ -86,18 +103,23 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn
             const double t0 = t, len = t_next - t;
             double u = 0.0;
             for (;;) {
-                double du = tau / sigma_maj;
+                double du = tau / sigma_n;
                 if (!(u + du < len)) {
-                    tau = fmax(0.0, tau - sigma_maj * (len - u));
+                    tau = fmax(0.0, tau - sigma_n * (len - u));
                     break;
                 }
                 double u_new = u + du;
                 u = u_new > u ? u_new : nextafter(u, INFINITY);
-                if (!fn(t0 + u, sigma_maj, user))
+                e.t = t0 + u;
+                if (residual)
+                    e.tau_c = tau_c0 + sigma_c * u;
+                if (!fn(&e, user))
                     return false;
                 tau = sample_exponential(rng_next(g), 1.0);
             }
         }
+        if (residual)
+            e.tau_c = tau_c0 + sigma_c * (t_next - t);
         t = t_next;
     }
 }
@@ -153,7 +175,8 @@ const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, d
 typedef struct ratio_state {
     const brume_scene *s;
     ray r;
-    color Tr;
+    color Tr;     /* the estimate up to the last collision, exp(-tau_c) included */
+    double tau_c; /* control optical depth already in Tr */
     rng *g;
 } ratio_state;
 
@@ -176,22 +199,29 @@ bool track_roulette(color *Tr, rng *g)
     return true;
 }
 
-/* Ratio tracking (Cramer 1978; Novak et al. 2014): T *= sigma_n / sigma_maj per channel,
- * with roulette once T is small, so shadow rays through thick media stop early. */
-static bool ratio_step(double t, double sigma_maj, void *user)
+/* Residual ratio tracking (Cramer 1978; Novak et al. 2014): with collisions at the rate
+ * sigma_maj - sigma_c, T *= exp(-(control optical depth since the last collision)) and
+ * T *= 1 - (sigma_t - sigma_c) / (sigma_maj - sigma_c) per channel, with roulette once T is
+ * small, so shadow rays through thick media stop early. */
+static bool ratio_step(const track_event *e, void *user)
 {
     ratio_state *rs = user;
     medium_sample ms;
-    media_at(rs->s, ray_at(rs->r, t), rs->r.time, &ms);
+    media_at(rs->s, ray_at(rs->r, e->t), rs->r.time, &ms);
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
+    double inv = 1.0 / (e->sigma_maj - e->sigma_c);
+    double Tc = e->tau_c > rs->tau_c ? exp(rs->tau_c - e->tau_c) : 1.0;
+    rs->tau_c = e->tau_c;
     for (int c = 0; c < BRUME_NSAMPLES; c++)
-        rs->Tr.c[c] *= 1.0 - sigma_t.c[c] / sigma_maj;
+        rs->Tr.c[c] *= Tc * (1.0 - (sigma_t.c[c] - e->sigma_c) * inv);
     return track_roulette(&rs->Tr, rs->g);
 }
 
 color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g)
 {
-    ratio_state rs = {s, r, col(1.0), g};
-    track_collisions(s, r, tmax, g, ratio_step, &rs);
+    ratio_state rs = {s, r, col(1.0), 0.0, g};
+    double tau_c;
+    if (track_collisions(s, r, tmax, g, true, ratio_step, &rs, &tau_c) && tau_c > rs.tau_c)
+        rs.Tr = col_scale(rs.Tr, exp(rs.tau_c - tau_c));
     return rs.Tr;
 }

@@ -15,14 +15,27 @@
 #include "core/rng.h"
 #include "render/scene.h"
 
-/* Called at each tentative collision at ray parameter t with the local scalar majorant.
- * Return false to stop tracking. */
-typedef bool (*track_fn)(double t, double sigma_maj, void *user);
+/* A tentative collision at ray parameter t [world units]. sigma_maj >= sigma_t(x) >= sigma_c
+ * on the piece of the ray around t [1 / world unit]: sigma_c is the control extinction,
+ * sum over media of rho_min sigma_t_min (0 for media with an albedo field, whose sigma_t
+ * varies by more than rho), a lower bound of every channel's sigma_t there. tau_c is the
+ * control optical depth from 0 to t (residual walks only; 0 otherwise). */
+typedef struct track_event {
+    double t, sigma_maj, sigma_c, tau_c;
+} track_event;
+
+/* Called at each tentative collision. Return false to stop tracking. */
+typedef bool (*track_fn)(const track_event *e, void *user);
 
 /* Tracks r (unit direction) over [0, tmax] at the ray's time r.time (moving media are
- * taken where they are at that instant). Returns true when the walk passed tmax (or
- * left every medium) without the callback stopping it. */
-bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, track_fn fn, void *user);
+ * taken where they are at that instant). Tentative collisions come at the rate sigma_maj,
+ * or with `residual` at the rate sigma_maj - sigma_c (residual ratio tracking, Novak et al.
+ * 2014: the control part is then accounted for analytically by the caller through tau_c;
+ * *tau_c_end, when not NULL, receives the control optical depth of the whole walk).
+ * Returns true when the walk passed tmax (or left every medium) without the callback
+ * stopping it. */
+bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn, void *user,
+                      double *tau_c_end);
 
 /* Optical coefficients at p summed over the media [1 / world unit]. */
 typedef struct medium_sample {
@@ -43,7 +56,9 @@ const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, d
  * then 0). */
 bool track_roulette(color *Tr, rng *g);
 
-/* Ratio-tracking estimate of transmittance along r over [0, tmax] (unbiased, per channel). */
+/* Residual ratio-tracking estimate of transmittance along r over [0, tmax] (unbiased, per
+ * channel): exp(-tau_c) times the ratio-tracking product of the residual
+ * (docs/path-tracer.md, "Control density"). */
 color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g);
 
 #endif
