@@ -24,39 +24,42 @@ static inline double dda_max(double a, double b)
 
 /* First cell per axis at t0 (inside the clipped interval): the one whose slab interval
  * [enter, exit) holds t0. Start from the rounded position, then correct with the exact
- * crossing formula. */
-static bool dda_seed(grid_dda *g, double t0)
+ * crossing formula. Inlined into both callers, its axes unrolled: it runs once per ray. */
+static inline __attribute__((always_inline)) bool dda_seed(grid_dda *g, double t0)
 {
-    g->done = true;
+    bool ok = true;
+#pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
         const double oa = g->o[a];
-        if (g->step[a] == 0) {
+        const int step = g->step[a], n = g->n[a];
+        if (step == 0) {
             g->ijk[a] = (int)floor(oa);
             g->t_next[a] = INFINITY;
             continue;
         }
         const double inv = g->inv[a];
-        double x = floor(oa + t0 * g->d[a]);
-        int c = x < 0.0 ? 0 : (x > (double)(g->n[a] - 1) ? g->n[a] - 1 : (int)x);
-        int up = g->step[a] > 0; /* plane index of the exit face is c + up */
+        /* floor, then clamped to [0, n - 1]: the same cell as clamping first and truncating */
+        double x = oa + t0 * g->d[a];
+        x = x < 0.0 ? 0.0 : (x > (double)(n - 1) ? (double)(n - 1) : x);
+        int c = (int)x;
+        const int up = step > 0; /* plane index of the exit face is c + up */
         for (int guard = 0; guard < 4; guard++) {
             double t_exit = ((double)(c + up) - oa) * inv;
             double t_enter = ((double)(c + 1 - up) - oa) * inv;
-            if (t_exit <= t0 && c + g->step[a] >= 0 && c + g->step[a] < g->n[a])
-                c += g->step[a];
-            else if (t_enter > t0 && c - g->step[a] >= 0 && c - g->step[a] < g->n[a])
-                c -= g->step[a];
+            if (t_exit <= t0 && c + step >= 0 && c + step < n)
+                c += step;
+            else if (t_enter > t0 && c - step >= 0 && c - step < n)
+                c -= step;
             else
                 break;
         }
         g->ijk[a] = c;
         g->t_next[a] = ((double)(c + up) - oa) * inv;
-        if (!(g->t_next[a] > t0)) /* leaves the grid at t0 */
-            return false;
+        ok &= g->t_next[a] > t0; /* false: leaves the grid at t0 */
     }
     g->t = t0;
-    g->done = false;
-    return true;
+    g->done = !ok;
+    return ok;
 }
 
 bool grid_dda_restart(grid_dda *g, double t0, double t1)
@@ -83,18 +86,21 @@ bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int 
     g->done = true;
     g->t = tmin;
     g->tmax = tmax;
-    if (!(tmin < tmax))
+    /* the arguments checked first, all axes at once (one branch, not one per test) */
+    bool valid = tmin < tmax;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++)
+        valid &= (n[a] >= 1) & (isfinite(oo[a]) != 0) & (isfinite(dd[a]) != 0) & (0 <= lo[a]) & (lo[a] < hi[a]) &
+                 (hi[a] <= n[a]);
+    if (!valid)
         return false;
     /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;
+#pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
         g->n[a] = n[a];
         g->o[a] = oo[a];
         g->d[a] = dd[a];
-        if (n[a] < 1 || !isfinite(oo[a]) || !isfinite(dd[a]))
-            return false;
-        if (!(0 <= lo[a] && lo[a] < hi[a] && hi[a] <= n[a]))
-            return false;
         if (dd[a] == 0.0) {
             g->step[a] = 0;
             g->inv[a] = 0.0;

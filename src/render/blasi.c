@@ -47,7 +47,7 @@
 static const blasi_options *blasi_opts(const brume_scene *s) { return scene_options(s, METHOD_OPTIONS_BLASI); }
 
 #define BLASI_BATCH 1024           /* light rays per task */
-#define BLASI_WAVE 64              /* batches traced between two ordered merges of their deposits */
+#define BLASI_WAVE 256             /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
 /* Limits that keep every walk finite (docs/scene-format.md#limits): uniform steps across
  * the media, and interceptions of one light ray. */
@@ -432,50 +432,50 @@ static inline color col_exp_neg(color x)
 
 /* One flight of a light ray, from the source or a scattering point to the next
  * interception. tau is the sigma_bar optical depth since it began; it scatters where tau
- * reaches -ln(1 - u) (Eq. 11), with u drawn when the flight begins and the log taken at
- * its first non-empty voxel (most light rays miss the media). The weight's decay is kept
- * as an optical depth D per channel and exponentiated once, at the interception or the
- * exit; the stop test is D > lim = log(w / w_stop) per channel, with the logs taken only
- * when D passes their lower bound 1 - w_stop / w (log x >= 1 - 1/x): most flights end long
+ * reaches -ln(1 - u) (Eq. 11), with u the flight's first random number, drawn (and its log
+ * taken) at the first voxel that can scatter: most light rays miss the media. The weight's
+ * decay is kept as an optical depth D per channel and exponentiated once, at the
+ * interception or the exit; the stop test is D > lim = log(w / w_stop) per channel, with
+ * the logs taken only when D passes their lower bound lim_lo = 1 - w_stop / w
+ * (log x >= 1 - 1/x), itself found at the first voxel crossed: most flights end long
  * before. */
 typedef struct flight {
-    double u, target, tau;
-    bool have_target, lim_known;
+    double target, tau;
+    bool have_target, lim_lo_known, lim_known;
     color D, lim, lim_lo;
 } flight;
 
-static inline void flight_begin(flight *f, color w, double w_stop, rng *g)
+static inline void flight_begin(flight *f)
 {
-    f->u = rng_next(g);
-    f->have_target = false;
-    f->lim_known = false;
-    f->target = f->tau = 0.0;
-    f->D = f->lim = col(0.0);
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
-        f->lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
+    f->have_target = f->lim_lo_known = f->lim_known = false;
+    f->target = INFINITY; /* until drawn */
+    f->tau = 0.0;
+    f->D = col(0.0);
 }
 
 /* True when a stretch of length dl with sigma_bar rho = sb scatters in it. */
-static inline bool flight_scatters(flight *f, double sb, double dl)
+static inline bool flight_scatters(flight *f, double sb, double dl, rng *g)
 {
     if (!(sb > 0.0))
         return false;
     if (!f->have_target) {
-        f->target = sample_exponential(f->u, 1.0);
+        f->target = sample_exponential(rng_next(g), 1.0);
         f->have_target = true;
     }
     return f->tau + sb * dl >= f->target;
 }
 
-/* A stretch of length dl with coefficients sb, kx that the flight crosses whole. True when
- * the weight falls under the threshold there (the while condition: L_R > THRESHOLD). */
-static inline bool flight_cross(flight *f, double sb, color kx, double dl, color w, double w_stop)
+/* The stop test after the decay reached D (the while condition: L_R > THRESHOLD): true
+ * when the weight is under the threshold in every channel. */
+static inline bool flight_stops(flight *f, color D, color w, double w_stop)
 {
-    f->tau += sb * dl;
+    if (!f->lim_lo_known) {
+        for (int c = 0; c < BRUME_NSAMPLES; c++)
+            f->lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
+        f->lim_lo_known = true;
+    }
     for (int c = 0; c < BRUME_NSAMPLES; c++)
-        f->D.c[c] += kx.c[c] * dl;
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
-        if (!(f->D.c[c] > f->lim_lo.c[c]))
+        if (!(D.c[c] > f->lim_lo.c[c]))
             return false;
     if (!f->lim_known) {
         for (int c = 0; c < BRUME_NSAMPLES; c++)
@@ -483,9 +483,19 @@ static inline bool flight_cross(flight *f, double sb, color kx, double dl, color
         f->lim_known = true;
     }
     for (int c = 0; c < BRUME_NSAMPLES; c++)
-        if (!(f->D.c[c] > f->lim.c[c]))
+        if (!(D.c[c] > f->lim.c[c]))
             return false;
     return true;
+}
+
+/* A stretch of length dl with coefficients sb, kx that the flight crosses whole. True when
+ * the weight falls under the threshold there. */
+static inline bool flight_cross(flight *f, double sb, color kx, double dl, color w, double w_stop)
+{
+    f->tau += sb * dl;
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        f->D.c[c] += kx.c[c] * dl;
+    return flight_stops(f, f->D, w, w_stop);
 }
 
 /* The interception in piece pc, at ds into it (ray parameter t_hit), for a flight that
@@ -530,8 +540,11 @@ static bool intercept(const blasi_state *st, const piece *pc, double sb, color k
 typedef enum flight_end { FLIGHT_LEFT, FLIGHT_SCATTERED, FLIGHT_STOPPED } flight_end;
 
 /* A flight through one small grid (one medium, no block skipping, the voxel walk: the
- * usual case), the general loop of fly() with the piece reduced to one voxel and the
- * walk's state in locals the loop keeps in registers. */
+ * usual case): the general loop of fly() with the piece reduced to one voxel, the walk's
+ * and the flight's state in locals the loop keeps in registers, and no branch on whether a
+ * voxel is empty: an empty one (sb = 0, kx = 0) adds exactly 0 to tau and D, cannot
+ * scatter (tau + 0 < target), is not remembered as the last voxel, and leaves the stop
+ * test's answer as it was, so the flight is the same as with the branch. */
 static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
                           deposit_list *acc, bool *have_last, size_t *last)
 {
@@ -546,34 +559,51 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
     color kx1; /* (sigma_t - sigma_bar) per unit density */
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         kx1.c[c] = bm->sigma_t.c[c] - sigma_bar;
+    double tau = f->tau;
+    color D = f->D;
+    bool was = *have_last;
+    size_t lv = *last;
+    flight_end e = FLIGHT_LEFT;
     grid_dda_step c;
     while (grid_dda_next(&gd, &c)) {
-        size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
-        double rh = (double)rho[v];
-        if (rh == 0.0) /* empty: nothing to cross */
-            continue;
-        double dl = c.t1 - c.t0, sb = sigma_bar * rh;
+        const size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
+        const double rh = (double)rho[v], dl = c.t1 - c.t0, sb = sigma_bar * rh;
         color kx;
+#pragma GCC unroll 3
         for (int k = 0; k < BRUME_NSAMPLES; k++)
             kx.c[k] = kx1.c[k] * rh;
-        if (flight_scatters(f, sb, dl)) {
-            double ds = (f->target - f->tau) / sb;
+        f->tau = tau;
+        if (!f->have_target && sb > 0.0) /* the first voxel that can scatter: draw the target */
+            (void)flight_scatters(f, sb, dl, g);
+        if (tau + sb * dl >= f->target) { /* sb > 0 here: tau < target before */
+            double ds = (f->target - tau) / sb;
             piece pc; /* only what intercept reads */
             pc.n = 1;
             pc.m[0] = 0;
             pc.v[0] = v;
+            f->D = D;
             *have_last = true;
             return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
                                                                                           : FLIGHT_STOPPED;
         }
-        if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
-            continue;
-        *have_last = true;
-        *last = v;
-        if (flight_cross(f, sb, kx, dl, *w, w_stop))
-            return FLIGHT_STOPPED;
+        /* !(sb <= 0 && kx == 0), with | so that no branch is mispredicted on it */
+        const bool counts = !(sb <= 0.0) | (kx.c[0] != 0.0) | (kx.c[1] != 0.0) | (kx.c[2] != 0.0);
+        tau += counts ? sb * dl : 0.0;
+#pragma GCC unroll 3
+        for (int k = 0; k < BRUME_NSAMPLES; k++)
+            D.c[k] += counts ? kx.c[k] * dl : 0.0;
+        lv = counts ? v : lv;
+        was |= counts;
+        if (was && flight_stops(f, D, *w, w_stop)) {
+            e = FLIGHT_STOPPED;
+            break;
+        }
     }
-    return FLIGHT_LEFT;
+    f->tau = tau;
+    f->D = D;
+    *have_last = was;
+    *last = lv;
+    return e;
 }
 
 /* A flight through any media: the merged voxel walks, or uniform steps (blasi.step). */
@@ -608,7 +638,7 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
         }
         color kx;
         double sb = piece_coeffs(st, &pc, &kx);
-        if (flight_scatters(f, sb, dl)) {
+        if (flight_scatters(f, sb, dl, g)) {
             /* interception: exactly inside the voxel, or at the step's midpoint */
             double ds = st->step > 0.0 ? dl : (f->target - f->tau) / sb;
             double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
@@ -648,7 +678,7 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
         if (s->surf && surfaces_intersect(s->surf, r, 0.0, INFINITY, &h))
             t_end = h.t;
         flight f;
-        flight_begin(&f, w, w_stop, g);
+        flight_begin(&f);
         flight_end e = one ? fly_one(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last)
                            : fly(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last);
         if (e == FLIGHT_SCATTERED)
@@ -1073,6 +1103,11 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         if (o->load_light[0]) {
             rc = load_light(o->load_light, s, st);
             st->stats.loaded = true;
+            /* one medium: an empty voxel holds no source, as after a first pass run here (the
+             * view walk passes over it): a file that says otherwise is read as if it did not */
+            for (size_t v = 0; rc == BRUME_OK && st->nm == 1 && v < st->nvox; v++)
+                if (st->rho[v] == 0.0f)
+                    st->S[3 * v] = st->S[3 * v + 1] = st->S[3 * v + 2] = 0.0f;
         } else {
             rc = first_pass(s, st);
         }
@@ -1205,8 +1240,11 @@ static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *
 
 /* The view walk over [0, t_end) through one small grid (one medium, no block skipping:
  * the usual case). The same sums as view_walk, with the walk's state in locals the loop
- * keeps in registers. False when the threshold stopped the ray. */
-static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
+ * keeps in registers; for a grey medium (kappa and sigma_t the same in every channel) A
+ * and tau_t are one number each, as all their channels are equal. False when the
+ * threshold stopped the ray. */
+static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_state *st, ray r, double t_end,
+                                                                    view_sums *out, bool grey)
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
@@ -1215,18 +1253,69 @@ static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums 
     grid_dda g = g0; /* never escapes: the compiler keeps it in registers */
     const float *rho = st->rho;
     const size_t nx = (size_t)bm->n[0], ny = (size_t)bm->n[1];
-    view_sums s = *out;
     grid_dda_step c;
     bool on = true;
+    if (!grey) {
+        view_sums s = *out;
+        while (grid_dda_next(&g, &c)) {
+            size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
+            if (rho[v] == 0.0f) /* empty: no density, no source */
+                continue;
+            if (!(on = view_voxel(st, bm, v, c.t1 - c.t0, &s)))
+                break;
+        }
+        *out = s;
+        return on;
+    }
+    /* grey: view_voxel with A and tau_t one number each, and without its branches: an empty
+     * voxel (rho = 0, S = 0: blasi_prepare keeps no source there) adds exactly 0 to L and
+     * tau_t and multiplies A by exactly 1 (voxel_exp(0) gives T = f = 1), as does the
+     * attenuation-free case of view_voxel with f = 1, so the sums are the same bit for bit,
+     * without the mispredicted branch on each voxel's emptiness */
+    const double kappa = bm->kappa.c[0], sigma_t = bm->sigma_t.c[0], threshold = st->threshold;
+    const color emit = bm->emit;
+    double A = out->A.c[0], tau_t = out->tau_t.c[0];
+    color L = out->L;
     while (grid_dda_next(&g, &c)) {
         size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
-        if (rho[v] == 0.0f) /* empty: no density, no source */
-            continue;
-        if (!(on = view_voxel(st, bm, v, c.t1 - c.t0, &s)))
+        const double rh = (double)rho[v], dl = c.t1 - c.t0, kap = kappa * rh;
+        const float *sv = st->S + 3 * v;
+        color S;
+#pragma GCC unroll 3
+        for (int k = 0; k < BRUME_NSAMPLES; k++)
+            S.c[k] = (double)sv[k] + emit.c[k] * rh;
+        tau_t += sigma_t * (rh * dl);
+        double T, f;
+        voxel_exp(kap * dl, &T, &f);
+#pragma GCC unroll 3
+        for (int k = 0; k < BRUME_NSAMPLES; k++)
+            L.c[k] += A * S.c[k] * dl * f;
+        A *= T;
+        if (!(A > threshold)) {
+            on = false;
             break;
+        }
     }
-    *out = s;
+    out->L = L;
+    out->A = col(A);
+    out->tau_t = col(tau_t);
     return on;
+}
+
+static inline bool col_is_grey(color a)
+{
+    for (int c = 1; c < BRUME_NSAMPLES; c++)
+        if (a.c[c] != a.c[0])
+            return false;
+    return true;
+}
+
+static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
+{
+    const blasi_medium *bm = &st->m[0];
+    if (col_is_grey(bm->kappa) && col_is_grey(bm->sigma_t) && col_is_grey(out->A) && col_is_grey(out->tau_t))
+        return view_walk_one_as(st, r, t_end, out, true);
+    return view_walk_one_as(st, r, t_end, out, false);
 }
 
 /* The view walk over [0, t_end) through any media: each piece's voxels summed. */

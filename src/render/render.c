@@ -17,6 +17,7 @@
 #include "render/job.h"
 
 #define TILE 16
+#define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
 #define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
@@ -184,6 +185,29 @@ void job_refresh(brume_render_job *job)
     job->noise = noise;
 }
 
+/* Camera sample sidx of pixel (x, y), index i: its ray, and in *out its random sequence
+ * positioned after the camera's numbers. Dimensions: the filter's offset takes the first
+ * pair; the lens and the shutter take the next ones only when the camera has them (lens,
+ * shutter); the path the rest. The first qmc_dims dimensions are Sobol points
+ * (render.sampler, docs/sampling.md). */
+static ray camera_sample(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
+                         int y, uint32_t sidx, rng *out)
+{
+    const brume_render_settings *rs = &job->rs;
+    rng g = rng_make_qmc(rs->seed, (uint64_t)i, sidx, qmc_dims);
+    double dx, dy;
+    film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
+    double u1 = 0.5, u2 = 0.5, ut = 0.5;
+    if (lens) {
+        u1 = rng_next(&g);
+        u2 = rng_next(&g);
+    }
+    if (shutter)
+        ut = rng_next(&g);
+    *out = g;
+    return camera_ray(&job->s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+}
+
 /* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
@@ -205,9 +229,8 @@ static void job_tile(size_t task, int thread, void *user)
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
     int target = job->target;
-    uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
-    bool lens = s->cam.aperture_radius > 0.0;
-    bool shutter = s->cam.shutter_close > s->cam.shutter_open;
+    const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
+    const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -224,56 +247,56 @@ static void job_tile(size_t task, int thread, void *user)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
             if (!job->active[i])
                 continue;
-            for (uint32_t sidx = n[k]; sidx < (uint32_t)target; sidx++) {
-                /* dimensions: the filter's offset takes the first pair; the lens and the
-                 * shutter take the next ones only when the camera has them; the path the rest */
-                rng g = rng_make_qmc(rs->seed, (uint64_t)i, sidx, qmc_dims);
-                double dx, dy;
-                film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-                double u1 = 0.5, u2 = 0.5, ut = 0.5;
-                if (lens) {
-                    u1 = rng_next(&g);
-                    u2 = rng_next(&g);
-                }
-                if (shutter)
-                    ut = rng_next(&g);
-                ray r = camera_ray(&s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
-                if (job->trace_aovs) {
-                    rng ga = g;
-                    ga.counter += AOV_DIMENSION;
-                    first_vertex v;
-                    integrator_first_vertex(s, r, &ga, &v);
-                    if (v.hit) {
-                        aov[k][0] += v.depth;
-                        aov[k][1] += 1.0;
+            /* in batches: first the batch's camera rays, then their radiance. Each camera
+             * sample is a chain of hashes, divisions and a square root, independent of the
+             * others: side by side, the processor overlaps them */
+            for (uint32_t s0 = n[k]; s0 < (uint32_t)target; s0 += CAMERA_BATCH) {
+                uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
+                rng gb[CAMERA_BATCH];
+                ray rb[CAMERA_BATCH];
+                for (uint32_t b = 0; b < nb; b++)
+                    rb[b] = camera_sample(job, qmc_dims, lens, shutter, i, x, y, s0 + b, &gb[b]);
+                for (uint32_t b = 0; b < nb; b++) {
+                    const uint32_t sidx = s0 + b;
+                    rng g = gb[b];
+                    const ray r = rb[b];
+                    if (job->trace_aovs) {
+                        rng ga = g;
+                        ga.counter += AOV_DIMENSION;
+                        first_vertex v;
+                        integrator_first_vertex(s, r, &ga, &v);
+                        if (v.hit) {
+                            aov[k][0] += v.depth;
+                            aov[k][1] += 1.0;
+                        }
+                        for (int c = 0; c < 3; c++)
+                            aov[k][2 + c] += v.albedo.c[c];
+                        aov[k][5] += v.normal.x;
+                        aov[k][6] += v.normal.y;
+                        aov[k][7] += v.normal.z;
                     }
-                    for (int c = 0; c < 3; c++)
-                        aov[k][2 + c] += v.albedo.c[c];
-                    aov[k][5] += v.normal.x;
-                    aov[k][6] += v.normal.y;
-                    aov[k][7] += v.normal.z;
+                    bool opaque = false;
+                    double t0 = sc ? stats_now() : 0.0;
+                    color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
+                    if (sc) {
+                        sc->t_li += stats_now() - t0;
+                        sc->camera_rays++;
+                    }
+                    if (!col_isfinite(L))
+                        L = col(0.0); /* a failed sample counts as black */
+                    for (int c = 0; c < 3; c++) {
+                        sum[k][c] += L.c[c];
+                        sq[k][c] += L.c[c] * L.c[c];
+                    }
+                    double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
+                    sq[k][3] += yv * yv;
+                    /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
+                     * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
+                     * smooth estimator that needs few samples, and no cost for the others */
+                    if (sidx < JOB_ALPHA_SAMPLES)
+                        sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
+                    taken++;
                 }
-                bool opaque = false;
-                double t0 = sc ? stats_now() : 0.0;
-                color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
-                if (sc) {
-                    sc->t_li += stats_now() - t0;
-                    sc->camera_rays++;
-                }
-                if (!col_isfinite(L))
-                    L = col(0.0); /* a failed sample counts as black */
-                for (int c = 0; c < 3; c++) {
-                    sum[k][c] += L.c[c];
-                    sq[k][c] += L.c[c] * L.c[c];
-                }
-                double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
-                sq[k][3] += yv * yv;
-                /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                 * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
-                 * smooth estimator that needs few samples, and no cost for the others */
-                if (sidx < JOB_ALPHA_SAMPLES)
-                    sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
-                taken++;
             }
             n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
         }
@@ -356,11 +379,12 @@ static brume_status job_pass(brume_render_job *job)
  * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
  * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
  * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX.
- * A render that nothing watches or can stop (no callback, no progress bar, no budget)
- * takes PASS_MAX at once: its passes would only cost (each rereads every pixel's sums and
- * statistics, and waits for the slowest thread), and the image is the same (a pixel's
- * samples are numbered, whatever the passes). */
-static int job_next_pass(const brume_render_job *job)
+ * An unwatched render (brume_render with no callback, no progress bar and no budget: no
+ * one holds the job, sees its progress or can stop it) takes PASS_MAX at once: its passes
+ * would only cost (each rereads every pixel's sums and statistics, and waits for the
+ * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
+ * the passes). */
+static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
     if (job->out_of_time)
@@ -377,7 +401,7 @@ static int job_next_pass(const brume_render_job *job)
             return 0;
     }
     int k;
-    if (!rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0))
+    if (unwatched)
         k = PASS_MAX;
     else if (job->spp_done == 0)
         k = rs->noise_target > 0.0 ? rs->min_spp : 1;
@@ -447,10 +471,10 @@ static void job_fill_stats(const brume_render_job *job)
     }
 }
 
-static brume_status job_run(brume_render_job *job)
+static brume_status job_run(brume_render_job *job, bool unwatched)
 {
     int k;
-    while ((k = job_next_pass(job)) > 0) {
+    while ((k = job_next_pass(job, unwatched)) > 0) {
         brume_status st = job_add(job, k);
         if (st != BRUME_OK)
             return st;
@@ -552,7 +576,7 @@ brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
     err_clear();
     if (!job)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
-    return ctx_report(ctx, job_run(job));
+    return ctx_report(ctx, job_run(job, false)); /* the caller holds the job: passes as scheduled */
 }
 
 brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
@@ -608,7 +632,7 @@ void brume_render_job_progress(const brume_render_job *job, brume_render_progres
     out->noise = job->noise;
     out->converged = npart ? (double)stopped / (double)npart : 0.0;
     out->elapsed = job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
-    out->finished = job->t_pass == 0.0 && job_next_pass(job) == 0;
+    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) == 0;
     if (out->finished)
         out->eta = 0.0;
     else if (job->rs.time_budget > 0.0)
@@ -637,7 +661,8 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     brume_status st = job_create(s, part, nparts, &job);
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
-    st = job_run(job);
+    const brume_render_settings *rs = &s->settings;
+    st = job_run(job, !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0));
     if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
         char msg[1024];
         snprintf(msg, sizeof msg, "%s", err_message());
