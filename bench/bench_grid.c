@@ -280,7 +280,10 @@ int main(int argc, char **argv)
     printf("  previous exact-crossing step:   %8.1f M  (this step / previous, median of run ratios: %.2fx)\n",
            old * 1e-6, gain);
     printf("  voxel steps/s/core, %d threads:  %8.1f M  (total %.1f M/s)\n", cores, all * 1e-6, all * cores * 1e-6);
-    printf("  majorant segments/s, 1 thread:  %8.1f M  (8^3-voxel cells, equal ones merged)\n", maj * 1e-6);
+    density_info din;
+    density_get_info(dn, &din);
+    printf("  majorant segments/s, 1 thread:  %8.1f M  (%d^3-voxel cells, equal ones merged)\n", maj * 1e-6,
+           din.majorant_cell);
     printf("  the machine: a register-only loop per thread, %d threads / 1 thread: %.2fx\n", cores, alu_scaling);
 
     size_t nl = 4000000;
