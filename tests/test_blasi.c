@@ -287,6 +287,18 @@ static void expect_scene_error(const char *json, const char *needle)
     ASSERT_CONTAINS(err_message(), needle);
 }
 
+/* A ray of random direction through a random point of the test cloud's middle
+ * (|x|, |y| < 1.2, |z| < 0.3), from 5 units before it; [*t0, *t1] its stretch in `bounds`. */
+static ray ray_into_cloud(rng *g, box3 bounds, double *t0, double *t1)
+{
+    vec3 target = v3(rng_next(g) * 2.4 - 1.2, rng_next(g) * 2.4 - 1.2, rng_next(g) * 0.6 - 0.3);
+    double z = 2 * rng_next(g) - 1, phi = 2 * PI * rng_next(g), sn = sqrt(1 - z * z);
+    vec3 d = v3(sn * cos(phi), sn * sin(phi), z);
+    ray r = {v3_madd(target, d, -5.0), d, 0.0};
+    ASSERT_TRUE(box3_intersect(bounds, r, 0.0, INFINITY, t0, t1));
+    return r;
+}
+
 /* Bad options are refused with messages naming the key. */
 TEST(bad_options_name_the_key)
 {
@@ -346,12 +358,8 @@ static void check_transmittance(const char *json, const char *what)
     rng g = rng_make(5, 0, 0);
     int crossed_cloud = 0;
     for (int it = 0; it < 40; it++) {
-        vec3 target = v3(rng_next(&g) * 2.4 - 1.2, rng_next(&g) * 2.4 - 1.2, rng_next(&g) * 0.6 - 0.3);
-        double z = 2 * rng_next(&g) - 1, phi = 2 * PI * rng_next(&g), sn = sqrt(1 - z * z);
-        vec3 d = v3(sn * cos(phi), sn * sin(phi), z);
-        ray r = {v3_madd(target, d, -5.0), d, 0.0};
         double t0, t1;
-        ASSERT_TRUE(box3_intersect(info.bounds, r, 0.0, INFINITY, &t0, &t1));
+        ray r = ray_into_cloud(&g, info.bounds, &t0, &t1);
         enum { N = 400000 };
         double dt = (t1 - t0) / N, rho_max = 0.0;
         color tau = col(0.0);
@@ -447,12 +455,8 @@ static void check_view_radiance(const char *json, const char *variant, const cha
     rng g = rng_make(9, 0, 0);
     int lit = 0;
     for (int it = 0; it < 20; it++) {
-        vec3 target = v3(rng_next(&g) * 2.4 - 1.2, rng_next(&g) * 2.4 - 1.2, rng_next(&g) * 0.6 - 0.3);
-        double z = 2 * rng_next(&g) - 1, phi = 2 * PI * rng_next(&g), sn = sqrt(1 - z * z);
-        vec3 d = v3(sn * cos(phi), sn * sin(phi), z);
-        ray r = {v3_madd(target, d, -5.0), d, 0.0};
         double t0, t1;
-        ASSERT_TRUE(box3_intersect(info.bounds, r, 0.0, INFINITY, &t0, &t1));
+        ray r = ray_into_cloud(&g, info.bounds, &t0, &t1);
         enum { N = 200000 };
         double dt = (t1 - t0) / N;
         color A = col(1.0), L = col(0.0);
