@@ -287,6 +287,16 @@ static void expect_scene_error(const char *json, const char *needle)
     ASSERT_CONTAINS(err_message(), needle);
 }
 
+/* Commits s, runs blasi's light pass, and describes its one medium's grid in *info. */
+static blasi_state *commit_and_prepare(brume_context *ctx, brume_scene *s, density_info *info)
+{
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    blasi_state *st = NULL;
+    ASSERT_EQ_INT(blasi_prepare(s, &st), BRUME_OK);
+    density_get_info(s->media[0].rho, info);
+    return st;
+}
+
 /* A ray of random direction through a random point of the test cloud's middle
  * (|x|, |y| < 1.2, |z| < 0.3), from 5 units before it; [*t0, *t1] its stretch in `bounds`. */
 static ray ray_into_cloud(rng *g, box3 bounds, double *t0, double *t1)
@@ -346,12 +356,9 @@ static void check_transmittance(const char *json, const char *what)
     ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_context *ctx = brume_context_new();
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
-    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
-    blasi_state *st = NULL;
-    ASSERT_EQ_INT(blasi_prepare(s, &st), BRUME_OK);
-    const medium *md = &s->media[0];
     density_info info;
-    density_get_info(md->rho, &info);
+    blasi_state *st = commit_and_prepare(ctx, s, &info);
+    const medium *md = &s->media[0];
     affine3 w2v;
     ASSERT_TRUE(affine3_invert(&info.voxel_to_world, &w2v));
     color sigma_t = col_add(md->sigma_a, md->sigma_s);
@@ -430,12 +437,9 @@ static void check_view_radiance(const char *json, const char *variant, const cha
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.variant", variant), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.threshold", "1e-12"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.save_light", path), BRUME_OK);
-    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
-    blasi_state *st = NULL;
-    ASSERT_EQ_INT(blasi_prepare(s, &st), BRUME_OK);
-    const medium *md = &s->media[0];
     density_info info;
-    density_get_info(md->rho, &info);
+    blasi_state *st = commit_and_prepare(ctx, s, &info);
+    const medium *md = &s->media[0];
     size_t nvox = (size_t)info.n[0] * (size_t)info.n[1] * (size_t)info.n[2];
     float *S = malloc(nvox * 3 * sizeof *S);
     FILE *fp = fopen(path, "rb");
