@@ -23,6 +23,7 @@ void medium_init(medium *m)
         st.c[c] += m->sigma_s.c[c] * m->albedo_max[c];
     }
     m->sigma_t_max = col_max(st);
+    m->sigma_t_min = m->albedo[0] ? 0.0 : col_min(col_add(m->sigma_a, m->sigma_s));
     if (m->temperature)
         blackbody_init();
 }

@@ -29,6 +29,8 @@ typedef struct medium {
     color sigma_s;      /* scattering per unit length per unit density, >= 0 */
     color Le;           /* emitted radiance (W sr^-1 m^-2 in world units), >= 0 */
     double sigma_t_max; /* max over channels of sigma_a + sigma_s (set by medium_init) */
+    double sigma_t_min; /* min over channels of sigma_a + sigma_s, the control's scale; 0 with an
+                           albedo field, whose sigma_t varies otherwise than rho (medium_init) */
     density *albedo[3];      /* NULL, or per-channel factors of sigma_s (owned, >= 0) */
     density *temperature;    /* NULL, or the temperature grid (owned), kelvin before scale/offset */
     double bb_scale;         /* blackbody radiance scale, > 0 (radiance units) */

@@ -63,7 +63,7 @@ static void flight_offer(flight *f, color w, double t)
 
 /* A tentative collision of a flight. Without a control density (sigma_c = 0), every
  * tentative collision looks the media up and is weighed by ratio tracking. With one (a
- * single medium whose sigma_t is gray: f->control), the collision is a real collision of
+ * single medium whose sigma_t is gray: s->flight_control), the collision is a real collision of
  * the control medium sigma_c with probability sigma_c / sigma_maj, which needs no lookup and
  * ends the walk (its Tr factor is 0), or else a collision of the residual
  * sigma_t(x) - sigma_c against sigma_maj - sigma_c (docs/path-tracer.md, "Control density").
@@ -74,7 +74,7 @@ static bool flight_step(const track_event *e, void *user)
     if (stats_tls)
         stats_tls->path_tentative++;
     color beta_Tr = col_mul(f->beta, f->Tr);
-    double sigma_c = f->control ? e->sigma_c : 0.0;
+    double sigma_c = f->s->flight_control ? e->sigma_c : 0.0;
     if (sigma_c > 0.0 && rng_next(f->g) * e->sigma_maj < sigma_c) {
         /* the control medium, rho_c = sigma_c / sigma_t: beta Tr sigma_x rho_c / (sigma_maj p_c) */
         const medium *md = &f->s->media[0];
@@ -106,24 +106,12 @@ static bool flight_step(const track_event *e, void *user)
     return track_roulette(&f->Tr, f->g);
 }
 
-/* Whether flights may use the control density: one medium, gray sigma_t, no fields (which
- * would make sigma_s or Le vary otherwise than rho does). */
-static bool flight_control_ok(const brume_scene *s)
-{
-    if (s->nmedia != 1)
-        return false;
-    const medium *md = &s->media[0];
-    color sigma_t = col_add(md->sigma_a, md->sigma_s);
-    return !medium_has_fields(md) && col_min(sigma_t) == col_max(sigma_t);
-}
-
 bool flight_run(flight *f, ray r, double tmax, double u)
 {
     f->r = r;
     f->u = u;
     f->Tr = col(1.0);
     f->A = 0.0;
-    f->control = flight_control_ok(f->s);
     track_collisions(f->s, r, tmax, f->g, false, flight_step, f, NULL);
     if (!(f->A > 0.0))
         return false;

@@ -93,7 +93,6 @@ typedef struct flight {
     double t;         /* out: where the kept collision is */
     medium_sample ms; /* out: the media there */
     medium_sample cur; /* scratch: the media at the current collision */
-    bool control;     /* scratch: the flight uses the control density (flight_step) */
     double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
 } flight;
 

@@ -125,6 +125,11 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const 
     return ctx_report(ctx, st);
 }
 
+bool scene_flight_control(const brume_scene *s)
+{
+    return s->nmedia == 1 && !medium_has_fields(&s->media[0]) && s->media[0].sigma_t_min == s->media[0].sigma_t_max;
+}
+
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 {
     err_clear();
@@ -165,6 +170,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         surfaces_set_shutter(s->surf, s->time + c->shutter_open, s->time + c->shutter_close);
     if (s->surf && surfaces_commit(s->surf) != BRUME_OK)
         return ctx_report(ctx, err_prefix("%s: surfaces", s->source));
+    s->flight_control = scene_flight_control(s);
     s->has_indirect_sources = s->has_emission || !background_is_black(&s->bg) || surfaces_has_emitters(s->surf);
     for (int i = 0; i < s->nlights; i++)
         s->has_indirect_sources |= light_is_area(&s->lights[i]);

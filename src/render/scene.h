@@ -30,6 +30,7 @@ struct brume_scene {
     void *options[METHOD_OPTIONS_COUNT]; /* owned: each method's options, opaque here
                                             (render/method_options.h; scene_options()) */
     bool has_emission; /* some medium has Le > 0 (set by commit) */
+    bool flight_control; /* scene_flight_control, set by commit */
     bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
                                   phase sampling (set by commit) */
     double time;       /* the frame's time, seconds (brume_scene_set_time) */
@@ -70,5 +71,9 @@ brume_status scene_parse_json_at(const char *text, const char *source, double ti
 /* The same after applying overrides "KEY=VALUE" to the document (io/scene_override.h). */
 brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
                                    const char *const *overrides, int noverrides, brume_scene **out);
+
+/* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
+ * fields, gray sigma_t. Call after medium_init. */
+bool scene_flight_control(const brume_scene *s);
 
 #endif

@@ -98,6 +98,7 @@ brume_status slab_run(const slab_params *p, slab_result *out)
     m->ph = (phase *)p->ph; /* borrowed: detached before release */
     s->nmedia = 1;
     medium_init(m);
+    s->flight_control = scene_flight_control(s);
     s->committed = true;
 
     size_t nbatch = (size_t)((p->samples + SLAB_BATCH - 1) / SLAB_BATCH);

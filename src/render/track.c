@@ -30,7 +30,7 @@ typedef struct track_stream {
     majorant_seg seg;
     bool live;
     double sigma_t_max;
-    double sigma_t_min; /* control: 0 when the medium's sigma_t is not rho times a constant */
+    double sigma_t_min; /* the medium's: the control's scale */
 } track_stream;
 
 bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn, void *user,
@@ -53,9 +53,8 @@ bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool res
         }
         density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
-        const medium *md = &s->media[m];
-        st[m].sigma_t_max = md->sigma_t_max;
-        st[m].sigma_t_min = md->albedo[0] ? 0.0 : col_min(col_add(md->sigma_a, md->sigma_s));
+        st[m].sigma_t_max = s->media[m].sigma_t_max;
+        st[m].sigma_t_min = s->media[m].sigma_t_min;
     }
     track_event e = {0.0, 0.0, 0.0, 0.0};
     double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
