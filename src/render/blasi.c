@@ -66,6 +66,7 @@ typedef struct blasi_medium {
     int n[3];
     size_t nvox, offset; /* its voxels are [offset, offset + nvox) of the state's arrays */
     affine3 w2v;         /* world -> voxel space */
+    affine3 v2w;         /* voxel -> world space */
     double volume;       /* world volume of one voxel */
     double sigma_bar;    /* Eq. 10: mean over channels of sigma_s, per unit density */
     color sigma_t;       /* sigma_a + sigma_s */
@@ -87,7 +88,9 @@ struct blasi_state {
     float *rho;       /* nvox densities, constant per voxel */
     float *S;         /* 3 nvox: isotropic source, radiance per unit length (RGB) */
     box3 bounds;      /* union of the media's world boxes */
-    vec3 centre;      /* bounding sphere of `bounds` */
+    box3 light_box;   /* union of the world boxes of the media's non-empty voxels: the light
+                         rays aim at it (empty when every voxel is empty) */
+    vec3 centre;      /* bounding sphere of `light_box` */
     double radius;
     double step;      /* first pass: 0 = voxel walk */
     double threshold;
@@ -320,8 +323,8 @@ static bool light_ray(const brume_scene *s, const blasi_state *st, const light *
             double sn = sin(l->angular_radius);
             L = col_scale(l->L, 1.0 / (PI * sn * sn) / sample_cone_pdf(l->cos_max));
         }
-        double area = box_projected_area(st->bounds, d);
-        vec3 p = box_entry_point(st->bounds, d, u0, u1, u2);
+        double area = box_projected_area(st->light_box, d);
+        vec3 p = box_entry_point(st->light_box, d, u0, u1, u2);
         *r = (ray){v3_madd(p, d, -1e-6 * st->radius), d, s->time};
         if (s->surf && surfaces_occluded(s->surf, r->o, v3_neg(d), 0.0, INFINITY, s->time))
             return false;
@@ -383,7 +386,8 @@ typedef struct deposit_list {
 typedef struct pass1_job {
     const brume_scene *s;
     const blasi_state *st;
-    uint64_t nrays, nbatch;
+    uint64_t nrays, nbatch; /* rays traced, over all lights */
+    const uint64_t *first;  /* nlights + 1: light l traces rays [first[l], first[l + 1]) */
     uint64_t wave0;      /* first batch of the wave being traced */
     deposit_list *lists; /* BLASI_WAVE: one per batch of the wave */
     progress prog;
@@ -702,20 +706,25 @@ static void pass1_batch(size_t task, int thread, void *user)
     out->n = 0;
     out->intercepts = 0;
     out->emitted = 0.0;
-    uint64_t nl = (uint64_t)s->nlights, b = job->wave0 + task;
+    uint64_t b = job->wave0 + task;
     uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
-    /* rays split evenly: light l owns [l N / nl, (l + 1) N / nl); found once per batch */
-    uint64_t l = (first * nl) / job->nrays;
-    while (l + 1 < nl && (l + 1) * job->nrays / nl <= first)
-        l++;
-    while (l > 0 && l * job->nrays / nl > first)
-        l--;
-    uint64_t l0 = l * job->nrays / nl, l1 = (l + 1) * job->nrays / nl;
+    /* the light of the batch's first ray, found once per batch (by bisection: first[] is
+     * non-decreasing, first[0] = 0 <= first < first[nlights] = nrays) */
+    size_t lo = 0, hi = (size_t)s->nlights;
+    while (hi - lo > 1) {
+        size_t mid = (lo + hi) / 2;
+        if (job->first[mid] <= first)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    size_t l = lo;
+    uint64_t l0 = job->first[l], l1 = job->first[l + 1];
     for (uint64_t i = first; i < end; i++) {
         while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
             l0 = l1;
-            l1 = (l + 1) * job->nrays / nl;
+            l1 = job->first[l + 1];
         }
         rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
         ray r;
@@ -728,12 +737,56 @@ static void pass1_batch(size_t task, int thread, void *user)
     progress_add(&job->prog, 1);
 }
 
+/* Solid angle of the cone from y that holds the sphere (c, radius): 4 pi from inside it. */
+static double cone_solid_angle(vec3 c, double radius, vec3 y)
+{
+    double dist = v3_length(v3_sub(c, y));
+    if (!(dist > radius * (1.0 + 1e-9)))
+        return 4.0 * PI;
+    return 2.0 * PI * (1.0 - sqrt(fmax(0.0, 1.0 - radius * radius / (dist * dist))));
+}
+
+/* The share of light l's rays that the first pass traces: its rays aim at light_box (the
+ * non-empty voxels) where the paper's aim at the media's bounds, and a ray that misses
+ * light_box crosses no non-empty voxel, so deposits nothing. The traced rays keep the
+ * weight the paper's rays have (power / number of rays, over the area or solid angle aimed
+ * at), so the count shrinks as that area or solid angle does: by the projected areas along
+ * a sun's direction, by the solid angles seen from the centre of any other light
+ * (docs/blasi.md, "Rays that cannot deposit"). */
+static double light_share(const blasi_state *st, const light *l)
+{
+    if (l->kind == LIGHT_DISTANT) {
+        double a = box_projected_area(st->bounds, l->direction);
+        return a > 0.0 ? box_projected_area(st->light_box, l->direction) / a : 1.0;
+    }
+    vec3 cb = v3_scale(v3_add(st->bounds.lo, st->bounds.hi), 0.5);
+    double rb = 0.5 * v3_length(v3_sub(st->bounds.hi, st->bounds.lo));
+    return cone_solid_angle(st->centre, st->radius, l->position) / cone_solid_angle(cb, rb, l->position);
+}
+
 static brume_status first_pass(const brume_scene *s, blasi_state *st)
 {
-    uint64_t nrays = s->nlights > 0 && st->nm > 0 ? blasi_opts(s)->light_rays : 0;
-    if (nrays == 0)
+    uint64_t nominal = s->nlights > 0 && st->nm > 0 && st->light_box.lo.x <= st->light_box.hi.x
+                           ? blasi_opts(s)->light_rays
+                           : 0;
+    if (nominal == 0)
         return BRUME_OK;
-    pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH};
+    /* light l's nominal rays: [l N / nl, (l + 1) N / nl) of the N; those it traces: its
+     * share of them (light_share), at least one when it has any */
+    uint64_t *first = malloc(((size_t)s->nlights + 1) * sizeof *first);
+    if (!first)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+    uint64_t nl = (uint64_t)s->nlights;
+    first[0] = 0;
+    for (uint64_t l = 0; l < nl; l++) {
+        uint64_t n = (l + 1) * nominal / nl - l * nominal / nl;
+        double k = fmin(1.0, light_share(st, &s->lights[l])) * (double)n;
+        uint64_t m = n > 0 && k > 0.0 ? (uint64_t)llround(k) : 0;
+        first[l + 1] = first[l] + (n > 0 && k > 0.0 && m == 0 ? 1 : m);
+    }
+    uint64_t nrays = first[nl];
+    pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH,
+                     .first = first};
     double *acc = calloc(st->nvox * 3, sizeof *acc);
     job.lists = calloc(BLASI_WAVE, sizeof *job.lists);
     brume_status rc = BRUME_OK;
@@ -762,6 +815,7 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         for (size_t t = 0; t < BLASI_WAVE; t++)
             free(job.lists[t].d);
     free(job.lists);
+    free(first);
     if (rc != BRUME_OK) {
         free(acc);
         return rc;
@@ -779,7 +833,8 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
             }
     }
     free(acc);
-    st->stats.light_rays = nrays;
+    st->stats.light_rays = nominal;
+    st->stats.traced_rays = nrays;
     st->stats.stored_power = total / 3.0;
     return BRUME_OK;
 }
@@ -1030,6 +1085,7 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         }
         st->nvox += bm->nvox;
         bm->volume = fabs(affine3_det(&info.voxel_to_world));
+        bm->v2w = info.voxel_to_world;
         if (!affine3_invert(&info.voxel_to_world, &bm->w2v) || !(bm->volume > 0.0)) {
             rc = err_set(BRUME_ERROR_RANGE, "%s: media[%d] '%s': singular grid placement", s->source, m, md->name);
             break;
@@ -1095,9 +1151,23 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
                                 (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
                 }
     }
-    if (st->nm > 0) {
-        st->centre = v3_scale(v3_add(st->bounds.lo, st->bounds.hi), 0.5);
-        st->radius = 0.5 * v3_length(v3_sub(st->bounds.hi, st->bounds.lo));
+    st->light_box = box3_empty();
+    for (int m = 0; m < st->nm && rc == BRUME_OK; m++) { /* the world box of each medium's non-empty voxels */
+        const blasi_medium *bm = &st->m[m];
+        if (bm->occ_hi[0] == 0)
+            continue; /* no non-empty voxel */
+        for (int c = 0; c < 8; c++) {
+            vec3 corner = v3((c & 1) ? bm->occ_hi[0] : bm->occ_lo[0], (c & 2) ? bm->occ_hi[1] : bm->occ_lo[1],
+                             (c & 4) ? bm->occ_hi[2] : bm->occ_lo[2]);
+            vec3 w = affine3_apply(&bm->v2w, corner);
+            st->light_box = (box3){v3_min(st->light_box.lo, w), v3_max(st->light_box.hi, w)};
+        }
+    }
+    if (st->light_box.lo.x <= st->light_box.hi.x) {
+        /* within the media's bounds (the corners' rounding must not take it outside) */
+        st->light_box = (box3){v3_max(st->light_box.lo, st->bounds.lo), v3_min(st->light_box.hi, st->bounds.hi)};
+        st->centre = v3_scale(v3_add(st->light_box.lo, st->light_box.hi), 0.5);
+        st->radius = 0.5 * v3_length(v3_sub(st->light_box.hi, st->light_box.lo));
     }
     if (rc == BRUME_OK) {
         if (o->load_light[0]) {

@@ -44,7 +44,8 @@ color blasi_transmittance(const brume_scene *s, const blasi_state *st, ray r);
 /* What the first pass did, for benchmarks and tests. */
 typedef struct blasi_stats {
     double light_seconds;   /* wall time of the first pass (or of loading it) */
-    uint64_t light_rays;    /* rays sent from the lights (0 when loaded) */
+    uint64_t light_rays;    /* rays sent from the lights, blasi.light_rays (0 when loaded) */
+    uint64_t traced_rays;   /* of them, those that can reach a non-empty voxel and were traced */
     uint64_t interceptions; /* scattering events in the first pass */
     uint64_t deposits;      /* voxel deposits: interceptions and exit deposits */
     double emitted_power;   /* sum over rays and channels of the power they start with / 3 */
