@@ -339,8 +339,11 @@ static void job_tile(size_t task, int thread, void *user)
 }
 
 /* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
- * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. */
-static brume_status job_pass(brume_render_job *job)
+ * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. An unwatched job
+ * (job_next_pass) skips the per-pixel statistics before and after the pass (job_refresh:
+ * done, total and the largest error, over every pixel, on one thread): no one reads them,
+ * and they do not change the image. */
+static brume_status job_pass(brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
     if (rs->progress && !job->bar_started) {
@@ -351,7 +354,8 @@ static brume_status job_pass(brume_render_job *job)
     job->cancelled = false;
     pthread_mutex_lock(&job->lock);
     job->t_pass = progress_now();
-    job_refresh(job);
+    if (!unwatched)
+        job_refresh(job);
     pthread_mutex_unlock(&job->lock);
     pool_run(rs->threads, job->ntiles, job_tile, job);
     pthread_mutex_lock(&job->lock);
@@ -366,7 +370,8 @@ static brume_status job_pass(brume_render_job *job)
                     job_pixel_error(job, i) <= rs->noise_target)
                     job->active[i] = 0;
     }
-    job_refresh(job);
+    if (!unwatched)
+        job_refresh(job);
     pthread_mutex_unlock(&job->lock);
     if (job->cancelled)
         return err_set(BRUME_ERROR_CANCELLED, "%s: render cancelled by the progress callback (%d to %d samples per pixel)",
@@ -413,7 +418,7 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
     return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
 }
 
-static brume_status job_add(brume_render_job *job, int spp)
+static brume_status job_add(brume_render_job *job, int spp, bool unwatched)
 {
     pthread_mutex_lock(&job->lock);
     if (job->target <= job->spp_done) {
@@ -421,7 +426,7 @@ static brume_status job_add(brume_render_job *job, int spp)
         job->target = t > (1 << 30) ? (1 << 30) : (int)t;
     }
     pthread_mutex_unlock(&job->lock);
-    return job_pass(job);
+    return job_pass(job, unwatched);
 }
 
 static double per(double a, uint64_t n) { return n ? a / (double)n : 0.0; }
@@ -475,7 +480,7 @@ static brume_status job_run(brume_render_job *job, bool unwatched)
 {
     int k;
     while ((k = job_next_pass(job, unwatched)) > 0) {
-        brume_status st = job_add(job, k);
+        brume_status st = job_add(job, k, unwatched);
         if (st != BRUME_OK)
             return st;
     }
@@ -568,7 +573,7 @@ brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job: NULL"));
     if (spp < 1 || spp > (1 << 24))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_render_job_add: spp: %d outside [1, 16777216]", spp));
-    return ctx_report(ctx, job_add(job, spp));
+    return ctx_report(ctx, job_add(job, spp, false));
 }
 
 brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
