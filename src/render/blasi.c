@@ -77,6 +77,8 @@ typedef struct blasi_medium {
     phase *dir_owned;
     bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
     int occ_lo[3], occ_hi[3]; /* the box of the voxels with rho > 0, [lo, hi) (all 0 if none) */
+    vec3 occ_c, occ_e;   /* a world box holding that box (centre, half-extents slightly enlarged;
+                            e < 0 when it is empty), for line_misses_box */
     int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
     unsigned char *occ;  /* per block: 1 if any of its voxels has rho > 0 */
 } blasi_medium;
@@ -126,6 +128,22 @@ typedef struct walk {
 static inline size_t voxel_index(const blasi_medium *bm, int i, int j, int k)
 {
     return bm->offset + (size_t)i + (size_t)bm->n[0] * ((size_t)j + (size_t)bm->n[1] * (size_t)k);
+}
+
+/* True when the line o + t d (any t) misses the world box of centre c and half-extents e:
+ * the separating-axis test of a line against a box, whose only candidate axes are the
+ * cross products of d with the box's axes (a line's extent along any other axis that d
+ * has a component on is unbounded). No division and one branch, where a walk's set-up
+ * maps the ray to voxel space and divides by each component of d. tol covers the rounding
+ * of the cross products (a few ulps of |w| |d|); a ray that passes may still miss. */
+static inline bool line_misses_box(vec3 c, vec3 e, vec3 o, vec3 d)
+{
+    const vec3 w = v3_sub(o, c);
+    const double ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
+    const double tol = 1e-12 * (fabs(w.x) + fabs(w.y) + fabs(w.z)) * (ax + ay + az);
+    return (fabs(w.y * d.z - w.z * d.y) > e.y * az + e.z * ay + tol) |
+           (fabs(w.z * d.x - w.x * d.z) > e.x * az + e.z * ax + tol) |
+           (fabs(w.x * d.y - w.y * d.x) > e.x * ay + e.y * ax + tol);
 }
 
 /* One medium and a small grid (!bm->skip): the walk over every voxel of the box of its
@@ -1153,15 +1171,25 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     }
     st->light_box = box3_empty();
     for (int m = 0; m < st->nm && rc == BRUME_OK; m++) { /* the world box of each medium's non-empty voxels */
-        const blasi_medium *bm = &st->m[m];
+        blasi_medium *bm = &st->m[m];
+        bm->occ_c = v3(0.0, 0.0, 0.0);
+        bm->occ_e = v3(-1.0, -1.0, -1.0); /* every line misses */
         if (bm->occ_hi[0] == 0)
             continue; /* no non-empty voxel */
+        box3 b = box3_empty();
         for (int c = 0; c < 8; c++) {
             vec3 corner = v3((c & 1) ? bm->occ_hi[0] : bm->occ_lo[0], (c & 2) ? bm->occ_hi[1] : bm->occ_lo[1],
                              (c & 4) ? bm->occ_hi[2] : bm->occ_lo[2]);
             vec3 w = affine3_apply(&bm->v2w, corner);
-            st->light_box = (box3){v3_min(st->light_box.lo, w), v3_max(st->light_box.hi, w)};
+            b = (box3){v3_min(b.lo, w), v3_max(b.hi, w)};
         }
+        st->light_box = (box3){v3_min(st->light_box.lo, b.lo), v3_max(st->light_box.hi, b.hi)};
+        /* enlarged by 1e-9 of its size and place: far more than the rounding of the corners
+         * and of the walk's own clipping in voxel space */
+        bm->occ_c = v3_scale(v3_add(b.lo, b.hi), 0.5);
+        vec3 e = v3_scale(v3_sub(b.hi, b.lo), 0.5);
+        double pad = 1e-9 * (v3_length(e) + v3_length(bm->occ_c));
+        bm->occ_e = v3(e.x + pad, e.y + pad, e.z + pad);
     }
     if (st->light_box.lo.x <= st->light_box.hi.x) {
         /* within the media's bounds (the corners' rounding must not take it outside) */
@@ -1318,7 +1346,8 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
-    if (!walk_begin_one(bm, r, t_end, &g0))
+    /* most view rays miss the non-empty voxels: those are told without a walk set-up */
+    if (line_misses_box(bm->occ_c, bm->occ_e, r.o, r.d) || !walk_begin_one(bm, r, t_end, &g0))
         return true;
     grid_dda g = g0; /* never escapes: the compiler keeps it in registers */
     const float *rho = st->rho;
