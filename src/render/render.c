@@ -134,7 +134,7 @@ static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0
 double job_pixel_error(const brume_render_job *job, size_t i)
 {
     uint32_t n = job->n[i];
-    if (n < 2)
+    if (n < 2 || !job->sq) /* no squares kept: unknown (brume_render_part) */
         return INFINITY;
     const double *s = job->sum + JOB_SUMS * i;
     double sy = (s[0] + s[1] + s[2]) / 3.0;
@@ -231,6 +231,7 @@ static void job_tile(size_t task, int thread, void *user)
     int target = job->target;
     const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
     const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
+    const bool squares = job->sq != NULL;
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -242,7 +243,8 @@ static void job_tile(size_t task, int thread, void *user)
             int k = (y - y0) * TILE + (x - x0);
             n[k] = job->n[i];
             memcpy(sum[k], job->sum + JOB_SUMS * i, sizeof sum[k]);
-            memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
+            if (squares)
+                memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
             if (job->trace_aovs)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
             if (!job->active[i])
@@ -284,12 +286,14 @@ static void job_tile(size_t task, int thread, void *user)
                     }
                     if (!col_isfinite(L))
                         L = col(0.0); /* a failed sample counts as black */
-                    for (int c = 0; c < 3; c++) {
+                    for (int c = 0; c < 3; c++)
                         sum[k][c] += L.c[c];
-                        sq[k][c] += L.c[c] * L.c[c];
+                    if (squares) {
+                        for (int c = 0; c < 3; c++)
+                            sq[k][c] += L.c[c] * L.c[c];
+                        double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
+                        sq[k][3] += yv * yv;
                     }
-                    double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
-                    sq[k][3] += yv * yv;
                     /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
                      * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
                      * smooth estimator that needs few samples, and no cost for the others */
@@ -310,7 +314,8 @@ static void job_tile(size_t task, int thread, void *user)
                 continue;
             job->n[i] = n[k];
             memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
-            memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
+            if (squares)
+                memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
             if (job->trace_aovs)
                 memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
         }
@@ -667,7 +672,15 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
     const brume_render_settings *rs = &s->settings;
-    st = job_run(job, !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0));
+    const bool unwatched = !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
+    if (unwatched && !(rs->aovs & BRUME_AOV_VARIANCE)) {
+        /* the squared samples serve the per-pixel error (adaptive sampling, progress) and
+         * the variance layer only: none of them here, so they are neither kept nor made
+         * (half the job's memory, whose first touch is a page fault per 4 KiB) */
+        free(job->sq);
+        job->sq = NULL;
+    }
+    st = job_run(job, unwatched);
     if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
         char msg[1024];
         snprintf(msg, sizeof msg, "%s", err_message());
