@@ -62,9 +62,7 @@ void camera_init(camera *c, int width, int height)
     c->aspect = (double)width / (double)height;
 }
 
-bool camera_moving(const camera *c) { return c->nkeys > 1 && c->shutter_close > c->shutter_open; }
-
-ray camera_ray(const camera *c, int width, int height, double px, double py, double u1, double u2, double ut)
+ray camera_ray_general(const camera *c, int width, int height, double px, double py, double u1, double u2, double ut)
 {
     double time = c->time + c->shutter_open + ut * (c->shutter_close - c->shutter_open);
     camera moved;
@@ -76,9 +74,7 @@ ray camera_ray(const camera *c, int width, int height, double px, double py, dou
         camera_derive(&moved);
         c = &moved;
     }
-    double sx = (2.0 * px / width - 1.0) * c->tan_half * c->aspect;
-    double sy = (1.0 - 2.0 * py / height) * c->tan_half;
-    vec3 d = v3_normalize(v3_add(v3_add(v3_scale(c->f.s, sx), v3_scale(c->f.t, sy)), c->f.n));
+    vec3 d = camera_pinhole_dir(c, width, height, px, py);
     ray r;
     r.time = time;
     if (c->aperture_radius <= 0.0) {

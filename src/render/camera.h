@@ -43,9 +43,33 @@ void camera_init(camera *c, int width, int height);
 /* The interpolated pose at time t (keys clamp at both ends); requires nkeys > 0. */
 camera_key camera_pose_at(const camera *c, double t);
 /* True when rays must take the pose at their own time: keyed, with an open shutter. */
-bool camera_moving(const camera *c);
+static inline bool camera_moving(const camera *c) { return c->nkeys > 1 && c->shutter_close > c->shutter_open; }
+
+/* The unit direction through film point (px, py) of c's pose, from its centre. */
+static inline vec3 camera_pinhole_dir(const camera *c, int width, int height, double px, double py)
+{
+    double sx = (2.0 * px / width - 1.0) * c->tan_half * c->aspect;
+    double sy = (1.0 - 2.0 * py / height) * c->tan_half;
+    return v3_normalize(v3_add(v3_add(v3_scale(c->f.s, sx), v3_scale(c->f.t, sy)), c->f.n));
+}
+
+/* camera_ray for a moving or thin-lens camera (camera.c). */
+ray camera_ray_general(const camera *c, int width, int height, double px, double py, double u1, double u2, double ut);
+
 /* Ray through film point (px, py) in pixels (0,0 = top-left corner), lens sample
- * (u1, u2), time sample ut in [0, 1) over the shutter. The direction is unit length. */
-ray camera_ray(const camera *c, int width, int height, double px, double py, double u1, double u2, double ut);
+ * (u1, u2), time sample ut in [0, 1) over the shutter. The direction is unit length.
+ * Inline for a fixed pinhole (the usual camera), else camera_ray_general; both give the
+ * same ray for a fixed pinhole. */
+static inline ray camera_ray(const camera *c, int width, int height, double px, double py, double u1, double u2,
+                             double ut)
+{
+    if (c->aperture_radius > 0.0 || camera_moving(c))
+        return camera_ray_general(c, width, height, px, py, u1, u2, ut);
+    ray r;
+    r.time = c->time + c->shutter_open + ut * (c->shutter_close - c->shutter_open);
+    r.o = c->position;
+    r.d = camera_pinhole_dir(c, width, height, px, py);
+    return r;
+}
 
 #endif

@@ -10,7 +10,21 @@
 #include "brume.h"
 #include "core/rng.h"
 
-/* Offset from the pixel centre, in pixels, drawn from the filter. */
-void film_sample_filter(brume_filter filter, double width, rng *g, double *dx, double *dy);
+/* film_sample_filter's Gaussian filter (film.c). */
+void film_sample_gaussian(double width, rng *g, double *dx, double *dy);
+
+/* Offset from the pixel centre, in pixels, drawn from the filter. Inline: the box filter,
+ * the usual one, is two numbers, and the renderer draws it for every sample. */
+static inline void film_sample_filter(brume_filter filter, double width, rng *g, double *dx, double *dy)
+{
+    switch (filter) {
+    case BRUME_FILTER_BOX:
+        *dx = (rng_next(g) - 0.5) * width;
+        *dy = (rng_next(g) - 0.5) * width;
+        return;
+    case BRUME_FILTER_GAUSSIAN: film_sample_gaussian(width, g, dx, dy); return;
+    }
+    *dx = *dy = 0.0;
+}
 
 #endif
