@@ -185,27 +185,37 @@ void job_refresh(brume_render_job *job)
     job->noise = noise;
 }
 
-/* Camera sample sidx of pixel (x, y), index i: its ray, and in *out its random sequence
- * positioned after the camera's numbers. Dimensions: the filter's offset takes the first
- * pair; the lens and the shutter take the next ones only when the camera has them (lens,
- * shutter); the path the rest. The first qmc_dims dimensions are Sobol points
- * (render.sampler, docs/sampling.md). */
-static ray camera_sample(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
-                         int y, uint32_t sidx, rng *out)
+/* Camera samples s0 .. s0 + nb - 1 (nb <= CAMERA_BATCH) of pixel (x, y), index i: their
+ * rays, and in g their random sequences positioned after the camera's numbers.
+ * Dimensions: the filter's offset takes the first pair; the lens and the shutter take the
+ * next ones only when the camera has them (lens, shutter); the path the rest. The first
+ * qmc_dims dimensions are Sobol points (render.sampler, docs/sampling.md).
+ * Made stage by stage over the batch (the sequences, then the filter's offsets, then the
+ * lens and shutter numbers, then the rays): each stage is a chain of hashes, or of
+ * divisions and a square root, longer than the processor can look ahead past, and the
+ * samples' chains are independent, so a stage's iterations overlap where one sample's
+ * whole chain at a time would leave the processor waiting. Each sample's numbers are
+ * those it would draw alone. */
+static void camera_samples(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
+                           int y, uint32_t s0, uint32_t nb, rng g[CAMERA_BATCH], ray r[CAMERA_BATCH])
 {
     const brume_render_settings *rs = &job->rs;
-    rng g = rng_make_qmc(rs->seed, (uint64_t)i, sidx, qmc_dims);
-    double dx, dy;
-    film_sample_filter(rs->filter, rs->filter_width, &g, &dx, &dy);
-    double u1 = 0.5, u2 = 0.5, ut = 0.5;
-    if (lens) {
-        u1 = rng_next(&g);
-        u2 = rng_next(&g);
+    double dx[CAMERA_BATCH], dy[CAMERA_BATCH], u1[CAMERA_BATCH], u2[CAMERA_BATCH], ut[CAMERA_BATCH];
+    for (uint32_t b = 0; b < nb; b++)
+        g[b] = rng_make_qmc(rs->seed, (uint64_t)i, s0 + b, qmc_dims);
+    for (uint32_t b = 0; b < nb; b++)
+        film_sample_filter(rs->filter, rs->filter_width, &g[b], &dx[b], &dy[b]);
+    for (uint32_t b = 0; b < nb; b++) {
+        u1[b] = u2[b] = ut[b] = 0.5;
+        if (lens) {
+            u1[b] = rng_next(&g[b]);
+            u2[b] = rng_next(&g[b]);
+        }
+        if (shutter)
+            ut[b] = rng_next(&g[b]);
     }
-    if (shutter)
-        ut = rng_next(&g);
-    *out = g;
-    return camera_ray(&job->s->cam, rs->width, rs->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
+    for (uint32_t b = 0; b < nb; b++)
+        r[b] = camera_ray(&job->s->cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
 }
 
 /* One tile: every active pixel of it from its sample count to job->target. */
@@ -249,15 +259,12 @@ static void job_tile(size_t task, int thread, void *user)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
             if (!job->active[i])
                 continue;
-            /* in batches: first the batch's camera rays, then their radiance. Each camera
-             * sample is a chain of hashes, divisions and a square root, independent of the
-             * others: side by side, the processor overlaps them */
+            /* in batches: first the batch's camera rays (camera_samples), then their radiance */
             for (uint32_t s0 = n[k]; s0 < (uint32_t)target; s0 += CAMERA_BATCH) {
                 uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
                 rng gb[CAMERA_BATCH];
                 ray rb[CAMERA_BATCH];
-                for (uint32_t b = 0; b < nb; b++)
-                    rb[b] = camera_sample(job, qmc_dims, lens, shutter, i, x, y, s0 + b, &gb[b]);
+                camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
                 for (uint32_t b = 0; b < nb; b++) {
                     const uint32_t sidx = s0 + b;
                     rng g = gb[b];
