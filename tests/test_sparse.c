@@ -602,6 +602,54 @@ TEST(sparse_majorants_bound)
     unlink(path);
 }
 
+/* A small box's dense copy (nanovdb.c): lookups read it instead of the tree, and give the
+ * tree's values (to float rounding when a scale multiplies them), with either filter; its
+ * memory is counted; under a memory limit too small for it the grid keeps the tree. */
+TEST(sparse_small_box_dense_copy)
+{
+    for (int f = 0; f < 4; f++) {
+        density_load_options o;
+        density_load_options_default(&o);
+        o.filter = f % 2 ? GRID_TRILINEAR : GRID_NEAREST;
+        o.scale = f < 2 ? 1.0 : 3.7;
+        uint64_t limit = nanovdb_set_cell_grid_limit(0);
+        density *tree = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), &o);
+        nanovdb_set_cell_grid_limit(UINT64_MAX);
+        density *copy = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), &o);
+        o.max_memory = 8u << 20; /* the file and its cells fit; 4 bytes a voxel more do not */
+        density *capped = density_load_file(DATA("wdas_cloud_sixteenth.vdb"), &o);
+        nanovdb_set_cell_grid_limit(limit);
+        if (!tree || !copy || !capped)
+            TEST_FAIL("%s", err_message());
+        density_info it, ic, ik;
+        density_get_info(tree, &it);
+        density_get_info(copy, &ic);
+        density_get_info(capped, &ik);
+        size_t nvox = (size_t)ic.n[0] * (size_t)ic.n[1] * (size_t)ic.n[2];
+        ASSERT_TRUE(nvox > 1000000);
+        ASSERT_TRUE(ic.memory_bytes >= ik.memory_bytes + 4 * nvox); /* the copy is counted */
+        ASSERT_TRUE(ik.memory_bytes <= o.max_memory);
+        box3 b = density_bounds(copy);
+        rng g = rng_make(77, (uint64_t)f, 0);
+        int inside = 0;
+        for (int n = 0; n < 200000; n++) {
+            vec3 p = v3(b.lo.x + (b.hi.x - b.lo.x) * (1.1 * rng_next(&g) - 0.05),
+                        b.lo.y + (b.hi.y - b.lo.y) * (1.1 * rng_next(&g) - 0.05),
+                        b.lo.z + (b.hi.z - b.lo.z) * (1.1 * rng_next(&g) - 0.05));
+            double rt = density_eval(tree, p), rc = density_eval(copy, p), rk = density_eval(capped, p);
+            inside += rt > 0.0;
+            double tol = f < 2 ? 1e-12 : 1e-6; /* scale 3.7: the copy holds float(v * scale) */
+            if (!(fabs(rc - rt) <= tol * fmax(1.0, rt)) || rk != rt)
+                TEST_FAIL("filter %d at (%g, %g, %g): tree %.17g, copy %.17g, capped %.17g", f % 2, p.x, p.y, p.z,
+                          rt, rc, rk);
+        }
+        ASSERT_TRUE(inside > 10000); /* the points reach the cloud */
+        density_release(tree);
+        density_release(copy);
+        density_release(capped);
+    }
+}
+
 /* Trilinear majorants are as tight as the filter allows: a lookup reads one voxel beyond its
  * 8^3 leaf cell, so a voxel in the middle of a leaf (A, value 1, at local (4, 4, 4)) raises
  * only its own cell's bound, while one on a leaf's face would raise the neighbour's. The
@@ -1002,4 +1050,4 @@ TEST(gen_upres_and_fire)
 }
 
 TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense, sparse_trilinear_majorants_tight,
-          nanovdb_cached_lookups, sparse_majorants_bound, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)
+          nanovdb_cached_lookups, sparse_majorants_bound, sparse_small_box_dense_copy, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)

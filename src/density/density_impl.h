@@ -42,7 +42,8 @@ struct density {
     float *maj;
     float *mino;           /* NULL: no lower bound (0) */
     /* DENSITY_GRID */
-    float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release) */
+    float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release); for a NanoVDB grid
+                    the dense copy of a small box (nanovdb.c), or NULL */
     void (*data_release)(void *user); /* non-NULL: data is borrowed; called instead of free */
     void *data_user;
     /* DENSITY_NANOVDB */

@@ -166,7 +166,10 @@ void density_release(density *d)
         else
             free(d->data);
         break;
-    case DENSITY_NANOVDB: nanovdb_free(d); break;
+    case DENSITY_NANOVDB:
+        nanovdb_free(d);
+        free(d->data); /* a small box's dense copy, or NULL */
+        break;
     case DENSITY_BLOBS: blob_field_release(d->blobs); break;
     }
     free(d->maj);
@@ -206,7 +209,7 @@ double density_voxel(const density *d, int i, int j, int k)
 {
     switch (d->kind) {
     case DENSITY_GRID: return dense_at(d, i, j, k);
-    case DENSITY_NANOVDB: return nanovdb_voxel(d, i, j, k);
+    case DENSITY_NANOVDB: return d->data ? dense_at(d, i, j, k) : nanovdb_voxel(d, i, j, k);
     case DENSITY_BLOBS: return blob_field_mean(d->blobs, affine3_apply(&d->v2w, v3(i + 0.5, j + 0.5, k + 0.5)));
     }
     return 0.0;
@@ -229,11 +232,13 @@ double density_eval(const density *d, vec3 p)
     /* half-open voxel box; the negated test also rejects NaN */
     if (!(u.x >= 0.0 && u.x < d->n[0] && u.y >= 0.0 && u.y < d->n[1] && u.z >= 0.0 && u.z < d->n[2]))
         return 0.0;
-    switch (d->kind) {
-    case DENSITY_GRID:
+    if (d->data) { /* a dense grid, or a small NanoVDB box's dense copy (nanovdb.c) */
         if (d->filter == GRID_NEAREST)
             return dense_at(d, (int)u.x, (int)u.y, (int)u.z);
         return dense_trilinear(d, u);
+    }
+    switch (d->kind) {
+    case DENSITY_GRID: return 0.0; /* has data */
     case DENSITY_NANOVDB: return nanovdb_eval_voxel(d, u);
     case DENSITY_BLOBS: return blob_field_mean(d->blobs, p);
     }
