@@ -169,6 +169,59 @@ TEST(threads_do_not_change_the_image)
     brume_image_release(d);
 }
 
+/* The light pass aims its rays at the box of the non-empty voxels and traces the share of
+ * blasi.light_rays that the box's projected area along the sun is of the grid's
+ * (docs/blasi.md, "Rays that cannot deposit"): the count checked against that box found
+ * here from the density itself. The estimate those rays make is checked by
+ * r1_physical_converges_to_single (it fails when the rays keep the grid's area). */
+TEST(light_rays_aim_at_the_non_empty_voxels)
+{
+    enum { N = 100000 };
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s) != BRUME_OK)
+        TEST_FAIL("scene does not parse");
+    if (brume_scene_set_option(ctx, s, "blasi.light_rays", "100000") != BRUME_OK)
+        TEST_FAIL("option: %s", brume_context_last_error(ctx));
+    brume_image *img = NULL;
+    if (brume_scene_commit(ctx, s) != BRUME_OK || brume_render(ctx, s, &img) != BRUME_OK)
+        TEST_FAIL("render: %s", brume_context_last_error(ctx));
+    blasi_stats bs;
+    blasi_get_stats(s->prepared->state, &bs);
+    /* the world box of the voxels with rho > 0 (an axis-aligned grid here) */
+    const density *rho = s->media[0].rho;
+    density_info info;
+    density_get_info(rho, &info);
+    int lo[3] = {info.n[0], info.n[1], info.n[2]}, hi[3] = {0, 0, 0};
+    for (int k = 0; k < info.n[2]; k++)
+        for (int j = 0; j < info.n[1]; j++)
+            for (int i = 0; i < info.n[0]; i++)
+                if ((float)density_voxel(rho, i, j, k) != 0.0f) {
+                    const int c[3] = {i, j, k};
+                    for (int a = 0; a < 3; a++) {
+                        lo[a] = c[a] < lo[a] ? c[a] : lo[a];
+                        hi[a] = c[a] + 1 > hi[a] ? c[a] + 1 : hi[a];
+                    }
+                }
+    vec3 size = v3_sub(info.bounds.hi, info.bounds.lo), e;
+    e.x = size.x * (hi[0] - lo[0]) / info.n[0];
+    e.y = size.y * (hi[1] - lo[1]) / info.n[1];
+    e.z = size.z * (hi[2] - lo[2]) / info.n[2];
+    vec3 d = s->lights[0].direction;
+    double area_grid = size.y * size.z * fabs(d.x) + size.x * size.z * fabs(d.y) + size.x * size.y * fabs(d.z);
+    double area_cloud = e.y * e.z * fabs(d.x) + e.x * e.z * fabs(d.y) + e.x * e.y * fabs(d.z);
+    double want = N * area_cloud / area_grid;
+    fprintf(stderr, "non-empty voxels [%d %d %d] - [%d %d %d] of %d x %d x %d: %llu of %llu rays traced, %.1f expected\n",
+            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], info.n[0], info.n[1], info.n[2],
+            (unsigned long long)bs.traced_rays, (unsigned long long)bs.light_rays, want);
+    ASSERT_EQ_INT((long long)bs.light_rays, N);
+    ASSERT_NEAR((double)bs.traced_rays, want, 1.0);
+    ASSERT_TRUE(want < 0.95 * N); /* the cloud leaves part of its grid empty: the test can fail */
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
 /* The first pass saved, then loaded (with other ray counts, which the file replaces) gives
  * the same image bit for bit; a file made for another scene, a truncated file and a
  * missing one are errors naming the file. */
@@ -522,6 +575,7 @@ TEST(view_radiance_matches_brute_force)
 }
 
 TEST_MAIN(r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,
-          threads_do_not_change_the_image, save_and_load_light, paper_variants_are_brighter,
+          threads_do_not_change_the_image, light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
+          paper_variants_are_brighter,
           uniform_steps_agree_with_voxel_walk, bad_options_name_the_key, transmittance_matches_brute_force,
           view_radiance_matches_brute_force)
