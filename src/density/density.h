@@ -150,8 +150,50 @@ typedef struct majorant_iter {
 
 /* Starts iterating the segments of r in [tmin, tmax] inside the field. */
 void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it);
-/* The next segment in increasing t; false when the ray has left the field or reached tmax. */
-bool majorant_next(majorant_iter *it, majorant_seg *seg);
+/* The next segment in increasing t; false when the ray has left the field or reached tmax.
+ * Inline (below): it runs once per majorant cell a ray crosses, the tracking loop's most
+ * frequent step on thin media. */
+static inline bool majorant_next(majorant_iter *it, majorant_seg *seg);
+/* The NanoVDB tree's next leaf cell (nanovdb.c). */
+bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
+
+static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
+{
+    if (it->nano)
+        return nanovdb_majorant_cell(it, seg);
+    grid_dda_step st;
+    if (!grid_dda_next(&it->dda, &st))
+        return false;
+    seg->t0 = st.t0;
+    seg->t1 = st.t1;
+    size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);
+    seg->rho_maj = (double)it->maj[c];
+    seg->rho_min = it->mino ? (double)it->mino[c] : 0.0;
+    return true;
+}
+
+/* Consecutive cells with the same majorant come out as one segment: empty space (0) and
+ * uniform regions cost one segment each. */
+static inline bool majorant_next(majorant_iter *it, majorant_seg *seg)
+{
+    if (it->has_next) {
+        *seg = it->next;
+        it->has_next = false;
+    } else if (!majorant_cell_next(it, seg)) {
+        return false;
+    }
+    majorant_seg s;
+    while (majorant_cell_next(it, &s)) {
+        if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
+            seg->t1 = s.t1;
+        } else {
+            it->next = s;
+            it->has_next = true;
+            break;
+        }
+    }
+    return true;
+}
 
 /* A procedural cloud for the default scene: fBm value noise (seeded) carved by an
  * ellipsoidal falloff and a threshold, sampled on an n^3 grid over `bounds`, max rho 1. */

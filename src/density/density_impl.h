@@ -44,6 +44,8 @@ struct density {
     /* DENSITY_GRID */
     float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release); for a NanoVDB grid
                     the dense copy of a small box (nanovdb.c), or NULL */
+    bool bricked; /* data in 4 x 2 x 2 bricks (a small NanoVDB box's copy): see dense_index */
+    int nbx, nby; /* bricks along x and y when bricked */
     void (*data_release)(void *user); /* non-NULL: data is borrowed; called instead of free */
     void *data_user;
     /* DENSITY_NANOVDB */
@@ -51,6 +53,21 @@ struct density {
     /* DENSITY_BLOBS: voxels are the majorant cells (mcell = 1) */
     blob_field *blobs;
 };
+
+/* Bricked voxel arrays: voxel (i, j, k) of brick (i / 4, j / 2, k / 2) sits at
+ * 16 brick + (i % 4) + 4 (j % 2) + 8 (k % 2), bricks x fastest, each brick one 64-byte cache
+ * line (the array is 64-byte aligned), so a trilinear lookup's 8 voxels span 2.8 lines on
+ * average instead of 4.3 with rows. The offsets are separable: x, y and z parts added. */
+#define DENSITY_BRICK_FLOATS 16
+static inline size_t dense_brick_x(int i) { return (size_t)(i >> 2) * 16 + (size_t)(i & 3); }
+static inline size_t dense_brick_y(const density *d, int j)
+{
+    return (size_t)(j >> 1) * 16 * (size_t)d->nbx + (size_t)((j & 1) << 2);
+}
+static inline size_t dense_brick_z(const density *d, int k)
+{
+    return (size_t)(k >> 1) * 16 * (size_t)d->nbx * (size_t)d->nby + (size_t)((k & 1) << 3);
+}
 
 /* Fills maj, mino, mn, mcell, moff: the cells' bounds over the voxels fetch reads (grid.c).
  * false when out of memory. */
@@ -65,7 +82,6 @@ double nanovdb_voxel(const density *d, int i, int j, int k);
 void nanovdb_free(density *d);
 /* Hierarchical majorants (nanovdb.c): o, dir in voxel space, [t0, t1] inside the box. */
 void nanovdb_majorant_begin(const density *d, vec3 o, vec3 dir, double t0, double t1, majorant_iter *it);
-bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
 
 
 /* Trilinear reconstruction between voxel centres, clamped to the outermost samples, shared

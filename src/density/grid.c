@@ -35,6 +35,8 @@ bool density_place(density *d, const affine3 *voxel_to_world)
 
 static inline double dense_at(const density *d, int i, int j, int k)
 {
+    if (d->bricked)
+        return (double)d->data[dense_brick_x(i) + dense_brick_y(d, j) + dense_brick_z(d, k)];
     return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
 }
 
@@ -221,6 +223,15 @@ static double dense_trilinear(const density *d, vec3 u)
     int ijk[3][2];
     double a[3], c[8];
     trilinear_corners(u, d->n, ijk, a);
+    if (d->bricked) {
+        const size_t x0 = dense_brick_x(ijk[0][0]), x1 = dense_brick_x(ijk[0][1]);
+        const size_t y0 = dense_brick_y(d, ijk[1][0]), y1 = dense_brick_y(d, ijk[1][1]);
+        const size_t z0 = dense_brick_z(d, ijk[2][0]), z1 = dense_brick_z(d, ijk[2][1]);
+        const float *v = d->data;
+        c[0] = v[x0 + y0 + z0], c[1] = v[x1 + y0 + z0], c[2] = v[x0 + y1 + z0], c[3] = v[x1 + y1 + z0];
+        c[4] = v[x0 + y0 + z1], c[5] = v[x1 + y0 + z1], c[6] = v[x0 + y1 + z1], c[7] = v[x1 + y1 + z1];
+        return trilinear_blend(c, a);
+    }
     for (int q = 0; q < 8; q++)
         c[q] = dense_at(d, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
     return trilinear_blend(c, a);
@@ -277,42 +288,4 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
     vec3 oc = v3((o.x + d->moff[0]) * s, (o.y + d->moff[1]) * s, (o.z + d->moff[2]) * s);
     if (!grid_dda_begin(&it->dda, d->mn, oc, v3_scale(dir, s), t0, t1))
         it->dda.done = true;
-}
-
-static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
-{
-    if (it->nano)
-        return nanovdb_majorant_cell(it, seg);
-    grid_dda_step st;
-    if (!grid_dda_next(&it->dda, &st))
-        return false;
-    seg->t0 = st.t0;
-    seg->t1 = st.t1;
-    size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);
-    seg->rho_maj = (double)it->maj[c];
-    seg->rho_min = it->mino ? (double)it->mino[c] : 0.0;
-    return true;
-}
-
-/* Consecutive cells with the same majorant come out as one segment: empty space (0) and
- * uniform regions cost one segment each. */
-bool majorant_next(majorant_iter *it, majorant_seg *seg)
-{
-    if (it->has_next) {
-        *seg = it->next;
-        it->has_next = false;
-    } else if (!majorant_cell_next(it, seg)) {
-        return false;
-    }
-    majorant_seg s;
-    while (majorant_cell_next(it, &s)) {
-        if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
-            seg->t1 = s.t1;
-        } else {
-            it->next = s;
-            it->has_next = true;
-            break;
-        }
-    }
-    return true;
 }

@@ -813,15 +813,19 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
          * (a lookup is then 8 array reads instead of a descent of the tree, as for a dense
          * grid: grid.c), and one grid of cells with exact bounds of those values, walked by
          * one DDA */
-        size_t nvox = (size_t)ext[0] * (size_t)ext[1] * (size_t)ext[2];
+        d->nbx = (d->n[0] + 3) / 4;
+        d->nby = (d->n[1] + 1) / 2;
+        size_t nvox = (size_t)d->nbx * (size_t)d->nby * (size_t)((d->n[2] + 1) / 2) * DENSITY_BRICK_FLOATS;
         if (!max_memory || size + nvox * sizeof(float) <= max_memory)
-            d->data = malloc(nvox * sizeof(float));
+            d->data = aligned_alloc(64, nvox * sizeof(float));
         if (d->data) {
-            size_t i = 0;
+            memset(d->data, 0, nvox * sizeof(float));
             for (int z = 0; z < d->n[2]; z++)
                 for (int y = 0; y < d->n[1]; y++)
                     for (int x = 0; x < d->n[0]; x++)
-                        d->data[i++] = (float)nanovdb_voxel(d, x, y, z);
+                        d->data[dense_brick_x(x) + dense_brick_y(d, y) + dense_brick_z(d, z)] =
+                            (float)nanovdb_voxel(d, x, y, z);
+            d->bricked = true;
         }
         if (!density_build_cell_bounds(d, density_voxel)) {
             err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the majorant grid", name);

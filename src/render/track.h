@@ -13,6 +13,7 @@
 
 #include "core/color.h"
 #include "core/rng.h"
+#include "core/sampling.h"
 #include "render/scene.h"
 
 /* A tentative collision at ray parameter t [world units]. sigma_maj >= sigma_t(x) >= sigma_c
@@ -34,8 +35,8 @@ typedef bool (*track_fn)(const track_event *e, void *user);
  * *tau_c_end, when not NULL, receives the control optical depth of the whole walk).
  * Returns true when the walk passed tmax (or left every medium) without the callback
  * stopping it. */
-bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn, void *user,
-                      double *tau_c_end);
+static inline bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn,
+                                    void *user, double *tau_c_end);
 
 /* Optical coefficients at p summed over the media [1 / world unit]. */
 typedef struct medium_sample {
@@ -60,5 +61,106 @@ bool track_roulette(color *Tr, rng *g);
  * channel): exp(-tau_c) times the ratio-tracking product of the residual
  * (docs/path-tracer.md, "Control density"). */
 color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g);
+
+/* ---- the tracking loop, inline: each caller's callback is inlined into its own copy ---- */
+
+typedef struct track_stream {
+    majorant_iter it;
+    majorant_seg seg;
+    bool live;
+    double sigma_t_max;
+    double sigma_t_min; /* the medium's: the control's scale */
+} track_stream;
+
+static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
+                                                                   bool residual, track_fn fn, void *user,
+                                                                   double *tau_c_end)
+{
+    track_stream st[SCENE_MAX_MEDIA];
+    int n = s->nmedia;
+    for (int m = 0; m < n; m++) {
+        /* A moving medium: the ray in the field's frame at the ray's instant. An affine map
+         * keeps the ray parameter t, so segments need no conversion back. */
+        ray rm = r;
+        if (s->media[m].motion) {
+            affine3 to_world = motion_at(s->media[m].motion, r.time), to_local;
+            if (!affine3_invert(&to_world, &to_local)) {
+                st[m].live = false;
+                continue;
+            }
+            rm.o = affine3_apply(&to_local, r.o);
+            rm.d = affine3_apply_dir(&to_local, r.d);
+        }
+        density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
+        st[m].live = majorant_next(&st[m].it, &st[m].seg);
+        st[m].sigma_t_max = s->media[m].sigma_t_max;
+        st[m].sigma_t_min = s->media[m].sigma_t_min;
+    }
+    track_event e = {0.0, 0.0, 0.0, 0.0};
+    double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
+    if (tau_c_end)
+        *tau_c_end = 0.0;
+    for (;;) {
+        /* Majorant and control on [t, t_next): media whose current segment covers t. */
+        double sigma_maj = 0.0, sigma_c = 0.0, t_next = INFINITY;
+        bool any = false;
+        for (int m = 0; m < n; m++) {
+            while (st[m].live && st[m].seg.t1 <= t)
+                st[m].live = majorant_next(&st[m].it, &st[m].seg);
+            if (!st[m].live)
+                continue;
+            any = true;
+            if (st[m].seg.t0 > t) {
+                t_next = fmin(t_next, st[m].seg.t0);
+            } else {
+                sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
+                sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
+                t_next = fmin(t_next, st[m].seg.t1);
+            }
+        }
+        if (!any || t >= tmax) {
+            if (tau_c_end)
+                *tau_c_end = e.tau_c;
+            return true;
+        }
+        t_next = fmin(t_next, tmax);
+        sigma_c = fmin(sigma_c, sigma_maj);
+        /* the rate of tentative collisions */
+        double sigma_n = residual ? sigma_maj - sigma_c : sigma_maj;
+        e.sigma_maj = sigma_maj;
+        e.sigma_c = sigma_c;
+        const double tau_c0 = e.tau_c;
+        /* tau: optical depth (against the majorant) still to cover before the next
+         * tentative collision; one exponential per collision, carried across segments. */
+        if (sigma_n > 0.0) {
+            /* Distances are measured from the segment's start: u grows from 0, so a step of
+             * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
+             * origin), and it strictly increases (a step below its resolution moves it by
+             * one ulp), so the walk reaches the segment's end or stops in a finite number
+             * of steps. The range that keeps that number small is checked at commit
+             * (medium_check_range, docs/scene-format.md#limits). */
+            const double t0 = t, len = t_next - t;
+            double u = 0.0;
+            for (;;) {
+                double du = tau / sigma_n;
+                if (!(u + du < len)) {
+                    tau = fmax(0.0, tau - sigma_n * (len - u));
+                    break;
+                }
+                double u_new = u + du;
+                u = u_new > u ? u_new : nextafter(u, INFINITY);
+                e.t = t0 + u;
+                if (residual)
+                    e.tau_c = tau_c0 + sigma_c * u;
+                if (!fn(&e, user))
+                    return false;
+                tau = sample_exponential(rng_next(g), 1.0);
+            }
+        }
+        if (residual)
+            e.tau_c = tau_c0 + sigma_c * (t_next - t);
+        t = t_next;
+    }
+}
 
 #endif
