@@ -44,7 +44,7 @@ struct density {
     /* DENSITY_GRID */
     float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release); for a NanoVDB grid
                     the dense copy of a small box (nanovdb.c), or NULL */
-    bool bricked; /* data in 4 x 2 x 2 bricks (a small NanoVDB box's copy): see dense_index */
+    bool bricked; /* data in 4 x 2 x 2 bricks (a small NanoVDB box's copy): dense_brick_x|y|z */
     int nbx, nby; /* bricks along x and y when bricked */
     void (*data_release)(void *user); /* non-NULL: data is borrowed; called instead of free */
     void *data_user;

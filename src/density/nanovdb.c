@@ -816,7 +816,12 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
         d->nbx = (d->n[0] + 3) / 4;
         d->nby = (d->n[1] + 1) / 2;
         size_t nvox = (size_t)d->nbx * (size_t)d->nby * (size_t)((d->n[2] + 1) / 2) * DENSITY_BRICK_FLOATS;
-        if (!max_memory || size + nvox * sizeof(float) <= max_memory)
+        /* the cells' bounds (two floats a cell: density_build_cell_bounds) are counted too,
+         * so that the grid with its copy stays within the limit */
+        const size_t C = DENSITY_MAJORANT_CELL;
+        size_t cells = 2 * (((size_t)d->n[0] + C - 1) / C) * (((size_t)d->n[1] + C - 1) / C) *
+                       (((size_t)d->n[2] + C - 1) / C);
+        if (!max_memory || size + (nvox + cells) * sizeof(float) <= max_memory)
             d->data = aligned_alloc(64, nvox * sizeof(float));
         if (d->data) {
             memset(d->data, 0, nvox * sizeof(float));

@@ -215,23 +215,13 @@ static void camera_samples(const brume_render_job *job, uint32_t qmc_dims, bool 
             ut[b] = rng_next(&g[b]);
     }
     const camera *cam = &job->s->cam;
-    if (lens || camera_moving(cam)) {
+    if (camera_is_pinhole(cam)) { /* the rays made in place in the batch */
         for (uint32_t b = 0; b < nb; b++)
-            r[b] = camera_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
+            camera_pinhole_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], ut[b], &r[b]);
         return;
     }
-    /* a fixed pinhole: camera_ray's fields written one by one, so that no ray is built on
-     * the stack and copied (the copy's overlapping 16-byte loads missed store forwarding) */
-    for (uint32_t b = 0; b < nb; b++) {
-        vec3 d = camera_pinhole_dir(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b]);
-        r[b].o.x = cam->position.x;
-        r[b].o.y = cam->position.y;
-        r[b].o.z = cam->position.z;
-        r[b].d.x = d.x;
-        r[b].d.y = d.y;
-        r[b].d.z = d.z;
-        r[b].time = cam->time + cam->shutter_open + ut[b] * (cam->shutter_close - cam->shutter_open);
-    }
+    for (uint32_t b = 0; b < nb; b++)
+        r[b] = camera_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
 }
 
 /* One tile: every active pixel of it from its sample count to job->target. */
