@@ -1,10 +1,13 @@
 /* test_interrupt.c - `brume render` as a user drives it: signals that keep the work,
  * checkpoints and resume (byte-identical to an uninterrupted render), budgets, and output
  * paths checked before any rendering. Every wait is bounded. */
+/* posix_openpt and the pseudo-terminal calls of ctrl_c_on_a_terminal */
+#define _XOPEN_SOURCE 700
 #include "test.h"
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -433,6 +436,82 @@ TEST(budgets_on_the_command_line)
     brume_context_release(ctx);
 }
 
+/* Ctrl-C on a terminal, as a person presses it: brume runs on a pseudo-terminal (its
+ * controlling terminal, so the progress bar is drawn), ^C is typed into it once the bar
+ * shows, and the render ends with status 130 and its one-line message, the bar's last
+ * drawing showing how far it got: a stopped render must not end on 100 %. */
+TEST(ctrl_c_on_a_terminal)
+{
+    const char *dir = fresh_dir("tty");
+    char scene[400], out[400];
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    snprintf(out, sizeof out, "%s/out.exr", dir);
+    test_write_file(scene, scene_json);
+    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    ASSERT_TRUE(master >= 0);
+    ASSERT_TRUE(grantpt(master) == 0 && unlockpt(master) == 0);
+    const char *slave = ptsname(master);
+    ASSERT_TRUE(slave != NULL);
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) { /* a new session whose controlling terminal is the slave, opened first */
+        setsid();
+        int fd = open(slave, O_RDWR);
+        if (fd < 0)
+            _exit(127);
+        dup2(fd, 0), dup2(fd, 1), dup2(fd, 2);
+        if (fd > 2)
+            close(fd);
+        close(master);
+        execl(BRUME_EXE, "brume", "render", scene, "--spp", "1000000", "--threads", "2", "-o", out, (char *)NULL);
+        _exit(127);
+    }
+    size_t cap = 1 << 16, n = 0;
+    char *text = calloc(cap + 1, 1);
+    ASSERT_TRUE(text != NULL);
+    double t0 = test_now(), t_bar = -1.0;
+    bool typed = false;
+    while (test_now() - t0 < 120.0) { /* every wait bounded */
+        struct pollfd p = {master, POLLIN, 0};
+        if (poll(&p, 1, 100) > 0) {
+            char buf[4096];
+            ssize_t k = read(master, buf, sizeof buf);
+            if (k <= 0) /* EIO: the process closed the terminal */
+                break;
+            if (n + (size_t)k > cap) { /* keep the end, where the last bar is */
+                memmove(text, text + n + (size_t)k - cap, cap - (size_t)k);
+                n = cap - (size_t)k;
+            }
+            memcpy(text + n, buf, (size_t)k);
+            n += (size_t)k;
+            text[n] = '\0';
+        }
+        if (t_bar < 0.0 && strstr(text, "render ["))
+            t_bar = test_now();
+        if (!typed && t_bar >= 0.0 && test_now() - t_bar > 1.0) { /* the first pass is done by then */
+            ASSERT_EQ_INT((int)write(master, "\x03", 1), 1);
+            typed = true;
+        }
+    }
+    int rc = test_wait_exit(pid, 60.0);
+    close(master);
+    fprintf(stderr, "terminal output (end): %s\n", n > 600 ? text + n - 600 : text);
+    ASSERT_TRUE(typed);
+    ASSERT_EQ_INT(rc, 130);
+    ASSERT_CONTAINS(text, "interrupted by SIGINT");
+    /* the last bar drawn: "render [####....]  17% ..." */
+    char *bar = NULL;
+    for (char *q = strstr(text, "render ["); q; q = strstr(q + 1, "render ["))
+        bar = q;
+    ASSERT_TRUE(bar != NULL);
+    char *close_bracket = strchr(bar, ']');
+    ASSERT_TRUE(close_bracket != NULL);
+    int pct = atoi(close_bracket + 1);
+    fprintf(stderr, "last bar: %d %%\n", pct);
+    ASSERT_TRUE(pct < 100);
+    free(text);
+}
+
 TEST_MAIN(signal_writes_partial_image, second_sigint_ends_at_once, sequence_keeps_finished_frames,
           resume_is_byte_identical, bad_checkpoints_refused, outputs_checked_before_rendering,
-          budgets_on_the_command_line)
+          budgets_on_the_command_line, ctrl_c_on_a_terminal)

@@ -66,10 +66,11 @@ void progress_update(progress *p, size_t done, size_t total)
     pthread_mutex_unlock(&p->lock);
 }
 
-void progress_end(progress *p)
+void progress_end(progress *p, bool complete)
 {
     if (p->active) {
-        p->done = p->total;
+        if (complete)
+            p->done = p->total;
         progress_draw(p, progress_now());
         fputc('\n', stderr);
     }

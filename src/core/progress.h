@@ -20,7 +20,9 @@ void progress_begin(progress *p, const char *label, size_t total, bool enabled);
 void progress_add(progress *p, size_t n);
 /* Sets both figures (a total that is an estimate may change); thread-safe. */
 void progress_update(progress *p, size_t done, size_t total);
-void progress_end(progress *p);
+/* Ends the bar: drawn full when the work is complete, else as far as it got (an interrupted
+ * or failed run must not end on 100 %). */
+void progress_end(progress *p, bool complete);
 
 /* Monotonic wall-clock seconds. */
 double progress_now(void);

@@ -828,7 +828,7 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
             st->stats.emitted_power += l->emitted / 3.0;
         }
     }
-    progress_end(&job.prog);
+    progress_end(&job.prog, rc == BRUME_OK);
     if (job.lists)
         for (size_t t = 0; t < BLASI_WAVE; t++)
             free(job.lists[t].d);

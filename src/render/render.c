@@ -107,8 +107,8 @@ void brume_render_job_release(brume_render_job *job)
 {
     if (!job)
         return;
-    if (job->bar_started)
-        progress_end(&job->bar);
+    if (job->bar_started) /* a job released before its end: stopped, cancelled or failed */
+        progress_end(&job->bar, false);
     pthread_mutex_destroy(&job->lock);
     pthread_mutex_destroy(&job->cb_lock);
     free(job->n);
@@ -503,7 +503,7 @@ static brume_status job_run(brume_render_job *job, bool unwatched)
             return st;
     }
     if (job->bar_started) {
-        progress_end(&job->bar);
+        progress_end(&job->bar, true);
         job->bar_started = false;
     }
     job_fill_stats(job);
