@@ -23,10 +23,10 @@
  * background, a light or a lit surface is added, attenuated by A.
  *
  * Determinism: light rays are numbered and draw from their own counter-based stream; the
- * rays are cut into batches, each batch records its deposits in the order it makes them,
- * and the batches' records are added into one accumulator (doubles) in batch order, a
- * wave of BLASI_WAVE batches at a time (so memory stays bounded). Threads take batches as
- * they come (a slower core gets fewer), and the sums are the same for any thread count. */
+ * rays are cut into batches that threads take as they come (a slower core gets fewer), and
+ * each thread adds its deposits into its own sums in fixed point (integers: the order of the
+ * terms does not change their sum), added together at the end. So the sums are the same
+ * bits for any thread count. */
 #include "render/blasi.h"
 
 #include <errno.h>
@@ -35,6 +35,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/fixsum.h"
 #include "core/pool.h"
 #include "core/progress.h"
 #include "core/sampling.h"
@@ -47,7 +48,6 @@
 static const blasi_options *blasi_opts(const brume_scene *s) { return scene_options(s, METHOD_OPTIONS_BLASI); }
 
 #define BLASI_BATCH 1024           /* light rays per task */
-#define BLASI_WAVE 256             /* batches traced between two ordered merges of their deposits */
 #define BLASI_MAX_VOXELS (1u << 24)   /* over all media */
 /* Limits that keep every walk finite (docs/scene-format.md#limits): uniform steps across
  * the media, and interceptions of one light ray. */
@@ -389,41 +389,46 @@ static bool light_ray(const brume_scene *s, const blasi_state *st, const light *
     return false;
 }
 
-/* The deposits of one batch of light rays, in the order they were made. */
-typedef struct deposit_list {
-    struct deposit_rec {
-        size_t v;    /* global voxel */
-        double w[3]; /* power stored (RGB) */
-    } *d;
-    size_t n, cap;
-    uint64_t intercepts;
-    double emitted; /* power the batch's rays started with, summed over channels */
-    bool out_of_memory;
-} deposit_list;
+/* ---- the light pass's sums -----------------------------------------------------------------
+ *
+ * Deposited power is summed in fixed point (core/fixsum.h): integer sums do not depend on
+ * the order of their terms, so each thread adds its deposits into sums of its own as it
+ * makes them, and those added at the end give the same bits for any thread count and any
+ * order in which the batches ran, with no record of the deposits, no ordered merge and no
+ * barrier between batches. The unit is 2^-40 of a reference power per ray (ray_power_ref,
+ * within a few powers of two of what rays start with): a deposit is truncated to a whole
+ * unit, about 1e-12 of a ray's power (S is a float, 6e-8 of a voxel's sum), and a sum
+ * would wrap only past 2^128 units, 2^88 rays' powers in one voxel: beyond any light-ray
+ * count (at most 1e12 ~ 2^40) times any weight a ray reaches (a chromatic medium's weights
+ * may exceed the initial power; their mean cannot). */
+
+/* What the rays of one batch make: deposits into the sums of the thread that traces it,
+ * counts for the batch's own record. */
+typedef struct light_sums {
+    fixsum *P;       /* 3 nvox: the thread's stored power per voxel and channel, in units */
+    double per_unit; /* units per watt */
+    uint64_t intercepts, deposits;
+    double emitted;  /* power the batch's rays started with, summed over channels */
+} light_sums;
 
 typedef struct pass1_job {
     const brume_scene *s;
     const blasi_state *st;
     uint64_t nrays, nbatch; /* rays traced, over all lights */
     const uint64_t *first;  /* nlights + 1: light l traces rays [first[l], first[l + 1]) */
-    uint64_t wave0;      /* first batch of the wave being traced */
-    deposit_list *lists; /* BLASI_WAVE: one per batch of the wave */
+    fixsum *P;              /* per thread: 3 nvox sums */
+    double per_unit;
+    light_sums *batch;      /* nbatch: each batch's counts (P unused) */
     progress prog;
 } pass1_job;
 
-static inline void deposit(deposit_list *out, size_t v, color w, double f)
+static inline void deposit(light_sums *out, size_t v, color w, double f)
 {
-    if (out->n == out->cap) {
-        size_t cap = out->cap ? 2 * out->cap : 256;
-        struct deposit_rec *d = realloc(out->d, cap * sizeof *d);
-        if (!d) {
-            out->out_of_memory = true;
-            return;
-        }
-        out->d = d;
-        out->cap = cap;
-    }
-    out->d[out->n++] = (struct deposit_rec){v, {w.c[0] * f, w.c[1] * f, w.c[2] * f}};
+    fixsum *p = out->P + 3 * v;
+#pragma GCC unroll 3
+    for (int c = 0; c < 3; c++)
+        fixsum_add(&p[c], w.c[c] * f * out->per_unit);
+    out->deposits++;
 }
 
 /* Coefficients of a piece: sigma_bar rho summed over its media (returned), and in *kx the
@@ -525,7 +530,7 @@ static inline bool flight_cross(flight *f, double sb, color kx, double dl, color
  * stored, and the new direction from the lobe (Eq. 23 for Schlick lobes). False when what
  * goes on is under the threshold (the ray ends). */
 static bool intercept(const blasi_state *st, const piece *pc, double sb, color kx, const flight *f, double ds,
-                      double t_hit, ray *r, color *w, double w_stop, rng *g, deposit_list *acc, size_t *last)
+                      double t_hit, ray *r, color *w, double w_stop, rng *g, light_sums *acc, size_t *last)
 {
     int pick = 0;
     if (pc->n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
@@ -568,7 +573,7 @@ typedef enum flight_end { FLIGHT_LEFT, FLIGHT_SCATTERED, FLIGHT_STOPPED } flight
  * scatter (tau + 0 < target), is not remembered as the last voxel, and leaves the stop
  * test's answer as it was, so the flight is the same as with the branch. */
 static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
-                          deposit_list *acc, bool *have_last, size_t *last)
+                          light_sums *acc, bool *have_last, size_t *last)
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
@@ -630,7 +635,7 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
 
 /* A flight through any media: the merged voxel walks, or uniform steps (blasi.step). */
 static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
-                      deposit_list *acc, bool *have_last, size_t *last)
+                      light_sums *acc, bool *have_last, size_t *last)
 {
     walk wk;
     piece pc;
@@ -679,7 +684,7 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
 
 /* Follows one light ray through the media (Algorithm of the First Pass), flight by
  * flight. */
-static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, deposit_list *acc)
+static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, light_sums *acc)
 {
     const bool one = st->nm == 1 && !st->m[0].skip && !(st->step > 0.0);
     double w_stop = st->threshold * col_max(w);
@@ -717,14 +722,10 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
 
 static void pass1_batch(size_t task, int thread, void *user)
 {
-    (void)thread;
     pass1_job *job = user;
     const brume_scene *s = job->s;
-    deposit_list *out = &job->lists[task];
-    out->n = 0;
-    out->intercepts = 0;
-    out->emitted = 0.0;
-    uint64_t b = job->wave0 + task;
+    light_sums sums = {job->P + (size_t)thread * 3 * job->st->nvox, job->per_unit, 0, 0, 0.0}, *out = &sums;
+    uint64_t b = task;
     uint64_t first = b * BLASI_BATCH, end = first + BLASI_BATCH < job->nrays ? first + BLASI_BATCH : job->nrays;
     /* the light of the batch's first ray, found once per batch (by bisection: first[] is
      * non-decreasing, first[0] = 0 <= first < first[nlights] = nrays) */
@@ -752,6 +753,7 @@ static void pass1_batch(size_t task, int thread, void *user)
             trace_light_ray(s, job->st, r, W, &g, out);
         }
     }
+    job->batch[b] = (light_sums){NULL, 0.0, sums.intercepts, sums.deposits, sums.emitted};
     progress_add(&job->prog, 1);
 }
 
@@ -782,6 +784,24 @@ static double light_share(const blasi_state *st, const light *l)
     return cone_solid_angle(st->centre, st->radius, l->position) / cone_solid_angle(cb, rb, l->position);
 }
 
+/* The order of magnitude of the power a ray of light l starts with (light_ray's *W, largest
+ * channel), n the rays it traces: the fixed-point unit's reference. An upper bound up to
+ * a spot's profile (the projected area is at most half the box's surface, a sun disk's
+ * radiance factor at most 2, cos_y at most 1, the solid angle at most 4 pi). */
+static double ray_power_ref(const blasi_state *st, const light *l, uint64_t n)
+{
+    double g = 4.0 * PI; /* point and spot: the intensity over the directions */
+    if (l->kind == LIGHT_DISTANT) {
+        vec3 e = v3_sub(st->light_box.hi, st->light_box.lo);
+        g = 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
+    } else if (l->kind == LIGHT_SPHERE) {
+        g = 16.0 * PI * PI * l->radius * l->radius;
+    } else if (l->kind == LIGHT_DISK) {
+        g = 4.0 * PI * PI * l->radius * l->radius;
+    }
+    return col_max(l->L) * g / (double)n;
+}
+
 static brume_status first_pass(const brume_scene *s, blasi_state *st)
 {
     uint64_t nominal = s->nlights > 0 && st->nm > 0 && st->light_box.lo.x <= st->light_box.hi.x
@@ -805,39 +825,41 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
     uint64_t nrays = first[nl];
     pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH,
                      .first = first};
-    double *acc = calloc(st->nvox * 3, sizeof *acc);
-    job.lists = calloc(BLASI_WAVE, sizeof *job.lists);
-    brume_status rc = BRUME_OK;
-    if (!acc || !job.lists)
-        rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+    /* the unit: 2^-40 of the largest reference power per ray over the lights, a power of two */
+    double W_ref = 0.0;
+    for (uint64_t l = 0; l < nl; l++)
+        if (first[l + 1] > first[l])
+            W_ref = fmax(W_ref, ray_power_ref(st, &s->lights[l], first[l + 1] - first[l]));
+    int e = 0;
+    (void)frexp(W_ref > 0.0 && isfinite(W_ref) ? W_ref : 1.0, &e);
+    job.per_unit = ldexp(1.0, 40 - (e < -900 ? -900 : e > 900 ? 900 : e));
+    /* one copy of the sums per thread, as many threads as the memory limit leaves room for
+     * (the result is the same with any number) */
+    const size_t copy = 3 * st->nvox * sizeof(fixsum), left = s->max_memory > s->memory_used ? s->max_memory - s->memory_used : 0;
+    size_t threads = (size_t)(s->settings.threads > 0 ? s->settings.threads : pool_default_threads());
+    threads = threads < job.nbatch ? threads : (size_t)job.nbatch;
+    threads = threads * copy <= left ? threads : (left / copy > 1 ? left / copy : 1);
+    job.P = calloc(threads * 3 * st->nvox, sizeof *job.P);
+    job.batch = calloc((size_t)job.nbatch, sizeof *job.batch);
+    if (!job.P || !job.batch) {
+        free(job.P);
+        free(job.batch);
+        free(first);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
+    }
     progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
-    for (job.wave0 = 0; rc == BRUME_OK && job.wave0 < job.nbatch; job.wave0 += BLASI_WAVE) {
-        size_t ntask = (size_t)(job.nbatch - job.wave0 < BLASI_WAVE ? job.nbatch - job.wave0 : BLASI_WAVE);
-        pool_run(s->settings.threads, ntask, pass1_batch, &job);
-        for (size_t t = 0; t < ntask; t++) { /* batch order: the same sums for any thread count */
-            const deposit_list *l = &job.lists[t];
-            if (l->out_of_memory) {
-                rc = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
-                break;
-            }
-            for (size_t k = 0; k < l->n; k++)
-                for (int c = 0; c < 3; c++)
-                    acc[3 * l->d[k].v + (size_t)c] += l->d[k].w[c];
-            st->stats.interceptions += l->intercepts;
-            st->stats.deposits += l->n;
-            st->stats.emitted_power += l->emitted / 3.0;
-        }
+    pool_run((int)threads, (size_t)job.nbatch, pass1_batch, &job);
+    progress_end(&job.prog, true);
+    for (uint64_t k = 0; k < job.nbatch; k++) { /* batch order: the emitted power's sum is the same bits too */
+        st->stats.interceptions += job.batch[k].intercepts;
+        st->stats.deposits += job.batch[k].deposits;
+        st->stats.emitted_power += job.batch[k].emitted / 3.0;
     }
-    progress_end(&job.prog, rc == BRUME_OK);
-    if (job.lists)
-        for (size_t t = 0; t < BLASI_WAVE; t++)
-            free(job.lists[t].d);
-    free(job.lists);
+    for (size_t t = 1; t < threads; t++) /* the threads' sums into the first copy */
+        for (size_t i = 0; i < 3 * st->nvox; i++)
+            fixsum_merge(&job.P[i], job.P[t * 3 * st->nvox + i]);
+    free(job.batch);
     free(first);
-    if (rc != BRUME_OK) {
-        free(acc);
-        return rc;
-    }
     /* power -> source per unit length, S = P / (4 pi |V|) */
     double total = 0.0;
     for (int m = 0; m < st->nm; m++) {
@@ -845,12 +867,12 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         double norm = 1.0 / (4.0 * PI * bm->volume);
         for (size_t v = bm->offset; v < bm->offset + bm->nvox; v++)
             for (int c = 0; c < 3; c++) {
-                double p = acc[3 * v + (size_t)c];
+                double p = fixsum_value(job.P[3 * v + (size_t)c]) / job.per_unit;
                 total += p;
                 st->S[3 * v + (size_t)c] = (float)(p * norm);
             }
     }
-    free(acc);
+    free(job.P);
     st->stats.light_rays = nominal;
     st->stats.traced_rays = nrays;
     st->stats.stored_power = total / 3.0;
