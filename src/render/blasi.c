@@ -472,7 +472,7 @@ static inline color col_exp_neg(color x)
 typedef struct flight {
     double target, tau;
     bool have_target, lim_lo_known, lim_known;
-    color D, lim, lim_lo;
+    color D, lim, lim_lo; /* a grey flight keeps one D and its bounds in channel 0 */
 } flight;
 
 static inline void flight_begin(flight *f)
@@ -496,24 +496,43 @@ static inline bool flight_scatters(flight *f, double sb, double dl, rng *g)
 }
 
 /* The stop test after the decay reached D (the while condition: L_R > THRESHOLD): true
- * when the weight is under the threshold in every channel. */
-static inline bool flight_stops(flight *f, color D, color w, double w_stop)
+ * when the weight is under the threshold in every channel. grey: D's channels are equal
+ * (D.c[0] is read), and D exceeds every channel's bound exactly when it exceeds the
+ * largest, that of the largest weight (both bounds grow with the weight, and so do their
+ * rounded values): one division, one log and one comparison, kept in channel 0. */
+static inline __attribute__((always_inline)) bool flight_stops_as(flight *f, color D, color w, double w_stop, bool grey)
 {
+    const int nc = grey ? 1 : BRUME_NSAMPLES;
+    if (grey)
+        w.c[0] = col_max(w);
     if (!f->lim_lo_known) {
-        for (int c = 0; c < BRUME_NSAMPLES; c++)
+        for (int c = 0; c < nc; c++)
             f->lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
         f->lim_lo_known = true;
     }
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
+    for (int c = 0; c < nc; c++)
         if (!(D.c[c] > f->lim_lo.c[c]))
             return false;
     if (!f->lim_known) {
-        for (int c = 0; c < BRUME_NSAMPLES; c++)
+        for (int c = 0; c < nc; c++)
             f->lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
         f->lim_known = true;
     }
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
+    for (int c = 0; c < nc; c++)
         if (!(D.c[c] > f->lim.c[c]))
+            return false;
+    return true;
+}
+
+static inline bool flight_stops(flight *f, color D, color w, double w_stop)
+{
+    return flight_stops_as(f, D, w, w_stop, false);
+}
+
+static inline bool col_is_grey(color a)
+{
+    for (int c = 1; c < BRUME_NSAMPLES; c++)
+        if (a.c[c] != a.c[0])
             return false;
     return true;
 }
@@ -574,9 +593,14 @@ typedef enum flight_end { FLIGHT_LEFT, FLIGHT_SCATTERED, FLIGHT_STOPPED } flight
  * and the flight's state in locals the loop keeps in registers, and no branch on whether a
  * voxel is empty: an empty one (sb = 0, kx = 0) adds exactly 0 to tau and D, cannot
  * scatter (tau + 0 < target), is not remembered as the last voxel, and leaves the stop
- * test's answer as it was, so the flight is the same as with the branch. */
-static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
-                          light_sums *acc, bool *have_last, size_t *last)
+ * test's answer as it was, so the flight is the same as with the branch. grey: the decay
+ * rate kx is the same in every channel (sigma_t - sigma_bar grey, e.g. a grey medium), so
+ * D's channels stay equal and the loop keeps one (the same sums: every channel's would be
+ * this one). */
+static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_state *st, flight *f, ray *r,
+                                                                   double t_end, color *w, double w_stop, rng *g,
+                                                                   light_sums *acc, bool *have_last, size_t *last,
+                                                                   color kx1, bool grey)
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
@@ -586,9 +610,7 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
     const float *rho = st->rho;
     const size_t nx = (size_t)bm->n[0], ny = (size_t)bm->n[1];
     const double sigma_bar = bm->sigma_bar;
-    color kx1; /* (sigma_t - sigma_bar) per unit density */
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
-        kx1.c[c] = bm->sigma_t.c[c] - sigma_bar;
+    const int nc = grey ? 1 : BRUME_NSAMPLES; /* the channels the loop keeps */
     double tau = f->tau;
     color D = f->D;
     bool was = *have_last;
@@ -600,7 +622,7 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
         const double rh = (double)rho[v], dl = c.t1 - c.t0, sb = sigma_bar * rh;
         color kx;
 #pragma GCC unroll 3
-        for (int k = 0; k < BRUME_NSAMPLES; k++)
+        for (int k = 0; k < nc; k++)
             kx.c[k] = kx1.c[k] * rh;
         f->tau = tau;
         if (!f->have_target && sb > 0.0) /* the first voxel that can scatter: draw the target */
@@ -611,29 +633,45 @@ static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end
             pc.n = 1;
             pc.m[0] = 0;
             pc.v[0] = v;
-            f->D = D;
+            f->D = grey ? col(D.c[0]) : D;
+            kx = grey ? col(kx.c[0]) : kx;
             *have_last = true;
             return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
                                                                                           : FLIGHT_STOPPED;
         }
         /* !(sb <= 0 && kx == 0), with | so that no branch is mispredicted on it */
-        const bool counts = !(sb <= 0.0) | (kx.c[0] != 0.0) | (kx.c[1] != 0.0) | (kx.c[2] != 0.0);
+        bool counts = !(sb <= 0.0);
+#pragma GCC unroll 3
+        for (int k = 0; k < nc; k++)
+            counts |= kx.c[k] != 0.0;
         tau += counts ? sb * dl : 0.0;
 #pragma GCC unroll 3
-        for (int k = 0; k < BRUME_NSAMPLES; k++)
+        for (int k = 0; k < nc; k++)
             D.c[k] += counts ? kx.c[k] * dl : 0.0;
         lv = counts ? v : lv;
         was |= counts;
-        if (was && flight_stops(f, D, *w, w_stop)) {
+        if (was && flight_stops_as(f, D, *w, w_stop, grey)) {
             e = FLIGHT_STOPPED;
             break;
         }
     }
     f->tau = tau;
-    f->D = D;
+    f->D = grey ? col(D.c[0]) : D;
     *have_last = was;
     *last = lv;
     return e;
+}
+
+static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
+                          light_sums *acc, bool *have_last, size_t *last)
+{
+    const blasi_medium *bm = &st->m[0];
+    color kx1; /* (sigma_t - sigma_bar) per unit density */
+    for (int c = 0; c < BRUME_NSAMPLES; c++)
+        kx1.c[c] = bm->sigma_t.c[c] - bm->sigma_bar;
+    if (col_is_grey(kx1) && col_is_grey(f->D))
+        return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, kx1, true);
+    return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, kx1, false);
 }
 
 /* A flight through any media: the merged voxel walks, or uniform steps (blasi.step). */
@@ -1432,14 +1470,6 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
     out->A = col(A);
     out->tau_t = col(tau_t);
     return on;
-}
-
-static inline bool col_is_grey(color a)
-{
-    for (int c = 1; c < BRUME_NSAMPLES; c++)
-        if (a.c[c] != a.c[0])
-            return false;
-    return true;
 }
 
 static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
