@@ -94,22 +94,23 @@ static inline __attribute__((always_inline)) bool dda_seed(grid_dda *g, double t
         }
         const double inv = g->inv[a];
         /* floor, then clamped to [0, n - 1]: the same cell as clamping first and truncating */
-        double x = oa + t0 * g->d[a];
-        x = x < 0.0 ? 0.0 : (x > (double)(n - 1) ? (double)(n - 1) : x);
-        int c = (int)x;
+        int c = (int)dda_min(dda_max(oa + t0 * g->d[a], 0.0), (double)(n - 1));
         const int up = step > 0; /* plane index of the exit face is c + up */
+        double t_exit = ((double)(c + up) - oa) * inv;
         for (int guard = 0; guard < 4; guard++) {
-            double t_exit = ((double)(c + up) - oa) * inv;
-            double t_enter = ((double)(c + 1 - up) - oa) * inv;
-            if (t_exit <= t0 && c + step >= 0 && c + step < n)
+            if (t_exit <= t0 && c + step >= 0 && c + step < n) {
                 c += step;
-            else if (t_enter > t0 && c - step >= 0 && c - step < n)
-                c -= step;
-            else
+                t_exit = ((double)(c + up) - oa) * inv;
+                continue;
+            }
+            const double t_enter = ((double)(c + 1 - up) - oa) * inv;
+            if (!(t_enter > t0 && c - step >= 0 && c - step < n))
                 break;
+            c -= step;
+            t_exit = t_enter; /* the new cell's exit plane c + up is the old one's entry plane */
         }
         g->ijk[a] = c;
-        g->t_next[a] = ((double)(c + up) - oa) * inv;
+        g->t_next[a] = t_exit;
         ok &= g->t_next[a] > t0; /* false: leaves the grid at t0 */
     }
     g->t = t0;
@@ -130,13 +131,16 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g
     g->done = true;
     g->t = tmin;
     g->tmax = tmax;
-    /* the arguments checked first, all axes at once (one branch, not one per test) */
+    /* the arguments checked first, all axes at once (one branch, not one per test); x - x is
+     * 0 for a finite x and NaN otherwise, so the sum is 0 when o and d are finite */
     bool valid = tmin < tmax;
+    double finite = 0.0;
 #pragma GCC unroll 3
-    for (int a = 0; a < 3; a++)
-        valid &= (n[a] >= 1) & (isfinite(oo[a]) != 0) & (isfinite(dd[a]) != 0) & (0 <= lo[a]) & (lo[a] < hi[a]) &
-                 (hi[a] <= n[a]);
-    if (!valid)
+    for (int a = 0; a < 3; a++) {
+        valid &= (n[a] >= 1) & (0 <= lo[a]) & (lo[a] < hi[a]) & (hi[a] <= n[a]);
+        finite += (oo[a] - oo[a]) + (dd[a] - dd[a]);
+    }
+    if (!(valid & (finite == 0.0)))
         return false;
     /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;

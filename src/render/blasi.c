@@ -148,7 +148,7 @@ static inline bool line_misses_box(vec3 c, vec3 e, vec3 o, vec3 d)
 
 /* One medium and a small grid (!bm->skip): the walk over every voxel of the box of its
  * non-empty voxels, empty ones cost a step. False when the ray misses that box. */
-static inline bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g)
+static inline __attribute__((always_inline)) bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g)
 {
     vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
     return bm->occ_hi[0] > 0 && grid_dda_begin_box(g, bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
