@@ -72,6 +72,8 @@ typedef struct blasi_medium {
     color sigma_t;       /* sigma_a + sigma_s */
     color kappa;         /* view attenuation per unit density: sigma_a or sigma_t */
     color emit;          /* sigma_a Le: emitted radiance per unit length per unit density */
+    bool emits;          /* emit is not black */
+    bool view_grey;      /* kappa and sigma_t each the same in every channel */
     double r;            /* fraction stored isotropically at an interception */
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
@@ -98,6 +100,8 @@ struct blasi_state {
     double threshold;
     blasi_exit exit;
     blasi_view_atten view;
+    bool area_lights; /* some light is a sphere or a disk: view rays may end on it */
+    bool sun_disks;   /* some distant light has a disk: view rays may see it */
     blasi_stats stats;
 };
 
@@ -1126,6 +1130,11 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     st->threshold = o->threshold;
     st->exit = o->exit_deposit;
     st->view = o->view_attenuation;
+    for (int i = 0; i < s->nlights; i++) {
+        const light *l = &s->lights[i];
+        st->area_lights |= l->kind == LIGHT_SPHERE || l->kind == LIGHT_DISK;
+        st->sun_disks |= l->kind == LIGHT_DISTANT && l->angular_radius > 0.0;
+    }
     st->bounds = box3_empty();
     brume_status rc = BRUME_OK;
     randfield *q = NULL; /* Stam's Q, for blob fields voxelized with their perturbation */
@@ -1184,6 +1193,8 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         bm->sigma_t = col_add(md->sigma_a, md->sigma_s);
         bm->kappa = st->view == BLASI_VIEW_EXTINCTION ? bm->sigma_t : md->sigma_a;
         bm->emit = col_mul(md->sigma_a, md->Le);
+        bm->emits = !col_is_black(bm->emit);
+        bm->view_grey = col_is_grey(bm->kappa) && col_is_grey(bm->sigma_t);
         split_phase(md->ph, &bm->r, &bm->dir);
         if (!isnan(o->r))
             bm->r = o->r;
@@ -1413,7 +1424,7 @@ static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *
  * and tau_t are one number each, as all their channels are equal. False when the
  * threshold stopped the ray. */
 static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_state *st, ray r, double t_end,
-                                                                    view_sums *out, bool grey)
+                                                                    view_sums *out, bool grey, bool emits)
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
@@ -1450,10 +1461,10 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
         size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
         const double rh = (double)rho[v], dl = c.t1 - c.t0, kap = kappa * rh;
         const float *sv = st->S + 3 * v;
-        color S;
+        color S; /* without emission, the stored source alone (adding 0 changes no sum) */
 #pragma GCC unroll 3
         for (int k = 0; k < BRUME_NSAMPLES; k++)
-            S.c[k] = (double)sv[k] + emit.c[k] * rh;
+            S.c[k] = emits ? (double)sv[k] + emit.c[k] * rh : (double)sv[k];
         tau_t += sigma_t * (rh * dl);
         double T, f;
         voxel_exp(kap * dl, &T, &f);
@@ -1475,9 +1486,10 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
 static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
 {
     const blasi_medium *bm = &st->m[0];
-    if (col_is_grey(bm->kappa) && col_is_grey(bm->sigma_t) && col_is_grey(out->A) && col_is_grey(out->tau_t))
-        return view_walk_one_as(st, r, t_end, out, true);
-    return view_walk_one_as(st, r, t_end, out, false);
+    if (bm->view_grey && col_is_grey(out->A) && col_is_grey(out->tau_t))
+        return bm->emits ? view_walk_one_as(st, r, t_end, out, true, true)
+                         : view_walk_one_as(st, r, t_end, out, true, false);
+    return view_walk_one_as(st, r, t_end, out, false, true);
 }
 
 /* The view walk over [0, t_end) through any media: each piece's voxels summed. */
@@ -1532,7 +1544,7 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
     double t_end = INFINITY;
     int hit_light = -1;
     color Le_light = col(0.0);
-    for (int i = 0; i < s->nlights; i++) {
+    for (int i = 0; st->area_lights && i < s->nlights; i++) {
         const light *l = &s->lights[i];
         double t, pdf;
         color c;
@@ -1567,7 +1579,7 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
         return col_add(L, col_mul(A, Le_light));
     /* "add the attenuated radiance of the background", and any sun disk seen directly */
     color Lb = background_eval(&s->bg, r.d);
-    for (int i = 0; i < s->nlights; i++) {
+    for (int i = 0; st->sun_disks && i < s->nlights; i++) {
         const light *l = &s->lights[i];
         double t, pdf;
         color c;
