@@ -466,25 +466,46 @@ static inline color col_exp_neg(color x)
 
 /* One flight of a light ray, from the source or a scattering point to the next
  * interception. tau is the sigma_bar optical depth since it began; it scatters where tau
- * reaches -ln(1 - u) (Eq. 11), with u the flight's first random number, drawn (and its log
- * taken) at the first voxel that can scatter: most light rays miss the media. The weight's
+ * reaches the target -ln(1 - u) (Eq. 11), with u the flight's first random number, drawn
+ * at the first voxel that can scatter (most light rays miss the media), and its log taken
+ * only when tau passes a lower bound of the target, u (1 - 2^-20) (0 for u < 2^-30: the
+ * rounding of 1 - u and of the log cannot take the target under it): a flight that leaves
+ * the media before needs no log, and the one that takes it scatters where it did. The weight's
  * decay is kept as an optical depth D per channel and exponentiated once, at the
  * interception or the exit; the stop test is D > lim = log(w / w_stop) per channel, with
  * the logs taken only when D passes their lower bound lim_lo = 1 - w_stop / w
  * (log x >= 1 - 1/x), itself found at the first voxel crossed: most flights end long
  * before. */
 typedef struct flight {
-    double target, tau;
-    bool have_target, lim_lo_known, lim_known;
+    double u, bound, target, tau; /* bound: the target's lower bound, then the target */
+    bool have_u, have_target, lim_lo_known, lim_known;
     color D, lim, lim_lo; /* a grey flight keeps one D and its bounds in channel 0 */
 } flight;
 
 static inline void flight_begin(flight *f)
 {
-    f->have_target = f->lim_lo_known = f->lim_known = false;
-    f->target = INFINITY; /* until drawn */
+    f->have_u = f->have_target = f->lim_lo_known = f->lim_known = false;
+    f->bound = f->target = INFINITY; /* until drawn */
     f->tau = 0.0;
     f->D = col(0.0);
+}
+
+/* Draws u, at the first voxel that can scatter. */
+static inline void flight_draw(flight *f, rng *g)
+{
+    f->u = rng_next(g);
+    f->bound = f->u >= 0x1p-30 ? f->u * (1.0 - 0x1p-20) : 0.0;
+    f->have_u = true;
+}
+
+/* True when the optical depth x (>= f->bound) reaches the target, taken now if not yet. */
+static inline bool flight_reaches(flight *f, double x)
+{
+    if (!f->have_target) {
+        f->bound = f->target = sample_exponential(f->u, 1.0);
+        f->have_target = true;
+    }
+    return x >= f->target;
 }
 
 /* True when a stretch of length dl with sigma_bar rho = sb scatters in it. */
@@ -492,11 +513,10 @@ static inline bool flight_scatters(flight *f, double sb, double dl, rng *g)
 {
     if (!(sb > 0.0))
         return false;
-    if (!f->have_target) {
-        f->target = sample_exponential(rng_next(g), 1.0);
-        f->have_target = true;
-    }
-    return f->tau + sb * dl >= f->target;
+    if (!f->have_u)
+        flight_draw(f, g);
+    const double x = f->tau + sb * dl;
+    return x >= f->bound && flight_reaches(f, x);
 }
 
 /* The stop test after the decay reached D (the while condition: L_R > THRESHOLD): true
@@ -629,9 +649,9 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
         for (int k = 0; k < nc; k++)
             kx.c[k] = kx1.c[k] * rh;
         f->tau = tau;
-        if (!f->have_target && sb > 0.0) /* the first voxel that can scatter: draw the target */
-            (void)flight_scatters(f, sb, dl, g);
-        if (tau + sb * dl >= f->target) { /* sb > 0 here: tau < target before */
+        if (!f->have_u && sb > 0.0) /* the first voxel that can scatter: draw u */
+            flight_draw(f, g);
+        if (tau + sb * dl >= f->bound && flight_reaches(f, tau + sb * dl)) { /* sb > 0 here: tau < target before */
             double ds = (f->target - tau) / sb;
             piece pc; /* only what intercept reads */
             pc.n = 1;
