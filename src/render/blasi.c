@@ -524,12 +524,14 @@ static inline bool flight_scatters(flight *f, double sb, double dl, rng *g)
  * (D.c[0] is read), and D exceeds every channel's bound exactly when it exceeds the
  * largest, that of the largest weight (both bounds grow with the weight, and so do their
  * rounded values): one division, one log and one comparison, kept in channel 0. */
-static inline __attribute__((always_inline)) bool flight_stops_as(flight *f, color D, color w, double w_stop, bool grey)
+static inline __attribute__((always_inline)) bool flight_stops_as(flight *f, color D, const color *wp, double w_stop,
+                                                                  bool grey)
 {
     const int nc = grey ? 1 : BRUME_NSAMPLES;
-    if (grey)
-        w.c[0] = col_max(w);
+    color w = *wp;
     if (!f->lim_lo_known) {
+        if (grey)
+            w.c[0] = col_max(w);
         for (int c = 0; c < nc; c++)
             f->lim_lo.c[c] = w.c[c] > 0.0 ? 1.0 - w_stop / w.c[c] : -(double)INFINITY;
         f->lim_lo_known = true;
@@ -538,6 +540,8 @@ static inline __attribute__((always_inline)) bool flight_stops_as(flight *f, col
         if (!(D.c[c] > f->lim_lo.c[c]))
             return false;
     if (!f->lim_known) {
+        if (grey)
+            w.c[0] = col_max(w);
         for (int c = 0; c < nc; c++)
             f->lim.c[c] = w.c[c] > 0.0 ? log(w.c[c] / w_stop) : -(double)INFINITY;
         f->lim_known = true;
@@ -550,7 +554,7 @@ static inline __attribute__((always_inline)) bool flight_stops_as(flight *f, col
 
 static inline bool flight_stops(flight *f, color D, color w, double w_stop)
 {
-    return flight_stops_as(f, D, w, w_stop, false);
+    return flight_stops_as(f, D, &w, w_stop, false);
 }
 
 static inline bool col_is_grey(color a)
@@ -635,7 +639,8 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
     const size_t nx = (size_t)bm->n[0], ny = (size_t)bm->n[1];
     const double sigma_bar = bm->sigma_bar;
     const int nc = grey ? 1 : BRUME_NSAMPLES; /* the channels the loop keeps */
-    double tau = f->tau;
+    double tau = f->tau, bound = f->bound; /* bound: as f's, kept here */
+    bool have_u = f->have_u;
     color D = f->D;
     bool was = *have_last;
     size_t lv = *last;
@@ -648,20 +653,26 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
 #pragma GCC unroll 3
         for (int k = 0; k < nc; k++)
             kx.c[k] = kx1.c[k] * rh;
-        f->tau = tau;
-        if (!f->have_u && sb > 0.0) /* the first voxel that can scatter: draw u */
+        if (!have_u && sb > 0.0) { /* the first voxel that can scatter: draw u */
             flight_draw(f, g);
-        if (tau + sb * dl >= f->bound && flight_reaches(f, tau + sb * dl)) { /* sb > 0 here: tau < target before */
-            double ds = (f->target - tau) / sb;
-            piece pc; /* only what intercept reads */
-            pc.n = 1;
-            pc.m[0] = 0;
-            pc.v[0] = v;
-            f->D = grey ? col(D.c[0]) : D;
-            kx = grey ? col(kx.c[0]) : kx;
-            *have_last = true;
-            return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
-                                                                                          : FLIGHT_STOPPED;
+            have_u = true;
+            bound = f->bound;
+        }
+        if (tau + sb * dl >= bound) { /* sb > 0 here: tau < bound before */
+            const bool hit = flight_reaches(f, tau + sb * dl);
+            bound = f->bound; /* the target, taken now */
+            if (hit) {
+                double ds = (f->target - tau) / sb;
+                piece pc; /* only what intercept reads */
+                pc.n = 1;
+                pc.m[0] = 0;
+                pc.v[0] = v;
+                f->D = grey ? col(D.c[0]) : D;
+                kx = grey ? col(kx.c[0]) : kx;
+                *have_last = true;
+                return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
+                                                                                              : FLIGHT_STOPPED;
+            }
         }
         /* !(sb <= 0 && kx == 0), with | so that no branch is mispredicted on it */
         bool counts = !(sb <= 0.0);
@@ -674,7 +685,7 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
             D.c[k] += counts ? kx.c[k] * dl : 0.0;
         lv = counts ? v : lv;
         was |= counts;
-        if (was && flight_stops_as(f, D, *w, w_stop, grey)) {
+        if (was && flight_stops_as(f, D, w, w_stop, grey)) {
             e = FLIGHT_STOPPED;
             break;
         }
