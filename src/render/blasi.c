@@ -57,6 +57,7 @@ static const blasi_options *blasi_opts(const brume_scene *s) { return scene_opti
 #define BLASI_SKIP_CELLS 192       /* skip empty blocks when nx + ny + nz exceeds this: a ray through a
                                       smaller grid crosses too few voxels for the restarts to pay */
 #define BLASI_R_DEFAULT 0.1        /* "a small proportion (r ~ 0.1) of isotropic scattering" (4.2) */
+#define BLASI_SLABS 6               /* diagonal slabs around the non-empty voxels (walk_begin_one) */
 #define BLASI_FILE_MAGIC "BRUMEBL1"
 #define BLASI_FILE_VERSION 1u
 
@@ -79,6 +80,8 @@ typedef struct blasi_medium {
     phase *dir_owned;
     bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
     int occ_lo[3], occ_hi[3]; /* the box of the voxels with rho > 0, [lo, hi) (all 0 if none) */
+    double slab_lo[BLASI_SLABS], slab_hi[BLASI_SLABS]; /* the voxels with rho > 0 between the planes
+                                                          n . x = lo and hi, n = blasi_slab_n (voxel space) */
     vec3 occ_c, occ_e;   /* a world box holding that box (centre, half-extents slightly enlarged;
                             e < 0 when it is empty), for line_misses_box */
     int bn[3];           /* occupancy blocks per axis: ceil(n / BLASI_BLOCK) */
@@ -150,12 +153,48 @@ static inline bool line_misses_box(vec3 c, vec3 e, vec3 o, vec3 d)
            (fabs(w.x * d.y - w.y * d.x) > e.x * ay + e.y * ax + tol);
 }
 
+/* The normals of the diagonal slabs, voxel space: with the box of the non-empty voxels
+ * they bound them by an 18-sided polyhedron, much closer to a cloud than its box. */
+static const int blasi_slab_n[BLASI_SLABS][3] = {{1, 1, 0}, {1, -1, 0}, {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
+
+/* [*t0, *t1] of the ray o + t d (voxel space) cut to the medium's diagonal slabs; false
+ * when nothing is left. */
+static inline __attribute__((always_inline)) bool slabs_clip(const blasi_medium *bm, vec3 o, vec3 d, double *t0,
+                                                             double *t1)
+{
+    double a0 = *t0, a1 = *t1;
+#pragma GCC unroll 6
+    for (int q = 0; q < BLASI_SLABS; q++) {
+        const int *n = blasi_slab_n[q];
+        const double a = n[0] * o.x + n[1] * o.y + n[2] * o.z, b = n[0] * d.x + n[1] * d.y + n[2] * d.z;
+        if (b == 0.0) { /* parallel to the slab: inside or not at all */
+            if (!(a >= bm->slab_lo[q] && a <= bm->slab_hi[q]))
+                return false;
+            continue;
+        }
+        /* ordered by selects, as grid_dda_begin_box does (not fmin, fmax: library calls) */
+        const double inv = 1.0 / b, ta = (bm->slab_lo[q] - a) * inv, tb = (bm->slab_hi[q] - a) * inv;
+        const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
+        a0 = t_near > a0 ? t_near : a0;
+        a1 = t_far < a1 ? t_far : a1;
+    }
+    *t0 = a0;
+    *t1 = a1;
+    return a0 < a1;
+}
+
 /* One medium and a small grid (!bm->skip): the walk over every voxel of the box of its
- * non-empty voxels, empty ones cost a step. False when the ray misses that box. */
-static inline __attribute__((always_inline)) bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g)
+ * non-empty voxels (that lies between their diagonal slabs, with slabs), empty ones cost a
+ * step. False when the ray misses them. The slabs pay for the view rays (a third fewer
+ * voxel steps on picture 1, and 140 k fewer walks of empty voxels only, for six divisions
+ * a ray), not for the light rays, whose flights mostly start inside the cloud. */
+static inline __attribute__((always_inline)) bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g,
+                                                                 bool slabs)
 {
     vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
-    return bm->occ_hi[0] > 0 && grid_dda_begin_box(g, bm->n, bm->occ_lo, bm->occ_hi, o, d, 0.0, tmax);
+    double t0 = 0.0, t1 = tmax;
+    return bm->occ_hi[0] > 0 && (!slabs || slabs_clip(bm, o, d, &t0, &t1)) &&
+           grid_dda_begin_box(g, bm->n, bm->occ_lo, bm->occ_hi, o, d, t0, t1);
 }
 
 static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
@@ -167,7 +206,7 @@ static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
          * restarts it (grid_dda_restart: no clipping, no division) */
         const blasi_medium *bm = &st->m[0];
         if (!bm->skip) {
-            w->live[0] = walk_begin_one(bm, r, tmax, &w->dda[0]);
+            w->live[0] = walk_begin_one(bm, r, tmax, &w->dda[0], true);
             w->blocks_live = false;
             return;
         }
@@ -632,7 +671,7 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
-    if (!walk_begin_one(bm, *r, t_end, &g0))
+    if (!walk_begin_one(bm, *r, t_end, &g0, false))
         return FLIGHT_LEFT;
     grid_dda gd = g0; /* never escapes */
     const float *rho = st->rho;
@@ -1275,12 +1314,27 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
                             bm->occ_lo[a] = !any || c[a] < bm->occ_lo[a] ? c[a] : bm->occ_lo[a];
                             bm->occ_hi[a] = !any || c[a] + 1 > bm->occ_hi[a] ? c[a] + 1 : bm->occ_hi[a];
                         }
+                        for (int sl = 0; sl < BLASI_SLABS; sl++) { /* the voxel's extent along n */
+                            const int *n = blasi_slab_n[sl];
+                            int lo = 0, hi = 0;
+                            for (int a = 0; a < 3; a++) {
+                                lo += n[a] * c[a] + (n[a] < 0 ? n[a] : 0);
+                                hi += n[a] * c[a] + (n[a] > 0 ? n[a] : 0);
+                            }
+                            bm->slab_lo[sl] = !any || lo < bm->slab_lo[sl] ? lo : bm->slab_lo[sl];
+                            bm->slab_hi[sl] = !any || hi > bm->slab_hi[sl] ? hi : bm->slab_hi[sl];
+                        }
                         any = true;
                     }
                     if (rho != 0.0f)
                         bm->occ[(size_t)(i / BLASI_BLOCK) +
                                 (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
                 }
+        for (int sl = 0; sl < BLASI_SLABS; sl++) { /* a millionth of a voxel wider: far more than
+                                                     the rounding of a ray's clipping to them */
+            bm->slab_lo[sl] -= 1e-6;
+            bm->slab_hi[sl] += 1e-6;
+        }
     }
     st->light_box = box3_empty();
     for (int m = 0; m < st->nm && rc == BRUME_OK; m++) { /* the world box of each medium's non-empty voxels */
@@ -1460,7 +1514,7 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
     /* most view rays miss the non-empty voxels: those are told without a walk set-up */
-    if (line_misses_box(bm->occ_c, bm->occ_e, r.o, r.d) || !walk_begin_one(bm, r, t_end, &g0))
+    if (line_misses_box(bm->occ_c, bm->occ_e, r.o, r.d) || !walk_begin_one(bm, r, t_end, &g0, true))
         return true;
     grid_dda g = g0; /* never escapes: the compiler keeps it in registers */
     const float *rho = st->rho;
