@@ -118,29 +118,54 @@ static inline __attribute__((always_inline)) bool dda_seed(grid_dda *g, double t
     return ok;
 }
 
-/* The same walk restricted to the cells of the box [lo, hi) (0 <= lo < hi <= n per axis),
- * e.g. the box of a grid's non-empty cells: the steps are those of grid_dda_begin that lie
- * in the box. Inline: a caller that begins a walk per ray (blasi's loops) keeps the state
- * in registers instead of passing it through memory to a call, and overlaps the set-up's
- * long chain of dependent operations with its own work. */
-static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3],
-                                                                     const int hi[3], vec3 o, vec3 d, double tmin,
-                                                                     double tmax)
+/* The part of a walk's set-up that depends on its direction alone (cell space): rays that
+ * share a direction (a sun's parallel rays) make it once (grid_dda_begin_box_dir). */
+typedef struct grid_dda_dir {
+    double d[3], inv[3], delta[3]; /* as in grid_dda */
+    int step[3];
+    bool finite; /* d is finite */
+} grid_dda_dir;
+
+static inline __attribute__((always_inline)) void grid_dda_dir_make(grid_dda_dir *w, vec3 d)
 {
-    const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    const double dd[3] = {d.x, d.y, d.z};
+    double finite = 0.0; /* x - x is 0 for a finite x and NaN otherwise */
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        w->d[a] = dd[a];
+        finite += dd[a] - dd[a];
+        if (dd[a] == 0.0) {
+            w->step[a] = 0;
+            w->inv[a] = 0.0;
+            w->delta[a] = INFINITY;
+            continue;
+        }
+        const double inv = 1.0 / dd[a];
+        w->inv[a] = inv;
+        w->delta[a] = fabs(inv);
+        w->step[a] = dd[a] > 0.0 ? 1 : -1;
+    }
+    w->finite = finite == 0.0;
+}
+
+/* grid_dda_begin_box for the direction w made by grid_dda_dir_make: the same walk. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dda *g, const int n[3], const int lo[3],
+                                                                         const int hi[3], vec3 o, const grid_dda_dir *w,
+                                                                         double tmin, double tmax)
+{
+    const double oo[3] = {o.x, o.y, o.z};
     g->done = true;
     g->t = tmin;
     g->tmax = tmax;
-    /* the arguments checked first, all axes at once (one branch, not one per test); x - x is
-     * 0 for a finite x and NaN otherwise, so the sum is 0 when o and d are finite */
+    /* the arguments checked first, all axes at once (one branch, not one per test) */
     bool valid = tmin < tmax;
     double finite = 0.0;
 #pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
         valid &= (n[a] >= 1) & (0 <= lo[a]) & (lo[a] < hi[a]) & (hi[a] <= n[a]);
-        finite += (oo[a] - oo[a]) + (dd[a] - dd[a]);
+        finite += oo[a] - oo[a];
     }
-    if (!(valid & (finite == 0.0)))
+    if (!(valid & w->finite & (finite == 0.0)))
         return false;
     /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;
@@ -148,20 +173,16 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g
     for (int a = 0; a < 3; a++) {
         g->n[a] = n[a];
         g->o[a] = oo[a];
-        g->d[a] = dd[a];
-        if (dd[a] == 0.0) {
-            g->step[a] = 0;
-            g->inv[a] = 0.0;
-            g->delta[a] = INFINITY;
+        g->d[a] = w->d[a];
+        g->inv[a] = w->inv[a];
+        g->delta[a] = w->delta[a];
+        g->step[a] = w->step[a];
+        if (w->step[a] == 0) {
             if (!(oo[a] >= (double)lo[a] && oo[a] < (double)hi[a]))
                 return false;
             continue;
         }
-        double inv = 1.0 / dd[a];
-        g->inv[a] = inv;
-        g->delta[a] = fabs(inv);
-        g->step[a] = dd[a] > 0.0 ? 1 : -1;
-        double ta = ((double)lo[a] - oo[a]) * inv, tb = ((double)hi[a] - oo[a]) * inv;
+        double ta = ((double)lo[a] - oo[a]) * w->inv[a], tb = ((double)hi[a] - oo[a]) * w->inv[a];
         /* ordered by selects, not a branch: the sign of a ray's direction is unpredictable */
         const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
         t0 = t_near > t0 ? t_near : t0;
@@ -172,6 +193,20 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g
     g->tmax = g->t_out = t1;
     g->t_in = t0;
     return dda_seed(g, t0);
+}
+
+/* The same walk restricted to the cells of the box [lo, hi) (0 <= lo < hi <= n per axis),
+ * e.g. the box of a grid's non-empty cells: the steps are those of grid_dda_begin that lie
+ * in the box. Inline: a caller that begins a walk per ray (blasi's loops) keeps the state
+ * in registers instead of passing it through memory to a call, and overlaps the set-up's
+ * long chain of dependent operations with its own work. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3],
+                                                                     const int hi[3], vec3 o, vec3 d, double tmin,
+                                                                     double tmax)
+{
+    grid_dda_dir w;
+    grid_dda_dir_make(&w, d);
+    return grid_dda_begin_box_dir(g, n, lo, hi, o, &w, tmin, tmax);
 }
 
 /* Walks the same ray again over [t0, t1], a part of the interval g was begun with (an

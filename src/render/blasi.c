@@ -197,6 +197,15 @@ static inline __attribute__((always_inline)) bool walk_begin_one(const blasi_med
            grid_dda_begin_box(g, bm->n, bm->occ_lo, bm->occ_hi, o, d, t0, t1);
 }
 
+/* walk_begin_one without slabs for a ray whose direction's set-up is made (sun: the voxel
+ * space direction of a sun's rays, shared by all of them). */
+static inline __attribute__((always_inline)) bool walk_begin_one_dir(const blasi_medium *bm, ray r, double tmax,
+                                                                     grid_dda *g, const grid_dda_dir *sun)
+{
+    return bm->occ_hi[0] > 0 && grid_dda_begin_box_dir(g, bm->n, bm->occ_lo, bm->occ_hi,
+                                                       affine3_apply(&bm->w2v, r.o), sun, 0.0, tmax);
+}
+
 static void walk_begin(walk *w, const blasi_state *st, ray r, double tmax)
 {
     w->nm = st->nm;
@@ -667,11 +676,11 @@ typedef enum flight_end { FLIGHT_LEFT, FLIGHT_SCATTERED, FLIGHT_STOPPED } flight
 static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_state *st, flight *f, ray *r,
                                                                    double t_end, color *w, double w_stop, rng *g,
                                                                    light_sums *acc, bool *have_last, size_t *last,
-                                                                   color kx1, bool grey)
+                                                                   const grid_dda_dir *sun, color kx1, bool grey)
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
-    if (!walk_begin_one(bm, *r, t_end, &g0, false))
+    if (!(sun ? walk_begin_one_dir(bm, *r, t_end, &g0, sun) : walk_begin_one(bm, *r, t_end, &g0, false)))
         return FLIGHT_LEFT;
     grid_dda gd = g0; /* never escapes */
     const float *rho = st->rho;
@@ -737,15 +746,15 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
 }
 
 static flight_end fly_one(const blasi_state *st, flight *f, ray *r, double t_end, color *w, double w_stop, rng *g,
-                          light_sums *acc, bool *have_last, size_t *last)
+                          light_sums *acc, bool *have_last, size_t *last, const grid_dda_dir *sun)
 {
     const blasi_medium *bm = &st->m[0];
     color kx1; /* (sigma_t - sigma_bar) per unit density */
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         kx1.c[c] = bm->sigma_t.c[c] - bm->sigma_bar;
     if (col_is_grey(kx1) && col_is_grey(f->D))
-        return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, kx1, true);
-    return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, kx1, false);
+        return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, sun, kx1, true);
+    return fly_one_as(st, f, r, t_end, w, w_stop, g, acc, have_last, last, sun, kx1, false);
 }
 
 /* A flight through any media: the merged voxel walks, or uniform steps (blasi.step). */
@@ -799,9 +808,25 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
 
 /* Follows one light ray through the media (Algorithm of the First Pass), flight by
  * flight. */
-static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, light_sums *acc)
+/* True when light flights take fly_one: one small grid, the voxel walk. */
+static inline bool flights_one(const blasi_state *st) { return st->nm == 1 && !st->m[0].skip && !(st->step > 0.0); }
+
+/* The voxel-space set-up of the direction of a delta sun's rays (light_ray gives them all
+ * its direction), for their first flights through one small grid; NULL for another light
+ * or other media. */
+static const grid_dda_dir *sun_dir(const blasi_state *st, const light *l, grid_dda_dir *out)
 {
-    const bool one = st->nm == 1 && !st->m[0].skip && !(st->step > 0.0);
+    if (!flights_one(st) || l->kind != LIGHT_DISTANT || l->angular_radius > 0.0)
+        return NULL;
+    grid_dda_dir_make(out, affine3_apply_dir(&st->m[0].w2v, l->direction));
+    return out;
+}
+
+/* sun: sun_dir of the ray's light, or NULL. */
+static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, color w, rng *g, light_sums *acc,
+                            const grid_dda_dir *sun)
+{
+    const bool one = flights_one(st);
     double w_stop = st->threshold * col_max(w);
     bool have_last = false; /* the last non-empty voxel crossed, for the exit deposit */
     size_t last = 0;
@@ -821,7 +846,7 @@ static void trace_light_ray(const brume_scene *s, const blasi_state *st, ray r, 
             t_end = h.t;
         flight f;
         flight_begin(&f);
-        flight_end e = one ? fly_one(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last)
+        flight_end e = one ? fly_one(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last, flights == 0 ? sun : NULL)
                            : fly(st, &f, &r, t_end, &w, w_stop, g, acc, &have_last, &last);
         if (e == FLIGHT_SCATTERED)
             continue;
@@ -854,18 +879,21 @@ static void pass1_batch(size_t task, int thread, void *user)
     }
     size_t l = lo;
     uint64_t l0 = job->first[l], l1 = job->first[l + 1];
+    grid_dda_dir sun_mem;
+    const grid_dda_dir *sun = sun_dir(job->st, &s->lights[l], &sun_mem);
     for (uint64_t i = first; i < end; i++) {
         while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
             l0 = l1;
             l1 = job->first[l + 1];
+            sun = sun_dir(job->st, &s->lights[l], &sun_mem);
         }
         rng g = rng_make(s->settings.seed, i, 0xB1A5100000ULL);
         ray r;
         color W;
         if (light_ray(s, job->st, &s->lights[l], i - l0, l1 - l0, &g, &r, &W) && col_max(W) > 0.0) {
             out->emitted += W.c[0] + W.c[1] + W.c[2];
-            trace_light_ray(s, job->st, r, W, &g, out);
+            trace_light_ray(s, job->st, r, W, &g, out, sun);
         }
     }
     job->batch[b] = (light_sums){NULL, NULL, 0.0, sums.intercepts, sums.deposits, sums.emitted};
