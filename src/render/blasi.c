@@ -503,12 +503,42 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
     return sb;
 }
 
-/* exp(-x) per channel, with one exp when the channels are equal (a grey medium). */
+/* T = exp(-tau) and f = (1 - T) / tau, the fraction of a voxel's length that its source
+ * fills, for tau >= 0. Most voxels are optically thin (tau ~ 0.01 in the paper's scenes):
+ * there the Taylor series of f to tau^7 (truncation below 1e-15 for tau < 1/16) gives
+ * both without calling exp. */
+static inline void voxel_exp(double tau, double *T, double *f)
+{
+    if (tau < 0.0625) {
+        /* Estrin's scheme: the terms in pairs, so the series costs a few multiplications of
+         * latency rather than a chain of eight */
+        double x = tau, x2 = x * x, x4 = x2 * x2;
+        double p01 = 1.0 - x * (1.0 / 2), p23 = 1.0 / 6 - x * (1.0 / 24), p45 = 1.0 / 120 - x * (1.0 / 720),
+               p67 = 1.0 / 5040 - x * (1.0 / 40320);
+        *f = (p01 + x2 * p23) + x4 * (p45 + x2 * p67);
+        *T = 1.0 - x * *f;
+        return;
+    }
+    *T = exp(-tau);
+    *f = (1.0 - *T) / tau;
+}
+
+/* exp(-x) per channel, once when the channels are equal (a grey medium), and by
+ * voxel_exp's series for 0 <= x < 1/16, where most of a light ray's decays are (a
+ * chromatic medium's may be negative: exp). */
 static inline color col_exp_neg(color x)
 {
     color e;
-    for (int c = 0; c < BRUME_NSAMPLES; c++)
-        e.c[c] = c > 0 && x.c[c] == x.c[c - 1] ? e.c[c - 1] : exp(-x.c[c]);
+    for (int c = 0; c < BRUME_NSAMPLES; c++) {
+        double T = 0.0, f;
+        if (c > 0 && x.c[c] == x.c[c - 1])
+            T = e.c[c - 1];
+        else if (x.c[c] >= 0.0)
+            voxel_exp(x.c[c], &T, &f);
+        else
+            T = exp(-x.c[c]);
+        e.c[c] = T;
+    }
     return e;
 }
 
@@ -1419,26 +1449,6 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
 void blasi_get_stats(const blasi_state *st, blasi_stats *out) { *out = st->stats; }
 
 /* ---- second pass ------------------------------------------------------------------------- */
-
-/* T = exp(-tau) and f = (1 - T) / tau, the fraction of a voxel's length that its source
- * fills, for tau >= 0. Most voxels are optically thin (tau ~ 0.01 in the paper's scenes):
- * there the Taylor series of f to tau^7 (truncation below 1e-15 for tau < 1/16) gives
- * both without calling exp. */
-static inline void voxel_exp(double tau, double *T, double *f)
-{
-    if (tau < 0.0625) {
-        /* Estrin's scheme: the terms in pairs, so the series costs a few multiplications of
-         * latency rather than a chain of eight */
-        double x = tau, x2 = x * x, x4 = x2 * x2;
-        double p01 = 1.0 - x * (1.0 / 2), p23 = 1.0 / 6 - x * (1.0 / 24), p45 = 1.0 / 120 - x * (1.0 / 720),
-               p67 = 1.0 / 5040 - x * (1.0 / 40320);
-        *f = (p01 + x2 * p23) + x4 * (p45 + x2 * p67);
-        *T = 1.0 - x * *f;
-        return;
-    }
-    *T = exp(-tau);
-    *f = (1.0 - *T) / tau;
-}
 
 /* exp(-kappa delta) per channel over [0, tmax] along r: the view attenuation of a segment. */
 static color view_attenuation(const blasi_state *st, ray r, double tmax)
