@@ -1551,8 +1551,7 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
 {
     const blasi_medium *bm = &st->m[0];
     grid_dda g0;
-    /* most view rays miss the non-empty voxels: those are told without a walk set-up */
-    if (line_misses_box(bm->occ_c, bm->occ_e, r.o, r.d) || !walk_begin_one(bm, r, t_end, &g0, true))
+    if (!walk_begin_one(bm, r, t_end, &g0, true))
         return true;
     grid_dda g = g0; /* never escapes: the compiler keeps it in registers */
     const float *rho = st->rho;
@@ -1685,9 +1684,12 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
         *hit_surface = on_surface;
 
     color L = col(0.0), A = col(1.0), tau_t = col(0.0);
-    if (st->nm > 0) {
+    const bool one = st->nm == 1 && !st->m[0].skip;
+    /* most view rays miss the non-empty voxels of one grid: those are told here, without a
+     * walk or its set-up */
+    if (st->nm > 0 && !(one && line_misses_box(st->m[0].occ_c, st->m[0].occ_e, r.o, r.d))) {
         view_sums v = {L, A, tau_t};
-        bool on = st->nm == 1 && !st->m[0].skip ? view_walk_one(st, r, t_end, &v) : view_walk(st, r, t_end, &v);
+        bool on = one ? view_walk_one(st, r, t_end, &v) : view_walk(st, r, t_end, &v);
         L = v.L;
         A = v.A;
         tau_t = v.tau_t;
