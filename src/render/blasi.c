@@ -185,9 +185,9 @@ static inline __attribute__((always_inline)) bool slabs_clip(const blasi_medium 
 
 /* One medium and a small grid (!bm->skip): the walk over every voxel of the box of its
  * non-empty voxels (that lies between their diagonal slabs, with slabs), empty ones cost a
- * step. False when the ray misses them. The slabs pay for the view rays (a third fewer
- * voxel steps on picture 1, and 140 k fewer walks of empty voxels only, for six divisions
- * a ray), not for the light rays, whose flights mostly start inside the cloud. */
+ * step. False when the ray misses them. The slabs pay for the view rays (on picture 1,
+ * 376 k walks of 6.5 M voxel steps instead of 503 k of 8.1 M, for six divisions a ray),
+ * not for the light rays, whose flights mostly start inside the cloud. */
 static inline __attribute__((always_inline)) bool walk_begin_one(const blasi_medium *bm, ray r, double tmax, grid_dda *g,
                                                                  bool slabs)
 {
