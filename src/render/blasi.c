@@ -30,6 +30,7 @@
 #include "render/blasi.h"
 
 #include <errno.h>
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -162,18 +163,43 @@ static const int blasi_slab_n[BLASI_SLABS][3] = {{1, 1, 0}, {1, -1, 0}, {1, 0, 1
 static inline __attribute__((always_inline)) bool slabs_clip(const blasi_medium *bm, vec3 o, vec3 d, double *t0,
                                                              double *t1)
 {
-    double a0 = *t0, a1 = *t1;
+    double a0 = *t0, a1 = *t1, b[BLASI_SLABS], inv[BLASI_SLABS];
+    /* the six reciprocals from one division: inv_q = (product of the other b) / (product
+     * of all), the products from both ends (rounding of a few ulps: the slabs' margin is
+     * far wider); one at a time when a product is not a normal number (b = 0: parallel) */
+    double pre[BLASI_SLABS + 1], suf[BLASI_SLABS + 1];
+    pre[0] = suf[BLASI_SLABS] = 1.0;
 #pragma GCC unroll 6
     for (int q = 0; q < BLASI_SLABS; q++) {
         const int *n = blasi_slab_n[q];
-        const double a = n[0] * o.x + n[1] * o.y + n[2] * o.z, b = n[0] * d.x + n[1] * d.y + n[2] * d.z;
-        if (b == 0.0) { /* parallel to the slab: inside or not at all */
+        b[q] = n[0] * d.x + n[1] * d.y + n[2] * d.z;
+        pre[q + 1] = pre[q] * b[q];
+    }
+#pragma GCC unroll 6
+    for (int q = BLASI_SLABS - 1; q >= 0; q--)
+        suf[q] = suf[q + 1] * b[q];
+    const double all = pre[BLASI_SLABS];
+    if (fabs(all) >= DBL_MIN && fabs(all) <= DBL_MAX) {
+        const double inv_all = 1.0 / all;
+#pragma GCC unroll 6
+        for (int q = 0; q < BLASI_SLABS; q++)
+            inv[q] = pre[q] * suf[q + 1] * inv_all;
+    } else {
+#pragma GCC unroll 6
+        for (int q = 0; q < BLASI_SLABS; q++)
+            inv[q] = 1.0 / b[q];
+    }
+#pragma GCC unroll 6
+    for (int q = 0; q < BLASI_SLABS; q++) {
+        const int *n = blasi_slab_n[q];
+        const double a = n[0] * o.x + n[1] * o.y + n[2] * o.z;
+        if (b[q] == 0.0) { /* parallel to the slab: inside or not at all */
             if (!(a >= bm->slab_lo[q] && a <= bm->slab_hi[q]))
                 return false;
             continue;
         }
         /* ordered by selects, as grid_dda_begin_box does (not fmin, fmax: library calls) */
-        const double inv = 1.0 / b, ta = (bm->slab_lo[q] - a) * inv, tb = (bm->slab_hi[q] - a) * inv;
+        const double ta = (bm->slab_lo[q] - a) * inv[q], tb = (bm->slab_hi[q] - a) * inv[q];
         const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
         a0 = t_near > a0 ? t_near : a0;
         a1 = t_far < a1 ? t_far : a1;
