@@ -169,6 +169,117 @@ TEST(threads_do_not_change_the_image)
     brume_image_release(d);
 }
 
+/* The first pass's saved radiance grid (blasi.save_light) for json on `threads` threads,
+ * with the memory limit set, when `one_copy`, to leave room for one copy of the light
+ * pass's per-thread sums and a half (3 fixed-point sums of 16 bytes per non-empty voxel). */
+static void light_file(const char *json, int threads, uint64_t seed, bool one_copy, const char *path)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    rs.threads = threads;
+    rs.seed = seed;
+    rs.width = rs.height = 4;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "60000"), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.r", "0.2"), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.save_light", path), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    if (one_copy) {
+        density_info info;
+        density_get_info(s->media[0].rho, &info);
+        size_t nocc = 0;
+        for (int k = 0; k < info.n[2]; k++)
+            for (int j = 0; j < info.n[1]; j++)
+                for (int i = 0; i < info.n[0]; i++)
+                    nocc += (float)density_voxel(s->media[0].rho, i, j, k) != 0.0f;
+        s->max_memory = s->memory_used + 72 * nocc;
+    }
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+static bool same_file(const char *a, const char *b)
+{
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    ASSERT_TRUE(fa && fb);
+    int ca, cb;
+    do {
+        ca = fgetc(fa);
+        cb = fgetc(fb);
+    } while (ca == cb && ca != EOF);
+    fclose(fa);
+    fclose(fb);
+    return ca == cb;
+}
+
+/* The light pass sums its deposits in fixed point, each thread its own (docs/blasi.md,
+ * "Threads"): the stored source S is the same bits for 1, 2 and 3 threads, and for 3
+ * threads when the memory limit leaves room for one thread's sums only (the pass then runs
+ * on one thread); another seed changes it (the comparison can fail). */
+TEST(light_pass_sums_do_not_depend_on_threads)
+{
+    const char *json = CLOUD_SCENE(SUN, "");
+    char p1[512], p2[512], p3[512], pm[512], ps[512];
+    snprintf(p1, sizeof p1, "%s", test_tmp_path("t1.bbl"));
+    snprintf(p2, sizeof p2, "%s", test_tmp_path("t2.bbl"));
+    snprintf(p3, sizeof p3, "%s", test_tmp_path("t3.bbl"));
+    snprintf(pm, sizeof pm, "%s", test_tmp_path("tm.bbl"));
+    snprintf(ps, sizeof ps, "%s", test_tmp_path("ts.bbl"));
+    light_file(json, 1, 5, false, p1);
+    light_file(json, 2, 5, false, p2);
+    light_file(json, 3, 5, false, p3);
+    light_file(json, 3, 5, true, pm);
+    light_file(json, 2, 6, false, ps);
+    ASSERT_TRUE(same_file(p1, p2));
+    ASSERT_TRUE(same_file(p1, p3));
+    ASSERT_TRUE(same_file(p1, pm));
+    ASSERT_TRUE(!same_file(p1, ps));
+    remove(p1);
+    remove(p2);
+    remove(p3);
+    remove(pm);
+    remove(ps);
+}
+
+/* The fixed-point sums keep the power: with albedo 1, r = 1 (a ray stores all it carries at
+ * its first interception) and the paper's exit deposit (what leaves is stored too) in a
+ * homogeneous medium that every traced ray enters, every ray stores exactly the power it
+ * started with, so the stored power equals the emitted power, each summed its own way (the
+ * voxels' fixed-point sums, the rays' doubles), to the sums' resolution: 1e-12 of a ray's
+ * power per deposit. A wrong unit would be off by a power of two. */
+TEST(light_pass_keeps_the_power)
+{
+    const char *json =
+        "{\"camera\": {\"position\": [0.6, -3.5, 3.0], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1], \"fov\": 40},"
+        " \"lights\": [" SUN "],"
+        " \"media\": [{\"sigma_a\": 0, \"sigma_s\": 2, \"density\": {\"type\": \"constant\", \"value\": 1,"
+        "   \"bounds\": [[-1.6, -1.6, -0.4], [1.6, 1.6, 0.4]]}}],"
+        " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 1, \"method\": \"blasi\", \"threads\": 2},"
+        " \"blasi\": {\"light_rays\": 50000, \"r\": 1, \"variant\": \"paper\"}}";
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    blasi_stats bs;
+    blasi_get_stats(s->prepared->state, &bs);
+    fprintf(stderr, "stored %.17g of %.17g emitted, %llu deposits of %llu traced rays\n", bs.stored_power,
+            bs.emitted_power, (unsigned long long)bs.deposits, (unsigned long long)bs.traced_rays);
+    ASSERT_TRUE(bs.emitted_power > 0.0);
+    ASSERT_EQ_INT((long long)bs.deposits, (long long)bs.traced_rays); /* one deposit a ray */
+    ASSERT_NEAR(bs.stored_power, bs.emitted_power, 1e-10 * bs.emitted_power);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
 /* The light pass aims its rays at the box of the non-empty voxels and traces the share of
  * blasi.light_rays that the box's projected area along the sun is of the grid's
  * (docs/blasi.md, "Rays that cannot deposit"): the count checked against that box found
@@ -575,7 +686,8 @@ TEST(view_radiance_matches_brute_force)
 }
 
 TEST_MAIN(r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,
-          threads_do_not_change_the_image, light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
+          threads_do_not_change_the_image, light_pass_sums_do_not_depend_on_threads, light_pass_keeps_the_power,
+          light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
           paper_variants_are_brighter,
           uniform_steps_agree_with_voxel_walk, bad_options_name_the_key, transmittance_matches_brute_force,
           view_radiance_matches_brute_force)

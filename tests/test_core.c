@@ -1,8 +1,10 @@
-/* test_core.c - vectors, frames, the counter-based generator and the sampling warps. */
+/* test_core.c - vectors, frames, the counter-based generator, the sampling warps, the
+ * thread pool and fixed-point sums. */
 #include "test.h"
 
 #include <stdint.h>
 
+#include "core/fixsum.h"
 #include "core/pool.h"
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -155,5 +157,47 @@ TEST(pool_runs_each_task_once)
     }
 }
 
+/* Fixed-point sums (core/fixsum.h): carries into the high word, terms of 2^63 units and
+ * more split exactly, and the same bits in any order and any split into partial sums. */
+TEST(fixsum_is_exact_in_any_order)
+{
+    fixsum a = {0, 0};
+    for (int i = 0; i < 8; i++) /* 8 (2^62 - 2^10) = 2^65 - 2^13: carries into the high word */
+        fixsum_add(&a, 0x1p62 - 0x1p10);
+    ASSERT_TRUE(a.hi == 1 && a.lo == UINT64_MAX - 8191);
+    fixsum b = {0, 0};
+    fixsum_add(&b, 0x1p70 + 0x1p20); /* a large term: 2^6 in the high word, 2^20 in the low */
+    fixsum_add(&b, 3.75);            /* truncated to 3 */
+    ASSERT_TRUE(b.hi == 64 && b.lo == (1ULL << 20) + 3);
+    ASSERT_NEAR(fixsum_value(b), 0x1p70, 1e-12 * 0x1p70);
+    fixsum c = {0, 0};
+    fixsum_add(&c, 1e300); /* beyond the ceiling: 2^127 */
+    ASSERT_TRUE(c.hi == 1ULL << 63 && c.lo == 0);
+
+    /* terms over 30 orders of magnitude, summed forwards, backwards, and in three
+     * interleaved partial sums merged: the same bits, and the exact sum within one unit per
+     * term (the truncations) and the double rounding of the reference */
+    enum { N = 5000 };
+    static double x[N];
+    rng g = rng_make(11, 0, 0);
+    long double ref = 0.0L;
+    for (int i = 0; i < N; i++) {
+        x[i] = ldexp(rng_next(&g), (int)(rng_next(&g) * 100.0)); /* [0, 2^100) */
+        ref += (long double)x[i];
+    }
+    fixsum fwd = {0, 0}, bwd = {0, 0}, part[3] = {{0, 0}, {0, 0}, {0, 0}}, merged = {0, 0};
+    for (int i = 0; i < N; i++) {
+        fixsum_add(&fwd, x[i]);
+        fixsum_add(&bwd, x[N - 1 - i]);
+        fixsum_add(&part[(i * 7) % 3], x[i]);
+    }
+    for (int k = 2; k >= 0; k--)
+        fixsum_merge(&merged, part[k]);
+    ASSERT_TRUE(fwd.lo == bwd.lo && fwd.hi == bwd.hi);
+    ASSERT_TRUE(fwd.lo == merged.lo && fwd.hi == merged.hi);
+    ASSERT_NEAR(fixsum_value(fwd), (double)ref, 1e-15 * (double)ref + N);
+    ASSERT_TRUE(fwd.hi > 0); /* the sum passed 2^64: the high word was exercised */
+}
+
 TEST_MAIN(frame_orthonormal, box_intersect, rng_determinism, rng_uniform_chi2, rng_independence,
-          sampling_moments, pool_runs_each_task_once)
+          sampling_moments, pool_runs_each_task_once, fixsum_is_exact_in_any_order)

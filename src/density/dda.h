@@ -56,11 +56,158 @@ typedef struct grid_dda_step {
  * n[0] x n[1] x n[2] cells. Returns false (and a finished iterator) when the ray misses. */
 bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, double tmax);
 
+
+/* a < b ? a : b and a > b ? a : b (b when unordered), as selects: a compiler may turn the
+ * ternaries into a branch, which mispredicts on data such as a ray's direction */
+static inline double dda_min(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a < b ? a : b;
+#endif
+}
+
+static inline double dda_max(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a > b ? a : b;
+#endif
+}
+
+/* First cell per axis at t0 (inside the clipped interval): the one whose slab interval
+ * [enter, exit) holds t0. Start from the rounded position, then correct with the exact
+ * crossing formula. Inlined into both callers, its axes unrolled: it runs once per ray. */
+static inline __attribute__((always_inline)) bool dda_seed(grid_dda *g, double t0)
+{
+    bool ok = true;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        const double oa = g->o[a];
+        const int step = g->step[a], n = g->n[a];
+        if (step == 0) {
+            g->ijk[a] = (int)floor(oa);
+            g->t_next[a] = INFINITY;
+            continue;
+        }
+        const double inv = g->inv[a];
+        /* floor, then clamped to [0, n - 1]: the same cell as clamping first and truncating */
+        int c = (int)dda_min(dda_max(oa + t0 * g->d[a], 0.0), (double)(n - 1));
+        const int up = step > 0; /* plane index of the exit face is c + up */
+        double t_exit = ((double)(c + up) - oa) * inv;
+        for (int guard = 0; guard < 4; guard++) {
+            if (t_exit <= t0 && c + step >= 0 && c + step < n) {
+                c += step;
+                t_exit = ((double)(c + up) - oa) * inv;
+                continue;
+            }
+            const double t_enter = ((double)(c + 1 - up) - oa) * inv;
+            if (!(t_enter > t0 && c - step >= 0 && c - step < n))
+                break;
+            c -= step;
+            t_exit = t_enter; /* the new cell's exit plane c + up is the old one's entry plane */
+        }
+        g->ijk[a] = c;
+        g->t_next[a] = t_exit;
+        ok &= g->t_next[a] > t0; /* false: leaves the grid at t0 */
+    }
+    g->t = t0;
+    g->done = !ok;
+    return ok;
+}
+
+/* The part of a walk's set-up that depends on its direction alone (cell space): rays that
+ * share a direction (a sun's parallel rays) make it once (grid_dda_begin_box_dir). */
+typedef struct grid_dda_dir {
+    double d[3], inv[3], delta[3]; /* as in grid_dda */
+    int step[3];
+    bool finite; /* d is finite */
+} grid_dda_dir;
+
+static inline __attribute__((always_inline)) void grid_dda_dir_make(grid_dda_dir *w, vec3 d)
+{
+    const double dd[3] = {d.x, d.y, d.z};
+    double finite = 0.0; /* x - x is 0 for a finite x and NaN otherwise */
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        w->d[a] = dd[a];
+        finite += dd[a] - dd[a];
+        if (dd[a] == 0.0) {
+            w->step[a] = 0;
+            w->inv[a] = 0.0;
+            w->delta[a] = INFINITY;
+            continue;
+        }
+        const double inv = 1.0 / dd[a];
+        w->inv[a] = inv;
+        w->delta[a] = fabs(inv);
+        w->step[a] = dd[a] > 0.0 ? 1 : -1;
+    }
+    w->finite = finite == 0.0;
+}
+
+/* grid_dda_begin_box for the direction w made by grid_dda_dir_make: the same walk. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dda *g, const int n[3], const int lo[3],
+                                                                         const int hi[3], vec3 o, const grid_dda_dir *w,
+                                                                         double tmin, double tmax)
+{
+    const double oo[3] = {o.x, o.y, o.z};
+    g->done = true;
+    g->t = tmin;
+    g->tmax = tmax;
+    /* the arguments checked first, all axes at once (one branch, not one per test) */
+    bool valid = tmin < tmax;
+    double finite = 0.0;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        valid &= (n[a] >= 1) & (0 <= lo[a]) & (lo[a] < hi[a]) & (hi[a] <= n[a]);
+        finite += oo[a] - oo[a];
+    }
+    if (!(valid & w->finite & (finite == 0.0)))
+        return false;
+    /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
+    double t0 = tmin, t1 = tmax;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        g->n[a] = n[a];
+        g->o[a] = oo[a];
+        g->d[a] = w->d[a];
+        g->inv[a] = w->inv[a];
+        g->delta[a] = w->delta[a];
+        g->step[a] = w->step[a];
+        if (w->step[a] == 0) {
+            if (!(oo[a] >= (double)lo[a] && oo[a] < (double)hi[a]))
+                return false;
+            continue;
+        }
+        double ta = ((double)lo[a] - oo[a]) * w->inv[a], tb = ((double)hi[a] - oo[a]) * w->inv[a];
+        /* ordered by selects, not a branch: the sign of a ray's direction is unpredictable */
+        const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
+        t0 = t_near > t0 ? t_near : t0;
+        t1 = t_far < t1 ? t_far : t1;
+    }
+    if (!(t0 < t1))
+        return false;
+    g->tmax = g->t_out = t1;
+    g->t_in = t0;
+    return dda_seed(g, t0);
+}
+
 /* The same walk restricted to the cells of the box [lo, hi) (0 <= lo < hi <= n per axis),
  * e.g. the box of a grid's non-empty cells: the steps are those of grid_dda_begin that lie
- * in the box. */
-bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3], const int hi[3], vec3 o, vec3 d, double tmin,
-                        double tmax);
+ * in the box. Inline: a caller that begins a walk per ray (blasi's loops) keeps the state
+ * in registers instead of passing it through memory to a call, and overlaps the set-up's
+ * long chain of dependent operations with its own work. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_box(grid_dda *g, const int n[3], const int lo[3],
+                                                                     const int hi[3], vec3 o, vec3 d, double tmin,
+                                                                     double tmax)
+{
+    grid_dda_dir w;
+    grid_dda_dir_make(&w, d);
+    return grid_dda_begin_box_dir(g, n, lo, hi, o, &w, tmin, tmax);
+}
 
 /* Walks the same ray again over [t0, t1], a part of the interval g was begun with (an
  * empty-space skipper's jump): no clipping and no division. Returns false (and a finished

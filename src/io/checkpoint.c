@@ -267,7 +267,7 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
         return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (render part)", path);
     }
     brume_render_job *job = NULL;
-    if ((st = job_create(s, hd.set.part, hd.set.nparts, &job)) != BRUME_OK) {
+    if ((st = job_create(s, hd.set.part, hd.set.nparts, true, &job)) != BRUME_OK) {
         free(data);
         return st;
     }

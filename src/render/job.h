@@ -44,7 +44,7 @@ struct brume_render_job {
     uint32_t *n;      /* samples taken */
     uint8_t *active;  /* 1: still receives samples; 0: stopped by adaptive sampling */
     double *sum;      /* JOB_SUMS per pixel */
-    double *sq;       /* JOB_SQS per pixel */
+    double *sq;       /* JOB_SQS per pixel, or NULL when the job keeps no squares */
     double *aov;      /* JOB_AOVS per pixel */
 
     int spp_done;     /* samples of every active pixel at the last completed pass */
@@ -68,8 +68,10 @@ struct brume_render_job {
 };
 
 /* Allocates a job for tiles part, part + nparts, ... of the scene's image, with the
- * integrator state prepared; fails with err_set(). */
-brume_status job_create(const brume_scene *s, int part, int nparts, brume_render_job **out);
+ * integrator state prepared; fails with err_set(). squares: keep the squared samples,
+ * which serve the per-pixel error (adaptive sampling, progress, checkpoints) and the
+ * variance layer only. */
+brume_status job_create(const brume_scene *s, int part, int nparts, bool squares, brume_render_job **out);
 
 /* Relative standard error of pixel i's mean as adaptive sampling sees it (docs/render-jobs.md). */
 double job_pixel_error(const brume_render_job *job, size_t i);

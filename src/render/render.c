@@ -49,7 +49,7 @@ static brume_status prepared_state(const brume_scene *s, integrator_kind kind, c
 
 /* ---- the job ------------------------------------------------------------------------------ */
 
-brume_status job_create(const brume_scene *s, int part, int nparts, brume_render_job **out)
+brume_status job_create(const brume_scene *s, int part, int nparts, bool squares, brume_render_job **out)
 {
     *out = NULL;
     if (!s->committed)
@@ -81,12 +81,12 @@ brume_status job_create(const brume_scene *s, int part, int nparts, brume_render
     job->n = calloc(job->npix, sizeof *job->n);
     job->active = malloc(job->npix);
     job->sum = calloc(job->npix * JOB_SUMS, sizeof *job->sum);
-    job->sq = calloc(job->npix * JOB_SQS, sizeof *job->sq);
+    job->sq = squares ? calloc(job->npix * JOB_SQS, sizeof *job->sq) : NULL;
     job->aov = job->trace_aovs ? calloc(job->npix * JOB_AOVS, sizeof *job->aov) : NULL;
     pthread_mutex_init(&job->lock, NULL);
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
-    if (!job->n || !job->active || !job->sum || !job->sq || (job->trace_aovs && !job->aov)) {
+    if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
         brume_render_job_release(job);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source,
                        rs->width, rs->height);
@@ -581,7 +581,7 @@ brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_
         *out = NULL;
     if (!out || !s)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
-    return ctx_report(ctx, job_create(s, 0, 1, out));
+    return ctx_report(ctx, job_create(s, 0, 1, true, out));
 }
 
 brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp)
@@ -680,19 +680,15 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     if (nparts < 1 || part < 0 || part >= nparts)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
                                        s->source, part, nparts));
-    brume_render_job *job = NULL;
-    brume_status st = job_create(s, part, nparts, &job);
-    if (st != BRUME_OK)
-        return ctx_report(ctx, st);
     const brume_render_settings *rs = &s->settings;
     const bool unwatched = !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
-    if (unwatched && !(rs->aovs & BRUME_AOV_VARIANCE)) {
-        /* the squared samples serve the per-pixel error (adaptive sampling, progress) and
-         * the variance layer only: none of them here, so they are neither kept nor made
-         * (half the job's memory, whose first touch is a page fault per 4 KiB) */
-        free(job->sq);
-        job->sq = NULL;
-    }
+    /* unwatched and without the variance layer, no one reads the squared samples: they are
+     * neither kept nor made (half the job's memory, whose zeroing touches a fresh page, a
+     * page fault, per 4 KiB) */
+    brume_render_job *job = NULL;
+    brume_status st = job_create(s, part, nparts, !unwatched || (rs->aovs & BRUME_AOV_VARIANCE), &job);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
     st = job_run(job, unwatched);
     if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
         char msg[1024];
