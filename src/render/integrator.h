@@ -49,10 +49,10 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
 color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g);
 
 /* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
- * surface counts as one). */
-color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
-/* The same, also telling whether the camera ray's first hit is a surface. */
-color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface);
+ * surface counts as one), also telling whether the camera ray's first hit is a surface
+ * (hit_surface may be NULL). state is integrator_prepare's for INTEGRATOR_PATH (NULL: no
+ * sun-lobe sampling). */
+color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface);
 /* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
  * blocks the segment, else that of the media (ratio tracking). Moving things are taken
  * where they are at that instant, so every estimator that passes the path's time gets
