@@ -407,9 +407,12 @@ static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
     return Le;
 }
 
-color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface)
+color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
+                    color *Tr_cam)
 {
     const path_state *st = state;
+    const ray r_cam = r;
+    double t_cam = INFINITY; /* where the camera ray's flight ended: a surface or an area light */
     /* Dimensions (docs/sampling.md, "The path's dimensions"): scattering event `depth` takes
      * four fixed dimensions of the camera sample's sequence g from its current one on (the
      * flight's reservoir choice, the branch or phase-function choice, the direction), so
@@ -441,6 +444,10 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, rng_next(g)) && depth < max_depth;
         if (sc)
             sc->t_tracking += stats_now() - t0;
+        if (depth == 0 && Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */
+            *Tr_cam = on_surface ? col(0.0) : f.Tr;
+            t_cam = on_surface ? 0.0 : t_light;
+        }
         /* What lies past the flight, seen through Tr: light reached now is added at once;
          * a surface is a second branch, chosen against the scattering one below. */
         color beta_past = col_mul(f.beta, f.Tr);
@@ -514,6 +521,9 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         if (!path_roulette(&f.beta, depth, &gt))
             break;
     }
+    /* alpha sees the media along the whole camera ray: past an area light too */
+    if (Tr_cam && t_cam > 0.0 && isfinite(t_cam) && !col_is_black(*Tr_cam))
+        *Tr_cam = col_mul(*Tr_cam, track_transmittance(s, (ray){ray_at(r_cam, t_cam), r_cam.d, r_cam.time}, INFINITY, &gt));
     return f.L;
 }
 
@@ -632,26 +642,24 @@ void integrator_finish(integrator_kind kind, void *state)
 }
 
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
-                    bool *hit_surface)
+                    bool *hit_surface, color *Tr)
 {
+    color L = col(0.0);
     switch (kind) {
-    case INTEGRATOR_PATH: return path_Li_alpha(s, state, r, s->settings.max_depth, g, hit_surface);
-    case INTEGRATOR_SINGLE: return path_Li_alpha(s, NULL, r, 1, g, hit_surface);
-    case INTEGRATOR_BLASI: return blasi_Li(s, state, r, g, hit_surface);
-    case INTEGRATOR_STAM: return stam_Li(state, r, g, hit_surface);
+    case INTEGRATOR_PATH: return path_Li_alpha(s, state, r, s->settings.max_depth, g, hit_surface, Tr);
+    case INTEGRATOR_SINGLE: return path_Li_alpha(s, NULL, r, 1, g, hit_surface, Tr);
+    case INTEGRATOR_BLASI:
+        L = blasi_Li(s, state, r, g, hit_surface);
+        if (Tr)
+            *Tr = blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
+        return L;
+    case INTEGRATOR_STAM:
+        L = stam_Li(state, r, g, hit_surface);
+        if (Tr)
+            *Tr = stam_transmittance(state, r.o, r.d, INFINITY);
+        return L;
     }
-    return col(0.0);
-}
-
-color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g)
-{
-    switch (kind) {
-    case INTEGRATOR_PATH:
-    case INTEGRATOR_SINGLE: return track_transmittance(s, r, INFINITY, g);
-    case INTEGRATOR_BLASI: return blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
-    case INTEGRATOR_STAM: return stam_transmittance(state, r.o, r.d, INFINITY);
-    }
-    return col(1.0);
+    return L;
 }
 
 /* Delta tracking to the first real collision (integrator_first_vertex). */
