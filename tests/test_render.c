@@ -284,7 +284,63 @@ TEST(furnaces_gray_extinction)
     unlink(path);
 }
 
+/* Sun-lobe sampling (integrator.c; docs/path-tracer.md, "Sun-lobe sampling") changes the
+ * estimator, not its expectation. A homogeneous slab (thickness 1, sigma_s 2, sigma_a 0.1,
+ * HG g = 0.9) lit by a delta sun 60 degrees off the vertical, seen head-on through a narrow
+ * camera: every pixel has the same expectation, so the pixels' spread gives the image
+ * mean's standard error. The camera looks against the forward lobe and sees mostly light
+ * scattered several times, much of it carried by the lobe samples (a next-event estimate
+ * not weighed against them by MIS counts that light twice, and the means part by far more
+ * than the tolerance). With path.sun_lobe 0 (no lobe samples), the default 2 and 0.25
+ * (lobe samples drawn with probabilities P well under 1, which the MIS weights must carry),
+ * the means must agree within 5 standard errors of their difference, those under 3 % of
+ * the mean, and the default's pixel variance must be under half that without lobe samples
+ * (they are drawn and pay). The image stays the same for 1 and 2 threads. */
+TEST(sun_lobe_sampling_unbiased)
+{
+    const char *head = "{\"camera\": {\"position\": [0, 0, 20], \"look_at\": [0, 0, 0], \"fov\": 2},"
+                       " \"lights\": [{\"type\": \"distant\", \"direction\": [0.5, 0, 0.8660254], \"irradiance\": 3.0}],"
+                       " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 2,"
+                       "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
+                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.8}}],"
+                       " \"path\": {\"sun_lobe\": ";
+    const char *tail = "}, \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 64}}";
+    const char *kappa[3] = {"0", "2", "0.25"};
+    char json[1024];
+    double mean[3], se[3];
+    for (int k = 0; k < 3; k++) {
+        snprintf(json, sizeof json, "%s%s%s", head, kappa[k], tail);
+        brume_image *img = test_render_json(json, 21);
+        test_channel_mean(brume_image_pixels(img), 32 * 32, 1, &mean[k], &se[k]);
+        fprintf(stderr, "sun_lobe %s: mean %.6f, standard error %.6f\n", kappa[k], mean[k], se[k]);
+        brume_image_release(img);
+    }
+    for (int k = 1; k < 3; k++) {
+        double tol = 5.0 * sqrt(se[0] * se[0] + se[k] * se[k]);
+        ASSERT_NEAR(mean[k], mean[0], tol);
+        ASSERT_TRUE(tol < 0.03 * mean[0]); /* tight enough to matter */
+    }
+    ASSERT_TRUE(se[1] * se[1] < 0.5 * se[0] * se[0]);
+
+    brume_scene *s[2];
+    brume_image *img[2];
+    snprintf(json, sizeof json, "%s2%s", head, tail);
+    for (int k = 0; k < 2; k++) {
+        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
+        brume_render_settings rs;
+        brume_scene_get_settings(s[k], &rs);
+        rs.spp = 4;
+        ASSERT_EQ_INT(brume_scene_set_settings(NULL, s[k], &rs), BRUME_OK);
+        img[k] = test_render_scene(s[k], k + 1, 7);
+    }
+    ASSERT_TRUE(memcmp(brume_image_pixels(img[0]), brume_image_pixels(img[1]), 32 * 32 * 4 * sizeof(float)) == 0);
+    for (int k = 0; k < 2; k++) {
+        brume_image_release(img[k]);
+        brume_scene_release(s[k]);
+    }
+}
+
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
           white_furnace_gray, single_scattering_closed_form,
           single_scattering_forward_hg_shadow_roulette, residual_ratio_tracking_transmittance,
-          furnaces_gray_extinction)
+          furnaces_gray_extinction, sun_lobe_sampling_unbiased)

@@ -729,8 +729,8 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
  * first: a frame's time needs the frame rate. */
 static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, long frame_no)
 {
-    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "blasi",
-                                       "stam", NULL};
+    static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "path",
+                                       "blasi", "stam", NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);

@@ -1,4 +1,4 @@
-/* scene_methods.c - the scene file's method objects ("blasi", "stam"), read through the one
+/* scene_methods.c - the scene file's method objects ("path", "blasi", "stam"), read through the one
  * option mechanism, brume_scene_set_option. */
 #include "io/scene_methods.h"
 

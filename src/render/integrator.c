@@ -9,15 +9,19 @@
  * and the background are sampled
  * (next-event estimation, transmittance by ratio tracking), and the path continues along
  * a phase-function sample; area lights and the background reached by that continuation
- * are weighted against next-event estimation by the power heuristic (Veach 1997).
+ * are weighted against next-event estimation by the power heuristic (Veach 1997). A delta
+ * sun's light scattered once more is also sampled from the sun's own scattering lobe
+ * (sun-lobe sampling), weighed against phase sampling by the same heuristic.
  * Derivations: docs/path-tracer.md. */
 #include "render/integrator.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
 #include "core/stats.h"
 #include "render/blasi.h"
+#include "render/path_options.h"
 #include "render/stam.h"
 #include "surface/surfaces.h"
 
@@ -185,8 +189,51 @@ static double nee_roulette(color f, rng *g)
     return rng_next(g) < q ? q : 0.0;
 }
 
-/* Next-event estimation at a vertex: every light, emissive surfaces and the background. */
-static color direct_light(const brume_scene *s, const vertex *v, rng *g)
+/* ---- sun-lobe sampling (docs/path-tracer.md, "Sun-lobe sampling") ---------------------- */
+
+#define LOBE_TABLE 33  /* S(c) at c = -1 + 2 i / (LOBE_TABLE - 1) */
+#define LOBE_MAX_SUNS 4 /* delta suns that get lobe samples (the first ones of the scene) */
+
+/* What integrator_prepare keeps for `path`: the delta suns that get lobe samples, and per
+ * medium (its phase function) the table of S(c), the relative size of phase sampling's
+ * error on a sun's light scattered once more, as a function of the cosine c between the
+ * arriving direction and the direction to the sun (lobe_table). */
+typedef struct path_state {
+    double kappa;                  /* path.sun_lobe */
+    int nsuns;
+    int sun[LOBE_MAX_SUNS];        /* indices into s->lights */
+    float S[SCENE_MAX_MEDIA][LOBE_TABLE]; /* per medium (its phase function) */
+} path_state;
+
+/* The lobe samples one scattering vertex made (or could have made) for each delta sun: the
+ * next vertex weighs its next-event estimate of sun j by phase sampling's MIS weight
+ * against them. ph = NULL: the next vertex was not reached by phase sampling from a medium
+ * vertex, so nothing was weighed against it. */
+typedef struct lobe_prev {
+    const phase *ph;   /* the phase function that sampled the direction */
+    double pdf;        /* its pdf of that direction (per sr) */
+    double P[LOBE_MAX_SUNS]; /* expected number of lobe samples of sun j, in [0, 1] */
+} lobe_prev;
+
+static bool light_is_delta_sun(const light *l) { return l->kind == LIGHT_DISTANT && !(l->angular_radius > 0.0); }
+
+/* Power heuristic for phase sampling (pdf p_a, one sample) against P lobe samples of
+ * pdf p_b. */
+static double lobe_weight_a(double p_a, double P, double p_b) { return mis_weight(p_a, P * p_b); }
+
+/* Phase sampling's MIS weight for sun j's next-event estimate at a vertex reached along
+ * omega from the vertex that made `pv`. */
+static double lobe_weight_nee(const lobe_prev *pv, int j, vec3 wi, vec3 omega)
+{
+    if (!pv || !pv->ph || !(pv->P[j] > 0.0))
+        return 1.0;
+    return lobe_weight_a(pv->pdf, pv->P[j], phase_pdf(pv->ph, v3_dot(wi, omega)));
+}
+
+/* Next-event estimation at a vertex: every light, emissive surfaces and the background.
+ * With st and pv, each delta sun's estimate is weighed against the lobe samples of the
+ * vertex before (pv). */
+static color direct_light(const brume_scene *s, const path_state *st, const lobe_prev *pv, const vertex *v, rng *g)
 {
     color Ld = col(0.0);
     for (int i = 0; i < s->nlights; i++) {
@@ -198,6 +245,9 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
         if (col_is_black(f))
             continue;
         double w = ls.delta ? 1.0 : mis_weight(ls.pdf, vertex_pdf(v, ls.wi));
+        for (int j = 0; st && pv && j < st->nsuns; j++)
+            if (st->sun[j] == i)
+                w *= lobe_weight_nee(pv, j, ls.wi, v->d);
         double q = nee_roulette(f, g);
         if (q == 0.0)
             continue;
@@ -241,13 +291,14 @@ static color direct_light(const brume_scene *s, const vertex *v, rng *g)
 }
 
 /* direct_light, its time counted when statistics are on. */
-static color direct_light_counted(const brume_scene *s, const vertex *v, rng *g)
+static color direct_light_counted(const brume_scene *s, const path_state *st, const lobe_prev *pv, const vertex *v,
+                                  rng *g)
 {
     stats_counters *sc = stats_tls;
     if (!sc)
-        return direct_light(s, v, g);
+        return direct_light(s, st, pv, v, g);
     double t0 = stats_now();
-    color Ld = direct_light(s, v, g);
+    color Ld = direct_light(s, st, pv, v, g);
     sc->t_nee += stats_now() - t0;
     return Ld;
 }
@@ -273,6 +324,67 @@ static int nearest_area_light(const brume_scene *s, vec3 o, vec3 d, double *t_hi
     return best;
 }
 
+/* S(c) of the medium whose phase function is ph, linear between the table's entries. */
+static double lobe_S(const brume_scene *s, const path_state *st, const phase *ph, double c)
+{
+    int m = 0;
+    while (m < s->nmedia - 1 && s->media[m].ph != ph)
+        m++;
+    double x = (fmin(1.0, fmax(-1.0, c)) + 1.0) * 0.5 * (LOBE_TABLE - 1);
+    int i = (int)x;
+    if (i > LOBE_TABLE - 2)
+        i = LOBE_TABLE - 2;
+    double f = x - i;
+    return (1.0 - f) * (double)st->S[m][i] + f * (double)st->S[m][i + 1];
+}
+
+/* The lobe samples of medium vertex v with throughput beta (docs/path-tracer.md, "Sun-lobe
+ * sampling"): for delta sun j, with probability P_j = min(1, kappa S(d . wi)), a direction
+ * omega from the sun's lobe p(wi . omega), a flight along it to a scattering collision y,
+ * and the sun's light scattered at y back along -omega, weighed by the power heuristic
+ * against the phase sampling of the path's next direction. Returns the radiance they add;
+ * *pv receives the P_j (its pdf is set once the path's direction is drawn). */
+static color lobe_samples(const brume_scene *s, const path_state *st, const vertex *v, color beta, rng *g,
+                          lobe_prev *pv)
+{
+    color L = col(0.0);
+    pv->ph = v->ph;
+    for (int j = 0; j < st->nsuns; j++) {
+        const light *l = &s->lights[st->sun[j]];
+        const vec3 wi = v3_neg(l->direction);
+        const double P = fmin(1.0, st->kappa * lobe_S(s, st, v->ph, v3_dot(v->d, wi)));
+        pv->P[j] = P;
+        if (!(P > 0.0) || !(rng_next(g) < P))
+            continue;
+        double p_b;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        const vec3 omega = phase_sample(v->ph, wi, u1, u2, &p_b);
+        const double p_a = phase_pdf(v->ph, v3_dot(v->d, omega));
+        const double w_b = mis_weight(P * p_b, p_a);
+        if (!(w_b > 0.0))
+            continue;
+        /* the flight stops where the path's would: at a surface or an area light */
+        double t_end, pdf_l;
+        color Le_l;
+        nearest_area_light(s, v->p, omega, &t_end, &Le_l, &pdf_l);
+        surface_hit sh;
+        const ray rb = {v->p, omega, v->time};
+        if (s->surf && surfaces_intersect(s->surf, rb, 0.0, t_end, &sh))
+            t_end = sh.t;
+        flight fb = {.s = s, .g = g, .beta = col_scale(beta, p_a / (P * p_b) * w_b), .L = col(0.0)};
+        if (!flight_run(&fb, rb, t_end, rng_next(g)))
+            continue; /* (the emission fb.L gathered is the path's own flights' to count) */
+        const phase *ph_y = media_choose_phase(s, &fb.ms, rng_next(g));
+        const double f_y = phase_eval(ph_y, v3_dot(wi, omega));
+        const double q = nee_roulette(col(f_y), g);
+        if (q == 0.0)
+            continue;
+        color Tr = scene_transmittance(s, ray_at(rb, fb.t), wi, INFINITY, v->time, g);
+        L = col_add(L, col_scale(col_mul(col_mul(fb.beta_s, Tr), l->L), f_y / q));
+    }
+    return L;
+}
+
 /* Radiance reaching a flight that escaped every medium towards direction d: the
  * background and any sun disk, weighted against next-event estimation unless the ray
  * came from the camera (pdf_dir = 0). */
@@ -295,8 +407,12 @@ static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
     return Le;
 }
 
-color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface)
+color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
+                    color *Tr_cam)
 {
+    const path_state *st = state;
+    const ray r_cam = r;
+    double t_cam = INFINITY; /* where the camera ray's flight ended: a surface or an area light */
     /* Dimensions (docs/sampling.md, "The path's dimensions"): scattering event `depth` takes
      * four fixed dimensions of the camera sample's sequence g from its current one on (the
      * flight's reservoir choice, the branch or phase-function choice, the direction), so
@@ -311,6 +427,7 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
     f.beta = col(1.0);
     f.L = col(0.0);
     double pdf_dir = 0.0; /* solid-angle pdf of the current direction; 0 for camera rays */
+    lobe_prev prev = {.ph = NULL}; /* the lobe samples the last medium vertex made */
     if (hit_surface)
         *hit_surface = false;
     for (int depth = 0;; depth++) {
@@ -327,6 +444,10 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
         bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, rng_next(g)) && depth < max_depth;
         if (sc)
             sc->t_tracking += stats_now() - t0;
+        if (depth == 0 && Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */
+            *Tr_cam = on_surface ? col(0.0) : f.Tr;
+            t_cam = on_surface ? 0.0 : t_light;
+        }
         /* What lies past the flight, seen through Tr: light reached now is added at once;
          * a surface is a second branch, chosen against the scattering one below. */
         color beta_past = col_mul(f.beta, f.Tr);
@@ -361,7 +482,8 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
             v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
             v.p = surface_offset(&sh, v.n);
-            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, &gt)));
+            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, NULL, &v, &gt)));
+            prev.ph = NULL; /* a surface vertex: no lobe samples, nothing to weigh */
             vec3 wi;
             g->counter = dim0 + 4 * (uint64_t)depth + 2;
             double u0 = rng_next(&gt), u1 = rng_next(g), u2 = rng_next(g);
@@ -384,20 +506,102 @@ color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hi
             sc->path_scatterings++;
             sc->path_vertices++;
         }
-        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, &v, &gt)));
+        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, &prev, &v, &gt)));
+        prev.ph = NULL;
         if (depth + 1 >= max_depth && !s->has_indirect_sources)
             break; /* the last flight could only gather light from another event */
+        /* the sun-lobe samples of the next event's estimate, when there is a next event */
+        if (st && st->nsuns > 0 && depth + 1 < max_depth)
+            f.L = col_add(f.L, lobe_samples(s, st, &v, f.beta, &gt, &prev));
         double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
         vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
+        prev.pdf = pdf_dir;
         /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
         r = (ray){v.p, wo, r.time};
         if (!path_roulette(&f.beta, depth, &gt))
             break;
     }
+    /* alpha sees the media along the whole camera ray: past an area light too */
+    if (Tr_cam && t_cam > 0.0 && isfinite(t_cam) && !col_is_black(*Tr_cam))
+        *Tr_cam = col_mul(*Tr_cam, track_transmittance(s, (ray){ray_at(r_cam, t_cam), r_cam.d, r_cam.time}, INFINITY, &gt));
     return f.L;
 }
 
-color path_Li(const brume_scene *s, ray r, int max_depth, rng *g) { return path_Li_alpha(s, r, max_depth, g, NULL); }
+/* S(c) of phase function ph at LOBE_TABLE cosines (docs/path-tracer.md, "Sun-lobe
+ * sampling"). With p_a(omega) = p(d . omega) (phase sampling), p_b(omega) = p(wi . omega)
+ * (the sun's lobe) and d . wi = c, the sun's light scattered once more is the integral of
+ * p_a p_b (transmittances set aside), and phase sampling estimates it by p_b, with second
+ * moment m2(c) = int p_a p_b^2. S(c) = rho^2 sqrt(m2(c) / m2(1)): the root mean square of
+ * that estimate against its largest says where lobe samples pay (it falls by 20 from c = 1
+ * to c = -1 for HG 0.8), and rho = min(1, 4 dV(1) / m2(1)) how much they can: dV(1) is the
+ * part of m2(1) that one sample of each technique under the power heuristic removes, which
+ * tends to m2 / 4 for a peaked lobe and to 0 for an isotropic one (rho is 1 for HG g >= 0.8,
+ * 0.84 at 0.6, 0.39 at 0.3, 0 for isotropic). Below rho = 1/2 (HG g under about 0.35) a
+ * lobe sample costs more than it removes (docs/performance.md) and S = 0. A midpoint rule
+ * over (cos theta, phi) around wi. */
+static void lobe_table(const phase *ph, float S[LOBE_TABLE])
+{
+    enum { NMU = 128, NPHI = 64 };
+    const double dw = (2.0 / NMU) * (PI / NPHI) * 2.0; /* phi over [0, pi), twice by symmetry */
+    double m2[LOBE_TABLE], dV1 = 0.0;
+    for (int i = 0; i < LOBE_TABLE; i++) {
+        const double c = -1.0 + 2.0 * i / (LOBE_TABLE - 1), sc = sqrt(fmax(0.0, 1.0 - c * c));
+        double C = 0.0, Ca = 0.0, Cb = 0.0, m2a = 0.0, m2b = 0.0;
+        m2[i] = 0.0;
+        for (int a = 0; a < NMU; a++) {
+            const double mu = -1.0 + (a + 0.5) * (2.0 / NMU), sm = sqrt(fmax(0.0, 1.0 - mu * mu));
+            const double p_b = phase_pdf(ph, mu);
+            for (int b = 0; b < NPHI; b++) {
+                const double p_a = phase_pdf(ph, sc * sm * cos((b + 0.5) * (PI / NPHI)) + c * mu);
+                const double f = p_a * p_b, w_a = mis_weight(p_a, p_b), w_b = 1.0 - w_a;
+                C += f * dw;
+                m2[i] += p_a * p_b * p_b * dw;
+                if (i == LOBE_TABLE - 1) { /* what one sample of each technique removes at c = 1 */
+                    Ca += f * w_a * dw;
+                    Cb += f * w_b * dw;
+                    m2a += p_a * (p_b * w_a) * (p_b * w_a) * dw;
+                    m2b += p_b * (p_a * w_b) * (p_a * w_b) * dw;
+                }
+            }
+        }
+        if (i == LOBE_TABLE - 1)
+            dV1 = (m2[i] - C * C) - (m2a - Ca * Ca + m2b - Cb * Cb);
+    }
+    const double m21 = m2[LOBE_TABLE - 1];
+    const double rho = m21 > 0.0 ? fmin(1.0, 4.0 * fmax(0.0, dV1) / m21) : 0.0;
+    for (int i = 0; i < LOBE_TABLE; i++)
+        S[i] = rho >= 0.5 ? (float)(rho * rho * sqrt(m2[i] / m21)) : 0.0f;
+}
+
+/* The state of `path`: sun-lobe tables when the scene has delta suns and media, and
+ * path.sun_lobe > 0; NULL otherwise (nothing to sample). */
+static brume_status path_prepare(const brume_scene *s, path_state **out)
+{
+    *out = NULL;
+    const path_options *o = scene_options(s, METHOD_OPTIONS_PATH);
+    if (!(o->sun_lobe > 0.0) || s->nmedia == 0)
+        return BRUME_OK;
+    path_state st = {.kappa = o->sun_lobe};
+    for (int i = 0; i < s->nlights && st.nsuns < LOBE_MAX_SUNS; i++)
+        if (light_is_delta_sun(&s->lights[i]))
+            st.sun[st.nsuns++] = i;
+    if (st.nsuns == 0)
+        return BRUME_OK;
+    for (int m = 0; m < s->nmedia; m++) {
+        int same = 0; /* media sharing a phase function share its table */
+        while (same < m && s->media[same].ph != s->media[m].ph)
+            same++;
+        if (same < m)
+            memcpy(st.S[m], st.S[same], sizeof st.S[m]);
+        else
+            lobe_table(s->media[m].ph, st.S[m]);
+    }
+    *out = malloc(sizeof **out);
+    if (!*out)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the path state", s->source);
+    **out = st;
+    return BRUME_OK;
+}
 
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state)
 {
@@ -409,7 +613,12 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
                            "%s: media[%d]: albedo, temperature and emission grids need the path or single method",
                            s->source, m);
     switch (kind) {
-    case INTEGRATOR_PATH:
+    case INTEGRATOR_PATH: {
+        path_state *st = NULL;
+        brume_status rc = path_prepare(s, &st);
+        *state = st;
+        return rc;
+    }
     case INTEGRATOR_SINGLE: return BRUME_OK;
     case INTEGRATOR_BLASI: {
         blasi_state *st = NULL;
@@ -425,7 +634,7 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
 void integrator_finish(integrator_kind kind, void *state)
 {
     switch (kind) {
-    case INTEGRATOR_PATH:
+    case INTEGRATOR_PATH: free(state); break;
     case INTEGRATOR_SINGLE: break;
     case INTEGRATOR_BLASI: blasi_finish(state); break;
     case INTEGRATOR_STAM: stam_finish(state); break;
@@ -433,26 +642,24 @@ void integrator_finish(integrator_kind kind, void *state)
 }
 
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
-                    bool *hit_surface)
+                    bool *hit_surface, color *Tr)
 {
+    color L = col(0.0);
     switch (kind) {
-    case INTEGRATOR_PATH: return path_Li_alpha(s, r, s->settings.max_depth, g, hit_surface);
-    case INTEGRATOR_SINGLE: return path_Li_alpha(s, r, 1, g, hit_surface);
-    case INTEGRATOR_BLASI: return blasi_Li(s, state, r, g, hit_surface);
-    case INTEGRATOR_STAM: return stam_Li(state, r, g, hit_surface);
+    case INTEGRATOR_PATH: return path_Li_alpha(s, state, r, s->settings.max_depth, g, hit_surface, Tr);
+    case INTEGRATOR_SINGLE: return path_Li_alpha(s, NULL, r, 1, g, hit_surface, Tr);
+    case INTEGRATOR_BLASI:
+        L = blasi_Li(s, state, r, g, hit_surface);
+        if (Tr)
+            *Tr = blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
+        return L;
+    case INTEGRATOR_STAM:
+        L = stam_Li(state, r, g, hit_surface);
+        if (Tr)
+            *Tr = stam_transmittance(state, r.o, r.d, INFINITY);
+        return L;
     }
-    return col(0.0);
-}
-
-color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g)
-{
-    switch (kind) {
-    case INTEGRATOR_PATH:
-    case INTEGRATOR_SINGLE: return track_transmittance(s, r, INFINITY, g);
-    case INTEGRATOR_BLASI: return blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
-    case INTEGRATOR_STAM: return stam_transmittance(state, r.o, r.d, INFINITY);
-    }
-    return col(1.0);
+    return L;
 }
 
 /* Delta tracking to the first real collision (integrator_first_vertex). */

@@ -40,19 +40,21 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
 void integrator_finish(integrator_kind kind, void *state);
 
 /* Radiance along r (unit direction) for the given kind; *hit_surface tells whether the
- * ray's first hit is a solid surface (may be NULL). state is integrator_prepare's. */
+ * ray's first hit is a solid surface (may be NULL). state is integrator_prepare's. With Tr
+ * not NULL, also the transmittance along r over (0, infinity) as the method sees the media
+ * (for the image's alpha; unused when *hit_surface): path and single take the camera ray's
+ * own flight's ratio-tracked estimate (unbiased, and no second walk), blasi its voxels'
+ * exact sum, stam its realized transparency. */
 color integrator_Li(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g,
-                    bool *hit_surface);
-
-/* Transmittance along the camera ray r over (0, infinity) as the method sees the media (for
- * the image's alpha): ratio tracking, or Stam's realized transparency. */
-color integrator_transmittance(integrator_kind kind, const brume_scene *s, const void *state, ray r, rng *g);
+                    bool *hit_surface, color *Tr);
 
 /* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
- * surface counts as one). */
-color path_Li(const brume_scene *s, ray r, int max_depth, rng *g);
-/* The same, also telling whether the camera ray's first hit is a surface. */
-color path_Li_alpha(const brume_scene *s, ray r, int max_depth, rng *g, bool *hit_surface);
+ * surface counts as one), also telling whether the camera ray's first hit is a surface
+ * (hit_surface may be NULL) and, with Tr_cam, the transmittance along the whole camera ray
+ * (integrator_Li). state is integrator_prepare's for INTEGRATOR_PATH (NULL: no sun-lobe
+ * sampling). */
+color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
+                    color *Tr_cam);
 /* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
  * blocks the segment, else that of the media (ratio tracking). Moving things are taken
  * where they are at that instant, so every estimator that passes the path's time gets

@@ -4,8 +4,11 @@
 #include <string.h>
 
 #include "render/blasi_options.h"
+#include "render/path_options.h"
 #include "render/stam_params.h"
 
+static void path_defaults(void *o) { path_options_default(o); }
+static brume_status path_set(void *o, const char *k, const char *v) { return path_options_set(o, k, v); }
 static void blasi_defaults(void *o) { blasi_options_default(o); }
 static brume_status blasi_set(void *o, const char *k, const char *v) { return blasi_options_set(o, k, v); }
 static bool blasi_is_path(const char *k) { return strcmp(k, "save_light") == 0 || strcmp(k, "load_light") == 0; }
@@ -17,7 +20,9 @@ static bool no_path(const char *k)
     return false;
 }
 
+static bool no_path(const char *k);
 static const method_options_def table[METHOD_OPTIONS_COUNT] = {
+    [METHOD_OPTIONS_PATH] = {"path", sizeof(path_options), path_defaults, path_set, path_option_names, no_path},
     [METHOD_OPTIONS_BLASI] = {"blasi", sizeof(blasi_options), blasi_defaults, blasi_set, blasi_option_names,
                               blasi_is_path},
     [METHOD_OPTIONS_STAM] = {"stam", sizeof(stam_params), stam_defaults, stam_set, stam_param_names, no_path},
@@ -38,4 +43,4 @@ const method_options_def *method_options_find(const char *key, method_options_id
     return NULL;
 }
 
-const char *method_options_methods(void) { return "blasi, stam"; }
+const char *method_options_methods(void) { return "path, blasi, stam"; }

@@ -12,6 +12,7 @@
 #include "brume.h"
 
 typedef enum method_options_id {
+    METHOD_OPTIONS_PATH, /* the path and single methods */
     METHOD_OPTIONS_BLASI,
     METHOD_OPTIONS_STAM,
     METHOD_OPTIONS_COUNT
@@ -32,7 +33,7 @@ typedef struct method_options_def {
 const method_options_def *method_options_def_get(method_options_id id);
 /* The method owning "METHOD.KEY"; NULL when no method has that prefix. *rest = "KEY". */
 const method_options_def *method_options_find(const char *key, method_options_id *id, const char **rest);
-/* "blasi, stam": the methods that have options. */
+/* "path, blasi, stam": the methods that have options. */
 const char *method_options_methods(void);
 
 #endif

@@ -292,7 +292,12 @@ static void job_tile(size_t task, int thread, void *user)
                     }
                     bool opaque = false;
                     double t0 = sc ? stats_now() : 0.0;
-                    color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque);
+                    /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
+                     * ray, as the method estimates it, on the first JOB_ALPHA_SAMPLES samples only:
+                     * a smooth estimator that needs few samples, and no cost for the others */
+                    color T = col(1.0);
+                    color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque,
+                                            sidx < JOB_ALPHA_SAMPLES ? &T : NULL);
                     if (sc) {
                         sc->t_li += stats_now() - t0;
                         sc->camera_rays++;
@@ -307,11 +312,8 @@ static void job_tile(size_t task, int thread, void *user)
                         double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
                         sq[k][3] += yv * yv;
                     }
-                    /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                     * ray, estimated by the method on the first JOB_ALPHA_SAMPLES samples only: a
-                     * smooth estimator that needs few samples, and no cost for the others */
                     if (sidx < JOB_ALPHA_SAMPLES)
-                        sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(integrator_transmittance(job->kind, s, job->state, r, &g));
+                        sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(T);
                     taken++;
                 }
             }

@@ -267,6 +267,16 @@ rset('render_filter_unknown', 1, 'render.filter', 'filter', {'type': 'lanczos'})
 rset('render_unknown_key', 1, 'samples', 'samples', 4)
 rset('render_max_memory_tiny', 1, 'max_memory_mb', 'max_memory_mb', 0.25)
 
+# ---- path, blasi and stam options -------------------------------------------------------------
+def path(name, code, pattern, opts):
+    scene(name, code, pattern, lambda s: s.update(path=opts))
+
+path('path_sun_lobe_negative', 1, 'path.sun_lobe', {'sun_lobe': -1})
+path('path_sun_lobe_huge', 1, 'path.sun_lobe', {'sun_lobe': 1e9})
+path('path_sun_lobe_text', 1, 'path.sun_lobe', {'sun_lobe': 'many'})
+path('path_unknown_key', 1, 'path.clamp', {'clamp': 3})
+scene('path_not_object', 1, 'path', lambda s: s.update(path=3))
+
 # ---- blasi and stam options ------------------------------------------------------------------
 def blasi(name, code, pattern, opts, method='blasi'):
     scene(name, code, pattern, lambda s: (s.update(blasi=opts), s['render'].update(method=method)))
@@ -443,6 +453,7 @@ cli('render_exposure_huge', 2, '--exposure', 'render %s --exposure 100' % S)
 cli('render_set_no_equals', 2, '--set', 'render %s --set blasi.r' % S)
 cli('render_set_unknown', 1, 'blasi.nokey', 'render %s --set blasi.nokey=1' % S)
 cli('render_set_equals_range', 1, 'blasi.r', 'render %s --set=blasi.r=2' % S)
+cli('render_set_path_sun_lobe', 1, 'path.sun_lobe', 'render %s --set path.sun_lobe=-0.5' % S)
 cli('render_unknown_flag', 2, '--bogus', 'render %s --bogus' % S)
 cli('render_unknown_flag_equals', 2, '--bogus', 'render %s --bogus=1' % S)
 cli('render_missing_value', 2, '-o', 'render {D}/scenes/sun_tiny_radius_renders.json -o')

@@ -1,0 +1,28 @@
+/* path_options.h - the settings of the `path` and `single` integrators, set by name through
+ * brume_scene_set_option ("path.KEY"; a scene file's "path" object is read through it).
+ * Meanings, units and defaults: docs/scene-format.md and docs/path-tracer.md. */
+#ifndef BRUME_RENDER_PATH_OPTIONS_H
+#define BRUME_RENDER_PATH_OPTIONS_H
+
+#include "brume.h"
+
+typedef struct path_options {
+    /* Sun-lobe sampling (docs/path-tracer.md, "Sun-lobe sampling"): at a scattering event
+     * with arriving direction d, a delta sun at direction wi gets a second direction
+     * sample from its own scattering lobe with probability min(1, sun_lobe S(d . wi)),
+     * weighed against phase sampling by multiple importance sampling. Unitless, in
+     * [0, 100]; 0 turns it off. */
+    double sun_lobe;
+} path_options;
+
+void path_options_default(path_options *o);
+
+/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe. On failure
+ * returns an error status with err_set() naming "path.KEY" and the bad value, and leaves
+ * *o unchanged. */
+brume_status path_options_set(path_options *o, const char *key, const char *value);
+
+/* Names of the options, for messages. */
+const char *path_option_names(void);
+
+#endif
