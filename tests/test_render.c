@@ -340,7 +340,60 @@ TEST(sun_lobe_sampling_unbiased)
     }
 }
 
+/* The mean of channel 1 over a render of json at two seeds, and its standard error from the
+ * pixels' differences between the two (valid when pixels have different expectations:
+ * half the squared difference of a pixel estimates its variance). */
+static void two_seed_mean(const char *json, uint64_t seed, int n, double *mean, double *se)
+{
+    brume_image *img[2];
+    for (int k = 0; k < 2; k++)
+        img[k] = test_render_json(json, seed + (uint64_t)k);
+    const float *a = brume_image_pixels(img[0]), *b = brume_image_pixels(img[1]);
+    double m = 0.0, v = 0.0;
+    for (int i = 0; i < n; i++) {
+        m += 0.5 * (a[4 * i + 1] + b[4 * i + 1]);
+        v += 0.5 * (a[4 * i + 1] - b[4 * i + 1]) * (a[4 * i + 1] - b[4 * i + 1]);
+    }
+    *mean = m / n;
+    *se = sqrt(v / 2.0) / n; /* the mean of two renders: half the variance of one */
+    for (int k = 0; k < 2; k++)
+        brume_image_release(img[k]);
+}
+
+/* Sun-lobe sampling with a surface inside the medium: the slab of
+ * sun_lobe_sampling_unbiased lit from above, with an opaque diffuse plate across half of
+ * it, 0.4 below its top, seen from below. Light reaches the slab under the plate round its
+ * edge, and the lobe samples of vertices there (drawn towards the sun, so up into the
+ * plate) must stop at it as the path's own flights do (lobe samples that went through it
+ * to the sunlit medium above raised the mean by 24 %), and next-event estimates at
+ * vertices on the plate must not be weighed against lobe samples. The camera sees both
+ * halves, so the pixels differ: the standard error comes from two seeds per
+ * configuration. Means with path.sun_lobe 0 and 2 must agree within 5 standard errors of
+ * their difference, and those be under 4 % of the mean. */
+TEST(sun_lobe_sampling_stops_at_surfaces)
+{
+    const char *head = "{\"camera\": {\"position\": [0, 0, -20], \"look_at\": [0, 0, 0], \"fov\": 4},"
+                       " \"lights\": [{\"type\": \"distant\", \"direction\": [0.5, 0, -0.8660254], \"irradiance\": 3.0}],"
+                       " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 2,"
+                       "   \"density\": {\"type\": \"constant\", \"bounds\": [[-50, -50, -1], [50, 50, 0]]},"
+                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.8}}],"
+                       " \"surfaces\": [{\"type\": \"quad\", \"corner\": [-50, -50, -0.4], \"edge_u\": [50, 0, 0],"
+                       "   \"edge_v\": [0, 100, 0], \"material\": {\"albedo\": 0.5}}],"
+                       " \"path\": {\"sun_lobe\": ";
+    const char *tail = "}, \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 64}}";
+    char json[1400];
+    double mean[2], se[2];
+    for (int k = 0; k < 2; k++) {
+        snprintf(json, sizeof json, "%s%s%s", head, k == 0 ? "0" : "2", tail);
+        two_seed_mean(json, 31 + 2 * (uint64_t)k, 32 * 32, &mean[k], &se[k]);
+        fprintf(stderr, "sun_lobe %s: mean %.6f, standard error %.6f\n", k == 0 ? "0" : "2", mean[k], se[k]);
+    }
+    double tol = 5.0 * sqrt(se[0] * se[0] + se[1] * se[1]);
+    ASSERT_NEAR(mean[1], mean[0], tol);
+    ASSERT_TRUE(tol < 0.04 * mean[0]);
+}
+
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
           white_furnace_gray, single_scattering_closed_form,
           single_scattering_forward_hg_shadow_roulette, residual_ratio_tracking_transmittance,
-          furnaces_gray_extinction, sun_lobe_sampling_unbiased)
+          furnaces_gray_extinction, sun_lobe_sampling_unbiased, sun_lobe_sampling_stops_at_surfaces)
