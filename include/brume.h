@@ -249,7 +249,9 @@ void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *r
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
 /* Sets a named option of a rendering method from its text form, as the scene file would
  * give it; only before commit. This is the one option mechanism: each method owns its keys
- * "METHOD.KEY" (the scene file's "METHOD" object is read through it). The blasi method's are
+ * "METHOD.KEY" (the scene file's "METHOD" object is read through it). The path method's is
+ * path.sun_lobe (a number in [0, 100], default 2: the scale of the probability of a
+ * sun-lobe sample per scattering event, 0 = none; docs/path-tracer.md). The blasi method's are
  * blasi.light_rays, blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources,
  * blasi.exit_deposit (paper|none), blasi.view_attenuation (absorption|extinction),
  * blasi.variant (paper|physical: both of the previous two unless they are set themselves),

@@ -182,7 +182,7 @@ class Scene:
     Scene.render(**settings) renders it; Scene.begin(**settings) starts a progressive
     render (then add(spp), image(), samples). Settings are brume_render_settings fields:
     width, height, spp, seed, threads, method, max_depth, fps, ...; options are the methods'
-    "METHOD.KEY" options (blasi.r, stam.eps, ...). A scene is committed (frozen) by its first
+    "METHOD.KEY" options (path.sun_lobe, blasi.r, stam.eps, ...). A scene is committed (frozen) by its first
     render: settings and options can be given to the constructor or to that render only.
     """
 
