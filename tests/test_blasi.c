@@ -247,6 +247,37 @@ TEST(light_pass_sums_do_not_depend_on_threads)
     remove(ps);
 }
 
+/* The light pass's per-thread sums count against render.max_memory_mb: with room for half
+ * of one thread's sums the render fails with a message naming the key, and does not
+ * allocate past the limit. */
+TEST(light_pass_sums_respect_the_memory_limit)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s), BRUME_OK);
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    rs.width = rs.height = 4;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    density_info info;
+    density_get_info(s->media[0].rho, &info);
+    size_t nocc = 0;
+    for (int k = 0; k < info.n[2]; k++)
+        for (int j = 0; j < info.n[1]; j++)
+            for (int i = 0; i < info.n[0]; i++)
+                nocc += (float)density_voxel(s->media[0].rho, i, j, k) != 0.0f;
+    ASSERT_TRUE(nocc > 0);
+    s->max_memory = s->memory_used + 24 * nocc; /* half of 3 sums of 16 bytes per voxel */
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_OUT_OF_MEMORY);
+    ASSERT_TRUE(img == NULL);
+    ASSERT_TRUE(strstr(brume_context_last_error(ctx), "render.max_memory_mb") != NULL);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
 /* The fixed-point sums keep the power: with albedo 1, r = 1 (a ray stores all it carries at
  * its first interception) and the paper's exit deposit (what leaves is stored too) in a
  * homogeneous medium that every traced ray enters, every ray stores exactly the power it
@@ -690,4 +721,4 @@ TEST_MAIN(r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to
           light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
           paper_variants_are_brighter,
           uniform_steps_agree_with_voxel_walk, bad_options_name_the_key, transmittance_matches_brute_force,
-          view_radiance_matches_brute_force)
+          view_radiance_matches_brute_force, light_pass_sums_respect_the_memory_limit)

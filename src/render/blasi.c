@@ -1043,7 +1043,15 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
     const size_t copy = 3 * job.nocc * sizeof(fixsum), left = s->max_memory > s->memory_used ? s->max_memory - s->memory_used : 0;
     size_t threads = (size_t)(s->settings.threads > 0 ? s->settings.threads : pool_default_threads());
     threads = threads < job.nbatch ? threads : (size_t)job.nbatch;
-    threads = threads * copy <= left ? threads : (left / copy > 1 ? left / copy : 1);
+    if (copy > left) { /* not even one thread's sums fit under the limit */
+        free(slot);
+        free(first);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: blasi: the light pass needs %.1f MB for its sums, over what render.max_memory_mb leaves "
+                       "(%.1f MB)",
+                       s->source, (double)copy / 1048576.0, (double)left / 1048576.0);
+    }
+    threads = threads * copy <= left ? threads : left / copy;
     job.P = calloc(threads * 3 * job.nocc + 1, sizeof *job.P);
     job.batch = calloc((size_t)job.nbatch, sizeof *job.batch);
     if (!slot || !job.P || !job.batch) {
