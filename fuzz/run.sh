@@ -22,7 +22,7 @@ clang -fsanitize=fuzzer "$probe" -o "$out/probe" 2>/dev/null || { echo "fuzz: no
 
 upper=$(echo "$fmt" | tr a-z A-Z)
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
-csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/regular_file.c $src/src/io/grid_io.c $src/src/io/grid_sandbox.c" # the readers and what they stand on
+csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/regular_file.c $src/src/io/grid_io.c $src/src/io/grid_sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = scene ]; then
     # the whole library but OpenVDB (C++), and the default scene CMake generated
@@ -30,7 +30,7 @@ if [ "$fmt" = scene ]; then
     csrc="$src/fuzz/fuzz_scene.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c"
     # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
     clang -std=c11 $flags "-DBUDGET_DEFAULT_BYTES=((size_t)4<<20)" "-DBUDGET_MAX_BYTES=((size_t)4<<20)" -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp) \
-        $csrc -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3 assimp) -lOpenEXRCore -lembree3 -lpthread -lm
+        $csrc -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3) -lOpenEXRCore -lembree3 -lpthread -ldl -lm
 elif [ "$fmt" = vdb ]; then
     # OpenVDB's TBB headers trip UBSan in their own code (concurrent_hash_map); ASan only
     flags=$(echo "$flags" | sed 's/,undefined//')
@@ -47,9 +47,9 @@ elif [ "$fmt" = vdb ]; then
         objs="$objs $o"
     done
     clang++ -std=c++17 $flags -c "$src/src/io/grid_vdb.cpp" -o "$out/grid_vdb.o"
-    clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -lm
+    clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -ldl -lm
 else
-    clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=0 $csrc -o "$exe" -lfftw3 -lm
+    clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=0 $csrc -o "$exe" -lfftw3 -ldl -lm
 fi
 seeds="$build/fuzz/seeds/$fmt"
 mkdir -p "$seeds"

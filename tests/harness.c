@@ -192,3 +192,16 @@ brume_image *test_render_json(const char *json, unsigned long long seed)
     brume_scene_release(s);
     return img;
 }
+
+int test_mapped(const char *name)
+{
+    FILE *f = fopen("/proc/self/maps", "r");
+    if (!f)
+        return 0;
+    char line[4096];
+    int found = 0;
+    while (!found && fgets(line, sizeof line, f))
+        found = strstr(line, name) != NULL;
+    fclose(f);
+    return found;
+}

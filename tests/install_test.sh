@@ -2,12 +2,17 @@
 # install_test.sh - installs the build tree to a temporary prefix and uses it as a user
 # would, from outside the source tree: the header's example built with pkg-config (shared,
 # then static with --static), with a CMake project doing find_package(brume CONFIG), and
-# the exported symbols of libbrume.so checked to be brume_* only.
+# the exported symbols of libbrume.so checked to be brume_* only. Where the build has OpenVDB,
+# the installed tool and the installed Python package each read a .vdb of shared/data,
+# through the OpenVDB module installed beside libbrume (src/io/grid_vdb_load.c).
 #   install_test.sh BUILD_DIR pkg-config|cmake|exports
 #   install_test.sh BUILD_DIR python PYTHON PYTHON_DIR   (the package from the prefix)
 set -eu
 build=$1
 mode=$2
+data=$(cd "$(dirname "$0")/../../shared/data" && pwd)
+vdb=0
+[ -e "$build/libbrume-openvdb.so" ] && vdb=1
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/brume-install-XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 prefix="$tmp/prefix"
@@ -15,6 +20,9 @@ cmake --install "$build" --prefix "$prefix" > "$tmp/install.log"
 for f in include/brume.h lib/libbrume.a lib/libbrume.so lib/pkgconfig/brume.pc lib/cmake/brume/brumeConfig.cmake bin/brume; do
     test -e "$prefix/$f" || { echo "install: $f missing under the prefix"; exit 1; }
 done
+if [ $vdb = 1 ] && ! [ -e "$prefix/lib/libbrume-openvdb.so" ]; then
+    echo "install: lib/libbrume-openvdb.so (the OpenVDB module) missing under the prefix"; exit 1
+fi
 soname=$(readelf -d "$prefix/lib/libbrume.so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
 test "$soname" = libbrume.so.0 || { echo "libbrume.so: SONAME '$soname', want libbrume.so.0"; exit 1; }
 # the example exactly as the header prints it
@@ -61,6 +69,11 @@ exports)
     # the tool runs from the prefix
     "$prefix/bin/brume" render --width 8 --height 6 --spp 1 --quiet -o "$tmp/t.png"
     test -s "$tmp/t.png"
+    if [ $vdb = 1 ]; then
+        (cd "$tmp" && "$prefix/bin/brume" info "$data/box_fog_21cube.vdb") > "$tmp/info.txt" ||
+            { echo "the installed brume cannot read a .vdb"; exit 1; }
+        grep -q "fog volume" "$tmp/info.txt" || { echo "brume info: no grid listed"; cat "$tmp/info.txt"; exit 1; }
+    fi
     ;;
 python)
     py=$3
@@ -82,8 +95,14 @@ except brume.Error as e:
     assert "missing.json" in str(e)
 else:
     raise SystemExit("no brume.Error")
+if sys.argv[3] == "1":  # a .vdb, through the installed OpenVDB module
+    img = brume.render({"camera": {"position": [0, -3, 0], "look_at": [0, 0, 0], "up": [0, 0, 1]},
+                        "lights": [{"type": "distant", "direction": [0, 1, 0], "irradiance": 2}],
+                        "media": [{"density": {"type": "grid", "file": sys.argv[2] + "/box_fog_21cube.vdb"},
+                                   "sigma_a": 0.5, "sigma_s": 2}]}, width=16, height=12, spp=2)
+    assert img[..., 3].max() > 0.1, img[..., 3].max()
 print("installed package", brume.__file__, "libbrume", brume.version())
-' "$pydir")
+' "$pydir" "$data" $vdb)
     ;;
 *) echo "usage: install_test.sh BUILD_DIR pkg-config|cmake|exports|python"; exit 2 ;;
 esac

@@ -31,6 +31,9 @@ char *test_slurp(const char *path, size_t *n);
 void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se);
 /* 1 if the path names an existing file or folder. */
 int test_exists(const char *path);
+/* True when a file whose path contains `name` is mapped into this process (/proc/self/maps):
+ * whether a shared library has been loaded. */
+int test_mapped(const char *name);
 /* Renders the scene of a JSON text with the given seed (its other settings as written);
  * the test fails with the reader's or the renderer's message. Release with
  * brume_image_release. */

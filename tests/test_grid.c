@@ -827,7 +827,24 @@ TEST(hostile_values)
     free(b);
 }
 
+/* OpenVDB is opened when a .vdb is first read, not linked (io/grid_vdb.h): a fresh test
+ * process that has read none holds neither the module nor libopenvdb; reading one maps both
+ * into this process (the sandbox opens the module here, then forks its reader). */
+TEST(openvdb_opened_on_first_use)
+{
+    ASSERT_TRUE(!test_mapped("libbrume-openvdb") && !test_mapped("libopenvdb"));
+    if (!grid_have_openvdb())
+        return;
+    gridvdb_info *gi = NULL;
+    int count = 0;
+    if (grid_list_file(DATA("box_fog_21cube.vdb"), 0, &gi, &count) != BRUME_OK)
+        TEST_FAIL("%s", err_message());
+    ASSERT_TRUE(count >= 1);
+    free(gi);
+    ASSERT_TRUE(test_mapped("libbrume-openvdb.so") && test_mapped("libopenvdb"));
+}
+
 TEST_MAIN(dda_random_rays, dda_long_rays_within_tolerance, dda_restart_walks_the_part, dda_grazing_and_axis_parallel, dda_world_placement, majorant_bounds_dense,
           majorant_tighter_than_global, roundtrip_raw_vol, roundtrip_df3, real_wdas_cloud, real_box_fog_transmittance,
           real_spiral_df3, real_cloud64_raw, nanovdb_matches_openvdb, nanovdb_write_dense, load_options_placement,
-          hostile_truncated_real_files, hostile_headers, hostile_values)
+          hostile_truncated_real_files, hostile_headers, hostile_values, openvdb_opened_on_first_use)

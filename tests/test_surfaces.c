@@ -4,6 +4,7 @@
 
 #include "brume.h"
 #include "core/error.h"
+#include "io/mesh.h"
 #include "render/scene.h"
 
 #define err_message_for_test() err_message()
@@ -275,6 +276,25 @@ TEST(large_mesh_renders)
     remove(path);
 }
 
+/* assimp is opened when the first mesh file is read (io/mesh.c), not linked: a fresh test
+ * process that has read none does not hold it; one mesh maps it. */
+TEST(assimp_opened_on_first_use)
+{
+    ASSERT_TRUE(!test_mapped("libassimp"));
+    const char *path = test_tmp_path("one_triangle.obj");
+    test_write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    double *pos = NULL;
+    int *idx = NULL, nv = 0, ntri = 0;
+    if (mesh_load(path, &pos, &nv, &idx, &ntri) != BRUME_OK)
+        TEST_FAIL("%s", err_message());
+    ASSERT_EQ_INT(nv, 3);
+    ASSERT_EQ_INT(ntri, 1);
+    free(pos);
+    free(idx);
+    remove(path);
+    ASSERT_TRUE(test_mapped("libassimp"));
+}
+
 TEST_MAIN(lit_plane_through_fog, fog_shadow_matches_transmittance, furnace_inside_emitting_sphere,
           furnace_white_sphere_outside, furnace_white_ground_cloud, emitter_front_side, bad_meshes_are_errors,
-          large_mesh_renders)
+          large_mesh_renders, assimp_opened_on_first_use)

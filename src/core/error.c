@@ -197,13 +197,19 @@ void err_format(char *out, size_t n, const char *fmt, ...)
     va_end(ap);
 }
 
+brume_status err_vset(brume_status status, const char *fmt, va_list ap)
+{
+    err_vformat(err_buf, sizeof err_buf, fmt, ap);
+    err_code = status;
+    return status;
+}
+
 brume_status err_set(brume_status status, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    err_vformat(err_buf, sizeof err_buf, fmt, ap);
+    err_vset(status, fmt, ap);
     va_end(ap);
-    err_code = status;
     return status;
 }
 

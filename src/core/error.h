@@ -32,6 +32,7 @@ void err_format(char *out, size_t n, const char *fmt, ...) BRUME_PRINTF(3, 4);
 
 /* Record status and message (printf format) for this thread; returns status. */
 brume_status err_set(brume_status status, const char *fmt, ...) BRUME_PRINTF(2, 3);
+brume_status err_vset(brume_status status, const char *fmt, va_list ap);
 /* This thread's last message ("" when none). */
 const char *err_message(void);
 /* Prepends "PREFIX: " (printf format) to this thread's message; returns its status. */

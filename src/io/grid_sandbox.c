@@ -182,6 +182,11 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     int fds[2];
     if (pipe(fds) != 0)
         return err_set(BRUME_ERROR_IO, "%s: cannot create a pipe: %s", j->name, strerror(errno));
+    if (gridvdb_load() != BRUME_OK) { /* in this process, so that every child has it */
+        close(fds[0]);
+        close(fds[1]);
+        return err_prefix("%s: .vdb needs OpenVDB", j->name);
+    }
     gridvdb_before_fork();
     fflush(NULL);
     pid_t pid = fork();

@@ -1,11 +1,14 @@
 // grid_vdb.cpp - OpenVDB reading (straight to NanoVDB), listing and writing behind a C
 // interface (grid_vdb.h). The only C++ in brume: libopenvdb and NanoVDB's builders are C++
-// APIs. Every exception stops at this file's boundary and becomes a one-line err_set message.
+// APIs. Built as the module libbrume-openvdb.so, which exports one symbol, its table
+// (brume_openvdb_module); grid_vdb_load.c opens it on first use. Every exception stops at
+// this file's boundary and becomes a one-line message through the host's error function.
 // grid_io.c runs the readers in a child process under resource limits (grid_sandbox.c).
 #include "io/grid_vdb.h"
 
 #include <cmath>
 #include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 #include <mutex>
 #include <cstdlib>
@@ -23,11 +26,21 @@
 #include <nanovdb/util/IO.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
 
-extern "C" {
-#include "core/error.h"
-}
-
 namespace {
+
+gridvdb_err_fn host_err; // the host's err_vset, from brume_openvdb_module
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+brume_status err_set(brume_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    host_err(status, fmt, ap);
+    va_end(ap);
+    return status;
+}
 
 void init_once()
 {
@@ -142,8 +155,8 @@ unsigned long long nano_size(const openvdb::GridBase::Ptr &g) { return (unsigned
 
 } // namespace
 
-extern "C" brume_status gridvdb_list(const char *path, const void *bytes, size_t size, const char *name,
-                                     gridvdb_info **out, int *count)
+static brume_status mod_list(const char *path, const void *bytes, size_t size, const char *name,
+                             gridvdb_info **out, int *count)
 {
     *out = nullptr;
     *count = 0;
@@ -201,8 +214,8 @@ extern "C" brume_status gridvdb_list(const char *path, const void *bytes, size_t
     }
 }
 
-extern "C" brume_status gridvdb_to_nano(const char *path, const void *bytes, size_t size, const char *name,
-                                        const char *grid, int vec3, gridvdb_sink sink, void *user)
+static brume_status mod_to_nano(const char *path, const void *bytes, size_t size, const char *name,
+                                const char *grid, int vec3, gridvdb_sink sink, void *user)
 {
     try {
         init_once();
@@ -232,7 +245,7 @@ extern "C" brume_status gridvdb_to_nano(const char *path, const void *bytes, siz
     }
 }
 
-extern "C" brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, const char *grid)
+static brume_status mod_vdb_to_nvdb(const char *in, const char *out, const char *grid)
 {
     try {
         init_once();
@@ -276,26 +289,36 @@ extern "C" brume_status gridvdb_vdb_to_nvdb(const char *in, const char *out, con
  * forks are safe as they are. */
 static const pid_t load_pid = getpid();
 
-extern "C" void gridvdb_before_fork(void)
+static void mod_before_fork(void)
 {
     if (getpid() != load_pid)
         return;
     static std::once_flag once;
     std::call_once(once, [] {
-        /* log4cplus::shutdownThreadPool(), looked up where it is: brume links OpenVDB, which
-         * brings log4cplus without its headers */
-        void *f = dlsym(RTLD_DEFAULT, "_ZN9log4cplus18shutdownThreadPoolEv");
+        /* log4cplus::shutdownThreadPool(), looked up among this object's dependencies (OpenVDB
+         * brings log4cplus without its headers): the module is opened with RTLD_LOCAL, so
+         * its libraries are not in the global scope; linked into a program, they are */
+        Dl_info info;
+        struct link_map *self = nullptr;
+        if (!dladdr1(reinterpret_cast<void *>(&brume_openvdb_module), &info, reinterpret_cast<void **>(&self),
+                     RTLD_DL_LINKMAP) ||
+            !self)
+            return;
+        void *h = dlopen(self->l_name && self->l_name[0] ? self->l_name : nullptr, RTLD_LAZY | RTLD_NOLOAD);
+        void *f = h ? dlsym(h, "_ZN9log4cplus18shutdownThreadPoolEv") : nullptr;
         if (f) {
             try {
                 reinterpret_cast<void (*)()>(f)();
             } catch (...) {
             }
         }
+        if (h)
+            dlclose(h);
     });
 }
 
-extern "C" brume_status gridvdb_write_dense(const char *path, int nanovdb, const int n[3], const float *data,
-                                            const double v2w[12])
+static brume_status mod_write_dense(const char *path, int nanovdb, const int n[3], const float *data,
+                                    const double v2w[12])
 {
     try {
         init_once();
@@ -359,7 +382,7 @@ struct gridvdb_writer {
     std::vector<std::unique_ptr<openvdb::Vec3SGrid::Accessor>> vacc;
 };
 
-extern "C" gridvdb_writer *gridvdb_writer_new(void)
+static gridvdb_writer *mod_writer_new(void)
 {
     try {
         init_once();
@@ -370,8 +393,8 @@ extern "C" gridvdb_writer *gridvdb_writer_new(void)
     }
 }
 
-extern "C" int gridvdb_writer_add(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size,
-                                  const double origin[3])
+static int mod_writer_add(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size,
+                          const double origin[3])
 {
     try {
         openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel_size);
@@ -399,7 +422,7 @@ extern "C" int gridvdb_writer_add(gridvdb_writer *w, const char *grid_name, int 
     }
 }
 
-extern "C" void gridvdb_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v)
+static void mod_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v)
 {
     if (w->facc[(size_t)g])
         w->facc[(size_t)g]->setValueOn(openvdb::Coord(i, j, k), v[0]);
@@ -407,12 +430,12 @@ extern "C" void gridvdb_writer_set(gridvdb_writer *w, int g, int i, int j, int k
         w->vacc[(size_t)g]->setValueOn(openvdb::Coord(i, j, k), openvdb::Vec3s(v[0], v[1], v[2]));
 }
 
-extern "C" unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g)
+static unsigned long long mod_writer_active(const gridvdb_writer *w, int g)
 {
     return (unsigned long long)w->grids[(size_t)g]->activeVoxelCount();
 }
 
-extern "C" brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path, int nanovdb)
+static brume_status mod_writer_save(gridvdb_writer *w, const char *path, int nanovdb)
 {
     try {
         for (auto &g : w->grids)
@@ -434,4 +457,15 @@ extern "C" brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path,
     }
 }
 
-extern "C" void gridvdb_writer_free(gridvdb_writer *w) { delete w; }
+static void mod_writer_free(gridvdb_writer *w) { delete w; }
+
+extern "C" const gridvdb_api *brume_openvdb_module(gridvdb_err_fn err)
+{
+    static const gridvdb_api api = {
+        GRIDVDB_API_VERSION, sizeof(gridvdb_api), mod_list, mod_to_nano, mod_vdb_to_nvdb, mod_before_fork,
+        mod_write_dense, mod_writer_new, mod_writer_add, mod_writer_set, mod_writer_active, mod_writer_save,
+        mod_writer_free,
+    };
+    host_err = err;
+    return &api;
+}

@@ -1,7 +1,10 @@
-/* grid_vdb.h - the C interface of grid_vdb.cpp, the one C++ file: OpenVDB reading (straight
- * to a NanoVDB buffer, never through a dense array), listing and writing. Built only when
- * CMake finds libopenvdb (BRUME_HAVE_OPENVDB); otherwise grid_io.c reports "built without
- * OpenVDB".
+/* grid_vdb.h - OpenVDB reading (straight to a NanoVDB buffer, never through a dense array),
+ * listing and writing. The work is in grid_vdb.cpp, the one C++ file, built as a module of
+ * its own (libbrume-openvdb.so, beside libbrume) that grid_vdb_load.c opens on the first
+ * call: OpenVDB, TBB, Boost and log4cplus cost a process some 70 ms of symbol binding at
+ * start-up (docs/performance.md, "Start-up"), and most runs never read a .vdb. A program that
+ * links grid_vdb.cpp in (the fuzz target) uses it as linked. Built without OpenVDB
+ * (BRUME_HAVE_OPENVDB 0), or with the module missing, every call fails with a one-line error.
  *
  * The readers here trust libopenvdb, which does not survive hostile files (a flipped bit can
  * make it loop for minutes or allocate gigabytes): grid_io.c calls them only inside a child
@@ -9,6 +12,7 @@
 #ifndef BRUME_IO_GRID_VDB_H
 #define BRUME_IO_GRID_VDB_H
 
+#include <stdarg.h>
 #include <stddef.h>
 
 #include "brume.h"
@@ -76,6 +80,44 @@ unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g);
 /* Writes every grid to path (written as is: callers go through io/atomic.h). */
 brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path, int nanovdb);
 void gridvdb_writer_free(gridvdb_writer *w);
+
+/* Loads the module now if it is not loaded (the reader's sandbox does, before it forks);
+ * BRUME_OK, or an error naming where it looked. */
+brume_status gridvdb_load(void);
+
+/* ---- the module's interface (grid_vdb.cpp <-> grid_vdb_load.c) ----------------------- */
+
+/* Bumped whenever the table changes; a module of another version is refused. */
+#define GRIDVDB_API_VERSION 1
+
+/* The functions above, as the module provides them (the loader's functions of the same
+ * names forward to these). */
+typedef struct gridvdb_api {
+    int version;  /* GRIDVDB_API_VERSION */
+    size_t size;  /* sizeof(gridvdb_api) */
+    brume_status (*list)(const char *path, const void *bytes, size_t size, const char *name, gridvdb_info **out,
+                         int *count);
+    brume_status (*to_nano)(const char *path, const void *bytes, size_t size, const char *name, const char *grid,
+                            int vec3, gridvdb_sink sink, void *user);
+    brume_status (*vdb_to_nvdb)(const char *in, const char *out, const char *grid);
+    void (*before_fork)(void);
+    brume_status (*write_dense)(const char *path, int nanovdb, const int n[3], const float *data,
+                                const double voxel_to_world[12]);
+    gridvdb_writer *(*writer_new)(void);
+    int (*writer_add)(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size, const double origin[3]);
+    void (*writer_set)(gridvdb_writer *w, int g, int i, int j, int k, const float *v);
+    unsigned long long (*writer_active)(const gridvdb_writer *w, int g);
+    brume_status (*writer_save)(gridvdb_writer *w, const char *path, int nanovdb);
+    void (*writer_free)(gridvdb_writer *w);
+} gridvdb_api;
+
+/* How the module reports an error: the host's err_vset (core/error.h), so that the message
+ * lands in the calling thread's last error as every other brume message does. */
+typedef brume_status (*gridvdb_err_fn)(brume_status status, const char *fmt, va_list ap);
+
+/* The module's one exported symbol: its table, given the host's error function. */
+#define GRIDVDB_MODULE_SYMBOL "brume_openvdb_module"
+const gridvdb_api *brume_openvdb_module(gridvdb_err_fn err);
 
 #ifdef __cplusplus
 }

@@ -1,11 +1,19 @@
-/* mesh.c - mesh files read with assimp (Debian's libassimp), flattened to one triangle list. */
+/* mesh.c - mesh files read with assimp (Debian's libassimp), flattened to one triangle list.
+ *
+ * libassimp is opened by its SONAME (BRUME_ASSIMP_SONAME, read from the library CMake found)
+ * when the first mesh is read, not linked: with its draco and minizip it made the dynamic
+ * loader bind some 44,000 symbols at every brume process's start, for the few scenes with
+ * mesh files (docs/performance.md, "Start-up"). The functions keep the header's types. */
+#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "io/mesh.h"
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +23,35 @@
 #include "io/regular_file.h"
 
 #define MESH_MAX_TRIANGLES 200000000L
+
+#ifndef BRUME_ASSIMP_SONAME
+#define BRUME_ASSIMP_SONAME "libassimp.so.5"
+#endif
+
+static struct {
+    __typeof__(aiImportFile) *import_file;
+    __typeof__(aiGetErrorString) *error_string;
+    __typeof__(aiReleaseImport) *release;
+} ai;
+static char ai_error[512];
+static pthread_once_t ai_once = PTHREAD_ONCE_INIT;
+
+static void ai_open(void)
+{
+    void *h = dlopen(BRUME_ASSIMP_SONAME, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        snprintf(ai_error, sizeof ai_error, "%s", dlerror());
+        return;
+    }
+    ai.import_file = (__typeof__(aiImportFile) *)dlsym(h, "aiImportFile");
+    ai.error_string = (__typeof__(aiGetErrorString) *)dlsym(h, "aiGetErrorString");
+    ai.release = (__typeof__(aiReleaseImport) *)dlsym(h, "aiReleaseImport");
+    if (!ai.import_file || !ai.error_string || !ai.release) {
+        snprintf(ai_error, sizeof ai_error, "%s lacks aiImportFile, aiGetErrorString or aiReleaseImport",
+                 BRUME_ASSIMP_SONAME);
+        ai.import_file = NULL;
+    }
+}
 
 static int ply_type_size(const char *t)
 {
@@ -79,13 +116,16 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     fclose(probe);
     if (st != BRUME_OK)
         return st;
+    pthread_once(&ai_once, ai_open);
+    if (!ai.import_file)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: mesh files need assimp: %s", path, ai_error);
     size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
     if (budget_take(import_bytes, path) != BRUME_OK)
         return err_status();
-    const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
+    const struct aiScene *sc = ai.import_file(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                                       aiProcess_SortByPType);
     if (!sc)
-        return err_set(BRUME_ERROR_PARSE, "%s: not a readable mesh: %s", path, aiGetErrorString());
+        return err_set(BRUME_ERROR_PARSE, "%s: not a readable mesh: %s", path, ai.error_string());
     long nv = 0, ntri = 0;
     for (unsigned m = 0; m < sc->mNumMeshes; m++) {
         const struct aiMesh *me = sc->mMeshes[m];
@@ -94,17 +134,17 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
             ntri += me->mFaces[f].mNumIndices == 3;
     }
     if (ntri == 0) {
-        aiReleaseImport(sc);
+        ai.release(sc);
         return err_set(BRUME_ERROR_PARSE, "%s: no triangles in the file", path);
     }
     if (ntri > MESH_MAX_TRIANGLES || nv > 3 * MESH_MAX_TRIANGLES) {
-        aiReleaseImport(sc);
+        ai.release(sc);
         budget_give(import_bytes);
         return err_set(BRUME_ERROR_RANGE, "%s: %ld triangles exceed the limit of %ld", path, ntri, MESH_MAX_TRIANGLES);
     }
     /* the triangle list here and, about as large again, the ray-tracing hierarchy built on it */
     if (budget_take(2 * (sizeof(double) * 3 * (size_t)nv + sizeof(int) * 3 * (size_t)ntri), path) != BRUME_OK) {
-        aiReleaseImport(sc);
+        ai.release(sc);
         budget_give(import_bytes);
         return err_status();
     }
@@ -113,7 +153,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     if (!pos || !idx) {
         free(pos);
         free(idx);
-        aiReleaseImport(sc);
+        ai.release(sc);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld triangles", path, ntri);
     }
     long vbase = 0, t = 0;
@@ -125,7 +165,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
             if (!isfinite(x) || !isfinite(y) || !isfinite(z)) {
                 free(pos);
                 free(idx);
-                aiReleaseImport(sc);
+                ai.release(sc);
                 return err_set(BRUME_ERROR_RANGE, "%s: vertex %ld has a non-finite coordinate", path, vbase + v);
             }
             pos[3 * (vbase + v)] = x;
@@ -140,7 +180,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
                 if (fc->mIndices[k] >= me->mNumVertices) {
                     free(pos);
                     free(idx);
-                    aiReleaseImport(sc);
+                    ai.release(sc);
                     return err_set(BRUME_ERROR_PARSE, "%s: face %u names a missing vertex", path, f);
                 }
                 idx[3 * t + k] = (int)(vbase + (long)fc->mIndices[k]);
@@ -149,7 +189,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         }
         vbase += me->mNumVertices;
     }
-    aiReleaseImport(sc);
+    ai.release(sc);
     budget_give(import_bytes);
     *pos_out = pos;
     *idx_out = idx;
