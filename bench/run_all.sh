@@ -10,6 +10,8 @@ cd "$here"
 cmake --build "$build" -j2 >/dev/null
 cmake --build "$build" --target bench -j2 >/dev/null
 echo "### date: $(date -u +%Y-%m-%dT%H:%MZ), load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "### start-up (bench/startup.py)"
+python3 bench/startup.py --build "$build"
 echo "### bench_render (default scene, 240 x 160)"
 "$build/bench/bench_render" --width 240 --height 160 --ref-spp 512
 echo "### cloud64 vs Blender Cycles"
