@@ -50,6 +50,7 @@ static const gridvdb_api *api;
 static char load_error[PATH_MAX * 4 + 256];
 static pthread_once_t load_once = PTHREAD_ONCE_INIT;
 
+#if BRUME_HAVE_OPENVDB
 /* The directory of the object holding this code, into dir[n]; false when unknown. */
 static bool own_dir(char *dir, size_t n)
 {
@@ -93,9 +94,6 @@ static const gridvdb_api *check(const gridvdb_api *a, const char *where)
 
 static void load(void)
 {
-#if !BRUME_HAVE_OPENVDB
-    snprintf(load_error, sizeof load_error, "brume was built without OpenVDB");
-#else
     if (brume_openvdb_module) {
         api = check(brume_openvdb_module(err_vset), "the linked-in OpenVDB code");
         return;
@@ -140,8 +138,10 @@ static void load(void)
         return;
     }
     snprintf(load_error, sizeof load_error, "the OpenVDB module " MODULE_FILE " is missing (looked in %s)", looked);
-#endif
 }
+#else
+static void load(void) { snprintf(load_error, sizeof load_error, "brume was built without OpenVDB"); }
+#endif
 
 static const gridvdb_api *get(void)
 {
