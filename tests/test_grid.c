@@ -827,9 +827,9 @@ TEST(hostile_values)
     free(b);
 }
 
-/* OpenVDB is opened when a .vdb is first read, not linked (io/grid_vdb.h): a fresh test
- * process that has read none holds neither the module nor libopenvdb; reading one maps both
- * into this process (the sandbox opens the module here, then forks its reader). */
+/* OpenVDB is opened when first needed, not linked (io/grid_vdb.h): a fresh test process
+ * holds neither the module nor libopenvdb; reading a .vdb opens them in the sandbox's child
+ * only, so this process still holds neither; a writer opens them here. */
 TEST(openvdb_opened_on_first_use)
 {
     ASSERT_TRUE(!test_mapped("libbrume-openvdb") && !test_mapped("libopenvdb"));
@@ -841,6 +841,11 @@ TEST(openvdb_opened_on_first_use)
         TEST_FAIL("%s", err_message());
     ASSERT_TRUE(count >= 1);
     free(gi);
+    ASSERT_TRUE(!test_mapped("libbrume-openvdb") && !test_mapped("libopenvdb"));
+    gridvdb_writer *w = gridvdb_writer_new();
+    if (!w)
+        TEST_FAIL("%s", err_message());
+    gridvdb_writer_free(w);
     ASSERT_TRUE(test_mapped("libbrume-openvdb.so") && test_mapped("libopenvdb"));
 }
 

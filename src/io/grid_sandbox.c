@@ -182,11 +182,9 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     int fds[2];
     if (pipe(fds) != 0)
         return err_set(BRUME_ERROR_IO, "%s: cannot create a pipe: %s", j->name, strerror(errno));
-    if (gridvdb_load() != BRUME_OK) { /* in this process, so that every child has it */
-        close(fds[0]);
-        close(fds[1]);
-        return err_prefix("%s: .vdb needs OpenVDB", j->name);
-    }
+    /* The child opens the OpenVDB module itself (io/grid_vdb.h): this process does not map
+     * OpenVDB to read, so no thread of its libraries (log4cplus's pool starts at load) can
+     * hold a lock across the fork. A module this process opened to write is handled here. */
     gridvdb_before_fork();
     fflush(NULL);
     pid_t pid = fork();

@@ -5,6 +5,8 @@
  * start-up (docs/performance.md, "Start-up"), and most runs never read a .vdb. A program that
  * links grid_vdb.cpp in (the fuzz target) uses it as linked. Built without OpenVDB
  * (BRUME_HAVE_OPENVDB 0), or with the module missing, every call fails with a one-line error.
+ * The readers run in the sandbox's child, which opens the module there: brume's own process
+ * maps OpenVDB only to write.
  *
  * The readers here trust libopenvdb, which does not survive hostile files (a flipped bit can
  * make it loop for minutes or allocate gigabytes): grid_io.c calls them only inside a child
@@ -80,10 +82,6 @@ unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g);
 /* Writes every grid to path (written as is: callers go through io/atomic.h). */
 brume_status gridvdb_writer_save(gridvdb_writer *w, const char *path, int nanovdb);
 void gridvdb_writer_free(gridvdb_writer *w);
-
-/* Loads the module now if it is not loaded (the reader's sandbox does, before it forks);
- * BRUME_OK, or an error naming where it looked. */
-brume_status gridvdb_load(void);
 
 /* ---- the module's interface (grid_vdb.cpp <-> grid_vdb_load.c) ----------------------- */
 

@@ -149,11 +149,6 @@ static const gridvdb_api *get(void)
     return api;
 }
 
-brume_status gridvdb_load(void)
-{
-    return get() ? BRUME_OK : err_set(BRUME_ERROR_UNSUPPORTED, "%.2000s", load_error);
-}
-
 brume_status gridvdb_list(const char *path, const void *bytes, size_t size, const char *name, gridvdb_info **out,
                           int *count)
 {
