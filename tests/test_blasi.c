@@ -169,6 +169,19 @@ TEST(threads_do_not_change_the_image)
     brume_image_release(d);
 }
 
+/* The voxels of the scene's first medium whose density is not zero (as floats). */
+static size_t occupied_voxels(const brume_scene *s)
+{
+    density_info info;
+    density_get_info(s->media[0].rho, &info);
+    size_t nocc = 0;
+    for (int k = 0; k < info.n[2]; k++)
+        for (int j = 0; j < info.n[1]; j++)
+            for (int i = 0; i < info.n[0]; i++)
+                nocc += (float)density_voxel(s->media[0].rho, i, j, k) != 0.0f;
+    return nocc;
+}
+
 /* The first pass's saved radiance grid (blasi.save_light) for json on `threads` threads,
  * with the memory limit set, when `one_copy`, to leave room for one copy of the light
  * pass's per-thread sums and a half (3 fixed-point sums of 16 bytes per non-empty voxel). */
@@ -188,14 +201,7 @@ static void light_file(const char *json, int threads, uint64_t seed, bool one_co
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.save_light", path), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     if (one_copy) {
-        density_info info;
-        density_get_info(s->media[0].rho, &info);
-        size_t nocc = 0;
-        for (int k = 0; k < info.n[2]; k++)
-            for (int j = 0; j < info.n[1]; j++)
-                for (int i = 0; i < info.n[0]; i++)
-                    nocc += (float)density_voxel(s->media[0].rho, i, j, k) != 0.0f;
-        s->max_memory = s->memory_used + 72 * nocc;
+        s->max_memory = s->memory_used + 72 * occupied_voxels(s);
     }
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
@@ -261,13 +267,7 @@ TEST(light_pass_sums_respect_the_memory_limit)
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
-    density_info info;
-    density_get_info(s->media[0].rho, &info);
-    size_t nocc = 0;
-    for (int k = 0; k < info.n[2]; k++)
-        for (int j = 0; j < info.n[1]; j++)
-            for (int i = 0; i < info.n[0]; i++)
-                nocc += (float)density_voxel(s->media[0].rho, i, j, k) != 0.0f;
+    size_t nocc = occupied_voxels(s);
     ASSERT_TRUE(nocc > 0);
     s->max_memory = s->memory_used + 24 * nocc; /* half of 3 sums of 16 bytes per voxel */
     brume_image *img = NULL;
