@@ -4,12 +4,15 @@ against the first one, per scene and spp.
 
     python3 bench/efficiency.py [--build build] [--rounds 3] [--threads 2]
                                 [--scenes cloud64:16,64 wdas-dense:8,32]
-                                [--configs NAME=ARGS ...]
+                                [--pin CPUS] [--configs NAME=ARGS ...]
 
 A configuration is extra `brume render` arguments, e.g. `off='--set path.sun_lobe=0' on=`
 (sun-lobe sampling off and at its default) or the default pair
 `independent='--set render.sampler="independent"' sobol='--set render.sampler="sobol"'`.
-The first configuration is the baseline of the ratios.
+Leading `VAR=value` words of a configuration set the renders' environment instead (for a
+throwaway build's switches). The first configuration is the baseline of the ratios.
+`--pin 1` runs every render under `taskset -c 1`: on the project's VM one core is up to
+1.35 x slower than the other, so one-thread comparisons left to the scheduler mix the two.
 
 The variance of an image needs no reference: two renders with different seeds differ by
 noise only, so half their mean squared difference (over pixels and RGB channels) is the
@@ -46,11 +49,17 @@ def read_pfm(path):
     return data
 
 
-def render(brume, scene, spp, seed, threads, args, out):
+def render(brume, scene, spp, seed, threads, args, out, pin=None):
     """Renders and returns the CPU seconds (user + system) the process used."""
+    env = dict(os.environ)
+    while args and "=" in args[0] and args[0].split("=", 1)[0].isupper():  # leading VAR=value: environment
+        k, v = args[0].split("=", 1)
+        env[k] = v
+        args = args[1:]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    p = subprocess.run([brume, "render", scene, "--spp", str(spp), "--seed", str(seed), "--threads", str(threads),
-                        "-o", out] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    prefix = ["taskset", "-c", pin] if pin else []
+    p = subprocess.run(prefix + [brume, "render", scene, "--spp", str(spp), "--seed", str(seed), "--threads", str(threads),
+                        "-o", out] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
     if p.returncode != 0:
         sys.exit(p.stderr.strip())
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -62,6 +71,8 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--pin", default=None, help="taskset CPU list for every render, e.g. 1 (this VM's two cores "
+                    "differ by up to 1.35 x in speed, so one-thread comparisons pin to one)")
     ap.add_argument("--scenes", nargs="*", default=["cloud64:16,64", "wdas-dense:8,32"],
                     help="SCENE:SPP,SPP... (scenes/SCENE.json)")
     ap.add_argument("--configs", nargs="*", default=["independent=--set render.sampler=\"independent\"",
@@ -90,7 +101,7 @@ def main():
                     imgs, cpu = [], 0.0
                     for k in range(2):
                         out = os.path.join(tmp, f"{scene_name}-{spp}-{name}-{k}.pfm")
-                        cpu += render(brume, scene, spp, 1000 + 2 * r + k, a.threads, args, out)
+                        cpu += render(brume, scene, spp, 1000 + 2 * r + k, a.threads, args, out, a.pin)
                         imgs.append(read_pfm(out))
                     n = len(imgs[0])
                     v = 0.5 * sum((x - y) * (x - y) for x, y in zip(imgs[0], imgs[1])) / n
