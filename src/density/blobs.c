@@ -436,6 +436,7 @@ density *density_new_blobs(blob_field *f, int majorant_cells)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory for the majorant grid");
         return NULL;
     }
+    density_set_active_box(d);
     d->rho_min = 0.0;
     d->active = (uint64_t)f->n;
     d->memory = (size_t)f->n * (sizeof(blob) + 3 * sizeof(double)) + (size_t)f->nnodes * sizeof(blob_node) +

@@ -41,6 +41,10 @@ struct density {
     int mn[3];
     float *maj;
     float *mino;           /* NULL: no lower bound (0) */
+    int clo[3], chi[3];    /* the box of the cells whose majorant is above 0, cells [clo, chi)
+                              (clo = chi = 0 when every cell is 0): rho is 0 outside it, so
+                              walks start and end at its faces. Set with maj
+                              (density_set_active_box). */
     /* DENSITY_GRID */
     float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release); for a NanoVDB grid
                     the dense copy of a small box (nanovdb.c), or NULL */
@@ -72,6 +76,9 @@ static inline size_t dense_brick_z(const density *d, int k)
 /* Fills maj, mino, mn, mcell, moff: the cells' bounds over the voxels fetch reads (grid.c).
  * false when out of memory. */
 bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int));
+
+/* Sets clo, chi from maj (grid.c); after every change of maj. */
+void density_set_active_box(density *d);
 
 /* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */
 bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who);

@@ -88,7 +88,30 @@ bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int,
                 d->maj[c] = (double)fm < m ? nextafterf(fm, INFINITY) : fm;
                 d->mino[c] = (double)fmi > mi ? nextafterf(fmi, 0.0f) : fmi;
             }
+    density_set_active_box(d);
     return true;
+}
+
+void density_set_active_box(density *d)
+{
+    int lo[3] = {d->mn[0], d->mn[1], d->mn[2]}, hi[3] = {0, 0, 0};
+    for (int ck = 0; ck < d->mn[2]; ck++)
+        for (int cj = 0; cj < d->mn[1]; cj++) {
+            const float *row = d->maj + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck);
+            for (int ci = 0; ci < d->mn[0]; ci++) {
+                if (!(row[ci] > 0.0f))
+                    continue;
+                const int c[3] = {ci, cj, ck};
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = c[a] < lo[a] ? c[a] : lo[a];
+                    hi[a] = c[a] + 1 > hi[a] ? c[a] + 1 : hi[a];
+                }
+            }
+        }
+    for (int a = 0; a < 3; a++) {
+        d->clo[a] = hi[0] > 0 ? lo[a] : 0;
+        d->chi[a] = hi[0] > 0 ? hi[a] : 0;
+    }
 }
 
 density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affine3 *voxel_to_world,
@@ -286,6 +309,8 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
     }
     double s = 1.0 / d->mcell;
     vec3 oc = v3((o.x + d->moff[0]) * s, (o.y + d->moff[1]) * s, (o.z + d->moff[2]) * s);
-    if (!grid_dda_begin(&it->dda, d->mn, oc, v3_scale(dir, s), t0, t1))
+    /* only the box of non-empty cells (clipped as the steps cross planes: no sliver of an
+     * empty cell at its faces) */
+    if (!grid_dda_begin_box(&it->dda, d->mn, d->clo, d->chi, oc, v3_scale(dir, s), t0, t1))
         it->dda.done = true;
 }
