@@ -11,8 +11,9 @@ A configuration is extra `brume render` arguments, e.g. `off='--set path.sun_lob
 `independent='--set render.sampler="independent"' sobol='--set render.sampler="sobol"'`.
 Leading `VAR=value` words of a configuration set the renders' environment instead (for a
 throwaway build's switches). The first configuration is the baseline of the ratios.
-`--pin 1` runs every render under `taskset -c 1`: on the project's VM one core is up to
-1.35 x slower than the other, so one-thread comparisons left to the scheduler mix the two.
+`--pin 1` runs every render under `taskset -c 1`: on the project's VM one core was at times
+1.35 x slower than the other (2026-11-26, 00:30 UTC; equal ten minutes later), so one-thread
+comparisons left to the scheduler can mix the two.
 
 The variance of an image needs no reference: two renders with different seeds differ by
 noise only, so half their mean squared difference (over pixels and RGB channels) is the
@@ -72,7 +73,7 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--pin", default=None, help="taskset CPU list for every render, e.g. 1 (this VM's two cores "
-                    "differ by up to 1.35 x in speed, so one-thread comparisons pin to one)")
+                    "were at times 1.35 x apart in speed)")
     ap.add_argument("--scenes", nargs="*", default=["cloud64:16,64", "wdas-dense:8,32"],
                     help="SCENE:SPP,SPP... (scenes/SCENE.json)")
     ap.add_argument("--configs", nargs="*", default=["independent=--set render.sampler=\"independent\"",
