@@ -111,11 +111,11 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
                 continue;
             any = true;
             if (st[m].seg.t0 > t) {
-                t_next = fmin(t_next, st[m].seg.t0);
+                t_next = dda_min(t_next, st[m].seg.t0);
             } else {
                 sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
                 sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
-                t_next = fmin(t_next, st[m].seg.t1);
+                t_next = dda_min(t_next, st[m].seg.t1);
             }
         }
         if (!any || t >= tmax) {
@@ -123,8 +123,8 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
                 *tau_c_end = e.tau_c;
             return true;
         }
-        t_next = fmin(t_next, tmax);
-        sigma_c = fmin(sigma_c, sigma_maj);
+        t_next = dda_min(t_next, tmax);
+        sigma_c = dda_min(sigma_c, sigma_maj);
         /* the rate of tentative collisions */
         double sigma_n = residual ? sigma_maj - sigma_c : sigma_maj;
         e.sigma_maj = sigma_maj;
@@ -144,7 +144,7 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
             for (;;) {
                 double du = tau / sigma_n;
                 if (!(u + du < len)) {
-                    tau = fmax(0.0, tau - sigma_n * (len - u));
+                    tau = dda_max(0.0, tau - sigma_n * (len - u));
                     break;
                 }
                 double u_new = u + du;
