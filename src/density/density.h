@@ -148,7 +148,8 @@ typedef struct majorant_iter {
     const float *table;  /* the current block's leaf-cell bounds */
 } majorant_iter;
 
-/* Starts iterating the segments of r in [tmin, tmax] inside the field. */
+/* Starts iterating the segments of r in [tmin, tmax] inside the field. Stretches where rho
+ * is 0 may be left out: a cell grid's walk covers only the box of its non-empty cells. */
 void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it);
 /* The next segment in increasing t; false when the ray has left the field or reached tmax.
  * Inline (below): it runs once per majorant cell a ray crosses, the tracking loop's most
