@@ -49,6 +49,12 @@ static void flight_offer(flight *f, color w, double t)
     double a = col_avg(w);
     if (!(a > 0.0))
         return;
+    if (!(f->A > 0.0)) { /* the first candidate: the reservoir's number, at its dimension */
+        const uint64_t c = f->ug->counter;
+        f->ug->counter = f->udim;
+        f->u = rng_next(f->ug);
+        f->ug->counter = c;
+    }
     f->A += a;
     /* the i-th candidate replaces the kept one with probability a / A, decided by the one
      * uniform u of the flight, rescaled to a fresh uniform after each decision */
@@ -110,10 +116,11 @@ static bool flight_step(const track_event *e, void *user)
     return track_roulette(&f->Tr, f->g);
 }
 
-bool flight_run(flight *f, ray r, double tmax, double u)
+bool flight_run(flight *f, ray r, double tmax, rng *ug)
 {
     f->r = r;
-    f->u = u;
+    f->ug = ug;
+    f->udim = ug->counter++;
     f->Tr = col(1.0);
     f->A = 0.0;
     track_collisions(f->s, r, tmax, f->g, false, flight_step, f, NULL);
@@ -372,7 +379,7 @@ static color lobe_samples(const brume_scene *s, const path_state *st, const vert
         if (s->surf && surfaces_intersect(s->surf, rb, 0.0, t_end, &sh))
             t_end = sh.t;
         flight fb = {.s = s, .g = g, .beta = col_scale(beta, p_a / (P * p_b) * w_b), .L = col(0.0)};
-        if (!flight_run(&fb, rb, t_end, rng_next(g)))
+        if (!flight_run(&fb, rb, t_end, g))
             continue; /* (the emission fb.L gathered is the path's own flights' to count) */
         const phase *ph_y = media_choose_phase(s, &fb.ms, rng_next(g));
         const double f_y = phase_eval(ph_y, v3_dot(wi, omega));
@@ -441,7 +448,7 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         stats_counters *sc = stats_tls;
         double t0 = sc ? stats_now() : 0.0;
         g->counter = dim0 + 4 * (uint64_t)depth;
-        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, rng_next(g)) && depth < max_depth;
+        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, g) && depth < max_depth;
         if (sc)
             sc->t_tracking += stats_now() - t0;
         if (depth == 0 && Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */

@@ -96,13 +96,16 @@ typedef struct flight {
     medium_sample ms; /* out: the media there */
     medium_sample cur; /* scratch: the media at the current collision */
     double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
+    rng *ug;          /* scratch: the sequence and dimension u is drawn from, at the first */
+    uint64_t udim;    /*          collision (a flight that meets none never computes it) */
 } flight;
 
 /* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta and f->L
- * carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. u, uniform in [0, 1), makes the
- * reservoir's choices (one number for the whole flight: a sampler can stratify where
- * flights scatter); the tracking draws from f->g. */
-bool flight_run(flight *f, ray r, double tmax, double u);
+ * carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. The next number of ug (its
+ * dimension is taken now, the value computed only if the flight meets a collision) makes
+ * the reservoir's choices: one number for the whole flight, so a sampler can stratify
+ * where flights scatter. The tracking draws from f->g. */
+bool flight_run(flight *f, ray r, double tmax, rng *ug);
 /* Russian roulette after `depth` scattering events: false = the path ends; otherwise beta
  * may have been divided by its survival probability. */
 bool path_roulette(color *beta, int depth, rng *g);

@@ -97,6 +97,15 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
         st[m].sigma_t_min = s->media[m].sigma_t_min;
     }
     track_event e = {0.0, 0.0, 0.0, 0.0};
+    bool live = false;
+    for (int m = 0; m < n; m++)
+        live |= st[m].live;
+    if (!live) { /* the ray misses every medium: its one exponential's number is skipped, not made */
+        g->counter++;
+        if (tau_c_end)
+            *tau_c_end = 0.0;
+        return true;
+    }
     double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
     if (tau_c_end)
         *tau_c_end = 0.0;
