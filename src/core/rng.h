@@ -84,4 +84,15 @@ static inline double rng_next(rng *r)
     return (double)(h >> 11) * 0x1.0p-53;
 }
 
+/* The value of dimension dim (a number taken earlier with counter++ and made only when
+ * needed); the counter is left where it is. */
+static inline double rng_at(rng *r, uint64_t dim)
+{
+    const uint64_t c = r->counter;
+    r->counter = dim;
+    const double v = rng_next(r);
+    r->counter = c;
+    return v;
+}
+
 #endif

@@ -49,12 +49,8 @@ static void flight_offer(flight *f, color w, double t)
     double a = col_avg(w);
     if (!(a > 0.0))
         return;
-    if (!(f->A > 0.0)) { /* the first candidate: the reservoir's number, at its dimension */
-        const uint64_t c = f->ug->counter;
-        f->ug->counter = f->udim;
-        f->u = rng_next(f->ug);
-        f->ug->counter = c;
-    }
+    if (!(f->A > 0.0)) /* the first candidate: the reservoir's number, at its dimension */
+        f->u = rng_at(f->ug, f->udim);
     f->A += a;
     /* the i-th candidate replaces the kept one with probability a / A, decided by the one
      * uniform u of the flight, rescaled to a fresh uniform after each decision */

@@ -97,16 +97,10 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
         st[m].sigma_t_min = s->media[m].sigma_t_min;
     }
     track_event e = {0.0, 0.0, 0.0, 0.0};
-    bool live = false;
-    for (int m = 0; m < n; m++)
-        live |= st[m].live;
-    if (!live) { /* the ray misses every medium: its one exponential's number is skipped, not made */
-        g->counter++;
-        if (tau_c_end)
-            *tau_c_end = 0.0;
-        return true;
-    }
-    double t = 0.0, tau = sample_exponential(rng_next(g), 1.0);
+    /* the first exponential's number is taken now and made at the first segment with
+     * tentative collisions: a ray that meets no medium never computes it */
+    const uint64_t tau_dim = g->counter++;
+    double t = 0.0, tau = -1.0;
     if (tau_c_end)
         *tau_c_end = 0.0;
     for (;;) {
@@ -142,6 +136,8 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
         /* tau: optical depth (against the majorant) still to cover before the next
          * tentative collision; one exponential per collision, carried across segments. */
         if (sigma_n > 0.0) {
+            if (tau < 0.0)
+                tau = sample_exponential(rng_at(g, tau_dim), 1.0);
             /* Distances are measured from the segment's start: u grows from 0, so a step of
              * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
              * origin), and it strictly increases (a step below its resolution moves it by
