@@ -20,12 +20,16 @@ def main():
         sys.exit(__doc__.strip().splitlines()[2].strip())
     before, after, scene, spp, runs = sys.argv[1:6]
     cpu = sys.argv[6] if len(sys.argv) == 7 else "1"
+    if not (spp.isdigit() and runs.isdigit() and 0 < int(runs) <= 1000):
+        sys.exit(f"cpu_ab.py: SPP and RUNS must be whole numbers, RUNS 1 to 1000 (got {spp!r}, {runs!r})")
     times = {before: [], after: []}
     for i in range(int(runs)):
         for b in (before, after) if i % 2 == 0 else (after, before):
             r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-            subprocess.run(["taskset", "-c", cpu, b, "render", scene, "--spp", spp, "--threads", "1", "--quiet",
-                            "-o", "/tmp/brume-cpu-ab.exr"], check=True)
+            p = subprocess.run(["taskset", "-c", cpu, b, "render", scene, "--spp", spp, "--threads", "1", "--quiet",
+                                "-o", "/tmp/brume-cpu-ab.exr"], stderr=subprocess.PIPE, text=True)
+            if p.returncode != 0:
+                sys.exit(f"cpu_ab.py: {b}: " + (p.stderr.strip().splitlines() or ["failed"])[-1])
             r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
             times[b].append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
     mb, ma = statistics.median(times[before]), statistics.median(times[after])
