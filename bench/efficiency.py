@@ -10,7 +10,8 @@ A configuration is extra `brume render` arguments, e.g. `off='--set path.sun_lob
 (sun-lobe sampling off and at its default) or the default pair
 `independent='--set render.sampler="independent"' sobol='--set render.sampler="sobol"'`.
 Leading `VAR=value` words of a configuration set the renders' environment instead (for a
-throwaway build's switches). The first configuration is the baseline of the ratios.
+throwaway build's switches), except `BIN=path`, which renders that configuration with another
+binary (`base='BIN=/work/base/build/brume' new=`: main before a change against it). The first configuration is the baseline of the ratios.
 `--pin 1` runs every render under `taskset -c 1`: on the project's VM one core was at times
 1.35 x slower than the other (2026-11-26, 00:30 UTC; equal ten minutes later), so one-thread
 comparisons left to the scheduler can mix the two.
@@ -55,7 +56,10 @@ def render(brume, scene, spp, seed, threads, args, out, pin=None):
     env = dict(os.environ)
     while args and "=" in args[0] and args[0].split("=", 1)[0].isupper():  # leading VAR=value: environment
         k, v = args[0].split("=", 1)
-        env[k] = v
+        if k == "BIN":  # BIN=path: this configuration's binary (another build, e.g. main before a change)
+            brume = v
+        else:
+            env[k] = v
         args = args[1:]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     prefix = ["taskset", "-c", pin] if pin else []

@@ -106,6 +106,17 @@ static bool flight_step(const track_event *e, void *user)
     double inv_maj = 1.0 / (e->sigma_maj - sigma_c);
     if (!col_is_black(ms->emission))
         f->L = col_add(f->L, col_scale(col_mul(beta_Tr, ms->emission), inv_maj));
+    if (col_max(f->Tr) < f->tail_Tr && f->s->flight_control) {
+        /* the delta tail: a real collision with probability p, weighed 1 / p, ends the flight;
+         * a null one leaves Tr: the expectations of the ratio step's offer and Tr factor */
+        double p = col_avg(col_add(ms->sigma_a, ms->sigma_s)) * inv_maj;
+        if (rng_next(f->g) < p) {
+            flight_offer(f, col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj / p), e->t);
+            f->Tr = col(0.0);
+            return false;
+        }
+        return true;
+    }
     flight_offer(f, col_scale(col_mul(beta_Tr, ms->sigma_s), inv_maj), e->t);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         f->Tr.c[c] *= 1.0 - (ms->sigma_a.c[c] + ms->sigma_s.c[c]) * inv_maj;
@@ -374,7 +385,8 @@ static color lobe_samples(const brume_scene *s, const path_state *st, const vert
         const ray rb = {v->p, omega, v->time};
         if (s->surf && surfaces_intersect(s->surf, rb, 0.0, t_end, &sh))
             t_end = sh.t;
-        flight fb = {.s = s, .g = g, .beta = col_scale(beta, p_a / (P * p_b) * w_b), .L = col(0.0)};
+        flight fb = {.s = s, .g = g, .beta = col_scale(beta, p_a / (P * p_b) * w_b), .L = col(0.0),
+                     .tail_Tr = FLIGHT_TAIL_TR};
         if (!flight_run(&fb, rb, t_end, g))
             continue; /* (the emission fb.L gathered is the path's own flights' to count) */
         const phase *ph_y = media_choose_phase(s, &fb.ms, rng_next(g));
@@ -444,6 +456,9 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         stats_counters *sc = stats_tls;
         double t0 = sc ? stats_now() : 0.0;
         g->counter = dim0 + 4 * (uint64_t)depth;
+        /* the camera ray's flight stays ratio tracking throughout: its one reservoir number is
+         * what the sampler stratifies, and a tail's coin flips are not */
+        f.tail_Tr = depth > 0 ? FLIGHT_TAIL_TR : 0.0;
         bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, g) && depth < max_depth;
         if (sc)
             sc->t_tracking += stats_now() - t0;

@@ -95,13 +95,22 @@ typedef struct flight {
     double t;         /* out: where the kept collision is */
     medium_sample ms; /* out: the media there */
     medium_sample cur; /* scratch: the media at the current collision */
+    double tail_Tr;   /* in: once max Tr is below it, the flight's delta tail (flight_run); 0: none */
     double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
     rng *ug;          /* scratch: the sequence and dimension u is drawn from, at the first */
     uint64_t udim;    /*          collision (a flight that meets none never computes it) */
 } flight;
 
-/* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta and f->L
- * carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. The next number of ug (its
+/* Where a flight's delta tail starts (f->tail_Tr) after the first scattering event: measured
+ * in docs/performance.md, "The flight's delta tail". */
+#define FLIGHT_TAIL_TR 0.6
+
+/* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta, f->L and
+ * f->tail_Tr carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. In a medium whose
+ * extinction is gray (s->flight_control), once the largest channel of Tr falls below
+ * f->tail_Tr each tentative collision is real with probability p = sigma_t / sigma_maj (of
+ * the residual), and then the flight's last, its weight divided by p, and otherwise leaves
+ * Tr as it is: the delta tail (docs/path-tracer.md), unbiased as the ratio steps are. The next number of ug (its
  * dimension is taken now, the value computed only if the flight meets a collision) makes
  * the reservoir's choices: one number for the whole flight, so a sampler can stratify
  * where flights scatter. The tracking draws from f->g. */

@@ -38,6 +38,7 @@ static void slab_batch(size_t batch, int thread, void *user)
         ray r = {v3(0, 0, 0), v3(0, 0, -1), 0.0}; /* enters the lit face z = 0 going down */
         double rd = 0.0, td = 0.0; /* this photon's reflected and transmitted weight */
         for (int depth = 0;; depth++) {
+            f.tail_Tr = depth > 0 ? FLIGHT_TAIL_TR : 0.0; /* as the path tracer's flights */
             bool scattered = flight_run(&f, r, INFINITY, &g);
             double w = col_avg(col_mul(f.beta, f.Tr)); /* the part that leaves the slab */
             if (r.d.z > 0.0)
