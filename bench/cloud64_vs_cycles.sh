@@ -9,19 +9,24 @@
 #
 #   sh bench/cloud64_vs_cycles.sh [BUILD_DIR]
 #   SCENES=wdas-dense REF_SPP=512 sh bench/cloud64_vs_cycles.sh      # one scene, shorter references
-#   REUSE_CYCLES=1 sh bench/cloud64_vs_cycles.sh                      # keep Cycles' figures of the last run
+#   REUSE_CYCLES=1 sh bench/cloud64_vs_cycles.sh                      # keep Cycles' reference and error of the last run
 #   RUNS=1 ...                                                         # one timed run each instead of 3
 #
 # Needs Debian's blender (Cycles 3.4: `apt-get install blender`), bc, python3-openvdb and
 # python3-numpy (to write cloud64 as a .vdb Blender can load); installs them when run as
 # root and missing. None of this is part of `make test`.
 # Measures, per scene:
-#   1. Cycles at 64 spp: render time (the render call, scene already loaded; median of RUNS = 3)
-#      and relative RMSE against a Cycles reference at REF_SPP spp;
-#   2. brume at 4..256 spp: render time (the whole `brume render` process; median of RUNS = 3)
-#      and relative RMSE against a brume reference at REF_SPP spp;
-#   3. the time brume needs to reach Cycles' 64-spp error (error ~ 1/sqrt(spp), fitted at
-#      the spp closest above it), and the ratio of the two times (the figure of issue 18).
+#   1. Cycles at 64 spp: relative RMSE against a Cycles reference at REF_SPP spp;
+#   2. brume at 4, 8, ... spp: relative RMSE against a brume reference at REF_SPP spp, up to
+#      the first spp whose error is at most Cycles' (each renderer's image is the same in
+#      every run: fixed seeds);
+#   3. the times, interleaved: RUNS (3) rounds of Cycles at 64 spp (the render call, scene
+#      already loaded) and brume at that spp (the whole `brume render` process), medians. This
+#      VM's speed drifts by 10-20 % within minutes, and differently for the two renderers, so
+#      timing one renderer's runs after the other's moved the ratio by as much as any change
+#      to brume did (docs/performance.md);
+#   4. the time brume needs to reach Cycles' 64-spp error (error ~ 1/sqrt(spp), fitted at
+#      that spp), and the ratio of the two times (the figure of issue 18).
 # Relative RMSE = RMSE / mean of the reference, with the reference's own variance removed.
 # Also prints the mean radiance of each renderer's reference: the same scene must agree.
 # Both renderers use 2 threads.
@@ -64,48 +69,57 @@ for name in $SCENES; do
     wdas-dense) vdb="$here/../shared/data/wdas_cloud_sixteenth.vdb" ;;
     *) echo "unknown scene $name (cloud64, wdas-dense)"; exit 2 ;;
     esac
+    brume_run() { # spp -> renders brume_NAME_SPP.exr, prints the wall seconds of the whole process
+        s0=$(date +%s.%N)
+        "$BRUME" render "$scene" --spp "$1" --seed "$1" --quiet -o "$out/brume_${name}_$1.exr"
+        printf "%.3f\n" "$(echo "$(date +%s.%N) - $s0" | bc -l)"
+    }
     cycles() { # spp out.exr -> prints seconds
         blender -b --python "$here/bench/cycles/scene_cycles.py" -- "$scene" "$vdb" "$2" "$1" 2 2>/dev/null |
             sed -n 's/^cycles_render_seconds //p'
     }
     echo "==== $name"
-    if [ "$REUSE_CYCLES" = 1 ] && [ -s "$out/cycles_${name}.txt" ]; then
-        read -r t_c e_c c64 <"$out/cycles_${name}.txt"
-        echo "cycles (kept from the last run): 64 spp median ${t_c} s, relative RMSE $e_c"
+    # 1. The errors. Each renderer gives the same image in every run (fixed seeds), so one
+    #    render per spp says which spp reaches Cycles' error.
+    if [ "$REUSE_CYCLES" = 1 ] && [ -s "$out/cycles_${name}_error.txt" ] && [ -s "$out/cycles_${name}_64.exr" ]; then
+        read -r e_c <"$out/cycles_${name}_error.txt"
+        echo "cycles (reference and 64-spp image kept from the last run): relative RMSE $e_c"
     else
         t=$(cycles "$REF_SPP" "$out/cycles_${name}_ref.exr")
         echo "cycles ref ($REF_SPP spp): ${t} s, mean $(mean_of "$out/cycles_${name}_ref.exr")"
-        c64=""
-        for run in $(seq "$RUNS"); do c64="$c64 $(cycles 64 "$out/cycles_${name}_64.exr")"; done
-        t_c=$(median $c64)
+        t=$(cycles 64 "$out/cycles_${name}_64.exr")
         e_c=$(err "$out/cycles_${name}_64.exr" "$out/cycles_${name}_ref.exr" 64)
-        echo "cycles 64 spp: median ${t_c} s of ($c64 ), relative RMSE $e_c"
-        echo "$t_c $e_c" >"$out/cycles_${name}.txt"
+        echo "cycles 64 spp: ${t} s, relative RMSE $e_c"
+        echo "$e_c" >"$out/cycles_${name}_error.txt"
     fi
-
     "$BRUME" render "$scene" --spp "$REF_SPP" --seed 99 --quiet -o "$out/brume_${name}_ref.exr"
     echo "brume ref ($REF_SPP spp) mean $(mean_of "$out/brume_${name}_ref.exr")"
     printf "%6s %10s %10s\n" spp seconds rel_rmse
     best=""
     for spp in 4 8 16 32 64 128 256; do
-        ts=""
-        for run in $(seq "$RUNS"); do
-            s=$(date +%s.%N)
-            "$BRUME" render "$scene" --spp "$spp" --seed "$spp" --quiet -o "$out/brume_${name}_$spp.exr"
-            ts="$ts $(echo "$(date +%s.%N) - $s" | bc -l)"
-        done
-        t=$(median $ts)
+        t=$(brume_run "$spp")
         e=$(err "$out/brume_${name}_$spp.exr" "$out/brume_${name}_ref.exr" "$spp")
         printf "%6d %10.3f %10s\n" "$spp" "$t" "$e"
-        if [ -z "$best" ] && [ "$(echo "$e <= $e_c" | bc -l)" = 1 ]; then
-            best="$spp $t $e"
+        if [ "$(echo "$e <= $e_c" | bc -l)" = 1 ]; then
+            best="$spp $e"
             break # the spp that reaches Cycles' error: larger ones add nothing to the figure
         fi
     done
     [ -n "$best" ] || { echo "$name: brume did not reach Cycles' error by 256 spp"; continue; }
     set -- $best
-    t_b=$(echo "$2 * ($3 / $e_c)^2" | bc -l)
-    printf "%s: brume reaches Cycles' 64-spp error %.4f in %.2f s (fitted from %s spp: %.3f s at %.4f)\n" "$name" "$e_c" "$t_b" "$1" "$2" "$3"
+    # 2. The times, interleaved: RUNS rounds of Cycles at 64 spp then brume at that spp, so
+    #    that both see the same minutes of this VM, whose speed drifts (docs/performance.md).
+    c64=""
+    b=""
+    for run in $(seq "$RUNS"); do
+        c64="$c64 $(cycles 64 "$out/cycles_${name}_64_run.exr")"
+        b="$b $(brume_run "$1")"
+    done
+    t_c=$(median $c64)
+    t_s=$(median $b)
+    echo "timed, interleaved: cycles 64 spp median ${t_c} s of ($c64 ); brume $1 spp median ${t_s} s of ($b )"
+    t_b=$(echo "$t_s * ($2 / $e_c)^2" | bc -l)
+    printf "%s: brume reaches Cycles' 64-spp error %.4f in %.2f s (fitted from %s spp: %.3f s at %.4f)\n" "$name" "$e_c" "$t_b" "$1" "$t_s" "$2"
     printf "%s: time ratio brume / Cycles: %.3f (target <= 0.2)\n" "$name" "$(echo "$t_b / $t_c" | bc -l)"
 done
 echo "load at the end: $(uptime)"
