@@ -187,6 +187,33 @@ TEST(single_scattering_forward_hg_shadow_roulette)
     brume_image_release(img);
 }
 
+/* The 12^3 grid of rho in [0.3, 1] over [-1, 1]^3 that the tests below share. */
+enum { POSITIVE_N = 12 };
+static void positive_grid_data(float *data)
+{
+    enum { N = POSITIVE_N };
+    for (int k = 0; k < N; k++)
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++)
+                data[i + N * (j + N * k)] = (float)(0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i));
+}
+
+/* A committed scene of one medium m in that grid (trilinear). */
+static brume_scene *positive_grid_scene(brume_context *ctx, const char *name, brume_medium m)
+{
+    enum { N = POSITIVE_N };
+    static float data[N * N * N];
+    positive_grid_data(data);
+    brume_scene *s = NULL;
+    brume_density *d = NULL;
+    const double bounds[6] = {-1, -1, -1, 1, 1, 1};
+    ASSERT_EQ_INT(brume_scene_new(ctx, name, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_density_new_array(ctx, data, N, N, N, bounds, BRUME_GRID_TRILINEAR, NULL, NULL, &d), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_add_medium(ctx, s, &m, d, NULL), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    return s;
+}
+
 /* Residual ratio tracking against the closed form: a grid with rho in [0.3, 1] everywhere
  * (so its cells have a positive minorant and the control optical depth carries most of the
  * estimate), chromatic sigma_t = (1, 1.5, 2) so the control takes the smallest channel and
@@ -196,21 +223,9 @@ TEST(single_scattering_forward_hg_shadow_roulette)
  * or mistaking the residual rate makes the mean miss by far more. */
 TEST(residual_ratio_tracking_transmittance)
 {
-    enum { N = 12 };
-    float data[N * N * N];
-    for (int k = 0; k < N; k++)
-        for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++)
-                data[i + N * (j + N * k)] = (float)(0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i));
     brume_context *ctx = brume_context_new();
-    brume_scene *s = NULL;
-    brume_density *d = NULL;
-    const double bounds[6] = {-1, -1, -1, 1, 1, 1};
-    ASSERT_EQ_INT(brume_scene_new(ctx, "rrt", &s), BRUME_OK);
-    ASSERT_EQ_INT(brume_density_new_array(ctx, data, N, N, N, bounds, BRUME_GRID_TRILINEAR, NULL, NULL, &d), BRUME_OK);
-    brume_medium m = {.sigma_a = {0.5, 0.75, 1}, .sigma_s = {0.5, 0.75, 1}};
-    ASSERT_EQ_INT(brume_scene_add_medium(ctx, s, &m, d, NULL), BRUME_OK);
-    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_scene *s =
+        positive_grid_scene(ctx, "rrt", (brume_medium){.sigma_a = {0.5, 0.75, 1}, .sigma_s = {0.5, 0.75, 1}});
     ray r = {v3(-1.5, -0.3, -0.9), v3_normalize(v3(1.0, 0.2, 0.55)), 0.0};
     double t0, t1;
     ASSERT_TRUE(box3_intersect((box3){v3(-1, -1, -1), v3(1, 1, 1)}, r, 0.0, INFINITY, &t0, &t1));
@@ -253,22 +268,10 @@ TEST(residual_ratio_tracking_transmittance)
  * tracking, whose scattering weight is exactly the albedo: that it is shows the tail runs. */
 TEST(flight_delta_tail_unbiased)
 {
-    enum { N = 12 };
-    float data[N * N * N];
-    for (int k = 0; k < N; k++)
-        for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++)
-                data[i + N * (j + N * k)] = (float)(0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i));
-    brume_context *ctx = brume_context_new();
-    brume_scene *s = NULL;
-    brume_density *d = NULL;
-    const double bounds[6] = {-1, -1, -1, 1, 1, 1};
-    ASSERT_EQ_INT(brume_scene_new(ctx, "tail", &s), BRUME_OK);
-    ASSERT_EQ_INT(brume_density_new_array(ctx, data, N, N, N, bounds, BRUME_GRID_TRILINEAR, NULL, NULL, &d), BRUME_OK);
     const double sigma_t = 1.5, sigma_s[3] = {0.6, 0.9, 1.2};
-    brume_medium m = {.sigma_a = {0.9, 0.6, 0.3}, .sigma_s = {0.6, 0.9, 1.2}};
-    ASSERT_EQ_INT(brume_scene_add_medium(ctx, s, &m, d, NULL), BRUME_OK);
-    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s =
+        positive_grid_scene(ctx, "tail", (brume_medium){.sigma_a = {0.9, 0.6, 0.3}, .sigma_s = {0.6, 0.9, 1.2}});
     ASSERT_TRUE(s->flight_control);
     ray r = {v3(-1.5, -0.3, -0.9), v3_normalize(v3(1.0, 0.2, 0.55)), 0.0};
     double t0, t1;
@@ -332,12 +335,8 @@ TEST(flight_delta_tail_unbiased)
 /* The grid of rho in [0.3, 1] above, written as a raw file for scene text; returns its path. */
 static const char *write_positive_grid(void)
 {
-    enum { N = 12 };
-    static float data[N * N * N];
-    for (int k = 0; k < N; k++)
-        for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++)
-                data[i + N * (j + N * k)] = (float)(0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i));
+    static float data[POSITIVE_N * POSITIVE_N * POSITIVE_N];
+    positive_grid_data(data);
     const char *path = test_tmp_path("positive.raw");
     FILE *f = fopen(path, "wb");
     ASSERT_TRUE(f && fwrite(data, sizeof data, 1, f) == 1);
