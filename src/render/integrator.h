@@ -110,10 +110,10 @@ typedef struct flight {
  * extinction is gray (s->flight_control), once the largest channel of Tr falls below
  * f->tail_Tr each tentative collision is real with probability p = sigma_t / sigma_maj (of
  * the residual), and then the flight's last, its weight divided by p, and otherwise leaves
- * Tr as it is: the delta tail (docs/path-tracer.md), unbiased as the ratio steps are. The next number of ug (its
- * dimension is taken now, the value computed only if the flight meets a collision) makes
- * the reservoir's choices: one number for the whole flight, so a sampler can stratify
- * where flights scatter. The tracking draws from f->g. */
+ * Tr as it is: the delta tail (docs/path-tracer.md), unbiased as the ratio steps are. The
+ * next number of ug (its dimension is taken now, the value computed only if the flight
+ * meets a collision) makes the reservoir's choices: one number for the whole flight, so a
+ * sampler can stratify where flights scatter. The tracking draws from f->g. */
 bool flight_run(flight *f, ray r, double tmax, rng *ug);
 /* Russian roulette after `depth` scattering events: false = the path ends; otherwise beta
  * may have been divided by its survival probability. */
