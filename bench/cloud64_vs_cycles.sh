@@ -36,6 +36,10 @@ REF_SPP=${REF_SPP:-1024}
 SCENES=${SCENES:-cloud64 wdas-dense}
 REUSE_CYCLES=${REUSE_CYCLES:-0}
 RUNS=${RUNS:-3}
+case $RUNS in "" | *[!0-9]* | ???*) echo "RUNS=$RUNS: a whole number from 1 to 20"; exit 2 ;; esac
+[ "$RUNS" -ge 1 ] && [ "$RUNS" -le 20 ] || { echo "RUNS=$RUNS: a whole number from 1 to 20"; exit 2; }
+case $REF_SPP in "" | *[!0-9]* | ??????*) echo "REF_SPP=$REF_SPP: a whole number from 256 to 65536"; exit 2 ;; esac
+[ "$REF_SPP" -ge 256 ] && [ "$REF_SPP" -le 65536 ] || { echo "REF_SPP=$REF_SPP: a whole number from 256 to 65536"; exit 2; }
 here=$(cd "$(dirname "$0")/.." && pwd)
 out=${OUT:-/tmp/brume-cloud64-bench}
 mkdir -p "$out"

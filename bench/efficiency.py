@@ -11,7 +11,8 @@ A configuration is extra `brume render` arguments, e.g. `off='--set path.sun_lob
 `independent='--set render.sampler="independent"' sobol='--set render.sampler="sobol"'`.
 Leading `VAR=value` words of a configuration set the renders' environment instead (for a
 throwaway build's switches), except `BIN=path`, which renders that configuration with another
-binary (`base='BIN=/work/base/build/brume' new=`: main before a change against it). The first configuration is the baseline of the ratios.
+binary (`base='BIN=/work/base/build/brume' new=`: main before a change against it). The first
+configuration is the baseline of the ratios.
 `--pin 1` runs every render under `taskset -c 1`: on the project's VM one core was at times
 1.35 x slower than the other (2026-11-26, 00:30 UTC; equal ten minutes later), so one-thread
 comparisons left to the scheduler can mix the two.
@@ -57,6 +58,8 @@ def render(brume, scene, spp, seed, threads, args, out, pin=None):
     while args and "=" in args[0] and args[0].split("=", 1)[0].isupper():  # leading VAR=value: environment
         k, v = args[0].split("=", 1)
         if k == "BIN":  # BIN=path: this configuration's binary (another build, e.g. main before a change)
+            if not (os.path.isfile(v) and os.access(v, os.X_OK)):
+                sys.exit(f"efficiency.py: BIN={v}: not an executable file")
             brume = v
         else:
             env[k] = v
