@@ -187,23 +187,28 @@ TEST(single_scattering_forward_hg_shadow_roulette)
     brume_image_release(img);
 }
 
-/* The 12^3 grid of rho in [0.3, 1] over [-1, 1]^3 that the tests below share. */
+/* The 12^3 grid of rho in [0.3, 1] over [-1, 1]^3 that the tests below share; skewed,
+ * rho' = 1 - 0.7 x^4 with x = (rho - 0.3) / 0.7, also in [0.3, 1] but mostly near 1, with
+ * narrow dips. */
 enum { POSITIVE_N = 12 };
-static void positive_grid_data(float *data)
+static void positive_grid_data(float *data, bool skewed)
 {
     enum { N = POSITIVE_N };
     for (int k = 0; k < N; k++)
         for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++)
-                data[i + N * (j + N * k)] = (float)(0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i));
+            for (int i = 0; i < N; i++) {
+                double rho = 0.65 + 0.35 * sin(1.7 * i + 0.9 * j) * cos(1.3 * k - 0.4 * i);
+                const double x = (rho - 0.3) / 0.7;
+                data[i + N * (j + N * k)] = (float)(skewed ? 1.0 - 0.7 * x * x * x * x : rho);
+            }
 }
 
 /* A committed scene of one medium m in that grid (trilinear). */
-static brume_scene *positive_grid_scene(brume_context *ctx, const char *name, brume_medium m)
+static brume_scene *positive_grid_scene_of(brume_context *ctx, const char *name, brume_medium m, bool skewed)
 {
     enum { N = POSITIVE_N };
     static float data[N * N * N];
-    positive_grid_data(data);
+    positive_grid_data(data, skewed);
     brume_scene *s = NULL;
     brume_density *d = NULL;
     const double bounds[6] = {-1, -1, -1, 1, 1, 1};
@@ -214,18 +219,31 @@ static brume_scene *positive_grid_scene(brume_context *ctx, const char *name, br
     return s;
 }
 
+static brume_scene *positive_grid_scene(brume_context *ctx, const char *name, brume_medium m)
+{
+    return positive_grid_scene_of(ctx, name, m, false);
+}
+
 /* Residual ratio tracking against the closed form: a grid with rho in [0.3, 1] everywhere
  * (so its cells have a positive minorant and the control optical depth carries most of the
  * estimate), chromatic sigma_t = (1, 1.5, 2) so the control takes the smallest channel and
  * the others keep a residual. T = exp(-sigma_t int rho) per channel, the integral by a
- * 200,000-point midpoint rule; the mean of 50,000 estimates must be within 5 standard
- * errors (plus 1e-6) of it, and those below 5 % of T. Dropping the control's exp(-tau_c)
- * or mistaking the residual rate makes the mean miss by far more. */
+ * 200,000-point midpoint rule; the mean of 50,000 estimates (800,000 for the skewed grid,
+ * where the wrong rate is off by 3 %) must be within 5 standard
+ * errors (plus 1e-6) of it, and those below 5 % of T. Then the same with gray sigma_t = 1.5,
+ * in the grid and in its skewed version: the cells' means lie nearer their minima in one and
+ * nearer their maxima in the other, so the rate max(sigma_maj - sigma_c', sigma_c' -
+ * sigma_c) takes either side, and no estimate may be negative (each factor lies in [0, 2]).
+ * Dropping the control's exp(-tau_c) makes the mean miss by far more; taking the rate
+ * sigma_maj - sigma_c' misses by 8 standard errors on the skewed grid. */
 TEST(residual_ratio_tracking_transmittance)
 {
+    for (int v = 0; v < 3; v++) {
+    const int skewed = v == 2;
+    const brume_medium m = v == 0 ? (brume_medium){.sigma_a = {0.5, 0.75, 1}, .sigma_s = {0.5, 0.75, 1}}
+                                  : (brume_medium){.sigma_a = {0.75, 0.75, 0.75}, .sigma_s = {0.75, 0.75, 0.75}};
     brume_context *ctx = brume_context_new();
-    brume_scene *s =
-        positive_grid_scene(ctx, "rrt", (brume_medium){.sigma_a = {0.5, 0.75, 1}, .sigma_s = {0.5, 0.75, 1}});
+    brume_scene *s = positive_grid_scene_of(ctx, "rrt", m, skewed);
     ray r = {v3(-1.5, -0.3, -0.9), v3_normalize(v3(1.0, 0.2, 0.55)), 0.0};
     double t0, t1;
     ASSERT_TRUE(box3_intersect((box3){v3(-1, -1, -1), v3(1, 1, 1)}, r, 0.0, INFINITY, &t0, &t1));
@@ -234,26 +252,29 @@ TEST(residual_ratio_tracking_transmittance)
     for (int q = 0; q < Q; q++)
         tau_rho += density_eval(s->media[0].rho, ray_at(r, t0 + (t1 - t0) * (q + 0.5) / Q));
     tau_rho *= (t1 - t0) / Q;
-    const int M = 50000;
-    double sum[3] = {0}, sq[3] = {0};
+    const int M = skewed ? 800000 : 50000;
+    double sum[3] = {0}, sq[3] = {0}, lowest = INFINITY;
     for (int n = 0; n < M; n++) {
         rng g = rng_make(17, (uint64_t)n, 0);
         color T = track_transmittance(s, r, INFINITY, &g);
         for (int c = 0; c < 3; c++) {
             sum[c] += T.c[c];
             sq[c] += T.c[c] * T.c[c];
+            lowest = fmin(lowest, T.c[c]);
         }
     }
-    const double sigma_t[3] = {1, 1.5, 2};
+    ASSERT_TRUE(lowest >= 0.0); /* every factor in [0, 2] */
+    const double sigma_t[3] = {v ? 1.5 : 1, 1.5, v ? 1.5 : 2};
     for (int c = 0; c < 3; c++) {
         double mean = sum[c] / M, se = sqrt(fmax(0.0, sq[c] / M - mean * mean) / M);
         double T = exp(-sigma_t[c] * tau_rho);
-        fprintf(stderr, "channel %d: mean %.6g, standard error %.3g, closed form %.6g\n", c, mean, se, T);
+        fprintf(stderr, "case %d, channel %d: mean %.6g, standard error %.3g, closed form %.6g\n", v, c, mean, se, T);
         ASSERT_NEAR(mean, T, 5.0 * se + 1e-6);
         ASSERT_TRUE(5.0 * se < 0.05 * T);
     }
     brume_scene_release(s);
     brume_context_release(ctx);
+    }
 }
 
 /* The flight's delta tail (integrator.c; docs/path-tracer.md, "The flight's delta tail")
@@ -336,7 +357,7 @@ TEST(flight_delta_tail_unbiased)
 static const char *write_positive_grid(void)
 {
     static float data[POSITIVE_N * POSITIVE_N * POSITIVE_N];
-    positive_grid_data(data);
+    positive_grid_data(data, false);
     const char *path = test_tmp_path("positive.raw");
     FILE *f = fopen(path, "wb");
     ASSERT_TRUE(f && fwrite(data, sizeof data, 1, f) == 1);

@@ -126,9 +126,11 @@ typedef struct majorant_seg {
     double t0, t1;  /* ray parameters, t0 < t1 */
     double rho_maj; /* upper bound of rho on the segment (unitless) */
     double rho_min; /* lower bound of rho on the segment (unitless, >= 0; 0 when none is known) */
+    double rho_ctl; /* a typical rho on the segment, in [rho_min, rho_maj]: the shadow rays'
+                       control (the cell's mean; rho_min when none is known) */
 } majorant_seg;
 
-/* Iterator state; lives on the caller's stack. Fields are private to density/.
+/* Iterator state; lives on the caller's stack. Fields are private to density/ but by_ctl.
  * It walks the field's coarse majorant grid with a DDA (dense grids, blobs) or the
  * NanoVDB tree's regions, blocks and leaf cells with three nested DDAs (nanovdb.c), and
  * merges consecutive cells of equal majorant into one segment. */
@@ -136,9 +138,13 @@ typedef struct majorant_iter {
     grid_dda dda;        /* over majorant cells; NanoVDB: over 4096^3 regions */
     const float *maj;    /* cell majorants, x fastest */
     const float *mino;   /* cell minorants, or NULL (0) */
+    const float *mean;   /* cell means, or NULL (the minorant) */
     int mn[3];           /* majorant cells per axis */
     majorant_seg next;   /* looked-ahead segment not returned yet */
     bool has_next;
+    bool by_ctl;         /* the one field a caller sets (after density_majorant_begin; false
+                            there): a merged segment's rho_ctl is the length-weighted mean of its
+                            cells' (walks that use the control), not the first cell's */
     /* NanoVDB only */
     const struct nanovdb_state *nano; /* NULL for the other kinds */
     int level;           /* 0: regions, 1: blocks in a region, 2: leaf cells in a block */
@@ -158,7 +164,7 @@ static inline bool majorant_next(majorant_iter *it, majorant_seg *seg);
 /* The NanoVDB tree's next leaf cell (nanovdb.c). */
 bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
 
-static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
+static inline __attribute__((always_inline)) bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
 {
     if (it->nano)
         return nanovdb_majorant_cell(it, seg);
@@ -170,12 +176,13 @@ static inline bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
     size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);
     seg->rho_maj = (double)it->maj[c];
     seg->rho_min = it->mino ? (double)it->mino[c] : 0.0;
+    seg->rho_ctl = it->mean ? (double)it->mean[c] : seg->rho_min;
     return true;
 }
 
 /* Consecutive cells with the same majorant come out as one segment: empty space (0) and
  * uniform regions cost one segment each. */
-static inline bool majorant_next(majorant_iter *it, majorant_seg *seg)
+static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *it, majorant_seg *seg)
 {
     if (it->has_next) {
         *seg = it->next;
@@ -184,8 +191,15 @@ static inline bool majorant_next(majorant_iter *it, majorant_seg *seg)
         return false;
     }
     majorant_seg s;
+    double ctl_len = 0.0; /* by_ctl: the integral of the merged cells' controls */
+    const double t0 = seg->t0;
     while (majorant_cell_next(it, &s)) {
         if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
+            if (it->by_ctl) {
+                if (ctl_len == 0.0)
+                    ctl_len = seg->rho_ctl * (seg->t1 - t0);
+                ctl_len += s.rho_ctl * (s.t1 - s.t0);
+            }
             seg->t1 = s.t1;
         } else {
             it->next = s;
@@ -193,6 +207,8 @@ static inline bool majorant_next(majorant_iter *it, majorant_seg *seg)
             break;
         }
     }
+    if (ctl_len > 0.0) /* their mean over the segment, within its bounds */
+        seg->rho_ctl = fmax(seg->rho_min, fmin(seg->rho_maj, ctl_len / (seg->t1 - t0)));
     return true;
 }
 

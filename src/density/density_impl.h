@@ -13,7 +13,8 @@
  * floor((u + moff) / mcell). maj[] holds an upper bound of rho over each cell (already
  * multiplied by any density scale), mino[] (when not NULL) a lower bound: the min over the
  * same voxels, which is what the path tracer's control density uses (docs/path-tracer.md,
- * "Control density"). */
+ * "Control density"), and mean[] (when not NULL) the mean of the cell's own voxels, the
+ * shadow rays' control (docs/path-tracer.md, "Shadow rays: the cell's mean as control"). */
 #ifndef BRUME_DENSITY_DENSITY_IMPL_H
 #define BRUME_DENSITY_DENSITY_IMPL_H
 
@@ -41,6 +42,7 @@ struct density {
     int mn[3];
     float *maj;
     float *mino;           /* NULL: no lower bound (0) */
+    float *mean;           /* NULL: none (the shadow rays' control is then mino) */
     int clo[3], chi[3];    /* the box of the cells whose majorant is above 0, cells [clo, chi)
                               (clo = chi = 0 when every cell is 0): rho is 0 outside it, so
                               walks start and end at its faces. Set with maj
@@ -73,7 +75,8 @@ static inline size_t dense_brick_z(const density *d, int k)
     return (size_t)(k >> 1) * 16 * (size_t)d->nbx * (size_t)d->nby + (size_t)((k & 1) << 3);
 }
 
-/* Fills maj, mino, mn, mcell, moff: the cells' bounds over the voxels fetch reads (grid.c).
+/* Fills maj, mino, mean, mn, mcell, moff: the cells' bounds over the voxels fetch reads, and
+ * the mean of each cell's own voxels (grid.c).
  * false when out of memory. */
 bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int));
 

@@ -59,10 +59,12 @@ bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int,
     d->mcell = C;
     d->maj = malloc(count * sizeof *d->maj);
     d->mino = malloc(count * sizeof *d->mino);
-    if (!d->maj || !d->mino) {
+    d->mean = malloc(count * sizeof *d->mean);
+    if (!d->maj || !d->mino || !d->mean) {
         free(d->maj);
         free(d->mino);
-        d->maj = d->mino = NULL;
+        free(d->mean);
+        d->maj = d->mino = d->mean = NULL;
         return false;
     }
     for (int ck = 0; ck < d->mn[2]; ck++)
@@ -74,7 +76,7 @@ bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int,
                     lo[a] = lo[a] < 0 ? 0 : lo[a];
                     hi[a] = hi[a] > d->n[a] ? d->n[a] : hi[a];
                 }
-                double m = 0.0, mi = INFINITY;
+                double m = 0.0, mi = INFINITY, sum = 0.0;
                 for (int k = lo[2]; k < hi[2]; k++)
                     for (int j = lo[1]; j < hi[1]; j++)
                         for (int i = lo[0]; i < hi[0]; i++) {
@@ -82,11 +84,21 @@ bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int,
                             m = v > m ? v : m;
                             mi = v < mi ? v : mi;
                         }
+                /* the mean of the cell's own voxels (not its dilation) */
+                int own = 0;
+                for (int k = ck * C; k < (ck + 1) * C && k < d->n[2]; k++)
+                    for (int j = cj * C; j < (cj + 1) * C && j < d->n[1]; j++)
+                        for (int i = ci * C; i < (ci + 1) * C && i < d->n[0]; i++, own++)
+                            sum += fetch(d, i, j, k);
                 size_t c = (size_t)ci + (size_t)d->mn[0] * ((size_t)cj + (size_t)d->mn[1] * (size_t)ck);
                 /* rounded outwards to float */
                 float fm = (float)m, fmi = (float)mi;
                 d->maj[c] = (double)fm < m ? nextafterf(fm, INFINITY) : fm;
                 d->mino[c] = (double)fmi > mi ? nextafterf(fmi, 0.0f) : fmi;
+                /* between the two bounds (any value is unbiased; this one keeps the residual
+                 * within the rate track_collisions derives from them) */
+                float fme = own ? (float)(sum / own) : d->mino[c];
+                d->mean[c] = fme < d->mino[c] ? d->mino[c] : (fme > d->maj[c] ? d->maj[c] : fme);
             }
     density_set_active_box(d);
     return true;
@@ -157,7 +169,7 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
     d->rho_min = rho_min;
     d->rho_max = rho_max;
     d->active = active;
-    d->memory = n * sizeof(float) + 2 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
+    d->memory = n * sizeof(float) + 3 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
     return d;
 }
 
@@ -199,6 +211,7 @@ void density_release(density *d)
     }
     free(d->maj);
     free(d->mino);
+    free(d->mean);
     free(d);
 }
 
@@ -291,7 +304,9 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
 {
     it->maj = d->maj;
     it->mino = d->mino;
+    it->mean = d->mean;
     it->has_next = false;
+    it->by_ctl = false;
     it->nano = NULL;
     for (int a = 0; a < 3; a++)
         it->mn[a] = d->mn[a];

@@ -816,10 +816,10 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
         d->nbx = (d->n[0] + 3) / 4;
         d->nby = (d->n[1] + 1) / 2;
         size_t nvox = (size_t)d->nbx * (size_t)d->nby * (size_t)((d->n[2] + 1) / 2) * DENSITY_BRICK_FLOATS;
-        /* the cells' bounds (two floats a cell: density_build_cell_bounds) are counted too,
+        /* the cells' bounds (three floats a cell: density_build_cell_bounds) are counted too,
          * so that the grid with its copy stays within the limit */
         const size_t C = DENSITY_MAJORANT_CELL;
-        size_t cells = 2 * (((size_t)d->n[0] + C - 1) / C) * (((size_t)d->n[1] + C - 1) / C) *
+        size_t cells = 3 * (((size_t)d->n[0] + C - 1) / C) * (((size_t)d->n[1] + C - 1) / C) *
                        (((size_t)d->n[2] + C - 1) / C);
         if (!max_memory || size + (nvox + cells) * sizeof(float) <= max_memory)
             d->data = aligned_alloc(64, nvox * sizeof(float));
@@ -837,7 +837,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
             goto fail;
         }
         nano_free_majorants(s);
-        d->memory = size + 2 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float) +
+        d->memory = size + 3 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float) +
                     (d->data ? nvox * sizeof(float) : 0);
     } else {
         d->memory = size + hash_bytes(&s->blocks) + hash_bytes(&s->regions) + s->blocks.count * sizeof(block_entry);
@@ -858,6 +858,7 @@ fail:
     nano_free_majorants(s);
     free(d->maj);
     free(d->mino);
+    free(d->mean);
     free(d->data);
     free(s);
     free(d);
@@ -939,7 +940,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
                 seg->t0 = st.t0;
                 seg->t1 = st.t1;
                 seg->rho_maj = (double)it->table[st.i + 16 * (st.j + 16 * st.k)];
-                seg->rho_min = 0.0;
+                seg->rho_min = seg->rho_ctl = 0.0;
                 return true;
             }
             it->level = 1;
@@ -952,7 +953,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
                     seg->t0 = st.t0;
                     seg->t1 = st.t1;
                     seg->rho_maj = e < 0 ? (double)s->bg_maj : (double)s->entries[e].maj;
-                    seg->rho_min = 0.0;
+                    seg->rho_min = seg->rho_ctl = 0.0;
                     return true;
                 }
                 it->table = s->tables + (size_t)s->entries[e].at * BLOCK_CELLS;
@@ -970,7 +971,7 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
             seg->t0 = st.t0;
             seg->t1 = st.t1;
             seg->rho_maj = (double)s->bg_maj;
-            seg->rho_min = 0.0;
+            seg->rho_min = seg->rho_ctl = 0.0;
             return true;
         }
         int32_t c0[3] = {r[0] * 32, r[1] * 32, r[2] * 32};

@@ -101,8 +101,8 @@ bool track_roulette(color *Tr, rng *g)
 }
 
 /* Residual ratio tracking (Cramer 1978; Novak et al. 2014): with collisions at the rate
- * sigma_maj - sigma_c, T *= exp(-(control optical depth since the last collision)) and
- * T *= 1 - (sigma_t - sigma_c) / (sigma_maj - sigma_c) per channel, with roulette once T is
+ * sigma_r, T *= exp(-(control optical depth since the last collision)) and
+ * T *= 1 - (sigma_t - sigma_c) / sigma_r per channel (in [0, 2]), with roulette once T is
  * small, so shadow rays through thick media stop early. */
 static bool ratio_step(const track_event *e, void *user)
 {
@@ -110,7 +110,7 @@ static bool ratio_step(const track_event *e, void *user)
     medium_sample ms;
     media_at(rs->s, ray_at(rs->r, e->t), rs->r.time, &ms);
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
-    double inv = 1.0 / (e->sigma_maj - e->sigma_c);
+    double inv = 1.0 / e->sigma_r;
     double Tc = e->tau_c > rs->tau_c ? exp(rs->tau_c - e->tau_c) : 1.0;
     rs->tau_c = e->tau_c;
     for (int c = 0; c < BRUME_NSAMPLES; c++)

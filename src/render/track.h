@@ -16,13 +16,17 @@
 #include "core/sampling.h"
 #include "render/scene.h"
 
-/* A tentative collision at ray parameter t [world units]. sigma_maj >= sigma_t(x) >= sigma_c
- * on the piece of the ray around t [1 / world unit]: sigma_c is the control extinction,
- * sum over media of rho_min sigma_t_min (0 for media with an albedo field, whose sigma_t
- * varies by more than rho), a lower bound of every channel's sigma_t there. tau_c is the
- * control optical depth from 0 to t (residual walks only; 0 otherwise). */
+/* A tentative collision at ray parameter t [world units], on a piece of the ray where
+ * sigma_maj >= sigma_t(x) [1 / world unit].
+ * - Flights: sigma_c is the control extinction, sum over media of rho_min sigma_t_min (0 for
+ *   media with an albedo field, whose sigma_t varies by more than rho), a lower bound of
+ *   every channel's sigma_t there; collisions come at the rate sigma_maj.
+ * - Residual walks (shadow rays): sigma_c is the control, sum over media of rho_ctl
+ *   sigma_t_min (the cells' means), and collisions come at the rate sigma_r, the largest
+ *   |sigma_t - sigma_c| the bounds allow, so the residual's ratio 1 - (sigma_t - sigma_c) /
+ *   sigma_r lies in [0, 2]; tau_c is the control optical depth from 0 to t (0 otherwise). */
 typedef struct track_event {
-    double t, sigma_maj, sigma_c, tau_c;
+    double t, sigma_maj, sigma_c, sigma_r, tau_c;
 } track_event;
 
 /* Called at each tentative collision. Return false to stop tracking. */
@@ -69,7 +73,7 @@ typedef struct track_stream {
     majorant_seg seg;
     bool live;
     double sigma_t_max;
-    double sigma_t_min; /* the medium's: the control's scale */
+    double sigma_t_min; /* the medium's: the controls' scale */
 } track_stream;
 
 static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
@@ -92,11 +96,12 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
             rm.d = affine3_apply_dir(&to_local, r.d);
         }
         density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
+        st[m].it.by_ctl = residual;
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
         st[m].sigma_t_max = s->media[m].sigma_t_max;
         st[m].sigma_t_min = s->media[m].sigma_t_min;
     }
-    track_event e = {0.0, 0.0, 0.0, 0.0};
+    track_event e = {0.0, 0.0, 0.0, 0.0, 0.0};
     /* the first exponential's number is taken now and made at the first segment with
      * tentative collisions: a ray that meets no medium never computes it */
     const uint64_t tau_dim = g->counter++;
@@ -105,7 +110,7 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
         *tau_c_end = 0.0;
     for (;;) {
         /* Majorant and control on [t, t_next): media whose current segment covers t. */
-        double sigma_maj = 0.0, sigma_c = 0.0, t_next = INFINITY;
+        double sigma_maj = 0.0, sigma_c = 0.0, sigma_ctl = 0.0, t_next = INFINITY;
         bool any = false;
         for (int m = 0; m < n; m++) {
             while (st[m].live && st[m].seg.t1 <= t)
@@ -118,6 +123,7 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
             } else {
                 sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
                 sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
+                sigma_ctl += st[m].seg.rho_ctl * st[m].sigma_t_min;
                 t_next = dda_min(t_next, st[m].seg.t1);
             }
         }
@@ -128,10 +134,17 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
         }
         t_next = dda_min(t_next, tmax);
         sigma_c = dda_min(sigma_c, sigma_maj);
-        /* the rate of tentative collisions */
-        double sigma_n = residual ? sigma_maj - sigma_c : sigma_maj;
+        /* the rate of tentative collisions: residual walks take the cells' means as their
+         * control, sigma_t - sigma_ctl then lies in [sigma_c - sigma_ctl, sigma_maj - sigma_ctl] */
+        double sigma_n = sigma_maj;
+        if (residual) {
+            sigma_ctl = dda_max(sigma_c, dda_min(sigma_ctl, sigma_maj));
+            sigma_n = dda_max(sigma_maj - sigma_ctl, sigma_ctl - sigma_c);
+            sigma_c = sigma_ctl;
+        }
         e.sigma_maj = sigma_maj;
         e.sigma_c = sigma_c;
+        e.sigma_r = sigma_n;
         const double tau_c0 = e.tau_c;
         /* tau: optical depth (against the majorant) still to cover before the next
          * tentative collision; one exponential per collision, carried across segments. */
