@@ -797,7 +797,10 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
                 w.ntab, max_memory);
         goto fail;
     }
-    if (!build_majorants(&w, filter == GRID_TRILINEAR, bg))
+    /* a small box gets a dense copy and a grid of cells below: the tree's majorants are
+     * built only for the others */
+    const bool small = (uint64_t)ext[0] * (uint64_t)ext[1] * (uint64_t)ext[2] <= atomic_load(&nano_cell_grid_voxels);
+    if (!small && !build_majorants(&w, filter == GRID_TRILINEAR, bg))
         goto fail;
     d->rho_min = w.vmin * scale;
     d->rho_max = w.vmax * scale;
@@ -808,7 +811,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     free(w.slabs);
     free(w.rawat);
     d->active = pnanovdb_tree_get_voxel_count(b, tree);
-    if ((uint64_t)ext[0] * (uint64_t)ext[1] * (uint64_t)ext[2] <= atomic_load(&nano_cell_grid_voxels)) {
+    if (small) {
         /* a small box: its voxels in a dense array as well, when the memory limit allows
          * (a lookup is then 8 array reads instead of a descent of the tree, as for a dense
          * grid: grid.c), and one grid of cells with exact bounds of those values, walked by
@@ -836,7 +839,6 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
             err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for the majorant grid", name);
             goto fail;
         }
-        nano_free_majorants(s);
         d->memory = size + 3 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float) +
                     (d->data ? nvox * sizeof(float) : 0);
     } else {
