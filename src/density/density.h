@@ -191,24 +191,23 @@ static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *i
         return false;
     }
     majorant_seg s;
-    double ctl_len = 0.0; /* by_ctl: the integral of the merged cells' controls */
-    const double t0 = seg->t0;
+    const bool by_ctl = it->by_ctl;
+    double ctl_len = by_ctl ? seg->rho_ctl * (seg->t1 - seg->t0) : 0.0; /* the integral of the controls */
+    bool merged = false;
     while (majorant_cell_next(it, &s)) {
         if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
-            if (it->by_ctl) {
-                if (ctl_len == 0.0)
-                    ctl_len = seg->rho_ctl * (seg->t1 - t0);
+            if (by_ctl)
                 ctl_len += s.rho_ctl * (s.t1 - s.t0);
-            }
             seg->t1 = s.t1;
+            merged = true;
         } else {
             it->next = s;
             it->has_next = true;
             break;
         }
     }
-    if (ctl_len > 0.0) /* their mean over the segment, within its bounds */
-        seg->rho_ctl = fmax(seg->rho_min, fmin(seg->rho_maj, ctl_len / (seg->t1 - t0)));
+    if (by_ctl && merged) /* the merged cells' mean, within the bounds (rounding) */
+        seg->rho_ctl = fmax(seg->rho_min, fmin(seg->rho_maj, ctl_len / (seg->t1 - seg->t0)));
     return true;
 }
 
