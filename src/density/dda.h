@@ -148,10 +148,15 @@ static inline __attribute__((always_inline)) void grid_dda_dir_make(grid_dda_dir
     w->finite = finite == 0.0;
 }
 
-/* grid_dda_begin_box for the direction w made by grid_dda_dir_make: the same walk. */
-static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dda *g, const int n[3], const int lo[3],
-                                                                         const int hi[3], vec3 o, const grid_dda_dir *w,
-                                                                         double tmin, double tmax)
+/* The walk of the direction w (grid_dda_dir_make) over the cells that the ray crosses inside
+ * the box [lo, hi) of cell space, 0 <= lo < hi <= n per axis, whose faces need not be cell
+ * planes (a grid's voxel box in majorant-cell space). The interval is clipped with the
+ * formula the steps use, (plane - o) * inv, so a face on a cell plane ends the walk where
+ * the steps would. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_clip_dir(grid_dda *g, const int n[3],
+                                                                          const double lo[3], const double hi[3],
+                                                                          vec3 o, const grid_dda_dir *w, double tmin,
+                                                                          double tmax)
 {
     const double oo[3] = {o.x, o.y, o.z};
     g->done = true;
@@ -162,12 +167,12 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dd
     double finite = 0.0;
 #pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
-        valid &= (n[a] >= 1) & (0 <= lo[a]) & (lo[a] < hi[a]) & (hi[a] <= n[a]);
+        valid &= (n[a] >= 1) & (0.0 <= lo[a]) & (lo[a] < hi[a]) & (hi[a] <= (double)n[a]);
         finite += oo[a] - oo[a];
     }
     if (!(valid & w->finite & (finite == 0.0)))
         return false;
-    /* Clip [tmin, tmax] to the box [lo, hi) with the same formula as the steps use. */
+    /* Clip [tmin, tmax] to the box with the same formula as the steps use. */
     double t0 = tmin, t1 = tmax;
 #pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
@@ -178,11 +183,11 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dd
         g->delta[a] = w->delta[a];
         g->step[a] = w->step[a];
         if (w->step[a] == 0) {
-            if (!(oo[a] >= (double)lo[a] && oo[a] < (double)hi[a]))
+            if (!(oo[a] >= lo[a] && oo[a] < hi[a]))
                 return false;
             continue;
         }
-        double ta = ((double)lo[a] - oo[a]) * w->inv[a], tb = ((double)hi[a] - oo[a]) * w->inv[a];
+        double ta = (lo[a] - oo[a]) * w->inv[a], tb = (hi[a] - oo[a]) * w->inv[a];
         /* ordered by selects, not a branch: the sign of a ray's direction is unpredictable */
         const double t_near = dda_min(tb, ta), t_far = dda_max(ta, tb);
         t0 = t_near > t0 ? t_near : t0;
@@ -193,6 +198,15 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dd
     g->tmax = g->t_out = t1;
     g->t_in = t0;
     return dda_seed(g, t0);
+}
+
+/* grid_dda_begin_box for the direction w made by grid_dda_dir_make: the same walk. */
+static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dda *g, const int n[3], const int lo[3],
+                                                                         const int hi[3], vec3 o, const grid_dda_dir *w,
+                                                                         double tmin, double tmax)
+{
+    const double lo_d[3] = {lo[0], lo[1], lo[2]}, hi_d[3] = {hi[0], hi[1], hi[2]};
+    return grid_dda_begin_clip_dir(g, n, lo_d, hi_d, o, w, tmin, tmax);
 }
 
 /* The same walk restricted to the cells of the box [lo, hi) (0 <= lo < hi <= n per axis),

@@ -47,6 +47,9 @@ struct density {
                               (clo = chi = 0 when every cell is 0): rho is 0 outside it, so
                               walks start and end at its faces. Set with maj
                               (density_set_active_box). */
+    affine3 w2c;           /* world -> majorant-cell space: (w2v(p) + moff) / mcell */
+    double wlo[3], whi[3]; /* the walks' box in cell space: the voxel box there, within the
+                              cells [clo, chi); empty (wlo >= whi) when every cell is 0 */
     /* DENSITY_GRID */
     float *data; /* n0 * n1 * n2, x fastest, owned (or borrowed: data_release); for a NanoVDB grid
                     the dense copy of a small box (nanovdb.c), or NULL */
@@ -80,7 +83,7 @@ static inline size_t dense_brick_z(const density *d, int k)
  * false when out of memory. */
 bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int));
 
-/* Sets clo, chi from maj (grid.c); after every change of maj. */
+/* Sets clo, chi from maj, and w2c, wlo, whi (grid.c); after every change of maj. */
 void density_set_active_box(density *d);
 
 /* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */
