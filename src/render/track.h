@@ -76,12 +76,11 @@ typedef struct track_stream {
     double sigma_t_min; /* the medium's: the controls' scale */
 } track_stream;
 
-static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
-                                                                   bool residual, track_fn fn, void *user,
-                                                                   double *tau_c_end)
+static inline __attribute__((always_inline)) bool track_collisions_n(const brume_scene *s, const int n, ray r,
+                                                                     double tmax, rng *g, bool residual, track_fn fn,
+                                                                     void *user, double *tau_c_end)
 {
     track_stream st[SCENE_MAX_MEDIA];
-    int n = s->nmedia;
     for (int m = 0; m < n; m++) {
         /* A moving medium: the ray in the field's frame at the ray's instant. An affine map
          * keeps the ray parameter t, so segments need no conversion back. */
@@ -179,6 +178,16 @@ static inline __attribute__((always_inline)) bool track_collisions(const brume_s
             e.tau_c = tau_c0 + sigma_c * (t_next - t);
         t = t_next;
     }
+}
+
+/* One medium is the common case: with n a constant the loops over media vanish. */
+static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
+                                                                   bool residual, track_fn fn, void *user,
+                                                                   double *tau_c_end)
+{
+    if (s->nmedia == 1)
+        return track_collisions_n(s, 1, r, tmax, g, residual, fn, user, tau_c_end);
+    return track_collisions_n(s, s->nmedia, r, tmax, g, residual, fn, user, tau_c_end);
 }
 
 #endif
