@@ -156,10 +156,10 @@ static inline __attribute__((always_inline)) bool track_collisions_n(const brume
              * one ulp), so the walk reaches the segment's end or stops in a finite number
              * of steps. The range that keeps that number small is checked at commit
              * (medium_check_range, docs/scene-format.md#limits). */
-            const double t0 = t, len = t_next - t;
+            const double t0 = t, len = t_next - t, inv_n = 1.0 / sigma_n;
             double u = 0.0;
             for (;;) {
-                double du = tau / sigma_n;
+                double du = tau * inv_n;
                 if (!(u + du < len)) {
                     tau = dda_max(0.0, tau - sigma_n * (len - u));
                     break;
