@@ -26,7 +26,9 @@
 #      timing one renderer's runs after the other's moved the ratio by as much as any change
 #      to brume did (docs/performance.md);
 #   4. the time brume needs to reach Cycles' 64-spp error (error ~ 1/sqrt(spp), fitted at
-#      that spp), and the ratio of the two times (the figure of issue 18).
+#      that spp), and the ratio of the two times (the figure of issue 18), from the medians;
+#      then the same ratio per round and its median (each round's two runs share the VM's
+#      state, so this one moves less when the VM's speed drifts during the run).
 # Relative RMSE = RMSE / mean of the reference, with the reference's own variance removed.
 # Also prints the mean radiance of each renderer's reference: the same scene must agree.
 # Both renderers use 2 threads.
@@ -115,9 +117,13 @@ for name in $SCENES; do
     #    that both see the same minutes of this VM, whose speed drifts (docs/performance.md).
     c64=""
     b=""
+    pairs="" # each round's ratio: the two runs of a round saw the same minutes of the VM
     for run in $(seq "$RUNS"); do
-        c64="$c64 $(cycles 64 "$out/cycles_${name}_64_run.exr")"
-        b="$b $(brume_run "$1")"
+        tc=$(cycles 64 "$out/cycles_${name}_64_run.exr")
+        tb=$(brume_run "$1")
+        c64="$c64 $tc"
+        b="$b $tb"
+        pairs="$pairs $(printf "%.3f" "$(echo "$tb * ($2 / $e_c)^2 / $tc" | bc -l)")"
     done
     t_c=$(median $c64)
     t_s=$(median $b)
@@ -125,5 +131,6 @@ for name in $SCENES; do
     t_b=$(echo "$t_s * ($2 / $e_c)^2" | bc -l)
     printf "%s: brume reaches Cycles' 64-spp error %.4f in %.2f s (fitted from %s spp: %.3f s at %.4f)\n" "$name" "$e_c" "$t_b" "$1" "$t_s" "$2"
     printf "%s: time ratio brume / Cycles: %.3f (target <= 0.2)\n" "$name" "$(echo "$t_b / $t_c" | bc -l)"
+    echo "$name: the same ratio per round:$pairs (median $(median $pairs))"
 done
 echo "load at the end: $(uptime)"
