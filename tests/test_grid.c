@@ -402,6 +402,15 @@ TEST(majorant_bounds_dense)
                                       (box3){v3(-1, -0.5, 0), v3(1, 0.7, 2)}, f ? GRID_TRILINEAR : GRID_NEAREST);
         ASSERT_TRUE(d);
         check_majorants(d, 11 + (uint64_t)f, 400);
+        /* placed again after its cells were built (a scene's "transform" does this): rotated
+         * and stretched, so the walk's map to cell space and its box must follow */
+        density_info in;
+        density_get_info(d, &in);
+        affine3 turn = affine3_rotate(v3(1, 2, 3), 37.0), stretch = affine3_scale(v3(0.5, 1.5, 1.0));
+        affine3 m = affine3_compose(&stretch, &in.voxel_to_world);
+        m = affine3_compose(&turn, &m);
+        ASSERT_TRUE(density_place(d, &m));
+        check_majorants(d, 21 + (uint64_t)f, 400);
         density_release(d);
     }
 }
