@@ -325,6 +325,7 @@ static void check_majorants(const density *d, uint64_t seed, int rays)
 {
     rng r = rng_make(seed, 0, 0);
     box3 b = density_bounds(d);
+    const box3 reach = density_reach_bounds(d);
     vec3 ext = v3_sub(b.hi, b.lo);
     for (int it = 0; it < rays; it++) {
         vec3 target = v3(b.lo.x + rng_next(&r) * ext.x, b.lo.y + rng_next(&r) * ext.y, b.lo.z + rng_next(&r) * ext.z);
@@ -340,7 +341,13 @@ static void check_majorants(const density *d, uint64_t seed, int rays)
         majorant_seg seg;
         density_majorant_begin(d, ry, 0, INFINITY, &mi);
         double prev = NAN, first = NAN;
+        double reach_t0, reach_t1; /* a ray that misses the reach box finds no segment */
+        const bool meets_reach = box3_intersect(reach, ry, 0, INFINITY, &reach_t0, &reach_t1);
         while (majorant_next(&mi, &seg)) {
+            if (!meets_reach)
+                TEST_FAIL("a segment [%.9g, %.9g] on a ray that misses density_reach_bounds", seg.t0, seg.t1);
+            if (!box3_contains(reach, ray_at(ry, seg.t0)) || !box3_contains(reach, ray_at(ry, seg.t1)))
+                TEST_FAIL("segment [%.9g, %.9g] leaves density_reach_bounds", seg.t0, seg.t1);
             if (isnan(first))
                 first = seg.t0;
             else
@@ -445,6 +452,18 @@ TEST(majorant_walk_skips_empty_border)
         }
         density_majorant_begin(d, (ray){v3(-5, 4.5, 15.7), v3(1, 0, 0), 0}, 0, INFINITY, &mi);
         ASSERT_TRUE(!majorant_next(&mi, &seg));
+        /* the world box of the walks (what the path tracer culls camera rays by): voxels
+         * [8, 24)^3 here, widened by no more than rounding's margin; empty for an empty grid */
+        box3 reach = density_reach_bounds(d);
+        if (empty) {
+            ASSERT_TRUE(reach.lo.x > reach.hi.x && reach.lo.y > reach.hi.y && reach.lo.z > reach.hi.z);
+        } else {
+            const double lo[3] = {reach.lo.x, reach.lo.y, reach.lo.z}, hi[3] = {reach.hi.x, reach.hi.y, reach.hi.z};
+            for (int a = 0; a < 3; a++) {
+                ASSERT_TRUE(lo[a] < 8 && lo[a] > 8 - 1e-6);
+                ASSERT_TRUE(hi[a] > 24 && hi[a] < 24 + 1e-6);
+            }
+        }
         density_release(d);
     }
 }

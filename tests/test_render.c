@@ -502,7 +502,49 @@ TEST(sun_lobe_sampling_stops_at_surfaces)
     ASSERT_TRUE(tol < 0.04 * mean[0]);
 }
 
+/* Camera rays that miss the world box of every medium's walks skip the path at once
+ * (path_Li_alpha's cull), which must give what the whole path comes to, bit for bit. The
+ * same scene with the medium keyframed by one identity key is not culled (moving media
+ * are not) and moves nothing, so its image is the reference: cloud64.raw fills part of the
+ * view and the sky the rest. Axis-aligned, so that the box is tight around the cloud's
+ * cells and a box too small cuts the cloud (test_grid's check_majorants holds every walk
+ * of rotated and re-placed grids inside the box). */
+static brume_image *cull_scene_image(bool keyed)
+{
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0.2, -2.2, 0.3], \"look_at\": [0.05, 0, 0], \"up\": [0, 0, 1], \"fov\": 26},"
+             " \"background\": [0.1, 0.2, 0.4],"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.5, 0.6, -0.62], \"irradiance\": 3}],"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\", \"format\": \"raw\","
+             "   \"dims\": [64, 64, 64], \"bounds\": [[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]]},"
+             "   \"sigma_a\": 1, \"sigma_s\": 12, \"phase\": {\"type\": \"hg\", \"g\": 0.6}%s}],"
+             " \"render\": {\"width\": 64, \"height\": 48, \"spp\": 2, \"max_depth\": 8}}",
+             BRUME_DATA_DIR "/cloud64.raw",
+             keyed ? ", \"keyframes\": [{\"time\": 0, \"transform\": {\"translate\": [0, 0, 0]}}]" : "");
+    return test_render_json(json, 7);
+}
+
+TEST(camera_cull_changes_no_pixel)
+{
+    brume_image *culled = cull_scene_image(false), *full = cull_scene_image(true);
+    const size_t n = (size_t)64 * 48 * 4;
+    const float *a = brume_image_pixels(culled), *b = brume_image_pixels(full);
+    size_t differ = 0, sky = 0;
+    for (size_t i = 0; i < n; i += 4) {
+        differ += memcmp(a + i, b + i, 4 * sizeof(float)) != 0;
+        sky += a[i] == 0.1f && a[i + 1] == 0.2f && a[i + 2] == 0.4f && a[i + 3] == 0.0f;
+    }
+    if (differ)
+        TEST_FAIL("%zu of %zu pixels differ from the unculled render", differ, n / 4);
+    /* the view holds both: pixels that only see the sky, and pixels that see the cloud */
+    ASSERT_TRUE(sky > n / 4 / 10 && sky < n / 4 * 9 / 10);
+    brume_image_release(culled);
+    brume_image_release(full);
+}
+
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
           white_furnace_gray, single_scattering_closed_form,
           single_scattering_forward_hg_shadow_roulette, residual_ratio_tracking_transmittance, flight_delta_tail_unbiased,
-          furnaces_gray_extinction, sun_lobe_sampling_unbiased, sun_lobe_sampling_stops_at_surfaces)
+          furnaces_gray_extinction, sun_lobe_sampling_unbiased, sun_lobe_sampling_stops_at_surfaces,
+          camera_cull_changes_no_pixel)

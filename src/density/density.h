@@ -92,6 +92,11 @@ size_t density_shared_bytes(const density *d);
 double density_eval(const density *d, vec3 p);
 /* World box outside which rho = 0. */
 box3 density_bounds(const density *d);
+/* World box outside which a majorant walk (density_majorant_begin) finds no segment: the
+ * non-empty cells within the voxel box (the voxel box for a large NanoVDB box's tree),
+ * widened by far more than rounding can move the walk's clip. box3_empty() when every cell
+ * is 0. A ray that misses it meets nothing of the field. */
+box3 density_reach_bounds(const density *d);
 /* max rho over the field. */
 double density_max(const density *d);
 

@@ -233,6 +233,30 @@ void density_grid_borrow(density *d, void (*release)(void *user), void *user)
 
 density_kind density_get_kind(const density *d) { return d->kind; }
 box3 density_bounds(const density *d) { return d->bounds; }
+
+box3 density_reach_bounds(const density *d)
+{
+    if (d->kind == DENSITY_NANOVDB && !d->maj)
+        return d->bounds;
+    box3 b = box3_empty();
+    if (!(d->wlo[0] < d->whi[0] && d->wlo[1] < d->whi[1] && d->wlo[2] < d->whi[2]))
+        return b;
+    for (int c = 0; c < 8; c++) { /* the walk's box: cell space -> voxel space -> world */
+        const double u[3] = {(c & 1) ? d->whi[0] : d->wlo[0], (c & 2) ? d->whi[1] : d->wlo[1],
+                             (c & 4) ? d->whi[2] : d->wlo[2]};
+        vec3 w = affine3_apply(&d->v2w, v3(u[0] * d->mcell - d->moff[0], u[1] * d->mcell - d->moff[1],
+                                           u[2] * d->mcell - d->moff[2]));
+        b.lo = v3_min(b.lo, w);
+        b.hi = v3_max(b.hi, w);
+    }
+    /* the clip runs in cell space, this box in the world: a margin of 1e-9 of the box's size
+     * and place covers the ulps between the two */
+    const vec3 ext = v3_sub(b.hi, b.lo), far = v3_max(v3_max(b.hi, v3_neg(b.lo)), v3_max(b.lo, v3_neg(b.hi)));
+    const double margin = 1e-9 * fmax(fmax(fmax(ext.x, ext.y), ext.z), fmax(fmax(far.x, far.y), far.z));
+    b.lo = v3_sub(b.lo, v3(margin, margin, margin));
+    b.hi = v3_add(b.hi, v3(margin, margin, margin));
+    return b;
+}
 double density_max(const density *d) { return d->rho_max; }
 
 void density_get_info(const density *d, density_info *info)

@@ -214,9 +214,15 @@ static double nee_roulette(color f, rng *g)
  * arriving direction and the direction to the sun (lobe_table). */
 typedef struct path_state {
     double kappa;                  /* path.sun_lobe */
-    int nsuns;
+    int nsuns;                     /* 0: no lobe samples */
     int sun[LOBE_MAX_SUNS];        /* indices into s->lights */
     float S[SCENE_MAX_MEDIA][LOBE_TABLE]; /* per medium (its phase function) */
+    /* A camera ray that misses `reach`, the world box of every medium's walks
+     * (density_reach_bounds), meets nothing but what lies past the media, when the scene has
+     * no surfaces, no area lights and no moving media (`cull`): path_Li_alpha then returns
+     * the escaped radiance at once, the value the whole path would have come to. */
+    bool cull;
+    box3 reach;
 } path_state;
 
 /* The lobe samples one scattering vertex made (or could have made) for each delta sun: the
@@ -426,6 +432,15 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
                     color *Tr_cam)
 {
     const path_state *st = state;
+    double t_in, t_out;
+    if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
+        /* what the loop below comes to for this ray, bit for bit: no flight, Tr = 1 */
+        if (hit_surface)
+            *hit_surface = false;
+        if (Tr_cam)
+            *Tr_cam = col(1.0);
+        return escaped_radiance(s, r.d, 0.0);
+    }
     const ray r_cam = r;
     double t_cam = INFINITY; /* where the camera ray's flight ended: a surface or an area light */
     /* Dimensions (docs/sampling.md, "The path's dimensions"): scattering event `depth` takes
@@ -591,21 +606,27 @@ static void lobe_table(const phase *ph, float S[LOBE_TABLE])
         S[i] = rho >= 0.5 ? (float)(rho * rho * sqrt(m2[i] / m21)) : 0.0f;
 }
 
-/* The state of `path`: sun-lobe tables when the scene has delta suns and media, and
- * path.sun_lobe > 0; NULL otherwise (nothing to sample). */
-static brume_status path_prepare(const brume_scene *s, path_state **out)
+/* The state of `path` and `single`: the camera rays' cull, and with `lobes` (path) sun-lobe
+ * tables when the scene has delta suns and media and path.sun_lobe > 0. */
+static brume_status path_prepare(const brume_scene *s, bool lobes, path_state **out)
 {
     *out = NULL;
     const path_options *o = scene_options(s, METHOD_OPTIONS_PATH);
-    if (!(o->sun_lobe > 0.0) || s->nmedia == 0)
-        return BRUME_OK;
-    path_state st = {.kappa = o->sun_lobe};
-    for (int i = 0; i < s->nlights && st.nsuns < LOBE_MAX_SUNS; i++)
+    path_state st = {.kappa = o->sun_lobe, .cull = !s->surf, .reach = box3_empty()};
+    for (int i = 0; i < s->nlights; i++)
+        if (s->lights[i].kind == LIGHT_SPHERE || s->lights[i].kind == LIGHT_DISK)
+            st.cull = false; /* a camera ray can end on it (nearest_area_light) */
+    for (int m = 0; m < s->nmedia; m++) {
+        box3 b = density_reach_bounds(s->media[m].rho);
+        st.reach = (box3){v3_min(st.reach.lo, b.lo), v3_max(st.reach.hi, b.hi)};
+        st.cull &= !s->media[m].motion;
+    }
+    /* box3_intersect takes an empty box for a full one: nothing to cull then (no medium) */
+    st.cull &= st.reach.lo.x <= st.reach.hi.x && st.reach.lo.y <= st.reach.hi.y && st.reach.lo.z <= st.reach.hi.z;
+    for (int i = 0; lobes && o->sun_lobe > 0.0 && s->nmedia > 0 && i < s->nlights && st.nsuns < LOBE_MAX_SUNS; i++)
         if (light_is_delta_sun(&s->lights[i]))
             st.sun[st.nsuns++] = i;
-    if (st.nsuns == 0)
-        return BRUME_OK;
-    for (int m = 0; m < s->nmedia; m++) {
+    for (int m = 0; st.nsuns > 0 && m < s->nmedia; m++) {
         int same = 0; /* media sharing a phase function share its table */
         while (same < m && s->media[same].ph != s->media[m].ph)
             same++;
@@ -631,13 +652,13 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
                            "%s: media[%d]: albedo, temperature and emission grids need the path or single method",
                            s->source, m);
     switch (kind) {
-    case INTEGRATOR_PATH: {
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE: {
         path_state *st = NULL;
-        brume_status rc = path_prepare(s, &st);
+        brume_status rc = path_prepare(s, kind == INTEGRATOR_PATH, &st);
         *state = st;
         return rc;
     }
-    case INTEGRATOR_SINGLE: return BRUME_OK;
     case INTEGRATOR_BLASI: {
         blasi_state *st = NULL;
         brume_status rc = blasi_prepare(s, &st);
@@ -652,8 +673,8 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
 void integrator_finish(integrator_kind kind, void *state)
 {
     switch (kind) {
-    case INTEGRATOR_PATH: free(state); break;
-    case INTEGRATOR_SINGLE: break;
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE: free(state); break;
     case INTEGRATOR_BLASI: blasi_finish(state); break;
     case INTEGRATOR_STAM: stam_finish(state); break;
     }
@@ -665,7 +686,7 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
     color L = col(0.0);
     switch (kind) {
     case INTEGRATOR_PATH: return path_Li_alpha(s, state, r, s->settings.max_depth, g, hit_surface, Tr);
-    case INTEGRATOR_SINGLE: return path_Li_alpha(s, NULL, r, 1, g, hit_surface, Tr);
+    case INTEGRATOR_SINGLE: return path_Li_alpha(s, state, r, 1, g, hit_surface, Tr);
     case INTEGRATOR_BLASI:
         L = blasi_Li(s, state, r, g, hit_surface);
         if (Tr)

@@ -51,8 +51,8 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
 /* The path estimator with an explicit cap on scattering events (>= 1; a bounce off a
  * surface counts as one), also telling whether the camera ray's first hit is a surface
  * (hit_surface may be NULL) and, with Tr_cam, the transmittance along the whole camera ray
- * (integrator_Li). state is integrator_prepare's for INTEGRATOR_PATH (NULL: no sun-lobe
- * sampling). */
+ * (integrator_Li). state is integrator_prepare's for INTEGRATOR_PATH or INTEGRATOR_SINGLE
+ * (NULL: no sun-lobe sampling and no cull of camera rays that miss every medium). */
 color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
                     color *Tr_cam);
 /* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
