@@ -55,6 +55,17 @@ affine3 affine3_translate(vec3 t) { return (affine3){{1, 0, 0, t.x, 0, 1, 0, t.y
 
 affine3 affine3_scale(vec3 s) { return (affine3){{s.x, 0, 0, 0, 0, s.y, 0, 0, 0, 0, s.z, 0}}; }
 
+box3 affine3_apply_box(const affine3 *t, box3 b)
+{
+    box3 out = box3_empty();
+    for (int c = 0; c < 8; c++) {
+        vec3 w = affine3_apply(t, v3((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z));
+        out.lo = v3_min(out.lo, w);
+        out.hi = v3_max(out.hi, w);
+    }
+    return out;
+}
+
 affine3 affine3_rotate(vec3 axis, double angle_deg)
 {
     vec3 a = v3_normalize(axis);

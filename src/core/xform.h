@@ -34,5 +34,7 @@ affine3 affine3_scale(vec3 s);
 affine3 affine3_rotate(vec3 axis, double angle_deg);
 /* Determinant of the linear part. */
 double affine3_det(const affine3 *t);
+/* The axis-aligned box around the image of box b (its eight corners mapped by t). */
+box3 affine3_apply_box(const affine3 *t, box3 b);
 
 #endif

@@ -16,13 +16,7 @@ bool density_set_placement(density *d, const affine3 *voxel_to_world, const char
         return false;
     }
     d->v2w = *voxel_to_world;
-    d->bounds = box3_empty();
-    for (int c = 0; c < 8; c++) {
-        vec3 corner = v3((c & 1) ? d->n[0] : 0, (c & 2) ? d->n[1] : 0, (c & 4) ? d->n[2] : 0);
-        vec3 w = affine3_apply(voxel_to_world, corner);
-        d->bounds.lo = v3_min(d->bounds.lo, w);
-        d->bounds.hi = v3_max(d->bounds.hi, w);
-    }
+    d->bounds = affine3_apply_box(voxel_to_world, (box3){v3(0, 0, 0), v3(d->n[0], d->n[1], d->n[2])});
     if (d->maj) /* placed again after the majorants were built */
         density_set_active_box(d);
     return true;
@@ -238,24 +232,22 @@ box3 density_reach_bounds(const density *d)
 {
     if (d->kind == DENSITY_NANOVDB && !d->maj)
         return d->bounds;
-    box3 b = box3_empty();
     if (!(d->wlo[0] < d->whi[0] && d->wlo[1] < d->whi[1] && d->wlo[2] < d->whi[2]))
-        return b;
-    for (int c = 0; c < 8; c++) { /* the walk's box: cell space -> voxel space -> world */
-        const double u[3] = {(c & 1) ? d->whi[0] : d->wlo[0], (c & 2) ? d->whi[1] : d->wlo[1],
-                             (c & 4) ? d->whi[2] : d->wlo[2]};
-        vec3 w = affine3_apply(&d->v2w, v3(u[0] * d->mcell - d->moff[0], u[1] * d->mcell - d->moff[1],
-                                           u[2] * d->mcell - d->moff[2]));
-        b.lo = v3_min(b.lo, w);
-        b.hi = v3_max(b.hi, w);
-    }
+        return box3_empty();
+    /* the walk's box, from cell space to voxel space, to the world */
+    const double C = d->mcell;
+    box3 b = affine3_apply_box(&d->v2w, (box3){v3(d->wlo[0] * C - d->moff[0], d->wlo[1] * C - d->moff[1],
+                                                  d->wlo[2] * C - d->moff[2]),
+                                               v3(d->whi[0] * C - d->moff[0], d->whi[1] * C - d->moff[1],
+                                                  d->whi[2] * C - d->moff[2])});
     /* the clip runs in cell space, this box in the world: a margin of 1e-9 of the box's size
      * and place covers the ulps between the two */
-    const vec3 ext = v3_sub(b.hi, b.lo), far = v3_max(v3_max(b.hi, v3_neg(b.lo)), v3_max(b.lo, v3_neg(b.hi)));
-    const double margin = 1e-9 * fmax(fmax(fmax(ext.x, ext.y), ext.z), fmax(fmax(far.x, far.y), far.z));
-    b.lo = v3_sub(b.lo, v3(margin, margin, margin));
-    b.hi = v3_add(b.hi, v3(margin, margin, margin));
-    return b;
+    double size = 0.0;
+    const double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    for (int a = 0; a < 3; a++)
+        size = fmax(size, fmax(hi[a] - lo[a], fmax(fabs(lo[a]), fabs(hi[a]))));
+    const double margin = 1e-9 * size;
+    return (box3){v3_sub(b.lo, v3(margin, margin, margin)), v3_add(b.hi, v3(margin, margin, margin))};
 }
 double density_max(const density *d) { return d->rho_max; }
 

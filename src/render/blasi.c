@@ -1435,13 +1435,8 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         bm->occ_e = v3(-1.0, -1.0, -1.0); /* every line misses */
         if (bm->occ_hi[0] == 0)
             continue; /* no non-empty voxel */
-        box3 b = box3_empty();
-        for (int c = 0; c < 8; c++) {
-            vec3 corner = v3((c & 1) ? bm->occ_hi[0] : bm->occ_lo[0], (c & 2) ? bm->occ_hi[1] : bm->occ_lo[1],
-                             (c & 4) ? bm->occ_hi[2] : bm->occ_lo[2]);
-            vec3 w = affine3_apply(&bm->v2w, corner);
-            b = (box3){v3_min(b.lo, w), v3_max(b.hi, w)};
-        }
+        box3 b = affine3_apply_box(&bm->v2w, (box3){v3(bm->occ_lo[0], bm->occ_lo[1], bm->occ_lo[2]),
+                                                    v3(bm->occ_hi[0], bm->occ_hi[1], bm->occ_hi[2])});
         st->light_box = (box3){v3_min(st->light_box.lo, b.lo), v3_max(st->light_box.hi, b.hi)};
         /* enlarged by 1e-9 of its size and place: far more than the rounding of the corners
          * and of the walk's own clipping in voxel space */
