@@ -55,6 +55,11 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
  * (NULL: no sun-lobe sampling and no cull of camera rays that miss every medium). */
 color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
                     color *Tr_cam);
+/* The sun roulette's predicted transmittance (docs/path-tracer.md, "Sun rays deep in a
+ * cloud") towards the scene's sun-th delta sun (`distant` without angular_radius, in the
+ * order of the lights) from the world point p, for tests: 1 where nothing is predicted
+ * (outside the media's box; no prediction built). state as path_Li_alpha's. */
+double path_sun_transmittance_hat(const void *state, int sun, vec3 p);
 /* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
  * blocks the segment, else that of the media (ratio tracking). Moving things are taken
  * where they are at that instant, so every estimator that passes the path's time gets

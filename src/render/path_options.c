@@ -2,6 +2,7 @@
 #include "render/path_options.h"
 
 #include <errno.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,25 +12,40 @@
 /* The default scale of sun-lobe sampling: measured on the comparison clouds of
  * bench/cloud64_vs_cycles.sh (docs/performance.md, "Sun-lobe sampling"). */
 #define PATH_SUN_LOBE_DEFAULT 2.0
+/* The default threshold of the sun roulette, measured the same way (docs/performance.md,
+ * "Sun rays deep in a cloud"). */
+#define PATH_SUN_ROULETTE_DEFAULT 0.03
 
 void path_options_default(path_options *o)
 {
     memset(o, 0, sizeof *o);
     o->sun_lobe = PATH_SUN_LOBE_DEFAULT;
+    o->sun_roulette = PATH_SUN_ROULETTE_DEFAULT;
 }
 
-const char *path_option_names(void) { return "sun_lobe"; }
+const char *path_option_names(void) { return "sun_lobe, sun_roulette"; }
+
+/* value as a finite number in [lo, hi]; false otherwise. */
+static bool number_in(const char *value, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(value, &end);
+    if (end == value || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
+        return false;
+    *out = v;
+    return true;
+}
 
 brume_status path_options_set(path_options *o, const char *key, const char *value)
 {
     path_options n = *o;
     if (strcmp(key, "sun_lobe") == 0) {
-        char *end = NULL;
-        errno = 0;
-        double v = strtod(value, &end);
-        if (end == value || *end != '\0' || errno != 0 || !isfinite(v) || v < 0.0 || v > 100.0)
+        if (!number_in(value, 0.0, 100.0, &n.sun_lobe))
             return err_set(BRUME_ERROR_RANGE, "path.sun_lobe: '%s' is not a number in [0, 100]", value);
-        n.sun_lobe = v;
+    } else if (strcmp(key, "sun_roulette") == 0) {
+        if (!number_in(value, 0.0, 1.0, &n.sun_roulette))
+            return err_set(BRUME_ERROR_RANGE, "path.sun_roulette: '%s' is not a number in [0, 1]", value);
     } else {
         return err_set(BRUME_ERROR_PARSE, "path.%s: unknown key (known here: %s)", key, path_option_names());
     }

@@ -13,11 +13,16 @@ typedef struct path_options {
      * weighed against phase sampling by multiple importance sampling. Unitless, in
      * [0, 100]; 0 turns it off. */
     double sun_lobe;
+    /* Sun roulette (docs/path-tracer.md, "Sun rays deep in a cloud"): a shadow ray or a
+     * sun-lobe sample towards a delta sun from a point where the sun's transmittance is
+     * predicted at T < sun_roulette is made with probability T / sun_roulette (times any
+     * other roulette's) and weighed by its inverse. Unitless, in [0, 1]; 0 turns it off. */
+    double sun_roulette;
 } path_options;
 
 void path_options_default(path_options *o);
 
-/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe. On failure
+/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe, sun_roulette. On failure
  * returns an error status with err_set() naming "path.KEY" and the bad value, and leaves
  * *o unchanged. */
 brume_status path_options_set(path_options *o, const char *key, const char *value);
