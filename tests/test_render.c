@@ -394,6 +394,48 @@ TEST(furnaces_gray_extinction)
     unlink(path);
 }
 
+/* Renders head VALUE tail (npix pixels, seed) for each of n values, with the mean of channel
+ * 1 and its standard error over the pixels into mean[] and se[], and checks that every mean
+ * agrees with the first within 5 standard errors of their difference, those under rel of
+ * the first mean (tight enough to matter). */
+static void option_means_agree(const char *key, const char *head, const char *const *values, int n,
+                               const char *tail, int npix, uint64_t seed, double rel, double *mean, double *se)
+{
+    char json[1024];
+    for (int k = 0; k < n; k++) {
+        snprintf(json, sizeof json, "%s%s%s", head, values[k], tail);
+        brume_image *img = test_render_json(json, seed);
+        test_channel_mean(brume_image_pixels(img), npix, 1, &mean[k], &se[k]);
+        fprintf(stderr, "%s %s: mean %.6f, standard error %.6f\n", key, values[k], mean[k], se[k]);
+        brume_image_release(img);
+    }
+    for (int k = 1; k < n; k++) {
+        double tol = 5.0 * sqrt(se[0] * se[0] + se[k] * se[k]);
+        ASSERT_NEAR(mean[k], mean[0], tol);
+        ASSERT_TRUE(tol < rel * mean[0]);
+    }
+}
+
+/* json at 4 spp with 1 and 2 threads: the same npix pixels, bit for bit. */
+static void same_image_for_threads(const char *json, int npix)
+{
+    brume_scene *s[2];
+    brume_image *img[2];
+    for (int k = 0; k < 2; k++) {
+        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
+        brume_render_settings rs;
+        brume_scene_get_settings(s[k], &rs);
+        rs.spp = 4;
+        ASSERT_EQ_INT(brume_scene_set_settings(NULL, s[k], &rs), BRUME_OK);
+        img[k] = test_render_scene(s[k], k + 1, 7);
+    }
+    ASSERT_TRUE(memcmp(brume_image_pixels(img[0]), brume_image_pixels(img[1]), (size_t)npix * 4 * sizeof(float)) == 0);
+    for (int k = 0; k < 2; k++) {
+        brume_image_release(img[k]);
+        brume_scene_release(s[k]);
+    }
+}
+
 /* Sun-lobe sampling (integrator.c; docs/path-tracer.md, "Sun-lobe sampling") changes the
  * estimator, not its expectation. A homogeneous slab (thickness 1, sigma_s 2, sigma_a 0.1,
  * HG g = 0.9) lit by a delta sun 60 degrees off the vertical, seen head-on through a narrow
@@ -415,39 +457,13 @@ TEST(sun_lobe_sampling_unbiased)
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.8}}],"
                        " \"path\": {\"sun_lobe\": ";
     const char *tail = "}, \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 64}}";
-    const char *kappa[3] = {"0", "2", "0.25"};
-    char json[1024];
+    const char *const kappa[3] = {"0", "2", "0.25"};
     double mean[3], se[3];
-    for (int k = 0; k < 3; k++) {
-        snprintf(json, sizeof json, "%s%s%s", head, kappa[k], tail);
-        brume_image *img = test_render_json(json, 21);
-        test_channel_mean(brume_image_pixels(img), 32 * 32, 1, &mean[k], &se[k]);
-        fprintf(stderr, "sun_lobe %s: mean %.6f, standard error %.6f\n", kappa[k], mean[k], se[k]);
-        brume_image_release(img);
-    }
-    for (int k = 1; k < 3; k++) {
-        double tol = 5.0 * sqrt(se[0] * se[0] + se[k] * se[k]);
-        ASSERT_NEAR(mean[k], mean[0], tol);
-        ASSERT_TRUE(tol < 0.03 * mean[0]); /* tight enough to matter */
-    }
+    option_means_agree("sun_lobe", head, kappa, 3, tail, 32 * 32, 21, 0.03, mean, se);
     ASSERT_TRUE(se[1] * se[1] < 0.5 * se[0] * se[0]);
-
-    brume_scene *s[2];
-    brume_image *img[2];
+    char json[1024];
     snprintf(json, sizeof json, "%s2%s", head, tail);
-    for (int k = 0; k < 2; k++) {
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
-        brume_render_settings rs;
-        brume_scene_get_settings(s[k], &rs);
-        rs.spp = 4;
-        ASSERT_EQ_INT(brume_scene_set_settings(NULL, s[k], &rs), BRUME_OK);
-        img[k] = test_render_scene(s[k], k + 1, 7);
-    }
-    ASSERT_TRUE(memcmp(brume_image_pixels(img[0]), brume_image_pixels(img[1]), 32 * 32 * 4 * sizeof(float)) == 0);
-    for (int k = 0; k < 2; k++) {
-        brume_image_release(img[k]);
-        brume_scene_release(s[k]);
-    }
+    same_image_for_threads(json, 32 * 32);
 }
 
 /* The mean of channel 1 over a render of json at two seeds, and its standard error from the
@@ -630,48 +646,23 @@ TEST(sun_roulette_unbiased)
                        "   \"phase\": {\"type\": \"hg\", \"g\": 0.8}}],"
                        " \"path\": {\"sun_roulette\": ";
     const char *tail = "}, \"render\": {\"width\": 24, \"height\": 24, \"spp\": 384, \"max_depth\": 256}}";
-    const char *T0[3] = {"0", "0.03", "0.5"};
-    char json[1024];
+    const char *const T0[3] = {"0", "0.03", "0.5"};
     double mean[3], se[3];
-    for (int k = 0; k < 3; k++) {
-        snprintf(json, sizeof json, "%s%s%s", head, T0[k], tail);
-        brume_image *img = test_render_json(json, 5);
-        test_channel_mean(brume_image_pixels(img), 24 * 24, 1, &mean[k], &se[k]);
-        fprintf(stderr, "sun_roulette %s: mean %.6f, standard error %.6f\n", T0[k], mean[k], se[k]);
-        brume_image_release(img);
-    }
-    for (int k = 1; k < 3; k++) {
-        double tol = 5.0 * sqrt(se[0] * se[0] + se[k] * se[k]);
-        ASSERT_NEAR(mean[k], mean[0], tol);
-        ASSERT_TRUE(tol < 0.04 * mean[0]); /* tight enough to matter */
-    }
+    option_means_agree("sun_roulette", head, T0, 3, tail, 24 * 24, 5, 0.04, mean, se);
     /* the camera's side of the slab is where the roulette acts */
     brume_context *ctx = brume_context_new();
-    brume_scene *s[2];
+    brume_scene *s;
+    char json[1024];
     snprintf(json, sizeof json, "%s0.03%s", head, tail);
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[0]), BRUME_OK);
-    ASSERT_EQ_INT(brume_scene_commit(ctx, s[0]), BRUME_OK);
+    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     void *st = NULL;
-    ASSERT_EQ_INT(integrator_prepare(INTEGRATOR_PATH, s[0], &st), BRUME_OK);
+    ASSERT_EQ_INT(integrator_prepare(INTEGRATOR_PATH, s, &st), BRUME_OK);
     ASSERT_TRUE(path_sun_transmittance_hat(st, 0, v3(0, 0, -0.2)) < 0.03);
     integrator_finish(INTEGRATOR_PATH, st);
-    brume_scene_release(s[0]);
+    brume_scene_release(s);
     brume_context_release(ctx);
-
-    brume_image *img[2];
-    for (int k = 0; k < 2; k++) {
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
-        brume_render_settings rs;
-        brume_scene_get_settings(s[k], &rs);
-        rs.spp = 4;
-        ASSERT_EQ_INT(brume_scene_set_settings(NULL, s[k], &rs), BRUME_OK);
-        img[k] = test_render_scene(s[k], k + 1, 7);
-    }
-    ASSERT_TRUE(memcmp(brume_image_pixels(img[0]), brume_image_pixels(img[1]), 24 * 24 * 4 * sizeof(float)) == 0);
-    for (int k = 0; k < 2; k++) {
-        brume_image_release(img[k]);
-        brume_scene_release(s[k]);
-    }
+    same_image_for_threads(json, 24 * 24);
 }
 
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,

@@ -1,13 +1,13 @@
 /* blasi_options.c - defaults and by-name setting of the blasi integrator's options. */
 #include "render/blasi_options.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "render/method_options.h"
 
 void blasi_options_default(blasi_options *o)
 {
@@ -28,12 +28,11 @@ const char *blasi_option_names(void)
            "voxels, save_light, load_light";
 }
 
+/* method_option_number, with hi left out when hi_open. */
 static bool parse_double(const char *text, double lo, double hi, bool hi_open, double *out)
 {
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi || (hi_open && v >= hi))
+    double v;
+    if (!method_option_number(text, lo, hi, &v) || (hi_open && v >= hi))
         return false;
     *out = v;
     return true;

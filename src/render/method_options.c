@@ -1,6 +1,9 @@
 /* method_options.c - the table of rendering methods that own options (method_options.h). */
 #include "render/method_options.h"
 
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/blasi_options.h"
@@ -44,3 +47,14 @@ const method_options_def *method_options_find(const char *key, method_options_id
 }
 
 const char *method_options_methods(void) { return "path, blasi, stam"; }
+
+bool method_option_number(const char *text, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
+        return false;
+    *out = v;
+    return true;
+}

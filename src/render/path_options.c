@@ -1,13 +1,10 @@
 /* path_options.c - defaults and by-name setting of the path integrator's options. */
 #include "render/path_options.h"
 
-#include <errno.h>
-#include <stdbool.h>
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "render/method_options.h"
 
 /* The default scale of sun-lobe sampling: measured on the comparison clouds of
  * bench/cloud64_vs_cycles.sh (docs/performance.md, "Sun-lobe sampling"). */
@@ -25,26 +22,14 @@ void path_options_default(path_options *o)
 
 const char *path_option_names(void) { return "sun_lobe, sun_roulette"; }
 
-/* value as a finite number in [lo, hi]; false otherwise. */
-static bool number_in(const char *value, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(value, &end);
-    if (end == value || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
-        return false;
-    *out = v;
-    return true;
-}
-
 brume_status path_options_set(path_options *o, const char *key, const char *value)
 {
     path_options n = *o;
     if (strcmp(key, "sun_lobe") == 0) {
-        if (!number_in(value, 0.0, 100.0, &n.sun_lobe))
+        if (!method_option_number(value, 0.0, 100.0, &n.sun_lobe))
             return err_set(BRUME_ERROR_RANGE, "path.sun_lobe: '%s' is not a number in [0, 100]", value);
     } else if (strcmp(key, "sun_roulette") == 0) {
-        if (!number_in(value, 0.0, 1.0, &n.sun_roulette))
+        if (!method_option_number(value, 0.0, 1.0, &n.sun_roulette))
             return err_set(BRUME_ERROR_RANGE, "path.sun_roulette: '%s' is not a number in [0, 1]", value);
     } else {
         return err_set(BRUME_ERROR_PARSE, "path.%s: unknown key (known here: %s)", key, path_option_names());

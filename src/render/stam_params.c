@@ -1,13 +1,13 @@
 /* stam_params.c - defaults and by-name setting of Stam's renderer options. */
 #include "render/stam_params.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "render/method_options.h"
 
 void stam_params_default(stam_params *p)
 {
@@ -35,20 +35,10 @@ const char *stam_param_names(void)
            "voxelize.resolution, voxelize.realization";
 }
 
-static bool num(const char *text, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
-        return false;
-    *out = v;
-    return true;
-}
 
 static bool whole(const char *text, double lo, double hi, double *out)
 {
-    return num(text, lo, hi, out) && *out == floor(*out);
+    return method_option_number(text, lo, hi, out) && *out == floor(*out);
 }
 
 static bool boolean(const char *text, bool *out)
@@ -74,7 +64,7 @@ static bool rgb(const char *text, color *out)
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
         while (*t == ' ')
             t++;
-        if (n == 3 || !num(t, 0.0, 1e30, &v[n]))
+        if (n == 3 || !method_option_number(t, 0.0, 1e30, &v[n]))
             return false;
         n++;
     }
@@ -95,7 +85,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
 #define NUMBER(name, lo, hi, field, what)                                                                       \
     else if (strcmp(key, name) == 0)                                                                             \
     {                                                                                                            \
-        if (!num(value, lo, hi, &n.field))                                                                       \
+        if (!method_option_number(value, lo, hi, &n.field))                                                                       \
             return err_set(BRUME_ERROR_RANGE, "stam.%s: '%s' is not %s", key, value, what);                     \
     }
 #define INTEGER(name, lo, hi, field)                                                                            \
