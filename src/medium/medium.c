@@ -6,7 +6,6 @@
 #include "core/error.h"
 #include "medium/blackbody.h"
 
-bool medium_has_fields(const medium *m) { return m->albedo[0] || m->temperature || m->emission[0]; }
 
 bool medium_emits(const medium *m)
 {

@@ -47,7 +47,7 @@ typedef struct medium {
 } medium;
 
 /* Whether the medium has any field besides rho (albedo, temperature, emission). */
-bool medium_has_fields(const medium *m);
+static inline bool medium_has_fields(const medium *m) { return m->albedo[0] || m->temperature || m->emission[0]; }
 /* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0). */
 bool medium_emits(const medium *m);
 /* Fills the derived fields; call after setting the others. */

@@ -59,7 +59,12 @@ static void flight_offer(flight *f, color w, double t)
         f->u /= pr;
         f->beta_s = col_scale(w, 1.0 / a);
         f->t = t;
-        f->ms = f->cur;
+        /* what media_choose_phase reads: the media there and their weights */
+        f->ms.n = f->cur.n;
+        for (int i = 0; i < f->cur.n; i++) {
+            f->ms.index[i] = f->cur.index[i];
+            f->ms.weight[i] = f->cur.weight[i];
+        }
     } else {
         f->u = (f->u - pr) / (1.0 - pr);
     }

@@ -98,7 +98,7 @@ typedef struct flight {
     double A;         /* out: sum of the collisions' scattering weights a_i (0: none) */
     color beta_s;     /* out: throughput of the scattering branch at the kept collision */
     double t;         /* out: where the kept collision is */
-    medium_sample ms; /* out: the media there */
+    medium_sample ms; /* out: the media there (n, index and weight, what media_choose_phase reads) */
     medium_sample cur; /* scratch: the media at the current collision */
     double tail_Tr;   /* in: once max Tr is below it, the flight's delta tail (flight_run); 0: none */
     double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
