@@ -27,22 +27,6 @@ static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
 
 void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
 {
-    const medium *m0 = &s->media[0];
-    if (s->nmedia == 1 && !m0->motion && !medium_has_fields(m0)) { /* the common case, the same sums */
-        const double rho = density_eval(m0->rho, p);
-        if (rho <= 0.0) {
-            ms->sigma_a = ms->sigma_s = ms->emission = col(0.0);
-            ms->n = 0;
-            return;
-        }
-        ms->sigma_a = col_scale(m0->sigma_a, rho);
-        ms->sigma_s = col_scale(m0->sigma_s, rho);
-        ms->emission = col_mul(ms->sigma_a, m0->Le);
-        ms->index[0] = 0;
-        ms->weight[0] = col_avg(ms->sigma_s);
-        ms->n = 1;
-        return;
-    }
     ms->sigma_a = col(0.0);
     ms->sigma_s = col(0.0);
     ms->emission = col(0.0);
