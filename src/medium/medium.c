@@ -6,7 +6,6 @@
 #include "core/error.h"
 #include "medium/blackbody.h"
 
-
 bool medium_emits(const medium *m)
 {
     if (col_is_black(m->sigma_a))

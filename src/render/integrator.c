@@ -214,13 +214,14 @@ static double nee_roulette(color f, double q_T, rng *g)
 #define LOBE_TABLE 33  /* S(c) at c = -1 + 2 i / (LOBE_TABLE - 1) */
 #define LOBE_MAX_SUNS 4 /* delta suns that get lobe samples (the first ones of the scene) */
 
-/* What integrator_prepare keeps for `path`: the delta suns that get lobe samples, and per
- * medium (its phase function) the table of S(c), the relative size of phase sampling's
- * error on a sun's light scattered once more, as a function of the cosine c between the
- * arriving direction and the direction to the sun (lobe_table). */
+/* What integrator_prepare keeps for `path` and `single`: the delta suns; for lobe samples
+ * (path), per medium (its phase function), the table of S(c), the relative size of phase
+ * sampling's error on a sun's light scattered once more, as a function of the cosine c
+ * between the arriving direction and the direction to the sun (lobe_table); the camera
+ * rays' cull; and the sun roulette's predictions. */
 typedef struct path_state {
     double kappa;                  /* path.sun_lobe */
-    int nsuns;                     /* 0: no lobe samples */
+    int nsuns;                     /* delta suns (lobe samples when kappa > 0; the sun roulette) */
     int sun[LOBE_MAX_SUNS];        /* indices into s->lights */
     float S[SCENE_MAX_MEDIA][LOBE_TABLE]; /* per medium (its phase function) */
     /* A camera ray that misses `reach`, the world box of every medium's walks
@@ -231,8 +232,8 @@ typedef struct path_state {
     box3 reach;
     /* Sun roulette (docs/path-tracer.md, "Sun rays deep in a cloud"): for each sun j (a
      * delta sun, sun[j]), tau[j] holds the optical depth towards it predicted at a grid of
-     * tn nodes spanning `reach` (sun_tau_build), or is NULL (no prediction: sun_roulette 0, moving
-     * media). */
+     * tn nodes spanning `reach` (sun_tau_build), or is NULL (no prediction: sun_roulette 0,
+     * moving media, or too little of the media deep enough for it to act). */
     double tau0;               /* -log(path.sun_roulette) */
     int tn[3];                 /* nodes per axis, >= 2 */
     vec3 tscale;               /* (tn - 1) / reach's size, per axis [1 / world unit] */
@@ -297,6 +298,7 @@ static double sun_roulette_at(const path_state *st, int j, vec3 p)
     const double tau = sun_tau_hat(st, j, p);
     return tau <= st->tau0 ? 1.0 : fmax(SUN_ROULETTE_MIN_Q, exp(st->tau0 - tau)); /* T-hat / T0 */
 }
+
 static inline double sun_roulette(const path_state *st, int j, vec3 p)
 {
     return st && j >= 0 && st->tau[j] ? sun_roulette_at(st, j, p) : 1.0;
@@ -436,7 +438,8 @@ static color lobe_samples(const brume_scene *s, const path_state *st, const vert
         const light *l = &s->lights[st->sun[j]];
         const vec3 wi = v3_neg(l->direction);
         /* deep in a cloud, where the sun's light cannot reach, the lobe sample is rouletted too */
-        const double P = fmin(1.0, st->kappa * lobe_S(s, st, v->ph, v3_dot(v->d, wi))) * sun_roulette(st, j, v->p);
+        const double P =
+            fmin(1.0, st->kappa * lobe_S(s, st, v->ph, v3_dot(v->d, wi))) * sun_roulette(st, j, v->p);
         pv->P[j] = P;
         if (!(P > 0.0) || !(rng_next(g) < P))
             continue;
@@ -765,7 +768,7 @@ static bool sun_tau_build(const brume_scene *s, const path_state *st, vec3 ws, f
                 const float *b = tau + (size_t)i + (size_t)j * sy + (size_t)k * sz;
                 const float m = fminf(fminf(fminf(b[0], b[1]), fminf(b[sy], b[1 + sy])),
                                       fminf(fminf(b[sz], b[1 + sz]), fminf(b[sy + sz], b[1 + sy + sz])));
-                cell_tau[c++] = m;
+                cell_tau[c++] = m >= 0.0f ? m : 0.0f; /* NaN (absurd extents): no prediction there */
                 const double sigma = sigma_t_least(
                     s, v3_add(st->reach.lo, v3((i + 0.5) * h.x, (j + 0.5) * h.y, (k + 0.5) * h.z)));
                 all += sigma;

@@ -22,9 +22,9 @@ typedef struct path_options {
 
 void path_options_default(path_options *o);
 
-/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe, sun_roulette. On failure
- * returns an error status with err_set() naming "path.KEY" and the bad value, and leaves
- * *o unchanged. */
+/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe,
+ * sun_roulette. On failure returns an error status with err_set() naming "path.KEY" and the
+ * bad value, and leaves *o unchanged. */
 brume_status path_options_set(path_options *o, const char *key, const char *value);
 
 /* Names of the options, for messages. */

@@ -35,7 +35,6 @@ const char *stam_param_names(void)
            "voxelize.resolution, voxelize.realization";
 }
 
-
 static bool whole(const char *text, double lo, double hi, double *out)
 {
     return method_option_number(text, lo, hi, out) && *out == floor(*out);
@@ -85,7 +84,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
 #define NUMBER(name, lo, hi, field, what)                                                                       \
     else if (strcmp(key, name) == 0)                                                                             \
     {                                                                                                            \
-        if (!method_option_number(value, lo, hi, &n.field))                                                                       \
+        if (!method_option_number(value, lo, hi, &n.field))                                                     \
             return err_set(BRUME_ERROR_RANGE, "stam.%s: '%s' is not %s", key, value, what);                     \
     }
 #define INTEGER(name, lo, hi, field)                                                                            \
