@@ -665,8 +665,43 @@ TEST(sun_roulette_unbiased)
     same_image_for_threads(json, 24 * 24);
 }
 
+/* Splitting at the camera vertex (path.split; docs/path-tracer.md, "Splitting at the camera
+ * vertex"). A white furnace rendered with 3 continuations per camera path must still be 1 in
+ * every channel (continuations weighed 1 instead of 1 / 3 give 1.52). In a slab like
+ * sun_roulette_unbiased's but of albedo 0.9 (optical depth 6, HG 0.8), means with 1 and 3
+ * continuations must agree within 5 standard errors of their difference, those under 4 %
+ * of the mean; the pixels' variance at 3 must be under 0.7 of that at 1 (it is 0.38: the
+ * light seen comes from paths that scatter many times, which the continuations repeat; a
+ * roulette that compared a continuation's throughput with 1 rather than with its share of
+ * 1 / 3 ends most of them, and gives 1.24); and 1 and 2 threads give the same bits. */
+TEST(split_camera_vertex)
+{
+    const char *furnace = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+                          " \"background\": 1.0, \"path\": {\"split\": 3},"
+                          " \"media\": [{\"sigma_a\": 0, \"sigma_s\": [8, 4, 2],"
+                          "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
+                          "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
+                          " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 48, \"max_depth\": 100000}}";
+    const double one[3] = {1.0, 1.0, 1.0};
+    check_furnace(furnace, 21, one, 0, 3, 0.01);
+    const char *head = "{\"camera\": {\"position\": [0, 0, 20], \"look_at\": [0, 0, 0], \"fov\": 2},"
+                       " \"lights\": [{\"type\": \"distant\", \"direction\": [0.5, 0, 0.8660254], \"irradiance\": 3.0}],"
+                       " \"media\": [{\"sigma_a\": 0.6, \"sigma_s\": 5.4,"
+                       "   \"density\": {\"type\": \"constant\", \"bounds\": [[-2, -2, -1], [2, 2, 0]]},"
+                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.8}}],"
+                       " \"path\": {\"split\": ";
+    const char *tail = "}, \"render\": {\"width\": 24, \"height\": 24, \"spp\": 256, \"max_depth\": 256}}";
+    const char *const k[2] = {"1", "3"};
+    double mean[2], se[2];
+    option_means_agree("split", head, k, 2, tail, 24 * 24, 9, 0.04, mean, se);
+    ASSERT_TRUE(se[1] * se[1] < 0.7 * se[0] * se[0]);
+    char json[1024];
+    snprintf(json, sizeof json, "%s3%s", head, tail);
+    same_image_for_threads(json, 24 * 24);
+}
+
 TEST_MAIN(threads_do_not_change_the_image, absorbing_fog_closed_form, white_furnace, emitting_furnace,
           white_furnace_gray, single_scattering_closed_form,
           single_scattering_forward_hg_shadow_roulette, residual_ratio_tracking_transmittance, flight_delta_tail_unbiased,
           furnaces_gray_extinction, sun_lobe_sampling_unbiased, sun_lobe_sampling_stops_at_surfaces,
-          camera_cull_changes_no_pixel, sun_roulette_prediction, sun_roulette_unbiased)
+          camera_cull_changes_no_pixel, sun_roulette_prediction, sun_roulette_unbiased, split_camera_vertex)

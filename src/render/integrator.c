@@ -142,9 +142,12 @@ bool flight_run(flight *f, ray r, double tmax, rng *ug)
     return true;
 }
 
-bool path_roulette(color *beta, int depth, rng *g)
+/* path_roulette for a path that is one of 1 / share splits of a camera path: its throughput
+ * beta is compared with its share, so that splitting does not make the roulette end the
+ * continuations it made. */
+static bool path_roulette_share(color *beta, double share, int depth, rng *g)
 {
-    double q = col_max(*beta);
+    double q = col_max(*beta) / share;
     if (depth < 3 || q >= 0.25)
         return true;
     if (rng_next(g) >= q)
@@ -152,6 +155,8 @@ bool path_roulette(color *beta, int depth, rng *g)
     *beta = col_scale(*beta, 1.0 / q);
     return true;
 }
+
+bool path_roulette(color *beta, int depth, rng *g) { return path_roulette_share(beta, 1.0, depth, g); }
 
 /* Power heuristic with exponent 2. */
 static double mis_weight(double pdf_this, double pdf_other)
@@ -222,6 +227,7 @@ static double nee_roulette(color f, double q_T, rng *g)
 typedef struct path_state {
     double kappa;                  /* path.sun_lobe */
     int nsuns;                     /* delta suns (lobe samples when kappa > 0; the sun roulette) */
+    int split;                     /* path.split: continuations from the camera vertex (path only) */
     int sun[LOBE_MAX_SUNS];        /* indices into s->lights */
     float S[SCENE_MAX_MEDIA][LOBE_TABLE]; /* per medium (its phase function) */
     /* A camera ray that misses `reach`, the world box of every medium's walks
@@ -516,8 +522,22 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
      * that a Sobol sampler stratifies the same decision in every sample of a pixel; the
      * numbers whose count varies (tentative collisions, shadow rays, roulettes, light
      * samples) come from a second sequence of the same sample. */
-    const uint64_t dim0 = g->counter;
+    uint64_t dim0 = g->counter;
     rng gt = rng_make(g->key, 0x7472616b5f646d73ULL, 0);
+    /* Splitting (path.split = k > 1): the camera path's first medium vertex is kept in sv,
+     * and once the walk from it ends, the next of its k continuations starts there, with
+     * hashed sequences of its own; each carries 1 / k of the throughput. */
+    const int k_split = st ? st->split : 1;
+    int pending = 0;       /* continuations of the split still to start */
+    double share = 1.0;    /* 1 / k once split: what path_roulette_share compares beta with */
+    struct {
+        vertex v;
+        color beta;
+        lobe_prev prev;
+    } sv = {.v = {.ph = NULL}};
+    rng gs;                /* a continuation's sequence of fixed dimensions */
+    const rng *g_cam = g;  /* the camera sample's */
+    int depth_start = 0;
     flight f;
     f.s = s;
     f.g = &gt;
@@ -527,7 +547,8 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
     lobe_prev prev = {.ph = NULL}; /* the lobe samples the last medium vertex made */
     if (hit_surface)
         *hit_surface = false;
-    for (int depth = 0;; depth++) {
+    for (;;) {
+    for (int depth = depth_start;; depth++) {
         double t_light, pdf_light = 0.0;
         color Le_light = col(0.0);
         int hit = nearest_area_light(s, r.o, r.d, &t_light, &Le_light, &pdf_light);
@@ -591,7 +612,7 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
                 break;
             f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
             r = (ray){v.p, wi, r.time};
-            if (!path_roulette(&f.beta, depth, &gt))
+            if (!path_roulette_share(&f.beta, share, depth, &gt))
                 break;
             continue;
         }
@@ -613,13 +634,39 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         /* the sun-lobe samples of the next event's estimate, when there is a next event */
         if (st && st->nsuns > 0 && st->kappa > 0.0 && depth + 1 < max_depth)
             f.L = col_add(f.L, lobe_samples(s, st, &v, f.beta, &gt, &prev));
+        if (depth == 0 && k_split > 1) { /* the first of k continuations: this walk's own */
+            share = 1.0 / k_split;
+            f.beta = col_scale(f.beta, share);
+            sv.v = v;
+            sv.beta = f.beta;
+            sv.prev = prev;
+            pending = k_split - 1;
+        }
         double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
         vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
         prev.pdf = pdf_dir;
         /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
         r = (ray){v.p, wo, r.time};
-        if (!path_roulette(&f.beta, depth, &gt))
+        if (!path_roulette_share(&f.beta, share, depth, &gt))
             break;
+    }
+    if (pending == 0)
+        break;
+    /* the next continuation from the split vertex: sequences of its own (the pending count
+     * tells them apart), its direction drawn as event 0's would be */
+    const uint64_t tag = (uint64_t)pending;
+    gs = rng_make(g_cam->key, (uint64_t)0x73706c6974000000 + tag, 0);
+    gt = rng_make(g_cam->key, (uint64_t)0x73706c6974740000 + tag, 0);
+    g = &gs;
+    dim0 = 0;
+    pending--;
+    f.beta = sv.beta;
+    prev = sv.prev;
+    g->counter = 2;
+    double u1 = rng_next(g), u2 = rng_next(g);
+    r = (ray){sv.v.p, phase_sample(sv.v.ph, sv.v.d, u1, u2, &pdf_dir), sv.v.time};
+    prev.pdf = pdf_dir;
+    depth_start = 1;
     }
     /* alpha sees the media along the whole camera ray: past an area light too */
     if (Tr_cam && t_cam > 0.0 && isfinite(t_cam) && !col_is_black(*Tr_cam))
@@ -850,6 +897,7 @@ static brume_status path_prepare(const brume_scene *s, bool lobes, path_state **
         if (deep < SUN_ROULETTE_MIN_DEEP)
             (*out)->tau[j] = NULL; /* a query at every vertex would cost more than the roulette saves */
     }
+    (*out)->split = lobes ? (int)o->split : 1;
     return BRUME_OK;
 }
 

@@ -1,6 +1,7 @@
 /* path_options.c - defaults and by-name setting of the path integrator's options. */
 #include "render/path_options.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -18,9 +19,10 @@ void path_options_default(path_options *o)
     memset(o, 0, sizeof *o);
     o->sun_lobe = PATH_SUN_LOBE_DEFAULT;
     o->sun_roulette = PATH_SUN_ROULETTE_DEFAULT;
+    o->split = 1.0;
 }
 
-const char *path_option_names(void) { return "sun_lobe, sun_roulette"; }
+const char *path_option_names(void) { return "sun_lobe, sun_roulette, split"; }
 
 brume_status path_options_set(path_options *o, const char *key, const char *value)
 {
@@ -31,6 +33,10 @@ brume_status path_options_set(path_options *o, const char *key, const char *valu
     } else if (strcmp(key, "sun_roulette") == 0) {
         if (!method_option_number(value, 0.0, 1.0, &n.sun_roulette))
             return err_set(BRUME_ERROR_RANGE, "path.sun_roulette: '%s' is not a number in [0, 1]", value);
+    } else if (strcmp(key, "split") == 0) {
+        if (!method_option_number(value, 1.0, PATH_SPLIT_MAX, &n.split) || n.split != floor(n.split))
+            return err_set(BRUME_ERROR_RANGE, "path.split: '%s' is not a whole number in [1, %d]", value,
+                           PATH_SPLIT_MAX);
     } else {
         return err_set(BRUME_ERROR_PARSE, "path.%s: unknown key (known here: %s)", key, path_option_names());
     }
