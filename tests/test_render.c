@@ -88,14 +88,18 @@ static void check_furnace(const char *json, uint64_t seed, const double expect[3
 /* White furnace: a heterogeneous medium with albedo 1 in every channel (but a different
  * extinction per channel, so spectral tracking is exercised), lit only by a constant
  * background of radiance 1: every pixel's expectation is exactly 1. */
+static const char white_furnace_json[] = /* %s: more settings; %d: spp */
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
+    " \"background\": 1.0,%s"
+    " \"media\": [{\"sigma_a\": 0, \"sigma_s\": [8, 4, 2],"
+    "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
+    "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
+    " \"render\": {\"width\": 32, \"height\": 32, \"spp\": %d, \"max_depth\": 100000}}";
+
 TEST(white_furnace)
 {
-    const char *json = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
-                       " \"background\": 1.0,"
-                       " \"media\": [{\"sigma_a\": 0, \"sigma_s\": [8, 4, 2],"
-                       "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
-                       "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
-                       " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 96, \"max_depth\": 100000}}";
+    char json[1024];
+    snprintf(json, sizeof json, white_furnace_json, "", 96);
     const double one[3] = {1.0, 1.0, 1.0};
     check_furnace(json, 11, one, 0, 3, 0.01); /* a 1 % energy error fails */
 }
@@ -676,14 +680,10 @@ TEST(sun_roulette_unbiased)
  * 1 / 3 ends most of them, and gives 1.24); and 1 and 2 threads give the same bits. */
 TEST(split_camera_vertex)
 {
-    const char *furnace = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 30},"
-                          " \"background\": 1.0, \"path\": {\"split\": 3},"
-                          " \"media\": [{\"sigma_a\": 0, \"sigma_s\": [8, 4, 2],"
-                          "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 24, \"seed\": 3},"
-                          "   \"phase\": {\"type\": \"hg\", \"g\": 0.5}}],"
-                          " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 48, \"max_depth\": 100000}}";
+    char json[1024];
+    snprintf(json, sizeof json, white_furnace_json, " \"path\": {\"split\": 3},", 48);
     const double one[3] = {1.0, 1.0, 1.0};
-    check_furnace(furnace, 21, one, 0, 3, 0.01);
+    check_furnace(json, 21, one, 0, 3, 0.01);
     const char *head = "{\"camera\": {\"position\": [0, 0, 20], \"look_at\": [0, 0, 0], \"fov\": 2},"
                        " \"lights\": [{\"type\": \"distant\", \"direction\": [0.5, 0, 0.8660254], \"irradiance\": 3.0}],"
                        " \"media\": [{\"sigma_a\": 0.6, \"sigma_s\": 5.4,"
@@ -695,7 +695,6 @@ TEST(split_camera_vertex)
     double mean[2], se[2];
     option_means_agree("split", head, k, 2, tail, 24 * 24, 9, 0.04, mean, se);
     ASSERT_TRUE(se[1] * se[1] < 0.7 * se[0] * se[0]);
-    char json[1024];
     snprintf(json, sizeof json, "%s3%s", head, tail);
     same_image_for_threads(json, 24 * 24);
 }
