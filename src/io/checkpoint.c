@@ -2,7 +2,7 @@
  * brume_render_job_resume (format in docs/render-jobs.md).
  *
  * Layout, every number in the writing machine's byte order (the marker tells which):
- *   "BRUMECKP"  u32 format (1)  u32 0x01020304  char[32] brume version  u64 scene key
+ *   "BRUMECKP"  u32 format (1)  u32 0x01020304  char[32] brume build  u64 scene key
  *   settings:   i32 width height spp min_spp max_depth filter  u32 aovs  i32 part nparts
  *               i32 sampler (0 independent, 1 sobol; 0 in checkpoints older than the field, which
  *               filled padding that was written as 0)  u64 seed  f64 filter_width noise_target
@@ -11,13 +11,17 @@
  *   per pixel:  u32 n[pixels]  u8 active[pixels]  f64 sum[4 pixels]  f64 sq[4 pixels]
  *               f64 aov[8 pixels] (only when depth, albedo or normal are asked)
  *   u64 FNV-1a hash of every byte before it
- * A checkpoint is written atomically (io/atomic.c): it is whole or absent. */
+ * The build is the version and BRUME_BUILD_ID, a hash of the sources, compiler and flags
+ * (cmake/build_id.cmake): a render resumes only in the build that wrote it, since another
+ * may draw its samples differently. A checkpoint is written atomically (io/atomic.c): it is
+ * whole or absent. */
 #include <errno.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "build_id.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "io/atomic.h"
@@ -87,6 +91,9 @@ static bool put(FILE *fp, uint64_t *h, const void *data, size_t n)
     return fwrite(data, 1, n, fp) == n;
 }
 
+/* This build's name in checkpoints: the version and BRUME_BUILD_ID (22 characters). */
+static void build_name(char out[32]) { snprintf(out, 32, "%s+%s", brume_version(), BRUME_BUILD_ID); }
+
 brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *job, uint64_t scene_key,
                                    const char *path)
 {
@@ -99,7 +106,7 @@ brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *j
     memcpy(hd.magic, "BRUMECKP", 8);
     hd.format = CKPT_FORMAT;
     hd.order = CKPT_ORDER;
-    snprintf(hd.version, sizeof hd.version, "%s", brume_version());
+    build_name(hd.version);
     hd.scene_key = scene_key;
     settings_record(job, &hd.set);
     size_t np = job->npix;
@@ -238,10 +245,14 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
                        "written on a machine of its byte order", path, hd.format, hd.order, CKPT_FORMAT);
     }
     hd.version[sizeof hd.version - 1] = '\0';
-    if (strcmp(hd.version, brume_version()) != 0) {
+    char build[32];
+    build_name(build);
+    if (strcmp(hd.version, build) != 0) {
         free(data);
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: checkpoint of brume %s, this is brume %s: render again", path,
-                       hd.version, brume_version());
+        return err_set(BRUME_ERROR_UNSUPPORTED,
+                       "%s: checkpoint of brume %s, this is brume %s (another build may draw its samples "
+                       "differently): render again",
+                       path, hd.version, build);
     }
     uint64_t np = hd.pixels;
     bool aovs = (hd.set.aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
