@@ -548,125 +548,125 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
     if (hit_surface)
         *hit_surface = false;
     for (;;) {
-    for (int depth = depth_start;; depth++) {
-        double t_light, pdf_light = 0.0;
-        color Le_light = col(0.0);
-        int hit = nearest_area_light(s, r.o, r.d, &t_light, &Le_light, &pdf_light);
-        surface_hit sh;
-        bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_light, &sh);
-        if (depth == 0 && hit_surface)
-            *hit_surface = on_surface;
-        stats_counters *sc = stats_tls;
-        double t0 = sc ? stats_now() : 0.0;
-        g->counter = dim0 + 4 * (uint64_t)depth;
-        /* the camera ray's flight stays ratio tracking throughout: its one reservoir number is
-         * what the sampler stratifies, and a tail's coin flips are not */
-        f.tail_Tr = depth > 0 ? FLIGHT_TAIL_TR : 0.0;
-        bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, g) && depth < max_depth;
-        if (sc)
-            sc->t_tracking += stats_now() - t0;
-        if (depth == 0 && Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */
-            *Tr_cam = on_surface ? col(0.0) : f.Tr;
-            t_cam = on_surface ? 0.0 : t_light;
-        }
-        /* What lies past the flight, seen through Tr: light reached now is added at once;
-         * a surface is a second branch, chosen against the scattering one below. */
-        color beta_past = col_mul(f.beta, f.Tr);
-        bool reflect = false;
-        if (on_surface) {
-            color Le = surface_emission(&sh, v3_neg(r.d));
-            if (!col_is_black(Le)) {
-                double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, surfaces_emitter_pdf(s->surf, &sh, r.o)) : 1.0;
-                f.L = col_add(f.L, col_scale(col_mul(beta_past, Le), w));
-            }
-            reflect = depth < max_depth && !material_is_black(sh.mat) && !col_is_black(beta_past);
-        } else if (hit >= 0) {
-            double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
-            f.L = col_add(f.L, col_scale(col_mul(beta_past, Le_light), w));
-        } else if (!col_is_black(beta_past)) {
-            f.L = col_add(f.L, col_mul(beta_past, escaped_radiance(s, r.d, pdf_dir)));
-        }
-        if (reflect && scattered) { /* one branch, in proportion to the weights */
-            double a_past = col_avg(beta_past), p_past = a_past / (a_past + f.A);
-            if (rng_next(g) < p_past) { /* dimension dim0 + 4 depth + 1 */
-                beta_past = col_scale(beta_past, 1.0 / p_past);
-                scattered = false;
-            } else {
-                f.beta_s = col_scale(f.beta_s, 1.0 / (1.0 - p_past));
-                reflect = false;
-            }
-        }
-        if (reflect) {
+        for (int depth = depth_start;; depth++) {
+            double t_light, pdf_light = 0.0;
+            color Le_light = col(0.0);
+            int hit = nearest_area_light(s, r.o, r.d, &t_light, &Le_light, &pdf_light);
+            surface_hit sh;
+            bool on_surface = s->surf && surfaces_intersect(s->surf, r, 0.0, t_light, &sh);
+            if (depth == 0 && hit_surface)
+                *hit_surface = on_surface;
+            stats_counters *sc = stats_tls;
+            double t0 = sc ? stats_now() : 0.0;
+            g->counter = dim0 + 4 * (uint64_t)depth;
+            /* the camera ray's flight stays ratio tracking throughout: its one reservoir number is
+             * what the sampler stratifies, and a tail's coin flips are not */
+            f.tail_Tr = depth > 0 ? FLIGHT_TAIL_TR : 0.0;
+            bool scattered = flight_run(&f, r, on_surface ? sh.t : t_light, g) && depth < max_depth;
             if (sc)
-                sc->path_vertices++;
-            f.beta = beta_past;
-            vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
-            v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
-            v.p = surface_offset(&sh, v.n);
-            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, NULL, &v, &gt)));
-            prev.ph = NULL; /* a surface vertex: no lobe samples, nothing to weigh */
-            vec3 wi;
-            g->counter = dim0 + 4 * (uint64_t)depth + 2;
-            double u0 = rng_next(&gt), u1 = rng_next(g), u2 = rng_next(g);
-            if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
+                sc->t_tracking += stats_now() - t0;
+            if (depth == 0 && Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */
+                *Tr_cam = on_surface ? col(0.0) : f.Tr;
+                t_cam = on_surface ? 0.0 : t_light;
+            }
+            /* What lies past the flight, seen through Tr: light reached now is added at once;
+             * a surface is a second branch, chosen against the scattering one below. */
+            color beta_past = col_mul(f.beta, f.Tr);
+            bool reflect = false;
+            if (on_surface) {
+                color Le = surface_emission(&sh, v3_neg(r.d));
+                if (!col_is_black(Le)) {
+                    double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, surfaces_emitter_pdf(s->surf, &sh, r.o)) : 1.0;
+                    f.L = col_add(f.L, col_scale(col_mul(beta_past, Le), w));
+                }
+                reflect = depth < max_depth && !material_is_black(sh.mat) && !col_is_black(beta_past);
+            } else if (hit >= 0) {
+                double w = pdf_dir > 0.0 ? mis_weight(pdf_dir, pdf_light) : 1.0;
+                f.L = col_add(f.L, col_scale(col_mul(beta_past, Le_light), w));
+            } else if (!col_is_black(beta_past)) {
+                f.L = col_add(f.L, col_mul(beta_past, escaped_radiance(s, r.d, pdf_dir)));
+            }
+            if (reflect && scattered) { /* one branch, in proportion to the weights */
+                double a_past = col_avg(beta_past), p_past = a_past / (a_past + f.A);
+                if (rng_next(g) < p_past) { /* dimension dim0 + 4 depth + 1 */
+                    beta_past = col_scale(beta_past, 1.0 / p_past);
+                    scattered = false;
+                } else {
+                    f.beta_s = col_scale(f.beta_s, 1.0 / (1.0 - p_past));
+                    reflect = false;
+                }
+            }
+            if (reflect) {
+                if (sc)
+                    sc->path_vertices++;
+                f.beta = beta_past;
+                vertex v = {.d = r.d, .ph = NULL, .m = sh.mat, .time = r.time};
+                v.n = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
+                v.p = surface_offset(&sh, v.n);
+                f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, NULL, &v, &gt)));
+                prev.ph = NULL; /* a surface vertex: no lobe samples, nothing to weigh */
+                vec3 wi;
+                g->counter = dim0 + 4 * (uint64_t)depth + 2;
+                double u0 = rng_next(&gt), u1 = rng_next(g), u2 = rng_next(g);
+                if (!material_sample(sh.mat, v.n, v3_neg(r.d), u0, u1, u2, &wi, &pdf_dir))
+                    break;
+                f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
+                r = (ray){v.p, wi, r.time};
+                if (!path_roulette_share(&f.beta, share, depth, &gt))
+                    break;
+                continue;
+            }
+            if (!scattered)
                 break;
-            f.beta = col_mul(f.beta, col_scale(vertex_f(&v, wi), 1.0 / pdf_dir));
-            r = (ray){v.p, wi, r.time};
+            /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
+            f.beta = f.beta_s;
+            g->counter = dim0 + 4 * (uint64_t)depth + 1;
+            vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
+                        .time = r.time};
+            if (sc) {
+                sc->path_scatterings++;
+                sc->path_vertices++;
+            }
+            f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, &prev, &v, &gt)));
+            prev.ph = NULL;
+            if (depth + 1 >= max_depth && !s->has_indirect_sources)
+                break; /* the last flight could only gather light from another event */
+            /* the sun-lobe samples of the next event's estimate, when there is a next event */
+            if (st && st->nsuns > 0 && st->kappa > 0.0 && depth + 1 < max_depth)
+                f.L = col_add(f.L, lobe_samples(s, st, &v, f.beta, &gt, &prev));
+            if (depth == 0 && k_split > 1) { /* the first of k continuations: this walk's own */
+                share = 1.0 / k_split;
+                f.beta = col_scale(f.beta, share);
+                sv.v = v;
+                sv.beta = f.beta;
+                sv.prev = prev;
+                pending = k_split - 1;
+            }
+            double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
+            vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
+            prev.pdf = pdf_dir;
+            /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
+            r = (ray){v.p, wo, r.time};
             if (!path_roulette_share(&f.beta, share, depth, &gt))
                 break;
-            continue;
         }
-        if (!scattered)
+        if (pending == 0)
             break;
-        /* Scattering in a medium: next-event estimation, then continue along a phase sample. */
-        f.beta = f.beta_s;
-        g->counter = dim0 + 4 * (uint64_t)depth + 1;
-        vertex v = {.p = ray_at(r, f.t), .d = r.d, .ph = media_choose_phase(s, &f.ms, rng_next(g)), .m = NULL,
-                    .time = r.time};
-        if (sc) {
-            sc->path_scatterings++;
-            sc->path_vertices++;
-        }
-        f.L = col_add(f.L, col_mul(f.beta, direct_light_counted(s, st, &prev, &v, &gt)));
-        prev.ph = NULL;
-        if (depth + 1 >= max_depth && !s->has_indirect_sources)
-            break; /* the last flight could only gather light from another event */
-        /* the sun-lobe samples of the next event's estimate, when there is a next event */
-        if (st && st->nsuns > 0 && st->kappa > 0.0 && depth + 1 < max_depth)
-            f.L = col_add(f.L, lobe_samples(s, st, &v, f.beta, &gt, &prev));
-        if (depth == 0 && k_split > 1) { /* the first of k continuations: this walk's own */
-            share = 1.0 / k_split;
-            f.beta = col_scale(f.beta, share);
-            sv.v = v;
-            sv.beta = f.beta;
-            sv.prev = prev;
-            pending = k_split - 1;
-        }
-        double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
-        vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
+        /* the next continuation from the split vertex: sequences of its own (the pending count
+         * tells them apart), its direction drawn as event 0's would be */
+        const uint64_t tag = (uint64_t)pending;
+        gs = rng_make(g_cam->key, (uint64_t)0x73706c6974000000 + tag, 0);
+        gt = rng_make(g_cam->key, (uint64_t)0x73706c6974740000 + tag, 0);
+        g = &gs;
+        dim0 = 0;
+        pending--;
+        f.beta = sv.beta;
+        prev = sv.prev;
+        g->counter = 2;
+        double u1 = rng_next(g), u2 = rng_next(g);
+        r = (ray){sv.v.p, phase_sample(sv.v.ph, sv.v.d, u1, u2, &pdf_dir), sv.v.time};
         prev.pdf = pdf_dir;
-        /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
-        r = (ray){v.p, wo, r.time};
-        if (!path_roulette_share(&f.beta, share, depth, &gt))
-            break;
-    }
-    if (pending == 0)
-        break;
-    /* the next continuation from the split vertex: sequences of its own (the pending count
-     * tells them apart), its direction drawn as event 0's would be */
-    const uint64_t tag = (uint64_t)pending;
-    gs = rng_make(g_cam->key, (uint64_t)0x73706c6974000000 + tag, 0);
-    gt = rng_make(g_cam->key, (uint64_t)0x73706c6974740000 + tag, 0);
-    g = &gs;
-    dim0 = 0;
-    pending--;
-    f.beta = sv.beta;
-    prev = sv.prev;
-    g->counter = 2;
-    double u1 = rng_next(g), u2 = rng_next(g);
-    r = (ray){sv.v.p, phase_sample(sv.v.ph, sv.v.d, u1, u2, &pdf_dir), sv.v.time};
-    prev.pdf = pdf_dir;
-    depth_start = 1;
+        depth_start = 1;
     }
     /* alpha sees the media along the whole camera ray: past an area light too */
     if (Tr_cam && t_cam > 0.0 && isfinite(t_cam) && !col_is_black(*Tr_cam))
