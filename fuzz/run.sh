@@ -25,8 +25,8 @@ flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$s
 csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/regular_file.c $src/src/io/grid_io.c $src/src/io/grid_sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = scene ]; then
-    # the whole library but OpenVDB (C++), and the default scene CMake generated
-    flags=$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_SCENE//')
+    # the whole library but OpenVDB (C++), and the default scene and build id CMake generated
+    flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_SCENE//') -I$build/generated"
     csrc="$src/fuzz/fuzz_scene.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c"
     # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
     clang -std=c11 $flags "-DBUDGET_DEFAULT_BYTES=((size_t)4<<20)" "-DBUDGET_MAX_BYTES=((size_t)4<<20)" -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp) \
