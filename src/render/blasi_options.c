@@ -43,7 +43,7 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
     blasi_options n = *o;
     double v = 0.0;
     if (strcmp(key, "light_rays") == 0) {
-        if (!parse_double(value, 1.0, 1e12, false, &v) || v != floor(v))
+        if (!method_option_integer(value, 1.0, 1e12, &v))
             return err_set(BRUME_ERROR_RANGE, "blasi.light_rays: '%s' is not an integer in [1, 1e12]", value);
         n.light_rays = (uint64_t)v;
     } else if (strcmp(key, "r") == 0) {
@@ -59,7 +59,7 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
         if (!parse_double(value, 0.0, 1.0, true, &n.threshold))
             return err_set(BRUME_ERROR_RANGE, "blasi.threshold: '%s' is not a number in [0, 1)", value);
     } else if (strcmp(key, "sources") == 0) {
-        if (!parse_double(value, 1.0, 65536.0, false, &v) || v != floor(v))
+        if (!method_option_integer(value, 1.0, 65536.0, &v))
             return err_set(BRUME_ERROR_RANGE, "blasi.sources: '%s' is not an integer in [1, 65536]", value);
         n.sources = (int)v;
     } else if (strcmp(key, "exit_deposit") == 0) {
@@ -88,7 +88,7 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
         if (!n.view_given)
             n.view_attenuation = paper ? BLASI_VIEW_ABSORPTION : BLASI_VIEW_EXTINCTION;
     } else if (strcmp(key, "voxels") == 0) {
-        if (!parse_double(value, 0.0, 2048.0, false, &v) || v != floor(v) || v == 1.0)
+        if (!method_option_integer(value, 0.0, 2048.0, &v) || v == 1.0)
             return err_set(BRUME_ERROR_RANGE, "blasi.voxels: '%s' is not 0 or an integer in [2, 2048]", value);
         n.voxels = (int)v;
     } else if (strcmp(key, "save_light") == 0 || strcmp(key, "load_light") == 0) {

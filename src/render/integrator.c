@@ -501,6 +501,15 @@ static color escaped_radiance(const brume_scene *s, vec3 d, double pdf_dir)
     return Le;
 }
 
+/* The path's next ray from medium vertex v: a direction from its phase function, from g's
+ * next two numbers (phase sampling is exact, weight p / pdf = 1, for every phase function in
+ * brume); *pdf_dir its solid-angle pdf. */
+static ray phase_continue(const vertex *v, rng *g, double *pdf_dir)
+{
+    double u1 = rng_next(g), u2 = rng_next(g);
+    return (ray){v->p, phase_sample(v->ph, v->d, u1, u2, pdf_dir), v->time};
+}
+
 color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
                     color *Tr_cam)
 {
@@ -642,11 +651,8 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
                 sv.prev = prev;
                 pending = k_split - 1;
             }
-            double u1 = rng_next(g), u2 = rng_next(g); /* dimensions dim0 + 4 depth + 2, + 3 */
-            vec3 wo = phase_sample(v.ph, r.d, u1, u2, &pdf_dir);
+            r = phase_continue(&v, g, &pdf_dir); /* dimensions dim0 + 4 depth + 2, + 3 */
             prev.pdf = pdf_dir;
-            /* phase sampling is exact (weight p / pdf = 1) for every phase function in brume */
-            r = (ray){v.p, wo, r.time};
             if (!path_roulette_share(&f.beta, share, depth, &gt))
                 break;
         }
@@ -663,8 +669,7 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
         f.beta = sv.beta;
         prev = sv.prev;
         g->counter = 2;
-        double u1 = rng_next(g), u2 = rng_next(g);
-        r = (ray){sv.v.p, phase_sample(sv.v.ph, sv.v.d, u1, u2, &pdf_dir), sv.v.time};
+        r = phase_continue(&sv.v, g, &pdf_dir);
         prev.pdf = pdf_dir;
         depth_start = 1;
     }

@@ -58,3 +58,12 @@ bool method_option_number(const char *text, double lo, double hi, double *out)
     *out = v;
     return true;
 }
+
+bool method_option_integer(const char *text, double lo, double hi, double *out)
+{
+    double v;
+    if (!method_option_number(text, lo, hi, &v) || v != floor(v))
+        return false;
+    *out = v;
+    return true;
+}

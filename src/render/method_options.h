@@ -35,8 +35,10 @@ const method_options_def *method_options_def_get(method_options_id id);
 const method_options_def *method_options_find(const char *key, method_options_id *id, const char **rest);
 /* "path, blasi, stam": the methods that have options. */
 const char *method_options_methods(void);
-/* text as a whole finite number in [lo, hi] into *out; false (and *out unchanged) otherwise.
- * The one number parser of every method's setter. */
+/* text, all of it, as a finite number in [lo, hi] into *out; false (and *out unchanged)
+ * otherwise. The one number parser of every method's setter. */
 bool method_option_number(const char *text, double lo, double hi, double *out);
+/* The same for an integer in [lo, hi] (a count, a resolution). */
+bool method_option_integer(const char *text, double lo, double hi, double *out);
 
 #endif

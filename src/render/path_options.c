@@ -1,7 +1,6 @@
 /* path_options.c - defaults and by-name setting of the path integrator's options. */
 #include "render/path_options.h"
 
-#include <math.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -34,7 +33,7 @@ brume_status path_options_set(path_options *o, const char *key, const char *valu
         if (!method_option_number(value, 0.0, 1.0, &n.sun_roulette))
             return err_set(BRUME_ERROR_RANGE, "path.sun_roulette: '%s' is not a number in [0, 1]", value);
     } else if (strcmp(key, "split") == 0) {
-        if (!method_option_number(value, 1.0, PATH_SPLIT_MAX, &n.split) || n.split != floor(n.split))
+        if (!method_option_integer(value, 1.0, PATH_SPLIT_MAX, &n.split))
             return err_set(BRUME_ERROR_RANGE, "path.split: '%s' is not a whole number in [1, %d]", value,
                            PATH_SPLIT_MAX);
     } else {

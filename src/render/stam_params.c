@@ -1,7 +1,6 @@
 /* stam_params.c - defaults and by-name setting of Stam's renderer options. */
 #include "render/stam_params.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,11 +32,6 @@ const char *stam_param_names(void)
 {
     return "eps, eta, alpha, lattice, cell, seed, time, rate, ambient, steps, light_grid, bvh, variant, "
            "voxelize.resolution, voxelize.realization";
-}
-
-static bool whole(const char *text, double lo, double hi, double *out)
-{
-    return method_option_number(text, lo, hi, out) && *out == floor(*out);
 }
 
 static bool boolean(const char *text, bool *out)
@@ -90,7 +84,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
 #define INTEGER(name, lo, hi, field)                                                                            \
     else if (strcmp(key, name) == 0)                                                                             \
     {                                                                                                            \
-        if (!whole(value, lo, hi, &v))                                                                           \
+        if (!method_option_integer(value, lo, hi, &v))                                                                           \
             return err_set(BRUME_ERROR_RANGE, "stam.%s: '%s' is not an integer in [%g, %g]", key, value,        \
                            (double)(lo), (double)(hi));                                                          \
         n.field = (int)v;                                                                                        \
@@ -106,7 +100,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
     INTEGER("steps", 1, 256, steps)
     INTEGER("light_grid", 0, 512, light_grid)
     else if (strcmp(key, "lattice") == 0) {
-        if (!whole(value, 0, 512, &v) || v == 1)
+        if (!method_option_integer(value, 0, 512, &v) || v == 1)
             return err_set(BRUME_ERROR_RANGE, "stam.lattice: '%s' is not 0 (automatic) or an integer in [2, 512]", value);
         n.lattice = (int)v;
     } else if (strcmp(key, "variant") == 0) {
@@ -114,7 +108,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
             return err_set(BRUME_ERROR_PARSE, "stam.variant: unknown variant '%s' (known: paper, corrected)", value);
         n.paper = value[0] == 'p';
     } else if (strcmp(key, "seed") == 0) {
-        if (!whole(value, 0.0, 9007199254740992.0, &v))
+        if (!method_option_integer(value, 0.0, 9007199254740992.0, &v))
             return err_set(BRUME_ERROR_RANGE, "stam.seed: '%s' is not an integer in [0, 2^53]", value);
         n.seed = (uint64_t)v;
     } else if (strcmp(key, "ambient") == 0) {
@@ -124,7 +118,7 @@ brume_status stam_params_set(stam_params *p, const char *key, const char *value)
         if (!boolean(value, &n.bvh))
             return err_set(BRUME_ERROR_PARSE, "stam.bvh: '%s' is not true or false", value);
     } else if (strcmp(key, "voxelize.resolution") == 0) {
-        if (!whole(value, 0, 2048, &v) || v == 1)
+        if (!method_option_integer(value, 0, 2048, &v) || v == 1)
             return err_set(BRUME_ERROR_RANGE, "stam.voxelize.resolution: '%s' is not an integer in [2, 2048] (0 = off)",
                            value);
         n.voxelize_resolution = (int)v;
