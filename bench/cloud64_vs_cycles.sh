@@ -16,10 +16,11 @@
 # python3-numpy (to write cloud64 as a .vdb Blender can load); installs them when run as
 # root and missing. None of this is part of `make test`.
 # Measures, per scene:
-#   1. Cycles at 64 spp: relative RMSE against a Cycles reference at REF_SPP spp;
-#   2. brume at 4, 8, ... spp: relative RMSE against a brume reference at REF_SPP spp, up to
-#      the first spp whose error is at most Cycles' (each renderer's image is the same in
-#      every run: fixed seeds);
+#   1. Cycles at 64 spp (seed 1): relative RMSE against a Cycles reference at REF_SPP spp
+#      (seed 2);
+#   2. brume at 4, 8, ... spp (seed = spp): relative RMSE against a brume reference at REF_SPP
+#      spp (seed 99), up to the first spp whose error is at most Cycles' (each renderer's
+#      image is the same in every run: fixed seeds);
 #   3. the times, interleaved: RUNS (3) rounds of Cycles at 64 spp (the render call, scene
 #      already loaded) and brume at that spp (the whole `brume render` process), medians. This
 #      VM's speed drifts by 10-20 % within minutes, and differently for the two renderers, so
@@ -28,8 +29,18 @@
 #   4. the time brume needs to reach Cycles' 64-spp error (error ~ 1/sqrt(spp), fitted at
 #      that spp), and the ratio of the two times (the figure of issue 18), from the medians;
 #      then the same ratio per round and its median (each round's two runs share the VM's
-#      state, so this one moves less when the VM's speed drifts during the run).
+#      state, so this one moves less when the VM's speed drifts during the run);
+#   5. a check that needs no reference: the timed runs use other seeds (Cycles 3, brume
+#      1000 + spp), and half the squared difference of two images of n spp with different
+#      seeds is the variance of one, which must agree with the error of step 1 or 2.
 # Relative RMSE = RMSE / mean of the reference, with the reference's own variance removed.
+# Image (n spp) and reference (N spp) have different seeds, so their noise is independent and
+# the measured square is e_n^2 + e_N^2 = e_n^2 (1 + n / N): e_n^2 = measured^2 / (1 + n / N).
+# (Until 2026-11-26 the script took e_n^2 = measured^2 (1 - n / N), and Cycles rendered image
+# and reference with the same seed, which makes the 64-spp image the first 64 samples of the
+# reference: then the measured square is e_n^2 (1 - n / N), and dividing by that factor, not
+# multiplying, removes the reference. Cycles' error came out too low by the factor
+# (1 - 64 / N)^2 in variance, 0.56 at REF_SPP = 256; docs/performance.md, "The error's noise".)
 # Also prints the mean radiance of each renderer's reference: the same scene must agree.
 # Both renderers use 2 threads.
 set -eu
@@ -63,7 +74,11 @@ echo "load: $(uptime)"
 /usr/bin/python3 "$here/bench/cycles/raw_to_vdb.py" "$here/../shared/data/cloud64.raw" "$out/cloud64.vdb"
 
 err() { # image reference spp -> relative RMSE with the reference's noise removed
-    "$BRUME" compare "$1" "$2" | awk -v n="$3" -v N="$REF_SPP" '/^rel_rmse/ {e=$2; v=e*e*(1-n/N); if (v<0) v=0; printf "%.5f\n", sqrt(v)}'
+    "$BRUME" compare "$1" "$2" | awk -v n="$3" -v N="$REF_SPP" '/^rel_rmse/ {e=$2; printf "%.5f\n", sqrt(e*e/(1+n/N))}'
+}
+pair_err() { # image image reference -> relative RMSE of one of two images of equal spp and different seeds
+    r=$("$BRUME" compare "$1" "$2" | awk '/^rmse/ {print $2}')
+    echo "$r $(mean_of "$3")" | awk '{printf "%.5f\n", $1 / sqrt(2) / $2}'
 }
 mean_of() { "$BRUME" compare "$1" "$1" | awk '/^mean_ref/ {print $2}'; }
 median() { echo "$@" | tr ' ' '\n' | sed '/^$/d' | sort -n | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
@@ -75,35 +90,37 @@ for name in $SCENES; do
     wdas-dense) vdb="$here/../shared/data/wdas_cloud_sixteenth.vdb" ;;
     *) echo "unknown scene $name (cloud64, wdas-dense)"; exit 2 ;;
     esac
-    brume_run() { # spp -> renders brume_NAME_SPP.exr, prints the wall seconds of the whole process
+    brume_run() { # spp seed out.exr -> renders, prints the wall seconds of the whole process
         s0=$(date +%s.%N)
-        "$BRUME" render "$scene" --spp "$1" --seed "$1" --quiet -o "$out/brume_${name}_$1.exr"
+        "$BRUME" render "$scene" --spp "$1" --seed "$2" --quiet -o "$3"
         printf "%.3f\n" "$(echo "$(date +%s.%N) - $s0" | bc -l)"
     }
-    cycles() { # spp out.exr -> prints seconds
-        blender -b --python "$here/bench/cycles/scene_cycles.py" -- "$scene" "$vdb" "$2" "$1" 2 2>/dev/null |
+    cycles() { # spp out.exr seed -> prints seconds
+        blender -b --python "$here/bench/cycles/scene_cycles.py" -- "$scene" "$vdb" "$2" "$1" 2 "$3" 2>/dev/null |
             sed -n 's/^cycles_render_seconds //p'
     }
     echo "==== $name"
     # 1. The errors. Each renderer gives the same image in every run (fixed seeds), so one
     #    render per spp says which spp reaches Cycles' error.
-    if [ "$REUSE_CYCLES" = 1 ] && [ -s "$out/cycles_${name}_error.txt" ] && [ -s "$out/cycles_${name}_64.exr" ]; then
-        read -r e_c <"$out/cycles_${name}_error.txt"
+    # (The kept error's file is named for the independent reference: files of the runs before
+    # 2026-11-26 evening, whose Cycles reference shared the image's seed, are not reused.)
+    if [ "$REUSE_CYCLES" = 1 ] && [ -s "$out/cycles_${name}_error_indep.txt" ] && [ -s "$out/cycles_${name}_64.exr" ]; then
+        read -r e_c <"$out/cycles_${name}_error_indep.txt"
         echo "cycles (reference and 64-spp image kept from the last run): relative RMSE $e_c"
     else
-        t=$(cycles "$REF_SPP" "$out/cycles_${name}_ref.exr")
-        echo "cycles ref ($REF_SPP spp): ${t} s, mean $(mean_of "$out/cycles_${name}_ref.exr")"
-        t=$(cycles 64 "$out/cycles_${name}_64.exr")
+        t=$(cycles "$REF_SPP" "$out/cycles_${name}_ref.exr" 2)
+        echo "cycles ref ($REF_SPP spp, seed 2): ${t} s, mean $(mean_of "$out/cycles_${name}_ref.exr")"
+        t=$(cycles 64 "$out/cycles_${name}_64.exr" 1)
         e_c=$(err "$out/cycles_${name}_64.exr" "$out/cycles_${name}_ref.exr" 64)
-        echo "cycles 64 spp: ${t} s, relative RMSE $e_c"
-        echo "$e_c" >"$out/cycles_${name}_error.txt"
+        echo "cycles 64 spp (seed 1): ${t} s, relative RMSE $e_c"
+        echo "$e_c" >"$out/cycles_${name}_error_indep.txt"
     fi
     "$BRUME" render "$scene" --spp "$REF_SPP" --seed 99 --quiet -o "$out/brume_${name}_ref.exr"
-    echo "brume ref ($REF_SPP spp) mean $(mean_of "$out/brume_${name}_ref.exr")"
+    echo "brume ref ($REF_SPP spp, seed 99) mean $(mean_of "$out/brume_${name}_ref.exr")"
     printf "%6s %10s %10s\n" spp seconds rel_rmse
     best=""
     for spp in 4 8 16 32 64 128 256; do
-        t=$(brume_run "$spp")
+        t=$(brume_run "$spp" "$spp" "$out/brume_${name}_$spp.exr")
         e=$(err "$out/brume_${name}_$spp.exr" "$out/brume_${name}_ref.exr" "$spp")
         printf "%6d %10.3f %10s\n" "$spp" "$t" "$e"
         if [ "$(echo "$e <= $e_c" | bc -l)" = 1 ]; then
@@ -119,8 +136,8 @@ for name in $SCENES; do
     b=""
     pairs="" # each round's ratio: the two runs of a round saw the same minutes of the VM
     for run in $(seq "$RUNS"); do
-        tc=$(cycles 64 "$out/cycles_${name}_64_run.exr")
-        tb=$(brume_run "$1")
+        tc=$(cycles 64 "$out/cycles_${name}_64_run.exr" 3)
+        tb=$(brume_run "$1" $((1000 + $1)) "$out/brume_${name}_$1_run.exr")
         c64="$c64 $tc"
         b="$b $tb"
         pairs="$pairs $(printf "%.3f" "$(echo "$tb * ($2 / $e_c)^2 / $tc" | bc -l)")"
@@ -132,5 +149,7 @@ for name in $SCENES; do
     printf "%s: brume reaches Cycles' 64-spp error %.4f in %.2f s (fitted from %s spp: %.3f s at %.4f)\n" "$name" "$e_c" "$t_b" "$1" "$t_s" "$2"
     printf "%s: time ratio brume / Cycles: %.3f (target <= 0.2)\n" "$name" "$(echo "$t_b / $t_c" | bc -l)"
     echo "$name: the same ratio per round:$pairs (median $(median $pairs))"
+    # 5. The check without a reference (step 5 of the header).
+    echo "$name: check, relative RMSE from two seeds: cycles 64 spp $(pair_err "$out/cycles_${name}_64.exr" "$out/cycles_${name}_64_run.exr" "$out/cycles_${name}_ref.exr") (against the reference $e_c); brume $1 spp $(pair_err "$out/brume_${name}_$1.exr" "$out/brume_${name}_$1_run.exr" "$out/brume_${name}_ref.exr") (against the reference $2)"
 done
 echo "load at the end: $(uptime)"

@@ -1,7 +1,7 @@
 # scene_cycles.py - renders a brume scene file with Blender Cycles (Debian's blender 3.4),
 # for bench/cloud64_vs_cycles.sh: the same camera, sun, medium and settings as brume.
 #
-#   blender -b --python bench/cycles/scene_cycles.py -- SCENE.json GRID.vdb OUT.exr SPP THREADS
+#   blender -b --python bench/cycles/scene_cycles.py -- SCENE.json GRID.vdb OUT.exr SPP THREADS [SEED]
 #
 # Reads the subset of brume's scene format the comparison scenes use (docs/scene-format.md):
 # a pinhole camera (position, look_at, up, vertical fov in degrees), a black background,
@@ -9,7 +9,9 @@
 # the grid "density" of GRID.vdb in world units (trilinear), with scalar sigma_a and sigma_s
 # per unit density and a Henyey-Greenstein phase function; render width and height. Full
 # multiple scattering (volume bounces up to 1024), no denoising, no adaptive sampling, box
-# filter of width 1. Prints "cycles_render_seconds S" (the render call alone, scene
+# filter of width 1. SEED (default 1) is Cycles' seed: with the same seed, an image of n
+# samples is the first n samples of one of N > n (its noise is the reference's own), so an
+# image and the reference it is measured against must differ in seed. Prints "cycles_render_seconds S" (the render call alone, scene
 # already built and loaded).
 import json
 import math
@@ -22,6 +24,7 @@ from mathutils import Matrix, Vector
 
 argv = sys.argv[sys.argv.index("--") + 1:]
 scene_path, vdb_path, out_path, spp, threads = argv[0], argv[1], argv[2], int(argv[3]), int(argv[4])
+seed = int(argv[5]) if len(argv) > 5 else 1
 with open(scene_path) as f:
     desc = json.load(f)
 cam_d, light_d, med_d, ren_d = desc["camera"], desc["lights"][0], desc["media"][0], desc["render"]
@@ -39,7 +42,7 @@ cy.device = "CPU"
 cy.samples = spp
 cy.use_adaptive_sampling = False
 cy.use_denoising = False
-cy.seed = 1
+cy.seed = seed
 cy.max_bounces = 1024
 cy.volume_bounces = 1024
 cy.diffuse_bounces = 0
