@@ -211,7 +211,7 @@ int main(int argc, char **argv)
         brume_scene_release(sp);
         image_diff_stats st;
         image_compare(img, ref, &st);
-        double err = sqrt(fmax(0.0, st.rel_rmse * st.rel_rmse * (1.0 - (double)spp / ref_spp)));
+        double err = bench_error_without_reference(st.rel_rmse, spp, ref_spp);
         printf("%6d %10.3f %10.4f\n", spp, t, err);
         brume_image_release(img);
         if (err <= bst.rel_rmse) {

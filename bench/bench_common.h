@@ -3,6 +3,7 @@
 #ifndef BRUME_BENCH_COMMON_H
 #define BRUME_BENCH_COMMON_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,6 +47,15 @@ static inline double bench_median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
     return v[n / 2];
+}
+
+/* The relative RMSE of an image of spp samples, from m, its relative RMSE measured against a
+ * reference of ref_spp samples rendered with another seed: the two noises are independent,
+ * so m^2 = e^2 + e^2 spp / ref_spp and e = m / sqrt(1 + spp / ref_spp) (docs/performance.md,
+ * "The error's noise"). */
+static inline double bench_error_without_reference(double m, int spp, int ref_spp)
+{
+    return m / sqrt(1.0 + (double)spp / ref_spp);
 }
 
 #endif
