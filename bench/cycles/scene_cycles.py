@@ -78,6 +78,13 @@ scene.world = world
 bpy.ops.object.volume_import(filepath=vdb_path, location=(0, 0, 0))
 vol = bpy.context.active_object
 vol.rotation_euler = (0.0, 0.0, 0.0)  # the importer turns some files (Houdini's) y-up to z-up: keep the file's frame
+# Cycles 3.4 spreads voxel (i, j, k)'s value over the index-space cell [i, i + 1] x ..., centred
+# on (i, j, k) + 1/2, where OpenVDB (and brume) centre it on (i, j, k): the same file renders
+# half a voxel apart (docs/performance.md, "The error's noise"). Moving the object back by half
+# a voxel, through the grid's own index-to-object map, makes both render the same cloud.
+vol.data.grids.load()
+grid = vol.data.grids["density"]
+vol.location = grid.matrix_object.to_3x3() @ Vector((-0.5, -0.5, -0.5))
 mat = bpy.data.materials.new("medium")
 mat.use_nodes = True
 nt = mat.node_tree
