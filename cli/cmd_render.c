@@ -32,6 +32,7 @@ static void render_usage(FILE *out)
             "  --seed S            random seed: the image depends on seed and spp, not on threads\n"
             "                      nor on the number of MPI processes\n"
             "  --threads N         worker threads per process (default: one per core)\n"
+            "  --device D          cpu (default), cuda or cuda:N: path and single on an NVIDIA GPU (brume devices)\n"
             "  --method NAME       integrator: path (unbiased reference), single (single scattering),\n"
             "                      blasi (Blasi et al. 1993 two-pass method, docs/blasi.md),\n"
             "                      stam (Stam 1994, blob fields only, docs/stam.md)\n"
@@ -245,6 +246,7 @@ enum { MAX_SETS = 64 };
 typedef struct render_opts {
     const char *scene_path;
     int spp, width, height, threads, max_depth;
+    int device; /* -2: as the scene says */
     uint64_t seed;
     bool have_seed, quiet;
     const char *method;
@@ -321,6 +323,7 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     if (o->width) rs.width = o->width;
     if (o->height) rs.height = o->height;
     if (o->threads >= 0) rs.threads = o->threads;
+    if (o->device >= -1) rs.device = o->device;
     if (o->max_depth) rs.max_depth = o->max_depth;
     if (o->have_seed) rs.seed = o->seed;
     if (o->method)
@@ -379,6 +382,7 @@ int cmd_render(int argc, char **argv)
 {
     render_opts o = {0};
     o.threads = -1;
+    o.device = -2;
     const char *out_path = "brume.png", *video = NULL;
     long first = -1, last = -1;
     int shard = 0, nshards = 1;
@@ -411,6 +415,12 @@ int cmd_render(int argc, char **argv)
             if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &o.height)) return 2;
         } else if (strcmp(a, "--threads") == 0) {
             if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &o.threads)) return 2;
+        } else if (strcmp(a, "--device") == 0) {
+            if (!(v = arg_value(argc, argv, &i))) return 2;
+            if (brume_device_from_name(NULL, v, &o.device) != BRUME_OK) {
+                cli_error("--device: unknown device '%s' (known: cpu, cuda, cuda:N)", v);
+                return 2;
+            }
         } else if (strcmp(a, "--max-depth") == 0) {
             if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 100000, &o.max_depth)) return 2;
         } else if (strcmp(a, "--seed") == 0) {

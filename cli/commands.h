@@ -12,6 +12,7 @@
     X(info, "print a grid file's format, dimensions, bounds, values and memory") \
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
     X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
+    X(devices, "list the GPUs brume can render on (or say why there are none)") \
     X(figures, "render every figure of both papers into a folder, with an index")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);

@@ -196,7 +196,25 @@ typedef struct brume_render_settings {
     int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
     bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
     brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
+    int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
+                            (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
 } brume_render_settings;
+
+/* Parses a device name, "cpu" (-1), "cuda" (0) or "cuda:N" (N, 0 <= N < 64), into *device.
+ * BRUME_OK, or BRUME_ERROR_INVALID_ARGUMENT with the context's message naming the text. */
+brume_status brume_device_from_name(brume_context *ctx, const char *name, int *device);
+
+/* A GPU brume can render on (docs/gpu.md). */
+typedef struct brume_device_info {
+    char name[128];
+    size_t memory;          /* bytes */
+    int cc_major, cc_minor; /* CUDA compute capability */
+    int multiprocessors;
+} brume_device_info;
+/* The CUDA GPUs the NVIDIA driver sees: fills up to max entries of out and sets *count to how
+ * many there are. BRUME_OK, or BRUME_ERROR_UNSUPPORTED with a message that says why there
+ * are none (a build without GPU kernels, no driver, no device); *count is then 0. */
+brume_status brume_devices(brume_context *ctx, brume_device_info *out, int max, int *count);
 
 /* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted
  * scene owned by the caller; on failure *out is NULL and the context names file and key. */

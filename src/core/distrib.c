@@ -1,6 +1,10 @@
 /* distrib.c - piecewise-constant distributions sampled by inverting their CDF. */
 #include "core/distrib.h"
 
+#include <stddef.h>
+
+#include "gpu/arena.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -125,4 +129,23 @@ double distrib2_pdf(const distrib2 *d, double u, double v)
     int row = (int)(v * d->nv);
     row = row < 0 ? 0 : (row >= d->nv ? d->nv - 1 : row);
     return distrib1_pdf(&d->marginal, v) * distrib1_pdf(&d->rows[row], u);
+}
+
+void distrib1_device_fix(const distrib1 *d, dev_arena *a, size_t at)
+{
+    const size_t n = d->f ? (size_t)d->n : 0;
+    ARENA_PUT_MEMBER(a, at, distrib1, f, d->f, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, distrib1, cdf, d->cdf, (n + 1) * sizeof(double));
+}
+
+void distrib2_device_fix(const distrib2 *d, dev_arena *a, size_t at)
+{
+    size_t rows = ARENA_NULL;
+    if (d->rows) {
+        rows = arena_put(a, d->rows, (size_t)d->nv * sizeof(distrib1));
+        for (int v = 0; v < d->nv && rows != ARENA_NULL; v++)
+            distrib1_device_fix(&d->rows[v], a, rows + (size_t)v * sizeof(distrib1));
+    }
+    arena_ptr(a, at + offsetof(distrib2, rows), rows);
+    distrib1_device_fix(&d->marginal, a, at + offsetof(distrib2, marginal));
 }

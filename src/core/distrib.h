@@ -25,9 +25,15 @@ typedef struct distrib2 {
     distrib1 marginal; /* over v */
 } distrib2;
 
+/* Copy the tables of the distribution d, which the arena holds at offset `at` (a byte copy
+ * of it), into the arena (gpu/arena.h) and point the copy at them. */
+struct dev_arena;
+void distrib1_device_fix(const distrib1 *d, struct dev_arena *a, size_t at);
+
 /* f is nv rows of nu values (row v, column u). */
 int distrib2_init(distrib2 *d, const double *f, int nu, int nv);
 void distrib2_free(distrib2 *d);
+void distrib2_device_fix(const distrib2 *d, struct dev_arena *a, size_t at);
 /* (u, v) in [0, 1)^2 with density f / integral (per unit square); *pdf that density. */
 void distrib2_sample(const distrib2 *d, double u1, double u2, double *u, double *v, double *pdf);
 double distrib2_pdf(const distrib2 *d, double u, double v);

@@ -27,7 +27,12 @@ typedef struct stats_counters {
     char pad[64];             /* keeps two threads' blocks off one cache line */
 } stats_counters;
 
-/* This thread's block while it renders with statistics on, else NULL. */
+/* This thread's block while it renders with statistics on, else NULL. On the GPU
+ * (gpu/kernel.cu) there are no statistics: NULL, and no clock. */
+#if defined(__CUDA_ARCH__)
+#define stats_tls ((stats_counters *)0)
+static inline double stats_now(void) { return 0.0; }
+#else
 extern _Thread_local stats_counters *stats_tls;
 
 static inline double stats_now(void)
@@ -36,6 +41,7 @@ static inline double stats_now(void)
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+#endif
 
 /* a += b, field by field. */
 void stats_merge(stats_counters *a, const stats_counters *b);

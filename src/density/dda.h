@@ -27,7 +27,7 @@
 
 #include "core/vec.h"
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
 #include <emmintrin.h>
 #endif
 
@@ -61,7 +61,7 @@ bool grid_dda_begin(grid_dda *g, const int n[3], vec3 o, vec3 d, double tmin, do
  * ternaries into a branch, which mispredicts on data such as a ray's direction */
 static inline double dda_min(double a, double b)
 {
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
     return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));
 #else
     return a < b ? a : b;
@@ -70,7 +70,7 @@ static inline double dda_min(double a, double b)
 
 static inline double dda_max(double a, double b)
 {
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
     return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
 #else
     return a > b ? a : b;
@@ -205,7 +205,8 @@ static inline __attribute__((always_inline)) bool grid_dda_begin_box_dir(grid_dd
                                                                          const int hi[3], vec3 o, const grid_dda_dir *w,
                                                                          double tmin, double tmax)
 {
-    const double lo_d[3] = {lo[0], lo[1], lo[2]}, hi_d[3] = {hi[0], hi[1], hi[2]};
+    const double lo_d[3] = {(double)lo[0], (double)lo[1], (double)lo[2]},
+                 hi_d[3] = {(double)hi[0], (double)hi[1], (double)hi[2]};
     return grid_dda_begin_clip_dir(g, n, lo_d, hi_d, o, w, tmin, tmax);
 }
 
@@ -242,7 +243,7 @@ static inline bool grid_dda_next(grid_dda *g, grid_dda_step *s)
         s->j = g->ijk[1];
         s->k = g->ijk[2];
         s->t0 = t0;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
         const __m128d X = _mm_set1_pd(g->t_next[0]), Y = _mm_set1_pd(g->t_next[1]), Z = _mm_set1_pd(g->t_next[2]);
         /* three independent masks: x on ties with y or z, y on ties with z */
         const __m128d yz = _mm_min_sd(Y, Z), t1v = _mm_min_sd(X, yz);

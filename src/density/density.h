@@ -216,6 +216,12 @@ static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *i
     return true;
 }
 
+/* Copies d with everything it points to into a (gpu/arena.h) for the GPU; returns the
+ * copy's offset (ARENA_NULL on failure: a->failed). Blob fields are not copied (the GPU
+ * refuses them: gpu/device_scene.c). */
+struct dev_arena;
+size_t density_device_put(const density *d, struct dev_arena *a);
+
 /* A procedural cloud for the default scene: fBm value noise (seeded) carved by an
  * ellipsoidal falloff and a threshold, sampled on an n^3 grid over `bounds`, max rho 1. */
 density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds);

@@ -90,6 +90,7 @@ void density_set_active_box(density *d);
 bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who);
 
 /* nanovdb.c */
+size_t nanovdb_device_put(const nanovdb_state *s, struct dev_arena *a);
 double nanovdb_eval_voxel(const density *d, vec3 u);
 double nanovdb_voxel(const density *d, int i, int j, int k);
 void nanovdb_free(density *d);

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/density_impl.h"
+#include "gpu/arena.h"
 
 /* ---- affine maps ------------------------------------------------------------------------ */
 
@@ -356,4 +357,23 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
     grid_dda_dir_make(&w, affine3_apply_dir(&d->w2c, r.d));
     if (!grid_dda_begin_clip_dir(&it->dda, d->mn, d->wlo, d->whi, affine3_apply(&d->w2c, r.o), &w, tmin, tmax))
         it->dda.done = true;
+}
+
+size_t density_device_put(const density *d, dev_arena *a)
+{
+    size_t at = arena_put(a, d, sizeof *d);
+    if (at == ARENA_NULL)
+        return at;
+    const size_t cells = (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2];
+    ARENA_PUT_MEMBER(a, at, density, maj, d->maj, cells * sizeof(float));
+    ARENA_PUT_MEMBER(a, at, density, mino, d->mino, cells * sizeof(float));
+    ARENA_PUT_MEMBER(a, at, density, mean, d->mean, cells * sizeof(float));
+    size_t nvox = d->bricked ? (size_t)d->nbx * (size_t)d->nby * (size_t)((d->n[2] + 1) / 2) * DENSITY_BRICK_FLOATS
+                             : (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2];
+    ARENA_PUT_MEMBER(a, at, density, data, d->data, nvox * sizeof(float));
+    arena_ptr(a, at + offsetof(density, data_release), ARENA_NULL); /* the host's to call */
+    arena_ptr(a, at + offsetof(density, data_user), ARENA_NULL);
+    arena_ptr(a, at + offsetof(density, nano), d->nano ? nanovdb_device_put(d->nano, a) : ARENA_NULL);
+    arena_ptr(a, at + offsetof(density, blobs), ARENA_NULL);
+    return at;
 }

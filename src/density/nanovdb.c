@@ -31,6 +31,7 @@
 
 #include "core/error.h"
 #include "density/density_impl.h"
+#include "gpu/arena.h"
 
 #define PNANOVDB_C
 #define PNANOVDB_BUF_BOUNDS_CHECK
@@ -177,9 +178,21 @@ typedef struct nano_acc_slot {
     uint64_t id; /* 0: empty */
     pnanovdb_readaccessor_t acc;
 } nano_acc_slot;
+#if !defined(__CUDA_ARCH__)
 static _Thread_local nano_acc_slot nano_acc_cache[NANO_ACC_SLOTS];
+#endif
 static atomic_uint_fast64_t nano_next_id = 1;
 
+/* NANO_ACCESSOR(acc, s) declares pnanovdb_readaccessor_t *acc for a lookup in s: this
+ * thread's cached accessor, or on the GPU (gpu/kernel.cu, no thread-local storage) a fresh
+ * one in the device thread's local memory. */
+#if defined(__CUDA_ARCH__)
+#define NANO_ACCESSOR(acc, s)                                                                                          \
+    pnanovdb_readaccessor_t acc##_local;                                                                               \
+    pnanovdb_readaccessor_init(&acc##_local, (s)->root);                                                               \
+    pnanovdb_readaccessor_t *acc = &acc##_local
+#else
+#define NANO_ACCESSOR(acc, s) pnanovdb_readaccessor_t *acc = nano_accessor(s)
 static inline pnanovdb_readaccessor_t *nano_accessor(const nanovdb_state *s)
 {
     nano_acc_slot *slot = &nano_acc_cache[s->id & (NANO_ACC_SLOTS - 1)];
@@ -189,6 +202,7 @@ static inline pnanovdb_readaccessor_t *nano_accessor(const nanovdb_state *s)
     }
     return &slot->acc;
 }
+#endif
 
 static inline double nano_read(const nanovdb_state *s, pnanovdb_address_t a)
 {
@@ -203,14 +217,15 @@ static inline double nano_fetch(const nanovdb_state *s, pnanovdb_readaccessor_t 
 
 double nanovdb_voxel(const density *d, int i, int j, int k)
 {
-    return nano_fetch(d->nano, nano_accessor(d->nano), i, j, k);
+    NANO_ACCESSOR(acc, d->nano);
+    return nano_fetch(d->nano, acc, i, j, k);
 }
 
 /* u in voxel space, inside [0, n); same filters as the dense grid (grid.c). */
 double nanovdb_eval_voxel(const density *d, vec3 u)
 {
     const nanovdb_state *s = d->nano;
-    pnanovdb_readaccessor_t *acc = nano_accessor(s);
+    NANO_ACCESSOR(acc, s);
     if (d->filter == GRID_NEAREST)
         return nano_fetch(s, acc, (int)u.x, (int)u.y, (int)u.z);
     int ijk[3][2];
@@ -751,6 +766,8 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     nanovdb_state *s = calloc(1, sizeof *s);
     walk w;
     memset(&w, 0, sizeof w);
+    float bg;   /* declared before the first goto: the file is also parsed as C++ (gpu/kernel.cu) */
+    bool small;
     if (!d || !s) {
         free(d);
         free(s);
@@ -781,7 +798,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     w.budget[0] = size / PNANOVDB_GRID_TYPE_GET(type, upper_size) + 1;
     w.budget[1] = size / PNANOVDB_GRID_TYPE_GET(type, lower_size) + 1;
     w.budget[2] = size / PNANOVDB_GRID_TYPE_GET(type, leaf_size) + 1;
-    float bg = read_value(s, pnanovdb_address_offset(root.address, PNANOVDB_GRID_TYPE_GET(type, root_off_background)));
+    bg = read_value(s, pnanovdb_address_offset(root.address, PNANOVDB_GRID_TYPE_GET(type, root_off_background)));
     if (!hash_init(&w.raw, 64)) {
         oom(&w);
         goto fail;
@@ -799,7 +816,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
     }
     /* a small box gets a dense copy and a grid of cells below: the tree's majorants are
      * built only for the others */
-    const bool small = (uint64_t)ext[0] * (uint64_t)ext[1] * (uint64_t)ext[2] <= atomic_load(&nano_cell_grid_voxels);
+    small = (uint64_t)ext[0] * (uint64_t)ext[1] * (uint64_t)ext[2] <= atomic_load(&nano_cell_grid_voxels);
     if (!small && !build_majorants(&w, filter == GRID_TRILINEAR, bg))
         goto fail;
     d->rho_min = w.vmin * scale;
@@ -987,4 +1004,32 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg)
 size_t density_shared_bytes(const density *d)
 {
     return d->kind == DENSITY_NANOVDB && d->nano->shared ? d->nano->shared->size : 0;
+}
+
+/* ---- the GPU's copy (gpu/arena.h) ------------------------------------------------------------ */
+
+static void hash_device_put(const cell_hash *h, dev_arena *a, size_t at)
+{
+    ARENA_PUT_MEMBER(a, at, cell_hash, keys, h->keys, h->cap * 3 * sizeof(int32_t));
+    ARENA_PUT_MEMBER(a, at, cell_hash, val, h->val, h->cap * sizeof(int32_t));
+}
+
+size_t nanovdb_device_put(const nanovdb_state *s, dev_arena *a)
+{
+    size_t at = arena_put(a, s, sizeof *s);
+    if (at == ARENA_NULL)
+        return at;
+    arena_ptr(a, at + offsetof(nanovdb_state, shared), ARENA_NULL); /* the host's reference count */
+    ARENA_PUT_MEMBER(a, at, nanovdb_state, buf.data, s->buf.data, (size_t)s->buf.size_in_words * 4);
+    hash_device_put(&s->blocks, a, at + offsetof(nanovdb_state, blocks));
+    hash_device_put(&s->regions, a, at + offsetof(nanovdb_state, regions));
+    /* an entry per block (and the one past them); the tables of the non-uniform ones */
+    const size_t nentries = s->entries ? s->blocks.count + 1 : 0;
+    size_t ntab = 0;
+    for (size_t i = 0; i < s->blocks.count && s->entries; i++)
+        if (s->entries[i].at >= 0 && (size_t)s->entries[i].at + 1 > ntab)
+            ntab = (size_t)s->entries[i].at + 1;
+    ARENA_PUT_MEMBER(a, at, nanovdb_state, entries, s->entries, nentries * sizeof(block_entry));
+    ARENA_PUT_MEMBER(a, at, nanovdb_state, tables, s->tables, ntab * BLOCK_CELLS * sizeof(float));
+    return at;
 }

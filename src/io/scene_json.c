@@ -674,7 +674,7 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "noise", "time", "min_spp", "sampler", NULL};
+                                       "fps", "max_memory_mb", "noise", "time", "min_spp", "sampler", "device", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
@@ -694,6 +694,11 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
     if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
     if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
+    char device[32] = "";
+    if ((st = json_string(j, at, "device", 0, device, sizeof device))) return st;
+    if (device[0] && brume_device_from_name(NULL, device, &rs.device) != BRUME_OK)
+        return err_set(BRUME_ERROR_PARSE, "%s: render.device: unknown device '%s' (known: cpu, cuda, cuda:N)", at.file,
+                       device);
     char sampler[32] = "";
     if ((st = json_string(j, at, "sampler", 0, sampler, sizeof sampler))) return st;
     if (strcmp(sampler, "sobol") == 0)

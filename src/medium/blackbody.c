@@ -53,10 +53,15 @@ color blackbody_rgb_exact(double T)
                    0.0556434 * v[0] - 0.2040259 * v[1] + 1.0572252 * v[2]);
 }
 
-#define BB_N 1024
+#define BB_N BLACKBODY_TABLE_N
 #define BB_TMIN 100.0
 #define BB_TMAX 100000.0
+#if defined(__CUDA_ARCH__)
+/* the GPU's copy, uploaded with the scene (gpu/kernel.cu, gpu/device_scene.c) */
+#define table ((color *)brume_device_blackbody)
+#else
 static color table[BB_N];
+#endif
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 
 static void build(void)
@@ -77,4 +82,10 @@ color blackbody_rgb(double T)
     int i = (int)x;
     double f = x - i;
     return col_add(col_scale(table[i], 1.0 - f), col_scale(table[i + 1], f));
+}
+
+const color *blackbody_table(void)
+{
+    blackbody_init();
+    return table;
 }

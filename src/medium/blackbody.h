@@ -22,5 +22,9 @@ color blackbody_rgb_exact(double T);
  * between; clamped outside): for rendering. blackbody_init() must have run (thread-safe). */
 color blackbody_rgb(double T);
 void blackbody_init(void);
+/* The table blackbody_rgb interpolates (BLACKBODY_TABLE_N colors, after blackbody_init):
+ * the GPU gets a copy (gpu/device_scene.c). */
+#define BLACKBODY_TABLE_N 1024
+const color *blackbody_table(void);
 
 #endif

@@ -15,6 +15,7 @@
 #include "io/regular_file.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
+#include "gpu/arena.h"
 
 /* Entries of the inverse-CDF table of the Mie functions: x = (1 + t) / 2 at u = i / N. */
 #define MIE_TABLE_SIZE 64
@@ -551,7 +552,7 @@ phase *phase_load_tabulated(const char *path)
             double *na = realloc(angle, (size_t)cap * sizeof *na);
             if (na)
                 angle = na;
-            double *nv = na ? realloc(value, (size_t)cap * sizeof *nv) : NULL;
+            double *nv = na ? (double *)realloc(value, (size_t)cap * sizeof *nv) : NULL;
             if (nv)
                 value = nv;
             if (!na || !nv) {
@@ -735,4 +736,26 @@ double phase_hg_g_from_schlick_k(double k)
             hi = mid;
     }
     return copysign(0.5 * (lo + hi), k);
+}
+
+size_t phase_device_put(const phase *p, dev_arena *a)
+{
+    size_t at = arena_put(a, p, sizeof *p);
+    if (at == ARENA_NULL)
+        return at;
+    const size_t n = p->n > 0 ? (size_t)p->n : 0;
+    size_t lobes = ARENA_NULL;
+    if (p->kind == PHASE_MIXTURE && p->lobes) {
+        lobes = arena_alloc(a, n * sizeof(phase *));
+        for (size_t i = 0; i < n && lobes != ARENA_NULL; i++)
+            arena_ptr(a, lobes + i * sizeof(phase *), phase_device_put(p->lobes[i], a));
+    }
+    arena_ptr(a, at + offsetof(phase, lobes), lobes);
+    const bool mix = p->kind == PHASE_MIXTURE, tab = p->kind == PHASE_TABULATED;
+    ARENA_PUT_MEMBER(a, at, phase, w, mix ? p->w : NULL, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, phase, wsum, mix ? p->wsum : NULL, (n + 1) * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, phase, t, tab ? p->t : NULL, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, phase, pt, tab ? p->pt : NULL, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, phase, cdf, tab ? p->cdf : NULL, n * sizeof(double));
+    return at;
 }

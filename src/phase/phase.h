@@ -23,6 +23,8 @@
 #ifndef BRUME_PHASE_PHASE_H
 #define BRUME_PHASE_PHASE_H
 
+#include <stddef.h>
+
 #include "core/vec.h"
 
 typedef enum phase_kind {
@@ -38,6 +40,11 @@ typedef enum phase_kind {
 
 /* Opaque; immutable after construction, so one phase may be shared by threads. */
 typedef struct phase phase;
+
+/* Copies p with its lobes and tables into a (gpu/arena.h) for the GPU; returns the copy's
+ * offset (ARENA_NULL on failure: a->failed). */
+struct dev_arena;
+size_t phase_device_put(const phase *p, struct dev_arena *a);
 
 phase *phase_new_isotropic(void);
 /* Rayleigh, phi = 3/4 (1 + t^2) (Blasi Eq. 17). */

@@ -1,9 +1,11 @@
 /* background.c - constant and environment-image backgrounds with importance sampling. */
 #include "render/background.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 
 #include "core/sampling.h"
+#include "gpu/arena.h"
 #include "io/image.h"
 
 bool background_init(background *b)
@@ -90,4 +92,20 @@ double background_pdf(const background *b, vec3 w)
     dir_to_uv(b, w, &u, &v);
     double st = sin(v * PI);
     return st > 0.0 ? distrib2_pdf(&b->dist, u, v) / (2.0 * PI * PI * st) : 0.0;
+}
+
+void background_device_fix(const background *b, dev_arena *a, size_t at)
+{
+    size_t img = ARENA_NULL;
+    if (b->img) {
+        img = arena_put(a, b->img, sizeof *b->img);
+        ARENA_PUT_MEMBER(a, img, brume_image, rgba, b->img->rgba,
+                         (size_t)b->img->width * (size_t)b->img->height * 4 * sizeof(float));
+        for (int l = 0; l < IMAGE_MAX_LAYERS && img != ARENA_NULL; l++) /* not read by rendering */
+            arena_ptr(a, img + offsetof(brume_image, layers) + (size_t)l * sizeof(image_layer) + offsetof(image_layer, px),
+                      ARENA_NULL);
+    }
+    arena_ptr(a, at + offsetof(background, img), img);
+    if (b->has_dist)
+        distrib2_device_fix(&b->dist, a, at + offsetof(background, dist));
 }

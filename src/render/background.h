@@ -24,6 +24,11 @@ typedef struct background {
     bool has_dist;
 } background;
 
+/* Copies the image and tables of b, which the arena holds at offset `at` (a byte copy of
+ * it), into the arena (gpu/arena.h) for the GPU, and points the copy at them. */
+struct dev_arena;
+void background_device_fix(const background *b, struct dev_arena *a, size_t at);
+
 /* Builds the sampling tables; false when out of memory. */
 bool background_init(background *b);
 void background_release(background *b);

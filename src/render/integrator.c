@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "core/stats.h"
+#include "gpu/arena.h"
 #include "render/blasi.h"
 #include "render/path_options.h"
 #include "render/stam.h"
@@ -81,7 +82,7 @@ static void flight_offer(flight *f, color w, double t)
  * Both keep every weight's expectation that of plain ratio tracking. */
 static bool flight_step(const track_event *e, void *user)
 {
-    flight *f = user;
+    flight *f = (flight *)user;
     if (stats_tls)
         stats_tls->path_tentative++;
     color beta_Tr = col_mul(f->beta, f->Tr);
@@ -312,7 +313,7 @@ static inline double sun_roulette(const path_state *st, int j, vec3 p)
 
 double path_sun_transmittance_hat(const void *state, int sun, vec3 p)
 {
-    const path_state *st = state;
+    const path_state *st = (const path_state *)state;
     if (!st || sun < 0 || sun >= st->nsuns || !st->tau[sun])
         return 1.0;
     return exp(-sun_tau_hat(st, sun, p));
@@ -513,7 +514,7 @@ static ray phase_continue(const vertex *v, rng *g, double *pdf_dir)
 color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
                     color *Tr_cam)
 {
-    const path_state *st = state;
+    const path_state *st = (const path_state *)state;
     double t_in, t_out;
     if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
         /* what the loop below comes to for this ray, bit for bit: no flight, Tr = 1 */
@@ -845,7 +846,7 @@ static bool sun_tau_build(const brume_scene *s, const path_state *st, vec3 ws, f
 static brume_status path_prepare(const brume_scene *s, bool lobes, path_state **out)
 {
     *out = NULL;
-    const path_options *o = scene_options(s, METHOD_OPTIONS_PATH);
+    const path_options *o = (const path_options *)scene_options(s, METHOD_OPTIONS_PATH);
     path_state st = {.kappa = lobes ? o->sun_lobe : 0.0, .cull = !s->surf, .reach = box3_empty(),
                      .tau0 = o->sun_roulette > 0.0 ? -log(o->sun_roulette) : (double)INFINITY};
     for (int i = 0; i < s->nlights; i++)
@@ -939,7 +940,7 @@ void integrator_finish(integrator_kind kind, void *state)
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: free(state); break;
-    case INTEGRATOR_BLASI: blasi_finish(state); break;
+    case INTEGRATOR_BLASI: blasi_finish((blasi_state *)state); break;
     case INTEGRATOR_STAM: stam_finish(state); break;
     }
 }
@@ -951,16 +952,20 @@ color integrator_Li(integrator_kind kind, const brume_scene *s, const void *stat
     switch (kind) {
     case INTEGRATOR_PATH: return path_Li_alpha(s, state, r, s->settings.max_depth, g, hit_surface, Tr);
     case INTEGRATOR_SINGLE: return path_Li_alpha(s, state, r, 1, g, hit_surface, Tr);
+#if !defined(__CUDA_ARCH__) /* CPU-only methods: the GPU renders path and single (gpu/device_scene.c) */
     case INTEGRATOR_BLASI:
-        L = blasi_Li(s, state, r, g, hit_surface);
+        L = blasi_Li(s, (const blasi_state *)state, r, g, hit_surface);
         if (Tr)
-            *Tr = blasi_transmittance(s, state, r); /* its voxels, exact: no tracking */
+            *Tr = blasi_transmittance(s, (const blasi_state *)state, r); /* its voxels, exact: no tracking */
         return L;
     case INTEGRATOR_STAM:
         L = stam_Li(state, r, g, hit_surface);
         if (Tr)
             *Tr = stam_transmittance(state, r.o, r.d, INFINITY);
         return L;
+#else
+    default: break;
+#endif
     }
     return L;
 }
@@ -977,7 +982,7 @@ typedef struct first_walk {
 
 static bool first_step(const track_event *e, void *user)
 {
-    first_walk *w = user;
+    first_walk *w = (first_walk *)user;
     media_at(w->s, ray_at(w->r, e->t), w->r.time, &w->ms);
     double sigma_t = col_avg(col_add(w->ms.sigma_a, w->ms.sigma_s));
     if (rng_next(w->g) * e->sigma_maj < sigma_t) {
@@ -1008,4 +1013,18 @@ void integrator_first_vertex(const brume_scene *s, ray r, rng *g, first_vertex *
         v->albedo = sh.mat ? sh.mat->albedo : col(0.0);
         v->normal = v3_dot(sh.ng, r.d) < 0.0 ? sh.ng : v3_neg(sh.ng);
     }
+}
+
+size_t path_state_device_put(const void *state, dev_arena *a)
+{
+    const path_state *st = (const path_state *)state;
+    if (!st)
+        return ARENA_NULL;
+    size_t cells = st->tn[0] >= 2 ? (size_t)(st->tn[0] - 1) * (size_t)(st->tn[1] - 1) * (size_t)(st->tn[2] - 1) : 0;
+    size_t at = arena_put(a, st, sizeof *st + cells * (size_t)st->nsuns * sizeof(float));
+    for (int j = 0; j < LOBE_MAX_SUNS && at != ARENA_NULL; j++)
+        arena_ptr(a, at + offsetof(path_state, tau) + (size_t)j * sizeof(float *),
+                  st->tau[j] ? at + offsetof(path_state, tau_data) + (size_t)(st->tau[j] - st->tau_data) * sizeof(float)
+                             : ARENA_NULL);
+    return at;
 }

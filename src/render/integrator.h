@@ -66,6 +66,11 @@ double path_sun_transmittance_hat(const void *state, int sun, vec3 p);
  * motion blur (docs/animation.md). */
 color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
 
+/* Copies path and single's prepared state (integrator_prepare's, may be NULL) into a
+ * (gpu/arena.h) for the GPU; returns the copy's offset (ARENA_NULL for NULL or on failure). */
+struct dev_arena;
+size_t path_state_device_put(const void *state, struct dev_arena *a);
+
 /* What the first vertex of a camera ray is, for the image's extra layers (AOVs): found by
  * its own walk, so the estimators above are untouched. In media, the first real collision
  * of delta tracking (a tentative collision is real with probability avg(sigma_t) /

@@ -23,6 +23,7 @@
 #include "core/stats.h"
 #include "render/integrator.h"
 
+#define JOB_TILE 16 /* pixels per tile edge: the unit of work of a thread, and of MPI parts */
 #define JOB_SUMS 4 /* per pixel: R, G, B, alpha (sum over the first JOB_ALPHA_SAMPLES) */
 #define JOB_SQS 4  /* per pixel: R^2, G^2, B^2, y^2 with y = (R + G + B) / 3 */
 #define JOB_AOVS 8 /* per pixel: depth sum, depth hits, albedo RGB, normal XYZ */
@@ -55,6 +56,8 @@ struct brume_render_job {
     double elapsed;   /* seconds spent in passes before the current one */
     double t_pass;    /* progress_now() when the current pass started, 0 outside passes */
     bool out_of_time; /* the time budget ran out */
+
+    void *gpu;        /* render.device >= 0: what the GPU keeps for the job (gpu/cuda.h) */
 
     pthread_mutex_t lock; /* the per-pixel state, done, total, noise, elapsed */
     pthread_mutex_t cb_lock; /* serialises the progress callback */

@@ -15,16 +15,15 @@
 #include "render/blasi.h"
 #include "render/film.h"
 #include "render/job.h"
+#include "render/sample.h"
+#include "gpu/cuda.h"
 
-#define TILE 16
+#define TILE JOB_TILE
 #define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
 #define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
-#define RENDER_SOBOL_DIMS 8 /* dimensions of a camera sample drawn from Sobol points */
-#define AOV_DIMENSION (1ULL << 40) /* the first-vertex walk draws from this dimension on, so
-                                      it never shares a number with the sample's path */
 
 /* The integrator state for s, prepared at the scene's first render and kept with it. */
 static brume_status prepared_state(const brume_scene *s, integrator_kind kind, const void **state)
@@ -109,6 +108,7 @@ void brume_render_job_release(brume_render_job *job)
         return;
     if (job->bar_started) /* a job released before its end: stopped, cancelled or failed */
         progress_end(&job->bar, false);
+    gpu_job_release(job);
     pthread_mutex_destroy(&job->lock);
     pthread_mutex_destroy(&job->cb_lock);
     free(job->n);
@@ -224,6 +224,23 @@ static void camera_samples(const brume_render_job *job, uint32_t qmc_dims, bool 
         r[b] = camera_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
 }
 
+void job_sample_params(const brume_render_job *job, sample_params *sp)
+{
+    const brume_render_settings *rs = &job->rs;
+    const camera *cam = &job->s->cam;
+    *sp = (sample_params){.kind = (int)job->kind,
+                          .width = rs->width,
+                          .height = rs->height,
+                          .seed = rs->seed,
+                          .filter = rs->filter,
+                          .filter_width = rs->filter_width,
+                          .qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0,
+                          .lens = cam->aperture_radius > 0.0,
+                          .shutter = cam->shutter_close > cam->shutter_open,
+                          .trace_aovs = job->trace_aovs,
+                          .squares = job->sq != NULL};
+}
+
 /* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
@@ -248,6 +265,8 @@ static void job_tile(size_t task, int thread, void *user)
     const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
     const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
     const bool squares = job->sq != NULL;
+    sample_params sp;
+    job_sample_params(job, &sp);
     enum { P = TILE * TILE };
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
@@ -272,48 +291,9 @@ static void job_tile(size_t task, int thread, void *user)
                 ray rb[CAMERA_BATCH];
                 camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
                 for (uint32_t b = 0; b < nb; b++) {
-                    const uint32_t sidx = s0 + b;
-                    rng g = gb[b];
-                    const ray r = rb[b];
-                    if (job->trace_aovs) {
-                        rng ga = g;
-                        ga.counter += AOV_DIMENSION;
-                        first_vertex v;
-                        integrator_first_vertex(s, r, &ga, &v);
-                        if (v.hit) {
-                            aov[k][0] += v.depth;
-                            aov[k][1] += 1.0;
-                        }
-                        for (int c = 0; c < 3; c++)
-                            aov[k][2 + c] += v.albedo.c[c];
-                        aov[k][5] += v.normal.x;
-                        aov[k][6] += v.normal.y;
-                        aov[k][7] += v.normal.z;
-                    }
-                    bool opaque = false;
-                    double t0 = sc ? stats_now() : 0.0;
-                    /* alpha: 1 on surfaces, else 1 - mean transmittance of the media along the
-                     * ray, as the method estimates it, on the first JOB_ALPHA_SAMPLES samples only:
-                     * a smooth estimator that needs few samples, and no cost for the others */
-                    color T = col(1.0);
-                    color L = integrator_Li(job->kind, s, job->state, r, &g, &opaque,
-                                            sidx < JOB_ALPHA_SAMPLES ? &T : NULL);
-                    if (sc) {
-                        sc->t_li += stats_now() - t0;
-                        sc->camera_rays++;
-                    }
-                    if (!col_isfinite(L))
-                        L = col(0.0); /* a failed sample counts as black */
-                    for (int c = 0; c < 3; c++)
-                        sum[k][c] += L.c[c];
-                    if (squares) {
-                        for (int c = 0; c < 3; c++)
-                            sq[k][c] += L.c[c] * L.c[c];
-                        double yv = (L.c[0] + L.c[1] + L.c[2]) / 3.0;
-                        sq[k][3] += yv * yv;
-                    }
-                    if (sidx < JOB_ALPHA_SAMPLES)
-                        sum[k][3] += opaque ? 1.0 : 1.0 - col_avg(T);
+                    sample_value v;
+                    sample_eval(s, job->state, &sp, rb[b], gb[b], s0 + b, &v);
+                    sample_add(&sp, &v, s0 + b, sum[k], sq[k], aov[k]);
                     taken++;
                 }
             }
@@ -377,7 +357,27 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     if (!unwatched)
         job_refresh(job);
     pthread_mutex_unlock(&job->lock);
-    pool_run(rs->threads, job->ntiles, job_tile, job);
+    if (rs->device >= 0) { /* the GPU: the whole pass at once, in each pixel's sample order */
+        uint64_t before = 0, after = 0;
+        for (size_t i = 0; i < job->npix; i++)
+            before += job->n[i];
+        brume_status g = gpu_job_pass(job);
+        if (g != BRUME_OK)
+            return g;
+        for (size_t i = 0; i < job->npix; i++)
+            after += job->n[i];
+        pthread_mutex_lock(&job->lock);
+        job->done += after - before;
+        pthread_mutex_unlock(&job->lock);
+        if (rs->progress_fn && !rs->progress_fn(rs->progress_user, job->done, job->total > job->done ? job->total : job->done)) {
+            atomic_store(&job->stop, true);
+            job->cancelled = true;
+        }
+        if (job->bar_started)
+            progress_update(&job->bar, (size_t)job->done, (size_t)(job->total > job->done ? job->total : job->done));
+    } else {
+        pool_run(rs->threads, job->ntiles, job_tile, job);
+    }
     pthread_mutex_lock(&job->lock);
     job->elapsed += progress_now() - job->t_pass;
     job->t_pass = 0.0;

@@ -26,6 +26,7 @@ void scene_default_settings(brume_render_settings *rs)
     rs->progress = false;
     rs->fps = 24.0;
     rs->min_spp = 16;
+    rs->device = -1;
     rs->sampler = BRUME_SAMPLER_SOBOL; /* docs/sampling.md and docs/performance.md, "Low-discrepancy sampling" */
 }
 
@@ -91,6 +92,8 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
         return err_set(BRUME_ERROR_RANGE, "%s: render.time: %g outside [0, 1e9] seconds", source, rs->time_budget);
     if (!(rs->noise_target >= 0.0 && rs->noise_target <= 1.0))
         return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %g outside [0, 1]", source, rs->noise_target);
+    if (rs->device < -1 || rs->device >= 64)
+        return err_set(BRUME_ERROR_RANGE, "%s: render.device: %d is not -1 (the CPU) or a GPU 0 .. 63", source, rs->device);
     if (rs->sampler != BRUME_SAMPLER_INDEPENDENT && rs->sampler != BRUME_SAMPLER_SOBOL)
         return err_set(BRUME_ERROR_RANGE, "%s: render.sampler: unknown sampler %d", source, (int)rs->sampler);
     if (rs->min_spp < 1 || rs->min_spp > (1 << 24))

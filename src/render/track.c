@@ -106,7 +106,7 @@ bool track_roulette(color *Tr, rng *g)
  * small, so shadow rays through thick media stop early. */
 static bool ratio_step(const track_event *e, void *user)
 {
-    ratio_state *rs = user;
+    ratio_state *rs = (ratio_state *)user;
     medium_sample ms;
     media_at(rs->s, ray_at(rs->r, e->t), rs->r.time, &ms);
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);

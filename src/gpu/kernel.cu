@@ -1,0 +1,164 @@
+/* kernel.cu - the path tracer compiled for NVIDIA GPUs from the CPU's own source.
+ *
+ * This translation unit is compiled only for the device (clang -x cuda --cuda-device-only,
+ * no CUDA SDK: gpu/README in docs/gpu.md) into PTX, which libbrume embeds and loads through
+ * the CUDA driver at run time (gpu/cuda.c). It includes the estimator's C files themselves,
+ * inside `#pragma clang force_cuda_host_device`, so the device runs the same functions as
+ * the CPU: a change to the estimator changes both. Everything is in an anonymous
+ * namespace: only what the kernel reaches is emitted for the device, so the files'
+ * construction code (malloc, files, messages) is parsed but never compiled for it.
+ *
+ * What the device lacks is supplied before the estimator: libm (gpu/devmath.h, tested on
+ * the CPU) and the solid objects' queries (gpu/bvh.h). */
+#include <float.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <stdio.h>
+#include <errno.h>
+#include <pthread.h>
+#include <time.h>
+#include <stdatomic.h>
+
+/* No CUDA SDK: the few attributes and built-in variables come from clang itself. */
+#define __global__ __attribute__((global))
+#define __device__ __attribute__((device))
+#define __host__ __attribute__((host))
+#define __constant__ __attribute__((constant))
+#define __shared__ __attribute__((shared))
+#include <__clang_cuda_builtin_vars.h>
+
+/* C converts malloc's void * implicitly, C++ does not: the construction code this unit
+ * parses (and never compiles for the device) keeps its C form through this wrapper. */
+struct c_alloc {
+    void *p;
+    template <class T> operator T *() const { return (T *)p; }
+};
+#define malloc(n) (c_alloc{malloc(n)})
+#define calloc(n, m) (c_alloc{calloc(n, m)})
+#define realloc(q, n) (c_alloc{realloc(q, n)})
+#define aligned_alloc(a, n) (c_alloc{aligned_alloc(a, n)})
+
+/* The blackbody table (medium/blackbody.c), filled by the host when a scene is uploaded. */
+extern "C" __device__ double brume_device_blackbody[3 * 1024];
+
+namespace {
+/* Host-only declarations: variadic messages, the CPU-only methods. */
+#include "core/error.h"
+
+#pragma clang force_cuda_host_device begin
+#include "gpu/devmath.h"
+/* libm's names on the device; they hide the host's declarations inside this namespace */
+static inline double exp(double x) { return devmath_exp(x); }
+static inline double log(double x) { return devmath_log(x); }
+static inline double pow(double x, double y) { return devmath_pow(x, y); }
+static inline double sin(double x) { return devmath_sin(x); }
+static inline double cos(double x) { return devmath_cos(x); }
+static inline double acos(double x) { return devmath_acos(x); }
+static inline double atan2(double y, double x) { return devmath_atan2(y, x); }
+static inline double cbrt(double x) { return devmath_cbrt(x); }
+static inline double tan(double x) { return devmath_tan(x); }
+static inline double log1p(double x) { return devmath_log1p(x); }
+static inline double nextafter(double x, double y) { return devmath_nextafter(x, y); }
+static inline double sqrt(double x) { return __builtin_sqrt(x); }
+static inline double fabs(double x) { return __builtin_fabs(x); }
+static inline double floor(double x) { return __builtin_floor(x); }
+static inline double fmin(double a, double b) { return __builtin_fmin(a, b); }
+static inline double fmax(double a, double b) { return __builtin_fmax(a, b); }
+static inline double copysign(double a, double b) { return __builtin_copysign(a, b); }
+static inline void *memcpy(void *d, const void *s, size_t n) { return __builtin_memcpy(d, s, n); }
+static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d, c, n); }
+#include "render/scene.h"
+#include "render/integrator.h"
+#include "render/track.h"
+#include "render/film.h"
+#include "core/stats.h"
+#include "render/sample.h"
+#pragma clang force_cuda_host_device end
+
+#include "render/blasi.h"
+#include "render/stam.h"
+#include "render/path_options.h"
+
+#pragma clang force_cuda_host_device begin
+/* What the GPU does not have yet: solid objects (no BVH on the device) and blob densities.
+ * gpu/device_scene.c refuses scenes with them before anything is uploaded, so these are
+ * never reached; were they, the kernel stops with an error (trap) rather than render wrong. */
+bool surfaces_intersect(const surfaces *, ray, double, double, surface_hit *) { __builtin_trap(); }
+bool surfaces_occluded(const surfaces *, vec3, vec3, double, double, double) { __builtin_trap(); }
+vec3 surface_offset(const surface_hit *, vec3) { __builtin_trap(); }
+bool surfaces_has_emitters(const surfaces *) { __builtin_trap(); }
+color surface_emission(const surface_hit *, vec3) { __builtin_trap(); }
+bool surfaces_sample_emitter(const surfaces *, vec3, double, double, double, double, vec3 *, double *, color *, double *)
+{
+    __builtin_trap();
+}
+double surfaces_emitter_pdf(const surfaces *, const surface_hit *, vec3) { __builtin_trap(); }
+double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
+#pragma clang force_cuda_host_device end
+
+#pragma clang force_cuda_host_device begin
+#include "core/sampling.c"
+#include "core/sobol.c"
+#include "core/xform.c"
+#include "core/motion.c"
+#include "core/distrib.c"
+#include "density/dda.c"
+#include "density/grid.c"
+#include "density/nanovdb.c"
+#include "medium/blackbody.c"
+#include "medium/medium.c"
+#include "phase/phase.c"
+#include "surface/material.c"
+#include "render/camera.c"
+#include "render/film.c"
+#include "render/light.c"
+#include "render/background.c"
+#include "render/track.c"
+#include "render/integrator.c"
+#pragma clang force_cuda_host_device end
+} /* namespace */
+
+/* ---- the kernels -------------------------------------------------------------------------- *
+ * A pass adds samples n[p] .. target - 1 to each pixel p of the list `pixels` (the active
+ * pixels of the job's part). brume_samples evaluates one sample per thread, thread t taking
+ * sample t % per_pixel of pixel t / per_pixel, into its own slot of `values`; brume_reduce
+ * then adds each pixel's samples in their order into its sums, one thread a pixel. The sums
+ * are thus made in a fixed order, whatever the scheduling: the image is a function of
+ * scene, seed and samples on one GPU, run after run. */
+
+extern "C" __global__ void brume_samples(const brume_scene *s, const void *state, const sample_params *sp,
+                                         const uint32_t *pixels, uint32_t npixels, const uint32_t *n, uint32_t target,
+                                         uint32_t per_pixel, sample_value *values)
+{
+    uint64_t t = (uint64_t)blockIdx.x * blockDim.x + threadIdx.x;
+    if (t >= (uint64_t)npixels * per_pixel)
+        return;
+    uint32_t p = (uint32_t)(t / per_pixel), k = (uint32_t)(t % per_pixel);
+    uint32_t i = pixels[p], sidx = n[i] + k;
+    if (sidx >= target)
+        return;
+    int x = (int)(i % (uint32_t)sp->width), y = (int)(i / (uint32_t)sp->width);
+    rng g;
+    ray r;
+    sample_camera(&s->cam, sp, i, x, y, sidx, &g, &r);
+    sample_eval(s, state, sp, r, g, sidx, &values[t]);
+}
+
+extern "C" __global__ void brume_reduce(const sample_params *sp, const uint32_t *pixels, uint32_t npixels, uint32_t *n,
+                                        uint32_t target, uint32_t per_pixel, const sample_value *values, double *sum,
+                                        double *sq, double *aov)
+{
+    uint32_t p = blockIdx.x * blockDim.x + threadIdx.x;
+    if (p >= npixels)
+        return;
+    uint32_t i = pixels[p];
+    for (uint32_t k = 0; k < per_pixel && n[i] + k < target; k++)
+        sample_add(sp, &values[(uint64_t)p * per_pixel + k], n[i] + k, sum + (size_t)JOB_SUMS * i,
+                   sq ? sq + (size_t)JOB_SQS * i : NULL, aov ? aov + (size_t)JOB_AOVS * i : NULL);
+    if (n[i] < target)
+        n[i] = target;
+}
