@@ -151,7 +151,9 @@ brume_status brume_devices(brume_context *ctx, brume_device_info *out, int max, 
 
 /* ---- one context and module per device, for the process's lifetime ------------------------- */
 #define GPU_MAX_DEVICES 16
-#define GPU_STACK_BYTES 16384 /* per device thread: the path's state lives in local memory */
+#define GPU_STACK_BYTES 65536 /* per device thread: the path's state lives in local memory, and the
+                                 tracking loop's streams (track.h) take 13.9 kB a walk, nested
+                                 up to three deep (docs/gpu.md, "Memory") */
 typedef struct gpu_device {
     bool ready;
     CUcontext ctx;

@@ -86,11 +86,17 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 #pragma clang force_cuda_host_device begin
 /* What the GPU does not have yet: solid objects (no BVH on the device) and blob densities.
  * gpu/device_scene.c refuses scenes with them before anything is uploaded, so these are
- * never reached; were they, the kernel stops with an error (trap) rather than render wrong. */
+ * never reached (but for surfaces_has_emitters(NULL), which says no as on the CPU); were
+ * they, the kernel stops with an error (trap) rather than render wrong. */
 bool surfaces_intersect(const surfaces *, ray, double, double, surface_hit *) { __builtin_trap(); }
 bool surfaces_occluded(const surfaces *, vec3, vec3, double, double, double) { __builtin_trap(); }
 vec3 surface_offset(const surface_hit *, vec3) { __builtin_trap(); }
-bool surfaces_has_emitters(const surfaces *) { __builtin_trap(); }
+bool surfaces_has_emitters(const surfaces *s) /* asked of every scene, NULL when it has none */
+{
+    if (!s)
+        return false;
+    __builtin_trap();
+}
 color surface_emission(const surface_hit *, vec3) { __builtin_trap(); }
 bool surfaces_sample_emitter(const surfaces *, vec3, double, double, double, double, vec3 *, double *, color *, double *)
 {
