@@ -76,117 +76,27 @@ typedef struct track_stream {
     double sigma_t_min; /* the medium's: the controls' scale */
 } track_stream;
 
-static inline __attribute__((always_inline)) bool track_collisions_n(const brume_scene *s, const int n, ray r,
-                                                                     double tmax, rng *g, bool residual, track_fn fn,
-                                                                     void *user, double *tau_c_end)
-{
-    track_stream st[SCENE_MAX_MEDIA];
-    for (int m = 0; m < n; m++) {
-        /* A moving medium: the ray in the field's frame at the ray's instant. An affine map
-         * keeps the ray parameter t, so segments need no conversion back. */
-        ray rm = r;
-        if (s->media[m].motion) {
-            affine3 to_world = motion_at(s->media[m].motion, r.time), to_local;
-            if (!affine3_invert(&to_world, &to_local)) {
-                st[m].live = false;
-                continue;
-            }
-            rm.o = affine3_apply(&to_local, r.o);
-            rm.d = affine3_apply_dir(&to_local, r.d);
-        }
-        density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
-        st[m].it.by_ctl = residual;
-        st[m].live = majorant_next(&st[m].it, &st[m].seg);
-        st[m].sigma_t_max = s->media[m].sigma_t_max;
-        st[m].sigma_t_min = s->media[m].sigma_t_min;
-    }
-    track_event e = {0.0, 0.0, 0.0, 0.0, 0.0};
-    /* the first exponential's number is taken now and made at the first segment with
-     * tentative collisions: a ray that meets no medium never computes it */
-    const uint64_t tau_dim = g->counter++;
-    double t = 0.0, tau = -1.0;
-    if (tau_c_end)
-        *tau_c_end = 0.0;
-    for (;;) {
-        /* Majorant and control on [t, t_next): media whose current segment covers t. */
-        double sigma_maj = 0.0, sigma_c = 0.0, sigma_ctl = 0.0, t_next = INFINITY;
-        bool any = false;
-        for (int m = 0; m < n; m++) {
-            while (st[m].live && st[m].seg.t1 <= t)
-                st[m].live = majorant_next(&st[m].it, &st[m].seg);
-            if (!st[m].live)
-                continue;
-            any = true;
-            if (st[m].seg.t0 > t) {
-                t_next = dda_min(t_next, st[m].seg.t0);
-            } else {
-                sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
-                sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
-                sigma_ctl += st[m].seg.rho_ctl * st[m].sigma_t_min;
-                t_next = dda_min(t_next, st[m].seg.t1);
-            }
-        }
-        if (!any || t >= tmax) {
-            if (tau_c_end)
-                *tau_c_end = e.tau_c;
-            return true;
-        }
-        t_next = dda_min(t_next, tmax);
-        sigma_c = dda_min(sigma_c, sigma_maj);
-        /* the rate of tentative collisions: residual walks take the cells' means as their
-         * control, sigma_t - sigma_ctl then lies in [sigma_c - sigma_ctl, sigma_maj - sigma_ctl] */
-        double sigma_n = sigma_maj;
-        if (residual) {
-            sigma_ctl = dda_max(sigma_c, dda_min(sigma_ctl, sigma_maj));
-            sigma_n = dda_max(sigma_maj - sigma_ctl, sigma_ctl - sigma_c);
-            sigma_c = sigma_ctl;
-        }
-        e.sigma_maj = sigma_maj;
-        e.sigma_c = sigma_c;
-        e.sigma_r = sigma_n;
-        const double tau_c0 = e.tau_c;
-        /* tau: optical depth (against the majorant) still to cover before the next
-         * tentative collision; one exponential per collision, carried across segments. */
-        if (sigma_n > 0.0) {
-            if (tau < 0.0)
-                tau = sample_exponential(rng_at(g, tau_dim), 1.0);
-            /* Distances are measured from the segment's start: u grows from 0, so a step of
-             * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
-             * origin), and it strictly increases (a step below its resolution moves it by
-             * one ulp), so the walk reaches the segment's end or stops in a finite number
-             * of steps. The range that keeps that number small is checked at commit
-             * (medium_check_range, docs/scene-format.md#limits). */
-            const double t0 = t, len = t_next - t, inv_n = 1.0 / sigma_n;
-            double u = 0.0;
-            for (;;) {
-                double du = tau * inv_n;
-                if (!(u + du < len)) {
-                    tau = dda_max(0.0, tau - sigma_n * (len - u));
-                    break;
-                }
-                double u_new = u + du;
-                u = u_new > u ? u_new : nextafter(u, INFINITY);
-                e.t = t0 + u;
-                if (residual)
-                    e.tau_c = tau_c0 + sigma_c * u;
-                if (!fn(&e, user))
-                    return false;
-                tau = sample_exponential(rng_next(g), 1.0);
-            }
-        }
-        if (residual)
-            e.tau_c = tau_c0 + sigma_c * (t_next - t);
-        t = t_next;
-    }
-}
+#define TRACK_NAME track_collisions_1
+#define TRACK_NMAX 1
+#define TRACK_INLINE __attribute__((always_inline))
+#include "render/track_loop.h"
+#define TRACK_NAME track_collisions_n
+#define TRACK_NMAX SCENE_MAX_MEDIA
+#if defined(__CUDA_ARCH__) /* a GPU thread's walk through one medium keeps its one stream in registers */
+#define TRACK_INLINE __attribute__((noinline))
+#else
+#define TRACK_INLINE __attribute__((always_inline))
+#endif
+#include "render/track_loop.h"
 
-/* One medium is the common case: with n a constant the loops over media vanish. */
+/* One medium is the common case: with n a constant the loops over media vanish, and one
+ * stream is kept. */
 static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
                                                                    bool residual, track_fn fn, void *user,
                                                                    double *tau_c_end)
 {
     if (s->nmedia == 1)
-        return track_collisions_n(s, 1, r, tmax, g, residual, fn, user, tau_c_end);
+        return track_collisions_1(s, 1, r, tmax, g, residual, fn, user, tau_c_end);
     return track_collisions_n(s, s->nmedia, r, tmax, g, residual, fn, user, tau_c_end);
 }
 
