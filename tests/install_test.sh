@@ -3,14 +3,14 @@
 # would, from outside the source tree: the header's example built with pkg-config (shared,
 # then static with --static), with a CMake project doing find_package(brume CONFIG), and
 # the exported symbols of libbrume.so checked to be brume_* only. Where the build has OpenVDB,
-# the installed tool and the installed Python package each read a .vdb of shared/data,
+# the installed tool and the installed Python package each read a .vdb of data/,
 # through the OpenVDB module installed beside libbrume (src/io/grid_vdb_load.c).
 #   install_test.sh BUILD_DIR pkg-config|cmake|exports
 #   install_test.sh BUILD_DIR python PYTHON PYTHON_DIR   (the package from the prefix)
 set -eu
 build=$1
 mode=$2
-data=$(cd "$(dirname "$0")/../../shared/data" && pwd)
+data=$(cd "$(dirname "$0")/../data" && pwd)
 vdb=0
 [ -e "$build/libbrume-openvdb.so" ] && vdb=1
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/brume-install-XXXXXX")
