@@ -5,23 +5,25 @@
 # copy of python/ and include/ (nothing downloaded; setup.py finds the prefix's libbrume
 # through pkg-config). The installed package then renders, writes .exr and .png through
 # libbrume, shows itself to a notebook (_repr_png_), reads its settings back as set and
-# refuses the ambiguous time=.
+# refuses the ambiguous time=. The venv is made --without-pip and Debian's pip (seen through
+# the system site) installs into it: the same pip, without copying one into every venv.
 #   python_venv_test.sh SOURCE_DIR BUILD_DIR PYTHON
-# Exits 77 (ctest: skipped) without the venv module or pip (python3-venv, python3-pip).
+# Exits 77 (ctest: skipped) without the venv module, pip or setuptools (python3-venv,
+# python3-pip, python3-setuptools).
 set -eu
 src=$1
 build=$2
 py=$3
-"$py" -c 'import venv, ensurepip' 2>/dev/null || "$py" -m pip --version >/dev/null 2>&1 ||
-    { echo "python venv: no venv/pip (python3-venv, python3-pip), skipped"; exit 77; }
+{ "$py" -c 'import venv, setuptools' && "$py" -m pip --version; } >/dev/null 2>&1 ||
+    { echo "python venv: no venv, pip or setuptools (python3-venv, python3-pip, python3-setuptools), skipped"; exit 77; }
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/brume-venv-XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cmake --install "$build" --prefix "$tmp/prefix" > "$tmp/install.log"
 mkdir "$tmp/src"
 cp -r "$src/python" "$src/include" "$tmp/src/"
 rm -rf "$tmp/src/python/build" "$tmp/src/python/"*.egg-info
-"$py" -m venv --system-site-packages "$tmp/venv"
-PKG_CONFIG_PATH="$tmp/prefix/lib/pkgconfig" "$tmp/venv/bin/pip" install --no-build-isolation --no-index \
+"$py" -m venv --system-site-packages --without-pip "$tmp/venv"
+PKG_CONFIG_PATH="$tmp/prefix/lib/pkgconfig" "$tmp/venv/bin/python" -m pip install --no-build-isolation --no-index \
     --disable-pip-version-check -q "$tmp/src/python" > "$tmp/pip.log" 2>&1 ||
     { cat "$tmp/pip.log"; echo "pip install failed"; exit 1; }
 cd "$tmp"

@@ -29,9 +29,8 @@ a render's time budget is the setting time_budget= (seconds): a bare time= is re
 import json
 import os
 import sys
-import tempfile
 import threading
-from typing import Any, Callable, Dict, Iterable, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -88,7 +87,7 @@ def _refuse_time(kwargs):
                            "time_budget= for how long to render (seconds)")
 
 
-def version():
+def version() -> str:
     """libbrume's version, "MAJOR.MINOR.PATCH"."""
     return ffi.string(lib.brume_version()).decode()
 
@@ -444,7 +443,7 @@ class Scene:
         return result
 
     # ---- progressive rendering -------------------------------------------------------------
-    def begin(self, *, options=None, **settings):
+    def begin(self, *, options: Optional[Mapping[str, Any]] = None, **settings: Any) -> "Scene":
         """Starts a progressive render (a render job): add(spp) passes, image() at any time.
         N passes of k samples equal one render of N x k samples, bit for bit."""
         if not has("brume_render_begin"):
@@ -457,7 +456,7 @@ class Scene:
         self._job = out[0]
         return self
 
-    def add(self, spp=1):
+    def add(self, spp: int = 1) -> "Scene":
         """Adds a pass of spp samples per pixel to the job begun by begin()."""
         if self._job is None:
             raise Error("add: no render job (call begin() first)")
@@ -474,7 +473,7 @@ class Scene:
                 raise Cancelled(msg, st, self.image())
             raise Error(msg, st)
 
-    def run(self):
+    def run(self) -> "Scene":
         """Runs passes until the settings say stop (spp, time_budget or noise_target)."""
         if self._job is None:
             raise Error("run: no render job (call begin() first)")
@@ -485,7 +484,7 @@ class Scene:
         return self
 
     @property
-    def progress(self):
+    def progress(self) -> Dict[str, Any]:
         """The job's figures (brume_render_progress) as a dict: done, total, spp_min, ..."""
         if self._job is None or not has("brume_render_job_progress"):
             return {}
@@ -493,7 +492,7 @@ class Scene:
         lib.brume_render_job_progress(self._job, p)
         return {name: getattr(p, name) for name, _ in ffi.typeof("brume_render_progress").fields}
 
-    def image(self):
+    def image(self) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
         """The job's image so far (and its AOVs, as render returns them)."""
         if self._job is None:
             raise Error("image: no render job (call begin() first)")
@@ -503,7 +502,7 @@ class Scene:
         return self._finish(st, out[0], self._aovs)
 
     @property
-    def samples(self):
+    def samples(self) -> int:
         """Samples per pixel the job has so far."""
         return 0 if self._job is None else int(lib.brume_render_job_samples(self._job))
 
@@ -512,7 +511,7 @@ class Scene:
             lib.brume_render_job_release(self._job)
             self._job = None
 
-    def close(self):
+    def close(self) -> None:
         """Releases the scene now (also done when it is garbage-collected)."""
         self._release_job()
         if self._ptr is not None:
@@ -520,7 +519,7 @@ class Scene:
             self._ptr = None
         self._ctx.close()
 
-    def __enter__(self):
+    def __enter__(self) -> "Scene":
         return self
 
     def __exit__(self, *exc):
