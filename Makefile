@@ -7,19 +7,28 @@ CLANG_BUILD ?= build-clang
 JOBS ?= 2
 CTEST_FLAGS ?= --output-on-failure -j$(JOBS)
 
-.PHONY: all setup build render test test-release test-sanitize build-o3 build-clang install bench clean
+.PHONY: all setup setup-render build render test test-release test-sanitize build-o3 build-clang install bench clean
 
 all: build
 
 setup:
 	sh scripts/setup.sh
 
+CONFIGURE = cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUME_WERROR=ON
+
 build: setup
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUME_WERROR=ON
+	$(CONFIGURE)
 	cmake --build $(BUILD) -j$(JOBS)
 
-# Render the built-in default scene to brume.png.
-render: build
+# Render the built-in default scene to brume.png. Only the library and the tool are built
+# (target brume_cli) and only their packages installed (`setup.sh render`): the first
+# picture does not wait for the tests.
+setup-render:
+	sh scripts/setup.sh render
+
+render: setup-render
+	$(CONFIGURE)
+	cmake --build $(BUILD) -j$(JOBS) --target brume_cli
 	./$(BUILD)/brume render -o brume.png
 
 # The whole suite: optimized build, then under AddressSanitizer + UndefinedBehaviorSanitizer,

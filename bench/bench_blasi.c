@@ -113,15 +113,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_blasi: --runs must be in 1..%d\n", MAX_RUNS);
         return 2;
     }
-    /* BRUME_DATA_DIR is <source>/../shared/data: the scene is under the source tree */
-    char def[1024];
-    snprintf(def, sizeof def, "%s", BRUME_DATA_DIR);
-    char *cut = strstr(def, "/../shared/data");
-    if (cut)
-        *cut = '\0';
-    strncat(def, "/scenes/blasi-picture1.json", sizeof def - strlen(def) - 1);
     if (!scene)
-        scene = def;
+        scene = BRUME_SOURCE_DIR "/scenes/blasi-picture1.json";
     bench_machine();
     brume_scene *s0 = load(scene, "blasi", 0, 0, 0, 1, NULL, NULL);
     printf("scene: %s, %d x %d, %d spp (%.2f M view rays), %llu light rays, variant: exit %s, view %s\n", scene,

@@ -1,4 +1,4 @@
-/* bench_sparse.c - sparse volumes at scale: the Disney cloud (shared/data, 1/16 resolution)
+/* bench_sparse.c - sparse volumes at scale: the Disney cloud (data/, 1/16 resolution)
  * upsampled by `brume gen upres` at factors 1, 2, 4 and 8 (index box up to 1008 x 688 x
  * 1232), each loaded from .vdb through the sandboxed reader into NanoVDB and rendered at
  * the same optical thickness; where it fits, the same grid dense. Per factor, in a fresh

@@ -1,9 +1,9 @@
 #!/bin/sh
 # cloud64_vs_cycles.sh - brume's path tracer against Blender Cycles at equal error, in one
 # script on one machine, on two scenes:
-#   cloud64     scenes/cloud64.json: the comparison cloud of shared/data/SOURCES.md (64^3,
+#   cloud64     scenes/cloud64.json: the comparison cloud of data/README.md (64^3,
 #               sigma_t 20, albedo 0.9, HG 0.6, one sun, black background, 256 x 256)
-#   wdas-dense  scenes/wdas-dense.json: the Disney cloud of shared/data made dense (optical
+#   wdas-dense  scenes/wdas-dense.json: the Disney cloud of data/ made dense (optical
 #               depth up to 53 through it, albedo 0.98, HG 0.8, one sun, black background,
 #               256 x 256, 1024 bounces)
 #
@@ -76,7 +76,7 @@ echo "machine: $(nproc) x $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | 
 echo "blender: $(blender --version 2>/dev/null | head -1)"
 echo "brume: $("$BRUME" --version 2>/dev/null | head -1), commit $(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 echo "load: $(uptime)"
-/usr/bin/python3 "$here/bench/cycles/raw_to_vdb.py" "$here/../shared/data/cloud64.raw" "$out/cloud64.vdb"
+/usr/bin/python3 "$here/bench/cycles/raw_to_vdb.py" "$here/data/cloud64.raw" "$out/cloud64.vdb"
 
 err() { # image reference spp -> relative RMSE with the reference's noise removed
     "$BRUME" compare "$1" "$2" | awk -v n="$3" -v N="$REF_SPP" '/^rel_rmse/ {e=$2; printf "%.5f\n", sqrt(e*e/(1+n/N))}'
@@ -92,7 +92,7 @@ for name in $SCENES; do
     scene="$here/scenes/$name.json"
     case $name in
     cloud64) vdb="$out/cloud64.vdb" ;;
-    wdas-dense) vdb="$here/../shared/data/wdas_cloud_sixteenth.vdb" ;;
+    wdas-dense) vdb="$here/data/wdas_cloud_sixteenth.vdb" ;;
     *) echo "unknown scene $name (cloud64, wdas-dense)"; exit 2 ;;
     esac
     brume_run() { # spp seed out.exr -> renders, prints the wall seconds of the whole process

@@ -13,7 +13,11 @@ static void usage(FILE *out)
     BRUME_COMMANDS(X)
 #undef X
     fprintf(out, "  %-10s %s\n", "help", "this text, or `brume help COMMAND` for one command");
-    fprintf(out, "\noptions:\n  --version  print the version\n\nSee README.md and docs/ for more.\n");
+    fprintf(out, "\noptions:\n  --version  print the version\n"
+                 "\nenvironment:\n  BRUME_MODULE_PATH  the folder of libbrume-openvdb.so (.vdb files), when not beside\n"
+                 "                     libbrume or in the install's library folder\n"
+                 "\nSee `man brume`, and README.md and docs/ (installed in PREFIX/share/doc/brume);\n"
+                 "example scenes and their data are installed in PREFIX/share/brume.\n");
 }
 
 int main(int argc, char **argv)

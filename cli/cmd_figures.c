@@ -52,7 +52,7 @@ static const figure figures[] = {
      "log scale."},
     {"blasi-fig4", "Blasi 1993", "Figure 4", FIG_PHASE_FIT, "murky 0.19,-0.65,0.91",
      "Murky Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.19, k = -0.65, k' = 0.91 (dashed; the "
-     "caption's k' = -0.91 is a slip, DESIGN.md erratum 2); log scale."},
+     "caption's k' = -0.91 is a slip, docs/errata.md, erratum 2); log scale."},
     {"blasi-fig5", "Blasi 1993", "Figure 5", FIG_OVERLAY, "hg:-0.9 hg:-0.6 hg:0 hg:0.6 hg:0.9",
      "Henyey-Greenstein phase functions (the paper's \"Henyey-Bernstein\", erratum 1) for g = -0.9, -0.6, 0, 0.6, 0.9 "
      "on one pair of axes; log scale."},

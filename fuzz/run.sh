@@ -7,12 +7,12 @@
 # FUZZ_ASAN=0 builds without AddressSanitizer (vdb only: its long run, where forking an ASan
 # process per input for the OpenVDB reader costs a second each; see docs/fuzzing.md).
 # Crashing inputs are saved as BUILD_DIR/fuzz/crash-FORMAT-*. Seeds: BUILD_DIR/fuzz/seeds/FORMAT (made by the fuzz_seeds program) and, for df3, raw
-# and vdb, the real files of ../shared/data. Exits 77 (ctest: skipped) without clang's
+# and vdb, the real files of data/ (data/README.md). Exits 77 (ctest: skipped) without clang's
 # libFuzzer, or without OpenVDB for vdb.
 set -eu
 fmt=$1 build=$(cd "$2" && pwd) secs=$3
 src=$(cd "$(dirname "$0")/.." && pwd)
-data="$src/../shared/data"
+data="$src/data"
 out="$build/fuzz"
 mkdir -p "$out/corpus-$fmt"
 command -v clang >/dev/null 2>&1 || { echo "fuzz: clang not found, skipped"; exit 77; }

@@ -9,9 +9,10 @@
  *   cmake -B build && cmake --build build && cmake --install build   (scripts/setup.sh
  *   installs the dependencies; --prefix DIR to install elsewhere than /usr/local), then
  *     cc app.c $(pkg-config --cflags --libs brume)
- *   which links the shared libbrume.so.0; for the static libbrume.a, add --static to
- *   pkg-config's --libs. CMake projects: find_package(brume CONFIG) and link brume::brume.
- *   Python: import brume (docs/python.md).
+ *   which links the shared libbrume.so.0 (with an rpath to it: the program runs from any
+ *   prefix); `pkg-config --cflags --libs brume-static` links the static libbrume.a.
+ *   CMake projects: find_package(brume CONFIG) and link brume::brume or
+ *   brume::brume_static. Python: import brume (docs/python.md). docs/install.md has more.
  *
  * OBJECTS AND THEIR LIFECYCLE
  *   Every object is an opaque handle with one lifecycle: new (or load), set, commit,

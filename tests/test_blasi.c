@@ -423,7 +423,7 @@ TEST(save_and_load_light)
     brume_image_release(a);
 }
 
-/* DESIGN.md erratum 5: both of the paper's choices add light. With the same seed the
+/* docs/errata.md, erratum 5: both of the paper's choices add light. With the same seed the
  * light rays follow the same paths, so (a) the exit deposit only adds stored energy and
  * (b) attenuating view rays by absorption alone lets more of it through: each image is
  * brighter than the physical one in every pixel, and the image mean clearly so. */

@@ -1,5 +1,5 @@
 /* test_grid.c - voxel grids: the DDA against brute force, majorants that bound the field,
- * file formats (round trips, the real files of ../shared/data, NanoVDB against OpenVDB),
+ * file formats (round trips, the real files of data/, NanoVDB against OpenVDB),
  * and hostile input. */
 #include "test.h"
 

@@ -1,6 +1,6 @@
 /* test_stam.c - Stam 1994: the random field Q, the closed-form transparency statistics
  * checked against quadrature and against Monte Carlo over explicit 3-D realizations of the
- * density (DESIGN.md erratum 7), and the stochastic renderer against the path tracer. */
+ * density (docs/errata.md, erratum 7), and the stochastic renderer against the path tracer. */
 #include "test.h"
 
 #include "brume.h"
@@ -139,7 +139,7 @@ TEST(random_field_covariance)
     free(later);
 }
 
-/* The Monte-Carlo test of the transparency statistics (DESIGN.md erratum 7). Explicit 3-D
+/* The Monte-Carlo test of the transparency statistics (docs/errata.md, erratum 7). Explicit 3-D
  * realizations of one random blob rho = mean + sigma Q, sigma^2 = eps F_eta(mean), with Q
  * synthesized on a 16 x 16 x 64 periodic lattice (spacing alpha / 1.5, exact unit variance at
  * the nodes), are integrated along lattice lines by the trapezoid rule (exact to e^-44 for

@@ -98,7 +98,7 @@ static double chandrasekhar_H1(double a)
 /* Semi-infinite isotropic medium at normal incidence: Rd = 1 - H(1) sqrt(1 - albedo). */
 TEST(semi_infinite_isotropic)
 {
-    /* the tabulated H(1) of DESIGN.md, and the quadrature above agree */
+    /* the tabulated H(1) of docs/validation.md (Chandrasekhar), and the quadrature above agree */
     ASSERT_NEAR(chandrasekhar_H1(0.9), 1.850099, 2e-6);
     ASSERT_NEAR(chandrasekhar_H1(0.5), 1.251260, 2e-6);
     slab_result r = slab(0.9, 0.0, phase_new_isotropic(), 1000000, 1 << 30);

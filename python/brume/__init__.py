@@ -19,17 +19,27 @@ or None for the built-in default scene. In a dict, a medium's density may be
 C-contiguous float32 array is used in place, without a copy, and kept alive until brume
 releases it; any other array is converted first. Errors raise brume.Error with brume's
 one-line message.
+
+Images are brume.Image: a numpy float32 array (height, width, 4) of linear RGBA that a
+notebook shows (_repr_png_, through libbrume's PNG encoder) and brume.write() saves as .exr,
+.png or .pfm. Ctrl-C during a render raises brume.Interrupted, a KeyboardInterrupt whose
+.image holds the samples finished. The animation time of a scene is frame_time= (seconds);
+a render's time budget is the setting time_budget= (seconds): a bare time= is refused.
 """
 import json
 import os
 import sys
 import threading
+from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
 from ._lib import ffi, lib, has
 
-__all__ = ["Error", "Scene", "render", "version", "AOVS"]
+__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Scene", "render", "write", "version", "AOVS"]
+
+SceneSource = Union[None, str, bytes, "os.PathLike[str]", Mapping[str, Any]]
+ProgressFn = Callable[[int, int], Optional[bool]]
 
 # AOV name -> bit (brume_aov), when the library has them
 AOVS = {}
@@ -58,7 +68,26 @@ class Cancelled(Error):
         self.image = image
 
 
-def version():
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (SIGINT) stopped a render: .image holds the samples finished so far (the image,
+    or (image, layers) when AOVs were asked for; None when nothing was rendered yet)."""
+
+    def __init__(self, image=None):
+        super().__init__("brume: render interrupted")
+        self.image = image
+
+
+class KeywordError(Error, TypeError):
+    """An unknown or ambiguous keyword argument; the message lists the valid ones."""
+
+
+def _refuse_time(kwargs):
+    if "time" in kwargs:
+        raise KeywordError("time: ambiguous; say frame_time= for the scene's animation time (seconds) or "
+                           "time_budget= for how long to render (seconds)")
+
+
+def version() -> str:
     """libbrume's version, "MAJOR.MINOR.PATCH"."""
     return ffi.string(lib.brume_version()).decode()
 
@@ -175,9 +204,73 @@ def _progress_bar(description="brume"):
     return update
 
 
+# brume_render_settings fields a caller sets by name (the callback fields are progress=),
+# the enumerations by name, and the keywords that are not fields
+_SETTINGS = tuple(n for n, _ in ffi.typeof("brume_render_settings").fields if n not in ("progress_fn", "progress_user"))
+_ENUMS = {"filter": {"box": lib.BRUME_FILTER_BOX, "gaussian": lib.BRUME_FILTER_GAUSSIAN}}
+if has("BRUME_SAMPLER_SOBOL"):
+    _ENUMS["sampler"] = {"independent": lib.BRUME_SAMPLER_INDEPENDENT, "sobol": lib.BRUME_SAMPLER_SOBOL}
+_EXTRA = ("options", "frame_time")
+
+
+class _RunState:
+    """What a scene's renders share with its progress callback: the user's callback and the
+    stop flag that Ctrl-C sets. The callback refers to this object, not to the Scene."""
+
+    def __init__(self):
+        self.progress = None   # as given: a callable, True or None
+        self.user_fn = None    # what is called: the callable, or the bar of progress=True
+        self.stop = threading.Event()
+
+    def callback(self):
+        state = self
+
+        @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=lambda *a: False)
+        def cb(user, done, total):
+            if state.stop.is_set():
+                return False
+            fn = state.user_fn
+            if fn is None:
+                return True
+            go_on = fn(int(done), int(total))
+            return go_on is None or bool(go_on)
+
+        return cb
+
+    def call(self, c_call):
+        """Runs c_call (a libbrume call that renders) so that Ctrl-C can stop it: from the main
+        thread the call runs in a helper thread while this one waits, wakes for signals and, on
+        KeyboardInterrupt, sets the stop flag; the progress callback then cancels the render,
+        which ends after the tiles in flight. The caller raises Interrupted afterwards."""
+        self.stop.clear()
+        if threading.current_thread() is not threading.main_thread():
+            return c_call()  # signals reach the main thread only: nothing to wait for here
+        box = {}
+        # a lock the helper releases when the call returns; Thread.join is not used: a join
+        # interrupted by KeyboardInterrupt can leave the thread marked stopped while it runs
+        finished = threading.Lock()
+        finished.acquire()
+
+        def target():
+            try:
+                box["status"] = c_call()
+            finally:
+                finished.release()
+
+        threading.Thread(target=target, name="brume-render", daemon=True).start()
+        while True:
+            try:
+                if finished.acquire(timeout=0.05):
+                    break
+            except KeyboardInterrupt:
+                self.stop.set()  # and go on waiting: the scene must outlive the call
+        return box["status"]
+
+
 class Scene:
     """A scene kept for repeated renders: a path to a scene file, a dict in the scene-file
-    format, or None (the built-in default scene), loaded at `time` seconds.
+    format, or None (the built-in default scene), loaded at `frame_time` seconds of its
+    animation (time_budget= is the render setting that bounds a render's seconds).
 
     Scene.render(**settings) renders it; Scene.begin(**settings) starts a progressive
     render (then add(spp), image(), samples). Settings are brume_render_settings fields:
@@ -186,21 +279,24 @@ class Scene:
     render: settings and options can be given to the constructor or to that render only.
     """
 
-    def __init__(self, scene=None, *, time=0.0, options=None, **settings):
+    def __init__(self, scene: SceneSource = None, *, frame_time: float = 0.0,
+                 options: Optional[Mapping[str, Any]] = None, **settings: Any) -> None:
         self._ctx = _Context()
         self._ptr = None
         self._job = None
         self._committed = False
+        self._run = _RunState()
         self._progress_cb = None
         self._aovs = False
+        _refuse_time(settings)
         out = ffi.new("brume_scene **")
         if scene is None:
             self._ctx.check(lib.brume_scene_new_default(self._ctx.ptr, out))
             self._ptr = out[0]
-        elif isinstance(scene, dict):
-            self._from_dict(scene, time, out)
+        elif isinstance(scene, Mapping):
+            self._from_dict(scene, frame_time, out)
         elif isinstance(scene, (str, bytes, os.PathLike)):
-            self._ctx.check(lib.brume_scene_load_at(self._ctx.ptr, os.fsencode(scene), float(time), out))
+            self._ctx.check(lib.brume_scene_load_at(self._ctx.ptr, os.fsencode(scene), float(frame_time), out))
             self._ptr = out[0]
         else:
             raise TypeError("scene: expected a path, a dict or None, got %s" % type(scene).__name__)
@@ -255,8 +351,11 @@ class Scene:
             if len(raw) >= 32:
                 raise Error("method: '%s' is too long" % value)
             rs.method = raw
-        elif key == "filter":
-            rs.filter = {"box": lib.BRUME_FILTER_BOX, "gaussian": lib.BRUME_FILTER_GAUSSIAN}[value]
+        elif key in _ENUMS:
+            names = _ENUMS[key]
+            if value not in names:
+                raise KeywordError("%s: unknown value %r (known: %s)" % (key, value, ", ".join(names)))
+            setattr(rs, key, names[value])
         elif key == "aovs":
             mask = 0
             for name in value:
@@ -265,80 +364,86 @@ class Scene:
                 mask |= AOVS[name]
             rs.aovs = mask
         elif key == "progress":
-            if value is True:
-                value = _progress_bar()
-            if value is None or value is False:
-                self._progress_cb = None
-                if has("brume_progress_fn"):
-                    rs.progress_fn = ffi.NULL
-                return
-            if not has("brume_progress_fn"):
+            if value is not None and value is not False and not has("brume_progress_fn"):
                 raise Error("progress: this libbrume has no progress callback")
-            user_fn = value
-
-            @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=lambda *a: False)
-            def cb(user, done, total):
-                go_on = user_fn(int(done), int(total))
-                return go_on is None or bool(go_on)
-
-            self._progress_cb = cb  # kept alive as long as the scene may call it
-            rs.progress_fn = cb
-            rs.progress_user = ffi.NULL
+            self._run.progress = value if callable(value) or value is True else None
+            self._run.user_fn = _progress_bar() if value is True else self._run.progress
+        elif key in _SETTINGS:
+            setattr(rs, key, value)
         else:
-            try:
-                setattr(rs, key, value)
-            except AttributeError:
-                raise Error("unknown render setting '%s'" % key) from None
+            raise KeywordError("unknown render setting '%s' (valid: %s)" % (key, ", ".join(sorted(set(_SETTINGS) | set(_EXTRA)))))
 
     def _commit(self, options, settings):
+        _refuse_time(settings)
         if options or settings:
             self._configure(options, settings)
         if not self._committed:
+            if has("brume_progress_fn"):
+                # the progress callback is always there: it is how Ctrl-C stops a render
+                self._progress_cb = self._run.callback()
+                rs = ffi.new("brume_render_settings *")
+                lib.brume_scene_get_settings(self._ptr, rs)
+                rs.progress_fn = self._progress_cb
+                rs.progress_user = ffi.NULL
+                self._ctx.check(lib.brume_scene_set_settings(self._ctx.ptr, self._ptr, rs))
             self._ctx.check(lib.brume_scene_commit(self._ctx.ptr, self._ptr))
             self._committed = True
 
     @property
-    def settings(self):
-        """The render settings as a dict."""
+    def settings(self) -> Dict[str, Any]:
+        """The render settings as a dict, in the form they are given: filter and sampler by
+        name, aovs as a list of names, progress as given (None when none)."""
         rs = ffi.new("brume_render_settings *")
         lib.brume_scene_get_settings(self._ptr, rs)
-        out = {}
-        for name, _ in ffi.typeof("brume_render_settings").fields:
+        out: Dict[str, Any] = {}
+        for name in _SETTINGS:
             v = getattr(rs, name)
             if name == "method":
                 v = ffi.string(v).decode()
-            elif isinstance(v, ffi.CData):
-                continue
+            elif name in _ENUMS:
+                v = next((k for k, e in _ENUMS[name].items() if e == v), v)
+            elif name == "aovs":
+                v = [k for k, bit in AOVS.items() if v & bit]
             out[name] = v
+        if has("brume_progress_fn"):
+            out["progress"] = self._run.progress
         return out
 
-    def render(self, *, options=None, **settings):
-        """Renders the scene: a float32 array (height, width, 4) of linear RGBA. With
+    def render(self, *, options: Optional[Mapping[str, Any]] = None, **settings: Any) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
+        """Renders the scene: a brume.Image, float32 (height, width, 4) of linear RGBA. With
         aovs=[...] (names of AOVS) the result is (rgba, {name: array}). progress=True draws
         a bar; progress=fn(done, total) is called as the render goes, returning False to
-        cancel (brume.Cancelled then carries the partial image)."""
+        cancel (brume.Cancelled then carries the partial image). Ctrl-C raises
+        brume.Interrupted (a KeyboardInterrupt) with the partial image."""
         aovs = "aovs" in settings and settings["aovs"]
         self._commit(options, settings)
         out = ffi.new("brume_image **")
-        st = lib.brume_render(self._ctx.ptr, self._ptr, out)
+        st = self._run.call(lambda: lib.brume_render(self._ctx.ptr, self._ptr, out))
         return self._finish(st, out[0], aovs)
 
     def _finish(self, st, img, aovs):
+        interrupted = self._run.stop.is_set()
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED and img != ffi.NULL:
                 result = _image_arrays(img, aovs)
                 lib.brume_image_release(img)
+                if interrupted:
+                    raise Interrupted(result)
                 raise Cancelled(msg, st, result)
             if img != ffi.NULL:
                 lib.brume_image_release(img)
+            if interrupted:
+                raise Interrupted(None)
             raise Error(msg, st)
         result = _image_arrays(img, aovs)
         lib.brume_image_release(img)
+        if interrupted:
+            raise Interrupted(result)
         return result
 
     # ---- progressive rendering -------------------------------------------------------------
-    def begin(self, *, options=None, **settings):
+    def begin(self, *, options: Optional[Mapping[str, Any]] = None, **settings: Any) -> "Scene":
         """Starts a progressive render (a render job): add(spp) passes, image() at any time.
         N passes of k samples equal one render of N x k samples, bit for bit."""
         if not has("brume_render_begin"):
@@ -351,34 +456,35 @@ class Scene:
         self._job = out[0]
         return self
 
-    def add(self, spp=1):
+    def add(self, spp: int = 1) -> "Scene":
         """Adds a pass of spp samples per pixel to the job begun by begin()."""
         if self._job is None:
             raise Error("add: no render job (call begin() first)")
-        st = lib.brume_render_job_add(self._ctx.ptr, self._job, int(spp))
+        st = self._run.call(lambda: lib.brume_render_job_add(self._ctx.ptr, self._job, int(spp)))
+        self._job_status(st)
+        return self
+
+    def _job_status(self, st):
+        if self._run.stop.is_set():
+            raise Interrupted(self.image())
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED:
                 raise Cancelled(msg, st, self.image())
             raise Error(msg, st)
-        return self
 
-    def run(self):
+    def run(self) -> "Scene":
         """Runs passes until the settings say stop (spp, time_budget or noise_target)."""
         if self._job is None:
             raise Error("run: no render job (call begin() first)")
         if not has("brume_render_job_run"):
             raise Error("run: this libbrume cannot run a job to its settings' end")
-        st = lib.brume_render_job_run(self._ctx.ptr, self._job)
-        if st != 0:
-            msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
-            if _CANCELLED is not None and st == _CANCELLED:
-                raise Cancelled(msg, st, self.image())
-            raise Error(msg, st)
+        st = self._run.call(lambda: lib.brume_render_job_run(self._ctx.ptr, self._job))
+        self._job_status(st)
         return self
 
     @property
-    def progress(self):
+    def progress(self) -> Dict[str, Any]:
         """The job's figures (brume_render_progress) as a dict: done, total, spp_min, ..."""
         if self._job is None or not has("brume_render_job_progress"):
             return {}
@@ -386,16 +492,17 @@ class Scene:
         lib.brume_render_job_progress(self._job, p)
         return {name: getattr(p, name) for name, _ in ffi.typeof("brume_render_progress").fields}
 
-    def image(self):
+    def image(self) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
         """The job's image so far (and its AOVs, as render returns them)."""
         if self._job is None:
             raise Error("image: no render job (call begin() first)")
         out = ffi.new("brume_image **")
         st = lib.brume_render_job_image(self._ctx.ptr, self._job, out)
+        self._run.stop.clear()  # the partial image of an interrupted pass is what is asked for
         return self._finish(st, out[0], self._aovs)
 
     @property
-    def samples(self):
+    def samples(self) -> int:
         """Samples per pixel the job has so far."""
         return 0 if self._job is None else int(lib.brume_render_job_samples(self._job))
 
@@ -404,7 +511,7 @@ class Scene:
             lib.brume_render_job_release(self._job)
             self._job = None
 
-    def close(self):
+    def close(self) -> None:
         """Releases the scene now (also done when it is garbage-collected)."""
         self._release_job()
         if self._ptr is not None:
@@ -412,7 +519,7 @@ class Scene:
             self._ptr = None
         self._ctx.close()
 
-    def __enter__(self):
+    def __enter__(self) -> "Scene":
         return self
 
     def __exit__(self, *exc):
@@ -428,7 +535,7 @@ class Scene:
 def _image_arrays(img, aovs):
     w, h = lib.brume_image_width(img), lib.brume_image_height(img)
     rgba = np.frombuffer(ffi.buffer(lib.brume_image_pixels_const(img), w * h * 16), dtype=np.float32)
-    rgba = rgba.reshape(h, w, 4).copy()
+    rgba = rgba.reshape(h, w, 4).copy().view(Image)
     if not aovs:
         return rgba
     layers = {}
@@ -437,13 +544,92 @@ def _image_arrays(img, aovs):
         c = lib.brume_image_layer_channels(img, i)
         a = np.frombuffer(ffi.buffer(lib.brume_image_layer_pixels(img, i), w * h * c * 4), dtype=np.float32)
         layers[name] = a.reshape(h, w, c).copy() if c > 1 else a.reshape(h, w).copy()
+        if name == "depth":
+            # libbrume writes 0 where no sample hit anything; in Python that is +inf (no distance)
+            layers[name][layers[name] == 0] = np.inf
     return rgba, layers
 
 
-def render(scene=None, *, time=0.0, options=None, **settings):
+class Image(np.ndarray):
+    """A picture: a numpy float32 array (height, width, 4) of linear RGBA, rows top first, as
+    render() returns it. A notebook shows it (_repr_png_: libbrume's PNG, sRGB, clamped);
+    img.write(path) is brume.write(img, path)."""
+
+    def __new__(cls, array: Any) -> "Image":
+        return np.asarray(array, dtype=np.float32).view(cls)
+
+    def _repr_png_(self) -> Optional[bytes]:
+        if self.ndim != 3 or self.shape[2] not in (3, 4) or 0 in self.shape:
+            return None
+        return encode_png(self)
+
+    def write(self, path: "Union[str, os.PathLike[str]]", *, exposure: float = 0.0, tonemap: str = "clamp") -> None:
+        write(self, path, exposure=exposure, tonemap=tonemap)
+
+
+def _to_brume_image(array):
+    a = np.asarray(array)
+    if a.ndim != 3 or a.shape[2] not in (3, 4):
+        raise Error("image: expected an array (height, width, 4) of RGBA or (height, width, 3) of RGB, got shape %s"
+                    % (a.shape,))
+    h, w = a.shape[:2]
+    rgba = np.ones((h, w, 4), np.float32)
+    rgba[..., :a.shape[2]] = a
+    img = lib.brume_image_new(w, h)
+    if img == ffi.NULL:
+        raise Error("image: %d x %d: bad size or out of memory" % (w, h))
+    ffi.memmove(lib.brume_image_pixels(img), ffi.from_buffer(rgba), rgba.nbytes)
+    return img
+
+
+def _write_options(exposure, tonemap):
+    maps = {"clamp": lib.BRUME_TONEMAP_CLAMP, "filmic": lib.BRUME_TONEMAP_FILMIC}
+    if tonemap not in maps:
+        raise KeywordError("tonemap: unknown value %r (known: clamp, filmic)" % (tonemap,))
+    opts = ffi.new("brume_write_options *")
+    opts.exposure = float(exposure)
+    opts.tonemap = maps[tonemap]
+    return opts
+
+
+def write(image: Any, path: "Union[str, os.PathLike[str]]", *, exposure: float = 0.0, tonemap: str = "clamp") -> None:
+    """Writes an image (an array (height, width, 4) or (height, width, 3), linear) through
+    libbrume's writers, by the extension: .exr (float RGBA), .png (8-bit sRGB after exposure
+    in stops and tonemap "clamp" or "filmic"), .pfm. The write is atomic."""
+    ctx = _Context()
+    img = _to_brume_image(image)
+    try:
+        ctx.check(lib.brume_image_write(ctx.ptr, img, os.fsencode(path), _write_options(exposure, tonemap)))
+    finally:
+        lib.brume_image_release(img)
+        ctx.close()
+
+
+def encode_png(image: Any, *, exposure: float = 0.0, tonemap: str = "clamp") -> bytes:
+    """The image as PNG bytes, as write() would write a .png."""
+    ctx = _Context()
+    img = _to_brume_image(image)
+    data = ffi.new("unsigned char **")
+    size = ffi.new("size_t *")
+    try:
+        ctx.check(lib.brume_image_encode_png(ctx.ptr, img, _write_options(exposure, tonemap), data, size))
+        try:
+            return bytes(ffi.buffer(data[0], size[0]))
+        finally:
+            lib.free(data[0])
+    finally:
+        lib.brume_image_release(img)
+        ctx.close()
+
+
+def render(scene: SceneSource = None, *, frame_time: float = 0.0, options: Optional[Mapping[str, Any]] = None,
+           **settings: Any) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
     """Renders scene (a path, a dict in the scene-file format, or None for the default scene)
-    with the given render settings (width, height, spp, seed, method, ...; aovs=[...];
-    progress=True or fn(done, total)) and method options ({"blasi.r": 0.5}). Returns a
-    float32 array (height, width, 4) of linear RGBA, or (rgba, {aov: array}) with aovs."""
-    with Scene(scene, time=time) as s:
+    at frame_time seconds of its animation, with the given render settings (width, height,
+    spp, seed, method, time_budget, noise_target, ...; aovs=[...]; progress=True or
+    fn(done, total)) and method options ({"blasi.r": 0.5}). Returns a brume.Image (height,
+    width, 4) of linear RGBA, or (rgba, {aov: array}) with aovs. Ctrl-C raises
+    brume.Interrupted (a KeyboardInterrupt) whose .image is the partial image."""
+    _refuse_time(settings)
+    with Scene(scene, frame_time=frame_time) as s:
         return s.render(options=options, **settings)

@@ -12,6 +12,7 @@ _here = os.path.dirname(os.path.abspath(__file__))
 with open(os.path.join(_here, "_cdef.h")) as _f:
     _cdef = _f.read()
 ffi.cdef(_cdef)
+ffi.cdef("void free(void *ptr);")  # for buffers libbrume allocates for the caller (brume_image_encode_png)
 
 
 def _candidates():

@@ -2,11 +2,15 @@
 a dict scene with a numpy density renders byte for byte as the same values read from a raw
 file, shapes and types, zero-copy borrowing and its release, errors carrying brume's
 message, repeated renders, options, and (when the library has them) progress,
-cancellation, progressive passes and AOVs."""
+cancellation, progressive passes and AOVs; Ctrl-C during a render, keywords, settings read
+back, writing images and the notebook's PNG."""
 import gc
 import json
 import os
+import signal
 import tempfile
+import threading
+import time
 import unittest
 
 import numpy as np
@@ -165,6 +169,92 @@ class PackageTest(unittest.TestCase):
         centre = aovs["depth"][6, 8]
         self.assertAlmostEqual(float(centre), 3.0, delta=0.05)
         np.testing.assert_allclose(aovs["albedo"][6, 8], [0.2, 0.4, 0.6], atol=1e-6)
+
+    @unittest.skipUnless("depth" in brume.AOVS, "this libbrume has no AOVs")
+    def test_depth_is_inf_where_nothing_was_hit(self):
+        # a wall filling the left half of the image only: the right half hits nothing
+        scene = {"render": {"width": 16, "height": 12, "spp": 2},
+                 "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 30},
+                 "lights": [{"type": "distant", "direction": [0, 0, -1], "irradiance": 1}],
+                 "surfaces": [{"type": "quad", "corner": [-5, -5, 0], "edge_u": [4.9, 0, 0], "edge_v": [0, 10, 0],
+                               "material": {"albedo": [0.5, 0.5, 0.5]}}]}
+        _, aovs = brume.render(scene, aovs=["depth"])
+        self.assertTrue(np.isinf(aovs["depth"][6, 15]) and aovs["depth"][6, 15] > 0)
+        self.assertAlmostEqual(float(aovs["depth"][6, 0]), 3.0, delta=0.2)
+
+    def test_keywords_cannot_be_mistaken(self):
+        with self.assertRaises(TypeError) as e:
+            brume.render(None, time=1)
+        self.assertIn("frame_time", str(e.exception))
+        self.assertIn("time_budget", str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.Scene(None, time=1)
+        self.assertIn("frame_time", str(e.exception))
+        with self.assertRaises(TypeError) as e:
+            brume.render(None, noise=0.1)
+        self.assertIn("noise_target", str(e.exception))  # the valid names are listed
+        self.assertIn("'noise'", str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.render(None, filter="tent")
+        self.assertIn("box, gaussian", str(e.exception))
+        # the animation time is frame_time: a blob field drifting at 1 unit/s moves
+        path = os.path.join(os.environ["BRUME_SOURCE_DIR"], "scenes", "anim-stam-drift.json")
+        a = brume.render(path, frame_time=0.0, width=16, height=12, spp=1)
+        b = brume.render(path, frame_time=1.0, width=16, height=12, spp=1)
+        self.assertNotEqual(a.tobytes(), b.tobytes())
+
+    def test_settings_read_back_as_set(self):
+        with brume.Scene(None, filter="box", width=20, height=10, method="single") as s:
+            got = s.settings
+            self.assertEqual(got["filter"], "box")
+            self.assertEqual((got["width"], got["height"], got["method"]), (20, 10, "single"))
+        with brume.Scene(None, filter="gaussian") as s:
+            self.assertEqual(s.settings["filter"], "gaussian")
+        if "depth" in brume.AOVS:
+            with brume.Scene(None, aovs=["depth"]) as s:
+                self.assertEqual(s.settings["aovs"], ["depth"])
+
+    def test_write_and_notebook_png(self):
+        img = brume.render(None, width=24, height=16, spp=1)
+        self.assertIsInstance(img, brume.Image)
+        png = img._repr_png_()
+        self.assertEqual(png[:8], b"\x89PNG\r\n\x1a\n")
+        exr, pngf = os.path.join(self.tmp, "x.exr"), os.path.join(self.tmp, "x.png")
+        brume.write(img, exr)
+        brume.write(img, pngf)
+        with open(exr, "rb") as f:
+            self.assertEqual(f.read(4), b"\x76\x2f\x31\x01")  # OpenEXR's magic number
+        with open(pngf, "rb") as f:
+            self.assertEqual(f.read(), png)  # the notebook's PNG is the file's, byte for byte
+        with self.assertRaises(brume.Error) as e:
+            brume.write(np.zeros((4, 4)), exr)
+        self.assertIn("(height, width, 4)", str(e.exception))
+        with self.assertRaises(brume.Error) as e:
+            brume.write(img, os.path.join(self.tmp, "x.bmp"))
+        self.assertIn("x.bmp", str(e.exception))
+
+    @unittest.skipUnless(has("brume_progress_fn"), "this libbrume has no progress callback")
+    @unittest.skipUnless(signal.getsignal(signal.SIGINT) is signal.default_int_handler, "SIGINT is not Python's")
+    def test_ctrl_c_stops_a_render_within_a_second(self):
+        # a render that would take minutes; SIGINT after 1 s, as Ctrl-C or a notebook's interrupt
+        scene = scene_with({"type": "constant", "value": 0.5})
+        for progress in (None, lambda done, total: True):
+            sent = []
+
+            def interrupt():
+                time.sleep(1.0)
+                sent.append(time.monotonic())
+                os.kill(os.getpid(), signal.SIGINT)
+
+            threading.Thread(target=interrupt, daemon=True).start()
+            with self.assertRaises(KeyboardInterrupt) as e:
+                brume.render(scene, width=256, height=256, spp=1 << 20, progress=progress)
+            waited = time.monotonic() - sent[0]
+            self.assertLess(waited, 1.0, "progress=%r" % (progress,))
+            self.assertIsInstance(e.exception, brume.Interrupted)
+            part = e.exception.image
+            self.assertEqual(part.shape, (256, 256, 4))
+            self.assertGreater(float(part[..., 3].max()), 0.0)  # the tiles finished are kept
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 /* density.h - density fields rho(x) >= 0 (unitless) and their majorants along rays.
  *
- * A density field answers two questions, kept apart (shared/STYLE.md):
+ * A density field answers two questions, kept apart:
  *   - density_eval: rho at a world point (0 outside the field's bounds);
  *   - majorant iteration: along a ray, consecutive segments [t0, t1) on each of which
  *     rho <= rho_maj. Estimators (delta, ratio tracking, ray marching) consume segments and

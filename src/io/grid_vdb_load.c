@@ -7,6 +7,8 @@
  * "Start-up"). Opened with RTLD_LOCAL, its libraries stay out of the process's global scope.
  *
  * Where the module is looked for, in order:
+ *   0. the directory the environment variable BRUME_MODULE_PATH names, when set: for a
+ *      program linking the static libbrume.a from somewhere the others do not reach;
  *   1. the build tree, when the object holding this code (the program, or libbrume.so) is
  *      inside it: the tests, benches and tools of a build use that build's module;
  *   2. the directory of that object: libbrume.so's, for programs linking the shared library
@@ -98,8 +100,11 @@ static void load(void)
         api = check(brume_openvdb_module(err_vset), "the linked-in OpenVDB code");
         return;
     }
-    char dir[PATH_MAX], cand[4][PATH_MAX];
+    char dir[PATH_MAX], cand[5][PATH_MAX];
     int nc = 0;
+    const char *env = getenv("BRUME_MODULE_PATH");
+    if (env && env[0])
+        snprintf(cand[nc++], PATH_MAX, "%.*s", PATH_MAX - 1, env);
     bool have_dir = own_dir(dir, sizeof dir);
     if (have_dir && inside(dir, BRUME_BUILD_DIR))
         snprintf(cand[nc++], PATH_MAX, "%s", BRUME_BUILD_DIR);
@@ -137,7 +142,9 @@ static void load(void)
         api = check(entry(err_vset), path);
         return;
     }
-    snprintf(load_error, sizeof load_error, "the OpenVDB module " MODULE_FILE " is missing (looked in %s)", looked);
+    snprintf(load_error, sizeof load_error,
+             "the OpenVDB module " MODULE_FILE " is missing (BRUME_MODULE_PATH=DIR names its folder; looked in %s)",
+             looked);
 }
 #else
 static void load(void) { snprintf(load_error, sizeof load_error, "brume was built without OpenVDB"); }

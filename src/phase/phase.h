@@ -1,6 +1,6 @@
 /* phase.h - phase functions of Blasi, Le Saec and Schlick 1993, Section 3.
  *
- * Conventions (shared/DESIGN.md): p(cos) is normalized over the sphere, the integral of p
+ * Conventions (docs/phase-functions.md): p(cos) is normalized over the sphere, the integral of p
  * over 4 pi sr is 1 (the paper's phi integrates to 2 over t in [-1, 1], so p = phi / 4 pi).
  * cos is the cosine between the incoming and the outgoing propagation directions:
  * cos = 1 is straight on; g > 0 or k > 0 scatters forward.

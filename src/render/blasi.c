@@ -6,15 +6,15 @@
  * multiplied per channel by exp(-(sigma_a + sigma_s - sigma_bar) rho delta) (Eq. 7 in
  * the grey case, where this is exp(-alpha rho delta)), and it is intercepted where the
  * optical depth of sigma_bar = mean over channels of sigma_s (Eq. 10) since the last
- * scattering point reaches -ln(1 - u) (Eq. 9-11, DESIGN.md erratum 4); at an interception
+ * scattering point reaches -ln(1 - u) (Eq. 9-11, docs/errata.md, erratum 4); at an interception
  * the weight is multiplied by sigma_s / sigma_bar per channel (the RGB weights of a
  * chromatic medium; 1 when grey). The fraction r is stored in the voxel, 1 - r goes on
  * along a direction drawn from the directional lobe (Eq. 22-23). Rays below `threshold`
  * of their initial weight stop; in the paper variant, a ray that leaves the media stores
- * what it carries in the last non-empty voxel it crossed (DESIGN.md erratum 5).
+ * what it carries in the last non-empty voxel it crossed (docs/errata.md, erratum 5).
  *
  * Stored power P_V becomes the isotropic source S_V = P_V / (4 pi |V|): radiance per unit
- * length, the sigma_s phi / 4 pi of the single-scattering integral (DESIGN.md erratum 6).
+ * length, the sigma_s phi / 4 pi of the single-scattering integral (docs/errata.md, erratum 6).
  *
  * Second pass. Along a view ray each voxel crossed over length delta adds
  * A S_V (1 - exp(-kappa delta)) / kappa (the exact integral over the voxel; S_V delta for

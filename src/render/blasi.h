@@ -4,10 +4,10 @@
  *
  *   first pass (view-independent, blasi_prepare): rays leave every light towards the
  *     media, walk the voxels, are attenuated by absorption between interceptions, are
- *     intercepted with the average scattering coefficient (Eq. 10-11; DESIGN.md erratum 4),
+ *     intercepted with the average scattering coefficient (Eq. 10-11; docs/errata.md, erratum 4),
  *     store the fraction r isotropically in the voxel and carry 1 - r on along a direction
  *     drawn from the directional lobe (Eq. 23). The stored power becomes an isotropic
- *     source per unit length in each voxel (DESIGN.md erratum 6).
+ *     source per unit length in each voxel (docs/errata.md, erratum 6).
  *   second pass (view-dependent, blasi_Li): a view ray walks the voxels, adds each voxel's
  *     source scaled by its current attenuation, stops under a threshold, and adds the
  *     background L-infinity; surfaces occlude and are lit directly.

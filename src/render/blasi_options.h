@@ -10,13 +10,13 @@
 
 #include "brume.h"
 
-/* DESIGN.md erratum 5, first point: where a light ray's energy goes when it leaves. */
+/* docs/errata.md, erratum 5, first point: where a light ray's energy goes when it leaves. */
 typedef enum blasi_exit {
     BLASI_EXIT_PAPER, /* stored in the last non-empty voxel crossed (the paper) */
     BLASI_EXIT_NONE   /* lost, as in physics */
 } blasi_exit;
 
-/* DESIGN.md erratum 5, second point: what attenuates a view ray. */
+/* docs/errata.md, erratum 5, second point: what attenuates a view ray. */
 typedef enum blasi_view_atten {
     BLASI_VIEW_ABSORPTION, /* A *= exp(-alpha rho delta), the paper's pseudo-code */
     BLASI_VIEW_EXTINCTION  /* A *= exp(-(alpha + sigma) rho delta), physics */

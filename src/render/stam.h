@@ -1,7 +1,7 @@
 /* stam.h - Stam 1994, "Stochastic Rendering of Density Fields": the stochastic renderer of
  * Section 6.3 inside a ray tracer with solid objects.
  *
- * For each camera ray (each ray with its own direction; DESIGN.md erratum 9):
+ * For each camera ray (each ray with its own direction; docs/errata.md, erratum 9):
  *   I_b    radiance of what lies behind the media: a surface shaded by direct light (shadow
  *          rays through the clouds carry their transparency only, Section 6.3), plus
  *          albedo x background as sky light; or the background; or an area light

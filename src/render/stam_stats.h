@@ -11,7 +11,7 @@
  *   sample    T_i = T_mean + sqrt(T_var) Q(x_ui)   (Eq. 13), x_ui the closest ray point
  *
  * The variance departs from Eq. 12 (which has K_Q(0) = (2 pi)^(-3/2) alpha^-3 in place of
- * sqrt(2 pi) alpha c): DESIGN.md erratum 7, derived in docs/stam.md and checked by Monte
+ * sqrt(2 pi) alpha c): docs/errata.md, erratum 7, derived in docs/stam.md and checked by Monte
  * Carlo over explicit 3-D realizations in tests/test_stam.c. sqrt(2 pi) alpha is the
  * integral of the correlation along the ray, the leading term as alpha / h -> 0 (Eq. 11);
  * c is the exact correction for an unclamped blob and an unbounded segment.
