@@ -14,6 +14,7 @@
 
 #include "brume.h"
 #include "commands.h"
+#include "figures_table.h"
 #include "core/error.h"
 #include "io/atomic.h"
 #include "phase/phase.h"
@@ -45,10 +46,10 @@ typedef struct figure {
 
 static const figure figures[] = {
     {"blasi-fig2", "Blasi 1993", "Figure 2", FIG_PHASE_FIT, "rayleigh 0.50,-0.46,0.46",
-     "Rayleigh phase function: (a) the true function (solid), (b) the Schlick mixture of Figure 7, r = 0.5, k = -0.46, "
+     "Rayleigh phase function (Eq. 17): (a) the true function (solid), (b) the Schlick mixture of Figure 7, r = 0.5, k = -0.46, "
      "k' = 0.46 (dashed). Polar plot left (light arrives from the left), phi against the angle right."},
     {"blasi-fig3", "Blasi 1993", "Figure 3", FIG_PHASE_FIT, "hazy 0.12,-0.50,0.70",
-     "Hazy Mie phase function (Eq. 17), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
+     "Hazy Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
      "log scale."},
     {"blasi-fig4", "Blasi 1993", "Figure 4", FIG_PHASE_FIT, "murky 0.19,-0.65,0.91",
      "Murky Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.19, k = -0.65, k' = 0.91 (dashed; the "
@@ -78,11 +79,11 @@ static const figure figures[] = {
      "over explicit 3-D realizations of the density (points). Without clamping the variance is proportional to the "
      "mean T_i, as the paper notes; clamping flattens it near the centre."},
     {"stam-fig5-a", "Stam 1994", "Figure 5 (top left)", FIG_RENDER, "stam-fig5-a",
-     "One cloud of 200 blobs, eps = 0.05, eta = 0.15 (low perturbation, high threshold)."},
-    {"stam-fig5-b", "Stam 1994", "Figure 5 (top right)", FIG_RENDER, "stam-fig5-b", "eps = 0.4, eta = 0.15."},
+     "One cloud of 200 blobs, eps = 0.2, eta = 0.15 (low perturbation, high threshold)."},
+    {"stam-fig5-b", "Stam 1994", "Figure 5 (top right)", FIG_RENDER, "stam-fig5-b", "eps = 1.6, eta = 0.15."},
     {"stam-fig5-c", "Stam 1994", "Figure 5 (bottom left)", FIG_RENDER, "stam-fig5-c",
-     "eps = 0.05, eta = 0.03: the lower threshold clamps the dense blobs' variance."},
-    {"stam-fig5-d", "Stam 1994", "Figure 5 (bottom right)", FIG_RENDER, "stam-fig5-d", "eps = 0.4, eta = 0.03."},
+     "eps = 0.2, eta = 0.03: the lower threshold clamps the dense blobs' variance."},
+    {"stam-fig5-d", "Stam 1994", "Figure 5 (bottom right)", FIG_RENDER, "stam-fig5-d", "eps = 1.6, eta = 0.03."},
     {"stam-fig6-shadow", "Stam 1994", "Figure 6 (a)", FIG_RENDER, "stam-fig6-shadow",
      "A self-shadowed cloud and its shadow on the ground."},
     {"stam-fig6-cluster-a", "Stam 1994", "Figure 6 (b)", FIG_RENDER, "stam-fig6-cluster-a",
@@ -100,6 +101,17 @@ static const figure figures[] = {
      "A flame of 14 blobs under a plume of smoke, in a room lit by five point lights inside the flame."},
 };
 #define NFIG ((int)(sizeof figures / sizeof figures[0]))
+
+const char *figures_caption(const char *name, const char **scene)
+{
+    for (int i = 0; i < NFIG; i++)
+        if (strcmp(figures[i].name, name) == 0) {
+            if (scene)
+                *scene = figures[i].kind == FIG_RENDER ? figures[i].arg : "";
+            return figures[i].caption;
+        }
+    return NULL;
+}
 
 /* Quick mode: small images, one sample, few light rays, few realizations. */
 #define QUICK_WIDTH 64
