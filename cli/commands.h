@@ -12,7 +12,8 @@
     X(info, "print a grid file's format, dimensions, bounds, values and memory") \
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
     X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
-    X(figures, "render every figure of both papers into a folder, with an index")
+    X(figures, "render every figure of both papers into a folder, with an index") \
+    X(sweep, "render a scene over one or two parameters into a labelled contact sheet")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)
