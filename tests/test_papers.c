@@ -456,6 +456,29 @@ TEST(captions_match_the_scenes)
     free(stam);
 }
 
+/* `brume figures --compare` puts a figure as printed, as corrected and by `path` side by
+ * side: three cells of the quick width in one PNG; a figure without variants is refused. */
+TEST(figures_compare_side_by_side)
+{
+    char dir[512], cmd[2048], path[1024];
+    snprintf(dir, sizeof dir, "%s", test_tmp_path("figcmp"));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && %s figures --compare --quick --only blasi-picture1 -o '%s' --scenes %s/scenes",
+             dir, BRUME_EXE, dir, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    size_t n;
+    snprintf(path, sizeof path, "%s/blasi-picture1-compare.png", dir);
+    unsigned char *png = (unsigned char *)test_slurp(path, &n);
+    ASSERT_TRUE(n > 33 && memcmp(png, "\x89PNG\r\n\x1a\n", 8) == 0);
+    unsigned width = (unsigned)png[16] << 24 | (unsigned)png[17] << 16 | (unsigned)png[18] << 8 | png[19];
+    ASSERT_TRUE(width >= 3 * 64 && width < 4 * 64 + 64);
+    free(png);
+    snprintf(cmd, sizeof cmd, "%s figures --compare --quick --only blasi-fig2 -o '%s' --scenes %s/scenes 2>/dev/null",
+             BRUME_EXE, dir, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    test_system(cmd);
+}
+
 /* `brume figures --quick` writes every figure of both papers, at the quick size, with both
  * indexes naming each; it refuses to write into the source tree's docs/ unless told. */
 TEST(figures_quick_makes_every_file)
@@ -527,6 +550,6 @@ TEST(cli_light_files_beside_overrides)
     test_system(cmd);
 }
 
-TEST_MAIN(captions_match_the_scenes, set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
+TEST_MAIN(captions_match_the_scenes, figures_compare_side_by_side, set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
           q_autocorrelation_has_no_period_in_the_field, blasi_on_blobs_refused_or_voxelized, stats_per_method,
           phase_fit_given, figures_quick_makes_every_file, cli_light_files_beside_overrides)
