@@ -52,18 +52,18 @@ static const figure figures[] = {
      "k' = 0.46 (dashed). Polar plot left (light arrives from the left), phi against the angle right."},
     {"blasi-fig3", "Blasi 1993", "Figure 3", FIG_PHASE_FIT, "hazy 0.12,-0.50,0.70",
      "Hazy Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
-     "log scale."},
+     "polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig4", "Blasi 1993", "Figure 4", FIG_PHASE_FIT, "murky 0.19,-0.65,0.91",
      "Murky Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.19, k = -0.65, k' = 0.91 (dashed; the "
-     "caption's k' = -0.91 is a slip, DESIGN.md erratum 2); log scale."},
+     "caption's k' = -0.91 is a slip, DESIGN.md erratum 2); polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig5", "Blasi 1993", "Figure 5", FIG_OVERLAY, "hg:-0.9 hg:-0.6 hg:0 hg:0.6 hg:0.9",
      "Henyey-Greenstein phase functions (the paper's \"Henyey-Bernstein\", erratum 1) for g = -0.9, -0.6, 0, 0.6, 0.9 "
-     "on one pair of axes; log scale."},
+     "on one pair of axes; polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig6", "Blasi 1993", "Figure 6", FIG_OVERLAY, "schlick:-0.95 schlick:-0.8 schlick:0 schlick:0.8 schlick:0.95",
-     "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; log scale."},
+     "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig7", "Blasi 1993", "Figure 7", FIG_BLASI7, "",
      "Figure 7's parameters for the three theoretical functions: each true function (solid), Figure 7's mixture "
-     "(orange, dashed) and brume's fit in the angle norm (green, dashed), log scale. The table below scores both."},
+     "(orange, dashed) and brume's fit in the angle norm (green, dashed); polar plot linear (phi / max phi), phi against the angle on a log scale. The table below scores both."},
     {"blasi-picture1", "Blasi 1993", "Section 5, picture 1", FIG_RENDER, "blasi-picture1",
      "The 65 x 65 x 10 fractal cloud seen from below and to the side, the sun above it; the paper's variant of the "
      "two-pass method, 2^21 light rays, 400 x 400."},
