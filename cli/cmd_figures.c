@@ -14,8 +14,11 @@
 
 #include "brume.h"
 #include "commands.h"
+#include "figures_table.h"
 #include "core/error.h"
 #include "io/atomic.h"
+#include "io/compare.h"
+#include "io/sheet.h"
 #include "phase/phase.h"
 #include "phase/phase_fit.h"
 #include "phase/phase_plot.h"
@@ -45,22 +48,22 @@ typedef struct figure {
 
 static const figure figures[] = {
     {"blasi-fig2", "Blasi 1993", "Figure 2", FIG_PHASE_FIT, "rayleigh 0.50,-0.46,0.46",
-     "Rayleigh phase function: (a) the true function (solid), (b) the Schlick mixture of Figure 7, r = 0.5, k = -0.46, "
+     "Rayleigh phase function (Eq. 17): (a) the true function (solid), (b) the Schlick mixture of Figure 7, r = 0.5, k = -0.46, "
      "k' = 0.46 (dashed). Polar plot left (light arrives from the left), phi against the angle right."},
     {"blasi-fig3", "Blasi 1993", "Figure 3", FIG_PHASE_FIT, "hazy 0.12,-0.50,0.70",
-     "Hazy Mie phase function (Eq. 17), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
-     "log scale."},
+     "Hazy Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.12, k = -0.50, k' = 0.70 (dashed); "
+     "polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig4", "Blasi 1993", "Figure 4", FIG_PHASE_FIT, "murky 0.19,-0.65,0.91",
      "Murky Mie phase function (Eq. 18), true (solid) and Figure 7's mixture r = 0.19, k = -0.65, k' = 0.91 (dashed; the "
-     "caption's k' = -0.91 is a slip, docs/errata.md, erratum 2); log scale."},
+     "caption's k' = -0.91 is a slip, docs/errata.md, erratum 2); polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig5", "Blasi 1993", "Figure 5", FIG_OVERLAY, "hg:-0.9 hg:-0.6 hg:0 hg:0.6 hg:0.9",
      "Henyey-Greenstein phase functions (the paper's \"Henyey-Bernstein\", erratum 1) for g = -0.9, -0.6, 0, 0.6, 0.9 "
-     "on one pair of axes; log scale."},
+     "on one pair of axes; polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig6", "Blasi 1993", "Figure 6", FIG_OVERLAY, "schlick:-0.95 schlick:-0.8 schlick:0 schlick:0.8 schlick:0.95",
-     "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; log scale."},
+     "Schlick phase functions (Eq. 21) for k = -0.95, -0.8, 0, 0.8, 0.95 on one pair of axes; polar plot linear (phi / max phi), phi against the angle on a log scale."},
     {"blasi-fig7", "Blasi 1993", "Figure 7", FIG_BLASI7, "",
      "Figure 7's parameters for the three theoretical functions: each true function (solid), Figure 7's mixture "
-     "(orange, dashed) and brume's fit in the angle norm (green, dashed), log scale. The table below scores both."},
+     "(orange, dashed) and brume's fit in the angle norm (green, dashed); polar plot linear (phi / max phi), phi against the angle on a log scale. The table below scores both."},
     {"blasi-picture1", "Blasi 1993", "Section 5, picture 1", FIG_RENDER, "blasi-picture1",
      "The 65 x 65 x 10 fractal cloud seen from below and to the side, the sun above it; the paper's variant of the "
      "two-pass method, 2^21 light rays, 400 x 400."},
@@ -78,11 +81,11 @@ static const figure figures[] = {
      "over explicit 3-D realizations of the density (points). Without clamping the variance is proportional to the "
      "mean T_i, as the paper notes; clamping flattens it near the centre."},
     {"stam-fig5-a", "Stam 1994", "Figure 5 (top left)", FIG_RENDER, "stam-fig5-a",
-     "One cloud of 200 blobs, eps = 0.05, eta = 0.15 (low perturbation, high threshold)."},
-    {"stam-fig5-b", "Stam 1994", "Figure 5 (top right)", FIG_RENDER, "stam-fig5-b", "eps = 0.4, eta = 0.15."},
+     "One cloud of 200 blobs, eps = 0.2, eta = 0.15 (low perturbation, high threshold)."},
+    {"stam-fig5-b", "Stam 1994", "Figure 5 (top right)", FIG_RENDER, "stam-fig5-b", "eps = 1.6, eta = 0.15."},
     {"stam-fig5-c", "Stam 1994", "Figure 5 (bottom left)", FIG_RENDER, "stam-fig5-c",
-     "eps = 0.05, eta = 0.03: the lower threshold clamps the dense blobs' variance."},
-    {"stam-fig5-d", "Stam 1994", "Figure 5 (bottom right)", FIG_RENDER, "stam-fig5-d", "eps = 0.4, eta = 0.03."},
+     "eps = 0.2, eta = 0.03: the lower threshold clamps the dense blobs' variance."},
+    {"stam-fig5-d", "Stam 1994", "Figure 5 (bottom right)", FIG_RENDER, "stam-fig5-d", "eps = 1.6, eta = 0.03."},
     {"stam-fig6-shadow", "Stam 1994", "Figure 6 (a)", FIG_RENDER, "stam-fig6-shadow",
      "A self-shadowed cloud and its shadow on the ground."},
     {"stam-fig6-cluster-a", "Stam 1994", "Figure 6 (b)", FIG_RENDER, "stam-fig6-cluster-a",
@@ -101,12 +104,23 @@ static const figure figures[] = {
 };
 #define NFIG ((int)(sizeof figures / sizeof figures[0]))
 
+const char *figures_caption(const char *name, const char **scene)
+{
+    for (int i = 0; i < NFIG; i++)
+        if (strcmp(figures[i].name, name) == 0) {
+            if (scene)
+                *scene = figures[i].kind == FIG_RENDER ? figures[i].arg : "";
+            return figures[i].caption;
+        }
+    return NULL;
+}
+
 /* Quick mode: small images, one sample, few light rays, few realizations. */
 #define QUICK_WIDTH 64
 #define QUICK_LIGHT_RAYS "20000"
 
 static const char figures_usage[] =
-    "usage: brume figures -o DIR [--quick] [--only NAME] [--scenes DIR] [--into-docs]\n"
+    "usage: brume figures -o DIR [--quick] [--only NAME] [--scenes DIR] [--into-docs] [--compare]\n"
     "Renders every figure of Blasi et al. 1993 (Figures 2-7, pictures 1-3 of Section 5) and\n"
     "Stam 1994 (Figures 1, 4-8) into DIR (created if missing), with DIR/index.md and\n"
     "DIR/index.html: each figure beside its caption, the command that makes it alone and the\n"
@@ -115,7 +129,11 @@ static const char figures_usage[] =
     "                 realizations): every file in seconds, for tests\n"
     "  --only NAME    one figure (its file only, no index); NAME as in the index\n"
     "  --scenes DIR   the paper scenes (default: ./scenes if present, else the source tree's)\n"
-    "  --into-docs    allow DIR inside the source tree's docs/ (refused otherwise)\n";
+    "  --into-docs    allow DIR inside the source tree's docs/ (refused otherwise)\n"
+    "  --compare      instead: each rendered figure of a method with variants (Blasi's pictures,\n"
+    "                 Stam's Figures 5-8) as printed, as corrected and by `path` (the truth; for\n"
+    "                 Stam on the explicit realization of the same Q), side by side with each\n"
+    "                 method's error over the cloud under it: DIR/NAME-compare.png, no index\n";
 
 static double now(void)
 {
@@ -272,6 +290,100 @@ fail:
 done:
     for (int i = 0; i < n; i++)
         phase_release(ph[i]);
+    return rc;
+}
+
+/* --compare: the figure as printed, as corrected and the `path` truth side by side, each
+ * method's error over the cloud (the truth's alpha above 0.05, `brume compare --alpha 0.05`)
+ * under its picture, into DIR/NAME-compare.png. For blasi: variant paper and physical, the
+ * truth `path` on the same grid; for stam: variant paper and corrected, the truth `path` on
+ * the explicit realization of the same Q (stam.voxelize). */
+#define COMPARE_SPP 64
+#define COMPARE_VOXELS "192"
+static int run_compare(const char *scenes, const figure *f, const char *dir, bool quick, fig_run *r)
+{
+    char scene[PATH_MAX], path[PATH_MAX];
+    snprintf(scene, sizeof scene, "%s/%s.json", scenes, f->arg);
+    snprintf(path, sizeof path, "%s/%s-compare.png", dir, f->name);
+    bool blasi = strncmp(f->arg, "blasi", 5) == 0;
+    static const char *const cols[3] = {"as printed", "as corrected", "path (the truth)"};
+    const char *ov[3][4] = {
+        {blasi ? "blasi.variant=paper" : "stam.variant=paper", "blasi.light_rays=" QUICK_LIGHT_RAYS},
+        {blasi ? "blasi.variant=physical" : "stam.variant=corrected", "blasi.light_rays=" QUICK_LIGHT_RAYS},
+        {"stam.voxelize.resolution=" COMPARE_VOXELS, "stam.voxelize.realization=true"}};
+    int nov[3] = {quick && blasi ? 2 : 1, quick && blasi ? 2 : 1, blasi ? 0 : 2};
+    if (quick && !blasi)
+        ov[2][0] = "stam.voxelize.resolution=48";
+    brume_image *img[3] = {NULL, NULL, NULL};
+    static char caption[3][160];
+    const char *captions[3] = {caption[0], caption[1], caption[2]};
+    unsigned char *mask = NULL;
+    long count = 0;
+    int rc = 1;
+    brume_context *ctx = brume_context_new();
+    double t0 = now();
+    memset(r, 0, sizeof *r);
+    for (int k = 0; k < 3 && ctx; k++) {
+        brume_scene *s = NULL;
+        brume_load_options lo = {0.0, 0, ov[k], nov[k]};
+        if (brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)
+            goto fail;
+        brume_render_settings rs;
+        brume_scene_get_settings(s, &rs);
+        if (k == 0 && strcmp(rs.method, "blasi") != 0 && strcmp(rs.method, "stam") != 0) {
+            brume_scene_release(s);
+            cli_error("figures: --compare: %s is rendered by %s, which has no printed and corrected variants", f->name,
+                      rs.method);
+            goto done;
+        }
+        if (quick) {
+            rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
+            rs.width = QUICK_WIDTH;
+            rs.spp = 1;
+        }
+        if (k == 2) {
+            snprintf(rs.method, sizeof rs.method, "path");
+            rs.spp = quick ? 2 : COMPARE_SPP;
+        }
+        rs.progress = false;
+        brume_status st = brume_scene_set_settings(ctx, s, &rs);
+        if (st == BRUME_OK)
+            st = brume_scene_commit(ctx, s);
+        if (st == BRUME_OK)
+            st = brume_render(ctx, s, &img[k]);
+        brume_scene_release(s);
+        if (st != BRUME_OK)
+            goto fail;
+    }
+    if (!ctx || image_mask_alpha(img[2], 0.05, &mask, &count) != BRUME_OK)
+        goto fail_err;
+    for (int k = 0; k < 2; k++) {
+        image_region_stats st;
+        if (count == 0 || image_compare_region(img[k], img[2], mask, 0, 1, &st) != BRUME_OK)
+            snprintf(caption[k], sizeof caption[k], "no cloud pixel in the truth");
+        else
+            snprintf(caption[k], sizeof caption[k], "cloud: ratio %.3f, rel RMSE %.3f", st.fig[IMAGE_FIG_RATIO],
+                     st.fig[IMAGE_FIG_REL_RMSE]);
+    }
+    snprintf(caption[2], sizeof caption[2], "%d spp%s", quick ? 2 : COMPARE_SPP,
+             blasi ? "" : ", explicit realization of Q");
+    if (sheet_png(path, f->title, 3, 1, (const brume_image *const *)img, cols, NULL, captions, NULL) != BRUME_OK)
+        goto fail_err;
+    snprintf(r->command, sizeof r->command, "brume figures --compare --only %s%s -o DIR", f->name,
+             quick ? " --quick" : "");
+    r->seconds = now() - t0;
+    rc = 0;
+    goto done;
+fail_err:
+    cli_error("figures: %s: %s", f->name, err_message());
+    goto done;
+fail:
+    cli_error("figures: %s: %s", f->name, ctx ? brume_context_last_error(ctx) : "out of memory");
+done:
+    free(mask);
+    for (int k = 0; k < 3; k++)
+        brume_image_release(img[k]);
+    brume_context_release(ctx);
     return rc;
 }
 
@@ -482,7 +594,7 @@ static bool inside_docs(const char *scenes, const char *dir)
 int cmd_figures(int argc, char **argv)
 {
     const char *dir = NULL, *only = NULL, *scenes = NULL;
-    bool quick = false, into_docs = false;
+    bool quick = false, into_docs = false, compare = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
@@ -493,6 +605,8 @@ int cmd_figures(int argc, char **argv)
             *dst = argv[++i];
         } else if (strcmp(a, "--quick") == 0) {
             quick = true;
+        } else if (strcmp(a, "--compare") == 0) {
+            compare = true;
         } else if (strcmp(a, "--into-docs") == 0) {
             into_docs = true;
         } else {
@@ -540,6 +654,20 @@ int cmd_figures(int argc, char **argv)
     for (int i = 0; i < NFIG; i++) {
         if (which >= 0 && i != which)
             continue;
+        if (compare) { /* the figures rendered by a method with variants; --only names one */
+            bool variants = figures[i].kind == FIG_RENDER &&
+                            (strncmp(figures[i].arg, "blasi", 5) == 0 || strncmp(figures[i].arg, "stam", 4) == 0);
+            if (!variants && which < 0)
+                continue;
+            if (!variants) {
+                cli_error("figures: --compare: %s is not a render with printed and corrected variants", figures[i].name);
+                return 2;
+            }
+            if (run_compare(scenes, &figures[i], dir, quick, &runs[i]) != 0)
+                return 1;
+            fprintf(stderr, "brume: figures: %s/%s-compare.png (%.2f s)\n", dir, figures[i].name, runs[i].seconds);
+            continue;
+        }
         if (run_figure(scenes, dir, &figures[i], quick, &runs[i]) != 0) {
             failed++;
             continue;
@@ -548,7 +676,7 @@ int cmd_figures(int argc, char **argv)
     }
     if (failed)
         return 1;
-    if (which >= 0)
+    if (which >= 0 || compare)
         return 0;
     return write_indexes(dir, runs, quick, now() - t0);
 }

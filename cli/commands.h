@@ -13,7 +13,8 @@
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
     X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
     X(devices, "list the GPUs brume can render on (or say why there are none)") \
-    X(figures, "render every figure of both papers into a folder, with an index")
+    X(figures, "render every figure of both papers into a folder, with an index") \
+    X(sweep, "render a scene over one or two parameters into a labelled contact sheet")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)

@@ -716,7 +716,53 @@ TEST(view_radiance_matches_brute_force)
                         "physical", "chromatic, physical");
 }
 
-TEST_MAIN(r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,
+/* blasi.gather = printed adds A L_V once per voxel a view ray visits, L_V = S_V times the
+ * voxel's mean chord 4 |V| / area (2/3 of the edge for a cube: Cauchy's formula), where
+ * path_length integrates S_V over the length crossed. Along a voxel axis every visit
+ * crosses one edge h, so in a nearly transparent medium (kappa rho h <= 1e-3) the printed
+ * gather is 2/3 of the other, ray by ray. The same light pass (seed) feeds both. */
+TEST(printed_gather_is_two_thirds_along_an_axis)
+{
+    const char *json = "{\"camera\": {\"position\": [0.6, -3.5, 3.0], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]},"
+                       " \"background\": [0, 0, 0], \"lights\": [" SUN "],"
+                       " \"media\": [{\"sigma_a\": 0.01, \"sigma_s\": 2.0,"
+                       "   \"density\": {\"type\": \"fractal_cloud\", \"dims\": [32, 32, 8], \"seed\": 3,"
+                       "     \"threshold\": 0.1, \"bounds\": [[-1.6, -1.6, -0.4], [1.6, 1.6, 0.4]]}}],"
+                       " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"method\": \"blasi\"}}";
+    color L[2][12];
+    for (int k = 0; k < 2; k++) {
+        brume_scene *s = NULL;
+        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+        brume_context *ctx = brume_context_new();
+        ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "20000"), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.gather", k ? "printed" : "path_length"), BRUME_OK);
+        density_info info;
+        blasi_state *st = commit_and_prepare(ctx, s, &info);
+        rng g = rng_make(3, 0, 0);
+        for (int i = 0; i < 12; i++) { /* rays along x, y and z through voxel centres */
+            int a = i % 3;
+            double u = -1.15 + 0.1 * (i / 3) * 2.0, w = 0.05 - 0.1 * (i % 2);
+            vec3 o = a == 0 ? v3(-3, u, w) : a == 1 ? v3(u, -3, w) : v3(u, w + 0.2 * (i / 3), -3);
+            vec3 d = a == 0 ? v3(1, 0, 0) : a == 1 ? v3(0, 1, 0) : v3(0, 0, 1);
+            bool hit = false;
+            L[k][i] = blasi_Li(s, st, (ray){o, d, 0.0}, &g, &hit);
+        }
+        blasi_finish(st);
+        brume_scene_release(s);
+        brume_context_release(ctx);
+    }
+    int lit = 0;
+    for (int i = 0; i < 12; i++)
+        for (int c = 0; c < 3; c++) {
+            if (L[0][i].c[c] > 0.0)
+                lit++;
+            ASSERT_NEAR(L[1][i].c[c], 2.0 / 3.0 * L[0][i].c[c], 2e-3 * L[0][i].c[c] + 1e-15);
+        }
+    fprintf(stderr, "%d of 36 ray channels gather light\n", lit);
+    ASSERT_TRUE(lit >= 18);
+}
+
+TEST_MAIN(printed_gather_is_two_thirds_along_an_axis, r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,
           threads_do_not_change_the_image, light_pass_sums_do_not_depend_on_threads, light_pass_keeps_the_power,
           light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
           paper_variants_are_brighter,

@@ -7,6 +7,8 @@
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
+#include "figures_table.h"
+#include "io/json.h"
 #include "render/blasi_options.h"
 #include "render/scene.h"
 #include "render/stam.h"
@@ -409,6 +411,74 @@ TEST(phase_fit_given)
     ASSERT_EQ_INT(test_system(cmd), 2);
 }
 
+/* The captions say what the scenes hold: Figure 5's eps and eta are read from the scene
+ * files, the equation numbers from the paper (Blasi Eq. 17 is Rayleigh, Eq. 18 both Mie
+ * functions), and docs/gallery.md carries every caption as `brume figures` writes it.
+ * docs/stam.md's standard error of a sample variance over M = 1000 realizations
+ * (test_stam.c's Monte-Carlo check) is sqrt(2 / (M - 1)) = 4.5 %. */
+TEST(captions_match_the_scenes)
+{
+    static const char *const fig5[] = {"stam-fig5-a", "stam-fig5-b", "stam-fig5-c", "stam-fig5-d"};
+    char path[1024], want[64];
+    size_t n;
+    snprintf(path, sizeof path, "%s/docs/gallery.md", BRUME_SOURCE_DIR);
+    char *gallery = test_slurp(path, &n);
+    for (int i = 0; i < 4; i++) {
+        const char *scene = NULL, *cap = figures_caption(fig5[i], &scene);
+        ASSERT_TRUE(cap != NULL);
+        snprintf(path, sizeof path, "%s/scenes/%s.json", BRUME_SOURCE_DIR, scene);
+        char *text = test_slurp(path, &n);
+        cJSON *doc = NULL;
+        ASSERT_EQ_INT(json_parse(text, path, &doc), BRUME_OK);
+        const cJSON *stam = cJSON_GetObjectItemCaseSensitive(doc, "stam");
+        const cJSON *eps = cJSON_GetObjectItemCaseSensitive(stam, "eps");
+        const cJSON *eta = cJSON_GetObjectItemCaseSensitive(stam, "eta");
+        ASSERT_TRUE(cJSON_IsNumber(eps) && cJSON_IsNumber(eta));
+        snprintf(want, sizeof want, "eps = %g,", eps->valuedouble);
+        ASSERT_CONTAINS(cap, want);
+        snprintf(want, sizeof want, "eta = %g", eta->valuedouble);
+        ASSERT_CONTAINS(cap, want);
+        ASSERT_CONTAINS(gallery, cap);
+        cJSON_Delete(doc);
+        free(text);
+    }
+    ASSERT_CONTAINS(figures_caption("blasi-fig2", NULL), "(Eq. 17)");
+    ASSERT_CONTAINS(figures_caption("blasi-fig3", NULL), "(Eq. 18)");
+    ASSERT_CONTAINS(figures_caption("blasi-fig4", NULL), "(Eq. 18)");
+    static const char *const phase_figs[] = {"blasi-fig2", "blasi-fig3", "blasi-fig4"};
+    for (int i = 0; i < 3; i++)
+        ASSERT_CONTAINS(gallery, figures_caption(phase_figs[i], NULL));
+    free(gallery);
+    snprintf(path, sizeof path, "%s/docs/stam.md", BRUME_SOURCE_DIR);
+    char *stam = test_slurp(path, &n);
+    snprintf(want, sizeof want, "se(var) = Var sqrt(2 / (M - 1)) = %.1f %%", 100.0 * sqrt(2.0 / 999.0));
+    ASSERT_CONTAINS(stam, want);
+    free(stam);
+}
+
+/* `brume figures --compare` puts a figure as printed, as corrected and by `path` side by
+ * side: three cells of the quick width in one PNG; a figure without variants is refused. */
+TEST(figures_compare_side_by_side)
+{
+    char dir[512], cmd[2048], path[1024];
+    snprintf(dir, sizeof dir, "%s", test_tmp_path("figcmp"));
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && %s figures --compare --quick --only blasi-picture1 -o '%s' --scenes %s/scenes",
+             dir, BRUME_EXE, dir, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    size_t n;
+    snprintf(path, sizeof path, "%s/blasi-picture1-compare.png", dir);
+    unsigned char *png = (unsigned char *)test_slurp(path, &n);
+    ASSERT_TRUE(n > 33 && memcmp(png, "\x89PNG\r\n\x1a\n", 8) == 0);
+    unsigned width = (unsigned)png[16] << 24 | (unsigned)png[17] << 16 | (unsigned)png[18] << 8 | png[19];
+    ASSERT_TRUE(width >= 3 * 64 && width < 4 * 64 + 64);
+    free(png);
+    snprintf(cmd, sizeof cmd, "%s figures --compare --quick --only blasi-fig2 -o '%s' --scenes %s/scenes 2>/dev/null",
+             BRUME_EXE, dir, BRUME_SOURCE_DIR);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    test_system(cmd);
+}
+
 /* `brume figures --quick` writes every figure of both papers, at the quick size, with both
  * indexes naming each; it refuses to write into the source tree's docs/ unless told. */
 TEST(figures_quick_makes_every_file)
@@ -480,6 +550,6 @@ TEST(cli_light_files_beside_overrides)
     test_system(cmd);
 }
 
-TEST_MAIN(set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
+TEST_MAIN(captions_match_the_scenes, figures_compare_side_by_side, set_every_kind_of_key, set_bad_keys, stam_variants_differ_where_the_variance_differs,
           q_autocorrelation_has_no_period_in_the_field, blasi_on_blobs_refused_or_voxelized, stats_per_method,
           phase_fit_given, figures_quick_makes_every_file, cli_light_files_beside_overrides)

@@ -76,14 +76,16 @@ static void row_range(const phase_plot_row *row, bool log_scale, double *lo, dou
 }
 
 /* Polar plot in the square [x0, x0 + POLAR_SIZE] x [y0, y0 + ROW_HEIGHT]: the point at angle
- * theta from the forward direction (+x) lies at radius phi(theta), or at log10(phi) - L0 on a
- * log scale, L0 the decade below the smallest value. The dotted circle is phi = 1
- * (isotropic scattering). */
+ * theta from the forward direction (+x) lies at radius phi(theta) / max phi, on a linear
+ * scale whatever log_scale says (a log radius turns every lobe into a shifted circle: the
+ * cartesian panel beside it is the log companion). The dotted circle is phi = 1 (isotropic
+ * scattering). */
 static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, double x0, double y0)
 {
     double lo, hi;
-    row_range(row, log_scale, &lo, &hi);
-    double base = log_scale ? floor(lo) : 0.0;
+    (void)log_scale;
+    row_range(row, false, &lo, &hi);
+    double norm = hi > 0.0 ? hi : 1.0;
     /* Bounding box of the curves in plot units, then a uniform scale into the panel. */
     double xmin = 0.0, xmax = 0.0, ymax = 0.0;
     for (int c = 0; c < row_count(row); c++) {
@@ -92,13 +94,13 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
             continue;
         for (int i = 0; i < CURVE_POINTS; i++) {
             double th = PI * i / (CURVE_POINTS - 1);
-            double rad = plot_value(plot_phi(p, th), log_scale) - base;
+            double rad = plot_phi(p, th) / norm;
             xmin = fmin(xmin, rad * cos(th));
             xmax = fmax(xmax, rad * cos(th));
             ymax = fmax(ymax, rad * sin(th));
         }
     }
-    double unit = log_scale ? -base : 1.0; /* radius of phi = 1 */
+    double unit = 1.0 / norm; /* radius of phi = 1 */
     xmin = fmin(xmin, -unit);
     xmax = fmax(xmax, unit);
     ymax = fmax(ymax, unit);
@@ -127,7 +129,7 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
         set_style(cr, row, c);
         for (int i = 0; i < 2 * (CURVE_POINTS - 1) + 1; i++) {
             double th = PI * i / (CURVE_POINTS - 1); /* 0 .. 2 pi; phi is symmetric */
-            double rad = (plot_value(plot_phi(p, th), log_scale) - base) * scale;
+            double rad = plot_phi(p, th) / norm * scale;
             double x = cx + rad * cos(th), y = cy - rad * sin(th);
             if (i == 0)
                 cairo_move_to(cr, x, y);
@@ -139,7 +141,7 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
     }
     cairo_set_dash(cr, NULL, 0, 0.0);
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-    chart_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, log_scale ? "polar, log10 phi" : "polar", 0.0);
+    chart_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, "polar, phi / max phi (linear)", 0.0);
 }
 
 /* phi against theta in degrees, in [x0, x0 + w] x [y0, y0 + ROW_HEIGHT]. */

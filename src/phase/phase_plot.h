@@ -23,7 +23,8 @@ typedef struct phase_plot_row {
 } phase_plot_row;
 
 /* Writes an 8-bit RGB PNG of n >= 1 rows to path, atomically (a temporary file beside it,
- * renamed when complete). log_scale plots log10(phi) on both panels. Errors name path. */
+ * renamed when complete). The polar panel is always linear, phi / max phi; log_scale plots
+ * log10(phi) on the cartesian panel (the polar plot's log companion). Errors name path. */
 brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows, bool log_scale);
 
 #endif

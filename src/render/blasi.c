@@ -70,6 +70,7 @@ typedef struct blasi_medium {
     affine3 w2v;         /* world -> voxel space */
     affine3 v2w;         /* voxel -> world space */
     double volume;       /* world volume of one voxel */
+    double chord;        /* mean chord of one voxel, 4 volume / surface area (blasi.gather = printed) */
     double sigma_bar;    /* Eq. 10: mean over channels of sigma_s, per unit density */
     color sigma_t;       /* sigma_a + sigma_s */
     color kappa;         /* view attenuation per unit density: sigma_a or sigma_t */
@@ -104,6 +105,7 @@ struct blasi_state {
     double threshold;
     blasi_exit exit;
     blasi_view_atten view;
+    bool gather_printed; /* blasi.gather = printed: A L_V per voxel visited (view_voxel) */
     bool area_lights; /* some light is a sphere or a disk: view rays may end on it */
     bool sun_disks;   /* some distant light has a disk: view rays may see it */
     blasi_stats stats;
@@ -1292,6 +1294,7 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     st->threshold = o->threshold;
     st->exit = o->exit_deposit;
     st->view = o->view_attenuation;
+    st->gather_printed = o->gather == BLASI_GATHER_PRINTED;
     for (int i = 0; i < s->nlights; i++) {
         const light *l = &s->lights[i];
         st->area_lights |= l->kind == LIGHT_SPHERE || l->kind == LIGHT_DISK;
@@ -1346,6 +1349,14 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         st->nvox += bm->nvox;
         bm->volume = fabs(affine3_det(&info.voxel_to_world));
         bm->v2w = info.voxel_to_world;
+        {   /* the voxel's edges in world space, for its surface area */
+            vec3 o0 = affine3_apply(&bm->v2w, v3(0, 0, 0)), e[3];
+            for (int a = 0; a < 3; a++)
+                e[a] = v3_sub(affine3_apply(&bm->v2w, v3(a == 0, a == 1, a == 2)), o0);
+            double area = 2.0 * (v3_length(v3_cross(e[0], e[1])) + v3_length(v3_cross(e[1], e[2])) +
+                                 v3_length(v3_cross(e[2], e[0])));
+            bm->chord = area > 0.0 ? 4.0 * bm->volume / area : 0.0;
+        }
         if (!affine3_invert(&info.voxel_to_world, &bm->w2v) || !(bm->volume > 0.0)) {
             rc = err_set(BRUME_ERROR_RANGE, "%s: media[%d] '%s': singular grid placement", s->source, m, md->name);
             break;
@@ -1553,6 +1564,13 @@ static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *
         S.c[c] = (double)sv[c] + bm->emit.c[c] * rho;
         kap.c[c] = bm->kappa.c[c] * rho;
     }
+    if (st->gather_printed) { /* Blasi's second pass as printed: "L_P = L_P + A L_V", then attenuate */
+        s->L = col_add(s->L, col_scale(col_mul(s->A, S), bm->chord));
+#pragma GCC unroll 3
+        for (int c = 0; c < BRUME_NSAMPLES; c++)
+            s->A.c[c] *= exp(-kap.c[c] * dl);
+        return col_max(s->A) > st->threshold;
+    }
     if (kap.c[0] == 0.0 && kap.c[1] == 0.0 && kap.c[2] == 0.0) {
         if (!col_is_black(S)) /* a source without attenuation (e.g. alpha = 0, paper variant) */
             s->L = col_add(s->L, col_scale(col_mul(s->A, S), dl));
@@ -1637,7 +1655,7 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
 static bool view_walk_one(const blasi_state *st, ray r, double t_end, view_sums *out)
 {
     const blasi_medium *bm = &st->m[0];
-    if (bm->view_grey && col_is_grey(out->A) && col_is_grey(out->tau_t))
+    if (bm->view_grey && !st->gather_printed && col_is_grey(out->A) && col_is_grey(out->tau_t))
         return bm->emits ? view_walk_one_as(st, r, t_end, out, true, true)
                          : view_walk_one_as(st, r, t_end, out, true, false);
     return view_walk_one_as(st, r, t_end, out, false, true);

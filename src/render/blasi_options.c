@@ -24,7 +24,7 @@ void blasi_options_default(blasi_options *o)
 
 const char *blasi_option_names(void)
 {
-    return "light_rays, r, kprime, step, threshold, sources, exit_deposit, view_attenuation, variant, "
+    return "light_rays, r, kprime, step, threshold, sources, exit_deposit, view_attenuation, gather, variant, "
            "voxels, save_light, load_light";
 }
 
@@ -79,6 +79,13 @@ brume_status blasi_options_set(blasi_options *o, const char *key, const char *va
             return err_set(BRUME_ERROR_PARSE, "blasi.view_attenuation: '%s' is not one of absorption, extinction",
                            value);
         n.view_given = true;
+    } else if (strcmp(key, "gather") == 0) {
+        if (strcmp(value, "path_length") == 0)
+            n.gather = BLASI_GATHER_PATH_LENGTH;
+        else if (strcmp(value, "printed") == 0)
+            n.gather = BLASI_GATHER_PRINTED;
+        else
+            return err_set(BRUME_ERROR_PARSE, "blasi.gather: '%s' is not one of path_length, printed", value);
     } else if (strcmp(key, "variant") == 0) {
         bool paper = strcmp(value, "paper") == 0;
         if (!paper && strcmp(value, "physical") != 0)

@@ -22,6 +22,13 @@ typedef enum blasi_view_atten {
     BLASI_VIEW_EXTINCTION  /* A *= exp(-(alpha + sigma) rho delta), physics */
 } blasi_view_atten;
 
+/* How a view ray gathers a voxel's stored source S_V (radiance per unit length). */
+typedef enum blasi_gather {
+    BLASI_GATHER_PATH_LENGTH, /* integral of A S_V over the length crossed: A S_V (1 - e^-kappa d) / kappa */
+    BLASI_GATHER_PRINTED      /* "L_P = L_P + A L_V" per voxel visited, whatever the length crossed, with
+                                 L_V = S_V times the voxel's mean chord 4 |V| / area (docs/blasi.md) */
+} blasi_gather;
+
 #define BLASI_PATH_MAX 1024
 
 typedef struct blasi_options {
@@ -35,6 +42,7 @@ typedef struct blasi_options {
     int sources;            /* elementary sources per area light (strata of its surface) */
     blasi_exit exit_deposit;
     blasi_view_atten view_attenuation;
+    blasi_gather gather;    /* not set by `variant`: path_length unless given */
     int voxels;             /* a blob field (Stam) is rendered as a dense grid of this many cells
                                along its longest axis, one realization of the perturbation
                                (stam.eps, stam.eta, Q); 0 = blob fields are refused */
@@ -47,7 +55,7 @@ void blasi_options_default(blasi_options *o);
 
 /* Sets option `key` (without the "blasi." prefix) from its text form, as the scene file
  * would give it: light_rays, r, kprime, step, threshold, sources, exit_deposit
- * (paper|none), view_attenuation (absorption|extinction), variant (paper|physical: both
+ * (paper|none), view_attenuation (absorption|extinction), gather (path_length|printed), variant (paper|physical: both
  * of the previous two, except one set by its own key, in any order), voxels, save_light,
  * load_light. On failure returns an error status with
  * err_set() naming "blasi.KEY" and the bad value, and leaves *o unchanged. */
