@@ -65,13 +65,13 @@ static const char page[] =
     "  try {\n"
     "    const r = await fetch('/status.json', {cache: 'no-store'});\n"
     "    const s = await r.json();\n"
-    "    const f = s.total > 0 ? Math.min(1, s.done / s.total) : 0;\n"
+    "    const f = s.finished ? 1 : Math.max(0, s.fraction);\n"
     "    document.getElementById('label').textContent = 'brume: ' + s.label + (s.finished ? ' (finished)' : '');\n"
     "    document.getElementById('fill').style.width = (100 * f).toFixed(1) + '%';\n"
-    "    document.getElementById('progress').textContent = (100 * f).toFixed(1) + ' %';\n"
+    "    document.getElementById('progress').textContent = s.fraction < 0 && !s.finished ? 'not known yet' : (100 * f).toFixed(1) + ' %';\n"
     "    document.getElementById('spp').textContent = s.spp_min + ' to ' + s.spp_max + ' (mean ' + s.spp_mean.toFixed(1) + ')';\n"
     "    document.getElementById('elapsed').textContent = secs(s.elapsed);\n"
-    "    document.getElementById('eta').textContent = s.finished ? 'done' : secs(s.eta);\n"
+    "    document.getElementById('eta').textContent = s.finished ? 'done' : s.eta < 0 ? 'not known yet' : secs(s.eta);\n"
     "    document.getElementById('noise').textContent = s.noise > 0 ? (100 * s.noise).toFixed(2) + ' %' : '-';\n"
     "    if (!finished || !s.finished) reload();\n"
     "    finished = s.finished;\n"
@@ -163,9 +163,9 @@ static enum MHD_Result send_status(cli_serve *sv, struct MHD_Connection *conn)
     int len = snprintf(body, 1024,
                        "{\"label\": \"%s\", \"running\": %s, \"done\": %llu, \"total\": %llu, \"spp_min\": %d, "
                        "\"spp_max\": %d, \"spp_mean\": %.3f, \"noise\": %.6g, \"converged\": %.4f, "
-                       "\"elapsed\": %.3f, \"eta\": %.3f, \"finished\": %s}\n",
+                       "\"elapsed\": %.3f, \"eta\": %.3f, \"fraction\": %.4f, \"finished\": %s}\n",
                        label, have ? "true" : "false", (unsigned long long)p.done, (unsigned long long)p.total,
-                       p.spp_min, p.spp_max, p.spp_mean, p.noise, p.converged, p.elapsed, p.eta,
+                       p.spp_min, p.spp_max, p.spp_mean, p.noise, p.converged, p.elapsed, p.eta, p.fraction,
                        p.finished ? "true" : "false");
     return respond(conn, MHD_HTTP_OK, "application/json", body, (size_t)len, MHD_RESPMEM_MUST_FREE);
 }

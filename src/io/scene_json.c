@@ -694,6 +694,9 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
     if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
     if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
+    /* spp is the maximum under a budget; a budget given without it has none (docs/render-jobs.md) */
+    if (!cJSON_HasObjectItem(j, "spp") && (rs.time_budget > 0.0 || rs.noise_target > 0.0))
+        rs.spp = 1 << 24;
     char sampler[32] = "";
     if ((st = json_string(j, at, "sampler", 0, sampler, sizeof sampler))) return st;
     if (strcmp(sampler, "sobol") == 0)
