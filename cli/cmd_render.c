@@ -732,7 +732,10 @@ int cmd_render(int argc, char **argv)
             else if (!o.quiet && job && (rs.time_budget > 0.0 || rs.noise_target > 0.0)) {
                 const brume_render_progress *p = &jr.progress;
                 char noise[64] = "";
-                if (rs.noise_target > 0.0)
+                if (rs.noise_target > 0.0 && p->spp_max < 2)
+                    snprintf(noise, sizeof noise, ", noise not known (under 2 samples; target %.3g%%)",
+                             100.0 * rs.noise_target);
+                else if (rs.noise_target > 0.0)
                     snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
                              100.0 * rs.noise_target);
                 fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s\n", path,

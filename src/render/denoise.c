@@ -12,7 +12,8 @@
  *     c'_p = sum_q h(q - p) w(p, q) c_q / sum_q h(q - p) w(p, q)
  *     v'_p = sum_q (h w)^2 v_q / (sum_q h w)^2
  *     w    = w_colour w_albedo w_normal w_depth
- *     w_colour = exp(-max(0, sum_c ((c_p - c_q)^2 - (v_p + min(v_p, v_q))) / (k^2 (v_p + v_q) + eps)))
+ *     w_colour = exp(-max(0, mean_c ((c_p - c_q)^2 - (v_p + min(v_p, v_q))) / (k^2 (v_p + v_q) + eps)))
+ *     w_feature = exp(-|f_p - f_q|^2 / sigma_f^2)   (depth: relative to the larger depth)
  *
  * Every output pixel is a fixed sum over the level's input, in one order, written to a
  * separate buffer: the result is the same bits whatever the number of threads.
@@ -26,17 +27,19 @@
 #include "core/pool.h"
 #include "io/image.h"
 
-#define DENOISE_LEVELS 5        /* kernel footprint 1 + 4 (2^5 - 1) = 125 pixels */
-#define DENOISE_K 1.0           /* colour weight: differences up to ~k standard deviations pass */
-#define DENOISE_SIGMA_ALBEDO 0.1
-#define DENOISE_SIGMA_NORMAL 0.3  /* |n_p - n_q|: 0.3 is about 17 degrees */
-#define DENOISE_SIGMA_DEPTH 0.05  /* relative depth difference */
+#define DENOISE_LEVELS 5 /* kernel footprint 1 + 4 (2^5 - 1) = 125 pixels */
+#define DENOISE_K 2.0    /* colour weight: a difference of k standard deviations costs e^-1
+                            (k = 1: 1.6 x lower error on cloud64 at 5 s, k = 2: 9 x; docs/denoise.md) */
+#define DENOISE_SIGMA_ALBEDO 0.3 /* loose: a medium's albedo layer is a noisy mean (hit or miss) */
+#define DENOISE_SIGMA_NORMAL 0.3 /* |n_p - n_q|: 0.3 is about 17 degrees */
+#define DENOISE_SIGMA_DEPTH 0.3  /* relative depth difference; loose, as a medium's first collision is random */
 
 typedef struct denoise_job {
     int w, h, step;
     const double *c, *v;   /* level input: RGB colour, RGB variance, 3 per pixel */
     double *c_out, *v_out; /* level output */
     const float *albedo, *normal, *depth; /* features, or NULL */
+    double k2, ia, in, iz; /* k^2 and 1 / sigma^2 of the features */
 } denoise_job;
 
 static const double B3[5] = {1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0};
@@ -65,20 +68,20 @@ static void denoise_row(size_t task, int thread, void *user)
                 const double *cq = j->c + 3 * q, *vq = j->v + 3 * q;
                 double d = 0.0; /* Rousselle et al. 2012, Eq. 3, summed over the channels */
                 for (size_t c = 0; c < 3; c++)
-                    d += (sq(cp[c] - cq[c]) - (vp[c] + fmin(vp[c], vq[c]))) /
-                         (1e-10 + DENOISE_K * DENOISE_K * (vp[c] + vq[c]));
-                double e = fmax(0.0, d);
+                    d += (sq(cp[c] - cq[c]) - (vp[c] + fmin(vp[c], vq[c]))) / (1e-10 + j->k2 * (vp[c] + vq[c]));
+                double e = fmax(0.0, d / 3.0); /* the channels' mean: the sum would count a grey
+                                                  medium's one noise three times */
                 if (j->albedo) {
                     const float *a = j->albedo + 3 * p, *b = j->albedo + 3 * q;
-                    e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) / sq(DENOISE_SIGMA_ALBEDO);
+                    e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) * j->ia;
                 }
                 if (j->normal) {
                     const float *a = j->normal + 3 * p, *b = j->normal + 3 * q;
-                    e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) / sq(DENOISE_SIGMA_NORMAL);
+                    e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) * j->in;
                 }
                 if (j->depth) {
                     double zp = j->depth[p], zq = j->depth[q];
-                    e += sq((zp - zq) / (DENOISE_SIGMA_DEPTH * fmax(fmax(zp, zq), 1e-6)));
+                    e += sq(zp - zq) / sq(fmax(fmax(zp, zq), 1e-6)) * j->iz;
                 }
                 double wq = B3[dx + 2] * B3[dy + 2] * exp(-e);
                 sw += wq;
@@ -162,6 +165,31 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
             c0[3 * p + c] = isfinite(x) ? (double)x : 0.0;
             v0[3 * p + c] = isfinite(v) && v > 0.0f ? (double)v : 0.0;
         }
+    /* a pixel of fewer than 2 samples has no variance estimate (the layer holds 0): it takes
+     * the spatial variance of its 3 x 3 neighbourhood, what SVGF does before the temporal
+     * history has samples; a flat region (the sky) gives 0 there as it should */
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (size_t c = 0; c < 3; c++) {
+                const size_t p = (size_t)y * (size_t)w + (size_t)x;
+                if (v0[3 * p + c] > 0.0)
+                    continue;
+                double s1 = 0.0, s2 = 0.0, n = 0.0;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int xq = x + dx, yq = y + dy;
+                        if (xq < 0 || xq >= w || yq < 0 || yq >= h)
+                            continue;
+                        double cq = c0[3 * ((size_t)yq * (size_t)w + (size_t)xq) + c];
+                        s1 += cq;
+                        s2 += cq * cq;
+                        n += 1.0;
+                    }
+                v1[3 * p + c] = n > 1.0 ? fmax(0.0, (s2 - s1 * s1 / n) / (n - 1.0)) : 0.0;
+            }
+    for (size_t p = 0; p < 3 * npix; p++) /* v1 holds the fallbacks only where v0 is 0 */
+        if (!(v0[p] > 0.0))
+            v0[p] = v1[p];
     /* the variance estimate of a few samples is itself noisy: a 3 x 3 binomial blur of it
      * steadies the first level's weights (Schied et al. 2017 do the same) */
     for (int y = 0; y < h; y++)
@@ -181,7 +209,8 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
             }
     memcpy(v0, v1, npix * 3 * sizeof *v0);
     denoise_job j = {w, h, 1, c0, v0, c1, v1, layer_of(in, "albedo", 3), layer_of(in, "normal", 3),
-                     layer_of(in, "depth", 1)};
+                     layer_of(in, "depth", 1), DENOISE_K * DENOISE_K, 1.0 / sq(DENOISE_SIGMA_ALBEDO),
+                     1.0 / sq(DENOISE_SIGMA_NORMAL), 1.0 / sq(DENOISE_SIGMA_DEPTH)};
     for (int level = 0; level < DENOISE_LEVELS; level++) {
         j.step = 1 << level;
         pool_run(threads, (size_t)h, denoise_row, &j);
