@@ -179,4 +179,67 @@ TEST(independent_of_threads)
     brume_image_release(d);
 }
 
-TEST_MAIN(lowers_the_error_of_a_known_image, keeps_an_edge, independent_of_threads)
+static int layer_index(const brume_image *img, const char *name)
+{
+    for (int i = 0; i < brume_image_layer_count(img); i++)
+        if (strcmp(brume_image_layer_name(img, i), name) == 0)
+            return i;
+    return -1;
+}
+
+/* As a user runs it: `brume render --denoise -o OUT.exr` writes the denoised image with the
+ * raw one in the layer "raw" (equal to a plain render of the same seed and samples, so the
+ * raw image is the render's, untouched) and the mark; `brume denoise` of a render with the
+ * layers writes the same pixels; to a PNG the raw image goes beside it as NAME-raw.png. */
+TEST(command_line)
+{
+    char cmd[4096];
+    const char *den = test_tmp_path("den.exr"), *plain = test_tmp_path("plain.exr"), *again = test_tmp_path("again.exr"),
+               *png = test_tmp_path("den.png"), *png_raw = test_tmp_path("den-raw.png");
+    const char *common = "render --width 48 --height 32 --spp 4 --quiet";
+    snprintf(cmd, sizeof cmd, "%s %s --denoise -o %s", BRUME_EXE, common, den);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s %s --aov variance,albedo,normal,depth -o %s", BRUME_EXE, common, plain);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s denoise %s -o %s", BRUME_EXE, plain, again);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s %s --denoise -o %s", BRUME_EXE, common, png);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    ASSERT_TRUE(test_exists(png) && test_exists(png_raw));
+    brume_context *ctx = brume_context_new();
+    brume_image *a = NULL, *b = NULL, *c = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, den, &a), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_read(ctx, plain, &b), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_read(ctx, again, &c), BRUME_OK);
+    ASSERT_TRUE(brume_image_attribute(a, "brume.denoised") != NULL);
+    ASSERT_TRUE(brume_image_attribute(b, "brume.denoised") == NULL);
+    int raw = layer_index(a, "raw");
+    ASSERT_TRUE(raw >= 0);
+    const float *r = brume_image_layer_pixels(a, raw), *pb = brume_image_pixels_const(b);
+    size_t n = 48 * 32;
+    int differ = 0;
+    for (size_t i = 0; i < n; i++)
+        for (size_t k = 0; k < 3; k++) {
+            ASSERT_TRUE(r[3 * i + k] == pb[4 * i + k]);
+            differ += brume_image_pixels_const(a)[4 * i + k] != pb[4 * i + k];
+        }
+    ASSERT_TRUE(differ > 0); /* filtered */
+    ASSERT_TRUE(memcmp(brume_image_pixels_const(a), brume_image_pixels_const(c), n * 4 * sizeof(float)) == 0);
+    /* denoising a denoised file is refused with one line naming the file */
+    const char *err = test_tmp_path("err.txt");
+    snprintf(cmd, sizeof cmd, "%s denoise %s -o %s 2>%s", BRUME_EXE, den, again, err);
+    ASSERT_EQ_INT(test_system(cmd), 1);
+    size_t len = 0;
+    char *text = test_slurp(err, &len);
+    ASSERT_TRUE(strstr(text, den) != NULL && strstr(text, "denoised already") != NULL);
+    free(text);
+    brume_image_release(a);
+    brume_image_release(b);
+    brume_image_release(c);
+    brume_context_release(ctx);
+    const char *files[6] = {den, plain, again, png, png_raw, err};
+    for (int i = 0; i < 6; i++)
+        remove(files[i]);
+}
+
+TEST_MAIN(lowers_the_error_of_a_known_image, keeps_an_edge, independent_of_threads, command_line)
