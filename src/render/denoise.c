@@ -33,6 +33,7 @@
 #define DENOISE_SIGMA_ALBEDO 0.3 /* loose: a medium's albedo layer is a noisy mean (hit or miss) */
 #define DENOISE_SIGMA_NORMAL 0.3 /* |n_p - n_q|: 0.3 is about 17 degrees */
 #define DENOISE_SIGMA_DEPTH 0.3  /* relative depth difference; loose, as a medium's first collision is random */
+#define DENOISE_E_MAX 30.0       /* a neighbour of weight below e^-30 (1e-13 of the centre's) is skipped */
 
 typedef struct denoise_job {
     int w, h, step;
@@ -71,6 +72,8 @@ static void denoise_row(size_t task, int thread, void *user)
                     d += (sq(cp[c] - cq[c]) - (vp[c] + fmin(vp[c], vq[c]))) / (1e-10 + j->k2 * (vp[c] + vq[c]));
                 double e = fmax(0.0, d / 3.0); /* the channels' mean: the sum would count a grey
                                                   medium's one noise three times */
+                if (e > DENOISE_E_MAX)
+                    continue;
                 if (j->albedo) {
                     const float *a = j->albedo + 3 * p, *b = j->albedo + 3 * q;
                     e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) * j->ia;
@@ -83,6 +86,8 @@ static void denoise_row(size_t task, int thread, void *user)
                     double zp = j->depth[p], zq = j->depth[q];
                     e += sq(zp - zq) / sq(fmax(fmax(zp, zq), 1e-6)) * j->iz;
                 }
+                if (e > DENOISE_E_MAX)
+                    continue;
                 double wq = B3[dx + 2] * B3[dy + 2] * exp(-e);
                 sw += wq;
                 for (size_t c = 0; c < 3; c++) {

@@ -279,7 +279,9 @@ static void job_figures(const brume_render_job *job, bool finished, progress_fig
                   : job->done > 0           ? (used - job->prep_seconds) / (double)job->done
                                             : 0.0;
     double eta = -1.0;
-    bool known = rs->noise_target > 0.0 ? job->spp_done >= 2 : true;
+    /* a noise target's total is known once the pixels have error estimates, or when the
+     * pass under way reaches the sample maximum */
+    bool known = rs->noise_target > 0.0 ? job->spp_done >= 2 || job->target >= rs->spp : true;
     if (known && rate > 0.0)
         eta = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
     if (rs->time_budget > 0.0) {
