@@ -738,8 +738,12 @@ int cmd_render(int argc, char **argv)
                 else if (rs.noise_target > 0.0)
                     snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
                              100.0 * rs.noise_target);
-                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s\n", path,
-                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs);
+                char budget[64] = "";
+                if (rs.time_budget > 0.0)
+                    snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed,
+                             rs.time_budget);
+                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
+                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs, budget);
             } else if (!o.quiet)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
                         rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
