@@ -14,7 +14,10 @@
  * against the reference's, relative, beside the same figure for the raw image (unbiased: its
  * block deviations are the noise floor of that figure).
  *
- *   bench_denoise [SECONDS [REFERENCE_SPP]]   (default 5 and 1024; references cached in
+ * With BENCH_SPP=N in the environment both images have N samples per pixel instead (equal
+ * samples: the layers' and the denoiser's time are then printed, not compensated).
+ *
+ *   bench_denoise [SECONDS [REFERENCE_SPP [SCENES]]]   (default 5 and 1024; references cached in
  *                   the working folder as denoise-ref-NAME-SPP.exr; run from the build
  *                   folder of a checkout whose ../shared/data holds the grids, or set
  *                   BRUME_SCENES to the scenes folder) */
@@ -162,8 +165,9 @@ int main(int argc, char **argv)
         char rawpath[256];
         snprintf(rawpath, sizeof rawpath, "denoise-raw-%s.exr", names[k]);
         brume_image *raw = NULL;
+        int fixed = getenv("BENCH_SPP") ? atoi(getenv("BENCH_SPP")) : 0; /* equal samples instead */
         if (!getenv("BENCH_REUSE") || brume_image_read(ctx, rawpath, &raw) != BRUME_OK) {
-            raw = render(ctx, paths[k], seconds, 0, 1, 0, &spp_raw, &w_raw);
+            raw = render(ctx, paths[k], fixed ? 0.0 : seconds, fixed, 1, 0, &spp_raw, &w_raw);
             brume_image_write(ctx, raw, rawpath, NULL);
         }
         /* the denoiser's time, measured on a first short render of the same size */
@@ -174,7 +178,8 @@ int main(int argc, char **argv)
             snprintf(inpath, sizeof inpath, "denoise-in-%s.exr", names[k]);
             brume_image *in = NULL;
             if (!pass || !getenv("BENCH_REUSE") || brume_image_read(ctx, inpath, &in) != BRUME_OK)
-                in = render(ctx, paths[k], pass ? budget : 0.0, 2, 1, feats, &spp_den, &w_den);
+                in = render(ctx, paths[k], pass && !fixed ? budget : 0.0, pass && fixed ? fixed : 2, 1, feats, &spp_den,
+                            &w_den);
             if (pass && !getenv("BENCH_REUSE"))
                 brume_image_write(ctx, in, inpath, NULL);
             brume_image *out = NULL;

@@ -514,15 +514,16 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
     if (job->spp_done > 0 && k > PASS_MAX)
         k = PASS_MAX;
     if (timed && job->spp_done > 0 && job->sample_seconds > 0.0) {
-        /* the passes sized from the measured cost of a pixel sample: the last pass ends
-         * with the budget, and a pass that would not fit whole is not begun (a cut pass
-         * would leave the tiles it did not reach one sample short) */
+        /* the passes sized from the measured cost of a pixel sample, so that the last one
+         * ends with the budget. A 1-sample pass that would not fit whole is begun when at
+         * least half of it fits (the clock cuts it: the tiles it did not reach stay one
+         * sample short), else the render ends early by less than half a pass */
         double left = rs->time_budget - job_used(job);
         double fit = left / (job->sample_seconds * (double)nactive);
-        if (fit < 1.0)
+        if (fit < 0.5)
             return -1;
         if (fit < k)
-            k = (int)fit;
+            k = fit < 1.0 ? 1 : (int)fit;
     }
     return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
 }
