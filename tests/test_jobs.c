@@ -596,24 +596,33 @@ static void set_tiny_time(brume_render_settings *rs, void *user)
  * pixel of a 1-sample render. */
 TEST(time_budget_cuts_the_first_pass)
 {
-    double budget = 0.005;
-    brume_scene *s = load_default(240, 160, set_tiny_time, &budget);
+    /* a budget that reaches some pixels and not all: 5 ms, doubled while none is reached
+     * (a loaded machine may spend the first milliseconds starting threads) */
+    brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
     brume_render_job *job = NULL;
-    double t0 = test_now();
-    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_OK);
-    ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK);
-    double wall = test_now() - t0;
     brume_image *img = NULL;
-    ASSERT_EQ_INT(brume_render_job_image(ctx, job, &img), BRUME_OK);
     brume_render_progress p;
-    brume_render_job_progress(job, &p);
-    fprintf(stderr, "budget %.3f s: %.3f s in the job, %.3f s wall, %d to %d spp\n", budget, p.elapsed, wall, p.spp_min,
-            p.spp_max);
-    ASSERT_TRUE(p.finished);
-    ASSERT_TRUE(p.elapsed <= budget + 0.2);
-    ASSERT_EQ_INT(p.spp_min, 0); /* 240 x 160 samples of the default cloud take longer than 5 ms */
+    double budget = 0.005;
+    for (int attempt = 0; attempt < 8; attempt++, budget *= 2.0) {
+        s = load_default(240, 160, set_tiny_time, &budget);
+        double t0 = test_now();
+        ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_OK);
+        ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK);
+        double wall = test_now() - t0;
+        brume_render_job_progress(job, &p);
+        fprintf(stderr, "budget %.3f s: %.3f s in the job, %.3f s wall, %d to %d spp\n", budget, p.elapsed, wall,
+                p.spp_min, p.spp_max);
+        ASSERT_TRUE(p.finished);
+        ASSERT_TRUE(p.elapsed <= budget + 0.2);
+        if (p.spp_max >= 1)
+            break;
+        brume_render_job_release(job);
+        brume_scene_release(s);
+    }
+    ASSERT_EQ_INT(p.spp_min, 0); /* 240 x 160 samples of the default cloud take longer than that */
     ASSERT_TRUE(p.spp_max >= 1);
+    ASSERT_EQ_INT(brume_render_job_image(ctx, job, &img), BRUME_OK);
     /* the pixels that got a sample equal a fixed 1-sample render's (another count differs) */
     const float *cnt = brume_image_layer_pixels(img, layer_index(img, "samples"));
     int spp1[2] = {1, 2}, spp2[2] = {2, 2};
