@@ -95,9 +95,9 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
     if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
-        brume_render_job_release(job);
+        brume_render_job_release(job); /* rs points into the job: the message uses the scene's */
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source,
-                       rs->width, rs->height);
+                       s->settings.width, s->settings.height);
     }
     memset(job->active, 1, job->npix);
     double t_prep = progress_now();
