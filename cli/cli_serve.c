@@ -1,11 +1,16 @@
 /* cli_serve.c - `brume render --serve [HOST:]PORT`: a live view of the render job in a
  * browser, served by libmicrohttpd from its own thread.
  *
- * Three fixed endpoints and nothing else (no file is ever read from disk):
- *   /             the page: the image as it converges, progress, samples, ETA, noise
- *                 estimate and an exposure control (a slider that asks for another PNG)
- *   /image.png    the current image as PNG; ?exposure=STOPS in [-20, 20]
- *   /status.json  the job's figures (brume_render_job_progress)
+ * Four fixed endpoints and nothing else (no file is ever read from disk):
+ *   /             the page: the image fitted to the window (1:1 and back, dragged to pan),
+ *                 what it shows (beauty, denoised, noise, each layer), exposure and tone
+ *                 curve (drawn), progress, samples, ETA, noise, a stop button and a download
+ *                 link; #zoom=1 and #view=NAME in the address set the first state
+ *   /image.png    the current image as PNG; ?exposure=STOPS in [-20, 20], &tone=clamp|filmic,
+ *                 &view=beauty|denoised|noise|LAYER (denoised and noise need the variance
+ *                 layer: --denoise or --aov variance)
+ *   /status.json  the job's figures (brume_render_job_progress) and the views it offers
+ *   /stop (POST)  stops the render as Ctrl-C does: the image so far is written
  * The listening socket is made here (so a port in use or a bad host is reported with the
  * system's reason before any rendering) and handed to libmicrohttpd. */
 #include "cli_serve.h"
@@ -17,6 +22,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,55 +38,108 @@ struct cli_serve {
     const brume_render_job *job;   /* the job shown, or NULL */
     brume_context *ctx;            /* the server thread's own context */
     char label[256];               /* what is being rendered, for the page */
+    char views[512];               /* what /image.png can show, comma-separated (from the last image) */
     char url[128];
 };
 
 static const char page[] =
-    "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brume: live view</title>\n"
-    "<style>body{background:#202124;color:#e8eaed;font:14px sans-serif;margin:16px}"
-    "#img{display:block;image-rendering:pixelated;max-width:100%;background:#000}"
-    "#bar{width:320px;height:8px;background:#444}#fill{height:8px;width:0;background:#8ab4f8}"
-    "td{padding:0 12px 0 0}</style></head>\n<body>\n"
-    "<h3 id=\"label\">brume</h3>\n<img id=\"img\" src=\"/image.png\" alt=\"the render\">\n"
-    "<p><div id=\"bar\"><div id=\"fill\"></div></div></p>\n<table>\n"
-    "<tr><td>progress</td><td id=\"progress\">-</td></tr>\n"
-    "<tr><td>samples per pixel</td><td id=\"spp\">-</td></tr>\n"
-    "<tr><td>elapsed</td><td id=\"elapsed\">-</td></tr>\n"
-    "<tr><td>ETA</td><td id=\"eta\">-</td></tr>\n"
-    "<tr><td>noise (relative standard error)</td><td id=\"noise\">-</td></tr>\n"
-    "<tr><td>exposure</td><td><input id=\"exposure\" type=\"range\" min=\"-6\" max=\"6\" step=\"0.25\" value=\"0\">"
-    " <span id=\"ev\">0</span> stops</td></tr>\n</table>\n"
+    "<!DOCTYPE html>\n"
+    "<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brume: live view</title>\n"
+    "<style>\n"
+    "html,body{height:100%;margin:0}\n"
+    "body{background:#202124;color:#e8eaed;font:13px sans-serif;display:flex;flex-direction:column}\n"
+    "#top{padding:6px 10px;display:flex;flex-wrap:wrap;gap:6px 14px;align-items:center}\n"
+    "#view{flex:1;overflow:auto;background:#111;position:relative;cursor:grab}\n"
+    "#img{display:block;image-rendering:pixelated;margin:auto}\n"
+    "#view.fit #img{width:100%;height:100%;object-fit:contain}\n"
+    "#bar{width:160px;height:8px;background:#444;display:inline-block}#fill{height:8px;width:0;background:#8ab4f8}\n"
+    "button,select,a{font:inherit;color:#e8eaed;background:#3c4043;border:1px solid #5f6368;padding:2px 8px;text-decoration:none}\n"
+    "#stats span{margin-right:12px}\n"
+    "</style></head>\n"
+    "<body>\n"
+    "<div id=\"top\">\n"
+    "<b id=\"label\">brume</b>\n"
+    "<span><div id=\"bar\"><div id=\"fill\"></div></div> <span id=\"progress\">-</span></span>\n"
+    "<label>show <select id=\"sel\"><option value=\"beauty\">beauty</option></select></label>\n"
+    "<label>exposure <input id=\"exposure\" type=\"range\" min=\"-6\" max=\"6\" step=\"0.25\" value=\"0\"> <span id=\"ev\">0</span> stops</label>\n"
+    "<label>tone <select id=\"tone\"><option value=\"clamp\">clamp</option><option value=\"filmic\">filmic</option></select></label>\n"
+    "<canvas id=\"curve\" width=\"60\" height=\"36\" title=\"the tone curve: display value against scene value 0 to 4\"></canvas>\n"
+    "<button id=\"zoom\">1:1</button>\n"
+    "<button id=\"stop\">stop</button>\n"
+    "<a id=\"dl\" href=\"/image.png\" download=\"brume.png\">download</a>\n"
+    "</div>\n"
+    "<div id=\"stats\"><span>spp <b id=\"spp\">-</b></span><span>elapsed <b id=\"elapsed\">-</b></span><span>ETA <b id=\"eta\">-</b></span><span>noise <b id=\"noise\">-</b></span></div>\n"
+    "<div id=\"view\" class=\"fit\"><img id=\"img\" src=\"/image.png\" alt=\"the render\"></div>\n"
     "<script>\n"
-    "let finished = false, loading = false;\n"
-    "function exposure() { return document.getElementById('exposure').value; }\n"
+    "const $ = (id) => document.getElementById(id);\n"
+    "const hash = new URLSearchParams(location.hash.slice(1));\n"
+    "let finished = false, loading = false, view = hash.get('view') || 'beauty';\n"
+    "if (hash.get('zoom') === '1') { $('view').className = ''; $('zoom').textContent = 'fit'; }\n"
+    "function src() {\n"
+    "  return '/image.png?exposure=' + $('exposure').value + '&tone=' + $('tone').value + '&view=' + encodeURIComponent(view);\n"
+    "}\n"
     "function reload() {\n"
     "  if (loading) return; loading = true;\n"
-    "  const img = new Image();\n"
-    "  img.onload = () => { document.getElementById('img').src = img.src; loading = false; };\n"
+    "  const img = new Image(), s = src();\n"
+    "  img.onload = () => { $('img').src = img.src; loading = false; };\n"
     "  img.onerror = () => { loading = false; };\n"
-    "  img.src = '/image.png?exposure=' + exposure() + '&t=' + Date.now();\n"
+    "  img.src = s + '&t=' + Date.now();\n"
+    "  $('dl').href = s; $('dl').download = 'brume-' + view + '.png';\n"
+    "}\n"
+    "function curve() {\n"
+    "  const c = $('curve').getContext('2d'), k = Math.pow(2, $('exposure').value), f = $('tone').value === 'filmic';\n"
+    "  c.fillStyle = '#3c4043'; c.fillRect(0, 0, 60, 36); c.strokeStyle = '#8ab4f8'; c.beginPath();\n"
+    "  for (let i = 0; i <= 60; i++) {\n"
+    "    const x = 4 * i / 60 * k;\n"
+    "    let y = f ? (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14) : x;\n"
+    "    y = Math.max(0, Math.min(1, y));\n"
+    "    y = y <= 0.0031308 ? 12.92 * y : 1.055 * Math.pow(y, 1 / 2.4) - 0.055;\n"
+    "    if (i) c.lineTo(i, 35 - 34 * y); else c.moveTo(i, 35 - 34 * y);\n"
+    "  }\n"
+    "  c.stroke();\n"
     "}\n"
     "function secs(s) { return s < 60 ? s.toFixed(1) + ' s' : (s / 60).toFixed(1) + ' min'; }\n"
     "async function tick() {\n"
     "  try {\n"
     "    const r = await fetch('/status.json', {cache: 'no-store'});\n"
     "    const s = await r.json();\n"
-    "    const f = s.total > 0 ? Math.min(1, s.done / s.total) : 0;\n"
-    "    document.getElementById('label').textContent = 'brume: ' + s.label + (s.finished ? ' (finished)' : '');\n"
-    "    document.getElementById('fill').style.width = (100 * f).toFixed(1) + '%';\n"
-    "    document.getElementById('progress').textContent = (100 * f).toFixed(1) + ' %';\n"
-    "    document.getElementById('spp').textContent = s.spp_min + ' to ' + s.spp_max + ' (mean ' + s.spp_mean.toFixed(1) + ')';\n"
-    "    document.getElementById('elapsed').textContent = secs(s.elapsed);\n"
-    "    document.getElementById('eta').textContent = s.finished ? 'done' : secs(s.eta);\n"
-    "    document.getElementById('noise').textContent = s.noise > 0 ? (100 * s.noise).toFixed(2) + ' %' : '-';\n"
+    "    const f = s.finished ? 1 : Math.max(0, s.fraction);\n"
+    "    $('label').textContent = 'brume: ' + s.label + (s.finished ? ' (finished)' : '');\n"
+    "    $('fill').style.width = (100 * f).toFixed(1) + '%';\n"
+    "    $('progress').textContent = s.fraction < 0 && !s.finished ? 'not known yet' : (100 * f).toFixed(1) + ' %';\n"
+    "    $('spp').textContent = s.spp_min + ' to ' + s.spp_max + ' (mean ' + s.spp_mean.toFixed(1) + ')';\n"
+    "    $('elapsed').textContent = secs(s.elapsed);\n"
+    "    $('eta').textContent = s.finished ? 'done' : s.eta < 0 ? 'not known yet' : secs(s.eta);\n"
+    "    $('noise').textContent = s.noise > 0 ? (100 * s.noise).toFixed(2) + ' %' : '-';\n"
+    "    const views = s.views.split(',');\n"
+    "    if ($('sel').options.length !== views.length) {\n"
+    "      $('sel').innerHTML = views.map((v) => '<option>' + v + '</option>').join('');\n"
+    "      finished = false;\n"
+    "    }\n"
+    "    $('sel').value = views.includes(view) ? view : 'beauty';\n"
     "    if (!finished || !s.finished) reload();\n"
     "    finished = s.finished;\n"
     "  } catch (e) {}\n"
     "}\n"
-    "document.getElementById('exposure').oninput = () => {\n"
-    "  document.getElementById('ev').textContent = exposure(); finished = false; reload(); };\n"
-    "tick(); setInterval(tick, 1000);\n"
-    "</script>\n</body></html>\n";
+    "function changed() { finished = false; curve(); reload(); }\n"
+    "$('exposure').oninput = () => { $('ev').textContent = $('exposure').value; changed(); };\n"
+    "$('tone').onchange = changed;\n"
+    "$('sel').onchange = () => { view = $('sel').value; changed(); };\n"
+    "$('zoom').onclick = () => {\n"
+    "  const fit = $('view').className === 'fit';\n"
+    "  $('view').className = fit ? '' : 'fit'; $('zoom').textContent = fit ? 'fit' : '1:1';\n"
+    "};\n"
+    "$('stop').onclick = () => { fetch('/stop', {method: 'POST'}); $('stop').textContent = 'stopping'; };\n"
+    "let drag = null;\n"
+    "$('view').onmousedown = (e) => { drag = [e.clientX, e.clientY]; e.preventDefault(); };\n"
+    "window.onmouseup = () => { drag = null; };\n"
+    "window.onmousemove = (e) => {\n"
+    "  if (!drag) return;\n"
+    "  $('view').scrollLeft -= e.clientX - drag[0]; $('view').scrollTop -= e.clientY - drag[1]; drag = [e.clientX, e.clientY];\n"
+    "};\n"
+    "curve(); tick(); setInterval(tick, 1000);\n"
+    "</script>\n"
+    "</body></html>\n";
 
 static enum MHD_Result respond(struct MHD_Connection *conn, unsigned status, const char *type, void *data,
                                size_t size, enum MHD_ResponseMemoryMode mode)
@@ -103,6 +162,70 @@ static enum MHD_Result error_page(struct MHD_Connection *conn, unsigned status, 
     return respond(conn, status, "text/plain; charset=utf-8", (void *)text, strlen(text), MHD_RESPMEM_PERSISTENT);
 }
 
+static int find_layer(const brume_image *img, const char *name)
+{
+    for (int i = 0; i < brume_image_layer_count(img); i++)
+        if (strcmp(brume_image_layer_name(img, i), name) == 0)
+            return i;
+    return -1;
+}
+
+/* "beauty", then "denoised" and "noise" when the image has the variance layer, then each layer. */
+static void view_names(const brume_image *img, char *out, size_t n)
+{
+    int len = snprintf(out, n, "beauty%s", find_layer(img, "variance") >= 0 ? ",denoised,noise" : "");
+    for (int i = 0; i < brume_image_layer_count(img) && len > 0 && (size_t)len < n; i++)
+        len += snprintf(out + len, n - (size_t)len, ",%s", brume_image_layer_name(img, i));
+}
+
+/* The image of a view other than the beauty: *out, or NULL and why. Layers are shown as
+ * data: depth and samples over their largest value, normals as 0.5 + 0.5 n, the rest as
+ * they are; noise is a heat map of the relative standard error of each pixel's mean, black
+ * at 0 through red to yellow at 10 % and above. */
+static const char *view_image(brume_context *ctx, const brume_image *img, const char *view, brume_image **out)
+{
+    *out = NULL;
+    int var = find_layer(img, "variance");
+    if (strcmp(view, "denoised") == 0) {
+        if (var < 0)
+            return "denoised: the render has no variance layer (render with --denoise or --aov variance)\n";
+        return brume_denoise(ctx, img, 1, out) == BRUME_OK ? NULL : "denoised: the denoiser failed\n";
+    }
+    int l = strcmp(view, "noise") == 0 ? var : find_layer(img, view);
+    if (l < 0)
+        return "view: unknown (see the views in /status.json)\n";
+    int w = brume_image_width(img), h = brume_image_height(img), ch = brume_image_layer_channels(img, l);
+    brume_image *o = brume_image_new(w, h);
+    if (!o)
+        return "out of memory\n";
+    const float *src = brume_image_layer_pixels(img, l), *rgba = brume_image_pixels_const(img);
+    float *dst = brume_image_pixels(o);
+    size_t npix = (size_t)w * (size_t)h;
+    double top = 0.0;
+    for (size_t i = 0; i < npix * (size_t)ch; i++)
+        top = fmax(top, (double)src[i]);
+    bool noise = strcmp(view, "noise") == 0, normal = strcmp(view, "normal") == 0;
+    for (size_t i = 0; i < npix; i++) {
+        float *d = dst + 4 * i;
+        if (noise) {
+            double mean = ((double)rgba[4 * i] + (double)rgba[4 * i + 1] + (double)rgba[4 * i + 2]) / 3.0;
+            double v = ((double)src[3 * i] + (double)src[3 * i + 1] + (double)src[3 * i + 2]) / 3.0;
+            double e = fmin(1.0, sqrt(fmax(v, 0.0)) / fmax(mean, 1e-3) / 0.1);
+            d[0] = (float)fmin(1.0, 2.0 * e);
+            d[1] = (float)fmax(0.0, 2.0 * e - 1.0);
+            d[2] = 0.0f;
+        } else {
+            for (size_t c = 0; c < 3; c++) {
+                double x = src[(size_t)ch * i + (ch == 3 ? c : 0)];
+                d[c] = (float)(normal ? 0.5 + 0.5 * x : ch == 1 ? (top > 0.0 ? x / top : 0.0) : x);
+            }
+        }
+        d[3] = 1.0f;
+    }
+    *out = o;
+    return NULL;
+}
+
 static enum MHD_Result send_image(cli_serve *sv, struct MHD_Connection *conn)
 {
     brume_write_options opts = {0.0, BRUME_TONEMAP_CLAMP};
@@ -114,13 +237,31 @@ static enum MHD_Result send_image(cli_serve *sv, struct MHD_Connection *conn)
             return error_page(conn, MHD_HTTP_BAD_REQUEST, "exposure: expected a number of stops in [-20, 20]\n");
         opts.exposure = v;
     }
+    const char *tone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "tone");
+    if (tone && strcmp(tone, "filmic") == 0)
+        opts.tonemap = BRUME_TONEMAP_FILMIC;
+    else if (tone && strcmp(tone, "clamp") != 0)
+        return error_page(conn, MHD_HTTP_BAD_REQUEST, "tone: expected clamp or filmic\n");
+    const char *view = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "view");
     brume_image *img = NULL;
     pthread_mutex_lock(&sv->lock);
     if (sv->job)
         brume_render_job_image(sv->ctx, sv->job, &img);
+    if (img)
+        view_names(img, sv->views, sizeof sv->views);
     pthread_mutex_unlock(&sv->lock);
     if (!img)
         return error_page(conn, MHD_HTTP_SERVICE_UNAVAILABLE, "no image yet\n");
+    if (view && strcmp(view, "beauty") != 0) {
+        brume_image *shown = NULL;
+        const char *why = view_image(sv->ctx, img, view, &shown);
+        brume_image_release(img);
+        if (!shown)
+            return error_page(conn, MHD_HTTP_NOT_FOUND, why);
+        img = shown;
+        if (strcmp(view, "denoised") != 0) /* data, not a picture: no exposure, no curve */
+            opts = (brume_write_options){0.0, BRUME_TONEMAP_CLAMP};
+    }
     unsigned char *png = NULL;
     size_t size = 0;
     brume_status st = brume_image_encode_png(sv->ctx, img, &opts, &png, &size);
@@ -155,18 +296,20 @@ static enum MHD_Result send_status(cli_serve *sv, struct MHD_Connection *conn)
     pthread_mutex_lock(&sv->lock);
     brume_render_job_progress(sv->job, &p);
     json_escape(sv->label, label, sizeof label);
+    char views[600];
+    json_escape(sv->views[0] ? sv->views : "beauty", views, sizeof views);
     bool have = sv->job != NULL;
     pthread_mutex_unlock(&sv->lock);
-    char *body = malloc(1024);
+    char *body = malloc(2048);
     if (!body)
         return MHD_NO;
-    int len = snprintf(body, 1024,
+    int len = snprintf(body, 2048,
                        "{\"label\": \"%s\", \"running\": %s, \"done\": %llu, \"total\": %llu, \"spp_min\": %d, "
                        "\"spp_max\": %d, \"spp_mean\": %.3f, \"noise\": %.6g, \"converged\": %.4f, "
-                       "\"elapsed\": %.3f, \"eta\": %.3f, \"finished\": %s}\n",
+                       "\"elapsed\": %.3f, \"eta\": %.3f, \"fraction\": %.4f, \"finished\": %s, \"views\": \"%s\"}\n",
                        label, have ? "true" : "false", (unsigned long long)p.done, (unsigned long long)p.total,
-                       p.spp_min, p.spp_max, p.spp_mean, p.noise, p.converged, p.elapsed, p.eta,
-                       p.finished ? "true" : "false");
+                       p.spp_min, p.spp_max, p.spp_mean, p.noise, p.converged, p.elapsed, p.eta, p.fraction,
+                       p.finished ? "true" : "false", views);
     return respond(conn, MHD_HTTP_OK, "application/json", body, (size_t)len, MHD_RESPMEM_MUST_FREE);
 }
 
@@ -176,10 +319,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
     (void)version;
     (void)upload_data;
     cli_serve *sv = cls;
-    if (strcmp(method, "GET") != 0 && strcmp(method, "HEAD") != 0)
-        return error_page(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "only GET\n");
     if (*upload_size != 0)
         return MHD_NO;
+    if (strcmp(method, "POST") == 0 && strcmp(url, "/stop") == 0) {
+        kill(getpid(), SIGINT); /* as Ctrl-C: the render stops, the image so far is written */
+        return error_page(conn, MHD_HTTP_ACCEPTED, "stopping\n");
+    }
+    if (strcmp(method, "GET") != 0 && strcmp(method, "HEAD") != 0)
+        return error_page(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "only GET (and POST /stop)\n");
     (void)state;
     if (strcmp(url, "/") == 0)
         return respond(conn, MHD_HTTP_OK, "text/html; charset=utf-8", (void *)page, sizeof page - 1,
@@ -188,7 +335,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         return send_image(sv, conn);
     if (strcmp(url, "/status.json") == 0)
         return send_status(sv, conn);
-    return error_page(conn, MHD_HTTP_NOT_FOUND, "not found: the live view serves /, /image.png and /status.json\n");
+    return error_page(conn, MHD_HTTP_NOT_FOUND, "not found: the live view serves /, /image.png, /status.json and POST /stop\n");
 }
 
 /* "[HOST:]PORT" -> a bound, listening socket; -1 with a message. */

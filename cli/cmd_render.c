@@ -46,18 +46,22 @@ static void render_usage(FILE *out)
             "  --stats             per-run statistics of the method on stderr (docs/stats.md)\n"
             "  --save-light PATH   blasi: write the first pass's radiance grid (= --set blasi.save_light=PATH)\n"
             "  --load-light PATH   blasi: reuse a saved first pass instead of running it\n"
-            "  --time SECONDS      time budget: passes until it is spent (--spp is then a maximum)\n"
+            "  --time SECONDS      time budget: the render (a light pass included) ends within it, passes\n"
+            "                      sized from the measured cost of a sample; --spp or render.spp is a maximum\n"
             "  --noise TARGET      noise target in (0, 1]: adaptive sampling until every pixel that carries\n"
             "                      signal has a relative standard error <= TARGET (--spp is then a maximum)\n"
             "  --min-spp N         samples every pixel gets before adaptive sampling may stop it (16)\n"
             "  --aov LIST          extra layers in the EXR: depth,albedo,normal,variance,samples\n"
+            "  --denoise           write the image denoised (docs/denoise.md); the raw one is kept: the EXR's\n"
+            "                      layer \"raw\", or NAME-raw.png beside a PNG. Biased: not for validation\n"
             "  --checkpoint FILE   save the render's state to FILE every few seconds and when interrupted\n"
             "  --resume FILE       continue from a checkpoint: the image is the one an uninterrupted render\n"
             "                      gives (same scene, options and settings)\n"
             "  --serve [HOST:]PORT live view in a browser (default host 127.0.0.1; port 0: any free port);\n"
             "                      after the render it serves the final image until Ctrl-C\n"
             "  --serve-exit        with --serve: exit when the render is written\n"
-            "  --quiet             no progress bar or summary\n\n"
+            "  --progress-every S  with stderr not a terminal: a progress line every S seconds (default 10)\n"
+            "  --quiet             no progress bar, progress lines or summary\n\n"
             "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
             "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
             "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once.\n"
@@ -241,6 +245,34 @@ static int make_video(const char *pattern, long first, double fps, const char *v
     return 0;
 }
 
+/* Writes the render's image to path; with --denoise the denoised image (brume_denoise),
+ * the raw one kept: in the EXR's layer "raw", else beside it as NAME-raw.EXT. */
+static brume_status write_image(brume_context *ctx, brume_image *image, const char *path,
+                                const brume_write_options *wopts, bool denoise, int threads, bool quiet)
+{
+    if (!denoise)
+        return brume_image_write(ctx, image, path, wopts);
+    brume_image *den = NULL;
+    brume_status st = brume_denoise(ctx, image, threads, &den);
+    if (st != BRUME_OK)
+        return st;
+    const char *dot = strrchr(path, '.');
+    bool exr = dot && strcmp(dot, ".exr") == 0;
+    if (!exr) {
+        char raw[4200];
+        snprintf(raw, sizeof raw, "%.*s-raw%s", (int)(dot - path), path, dot);
+        if ((st = brume_image_write(ctx, image, raw, wopts)) != BRUME_OK) {
+            brume_image_release(den);
+            return st;
+        }
+        if (!quiet)
+            fprintf(stderr, "brume: the image before denoising: %s\n", raw);
+    }
+    st = brume_image_write(ctx, den, path, wopts);
+    brume_image_release(den);
+    return st;
+}
+
 enum { MAX_SETS = 64 };
 
 typedef struct render_opts {
@@ -248,10 +280,11 @@ typedef struct render_opts {
     int spp, width, height, threads, max_depth;
     int device; /* -2: as the scene says */
     uint64_t seed;
-    bool have_seed, quiet;
+    bool have_seed, quiet, denoise;
     const char *method;
     bool stats;
     double time_budget, noise; /* --time, --noise; 0 = the scene's */
+    double progress_every;     /* --progress-every; 0 = the default */
     int min_spp;               /* --min-spp; 0 = the scene's */
     unsigned aovs;             /* --aov */
     int nsets; /* scene overrides "KEY=VALUE" (--set) */
@@ -328,12 +361,13 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     if (o->have_seed) rs.seed = o->seed;
     if (o->method)
         snprintf(rs.method, sizeof rs.method, "%s", o->method);
-    if (o->time_budget > 0.0) rs.time_budget = o->time_budget;
-    if (o->noise > 0.0) rs.noise_target = o->noise;
-    if ((o->time_budget > 0.0 || o->noise > 0.0) && !o->spp)
-        rs.spp = 1 << 24; /* a budget without --spp: no sample maximum */
+    /* --time and --noise went in as render.time and render.noise (set_override): spp, from
+     * --spp, the scene or its default, is the maximum under them all alike */
     if (o->min_spp) rs.min_spp = o->min_spp;
+    rs.progress_interval = o->progress_every;
     rs.aovs |= o->aovs;
+    if (o->denoise) /* what the denoiser reads (docs/denoise.md) */
+        rs.aovs |= BRUME_AOV_VARIANCE | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_DEPTH;
     cli_job_callback(&rs.progress_fn, &rs.progress_user);
     rs.progress = progress;
     rs.stats = o->stats;
@@ -451,10 +485,17 @@ int cmd_render(int argc, char **argv)
             if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
         } else if (strcmp(a, "--filmic") == 0) {
             wopts.tonemap = BRUME_TONEMAP_FILMIC;
-        } else if (strcmp(a, "--time") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-3, 1e9, &o.time_budget)) return 2;
-        } else if (strcmp(a, "--noise") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-6, 1.0, &o.noise)) return 2;
+        } else if (strcmp(a, "--time") == 0 || strcmp(a, "--noise") == 0) {
+            bool t = a[2] == 't';
+            double *x = t ? &o.time_budget : &o.noise;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, t ? 1e-3 : 1e-6, t ? 1e9 : 1.0, x)) return 2;
+            char json[64];
+            snprintf(json, sizeof json, "%.17g", *x);
+            if (!set_override(&o, t ? "render.time" : "render.noise", t ? 11 : 12, json)) return 2;
+        } else if (strcmp(a, "--denoise") == 0) {
+            o.denoise = true;
+        } else if (strcmp(a, "--progress-every") == 0) {
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 0.01, 1e9, &o.progress_every)) return 2;
         } else if (strcmp(a, "--min-spp") == 0) {
             if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o.min_spp)) return 2;
         } else if (strcmp(a, "--aov") == 0) {
@@ -682,7 +723,7 @@ int cmd_render(int argc, char **argv)
             goto done;
         }
         if (root && jr.interrupted) {
-            if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
+            if (write_image(ctx, image, path, &wopts, o.denoise, rs.threads, o.quiet) != BRUME_OK)
                 goto fail;
             const brume_render_progress *p = &jr.progress;
             fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s (%d to %d samples per pixel, %.1f on "
@@ -692,7 +733,7 @@ int cmd_render(int argc, char **argv)
             goto done;
         }
         if (root) {
-            if (brume_image_write(ctx, image, path, &wopts) != BRUME_OK)
+            if (write_image(ctx, image, path, &wopts, o.denoise, rs.threads, o.quiet) != BRUME_OK)
                 goto fail;
             double secs = now_seconds() - t0;
             if (!o.quiet && owner != d.rank)
@@ -701,11 +742,18 @@ int cmd_render(int argc, char **argv)
             else if (!o.quiet && job && (rs.time_budget > 0.0 || rs.noise_target > 0.0)) {
                 const brume_render_progress *p = &jr.progress;
                 char noise[64] = "";
-                if (rs.noise_target > 0.0)
+                if (rs.noise_target > 0.0 && p->spp_max < 2)
+                    snprintf(noise, sizeof noise, ", noise not known (under 2 samples; target %.3g%%)",
+                             100.0 * rs.noise_target);
+                else if (rs.noise_target > 0.0)
                     snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
                              100.0 * rs.noise_target);
-                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s\n", path,
-                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs);
+                char budget[64] = "";
+                if (rs.time_budget > 0.0)
+                    snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed,
+                             rs.time_budget);
+                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
+                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs, budget);
             } else if (!o.quiet)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
                         rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);

@@ -9,6 +9,7 @@
     X(phase, "phase functions: fit a Schlick mixture, plot")               \
     X(slab, "reflectance and transmittance of a plane-parallel slab")     \
     X(compare, "error figures and a difference picture of two images")    \
+    X(denoise, "filter a rendered EXR with its variance and feature layers") \
     X(info, "print a grid file's format, dimensions, bounds, values and memory") \
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
     X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \

@@ -185,7 +185,8 @@ typedef struct brume_render_settings {
     int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
-    bool progress;       /* draw a progress bar when stderr is a terminal */
+    bool progress;       /* report progress on stderr: a bar on a terminal, else a line every
+                            progress_interval seconds (samples, noise, elapsed, ETA) */
     double fps;          /* frames per second of a sequence: frame f is at time f / fps, > 0 */
     brume_progress_fn progress_fn; /* NULL: none. See brume_progress_fn */
     void *progress_user;           /* passed to progress_fn */
@@ -199,6 +200,8 @@ typedef struct brume_render_settings {
     brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
     int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
                             (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
+    double progress_interval; /* with progress and stderr not a terminal: seconds between two
+                                 progress lines; 0 = 10, < 0 = no lines (the bar on a terminal stays) */
 } brume_render_settings;
 
 /* Parses a device name, "cpu" (-1), "cuda" (0) or "cuda:N" (N, 0 <= N < 64), into *device.
@@ -679,9 +682,17 @@ typedef struct brume_render_progress {
     double noise;          /* largest estimated relative standard error over the pixels that
                               carry signal, at the last pass boundary (0 before the first) */
     double converged;      /* fraction of pixels that adaptive sampling has stopped, [0, 1] */
-    double elapsed;        /* seconds spent rendering (across resumes) */
-    double eta;            /* seconds left, an estimate (0 when finished) */
+    double elapsed;        /* seconds spent rendering (across resumes), the integrator's
+                              preparation (a light pass) included */
+    double eta;            /* seconds left, an estimate (0 when finished); negative: not known
+                              yet (a noise target before the first error estimate). Under a
+                              noise target it is the samples the pixels' own error trend says
+                              they still need (n (e / target)^2 each) at the cost of a sample
+                              in the last pass; under a time budget at most the time left */
     bool finished;         /* nothing left to do under the settings */
+    double fraction;       /* of the work done, [0, 1), 1 only when finished; negative when
+                              the ETA is not known. The progress bar and lines show these
+                              figures, and the live view too */
 } brume_render_progress;
 void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out);
 
@@ -725,6 +736,17 @@ const float *brume_image_layer_pixels(const brume_image *image, int i); /* w * h
 brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, const char *key, const char *value);
 /* The value of an attribute, or NULL. Owned by the image. */
 const char *brume_image_attribute(const brume_image *image, const char *key);
+
+/* DENOISING (docs/denoise.md). Filters a rendered image with an edge-avoiding a-trous
+ * filter (Dammertz et al. 2010) whose colour weights are normalised by the per-pixel
+ * variance (Rousselle et al. 2012), guided by the "albedo", "normal" and "depth" layers
+ * when the image has them. The image must have the "variance" layer (BRUME_AOV_VARIANCE).
+ * *out is a new image owned by the caller: RGB denoised, alpha and every layer as in `in`,
+ * the unfiltered RGB in a layer "raw", and the attribute "brume.denoised" set; an image
+ * that has them already is refused. threads: 0 = one per core; the result does not depend
+ * on it. A denoised image is biased (docs/denoise.md measures by how much): never a
+ * validation result. */
+brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out);
 
 typedef enum brume_tonemap {
     BRUME_TONEMAP_CLAMP = 0, /* sRGB of the exposed linear value, clamped to [0, 1] */

@@ -556,7 +556,10 @@ static void set_time(brume_render_settings *rs, void *user)
 }
 
 /* A time budget ends the render (the sample maximum is out of reach) with every pixel
- * sampled, and the job says it is finished. */
+ * sampled, within the budget: the clock is read before every sample, so it ends within a
+ * sample per thread and the joining of the threads (0.2 s allowed for a machine shared
+ * with other work; bench/bench_budget.sh measures the real margin), and the job says it
+ * is finished. */
 TEST(time_budget_ends_the_render)
 {
     brume_scene *s = load_default(64, 40, set_time, NULL);
@@ -566,15 +569,172 @@ TEST(time_budget_ends_the_render)
     ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK);
     brume_render_progress p;
     brume_render_job_progress(job, &p);
-    fprintf(stderr, "time budget 0.5 s: %.2f s, %d to %d spp\n", p.elapsed, p.spp_min, p.spp_max);
+    fprintf(stderr, "time budget 0.5 s: %.3f s, %d to %d spp\n", p.elapsed, p.spp_min, p.spp_max);
     ASSERT_TRUE(p.finished);
+    ASSERT_TRUE(p.fraction == 1.0 && p.eta == 0.0);
     ASSERT_TRUE(p.spp_min >= 1 && p.spp_max < (1 << 24));
-    ASSERT_TRUE(p.elapsed >= 0.5 || p.spp_max == 1); /* only the first pass may outlast the budget */
+    ASSERT_TRUE(p.spp_max - p.spp_min <= 1 || p.spp_min == p.spp_max); /* passes are sized to fit whole */
+    ASSERT_TRUE(p.elapsed <= 0.5 + 0.2);
     brume_render_job_release(job);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+}
+
+static void set_tiny_time(brume_render_settings *rs, void *user)
+{
+    (void)user;
+    rs->time_budget = *(const double *)user;
+    rs->spp = 1 << 24;
+    rs->threads = 2;
+    rs->aovs = BRUME_AOV_SAMPLES;
+}
+
+/* A budget shorter than one sample per pixel: the first pass is cut too (no pass is owed
+ * to the budget), the pixels it reached keep their samples, the others none, and the
+ * render still ends within the budget. The image is what the samples make: a pixel's
+ * value is its own samples' mean, so a pixel that got one sample here equals the same
+ * pixel of a 1-sample render. */
+TEST(time_budget_cuts_the_first_pass)
+{
+    /* a budget that reaches some pixels and not all: 5 ms, doubled while none is reached
+     * (a loaded machine may spend the first milliseconds starting threads) */
+    brume_scene *s = NULL;
+    brume_context *ctx = brume_context_new();
+    brume_render_job *job = NULL;
+    brume_image *img = NULL;
+    brume_render_progress p;
+    double budget = 0.005;
+    for (int attempt = 0; attempt < 8; attempt++, budget *= 2.0) {
+        s = load_default(240, 160, set_tiny_time, &budget);
+        double t0 = test_now();
+        ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_OK);
+        ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK);
+        double wall = test_now() - t0;
+        brume_render_job_progress(job, &p);
+        fprintf(stderr, "budget %.3f s: %.3f s in the job, %.3f s wall, %d to %d spp\n", budget, p.elapsed, wall,
+                p.spp_min, p.spp_max);
+        ASSERT_TRUE(p.finished);
+        ASSERT_TRUE(p.elapsed <= budget + 0.2);
+        if (p.spp_max >= 1)
+            break;
+        brume_render_job_release(job);
+        brume_scene_release(s);
+    }
+    ASSERT_EQ_INT(p.spp_min, 0); /* 240 x 160 samples of the default cloud take longer than that */
+    ASSERT_TRUE(p.spp_max >= 1);
+    ASSERT_EQ_INT(brume_render_job_image(ctx, job, &img), BRUME_OK);
+    /* the pixels that got a sample equal a fixed 1-sample render's (another count differs) */
+    const float *cnt = brume_image_layer_pixels(img, layer_index(img, "samples"));
+    int spp1[2] = {1, 2}, spp2[2] = {2, 2};
+    brume_scene *s1 = load_default(240, 160, set_spp_threads, spp1), *s2 = load_default(240, 160, set_spp_threads, spp2);
+    brume_image *ref1 = render(s1), *ref2 = render(s2);
+    const float *px = brume_image_pixels_const(img), *r1 = brume_image_pixels_const(ref1),
+                *r2 = brume_image_pixels_const(ref2);
+    int seen = 0, same1 = 0, noisy = 0, same2 = 0;
+    for (int i = 0; i < 240 * 160; i++) {
+        if (cnt[i] != 1.0f)
+            continue;
+        seen++;
+        same1 += memcmp(px + 4 * i, r1 + 4 * i, 3 * sizeof(float)) == 0;
+        if (memcmp(r1 + 4 * i, r2 + 4 * i, 3 * sizeof(float)) != 0) { /* not the noiseless sky */
+            noisy++;
+            same2 += memcmp(px + 4 * i, r2 + 4 * i, 3 * sizeof(float)) == 0;
+        }
+    }
+    fprintf(stderr, "%d pixels with one sample: %d equal the 1-spp render's; of the %d whose 1- and 2-spp values "
+            "differ, %d equal the 2-spp one\n", seen, same1, noisy, same2);
+    ASSERT_TRUE(seen > 0 && seen < 240 * 160);
+    ASSERT_EQ_INT(same1, seen);
+    ASSERT_EQ_INT(same2, 0);
+    brume_image_release(ref1);
+    brume_image_release(ref2);
+    brume_scene_release(s1);
+    brume_scene_release(s2);
+    brume_image_release(img);
+    brume_render_job_release(job);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+}
+
+static void set_spp_and_time(brume_render_settings *rs, void *user)
+{
+    (void)user;
+    rs->aovs = BRUME_AOV_SAMPLES;
+}
+
+/* render.spp is the maximum under a budget as --spp and the library setting are: a file
+ * with spp 3 and a long time budget stops at 3 samples; a file with a budget and no spp
+ * has no maximum (2^24). */
+TEST(spp_is_the_maximum_under_a_budget)
+{
+    const char *with = "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]}, \"render\": {\"width\": 32, \"height\": 16, \"spp\": 3, \"time\": 1000}}";
+    brume_scene *s = load(with, set_spp_and_time, NULL);
+    brume_image *img = render(s);
+    const float *cnt = brume_image_layer_pixels(img, layer_index(img, "samples"));
+    for (int i = 0; i < 32 * 16; i++)
+        ASSERT_TRUE(cnt[i] == 3.0f);
+    brume_image_release(img);
+    brume_scene_release(s);
+    const char *without = "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]}, \"render\": {\"width\": 32, \"height\": 16, \"noise\": 0.5}}";
+    s = load(without, NULL, NULL);
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    ASSERT_EQ_INT(rs.spp, 1 << 24);
+    brume_scene_release(s);
+}
+
+/* Under a noise target the ETA is unknown until the pixels have error estimates, and the
+ * fraction never says 1 before the end; the callback sees the same figures. */
+typedef struct eta_state {
+    brume_render_job *job;
+    int calls, unknown, full_before_end;
+} eta_state;
+
+static bool eta_cb(void *user, uint64_t done, uint64_t total)
+{
+    (void)done;
+    (void)total;
+    eta_state *e = user;
+    if (!e->job)
+        return true;
+    brume_render_progress p;
+    brume_render_job_progress(e->job, &p);
+    e->calls++;
+    e->unknown += p.eta < 0.0;
+    e->full_before_end += p.fraction >= 1.0;
+    ASSERT_TRUE((p.eta < 0.0) == (p.fraction < 0.0));
+    return true;
+}
+
+static void set_noise_eta(brume_render_settings *rs, void *user)
+{
+    rs->noise_target = 0.05;
+    rs->min_spp = 4;
+    rs->spp = 256;
+    rs->progress_fn = eta_cb;
+    rs->progress_user = user;
+}
+
+TEST(noise_eta_unknown_then_known_never_full_early)
+{
+    eta_state e = {NULL, 0, 0, 0};
+    brume_scene *s = load_default(64, 40, set_noise_eta, &e);
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &e.job), BRUME_OK);
+    ASSERT_EQ_INT(brume_render_job_run(ctx, e.job), BRUME_OK);
+    brume_render_progress p;
+    brume_render_job_progress(e.job, &p);
+    fprintf(stderr, "%d calls, %d with the ETA unknown, %d at 100 %% before the end\n", e.calls, e.unknown,
+            e.full_before_end);
+    ASSERT_TRUE(e.unknown > 0 && e.unknown < e.calls);
+    ASSERT_EQ_INT(e.full_before_end, 0);
+    ASSERT_TRUE(p.finished && p.fraction == 1.0);
+    brume_render_job_release(e.job);
     brume_context_release(ctx);
     brume_scene_release(s);
 }
 
 TEST_MAIN(progressive_passes_equal_one_render, cancel_stops_within_one_tile, progress_counts_never_go_back, aovs_known_depth_albedo_normal,
           adaptive_sampling_independent_of_threads, noise_target_constant_fog_closed_form, noise_target_white_furnace,
-          checkpoint_resume_is_bit_identical, time_budget_ends_the_render)
+          checkpoint_resume_is_bit_identical, time_budget_ends_the_render, time_budget_cuts_the_first_pass,
+          spp_is_the_maximum_under_a_budget, noise_eta_unknown_then_known_never_full_early)

@@ -226,6 +226,62 @@ TEST(bad_port_and_host)
 
 /* The page in a real browser: headless Chromium loads it and takes a screenshot, which
  * must show the (pure red) image. Skipped (77) only when chromium is not installed. */
+typedef struct shot_figures {
+    int red, x0, y0, x1, y1; /* pure red pixels and their bounding box */
+    int w, h;
+} shot_figures;
+
+/* A headless Chromium screenshot of the page at `fragment` (window 640 x 480). */
+static shot_figures screenshot(const char *chromium, int port, const char *fragment)
+{
+    char shot[512], profile[512], args[4096];
+    snprintf(shot, sizeof shot, "%s", test_tmp_path("screenshot.png"));
+    snprintf(profile, sizeof profile, "%s", test_tmp_path("chromium-profile"));
+    remove(shot);
+    snprintf(args, sizeof args,
+             "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=%s "
+             "--window-size=640,480 --virtual-time-budget=5000 --screenshot=%s http://127.0.0.1:%d/%s",
+             profile, shot, port, fragment);
+    const char *cerr = test_tmp_path("chromium-err.txt");
+    int rc = test_wait_exit(test_spawn(chromium, args, cerr), 180.0);
+    if (rc != 0) {
+        size_t n;
+        char *msg = test_slurp(cerr, &n);
+        TEST_FAIL("chromium exit %d: %s", rc, msg);
+    }
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    if (brume_image_read(ctx, shot, &img) != BRUME_OK)
+        TEST_FAIL("screenshot: %s", brume_context_last_error(ctx));
+    shot_figures f = {0, 1 << 30, 1 << 30, -1, -1, brume_image_width(img), brume_image_height(img)};
+    const float *px = brume_image_pixels_const(img);
+    for (int y = 0; y < f.h; y++)
+        for (int x = 0; x < f.w; x++) {
+            const float *p = px + 4 * (y * f.w + x);
+            if (!(p[0] > 0.9f && p[1] < 0.05f && p[2] < 0.05f))
+                continue;
+            f.red++;
+            f.x0 = x < f.x0 ? x : f.x0;
+            f.y0 = y < f.y0 ? y : f.y0;
+            f.x1 = x > f.x1 ? x : f.x1;
+            f.y1 = y > f.y1 ? y : f.y1;
+        }
+    fprintf(stderr, "screenshot #%s: %d x %d, %d pure red pixels in [%d, %d] x [%d, %d]\n", fragment, f.w, f.h, f.red,
+            f.x0, f.x1, f.y0, f.y1);
+    brume_image_release(img);
+    brume_context_release(ctx);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", profile);
+    test_system(cmd);
+    remove(shot);
+    return f;
+}
+
+/* The page in a browser: a red 96 x 64 image (the page itself has no red) is fitted to the
+ * window, a solid red rectangle of the image's 3 : 2 shape far larger than the image; at
+ * #zoom=1 (the 1:1 button's state) it is the image's own 96 x 64 pixels; at #view=noise (the
+ * view menu's state) the noise heat map of a noiseless image shows no red. The stop button's
+ * request ends the process as Ctrl-C does. */
 TEST(browser_shows_the_image)
 {
     const char *chromium = NULL;
@@ -237,17 +293,13 @@ TEST(browser_shows_the_image)
         fprintf(stderr, "chromium is not installed: skipped\n");
         exit(77);
     }
-    char scene[512], err[512];
+    char scene[512], err[512], out[512], args[4096];
     snprintf(scene, sizeof scene, "%s", test_tmp_path("red.json"));
     snprintf(err, sizeof err, "%s", test_tmp_path("red-err.txt"));
+    snprintf(out, sizeof out, "%s", test_tmp_path("red.exr"));
     remove(err);
-    char out[512], shot[512], profile[512], args[4096];
-    snprintf(out, sizeof out, "%s", test_tmp_path("red.png"));
-    snprintf(shot, sizeof shot, "%s", test_tmp_path("screenshot.png"));
-    snprintf(profile, sizeof profile, "%s", test_tmp_path("chromium-profile"));
     test_write_file(scene, red_json);
-    remove(shot);
-    snprintf(args, sizeof args, "render %s --spp 2 --serve 127.0.0.1:0 -o %s", scene, out);
+    snprintf(args, sizeof args, "render %s --spp 2 --aov variance --serve 127.0.0.1:0 -o %s", scene, out);
     pid_t pid = test_spawn(BRUME_EXE, args, err);
     int port = wait_port(err, pid);
     /* the render finished first, so that the page shows the whole image however slowly
@@ -262,36 +314,22 @@ TEST(browser_shows_the_image)
             test_sleep(0.1);
     }
     ASSERT_TRUE(finished);
-    snprintf(args, sizeof args,
-             "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=%s "
-             "--window-size=640,480 --virtual-time-budget=5000 --screenshot=%s http://127.0.0.1:%d/",
-             profile, shot, port);
-    const char *cerr = test_tmp_path("chromium-err.txt");
-    int rc = test_wait_exit(test_spawn(chromium, args, cerr), 180.0);
-    kill(pid, SIGINT);
-    ASSERT_EQ_INT(test_wait_exit(pid, 10.0), 0);
-    if (rc != 0) {
-        size_t n;
-        char *msg = test_slurp(cerr, &n);
-        TEST_FAIL("chromium exit %d: %s", rc, msg);
-    }
-    brume_context *ctx = brume_context_new();
-    brume_image *img = NULL;
-    if (brume_image_read(ctx, shot, &img) != BRUME_OK)
-        TEST_FAIL("screenshot: %s", brume_context_last_error(ctx));
-    int w = brume_image_width(img), h = brume_image_height(img), red = 0;
-    const float *px = brume_image_pixels_const(img);
-    for (int i = 0; i < w * h; i++)
-        red += px[4 * i] > 0.9f && px[4 * i + 1] < 0.05f && px[4 * i + 2] < 0.05f;
-    fprintf(stderr, "screenshot %d x %d: %d pure red pixels (the image has %d)\n", w, h, red, 96 * 64);
-    /* the image at its size on the page (the page itself has no red) */
-    ASSERT_TRUE(red >= 96 * 64 * 9 / 10 && red <= 96 * 64 * 11 / 10);
-    brume_image_release(img);
-    brume_context_release(ctx);
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", profile);
-    test_system(cmd);
-    remove(shot);
+    shot_figures fit = screenshot(chromium, port, "");
+    int bw = fit.x1 - fit.x0 + 1, bh = fit.y1 - fit.y0 + 1;
+    ASSERT_TRUE(fit.red >= 20 * 96 * 64);                  /* scaled up to the window */
+    ASSERT_TRUE(fit.red >= bw * bh * 98 / 100);            /* one solid rectangle */
+    ASSERT_TRUE(fabs((double)bw / bh - 1.5) < 0.03);       /* the image's shape */
+    ASSERT_TRUE(bw >= fit.w * 9 / 10 || bh >= fit.h / 2);  /* as wide as the window, or limited by its height */
+    shot_figures one = screenshot(chromium, port, "#zoom=1");
+    ASSERT_TRUE(one.red >= 96 * 64 * 9 / 10 && one.red <= 96 * 64 * 11 / 10);
+    ASSERT_EQ_INT(one.x1 - one.x0 + 1, 96);
+    ASSERT_EQ_INT(one.y1 - one.y0 + 1, 64);
+    shot_figures noise = screenshot(chromium, port, "#view=noise");
+    ASSERT_EQ_INT(noise.red, 0);
+    response r = http(port, "POST", "/stop");
+    ASSERT_EQ_INT(r.status, 202);
+    response_free(&r);
+    ASSERT_EQ_INT(test_wait_exit(pid, 10.0), 0); /* after the render: the serving ends as by Ctrl-C */
     remove(out);
     remove(scene);
 }

@@ -699,6 +699,9 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if (device[0] && brume_device_from_name(NULL, device, &rs.device) != BRUME_OK)
         return err_set(BRUME_ERROR_PARSE, "%s: render.device: unknown device '%s' (known: cpu, cuda, cuda:N)", at.file,
                        device);
+    /* spp is the maximum under a budget; a budget given without it has none (docs/render-jobs.md) */
+    if (!cJSON_HasObjectItem(j, "spp") && (rs.time_budget > 0.0 || rs.noise_target > 0.0))
+        rs.spp = 1 << 24;
     char sampler[32] = "";
     if ((st = json_string(j, at, "sampler", 0, sampler, sizeof sampler))) return st;
     if (strcmp(sampler, "sobol") == 0)

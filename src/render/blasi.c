@@ -1063,7 +1063,7 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         free(first);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
     }
-    progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
+    progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress, s->settings.progress_interval);
     pool_run((int)threads, (size_t)job.nbatch, pass1_batch, &job);
     progress_end(&job.prog, true);
     for (uint64_t k = 0; k < job.nbatch; k++) { /* batch order: the emitted power's sum is the same bits too */

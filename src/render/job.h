@@ -39,6 +39,7 @@ struct brume_render_job {
     size_t ntiles;      /* tiles of this job's part */
     int part, nparts;   /* the job renders tiles part, part + nparts, ... */
     size_t npix;        /* width * height */
+    size_t npart;       /* pixels of this job's part */
     bool trace_aovs;    /* depth, albedo or normal asked: one extra first-vertex walk a sample */
 
     /* per pixel (npix each; aov only when trace_aovs) */
@@ -56,6 +57,8 @@ struct brume_render_job {
     double elapsed;   /* seconds spent in passes before the current one */
     double t_pass;    /* progress_now() when the current pass started, 0 outside passes */
     bool out_of_time; /* the time budget ran out */
+    double prep_seconds;   /* the integrator's preparation at job_create: part of a time budget */
+    double sample_seconds; /* wall seconds per pixel sample in the last pass that took any */
 
     void *gpu;        /* render.device >= 0: what the GPU keeps for the job (gpu/cuda.h) */
 

@@ -48,6 +48,8 @@ static brume_status prepared_state(const brume_scene *s, integrator_kind kind, c
 
 /* ---- the job ------------------------------------------------------------------------------ */
 
+static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1);
+
 brume_status job_create(const brume_scene *s, int part, int nparts, bool squares, brume_render_job **out)
 {
     *out = NULL;
@@ -70,6 +72,12 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     job->ntiles_all = (size_t)job->tiles_x * (size_t)((rs->height + TILE - 1) / TILE);
     job->ntiles = job->ntiles_all / (size_t)nparts + ((size_t)part < job->ntiles_all % (size_t)nparts ? 1 : 0);
     job->npix = (size_t)rs->width * (size_t)rs->height;
+    job->npart = 0;
+    for (size_t t = 0; t < job->ntiles; t++) {
+        int x0, y0, x1, y1;
+        tile_rect(job, t, &x0, &y0, &x1, &y1);
+        job->npart += (size_t)(x1 - x0) * (size_t)(y1 - y0);
+    }
     job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
     job->t_start = stats_now();
     job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
@@ -86,12 +94,14 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
     if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
-        brume_render_job_release(job);
+        brume_render_job_release(job); /* rs points into the job: the message uses the scene's */
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source,
-                       rs->width, rs->height);
+                       s->settings.width, s->settings.height);
     }
     memset(job->active, 1, job->npix);
+    double t_prep = progress_now();
     brume_status st = prepared_state(s, kind, &job->state);
+    job->prep_seconds = progress_now() - t_prep; /* counts against a time budget */
     if (st != BRUME_OK) {
         brume_render_job_release(job);
         return st;
@@ -241,6 +251,67 @@ void job_sample_params(const brume_render_job *job, sample_params *sp)
                           .squares = job->sq != NULL};
 }
 
+/* Seconds of the time budget used: the integrator's preparation (a light pass) and the
+ * passes so far, the one in progress included. */
+static double job_used(const brume_render_job *job)
+{
+    return job->prep_seconds + job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
+}
+
+/* Under a time budget: true, and the job stopped, once the budget is spent. */
+static bool job_time_is_up(brume_render_job *job)
+{
+    if (job_used(job) < job->rs.time_budget)
+        return false;
+    if (!atomic_exchange(&job->stop, true)) {
+        pthread_mutex_lock(&job->lock);
+        job->out_of_time = true;
+        pthread_mutex_unlock(&job->lock);
+    }
+    return true;
+}
+
+static int job_next_pass(const brume_render_job *job, bool unwatched);
+
+/* Under job->lock: the figures a progress report shows, in O(1) (called after every tile).
+ * The ETA: under a noise target, the samples the pixels' own error trend says they still
+ * need (job_refresh: n (e / target)^2 each, capped at spp) at the wall cost of a pixel
+ * sample in the last pass (the pixels left are the costly ones, so the mean cost over the
+ * whole render would promise too early an end); unknown before the first estimate. Under a
+ * fixed count the same with the exact total; under a time budget at most the time left.
+ * The fraction is elapsed / (elapsed + ETA), below 1 until the job is finished. */
+static void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
+{
+    const brume_render_settings *rs = &job->rs;
+    double used = job_used(job);
+    f->elapsed = used;
+    f->spp = job->npart ? (double)job->done / (double)job->npart : 0.0;
+    f->noise = job->sq && job->spp_done >= 2 ? job->noise : -1.0; /* as of the last pass boundary */
+    if (finished) {
+        f->frac = 1.0;
+        f->eta = 0.0;
+        return;
+    }
+    double rate = job->sample_seconds > 0.0 ? job->sample_seconds
+                  : job->done > 0           ? (used - job->prep_seconds) / (double)job->done
+                                            : 0.0;
+    double eta = -1.0;
+    /* a noise target's total is known once the pixels have error estimates, or when the
+     * pass under way reaches the sample maximum */
+    bool known = rs->noise_target > 0.0 ? job->spp_done >= 2 || job->target >= rs->spp : true;
+    if (known && rate > 0.0)
+        eta = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
+    if (rs->time_budget > 0.0) {
+        double left = fmax(0.0, rs->time_budget - used);
+        eta = eta < 0.0 ? left : fmin(eta, left);
+    }
+    f->eta = eta;
+    f->frac = eta < 0.0 ? -1.0 : fmin(0.99, used / fmax(used + eta, 1e-9));
+}
+
+/* One tile: every active pixel of it from its sample count to job->target (or as far as
+ * the time budget lets it go). */
+
 /* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
@@ -250,14 +321,9 @@ static void job_tile(size_t task, int thread, void *user)
     stats_counters *sc = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
     stats_tls = sc;
     const brume_render_settings *rs = &job->rs;
-    /* the time budget never cuts the first pass: every pixel gets samples */
-    if (rs->time_budget > 0.0 && job->spp_done > 0 && job->elapsed + (progress_now() - job->t_pass) >= rs->time_budget) {
-        pthread_mutex_lock(&job->lock);
-        job->out_of_time = true;
-        pthread_mutex_unlock(&job->lock);
-        atomic_store(&job->stop, true);
+    const bool timed = rs->time_budget > 0.0;
+    if (timed && job_time_is_up(job))
         return;
-    }
     const brume_scene *s = job->s;
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
@@ -284,20 +350,29 @@ static void job_tile(size_t task, int thread, void *user)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
             if (!job->active[i])
                 continue;
-            /* in batches: first the batch's camera rays (camera_samples), then their radiance */
-            for (uint32_t s0 = n[k]; s0 < (uint32_t)target; s0 += CAMERA_BATCH) {
+            /* in batches: first the batch's camera rays (camera_samples), then their radiance.
+             * Under a time budget the clock is read before every sample (some tens of
+             * nanoseconds against microseconds a sample at least): the budget ends within one
+             * sample per thread, however slow a sample is; the pixel keeps the samples it took */
+            bool cut = false;
+            for (uint32_t s0 = n[k]; s0 < (uint32_t)target && !cut; s0 += CAMERA_BATCH) {
                 uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
                 rng gb[CAMERA_BATCH];
                 ray rb[CAMERA_BATCH];
                 camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
                 for (uint32_t b = 0; b < nb; b++) {
+                    const uint32_t sidx = s0 + b;
+                    if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
+                        cut = true;
+                        break;
+                    }
                     sample_value v;
-                    sample_eval(s, job->state, &sp, rb[b], gb[b], s0 + b, &v);
-                    sample_add(&sp, &v, s0 + b, sum[k], sq[k], aov[k]);
+                    sample_eval(s, job->state, &sp, rb[b], gb[b], sidx, &v);
+                    sample_add(&sp, &v, sidx, sum[k], sq[k], aov[k]);
                     taken++;
+                    n[k] = sidx + 1;
                 }
             }
-            n[k] = n[k] > (uint32_t)target ? n[k] : (uint32_t)target;
         }
     stats_tls = NULL;
     pthread_mutex_lock(&job->lock);
@@ -328,9 +403,12 @@ static void job_tile(size_t task, int thread, void *user)
     pthread_mutex_lock(&job->cb_lock);
     pthread_mutex_lock(&job->lock);
     uint64_t done = job->done, total = job->total;
+    progress_figures fig;
+    if (job->bar_started)
+        job_figures(job, false, &fig);
     pthread_mutex_unlock(&job->lock);
     if (job->bar_started)
-        progress_update(&job->bar, (size_t)done, (size_t)total);
+        progress_show(&job->bar, &fig);
     if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
         atomic_store(&job->stop, true);
         job->cancelled = true;
@@ -347,13 +425,14 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
     if (rs->progress && !job->bar_started) {
-        progress_begin(&job->bar, "render", (size_t)job->total, true);
+        progress_begin(&job->bar, "render", (size_t)job->total, true, rs->progress_interval);
         job->bar_started = true;
     }
     atomic_store(&job->stop, false);
     job->cancelled = false;
     pthread_mutex_lock(&job->lock);
     job->t_pass = progress_now();
+    uint64_t done0 = job->done;
     if (!unwatched)
         job_refresh(job);
     pthread_mutex_unlock(&job->lock);
@@ -379,8 +458,11 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
         pool_run(rs->threads, job->ntiles, job_tile, job);
     }
     pthread_mutex_lock(&job->lock);
-    job->elapsed += progress_now() - job->t_pass;
+    double pass_seconds = progress_now() - job->t_pass;
+    job->elapsed += pass_seconds;
     job->t_pass = 0.0;
+    if (job->done > done0) /* the cost of a pixel sample as the last pass measured it, waits included */
+        job->sample_seconds = pass_seconds / (double)(job->done - done0);
     bool complete = !atomic_load(&job->stop);
     if (complete) {
         job->spp_done = job->target;
@@ -412,29 +494,40 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
 static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
+    const bool timed = rs->time_budget > 0.0;
     if (job->out_of_time)
         return 0;
     if (job->target > job->spp_done)
         return job->target - job->spp_done;
     if (job->spp_done >= rs->spp)
         return 0;
-    if (rs->noise_target > 0.0 && job->spp_done > 0) {
-        bool any = false;
-        for (size_t i = 0; i < job->npix && !any; i++)
-            any = job->active[i] && (job->nparts == 1 || in_part(job, i));
-        if (!any)
-            return 0;
-    }
+    size_t nactive = 0;
+    for (size_t i = 0; i < job->npix; i++)
+        nactive += job->active[i] && (job->nparts == 1 || in_part(job, i));
+    if (nactive == 0)
+        return 0;
     int k;
     if (unwatched)
         k = PASS_MAX;
     else if (job->spp_done == 0)
-        k = rs->noise_target > 0.0 ? rs->min_spp : 1;
+        k = rs->noise_target > 0.0 && !timed ? rs->min_spp : 1; /* a budget starts at 1: the minimum yields */
     else
         k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
     k = k < 1 ? 1 : k;
     if (job->spp_done > 0 && k > PASS_MAX)
         k = PASS_MAX;
+    if (timed && job->spp_done > 0 && job->sample_seconds > 0.0) {
+        /* the passes sized from the measured cost of a pixel sample, so that the last one
+         * ends with the budget. A 1-sample pass that would not fit whole is begun when at
+         * least half of it fits (the clock cuts it: the tiles it did not reach stay one
+         * sample short), else the render ends early by less than half a pass */
+        double left = rs->time_budget - job_used(job);
+        double fit = left / (job->sample_seconds * (double)nactive);
+        if (fit < 0.5)
+            return -1;
+        if (fit < k)
+            k = fit < 1.0 ? 1 : (int)fit;
+    }
     return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
 }
 
@@ -504,7 +597,17 @@ static brume_status job_run(brume_render_job *job, bool unwatched)
         if (st != BRUME_OK)
             return st;
     }
+    if (k < 0) { /* the time left holds no whole pass: the budget is spent */
+        pthread_mutex_lock(&job->lock);
+        job->out_of_time = true;
+        pthread_mutex_unlock(&job->lock);
+    }
     if (job->bar_started) {
+        progress_figures fig;
+        pthread_mutex_lock(&job->lock);
+        job_figures(job, true, &fig);
+        pthread_mutex_unlock(&job->lock);
+        job->bar.last = fig;
         progress_end(&job->bar, true);
         job->bar_started = false;
     }
@@ -656,14 +759,12 @@ void brume_render_job_progress(const brume_render_job *job, brume_render_progres
     out->spp_mean = npart ? ntotal / (double)npart : 0.0;
     out->noise = job->noise;
     out->converged = npart ? (double)stopped / (double)npart : 0.0;
-    out->elapsed = job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
-    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) == 0;
-    if (out->finished)
-        out->eta = 0.0;
-    else if (job->rs.time_budget > 0.0)
-        out->eta = fmax(0.0, job->rs.time_budget - out->elapsed);
-    else
-        out->eta = job->done > 0 ? out->elapsed * (double)(job->total - job->done) / (double)job->done : 0.0;
+    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) <= 0;
+    progress_figures fig;
+    job_figures(job, out->finished, &fig);
+    out->elapsed = fig.elapsed;
+    out->eta = fig.eta;
+    out->fraction = fig.frac;
     pthread_mutex_unlock(&j->lock);
 }
 
