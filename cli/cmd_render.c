@@ -547,6 +547,10 @@ int cmd_render(int argc, char **argv)
                 frame_path(out_path, f, path, sizeof path);
             else
                 snprintf(path, sizeof path, "%s", out_path);
+            if (cli_check_output("-o", path, o.scene_path, NULL) != 0) {
+                dist_end(&d);
+                return 1;
+            }
             const char *slash = strrchr(path, '/');
             size_t dl = slash ? (size_t)(slash - path) : 0;
             if (k > 0 && strlen(prev) == dl && strncmp(prev, path, dl) == 0)
@@ -557,7 +561,13 @@ int cmd_render(int argc, char **argv)
                 return 1;
             }
         }
-        if (checkpoint && cli_prepare_folder("--checkpoint", checkpoint) != 0) {
+        for (int k = 0; k < o.nlight; k++)
+            if (o.light_key[k][6] == 's' && cli_check_output("--save-light", o.light_value[k], o.scene_path, NULL) != 0) {
+                dist_end(&d);
+                return 1;
+            }
+        if (checkpoint && (cli_check_output("--checkpoint", checkpoint, o.scene_path, NULL) != 0 ||
+                           cli_prepare_folder("--checkpoint", checkpoint) != 0)) {
             dist_end(&d);
             return 1;
         }
@@ -632,6 +642,10 @@ int cmd_render(int argc, char **argv)
                 brume_scene_release(scene);
                 if (!(scene = load_scene(ctx, &o, f, !o.quiet && root && !split_frames)))
                     goto fail;
+                /* the scene's inputs are known now: none of them may be written over */
+                if (root && (cli_check_output("-o", path, o.scene_path, scene) != 0 ||
+                             (checkpoint && cli_check_output("--checkpoint", checkpoint, o.scene_path, scene) != 0)))
+                    goto done;
             }
             brume_scene_get_settings(scene, &rs);
             if (split_tiles) {
@@ -644,7 +658,7 @@ int cmd_render(int argc, char **argv)
                 job = NULL;
                 cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, rs.time_budget, serve, path};
                 if (checkpoint || resume)
-                    jo.scene_key = cli_scene_key(o.scene_path, o.nsets, o.sets, f);
+                    jo.scene_key = cli_scene_key(o.scene_path, scene, o.nsets, o.sets, f);
                 if (cli_run_job(ctx, scene, &jo, &job, &image, &jr) != BRUME_OK)
                     goto fail;
             }
@@ -711,10 +725,12 @@ int cmd_render(int argc, char **argv)
     if (serve && !serve_exit && root && !cli_signal()) {
         if (!o.quiet)
             fprintf(stderr, "brume: serving the final image at %s until Ctrl-C\n", cli_serve_url(serve));
+        cli_signals_keep(true); /* Ctrl-C ends the serving, not the command */
         while (!cli_signal()) {
             struct timespec ts = {0, 50000000};
             nanosleep(&ts, NULL);
         }
+        cli_signals_keep(false);
     }
     if (root && video && scene) {
         brume_render_settings rs;

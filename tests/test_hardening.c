@@ -14,6 +14,7 @@
 #include "brume.h"
 #include "core/error.h"
 #include "io/atomic.h"
+#include "io/checkpoint.h"
 #include "io/grid_io.h"
 #include "render/scene.h"
 
@@ -386,6 +387,202 @@ TEST(signal_during_write_leaves_no_temp_file)
     }
 }
 
+/* ---- issue 36: files brume did not write, checkpoints, resume --------------------------- */
+
+/* Runs `brume ARGS` in folder dir, stderr to dir/err.txt; the exit status. */
+static int brume_in(const char *dir, const char *args)
+{
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "cd '%s' && %s %s >/dev/null 2>err.txt", dir, BRUME_EXE, args);
+    return test_system(cmd);
+}
+
+static void read_back(const char *dir, const char *name, char *out, size_t n)
+{
+    char path[4400];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    out[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return;
+    size_t got = fread(out, 1, n - 1, f);
+    out[got] = '\0';
+    fclose(f);
+}
+
+/* A one-medium scene of a 2^3 raw grid g.raw (written beside it, every voxel `rho`). */
+static void write_grid_scene(const char *dir, int width, float rho, const char *extra)
+{
+    char path[4400], json[2048];
+    float v[8];
+    for (int i = 0; i < 8; i++)
+        v[i] = rho;
+    snprintf(path, sizeof path, "%s/g.raw", dir);
+    write_file(path, v, sizeof v);
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}],"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"g.raw\", \"format\": \"raw\", \"dims\": [2, 2, 2]},"
+             " \"sigma_a\": 0.1, \"sigma_s\": 1}],"
+             " \"render\": {\"width\": %d, \"height\": %d, \"spp\": 1, \"threads\": 1}%s}",
+             width, width, extra ? extra : "");
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    write_text(path, json);
+}
+
+/* Defect 1: --checkpoint, --save-light and blasi.save_light never remove or replace a file
+ * brume did not write (a note, the scene, an input, a pipe); each is refused with one line
+ * before any work, and the file is left as it was. */
+TEST(checkpoint_never_destroys_foreign_files)
+{
+    const char *dir = fresh_dir("foreign");
+    char path[4400], text[256], cmd[4600];
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    snprintf(path, sizeof path, "%s/notes.txt", dir);
+    write_text(path, "keep\n");
+    snprintf(path, sizeof path, "%s/fifo", dir);
+    ASSERT_EQ_INT(mkfifo(path, 0600), 0);
+    const char *cases[][2] = {
+        {"render s.json -o out.png --quiet --checkpoint notes.txt", "notes.txt"},
+        {"render s.json -o out.png --quiet --checkpoint s.json", "scene file"},
+        {"render s.json -o out.png --quiet --checkpoint g.raw", "not a brume checkpoint"},
+        {"render s.json -o out.png --quiet --checkpoint fifo", "not a regular file"},
+        {"render s.json -o out.png --quiet --method blasi --save-light s.json", "scene file"},
+        {"render s.json -o out.png --quiet --method blasi --save-light g.raw", "input of the scene"},
+        {"render s.json -o out.png --quiet --method blasi --save-light fifo", "not a regular file"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        ASSERT_EQ_INT(brume_in(dir, cases[i][0]), 1);
+        read_back(dir, "err.txt", text, sizeof text);
+        ASSERT_CONTAINS(text, cases[i][1]);
+        ASSERT_TRUE(strchr(text, '\n') == strrchr(text, '\n')); /* one line */
+        read_back(dir, "notes.txt", text, sizeof text);
+        ASSERT_EQ_STR(text, "keep\n");
+        read_back(dir, "s.json", text, sizeof text);
+        ASSERT_TRUE(strncmp(text, "{\"camera\"", 9) == 0);
+        struct stat sb;
+        snprintf(path, sizeof path, "%s/g.raw", dir);
+        ASSERT_TRUE(stat(path, &sb) == 0 && sb.st_size == 32);
+        snprintf(path, sizeof path, "%s/fifo", dir);
+        ASSERT_TRUE(stat(path, &sb) == 0 && S_ISFIFO(sb.st_mode));
+        snprintf(path, sizeof path, "%s/out.png", dir);
+        ASSERT_TRUE(!test_exists(path)); /* refused before any work */
+    }
+    /* the scene file itself names its own file as the light file */
+    write_grid_scene(dir, 4, 1.0f, ", \"blasi\": {\"light_rays\": 100, \"save_light\": \"s.json\"}");
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --method blasi"), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "blasi.save_light");
+    read_back(dir, "s.json", text, sizeof text);
+    ASSERT_TRUE(strncmp(text, "{\"camera\"", 9) == 0);
+    /* a device node is never replaced by an atomic write, whoever asks */
+    atomic_file f;
+    ASSERT_TRUE(atomic_open(&f, "/dev/null") != BRUME_OK);
+    ASSERT_CONTAINS(err_message(), "not a regular file");
+    /* this run's own checkpoint is removed at the end; a finished render leaves none */
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --checkpoint c.ckpt"), 0);
+    snprintf(path, sizeof path, "%s/c.ckpt", dir);
+    ASSERT_TRUE(!test_exists(path));
+    snprintf(cmd, sizeof cmd, "%s/out.png", dir);
+    ASSERT_TRUE(test_exists(cmd));
+}
+
+/* checkpoint_remove_own reads the header: a checkpoint of another scene key, of other
+ * settings, or any other file at the path stays. */
+TEST(checkpoint_removed_only_when_its_header_says_so)
+{
+    const char *dir = fresh_dir("own");
+    char path[4400], other[4400];
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(brume_scene_load(ctx, path, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_render_job *job = NULL;
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_OK);
+    snprintf(path, sizeof path, "%s/c.ckpt", dir);
+    ASSERT_EQ_INT(brume_render_job_save(ctx, job, 42, path), BRUME_OK);
+    ASSERT_TRUE(!checkpoint_remove_own(job, 43, path)); /* another key */
+    ASSERT_TRUE(test_exists(path));
+    snprintf(other, sizeof other, "%s/notes.txt", dir);
+    write_text(other, "BRUMECKP but not one\n");
+    ASSERT_TRUE(!checkpoint_remove_own(job, 42, other));
+    ASSERT_TRUE(test_exists(other));
+    ASSERT_TRUE(checkpoint_remove_own(job, 42, path));
+    ASSERT_TRUE(!test_exists(path));
+    brume_render_job_release(job);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* Defect 2: --resume of another file: one line, no crash (the message was built from freed
+ * memory: a file of 128 KiB or more, mmap'ed by malloc, crashed), and /dev/zero is refused
+ * unread instead of read without bound. */
+TEST(resume_of_other_files)
+{
+    const char *dir = fresh_dir("resume");
+    char path[4400], text[512];
+    write_grid_scene(dir, 256, 1.0f, NULL);
+    static unsigned char junk[300000];
+    memset(junk, 'x', sizeof junk);
+    snprintf(path, sizeof path, "%s/junk.bin", dir);
+    write_file(path, junk, sizeof junk);
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --resume junk.bin"), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "junk.bin: not a brume checkpoint");
+    double t0 = seconds();
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --resume /dev/zero"), 1);
+    ASSERT_TRUE(seconds() - t0 < 20.0);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "/dev/zero: not a regular file");
+    /* a file larger than the scene's largest checkpoint is refused unread */
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --resume junk.bin"), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "larger than its largest checkpoint");
+}
+
+/* Defect 6: the checkpoint key covers the bytes of every file the scene reads: a changed
+ * grid file (same size, same name) gives another key, and --resume refuses the checkpoint. */
+TEST(checkpoint_key_covers_inputs)
+{
+    const char *dir = fresh_dir("key");
+    char path[4400], text[512];
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    brume_context *ctx = brume_context_new();
+    brume_scene *a = NULL, *b = NULL;
+    ASSERT_EQ_INT(brume_scene_load(ctx, path, &a), BRUME_OK);
+    ASSERT_EQ_INT((int)a->inputs.n, 1);
+    ASSERT_CONTAINS(a->inputs.v[0].path, "g.raw");
+    uint64_t ka = checkpoint_inputs_key(a, 1);
+    ASSERT_TRUE(ka == checkpoint_inputs_key(a, 1));
+    write_grid_scene(dir, 4, 2.0f, NULL);
+    ASSERT_EQ_INT(brume_scene_load(ctx, path, &b), BRUME_OK);
+    ASSERT_TRUE(checkpoint_inputs_key(b, 1) != ka);
+    brume_scene_release(a);
+    brume_scene_release(b);
+    brume_context_release(ctx);
+    /* end to end: a checkpoint made with one grid is refused after the grid changed. The
+     * checkpoint is written by an interrupted render: SIGINT before it ends */
+    write_grid_scene(dir, 64, 1.0f, NULL);
+    char cmd[8400];
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && (%s render s.json -o out.png --quiet --spp 100000 --checkpoint c.ckpt 2>err.txt & pid=$!;"
+             " sleep 2; kill -INT $pid; wait $pid; exit 0)",
+             dir, BRUME_EXE);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(path, sizeof path, "%s/c.ckpt", dir);
+    ASSERT_TRUE(test_exists(path));
+    write_grid_scene(dir, 64, 2.0f, NULL);
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o out.png --quiet --spp 100000 --resume c.ckpt"), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "another scene");
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
-          signal_during_write_leaves_no_temp_file)
+          signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
+          checkpoint_removed_only_when_its_header_says_so, resume_of_other_files, checkpoint_key_covers_inputs)

@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "io/regular_file.h"
 
 #ifndef BRUME_HAVE_OPENVDB
 #define BRUME_HAVE_OPENVDB 0
@@ -175,6 +176,7 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     memset(res, 0, sizeof *res);
     size_t in_size = j->size;
     struct stat sb;
+    io_input_note(j->path); /* read by the child: listed among the scene's inputs here */
     if (j->path && stat(j->path, &sb) == 0)
         in_size = (size_t)sb.st_size;
     double cpu = (5.0 + 2.0 * (double)in_size / 1048576.0) * (SANDBOX_ASAN ? 4.0 : 1.0); /* ASan: slower */

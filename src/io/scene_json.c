@@ -674,13 +674,15 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "noise", "time", "min_spp", "sampler", NULL};
+                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
     double mb = (double)(BUDGET_DEFAULT_BYTES >> 20);
     if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
     budget_set_limit((size_t)(mb * 1048576.0));
+    /* the one work limit: each method estimates its work before it starts (issue 36) */
+    if ((st = json_number(j, at, "max_work", 0, 1.0, 1e18, &s->max_work))) return st;
     brume_render_settings rs;
     brume_scene_get_settings(s, &rs);
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;
@@ -818,7 +820,9 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
         return err_status();
     }
     budget_begin(BUDGET_DEFAULT_BYTES);
+    io_inputs_record(&s->inputs);
     st = parse_scene(root, s, time, frame_no);
+    io_inputs_record(NULL);
     s->max_memory = budget_limit();
     s->memory_used = budget_used();
     budget_end();

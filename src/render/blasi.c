@@ -42,6 +42,7 @@
 #include "core/sampling.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
+#include "core/cancel.h"
 #include "io/atomic.h"
 #include "render/stam.h"
 #include "surface/surfaces.h"
@@ -501,6 +502,7 @@ typedef struct pass1_job {
     double per_unit;
     light_sums *batch;      /* nbatch: each batch's counts (P unused) */
     progress prog;
+    cancel_poll cancel;     /* the render's progress callback, asked between rays (issue 36) */
 } pass1_job;
 
 static inline void deposit(light_sums *out, size_t v, color w, double f)
@@ -938,6 +940,8 @@ static void pass1_batch(size_t task, int thread, void *user)
     grid_dda_dir sun_mem;
     const grid_dda_dir *sun = sun_dir(job->st, &s->lights[l], &sun_mem);
     for (uint64_t i = first; i < end; i++) {
+        if (cancel_poll_stop(&job->cancel))
+            return; /* the pass is abandoned: its sums are never read */
         while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
             l0 = l1;
@@ -1022,6 +1026,21 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         first[l + 1] = first[l] + (n > 0 && k > 0.0 && m == 0 ? 1 : m);
     }
     uint64_t nrays = first[nl];
+    /* the work before it starts (render.max_work, issue 36): rays x the steps of one across the
+     * media's box (a step of blasi.step, or a voxel of the finest medium) */
+    double steps = 0.0;
+    for (int m = 0; m < st->nm; m++)
+        steps = fmax(steps, (double)st->m[m].n[0] + st->m[m].n[1] + st->m[m].n[2]);
+    if (st->step > 0.0)
+        steps = 2.0 * st->radius / st->step;
+    double work = (double)nrays * (steps + 1.0);
+    if (work > s->max_work) {
+        free(first);
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: blasi: the light pass's %llu rays of about %.3g steps each are %.3g units of work, over "
+                       "render.max_work (%.3g): raise blasi.step or lower blasi.light_rays (or raise render.max_work)",
+                       s->source, (unsigned long long)nrays, steps, work, s->max_work);
+    }
     pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH,
                      .first = first};
     /* the unit: 2^-40 of the largest reference power per ray over the lights, a power of two */
@@ -1061,9 +1080,19 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         free(first);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
     }
+    cancel_poll_init(&job.cancel, &s->settings);
     progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress);
     pool_run((int)threads, (size_t)job.nbatch, pass1_batch, &job);
-    progress_end(&job.prog, true);
+    progress_end(&job.prog, !cancel_poll_cancelled(&job.cancel));
+    if (cancel_poll_cancelled(&job.cancel)) {
+        cancel_poll_finish(&job.cancel);
+        free(slot);
+        free(job.P);
+        free(job.batch);
+        free(first);
+        return err_set(BRUME_ERROR_CANCELLED, "%s: blasi: the light pass was cancelled", s->source);
+    }
+    cancel_poll_finish(&job.cancel);
     for (uint64_t k = 0; k < job.nbatch; k++) { /* batch order: the emitted power's sum is the same bits too */
         st->stats.interceptions += job.batch[k].intercepts;
         st->stats.deposits += job.batch[k].deposits;
@@ -1282,6 +1311,11 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
 {
     *out = NULL;
     double t0 = progress_now();
+    const blasi_options *o0 = scene_options(s, METHOD_OPTIONS_BLASI);
+    /* before any work: the light file must not replace the scene, one of its inputs or a device */
+    if (o0->save_light[0] && io_output_check("blasi.save_light", o0->save_light,
+                                             s->source[0] != '<' ? s->source : NULL, &s->inputs) != BRUME_OK)
+        return err_status();
     blasi_state *st = calloc(1, sizeof *st);
     if (!st)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory", s->source);
