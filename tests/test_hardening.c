@@ -5,7 +5,10 @@
 #include "test.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -582,7 +585,240 @@ TEST(checkpoint_key_covers_inputs)
     ASSERT_CONTAINS(text, "another scene");
 }
 
+/* Defect 8: every length modifier reaches snprintf: 64-bit values were printed cut to 32
+ * bits ("65536 x 65536 x 1 voxels need 0 bytes"). Expected texts written out by hand. */
+TEST(messages_print_every_length_modifier)
+{
+    char b[256];
+    err_format(b, sizeof b, "%ld", (long)-4294967297LL);
+    ASSERT_EQ_STR(b, "-4294967297");
+    err_format(b, sizeof b, "%lu", (unsigned long)4294967296ULL);
+    ASSERT_EQ_STR(b, "4294967296");
+    err_format(b, sizeof b, "%lld", -1099511627776LL);
+    ASSERT_EQ_STR(b, "-1099511627776");
+    err_format(b, sizeof b, "%llu x %llu", 18446744073709551615ULL, 4294967296ULL);
+    ASSERT_EQ_STR(b, "18446744073709551615 x 4294967296");
+    err_format(b, sizeof b, "%zu bytes", (size_t)17179869184ULL);
+    ASSERT_EQ_STR(b, "17179869184 bytes");
+    err_format(b, sizeof b, "%zd", (ptrdiff_t)-8589934592LL);
+    ASSERT_EQ_STR(b, "-8589934592");
+    err_format(b, sizeof b, "%jd %ju", (intmax_t)-5000000000LL, (uintmax_t)5000000000ULL);
+    ASSERT_EQ_STR(b, "-5000000000 5000000000");
+    err_format(b, sizeof b, "%td", (ptrdiff_t)6000000000LL);
+    ASSERT_EQ_STR(b, "6000000000");
+    err_format(b, sizeof b, "%llx %lX %016llx", 0x123456789abULL, (unsigned long)0xABCDEF012ULL, 0x1ULL);
+    ASSERT_EQ_STR(b, "123456789ab ABCDEF012 0000000000000001");
+    err_format(b, sizeof b, "%hd %hhu", 70000, 300); /* int promoted, printed as short and char */
+    ASSERT_EQ_STR(b, "4464 44");
+    err_format(b, sizeof b, "%Lg %lg %5.1f|%-4d|%*d", (long double)0.5, 0.25, 2.25, 7, 3, 9);
+    ASSERT_EQ_STR(b, "0.5 0.25   2.2|7   |  9");
+    err_format(b, sizeof b, "%lld x %lld x %lld voxels need %zu bytes, over the memory limit of %zu", 65536LL, 65536LL,
+               1LL, (size_t)17179869184ULL, (size_t)1048576);
+    ASSERT_EQ_STR(b, "65536 x 65536 x 1 voxels need 17179869184 bytes, over the memory limit of 1048576");
+}
+
+/* Defect 7: an EXR attribute key of 32 to 47 bytes (accepted by brume_image_set_attribute)
+ * deadlocked the write: OpenEXR's error callback re-entered its lock. Now it is written (long
+ * names) and read back; run in a child under a time limit so that a hang fails the test. */
+TEST(exr_long_attribute_key_writes)
+{
+    const char *path = test_tmp_path("longkey.exr");
+    const char *key = "brume.a_key_of_forty_bytes_long_xxxxxxxx"; /* 40 bytes */
+    ASSERT_EQ_INT((int)strlen(key), 40);
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) {
+        alarm(30);
+        brume_context *ctx = brume_context_new();
+        brume_image *img = brume_image_new(2, 2);
+        if (!img || brume_image_set_attribute(ctx, img, key, "v") != BRUME_OK)
+            _exit(2);
+        _exit(brume_image_write(ctx, img, path, NULL) == BRUME_OK ? 0 : 3);
+    }
+    int status = 0;
+    ASSERT_EQ_INT(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)); /* not killed by the alarm */
+    ASSERT_EQ_INT(WEXITSTATUS(status), 0);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, path, &img), BRUME_OK);
+    ASSERT_TRUE(brume_image_attribute(img, key) != NULL);
+    ASSERT_EQ_STR(brume_image_attribute(img, key), "v");
+    brume_image_release(img);
+    brume_context_release(ctx);
+}
+
+/* Defect 9: an environment image is radiance: negative, NaN and infinite values are refused
+ * like a grid's, naming the pixel. */
+TEST(environment_image_values_checked)
+{
+    const float bad[3] = {-1.0f, NAN, INFINITY};
+    for (int k = 0; k < 3; k++) {
+        brume_scene *s = NULL;
+        ASSERT_EQ_INT(scene_parse_json(scene_default_json, "<test>", &s), BRUME_OK);
+        brume_image *img = brume_image_new(3, 2);
+        float *px = brume_image_pixels(img);
+        for (int i = 0; i < 3 * 2 * 4; i++)
+            px[i] = 0.5f;
+        px[4 * 4 + 1] = bad[k]; /* pixel (1, 1), G */
+        brume_context *ctx = brume_context_new();
+        ASSERT_TRUE(brume_scene_set_background_image(ctx, s, img, 1.0, NULL) != BRUME_OK);
+        ASSERT_CONTAINS(brume_context_last_error(ctx), "pixel (1, 1) G");
+        px[4 * 4 + 1] = 0.0f; /* zero is allowed */
+        ASSERT_EQ_INT(brume_scene_set_background_image(ctx, s, img, 1.0, NULL), BRUME_OK);
+        brume_context_release(ctx);
+        brume_image_release(img);
+        brume_scene_release(s);
+    }
+}
+
+/* Defect 5: the film and the image count against render.max_memory_mb: 4096^2 pixels under
+ * a 1 MiB limit are refused before allocating (1.41 GB were used), and 64^2 pass. */
+TEST(film_counts_against_the_memory_limit)
+{
+#define FILM_FMT "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}," \
+                      " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}]," \
+                      " \"media\": [{\"density\": {\"type\": \"constant\", \"value\": 1}, \"sigma_a\": 0.1, \"sigma_s\": 1}]," \
+                      " \"render\": {\"width\": %d, \"height\": %d, \"spp\": 1, \"threads\": 1, \"max_memory_mb\": 1}}"
+    char json[1024];
+    snprintf(json, sizeof json, FILM_FMT, 4096, 4096);
+    brume_scene *s = NULL;
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(scene_parse_json(json, "<film>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_render_job *job = NULL;
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_ERROR_OUT_OF_MEMORY);
+    ASSERT_TRUE(job == NULL);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "render.max_memory_mb");
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "4096 x 4096");
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_OUT_OF_MEMORY);
+    brume_scene_release(s);
+    snprintf(json, sizeof json, FILM_FMT, 64, 64);
+#undef FILM_FMT
+    ASSERT_EQ_INT(scene_parse_json(json, "<film>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+#define BLASI_FMT \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}," \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}]," \
+    " \"media\": [{\"density\": {\"type\": \"procedural_cloud\", \"resolution\": 32}, \"sigma_a\": 0.1, \"sigma_s\": 1}]," \
+    " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"threads\": 2, \"method\": \"blasi\"%s}," \
+    " \"blasi\": {%s}}"
+
+/* Defect 4: Blasi's light pass estimates its work (rays x steps) and refuses a scene over
+ * render.max_work with the figure; blasi.step 1e-6 at the default ray count (17 h) is one. */
+TEST(blasi_work_is_bounded)
+{
+    char json[2048];
+    snprintf(json, sizeof json, BLASI_FMT, "", "\"step\": 1e-6");
+    brume_scene *s = NULL;
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_image *img = NULL;
+    double t0 = seconds();
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_RANGE);
+    ASSERT_TRUE(seconds() - t0 < 10.0);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "render.max_work (1e+12)");
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "units of work");
+    brume_scene_release(s);
+    /* a lower limit refuses the default pass (2^21 rays x about 96 voxels) and a higher passes */
+    snprintf(json, sizeof json, BLASI_FMT, ", \"max_work\": 1e6", "\"light_rays\": 100000");
+    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_RANGE);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "render.max_work (1e+06)");
+    brume_scene_release(s);
+    snprintf(json, sizeof json, BLASI_FMT, ", \"max_work\": 1e9", "\"light_rays\": 100000");
+    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+static bool cancel_at_once(void *user, uint64_t done, uint64_t total)
+{
+    (void)done;
+    (void)total;
+    ++*(int *)user;
+    return false;
+}
+
+/* Defect 4: the library's cancel (the progress callback returning false) stops Blasi's light
+ * pass within a second; it was asked only after the pass. A pass of some 20 s. */
+TEST(blasi_light_pass_cancels)
+{
+    char json[2048];
+    snprintf(json, sizeof json, BLASI_FMT, "", "\"light_rays\": 1e8, \"step\": 0.001");
+    brume_scene *s = NULL;
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(scene_parse_json(json, "<cancel>", &s), BRUME_OK);
+    int calls = 0;
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    rs.progress_fn = cancel_at_once;
+    rs.progress_user = &calls;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_render_job *job = NULL;
+    double t0 = seconds();
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_ERROR_CANCELLED);
+    double took = seconds() - t0;
+    fprintf(stderr, "cancelled after %.2f s, %d call(s)\n", took, calls);
+    ASSERT_TRUE(took < 1.5);
+    ASSERT_EQ_INT(calls, 1);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "light pass was cancelled");
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* Defect 4: SIGINT and SIGTERM stop brume render within a second in every phase: loading
+ * (procedural_cloud at 512, answered after 67 s before) and Blasi's light pass (ignored). */
+TEST(signals_stop_every_phase)
+{
+    const char *dir = fresh_dir("phases");
+    char path[4400], json[2048];
+    snprintf(path, sizeof path, "%s/load.json", dir);
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}],"
+                     " \"media\": [{\"density\": {\"type\": \"procedural_cloud\", \"resolution\": 512}, \"sigma_a\": 0.1,"
+                     " \"sigma_s\": 1}], \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1}}");
+    snprintf(path, sizeof path, "%s/light.json", dir);
+    snprintf(json, sizeof json, BLASI_FMT, "", "\"light_rays\": 1e8, \"step\": 0.001");
+    write_text(path, json);
+    const char *scenes[2] = {"load.json", "light.json"};
+    const int sigs[2] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; k++)
+        for (int j = 0; j < 2; j++) {
+            char args[4400], err[4400];
+            snprintf(args, sizeof args, "render %s/%s -o %s/out.png", dir, scenes[k], dir);
+            snprintf(err, sizeof err, "%s/err.txt", dir);
+            pid_t pid = test_spawn(BRUME_EXE, args, err);
+            test_sleep(1.5);
+            double t0 = seconds();
+            kill(pid, sigs[j]);
+            int rc = test_wait_exit(pid, 60.0);
+            double took = seconds() - t0;
+            fprintf(stderr, "%s, signal %d: exit %d after %.2f s\n", scenes[k], sigs[j], rc, took);
+            ASSERT_EQ_INT(rc, 128 + sigs[j]);
+            ASSERT_TRUE(took < 1.0);
+            snprintf(path, sizeof path, "%s/out.png", dir);
+            ASSERT_TRUE(!test_exists(path));
+        }
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
-          checkpoint_removed_only_when_its_header_says_so, resume_of_other_files, checkpoint_key_covers_inputs)
+          checkpoint_removed_only_when_its_header_says_so, resume_of_other_files, checkpoint_key_covers_inputs,
+          messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
+          film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
+          signals_stop_every_phase)
