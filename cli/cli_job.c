@@ -104,7 +104,7 @@ int cli_check_image_name(const char *flag, const char *path, bool need_exr)
     return 0;
 }
 
-int cli_prepare_folder(const char *flag, const char *path)
+int cli_prepare_folder(const char *flag, const char *path, bool make)
 {
     char dir[4096];
     const char *slash = strrchr(path, '/');
@@ -124,7 +124,17 @@ int cli_prepare_folder(const char *flag, const char *path)
         char keep = *p;
         *p = '\0';
         struct stat st;
-        if (stat(dir, &st) != 0) {
+        if (stat(dir, &st) != 0 && !make) {
+            /* the first missing folder: its parent must let it be made */
+            char *up = strrchr(dir, '/');
+            char parent[4096];
+            snprintf(parent, sizeof parent, "%.*s", up ? (int)(up == dir ? 1 : up - dir) : 1, up ? dir : ".");
+            if (access(parent, W_OK | X_OK) != 0) {
+                cli_error("%s: '%s': cannot make the folder '%s': %s", flag, path, dir, strerror(errno));
+                return 1;
+            }
+            return 0;
+        } else if (stat(dir, &st) != 0) {
             if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
                 cli_error("%s: '%s': cannot make the folder '%s': %s", flag, path, dir, strerror(errno));
                 return 1;

@@ -22,9 +22,10 @@ const char *cli_signal_name(int sig);
 /* Before any work: the name of an image output: 0, or with a message 1 for an unknown
  * format, 2 (a bad command line) for layers asked without .exr. */
 int cli_check_image_name(const char *flag, const char *path, bool need_exr);
-/* Before any work: makes the missing folders of path and checks a file can be made there.
- * 0, or 1 with a message. */
-int cli_prepare_folder(const char *flag, const char *path);
+/* Checks that path's folder exists or can be made, and (make) makes the missing folders and
+ * checks a file can be made there; without make nothing is created, so a check before the
+ * scene is read leaves nothing behind. 0, or 1 with a message. */
+int cli_prepare_folder(const char *flag, const char *path, bool make);
 
 /* The progress callback to put in the render settings: it stops the job on a signal and
  * writes checkpoints. */

@@ -815,10 +815,62 @@ TEST(signals_stop_every_phase)
         }
 }
 
+/* Defect 10: the output folders are made only after the scene was read and checked: a bad
+ * scene with --frames 0-200 -o out%d/f.png left 201 empty folders. */
+TEST(bad_scene_makes_no_folders)
+{
+    const char *dir = fresh_dir("folders");
+    char path[4400];
+    snprintf(path, sizeof path, "%s/bad.json", dir);
+    write_text(path, "{\"camera\": 5}");
+    ASSERT_EQ_INT(brume_in(dir, "render bad.json --frames 0-200 -o out%d/f.png --quiet"), 1);
+    ASSERT_EQ_INT(brume_in(dir, "render bad.json -o deep/er/f.png --quiet --checkpoint ck/c.ckpt"), 1);
+    DIR *d = opendir(dir);
+    ASSERT_TRUE(d != NULL);
+    int folders = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        char sub[4700];
+        struct stat sb;
+        snprintf(sub, sizeof sub, "%s/%s", dir, e->d_name);
+        folders += e->d_name[0] != '.' && stat(sub, &sb) == 0 && S_ISDIR(sb.st_mode);
+    }
+    closedir(d);
+    ASSERT_EQ_INT(folders, 0);
+    /* a good scene makes them */
+    write_grid_scene(dir, 4, 1.0f, NULL);
+    ASSERT_EQ_INT(brume_in(dir, "render s.json --frames 0-1 -o out%d/f.png --quiet"), 0);
+    snprintf(path, sizeof path, "%s/out1/f.png", dir);
+    ASSERT_TRUE(test_exists(path));
+}
+
+/* Defect 11: an interrupted sequence writes its partial frame as NAME.partial.EXT, never under
+ * the name of a finished frame. */
+TEST(partial_frame_says_so)
+{
+    const char *dir = fresh_dir("partial");
+    write_grid_scene(dir, 64, 1.0f, NULL);
+    char cmd[8400], path[4400];
+    /* frame 0 takes long (many samples): SIGINT during it, after rendering started; retried
+     * with a longer wait on a loaded machine */
+    bool partial = false;
+    for (int attempt = 0; attempt < 4 && !partial; attempt++) {
+        snprintf(cmd, sizeof cmd,
+                 "cd '%s' && (%s render s.json --frames 0-1 -o f_%%02d.pfm --spp 1000000 2>err.txt & pid=$!;"
+                 " sleep %d; kill -INT $pid; wait $pid; exit 0)",
+                 dir, BRUME_EXE, 2 << attempt);
+        ASSERT_EQ_INT(test_system(cmd), 0);
+        snprintf(path, sizeof path, "%s/f_00.partial.pfm", dir);
+        partial = test_exists(path);
+    }
+    ASSERT_TRUE(partial);
+    snprintf(path, sizeof path, "%s/f_00.pfm", dir);
+    ASSERT_TRUE(!test_exists(path));
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
           checkpoint_removed_only_when_its_header_says_so, resume_of_other_files, checkpoint_key_covers_inputs,
           messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
-          signals_stop_every_phase)
+          signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so)
