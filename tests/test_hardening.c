@@ -4,12 +4,16 @@
  * tests/bad/). */
 #include "test.h"
 
+#include <arpa/inet.h>
 #include <dirent.h>
 #include <math.h>
 #include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -867,10 +871,96 @@ TEST(partial_frame_says_so)
     ASSERT_TRUE(!test_exists(path));
 }
 
+/* The port of the live view that `brume render --serve` announced in err (waits for it). */
+static int served_port(const char *err)
+{
+    for (int i = 0; i < 600; i++) {
+        size_t n;
+        char *msg = test_exists(err) ? test_slurp(err, &n) : NULL;
+        const char *at = msg ? strstr(msg, "live view at http://") : NULL;
+        const char *colon = at ? strchr(at + 20, ':') : NULL;
+        int port = colon ? atoi(colon + 1) : 0;
+        free(msg);
+        if (port > 0)
+            return port;
+        test_sleep(0.05);
+    }
+    return 0;
+}
+
+static int connect_from(const char *src, int port)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in a = {0};
+    a.sin_family = AF_INET;
+    inet_pton(AF_INET, src, &a.sin_addr);
+    if (fd < 0 || bind(fd, (struct sockaddr *)&a, sizeof a) != 0) {
+        if (fd >= 0)
+            close(fd);
+        return -1;
+    }
+    inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+    a.sin_port = htons((uint16_t)port);
+    if (connect(fd, (struct sockaddr *)&a, sizeof a) != 0) {
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+/* Defect 11: idle connections cannot take the live view from others (32 of them blocked it:
+ * now 4 per client address, dropped after 10 s idle), and binding beyond loopback warns. */
+TEST(serve_idle_connections_and_exposure)
+{
+    const char *dir = fresh_dir("serve");
+    write_grid_scene(dir, 16, 1.0f, NULL);
+    char args[4400], err[4400];
+    snprintf(args, sizeof args, "render %s/s.json --spp 16000000 -o %s/o.png --serve 127.0.0.1:0", dir, dir);
+    snprintf(err, sizeof err, "%s/serve-err.txt", dir);
+    pid_t pid = test_spawn(BRUME_EXE, args, err);
+    int port = served_port(err);
+    ASSERT_TRUE(port > 0);
+    int idle[40];
+    for (int i = 0; i < 40; i++)
+        idle[i] = connect_from("127.0.0.1", port);
+    test_sleep(0.3);
+    int fd = connect_from("127.0.0.2", port); /* another client */
+    ASSERT_TRUE(fd >= 0);
+    struct timeval tv = {5, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    const char req[] = "GET / HTTP/1.0\r\n\r\n";
+    ASSERT_TRUE(write(fd, req, sizeof req - 1) == (ssize_t)(sizeof req - 1));
+    char reply[64] = "";
+    ssize_t got = read(fd, reply, sizeof reply - 1);
+    reply[got > 0 ? got : 0] = '\0';
+    close(fd);
+    for (int i = 0; i < 40; i++)
+        if (idle[i] >= 0)
+            close(idle[i]);
+    kill(pid, SIGTERM);
+    test_wait_exit(pid, 30.0);
+    ASSERT_CONTAINS(reply, "HTTP/1.1 200");
+    size_t n;
+    char *msg = test_slurp(err, &n);
+    ASSERT_TRUE(strstr(msg, "warning") == NULL);
+    free(msg);
+    /* all interfaces: one warning line */
+    snprintf(args, sizeof args, "render %s/s.json --spp 16000000 -o %s/o.png --serve 0.0.0.0:0", dir, dir);
+    remove(err);
+    pid = test_spawn(BRUME_EXE, args, err);
+    ASSERT_TRUE(served_port(err) > 0);
+    kill(pid, SIGTERM);
+    test_wait_exit(pid, 30.0);
+    msg = test_slurp(err, &n);
+    ASSERT_CONTAINS(msg, "warning: --serve: the live view listens on 0.0.0.0, beyond this machine");
+    free(msg);
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
           checkpoint_removed_only_when_its_header_says_so, resume_of_other_files, checkpoint_key_covers_inputs,
           messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
-          signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so)
+          signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
+          serve_idle_connections_and_exposure)
