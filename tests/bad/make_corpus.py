@@ -552,6 +552,7 @@ cli('resume_dev_zero', 1, '/dev/zero: not a regular file', 'render ' + S + ' --r
 cli('resume_not_a_checkpoint', 1, 'ok.pfm: not a brume checkpoint', 'render ' + S + ' --resume {D}/images/ok.pfm')
 cli('checkpoint_is_a_folder', 1, r'--checkpoint: .*not a regular file \(a folder\)', 'render ' + S + ' --checkpoint {T}')
 cli('save_light_is_a_folder', 1, r'--save-light: .*not a regular file \(a folder\)', 'render ' + S + ' --method blasi --save-light {T}')
+cli('figures_out_is_a_file', 1, r'figures: -o .*ok\.pfm: not a folder', 'figures -o {D}/images/ok.pfm --quick')
 cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
