@@ -15,9 +15,12 @@ for images and densities. docs/python.md has a notebook-style walk-through.
 A scene is a path to a scene file, a dict in the scene-file format (docs/scene-format.md),
 or None for the built-in default scene. In a dict, a medium's density may be
 {"type": "array", "data": ndarray, "bounds": [[xmin, ymin, zmin], [xmax, ymax, zmax]]}
-(float32 values >= 0 indexed [z, y, x], optional "filter": "nearest" | "trilinear"): a
-C-contiguous float32 array is used in place, without a copy, and kept alive until brume
-releases it; any other array is converted first. Errors raise brume.Error with brume's
+(float32 values >= 0 indexed [z, y, x], optional "filter": "nearest" | "trilinear"). The
+array is copied when the scene is made, so that changing it afterwards changes nothing;
+"borrow": True uses a C-contiguous float32 array in place instead, without a copy, kept
+alive until brume releases it: the caller then must not change it while the scene lives
+(brume computed its majorants from the values it saw: a changed array renders a wrong
+image, silently). Any other array is converted (copied) either way. Errors raise brume.Error with brume's
 one-line message.
 """
 import json
@@ -96,10 +99,13 @@ def _release_array(user):
 
 def _array_density(ctx, spec, where):
     """A brume_density from {"type": "array", "data": ndarray, "bounds": ...}."""
-    allowed = {"type", "data", "bounds", "filter", "comment"}
+    allowed = {"type", "data", "bounds", "filter", "borrow", "comment"}
     unknown = set(spec) - allowed
     if unknown:
-        raise Error("%s: unknown key '%s' (known here: data, bounds, filter)" % (where, sorted(unknown)[0]))
+        raise Error("%s: unknown key '%s' (known here: data, bounds, filter, borrow)" % (where, sorted(unknown)[0]))
+    borrow = spec.get("borrow", False)
+    if not isinstance(borrow, bool):
+        raise Error("%s.borrow: expected true or false" % where)
     if "data" not in spec or "bounds" not in spec:
         raise Error("%s: an array density needs \"data\" (ndarray [z, y, x]) and \"bounds\"" % where)
     data = np.asarray(spec["data"])
@@ -107,6 +113,8 @@ def _array_density(ctx, spec, where):
         raise Error("%s.data: expected a 3-d array indexed [z, y, x], got %d dimensions" % (where, data.ndim))
     if data.dtype != np.float32 or not data.flags["C_CONTIGUOUS"]:
         data = np.ascontiguousarray(data, dtype=np.float32)  # a copy: the caller's array is not float32 [z][y][x]
+    elif not borrow:
+        data = data.copy()  # the scene's own: the caller's later changes cannot reach it
     try:
         b = np.asarray(spec["bounds"], dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
@@ -192,6 +200,7 @@ class Scene:
         self._job = None
         self._committed = False
         self._progress_cb = None
+        self._callback_error = None  # what the progress callback raised during a render
         self._aovs = False
         out = ffi.new("brume_scene **")
         if scene is None:
@@ -276,7 +285,14 @@ class Scene:
                 raise Error("progress: this libbrume has no progress callback")
             user_fn = value
 
-            @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=lambda *a: False)
+            def on_error(exc_type, exc_value, tb):
+                # the render stops; _raise_callback_error raises this exception itself, not
+                # brume.Cancelled
+                if self._callback_error is None:
+                    self._callback_error = exc_value
+                return False
+
+            @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=on_error)
             def cb(user, done, total):
                 go_on = user_fn(int(done), int(total))
                 return go_on is None or bool(go_on)
@@ -323,7 +339,17 @@ class Scene:
         st = lib.brume_render(self._ctx.ptr, self._ptr, out)
         return self._finish(st, out[0], aovs)
 
+    def _raise_callback_error(self, st):
+        """After a render that stopped: the exception the progress callback raised, if any."""
+        e, self._callback_error = self._callback_error, None
+        if e is not None and _CANCELLED is not None and st == _CANCELLED:
+            raise e
+
     def _finish(self, st, img, aovs):
+        if st != 0 and img != ffi.NULL and self._callback_error is not None:
+            lib.brume_image_release(img)
+            img = ffi.NULL
+        self._raise_callback_error(st)
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED and img != ffi.NULL:
@@ -347,7 +373,9 @@ class Scene:
         self._commit(options, settings)
         self._release_job()
         out = ffi.new("brume_render_job **")
-        self._ctx.check(lib.brume_render_begin(self._ctx.ptr, self._ptr, out))
+        st = lib.brume_render_begin(self._ctx.ptr, self._ptr, out)
+        self._raise_callback_error(st)
+        self._ctx.check(st)
         self._job = out[0]
         return self
 
@@ -356,6 +384,7 @@ class Scene:
         if self._job is None:
             raise Error("add: no render job (call begin() first)")
         st = lib.brume_render_job_add(self._ctx.ptr, self._job, int(spp))
+        self._raise_callback_error(st)
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED:
@@ -370,6 +399,7 @@ class Scene:
         if not has("brume_render_job_run"):
             raise Error("run: this libbrume cannot run a job to its settings' end")
         st = lib.brume_render_job_run(self._ctx.ptr, self._job)
+        self._raise_callback_error(st)
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED:
