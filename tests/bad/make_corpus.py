@@ -553,6 +553,8 @@ cli('resume_not_a_checkpoint', 1, 'ok.pfm: not a brume checkpoint', 'render ' + 
 cli('checkpoint_is_a_folder', 1, r'--checkpoint: .*not a regular file \(a folder\)', 'render ' + S + ' --checkpoint {T}')
 cli('save_light_is_a_folder', 1, r'--save-light: .*not a regular file \(a folder\)', 'render ' + S + ' --method blasi --save-light {T}')
 cli('figures_out_is_a_file', 1, r'figures: -o .*ok\.pfm: not a folder', 'figures -o {D}/images/ok.pfm --quick')
+cli('stam_light_cache_over_max_work', 1, r'stam\.light_grid: .* units of work, over render\.max_work \(1e\+03\)',
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000')
 cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
