@@ -4,7 +4,7 @@
  * misspelled PLY property type aborts in an assertion, a 1 KB glTF of nested instances
  * builds 5.8 GB, one OBJ polygon of 100k vertices is triangulated in quadratic time), so it
  * runs only in a child process, as OpenVDB does (io/sandbox.h): CPU time 5 s + 2 s per MiB
- * of file, wall clock twice that plus 5 s, address space 512 MiB (libraries) + twice what
+ * of file, wall clock twice that plus 5 s, address space 512 MiB (libraries) + what
  * render.max_memory_mb leaves (everything assimp builds, instances flattened included, must
  * fit there), no core file. Its answer comes back on a pipe:
  *   'E' status (int32) length (uint32) message    an error, reported as is
@@ -251,7 +251,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
 /* The child: limits, the import, the answer on fd; never returns. */
 static void mesh_child(const char *path, long file_size, int fd, double cpu, size_t max_memory)
 {
-    sandbox_child_limits(cpu, ((size_t)512 << 20) + 2 * max_memory);
+    sandbox_child_limits(cpu, ((size_t)512 << 20) + max_memory);
     double *pos = NULL;
     int *idx = NULL;
     long nv = 0, ntri = 0;
