@@ -482,6 +482,23 @@ TEST(checkpoint_never_destroys_foreign_files)
     ASSERT_CONTAINS(text, "blasi.save_light");
     read_back(dir, "s.json", text, sizeof text);
     ASSERT_TRUE(strncmp(text, "{\"camera\"", 9) == 0);
+    /* -o naming an input of the scene (its environment image) is refused once the scene is read */
+    snprintf(path, sizeof path, "%s/env.pfm", dir);
+    {
+        const char hdr[] = "PF\n1 1\n-1\n";
+        const float px[3] = {0.5f, 0.5f, 0.5f};
+        FILE *f = fopen(path, "wb");
+        ASSERT_TRUE(f != NULL);
+        fwrite(hdr, 1, sizeof hdr - 1, f);
+        fwrite(px, sizeof px, 1, f);
+        fclose(f);
+    }
+    write_grid_scene(dir, 4, 1.0f, ", \"background\": {\"file\": \"env.pfm\"}");
+    ASSERT_EQ_INT(brume_in(dir, "render s.json -o env.pfm --quiet"), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    ASSERT_CONTAINS(text, "an input of the scene");
+    struct stat eb;
+    ASSERT_TRUE(stat(path, &eb) == 0 && eb.st_size == 10 + 12); /* untouched */
     /* a device node is never replaced by an atomic write, whoever asks */
     atomic_file f;
     ASSERT_TRUE(atomic_open(&f, "/dev/null") != BRUME_OK);
