@@ -23,6 +23,7 @@
 #include "io/atomic.h"
 #include "io/checkpoint.h"
 #include "io/grid_io.h"
+#include "io/mesh.h"
 #include "render/scene.h"
 
 static double seconds(void)
@@ -973,6 +974,47 @@ TEST(serve_idle_connections_and_exposure)
     free(msg);
 }
 
+/* Defect 3: a glTF's instances are counted before assimp builds them: 3 x 3 instances of one
+ * triangle read as 9 triangles (through the sandboxed reader), and 50^4 instances under
+ * max_memory_mb 64 are refused at once with the figure (they built 5.8 GB). */
+TEST(gltf_instances_counted)
+{
+    const char *dir = fresh_dir("gltf");
+    static const char small[] =
+        "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [8]}],"
+        " \"nodes\": [{\"mesh\": 0}, {\"children\": [0]}, {\"children\": [0]}, {\"children\": [0]},"
+        " {\"children\": [1, 2, 3]}, {\"children\": [4]}, {\"children\": [4]}, {\"children\": [4]},"
+        " {\"children\": [5, 6, 7]}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\","
+        " \"min\": [0, 0, 0], \"max\": [1, 1, 0]}], \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36}],"
+        " \"buffers\": [{\"byteLength\": 36, \"uri\": \"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA\"}]}";
+    char path[4400];
+    snprintf(path, sizeof path, "%s/small.gltf", dir);
+    write_text(path, small);
+    double *pos = NULL;
+    int *idx = NULL, nv = 0, ntri = 0;
+    if (mesh_load(path, &pos, &nv, &idx, &ntri) != BRUME_OK)
+        TEST_FAIL("%s", err_message());
+    ASSERT_EQ_INT(ntri, 9);
+    free(pos);
+    free(idx);
+    char scene[4400], msg[1100];
+    snprintf(scene, sizeof scene, "%s/s.json", dir);
+    snprintf(path, sizeof path,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}, \"surfaces\": [{\"type\":"
+             " \"mesh\", \"file\": \"%s/tests/bad/meshes/gltf_nested.gltf\"}], \"render\": {\"width\": 8,"
+             " \"height\": 8, \"spp\": 1, \"max_memory_mb\": 64}}",
+             BRUME_SOURCE_DIR);
+    write_text(scene, path);
+    double t0 = seconds();
+    ASSERT_TRUE(load_commit(scene, msg, sizeof msg, NULL) != BRUME_OK);
+    ASSERT_TRUE(seconds() - t0 < 2.0);
+    ASSERT_CONTAINS(msg, "1.88e+07 vertices");
+    ASSERT_CONTAINS(msg, "render.max_memory_mb");
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
@@ -980,4 +1022,4 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
-          serve_idle_connections_and_exposure)
+          serve_idle_connections_and_exposure, gltf_instances_counted)

@@ -36,6 +36,7 @@
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "io/json.h"
 #include "io/regular_file.h"
 #include "io/sandbox.h"
 
@@ -166,6 +167,93 @@ static brume_status obj_check(FILE *f, const char *path)
     if (face && tokens - 1 > MESH_MAX_POLYGON)
         return err_set(BRUME_ERROR_RANGE, "%s: line %ld: a face of %ld vertices, over the %d brume triangulates", path,
                        line, tokens - 1, MESH_MAX_POLYGON);
+    return BRUME_OK;
+}
+
+/* Vertices one instance of glTF node n stands for, itself and its subtree: its mesh's
+ * POSITION counts, its children's again for each child (a node named by several parents is
+ * counted once per parent, as assimp's flattening copies it). -1 on a cycle or a bad index. */
+static double gltf_node_vertices(const cJSON *nodes, const cJSON *meshes, const cJSON *accessors, int n, double *memo,
+                                 int depth)
+{
+    int count = cJSON_GetArraySize(nodes);
+    if (n < 0 || n >= count || depth > 64)
+        return -1.0;
+    if (memo[n] >= 0.0)
+        return memo[n];
+    const cJSON *node = cJSON_GetArrayItem(nodes, n);
+    double v = 0.0;
+    const cJSON *mi = cJSON_GetObjectItemCaseSensitive(node, "mesh");
+    const cJSON *mesh = cJSON_IsNumber(mi) ? cJSON_GetArrayItem(meshes, mi->valueint) : NULL;
+    const cJSON *prims = mesh ? cJSON_GetObjectItemCaseSensitive(mesh, "primitives") : NULL;
+    const cJSON *p;
+    cJSON_ArrayForEach(p, prims)
+    {
+        const cJSON *attr = cJSON_GetObjectItemCaseSensitive(p, "attributes");
+        const cJSON *pos = attr ? cJSON_GetObjectItemCaseSensitive(attr, "POSITION") : NULL;
+        const cJSON *acc = cJSON_IsNumber(pos) ? cJSON_GetArrayItem(accessors, pos->valueint) : NULL;
+        const cJSON *c = acc ? cJSON_GetObjectItemCaseSensitive(acc, "count") : NULL;
+        if (cJSON_IsNumber(c) && c->valuedouble > 0)
+            v += c->valuedouble;
+    }
+    const cJSON *ch;
+    cJSON_ArrayForEach(ch, cJSON_GetObjectItemCaseSensitive(node, "children"))
+    {
+        double w = cJSON_IsNumber(ch) ? gltf_node_vertices(nodes, meshes, accessors, ch->valueint, memo, depth + 1) : -1;
+        if (w < 0.0)
+            return -1.0;
+        v += w;
+    }
+    return memo[n] = v;
+}
+
+/* A .gltf (JSON) file: the vertices its scenes make once assimp has copied every instance
+ * (aiProcess_PreTransformVertices) must fit in the memory budget, at about 100 bytes each
+ * in assimp (positions, normals, the copies) -- refused before assimp builds them (issue 36:
+ * a 1 KB file of 4 levels x 50 children built 5.8 GB). BRUME_OK for other files. */
+static brume_status gltf_check(FILE *f, const char *path, long file_size)
+{
+    size_t n = strlen(path);
+    if (n < 5 || strcmp(path + n - 5, ".gltf") != 0 || file_size <= 0 || (size_t)file_size > budget_left())
+        return BRUME_OK; /* too large to parse here: the child's limits hold */
+    char *text = malloc((size_t)file_size + 1);
+    rewind(f);
+    if (!text || fread(text, 1, (size_t)file_size, f) != (size_t)file_size) {
+        free(text);
+        return BRUME_OK;
+    }
+    text[file_size] = '\0';
+    cJSON *doc = cJSON_Parse(text);
+    free(text);
+    if (!doc)
+        return BRUME_OK; /* assimp says what is wrong */
+    const cJSON *nodes = cJSON_GetObjectItemCaseSensitive(doc, "nodes");
+    int count = cJSON_GetArraySize(nodes);
+    double *memo = count > 0 ? malloc((size_t)count * sizeof *memo) : NULL;
+    double total = 0.0;
+    for (int i = 0; i < count && memo; i++)
+        memo[i] = -1.0;
+    const cJSON *sc;
+    cJSON_ArrayForEach(sc, cJSON_GetObjectItemCaseSensitive(doc, "scenes"))
+    {
+        const cJSON *r;
+        cJSON_ArrayForEach(r, cJSON_GetObjectItemCaseSensitive(sc, "nodes"))
+        {
+            double v = memo && cJSON_IsNumber(r)
+                           ? gltf_node_vertices(nodes, cJSON_GetObjectItemCaseSensitive(doc, "meshes"),
+                                                cJSON_GetObjectItemCaseSensitive(doc, "accessors"), r->valueint, memo, 0)
+                           : -1.0;
+            total += v > 0.0 ? v : 0.0;
+        }
+    }
+    free(memo);
+    cJSON_Delete(doc);
+    double bytes = 100.0 * total;
+    if (bytes > (double)budget_left())
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: its instances flattened make %.3g vertices, about %.3g bytes in assimp, over the %zu bytes "
+                       "render.max_memory_mb leaves",
+                       path, total, bytes, budget_left());
     return BRUME_OK;
 }
 
@@ -315,6 +403,8 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     brume_status st = file_size > 0 ? ply_check(probe, path, file_size) : BRUME_OK;
     if (st == BRUME_OK)
         st = obj_check(probe, path);
+    if (st == BRUME_OK)
+        st = gltf_check(probe, path, file_size);
     fclose(probe);
     if (st != BRUME_OK)
         return st;
