@@ -1015,6 +1015,33 @@ TEST(gltf_instances_counted)
     ASSERT_CONTAINS(msg, "render.max_memory_mb");
 }
 
+/* Defect 5: when the film's allocation fails (within render.max_memory_mb: the machine has
+ * less), the message is one line built from live memory (it read the freed job: render.c).
+ * The allocation is made to fail by an address-space limit, or under ASan by its allocator
+ * cap (the sanitizer suite runs this test too: a use after free there is a report). */
+TEST(film_allocation_failure_is_one_line)
+{
+    const char *dir = fresh_dir("oom");
+    char path[4400], text[1024];
+    snprintf(path, sizeof path, "%s/oom.json", dir);
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"render\": {\"width\": 8192, \"height\": 8192, \"spp\": 1, \"max_memory_mb\": 100000}}");
+#if defined(__SANITIZE_ADDRESS__)
+    const char *limit = "ASAN_OPTIONS=allocator_may_return_null=1:max_allocation_size_mb=100:$ASAN_OPTIONS";
+#else
+    const char *limit = "ulimit -v 1500000 &&";
+#endif
+    char cmd[8400];
+    snprintf(cmd, sizeof cmd, "cd '%s' && %s %s render oom.json -o o.png --quiet >/dev/null 2>err.txt", dir, limit,
+             BRUME_EXE);
+    ASSERT_EQ_INT(test_system(cmd), 1);
+    read_back(dir, "err.txt", text, sizeof text);
+    const char *line = strstr(text, "brume: ");
+    ASSERT_TRUE(line != NULL);
+    ASSERT_CONTAINS(line, "out of memory for a 8192 x 8192 render job");
+    ASSERT_TRUE(strchr(line, '\n') == line + strlen(line) - 1);
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
@@ -1022,4 +1049,4 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
-          serve_idle_connections_and_exposure, gltf_instances_counted)
+          serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line)
