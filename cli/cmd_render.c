@@ -59,7 +59,8 @@ static void render_usage(FILE *out)
             "  --quiet             no progress bar or summary\n\n"
             "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
             "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
-            "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once.\n"
+            "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once, and so\n"
+            "does the first outside rendering (loading, Blasi's light pass, writing): nothing is kept.\n"
             "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
             "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
             "This build: %s.\n",
