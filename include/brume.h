@@ -686,6 +686,12 @@ void brume_render_job_release(brume_render_job *job);
  * Async-signal-safe: for a signal handler that then calls _exit. */
 void brume_remove_temporaries(void);
 
+/* Ends every scene load in progress, on any thread: its generators (procedural clouds,
+ * fractal grids) stop within about a second and brume_scene_load* returns
+ * BRUME_ERROR_CANCELLED. Loads that start afterwards are not affected. Async-signal-safe: for
+ * a SIGINT handler (a render is cancelled by its progress callback instead). */
+void brume_cancel_loads(void);
+
 /* A new black, transparent image; NULL on bad size or out of memory. */
 brume_image *brume_image_new(int width, int height);
 int brume_image_width(const brume_image *image);

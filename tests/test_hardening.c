@@ -6,6 +6,7 @@
 
 #include <arpa/inet.h>
 #include <dirent.h>
+#include <pthread.h>
 #include <math.h>
 #include <signal.h>
 #include <stddef.h>
@@ -1042,6 +1043,60 @@ TEST(film_allocation_failure_is_one_line)
     ASSERT_TRUE(strchr(line, '\n') == line + strlen(line) - 1);
 }
 
+typedef struct load_arg {
+    const char *path;
+    brume_status st;
+    char msg[512];
+    double took;
+} load_arg;
+
+static void *load_thread(void *user)
+{
+    load_arg *a = user;
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    double t0 = seconds();
+    a->st = brume_scene_load(ctx, a->path, &s);
+    a->took = seconds() - t0;
+    snprintf(a->msg, sizeof a->msg, "%s", brume_context_last_error(ctx));
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    return NULL;
+}
+
+/* Defect 4: the library's cancel reaches scene loading: brume_cancel_loads() from another
+ * thread (or a signal handler) ends a procedural_cloud at 512 (67 s) within a second; a load
+ * started afterwards is not affected. */
+TEST(scene_load_cancels)
+{
+    const char *dir = fresh_dir("loadcancel");
+    char path[4400];
+    snprintf(path, sizeof path, "%s/slow.json", dir);
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"media\": [{\"density\": {\"type\": \"procedural_cloud\", \"resolution\": 512}, \"sigma_a\": 0.1,"
+                     " \"sigma_s\": 1}], \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1}}");
+    load_arg a = {path, BRUME_OK, "", 0.0};
+    pthread_t th;
+    ASSERT_EQ_INT(pthread_create(&th, NULL, load_thread, &a), 0);
+    test_sleep(0.5);
+    double t0 = seconds();
+    brume_cancel_loads();
+    pthread_join(th, NULL);
+    double after = seconds() - t0;
+    fprintf(stderr, "load ended %.2f s after the cancel (%.2f s in all): %s\n", after, a.took, a.msg);
+    ASSERT_EQ_INT(a.st, BRUME_ERROR_CANCELLED);
+    ASSERT_TRUE(after < 1.0);
+    ASSERT_CONTAINS(a.msg, "loading cancelled");
+    /* the next load is not cancelled */
+    snprintf(path, sizeof path, "%s/small.json", dir);
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"media\": [{\"density\": {\"type\": \"procedural_cloud\", \"resolution\": 16}, \"sigma_a\": 0.1,"
+                     " \"sigma_s\": 1}], \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1}}");
+    load_arg b = {path, BRUME_OK, "", 0.0};
+    load_thread(&b);
+    ASSERT_EQ_INT(b.st, BRUME_OK);
+}
+
 TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot_write_outside_its_folder,
           huge_density_ends, huge_voxel_is_refused, work_bomb_and_memory_budget, raw_pairs_and_strict_readers,
           signal_during_write_leaves_no_temp_file, checkpoint_never_destroys_foreign_files,
@@ -1049,4 +1104,5 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           messages_print_every_length_modifier, exr_long_attribute_key_writes, environment_image_values_checked,
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
-          serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line)
+          serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line,
+          scene_load_cancels)

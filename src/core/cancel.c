@@ -3,6 +3,8 @@
 
 #include <time.h>
 
+#include "core/error.h"
+
 static long long now_ns(void)
 {
     struct timespec ts;
@@ -42,3 +44,24 @@ bool cancel_poll_stop(cancel_poll *c)
 bool cancel_poll_cancelled(const cancel_poll *c) { return atomic_load((atomic_bool *)&c->stop); }
 
 void cancel_poll_finish(cancel_poll *c) { pthread_mutex_destroy(&c->lock); }
+
+static atomic_uint g_load_cancels;                /* brume_cancel_loads calls so far */
+static _Thread_local unsigned g_load_start;       /* the count when this thread's load began */
+static _Thread_local bool g_loading;
+
+void brume_cancel_loads(void) { atomic_fetch_add(&g_load_cancels, 1u); }
+
+void cancel_load_begin(void)
+{
+    g_load_start = atomic_load(&g_load_cancels);
+    g_loading = true;
+}
+
+void cancel_load_end(void) { g_loading = false; }
+
+brume_status cancel_load_check(const char *what)
+{
+    if (!g_loading || atomic_load_explicit(&g_load_cancels, memory_order_relaxed) == g_load_start)
+        return BRUME_OK;
+    return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_cancel_loads)", what);
+}

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "io/json.h"
@@ -821,7 +822,9 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
     }
     budget_begin(BUDGET_DEFAULT_BYTES);
     io_inputs_record(&s->inputs);
+    cancel_load_begin();
     st = parse_scene(root, s, time, frame_no);
+    cancel_load_end();
     io_inputs_record(NULL);
     s->max_memory = budget_limit();
     s->memory_used = budget_used();
