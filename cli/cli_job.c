@@ -14,21 +14,34 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "core/error.h"
+#include "io/checkpoint.h"
+#include "io/regular_file.h"
 
 /* ---- signals ------------------------------------------------------------------------------ */
 
 static volatile sig_atomic_t g_signal; /* the first SIGINT, SIGTERM or SIGHUP, 0 before */
+static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a signal keeps */
 
-/* The first signal asks the render to stop (the progress callback sees it within a tile);
- * a second one ends the process at once, removing the temporary files of writes under way. */
+/* While a render job runs (cli_signals_keep), the first signal asks it to stop (the progress
+ * callback sees it within a tile) and its samples are kept. In any other phase (loading a
+ * scene, generating a grid, Blasi's light pass, writing) there is nothing partial to keep, so
+ * the first signal ends the process at once, as a second one always does: temporary files of
+ * writes under way are removed, finished files stay (issue 36: SIGINT was answered after the
+ * phase, minutes later). */
 static void on_signal(int sig)
 {
-    if (g_signal) {
+    if (g_signal || !g_keep) {
         brume_remove_temporaries();
+        static const char msg[] = "brume: interrupted: the work in progress is not kept\n";
+        if (!g_signal)
+            (void)!write(2, msg, sizeof msg - 1);
         _exit(128 + sig);
     }
     g_signal = sig;
 }
+
+void cli_signals_keep(bool keep) { g_keep = keep ? 1 : 0; }
 
 void cli_signals_install(void)
 {
@@ -91,7 +104,7 @@ int cli_check_image_name(const char *flag, const char *path, bool need_exr)
     return 0;
 }
 
-int cli_prepare_folder(const char *flag, const char *path)
+int cli_prepare_folder(const char *flag, const char *path, bool make)
 {
     char dir[4096];
     const char *slash = strrchr(path, '/');
@@ -111,7 +124,17 @@ int cli_prepare_folder(const char *flag, const char *path)
         char keep = *p;
         *p = '\0';
         struct stat st;
-        if (stat(dir, &st) != 0) {
+        if (stat(dir, &st) != 0 && !make) {
+            /* the first missing folder: its parent must let it be made */
+            char *up = strrchr(dir, '/');
+            char parent[4096];
+            snprintf(parent, sizeof parent, "%.*s", up ? (int)(up == dir ? 1 : up - dir) : 1, up ? dir : ".");
+            if (access(parent, W_OK | X_OK) != 0) {
+                cli_error("%s: '%s': cannot make the folder '%s': %s", flag, path, dir, strerror(errno));
+                return 1;
+            }
+            return 0;
+        } else if (stat(dir, &st) != 0) {
             if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
                 cli_error("%s: '%s': cannot make the folder '%s': %s", flag, path, dir, strerror(errno));
                 return 1;
@@ -181,7 +204,21 @@ void cli_job_callback(brume_progress_fn *fn, void **user)
     *user = &g_job;
 }
 
-uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *sets, long frame)
+int cli_check_output(const char *flag, const char *path, const char *scene_path, const brume_scene *scene)
+{
+    brume_status st = scene ? checkpoint_output_check(scene, flag, path) : io_output_check(flag, path, scene_path, NULL);
+    if (st == BRUME_OK && strcmp(flag, "--checkpoint") == 0 && checkpoint_target_check(path) != BRUME_OK) {
+        cli_error("%s: %s", flag, err_message());
+        return 1;
+    }
+    if (st == BRUME_OK)
+        return 0;
+    cli_error("%s", err_message());
+    return 1;
+}
+
+uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nsets, const char *const *sets,
+                       long frame)
 {
     uint64_t h = 0xcbf29ce484222325ULL;
 #define FOLD(p, n)                                                                                              \
@@ -204,7 +241,7 @@ uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *set
         FOLD(sets[i], strlen(sets[i]) + 1)
     FOLD(&frame, sizeof frame)
 #undef FOLD
-    return h;
+    return checkpoint_inputs_key(scene, h);
 }
 
 /* Releases a job that failed: the live view stops showing it first (its server thread reads
@@ -235,7 +272,9 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     }
     if (o->serve)
         cli_serve_show(o->serve, job, o->label);
+    cli_signals_keep(true);
     st = g_signal ? BRUME_ERROR_CANCELLED : brume_render_job_run(ctx, job);
+    cli_signals_keep(false);
     g_job.job = NULL;
     brume_context_release(g_job.ctx);
     g_job.ctx = NULL;
@@ -251,7 +290,9 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
                 return job_failed(o, job, st);
             res->checkpoint_written = true;
         } else {
-            remove(o->checkpoint); /* finished: the image is the result */
+            /* finished: the image is the result. Removed only when the file there is this
+             * render's checkpoint (its header says so): never a file brume did not write */
+            checkpoint_remove_own(job, o->scene_key, o->checkpoint);
         }
     }
     brume_render_job_progress(job, &res->progress);

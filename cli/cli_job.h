@@ -12,6 +12,9 @@
 /* SIGINT, SIGTERM, SIGHUP: the first stops the render within a tile (the work is kept), a
  * second ends the process at once after removing temporary files (exit 128 + signal). */
 void cli_signals_install(void);
+/* Whether a signal now stops a phase whose work is kept (true: a render job runs, or the live
+ * view serves the final image) or ends the process at once (false, the default). */
+void cli_signals_keep(bool keep);
 /* The first signal received, 0 if none. */
 int cli_signal(void);
 const char *cli_signal_name(int sig);
@@ -19,16 +22,23 @@ const char *cli_signal_name(int sig);
 /* Before any work: the name of an image output: 0, or with a message 1 for an unknown
  * format, 2 (a bad command line) for layers asked without .exr. */
 int cli_check_image_name(const char *flag, const char *path, bool need_exr);
-/* Before any work: makes the missing folders of path and checks a file can be made there.
- * 0, or 1 with a message. */
-int cli_prepare_folder(const char *flag, const char *path);
+/* Checks that path's folder exists or can be made, and (make) makes the missing folders and
+ * checks a file can be made there; without make nothing is created, so a check before the
+ * scene is read leaves nothing behind. 0, or 1 with a message. */
+int cli_prepare_folder(const char *flag, const char *path, bool make);
 
 /* The progress callback to put in the render settings: it stops the job on a signal and
  * writes checkpoints. */
 void cli_job_callback(brume_progress_fn *fn, void **user);
-/* What a checkpoint is tied to: the scene file's bytes (or the default scene), the scene
- * overrides (--set KEY=VALUE) and the frame. */
-uint64_t cli_scene_key(const char *scene_path, int nsets, const char *const *sets, long frame);
+/* What a checkpoint is tied to: the scene file's bytes (or the default scene), the bytes of
+ * every file the loaded scene read (grids, meshes, tables, images), the scene overrides
+ * (--set KEY=VALUE) and the frame. */
+uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nsets, const char *const *sets,
+                       long frame);
+/* Before any work: brume writes path (named by flag) only when it is absent or a regular
+ * file that is not the scene file nor, when scene is given, one of its inputs. 0, or 1 with
+ * a message. */
+int cli_check_output(const char *flag, const char *path, const char *scene_path, const brume_scene *scene);
 
 typedef struct cli_job_opts {
     const char *checkpoint;  /* --checkpoint FILE, or NULL */

@@ -404,6 +404,11 @@ static int listen_on(const char *spec, char *url, size_t url_size)
         }
     }
     snprintf(url, url_size, sa.ss_family == AF_INET6 ? "http://[%s]:%u/" : "http://%s:%u/", addr, actual);
+    bool loopback = (sa.ss_family == AF_INET && (ntohl(((struct sockaddr_in *)&sa)->sin_addr.s_addr) >> 24) == 127) ||
+                    (sa.ss_family == AF_INET6 && IN6_IS_ADDR_LOOPBACK(&((struct sockaddr_in6 *)&sa)->sin6_addr));
+    if (!loopback)
+        fprintf(stderr, "brume: warning: --serve: the live view listens on %s, beyond this machine: whoever can reach "
+                        "it sees the render (give 127.0.0.1:PORT to keep it local)\n", addr);
     return fd;
 }
 
@@ -423,8 +428,11 @@ cli_serve *cli_serve_start(const char *spec)
     }
     pthread_mutex_init(&sv->lock, NULL);
     sv->daemon = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD, 0, NULL, NULL, on_request, sv,
-                                  MHD_OPTION_LISTEN_SOCKET, sv->fd, MHD_OPTION_CONNECTION_LIMIT, 32U,
-                                  MHD_OPTION_CONNECTION_TIMEOUT, 30U, MHD_OPTION_END);
+                                  MHD_OPTION_LISTEN_SOCKET, sv->fd, MHD_OPTION_CONNECTION_LIMIT, 64U,
+                                  /* idle connections cannot hold the view (issue 36: 32 of them
+                                     blocked it): 4 per client address, dropped after 10 s idle */
+                                  MHD_OPTION_PER_IP_CONNECTION_LIMIT, 4U, MHD_OPTION_CONNECTION_TIMEOUT, 10U,
+                                  MHD_OPTION_END);
     if (!sv->daemon) {
         cli_error("--serve: %s: libmicrohttpd could not start", spec);
         close(sv->fd);

@@ -45,7 +45,8 @@ int cmd_denoise(int argc, char **argv)
     int bad = cli_check_image_name("-o", out, false);
     if (bad)
         return bad;
-    if (cli_prepare_folder("-o", out) != 0)
+    /* the output never replaces the input image, a device or a folder */
+    if (cli_check_output("-o", out, in, NULL) != 0 || cli_prepare_folder("-o", out, true) != 0)
         return 1;
     brume_context *ctx = brume_context_new();
     if (!ctx) {

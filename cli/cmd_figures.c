@@ -648,6 +648,12 @@ int cmd_figures(int argc, char **argv)
         cli_error("figures: %s: cannot create: %s", dir, strerror(errno));
         return 1;
     }
+    /* before any work: mkdir's EEXIST also means a file there (issue 36: -o FILE rendered every
+     * figure, then failed on each) */
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK | X_OK) != 0) {
+        cli_error("figures: -o %s: %s", dir, stat(dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a folder" : "cannot write there");
+        return 1;
+    }
     static fig_run runs[NFIG];
     double t0 = now();
     int failed = 0;

@@ -64,7 +64,8 @@ static void render_usage(FILE *out)
             "  --quiet             no progress bar, progress lines or summary\n\n"
             "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
             "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
-            "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once.\n"
+            "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once, and so\n"
+            "does the first outside rendering (loading, Blasi's light pass, writing): nothing is kept.\n"
             "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
             "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
             "This build: %s.\n",
@@ -211,7 +212,25 @@ static bool parse_aovs(const char *text, unsigned *out)
     }
 }
 
-/* ffmpeg -framerate FPS -start_number FIRST -i PATTERN ... VIDEO (H.264, yuv420p). */
+/* Before any work: --video names a file brume may write (not an option ffmpeg would read,
+ * not the scene, not a device) in a folder that can be made, and ffmpeg is there. 0 or 1/2
+ * with a message. */
+static int check_video(const char *video, const char *scene_path)
+{
+    if (video[0] == '-') {
+        cli_error("--video: '%s' is not a file name (it would reach ffmpeg as an option)", video);
+        return 2;
+    }
+    char ffmpeg[4096];
+    if (!find_in_path("ffmpeg", ffmpeg, sizeof ffmpeg)) {
+        cli_error("--video: ffmpeg not found in PATH (install Debian's ffmpeg: apt-get install ffmpeg)");
+        return 1;
+    }
+    return cli_check_output("--video", video, scene_path, NULL) || cli_prepare_folder("--video", video, false) ? 1 : 0;
+}
+
+/* ffmpeg -framerate FPS -start_number FIRST -i PATTERN ... VIDEO (H.264, yuv420p). ffmpeg's
+ * stderr goes to a temporary file; on failure its last line is quoted in brume's one line. */
 static int make_video(const char *pattern, long first, double fps, const char *video)
 {
     char ffmpeg[4096];
@@ -223,23 +242,39 @@ static int make_video(const char *pattern, long first, double fps, const char *v
     char rate[64], start[32];
     snprintf(rate, sizeof rate, "%.9g", fps);
     snprintf(start, sizeof start, "%ld", first);
-    char *args[] = {ffmpeg, "-y", "-loglevel", "error", "-framerate", rate, "-start_number", start, "-i",
+    char *args[] = {ffmpeg, "-nostdin", "-y", "-loglevel", "error", "-framerate", rate, "-start_number", start, "-i",
                     (char *)pattern, "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
                     "yuv420p", "-movflags", "+faststart", (char *)video, NULL};
+    FILE *log = tmpfile();
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
+        if (log)
+            fclose(log);
         cli_error("--video: cannot start ffmpeg: %s", strerror(errno));
         return 1;
     }
     if (pid == 0) {
+        if (log)
+            dup2(fileno(log), 2);
         execv(ffmpeg, args);
         _exit(127);
     }
     int status = 0;
-    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        cli_error("--video: ffmpeg failed making %s (exit status %d)", video,
-                  WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    bool ok = waitpid(pid, &status, 0) >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    char last[512] = "", line[512];
+    while (log && !ok && (rewind(log), true)) { /* the last non-empty line ffmpeg wrote */
+        while (fgets(line, sizeof line, log))
+            if (line[strspn(line, " \t\r\n")])
+                snprintf(last, sizeof last, "%s", line);
+        break;
+    }
+    last[strcspn(last, "\r\n")] = '\0';
+    if (log)
+        fclose(log);
+    if (!ok) {
+        cli_error("--video: ffmpeg failed making %s (exit status %d)%s%s", video,
+                  WIFEXITED(status) ? WEXITSTATUS(status) : -1, last[0] ? ": " : "", last);
         return 1;
     }
     return 0;
@@ -271,6 +306,49 @@ static brume_status write_image(brume_context *ctx, brume_image *image, const ch
     st = brume_image_write(ctx, den, path, wopts);
     brume_image_release(den);
     return st;
+}
+
+/* The files a render writes: every frame's output (a pattern or one path) and the checkpoint. */
+typedef struct output_plan {
+    const char *out_path;
+    int kind; /* pattern_kind of out_path: 1 a frame pattern */
+    bool sequence;
+    long first, nframes;
+    int nshards, shard;
+    const char *checkpoint, *video; /* or NULL */
+    const char *scene_path;
+    bool made; /* the folders exist */
+} output_plan;
+
+/* Checks every output of the plan (make false: nothing is created) or makes their missing
+ * folders (make true), each folder once. 0, or 1 with a message. */
+static int prepare_outputs(output_plan *p, bool make)
+{
+    char prev[4096] = "", path[4096];
+    for (long k = 0; k < p->nframes; k++) {
+        long f = p->sequence ? p->first + k : -1;
+        if (p->nshards > 1 && f % p->nshards != p->shard)
+            continue;
+        if (p->kind == 1)
+            frame_path(p->out_path, f, path, sizeof path);
+        else
+            snprintf(path, sizeof path, "%s", p->out_path);
+        if (!make && cli_check_output("-o", path, p->scene_path, NULL) != 0)
+            return 1;
+        const char *slash = strrchr(path, '/');
+        size_t dl = slash ? (size_t)(slash - path) : 0;
+        if (k > 0 && strlen(prev) == dl && strncmp(prev, path, dl) == 0)
+            continue;
+        snprintf(prev, sizeof prev, "%.*s", (int)dl, path);
+        if (cli_prepare_folder("-o", path, make) != 0)
+            return 1;
+    }
+    if (make && p->checkpoint && cli_prepare_folder("--checkpoint", p->checkpoint, true) != 0)
+        return 1;
+    if (make && p->video && cli_prepare_folder("--video", p->video, true) != 0)
+        return 1;
+    p->made = make;
+    return 0;
 }
 
 enum { MAX_SETS = 64 };
@@ -555,6 +633,9 @@ int cmd_render(int argc, char **argv)
             cli_error("--video: the frames must be PNG files named by a pattern (-o out/frame_%%04d.png)");
             return 2;
         }
+        int vbad = check_video(video, o.scene_path);
+        if (vbad)
+            return vbad;
     }
     int bad = cli_check_image_name("-o", out_path, o.aovs != 0);
     if (bad)
@@ -587,28 +668,22 @@ int cmd_render(int argc, char **argv)
         dist_end(&d);
         return 2;
     }
-    /* outputs: folders made and writable before any work (every frame's, once per folder) */
+    /* outputs: checked before any work (every frame's, once per folder); the missing folders
+     * are made once the first scene has been read and checked (prepare_outputs), so that a bad
+     * scene leaves none behind */
+    output_plan plan = {out_path, kind, sequence, first, nframes, nshards, shard, checkpoint, video, o.scene_path, false};
     if (root) {
-        char prev[4096] = "", path[4096];
-        for (long k = 0; k < nframes; k++) {
-            long f = sequence ? first + k : -1;
-            if (nshards > 1 && f % nshards != shard)
-                continue;
-            if (kind == 1)
-                frame_path(out_path, f, path, sizeof path);
-            else
-                snprintf(path, sizeof path, "%s", out_path);
-            const char *slash = strrchr(path, '/');
-            size_t dl = slash ? (size_t)(slash - path) : 0;
-            if (k > 0 && strlen(prev) == dl && strncmp(prev, path, dl) == 0)
-                continue;
-            snprintf(prev, sizeof prev, "%.*s", (int)dl, path);
-            if (cli_prepare_folder("-o", path) != 0) {
+        if (prepare_outputs(&plan, false) != 0) {
+            dist_end(&d);
+            return 1;
+        }
+        for (int k = 0; k < o.nlight; k++)
+            if (o.light_key[k][6] == 's' && cli_check_output("--save-light", o.light_value[k], o.scene_path, NULL) != 0) {
                 dist_end(&d);
                 return 1;
             }
-        }
-        if (checkpoint && cli_prepare_folder("--checkpoint", checkpoint) != 0) {
+        if (checkpoint && (cli_check_output("--checkpoint", checkpoint, o.scene_path, NULL) != 0 ||
+                           cli_prepare_folder("--checkpoint", checkpoint, false) != 0)) {
             dist_end(&d);
             return 1;
         }
@@ -665,6 +740,8 @@ int cmd_render(int argc, char **argv)
             /* rank 0 receives a frame that another rank rendered; the scene gives its size */
             if (!scene && !(scene = load_scene(ctx, &o, f, false)))
                 goto fail;
+            if (!plan.made && prepare_outputs(&plan, true) != 0)
+                goto done;
             brume_scene_get_settings(scene, &rs);
             image = brume_image_new(rs.width, rs.height);
             if (!image || !dist_recv_at_root(&d, brume_image_pixels(image), (size_t)rs.width * (size_t)rs.height * 4, owner,
@@ -683,6 +760,12 @@ int cmd_render(int argc, char **argv)
                 brume_scene_release(scene);
                 if (!(scene = load_scene(ctx, &o, f, !o.quiet && root && !split_frames)))
                     goto fail;
+                /* the scene's inputs are known now: none of them may be written over; the
+                 * scene is good, so the output folders are made */
+                if (root && (cli_check_output("-o", path, o.scene_path, scene) != 0 ||
+                             (checkpoint && cli_check_output("--checkpoint", checkpoint, o.scene_path, scene) != 0) ||
+                             (!plan.made && prepare_outputs(&plan, true) != 0)))
+                    goto done;
             }
             brume_scene_get_settings(scene, &rs);
             if (split_tiles) {
@@ -695,7 +778,7 @@ int cmd_render(int argc, char **argv)
                 job = NULL;
                 cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, rs.time_budget, serve, path};
                 if (checkpoint || resume)
-                    jo.scene_key = cli_scene_key(o.scene_path, o.nsets, o.sets, f);
+                    jo.scene_key = cli_scene_key(o.scene_path, scene, o.nsets, o.sets, f);
                 if (cli_run_job(ctx, scene, &jo, &job, &image, &jr) != BRUME_OK)
                     goto fail;
             }
@@ -723,6 +806,15 @@ int cmd_render(int argc, char **argv)
             goto done;
         }
         if (root && jr.interrupted) {
+            /* a frame of a sequence is named for what it is: "f_0003.partial.png", never the
+             * name a finished frame has (a video or a later run would take it for whole) */
+            if (sequence) {
+                char whole[4096];
+                snprintf(whole, sizeof whole, "%s", path);
+                const char *slash = strrchr(whole, '/'), *dot = strrchr(whole, '.');
+                size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - whole) : strlen(whole);
+                snprintf(path, sizeof path, "%.*s.partial%s", (int)stem, whole, whole + stem);
+            }
             if (write_image(ctx, image, path, &wopts, o.denoise, rs.threads, o.quiet) != BRUME_OK)
                 goto fail;
             const brume_render_progress *p = &jr.progress;
@@ -769,10 +861,12 @@ int cmd_render(int argc, char **argv)
     if (serve && !serve_exit && root && !cli_signal()) {
         if (!o.quiet)
             fprintf(stderr, "brume: serving the final image at %s until Ctrl-C\n", cli_serve_url(serve));
+        cli_signals_keep(true); /* Ctrl-C ends the serving, not the command */
         while (!cli_signal()) {
             struct timespec ts = {0, 50000000};
             nanosleep(&ts, NULL);
         }
+        cli_signals_keep(false);
     }
     if (root && video && scene) {
         brume_render_settings rs;

@@ -1,6 +1,7 @@
 #!/bin/sh
 # run.sh - build one libFuzzer target (a grid reader, or the scene reader) with clang and run it briefly.
-# Usage: fuzz/run.sh FORMAT BUILD_DIR SECONDS   (FORMAT: raw df3 vol nvdb vdb, or scene)
+# Usage: fuzz/run.sh FORMAT BUILD_DIR SECONDS   (FORMAT: raw df3 vol nvdb vdb, scene, or readers:
+# the checkpoint and mesh readers, fuzz/fuzz_readers.c)
 # FUZZ_RUNS=N runs N inputs instead of SECONDS (the long runs of docs/fuzzing.md).
 # FUZZ_TIMEOUT=S: the per-input time limit in wall-clock seconds (default 10, vdb 40); the long
 # runs share a loaded machine at low priority and use 60, reporting the slowest input.
@@ -24,10 +25,10 @@ upper=$(echo "$fmt" | tr a-z A-Z)
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
 csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/regular_file.c $src/src/io/grid_io.c $src/src/io/grid_sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
-if [ "$fmt" = scene ]; then
+if [ "$fmt" = scene ] || [ "$fmt" = readers ]; then
     # the whole library but OpenVDB (C++), and the default scene and build id CMake generated
-    flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_SCENE//') -I$build/generated"
-    csrc="$src/fuzz/fuzz_scene.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c"
+    flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z]*//') -I$build/generated"
+    csrc="$src/fuzz/fuzz_$fmt.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c"
     # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
     clang -std=c11 $flags "-DBUDGET_DEFAULT_BYTES=((size_t)4<<20)" "-DBUDGET_MAX_BYTES=((size_t)4<<20)" -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp) \
         $csrc -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3) -lOpenEXRCore -lembree3 -lpthread -ldl -lm
@@ -57,6 +58,16 @@ extra=""
 case $fmt in
     scene) for f in "$src"/scenes/*.json; do cp "$f" "$out/corpus-scene/"; done
            for f in "$src"/tests/bad/scenes/*.json; do cp "$f" "$out/corpus-scene/bad-$(basename "$f")"; done ;;
+    readers) # seeds: an edit of the target's valid checkpoint, and the bad meshes of tests/bad
+           printf '\000!\000\000\000' > "$out/corpus-readers/ckpt-valid"
+           i=0
+           for f in "$src"/tests/bad/meshes/*; do
+               # not gltf_nested.gltf: under ASan the child has no address-space limit, and it
+               # would build its 5.8 GB until the CPU limit (tests/bad runs it with the limit)
+               case $f in *.obj) e='\001\000' ;; *.ply) e='\001\001' ;; *.stl) e='\001\002' ;; *) continue ;; esac
+               { printf "$e"; cat "$f"; } > "$out/corpus-readers/mesh-$i"
+               i=$((i + 1))
+           done ;;
     df3) extra="$data/spiral.df3" ;;
     vdb) extra="$data/box_fog_21cube.vdb" ;;
     raw) head -c 4099 "$data/cloud64.raw" > "$out/corpus-raw/cloud64-head" ;;

@@ -155,7 +155,9 @@ typedef enum brume_sampler {
  * sample count, an estimate that may change between calls under a time budget or a noise
  * target; never below done). Called after each finished tile, from the calling thread or a
  * worker, never two at once. Return true to go on, false to cancel: every worker then stops
- * after the tile it is rendering. */
+ * after the tile it is rendering. A phase before the first tile (Blasi's light pass) calls
+ * it with done = 0 and total = 1 about every 0.1 s, so that it may cancel there too
+ * (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
 typedef bool (*brume_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 /* Extra image layers (AOVs), a bit mask for brume_render_settings.aovs. Each layer is the
@@ -713,6 +715,12 @@ void brume_render_job_release(brume_render_job *job);
 /* Removes the temporary files of writes in progress (brume_image_write, checkpoints).
  * Async-signal-safe: for a signal handler that then calls _exit. */
 void brume_remove_temporaries(void);
+
+/* Ends every scene load in progress, on any thread: its generators (procedural clouds,
+ * fractal grids) stop within about a second and brume_scene_load* returns
+ * BRUME_ERROR_CANCELLED. Loads that start afterwards are not affected. Async-signal-safe: for
+ * a SIGINT handler (a render is cancelled by its progress callback instead). */
+void brume_cancel_loads(void);
 
 /* A new black, transparent image; NULL on bad size or out of memory. */
 brume_image *brume_image_new(int width, int height);

@@ -345,7 +345,8 @@ TEST(video_with_and_without_ffmpeg)
     snprintf(p, sizeof p, "%s/v.mp4", dir);
     struct stat st;
     ASSERT_TRUE(stat(p, &st) == 0 && st.st_size > 100);
-    /* no ffmpeg in PATH: the frames are written, one clear line, exit status 1 */
+    /* no ffmpeg in PATH: checked before any work (issue 36): one clear line, exit status 1,
+     * nothing rendered */
     char cmd[8192];
     snprintf(cmd, sizeof cmd, "env PATH=/nonexistent %s render %s --frames 0-1 --quiet -o %s/w_%%02d.png --video "
              "%s/w.mp4 >/dev/null 2>%s", BRUME_EXE, scene, dir, dir, err);
@@ -355,9 +356,26 @@ TEST(video_with_and_without_ffmpeg)
     ASSERT_CONTAINS(msg, "ffmpeg not found");
     free(msg);
     snprintf(p, sizeof p, "%s/w_01.png", dir);
-    ASSERT_TRUE(test_exists(p));
+    ASSERT_TRUE(!test_exists(p));
     snprintf(p, sizeof p, "%s/w.mp4", dir);
     ASSERT_TRUE(!test_exists(p));
+    /* a video name that ffmpeg would read as an option ("--video -y") is refused */
+    snprintf(args, sizeof args, "render %s --frames 0-1 --quiet -o %s/y_%%02d.png --video -y", scene, dir);
+    ASSERT_EQ_INT(run(args, err), 2);
+    msg = test_slurp(err, &n);
+    ASSERT_CONTAINS(msg, "'-y' is not a file name");
+    free(msg);
+    snprintf(p, sizeof p, "%s/y_00.png", dir);
+    ASSERT_TRUE(!test_exists(p));
+    /* ffmpeg's own complaint comes back inside brume's one line, not as its own stderr: an
+     * output ffmpeg cannot encode (an unknown container) */
+    snprintf(args, sizeof args, "render %s --frames 0-1 --quiet -o %s/z_%%02d.png --video %s/z.nosuchformat", scene,
+             dir, dir);
+    ASSERT_EQ_INT(run(args, err), 1);
+    msg = test_slurp(err, &n);
+    ASSERT_CONTAINS(msg, "ffmpeg failed making");
+    ASSERT_TRUE(strchr(msg, '\n') == msg + n - 1); /* one line */
+    free(msg);
     snprintf(args, sizeof args, "rm -rf %s %s", dir, err);
     test_system(args);
 }

@@ -15,9 +15,12 @@ for images and densities. docs/python.md has a notebook-style walk-through.
 A scene is a path to a scene file, a dict in the scene-file format (docs/scene-format.md),
 or None for the built-in default scene. In a dict, a medium's density may be
 {"type": "array", "data": ndarray, "bounds": [[xmin, ymin, zmin], [xmax, ymax, zmax]]}
-(float32 values >= 0 indexed [z, y, x], optional "filter": "nearest" | "trilinear"): a
-C-contiguous float32 array is used in place, without a copy, and kept alive until brume
-releases it; any other array is converted first. Errors raise brume.Error with brume's
+(float32 values >= 0 indexed [z, y, x], optional "filter": "nearest" | "trilinear"). The
+array is copied when the scene is made, so that changing it afterwards changes nothing;
+"borrow": True uses a C-contiguous float32 array in place instead, without a copy, kept
+alive until brume releases it: the caller then must not change it while the scene lives
+(brume computed its majorants from the values it saw: a changed array renders a wrong
+image, silently). Any other array is converted (copied) either way. Errors raise brume.Error with brume's
 one-line message.
 
 Images are brume.Image: a numpy float32 array (height, width, 4) of linear RGBA that a
@@ -125,10 +128,13 @@ def _release_array(user):
 
 def _array_density(ctx, spec, where):
     """A brume_density from {"type": "array", "data": ndarray, "bounds": ...}."""
-    allowed = {"type", "data", "bounds", "filter", "comment"}
+    allowed = {"type", "data", "bounds", "filter", "borrow", "comment"}
     unknown = set(spec) - allowed
     if unknown:
-        raise Error("%s: unknown key '%s' (known here: data, bounds, filter)" % (where, sorted(unknown)[0]))
+        raise Error("%s: unknown key '%s' (known here: data, bounds, filter, borrow)" % (where, sorted(unknown)[0]))
+    borrow = spec.get("borrow", False)
+    if not isinstance(borrow, bool):
+        raise Error("%s.borrow: expected true or false" % where)
     if "data" not in spec or "bounds" not in spec:
         raise Error("%s: an array density needs \"data\" (ndarray [z, y, x]) and \"bounds\"" % where)
     data = np.asarray(spec["data"])
@@ -136,6 +142,8 @@ def _array_density(ctx, spec, where):
         raise Error("%s.data: expected a 3-d array indexed [z, y, x], got %d dimensions" % (where, data.ndim))
     if data.dtype != np.float32 or not data.flags["C_CONTIGUOUS"]:
         data = np.ascontiguousarray(data, dtype=np.float32)  # a copy: the caller's array is not float32 [z][y][x]
+    elif not borrow:
+        data = data.copy()  # the scene's own: the caller's later changes cannot reach it
     try:
         b = np.asarray(spec["bounds"], dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
@@ -221,11 +229,19 @@ class _RunState:
         self.progress = None   # as given: a callable, True or None
         self.user_fn = None    # what is called: the callable, or the bar of progress=True
         self.stop = threading.Event()
+        self.error = None      # what the user's callback raised during a render (re-raised as itself)
 
     def callback(self):
         state = self
 
-        @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=lambda *a: False)
+        def on_error(exc_type, exc_value, tb):
+            # the render stops; Scene._raise_callback_error raises this exception itself,
+            # not brume.Cancelled
+            if state.error is None:
+                state.error = exc_value
+            return False
+
+        @ffi.callback("bool(void *, uint64_t, uint64_t)", onerror=on_error)
         def cb(user, done, total):
             if state.stop.is_set():
                 return False
@@ -243,6 +259,7 @@ class _RunState:
         KeyboardInterrupt, sets the stop flag; the progress callback then cancels the render,
         which ends after the tiles in flight. The caller raises Interrupted afterwards."""
         self.stop.clear()
+        self.error = None
         if threading.current_thread() is not threading.main_thread():
             return c_call()  # signals reach the main thread only: nothing to wait for here
         box = {}
@@ -421,8 +438,18 @@ class Scene:
         st = self._run.call(lambda: lib.brume_render(self._ctx.ptr, self._ptr, out))
         return self._finish(st, out[0], aovs)
 
+    def _raise_callback_error(self, st):
+        """After a render that stopped: the exception the progress callback raised, if any."""
+        e, self._run.error = self._run.error, None
+        if e is not None and _CANCELLED is not None and st == _CANCELLED:
+            raise e
+
     def _finish(self, st, img, aovs):
         interrupted = self._run.stop.is_set()
+        if st != 0 and img != ffi.NULL and self._run.error is not None:
+            lib.brume_image_release(img)
+            img = ffi.NULL
+        self._raise_callback_error(st)
         if st != 0:
             msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED and img != ffi.NULL:
@@ -452,7 +479,9 @@ class Scene:
         self._commit(options, settings)
         self._release_job()
         out = ffi.new("brume_render_job **")
-        self._ctx.check(lib.brume_render_begin(self._ctx.ptr, self._ptr, out))
+        st = lib.brume_render_begin(self._ctx.ptr, self._ptr, out)
+        self._raise_callback_error(st)
+        self._ctx.check(st)
         self._job = out[0]
         return self
 
@@ -465,6 +494,7 @@ class Scene:
         return self
 
     def _job_status(self, st):
+        self._raise_callback_error(st)
         if self._run.stop.is_set():
             raise Interrupted(self.image())
         if st != 0:

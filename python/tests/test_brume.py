@@ -70,7 +70,7 @@ class PackageTest(unittest.TestCase):
 
     def test_zero_copy_borrow_and_release(self):
         rho = cloud()
-        s = brume.Scene(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}))
+        s = brume.Scene(scene_with({"type": "array", "data": rho, "bounds": BOUNDS, "borrow": True}))
         held = [a for a in brume._borrowed.values() if a is rho]
         self.assertEqual(len(held), 1)  # the caller's own array, not a copy
         img = s.render()
@@ -79,9 +79,23 @@ class PackageTest(unittest.TestCase):
         self.assertEqual(img.shape, (24, 32, 4))
         # an array given to a scene that fails later is not kept either
         with self.assertRaises(brume.Error):
-            brume.Scene(dict(scene_with({"type": "array", "data": rho, "bounds": BOUNDS}), camera={}))
+            brume.Scene(dict(scene_with({"type": "array", "data": rho, "bounds": BOUNDS, "borrow": True}), camera={}))
         gc.collect()
         self.assertFalse(any(a is rho for a in brume._borrowed.values()))
+
+    def test_array_copied_unless_borrowed(self):
+        # issue 36: a borrowed array changed after Scene() rendered an inconsistent image
+        # silently; by default the scene holds its own copy, so a change reaches nothing
+        rho = cloud()
+        want = brume.render(scene_with({"type": "array", "data": rho.copy(), "bounds": BOUNDS}), spp=2)
+        with brume.Scene(scene_with({"type": "array", "data": rho, "bounds": BOUNDS})) as s:
+            self.assertFalse(any(a is rho for a in brume._borrowed.values()))
+            rho[:] = 0.0  # the caller's array emptied: the scene keeps the cloud
+            got = s.render(spp=2)
+        self.assertEqual(want.tobytes(), got.tobytes())
+        with self.assertRaises(brume.Error) as e:
+            brume.Scene(scene_with({"type": "array", "data": rho, "bounds": BOUNDS, "borrow": "yes"}))
+        self.assertIn("borrow", str(e.exception))
 
     def test_errors_carry_brumes_message(self):
         bad = scene_with({"type": "constant", "value": 1})
@@ -140,6 +154,25 @@ class PackageTest(unittest.TestCase):
             brume.render(scene_with({"type": "constant", "value": 0.5}), progress=lambda d, t: d == 0)
         self.assertEqual(e.exception.image.shape, (24, 32, 4))
         brume.render(scene_with({"type": "constant", "value": 0.5}), width=8, height=6, progress=True)
+
+        # issue 36: an exception raised by the callback comes back as itself, not brume.Cancelled
+        class Mine(Exception):
+            pass
+
+        def broken(done, total):
+            raise Mine("from the callback")
+
+        with self.assertRaises(Mine):
+            brume.render(scene_with({"type": "constant", "value": 0.5}), progress=broken)
+        if has("brume_render_begin"):
+            with brume.Scene(scene_with({"type": "constant", "value": 0.5})) as s:
+                s.begin(spp=2, progress=broken)
+                with self.assertRaises(Mine):
+                    s.add(2)
+        # and the next render of a scene is not troubled by the last one's exception
+        with brume.Scene(scene_with({"type": "constant", "value": 0.5})) as s:
+            with self.assertRaises(Mine):
+                s.render(progress=broken)
 
     @unittest.skipUnless(has("brume_render_begin"), "this libbrume has no render jobs")
     def test_progressive_passes_equal_one_render(self):

@@ -106,6 +106,9 @@ void err_vformat(char *out, size_t n, const char *fmt, va_list ap)
         char conv = *q;
         if (!conv)
             break;
+        /* the length goes into the spec too: "%d" given a long long would print its low half */
+        for (size_t i = 0; i < ln; i++)
+            spec[s++] = len[i];
         spec[s++] = conv;
         spec[s] = '\0';
         p = q + 1;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/rng.h"
 
@@ -277,7 +278,11 @@ static float *fractal_base(const fractal_params *p)
         perlin_table t;
         perlin_init(&t, p->seed);
         double gain = pow(2.0, -p->hurst);
-        for (int k = 0; k < p->n[2]; k++)
+        for (int k = 0; k < p->n[2]; k++) {
+            if (cancel_load_check("fractal") != BRUME_OK) {
+                free(f);
+                return NULL;
+            }
             for (int j = 0; j < p->n[1]; j++)
                 for (int i = 0; i < p->n[0]; i++) {
                     vec3 x = v3_scale(v3(i + 0.5, j + 0.5, k + 0.5), p->frequency / nmax);
@@ -289,6 +294,7 @@ static float *fractal_base(const fractal_params *p)
                     }
                     f[(size_t)i + (size_t)p->n[0] * ((size_t)j + (size_t)p->n[1] * (size_t)k)] = (float)s;
                 }
+        }
     }
     float lo = INFINITY, hi = -INFINITY;
     for (size_t i = 0; i < count; i++) {

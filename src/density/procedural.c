@@ -2,6 +2,7 @@
 #include <stdlib.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "density/density.h"
@@ -80,7 +81,12 @@ density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds)
         return NULL;
     }
     double vmax = 0.0;
-    for (int k = 0; k < n; k++)
+    for (int k = 0; k < n; k++) {
+        if (cancel_load_check("procedural cloud") != BRUME_OK) { /* a slice of 512^2: some 0.1 s */
+            free(data);
+            budget_give(count * sizeof(float));
+            return NULL;
+        }
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
                 vec3 q = v3(2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0, 2.0 * (k + 0.5) / n - 1.0);
@@ -90,6 +96,7 @@ density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds)
                 data[(size_t)i + (size_t)n * ((size_t)j + (size_t)n * (size_t)k)] = (float)v;
                 vmax = fmax(vmax, v);
             }
+    }
     if (vmax > 0.0)
         for (size_t i = 0; i < count; i++)
             data[i] = (float)((double)data[i] / vmax);

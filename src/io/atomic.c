@@ -10,7 +10,11 @@
  * atomic_open installs handlers for SIGINT, SIGTERM, SIGHUP and SIGPIPE (only where the
  * disposition is still the default: a program's own handlers win and are expected to
  * return to atomic_abort) that remove every listed temporary file, restore the default
- * and re-raise, so that an interrupted write leaves nothing behind. */
+ * and re-raise, so that an interrupted write leaves nothing behind.
+ *
+ * Only regular files are replaced: a destination that exists and is anything else (a device
+ * node such as /dev/null, a folder, a pipe, a socket) is refused by atomic_open, and again
+ * just before the rename, since rename(2) would put the new file in place of the node. */
 #include "io/atomic.h"
 
 #include <errno.h>
@@ -119,6 +123,17 @@ static mode_t default_file_mode(void)
     return (mode_t)(0666 & ~mask);
 }
 
+/* BRUME_OK when path is absent or a regular file (a symbolic link to one counts: the link is
+ * what rename replaces); else a one-line error. */
+static brume_status not_regular(const char *path)
+{
+    struct stat sb;
+    if (stat(path, &sb) != 0 || S_ISREG(sb.st_mode))
+        return BRUME_OK;
+    return err_set(BRUME_ERROR_IO, "%s: not a regular file (%s): brume replaces only regular files", path,
+                   S_ISDIR(sb.st_mode) ? "a folder" : S_ISFIFO(sb.st_mode) ? "a pipe" : "a device or socket");
+}
+
 brume_status atomic_open(atomic_file *f, const char *path)
 {
     memset(f, 0, sizeof *f);
@@ -137,6 +152,8 @@ brume_status atomic_open(atomic_file *f, const char *path)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
     }
     memcpy(f->path, path, strlen(path) + 1);
+    if ((st = not_regular(path)) != BRUME_OK)
+        return st;
 
     /* blocked while the file is created and listed: a signal in between cannot leave it */
     sigset_t block, prev;
@@ -216,6 +233,10 @@ brume_status atomic_commit(atomic_file *f)
             e = errno;
         }
         f->fp = NULL;
+    }
+    if (!what && not_regular(f->path) != BRUME_OK) {
+        what = "no longer a regular file: not replaced";
+        e = EEXIST;
     }
     if (!what && rename(f->tmp_path, f->path) != 0) {
         what = "cannot rename the temporary file over it";

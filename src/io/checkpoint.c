@@ -20,12 +20,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "build_id.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "io/atomic.h"
+#include "io/checkpoint.h"
+#include "io/regular_file.h"
 #include "render/job.h"
+#include "render/scene.h"
 
 #define CKPT_FORMAT 1u
 #define CKPT_ORDER 0x01020304u
@@ -154,15 +158,16 @@ brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *j
     return ctx_report(ctx, st);
 }
 
-/* The whole file in memory; err_set on failure. */
-static brume_status slurp(const char *path, unsigned char **data, size_t *size)
+/* The whole file in memory, at most max bytes (the largest checkpoint the scene can have): the
+ * file must be a regular file (/dev/zero never ends) and no larger. err_set on failure. */
+static brume_status slurp(const char *path, size_t max, unsigned char **data, size_t *size)
 {
     *data = NULL;
     *size = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open the checkpoint: %s", path, strerror(errno));
-    size_t cap = 1 << 16, len = 0;
+    FILE *fp = NULL;
+    if (io_open_regular(path, &fp) != BRUME_OK)
+        return err_status(); /* "PATH: not a regular file (a device or socket)" */
+    size_t cap = max < (1u << 16) ? max + 1 : (1u << 16), len = 0;
     unsigned char *buf = malloc(cap);
     for (;;) {
         if (!buf) {
@@ -172,16 +177,19 @@ static brume_status slurp(const char *path, unsigned char **data, size_t *size)
         len += fread(buf + len, 1, cap - len, fp);
         if (len < cap)
             break;
-        if (cap > ((size_t)1 << 40)) {
+        if (len > max) {
             free(buf);
             fclose(fp);
-            return err_set(BRUME_ERROR_PARSE, "%s: not a brume checkpoint (too large)", path);
+            return err_set(BRUME_ERROR_PARSE,
+                           "%s: not a checkpoint of this scene: larger than its largest checkpoint (%zu bytes)", path,
+                           max);
         }
-        unsigned char *nb = realloc(buf, cap * 2);
+        size_t ncap = cap > max / 2 ? max + 1 : 2 * cap;
+        unsigned char *nb = realloc(buf, ncap);
         if (!nb)
             free(buf);
         buf = nb;
-        cap *= 2;
+        cap = ncap;
     }
     bool bad = ferror(fp);
     fclose(fp);
@@ -225,18 +233,33 @@ static brume_status compare_settings(const char *path, const ckpt_settings *a, c
     return BRUME_OK;
 }
 
+/* Bytes per pixel of a checkpoint, with or without the AOV sums. */
+static uint64_t pixel_bytes(bool aovs)
+{
+    return sizeof(uint32_t) + 1 + (uint64_t)(JOB_SUMS + JOB_SQS + (aovs ? JOB_AOVS : 0)) * sizeof(double);
+}
+
+/* The largest checkpoint a render of s can write: every pixel of the image, AOVs included. */
+static size_t max_size(const brume_scene *s)
+{
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    uint64_t np = (uint64_t)(rs.width > 0 ? rs.width : 0) * (uint64_t)(rs.height > 0 ? rs.height : 0);
+    return (size_t)(sizeof(ckpt_header) + np * pixel_bytes(true) + sizeof(uint64_t));
+}
+
 static brume_status resume(const brume_scene *s, uint64_t scene_key, const char *path, brume_render_job **out)
 {
     unsigned char *data = NULL;
     size_t size = 0;
-    brume_status st = slurp(path, &data, &size);
+    brume_status st = slurp(path, max_size(s), &data, &size);
     if (st != BRUME_OK)
         return st;
     ckpt_header hd;
     if (size < sizeof hd + sizeof(uint64_t) || memcmp(data, "BRUMECKP", 8) != 0) {
+        bool magic = size >= 8 && memcmp(data, "BRUMECKP", 8) == 0; /* read before the free */
         free(data);
-        return err_set(BRUME_ERROR_PARSE, "%s: not a brume checkpoint%s", path,
-                       size >= 8 && memcmp(data, "BRUMECKP", 8) == 0 ? " (truncated)" : "");
+        return err_set(BRUME_ERROR_PARSE, "%s: not a brume checkpoint%s", path, magic ? " (truncated)" : "");
     }
     memcpy(&hd, data, sizeof hd);
     if (hd.order != CKPT_ORDER || hd.format != CKPT_FORMAT) {
@@ -256,7 +279,7 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
     }
     uint64_t np = hd.pixels;
     bool aovs = (hd.set.aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
-    uint64_t per = sizeof(uint32_t) + 1 + (size_t)(JOB_SUMS + JOB_SQS + (aovs ? JOB_AOVS : 0)) * sizeof(double);
+    uint64_t per = pixel_bytes(aovs);
     if (np > ((uint64_t)1 << 28) || size != sizeof hd + np * per + sizeof(uint64_t)) {
         free(data);
         return err_set(BRUME_ERROR_PARSE, "%s: checkpoint truncated or padded: %zu bytes, its header says %llu", path,
@@ -328,4 +351,64 @@ brume_status brume_render_job_resume(brume_context *ctx, const brume_scene *scen
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_resume: %s: NULL",
                                        !scene ? "scene" : !path || !*path ? "path" : "out"));
     return ctx_report(ctx, resume(scene, scene_key, path, out));
+}
+
+bool checkpoint_remove_own(const brume_render_job *job, uint64_t scene_key, const char *path)
+{
+    if (!job || !path)
+        return false;
+    /* the header is read through the path that would be removed; a symbolic link is left (its
+     * target is not what the name holds) */
+    struct stat sb;
+    if (lstat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
+        return false;
+    FILE *fp = NULL;
+    if (io_open_regular(path, &fp) != BRUME_OK) {
+        err_clear();
+        return false;
+    }
+    ckpt_header hd;
+    bool whole = fread(&hd, sizeof hd, 1, fp) == 1;
+    fclose(fp);
+    if (!whole || memcmp(hd.magic, "BRUMECKP", 8) != 0 || hd.format != CKPT_FORMAT || hd.order != CKPT_ORDER ||
+        hd.scene_key != scene_key || hd.pixels != job->npix)
+        return false;
+    char build[32];
+    build_name(build);
+    hd.version[sizeof hd.version - 1] = '\0';
+    ckpt_settings mine;
+    settings_record(job, &mine);
+    if (strcmp(hd.version, build) != 0 || memcmp(&hd.set, &mine, sizeof mine) != 0)
+        return false;
+    return remove(path) == 0;
+}
+
+uint64_t checkpoint_inputs_key(const brume_scene *s, uint64_t h)
+{
+    if (!s)
+        return h;
+    if (s->inputs.oom)
+        h ^= 0x9e3779b97f4a7c15ULL; /* an incomplete list: never the key of a complete one */
+    return io_inputs_hash(&s->inputs, h);
+}
+
+brume_status checkpoint_output_check(const brume_scene *s, const char *what, const char *path)
+{
+    return io_output_check(what, path, s && s->source[0] != '<' ? s->source : NULL, s ? &s->inputs : NULL);
+}
+
+brume_status checkpoint_target_check(const char *path)
+{
+    struct stat sb;
+    if (!path || stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
+        return BRUME_OK; /* absent; anything else is io_output_check's */
+    FILE *fp = fopen(path, "rb");
+    char magic[8] = {0};
+    bool ours = fp && fread(magic, 1, sizeof magic, fp) == sizeof magic && memcmp(magic, "BRUMECKP", 8) == 0;
+    if (fp)
+        fclose(fp);
+    if (ours)
+        return BRUME_OK;
+    return err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                   "%s: exists and is not a brume checkpoint: brume replaces or removes only its own checkpoints", path);
 }

@@ -36,12 +36,17 @@ typedef struct exr_io {
     char message[256];   /* last error reported by OpenEXR, one line */
 } exr_io;
 
+/* The exr_io of the file this thread is reading or writing. The handler cannot ask the context
+ * for its user data: OpenEXR reports some errors (an attribute name too long, among others)
+ * while it holds the context's lock, and exr_get_user_data takes that lock again (a deadlock). */
+static _Thread_local exr_io *g_exr_io;
+
 static void on_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
 {
-    void *user = NULL;
-    if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user)
+    (void)ctxt;
+    exr_io *io = g_exr_io;
+    if (!io)
         return;
-    exr_io *io = user;
     snprintf(io->message, sizeof io->message, "%s", msg ? msg : exr_get_default_error_message(code));
     for (char *p = io->message; *p; p++) /* keep the message on one line */
         if (*p == '\n' || *p == '\r')
@@ -198,11 +203,19 @@ brume_status image_write_exr(const char *path, const brume_image *img)
     init.user_data = &io;
     init.write_fn = exr_write_fd; /* the file name is then only used in messages */
     exr_context_t ctxt = NULL;
+    g_exr_io = &io;
     exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv != EXR_ERR_SUCCESS) {
         st = exr_fail(path, "cannot start writing", rv, &io);
     } else {
-        st = exr_write_body(path, img, ctxt, &io);
+        /* attribute keys of 32 bytes and more (image_meta holds up to 47) need OpenEXR's long
+         * names (a 2.0 file feature, read by every OpenEXR 2 and 3) */
+        bool long_names = false;
+        for (int i = 0; i < img->nmeta; i++)
+            long_names |= strlen(img->meta[i].key) > 31;
+        rv = long_names ? exr_set_longname_support(ctxt, 1) : EXR_ERR_SUCCESS;
+        st = rv == EXR_ERR_SUCCESS ? exr_write_body(path, img, ctxt, &io)
+                                   : exr_fail(path, "cannot write long attribute names", rv, &io);
     }
     /* exr_finish writes the chunk offset table: its result matters on success. */
     if (ctxt) {
@@ -210,6 +223,7 @@ brume_status image_write_exr(const char *path, const brume_image *img)
         if (st == BRUME_OK && rv != EXR_ERR_SUCCESS)
             st = exr_fail(path, "finishing the file", rv, &io);
     }
+    g_exr_io = NULL;
     if (st != BRUME_OK) {
         atomic_abort(&f);
         return st;
@@ -421,6 +435,7 @@ brume_status image_read_exr(const char *path, brume_image **out)
     init.max_image_height = IMAGE_MAX_SIDE;
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION; /* a damaged file is an error */
     exr_context_t ctxt = NULL;
+    g_exr_io = &io;
     exr_result_t rv = exr_start_read(&ctxt, path, &init);
     brume_status st;
     if (rv != EXR_ERR_SUCCESS)
@@ -429,5 +444,6 @@ brume_status image_read_exr(const char *path, brume_image **out)
         st = exr_read_body(path, ctxt, &io, out);
     if (ctxt)
         exr_finish(&ctxt);
+    g_exr_io = NULL;
     return st;
 }

@@ -1,5 +1,19 @@
 /* mesh.c - mesh files read with assimp (Debian's libassimp), flattened to one triangle list.
  *
+ * assimp is not hardened against hostile files (issue 36: a 21-byte PLY spins forever, a
+ * misspelled PLY property type aborts in an assertion, a 1 KB glTF of nested instances
+ * builds 5.8 GB, one OBJ polygon of 100k vertices is triangulated in quadratic time), so it
+ * runs only in a child process, as OpenVDB does (io/sandbox.h): CPU time 5 s + 2 s per MiB
+ * of file, wall clock twice that plus 5 s, address space 512 MiB (libraries) + what
+ * render.max_memory_mb leaves (everything assimp builds, instances flattened included, must
+ * fit there), no core file. Its answer comes back on a pipe:
+ *   'E' status (int32) length (uint32) message    an error, reported as is
+ *   'M' nv (int64) ntri (int64) pos (3 nv doubles) idx (3 ntri int32)
+ * and the parent checks the counts against its own limits and every index before using
+ * them. Before forking, the file is checked for what is cheap to see: a PLY header that
+ * ends, with known property types, and whose binary body is there; OBJ polygons of at most
+ * MESH_MAX_POLYGON vertices.
+ *
  * libassimp is opened by its SONAME (BRUME_ASSIMP_SONAME, read from the library CMake found)
  * when the first mesh is read, not linked: with its draco and minizip it made the dynamic
  * loader bind some 44,000 symbols at every brume process's start, for the few scenes with
@@ -8,6 +22,8 @@
 #include "io/mesh.h"
 
 #include <assimp/cimport.h>
+#include <stdint.h>
+#include <unistd.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <dlfcn.h>
@@ -20,9 +36,12 @@
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "io/json.h"
 #include "io/regular_file.h"
+#include "io/sandbox.h"
 
 #define MESH_MAX_TRIANGLES 200000000L
+#define MESH_MAX_POLYGON 4096 /* vertices of one face: assimp's ear clipping is quadratic */
 
 #ifndef BRUME_ASSIMP_SONAME
 #define BRUME_ASSIMP_SONAME "libassimp.so.5"
@@ -87,8 +106,13 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
             count = v;
             elem = 0.0;
         } else if (sscanf(line, "property list %63s %63s %63s", a, b, c) == 3) {
+            if (!ply_type_size(a) || !ply_type_size(b))
+                return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: unknown property type '%s'", path, n + 2,
+                               ply_type_size(a) ? b : a);
             elem += ply_type_size(a); /* at least the length of each list */
         } else if (sscanf(line, "property %63s %63s", a, b) == 2) {
+            if (!ply_type_size(a))
+                return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: unknown property type '%s'", path, n + 2, a);
             elem += ply_type_size(a);
         } else if (strncmp(line, "end_header", 10) == 0) {
             need += count * elem;
@@ -99,23 +123,144 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
             return BRUME_OK;
         }
     }
+    /* assimp's PLY reader spins on a header that never ends ("ply\nformat ascii 1.0\n") */
+    return err_set(BRUME_ERROR_PARSE, "%s: a PLY header without end_header", path);
+}
+
+/* OBJ faces of at most MESH_MAX_POLYGON vertices (assimp triangulates a polygon in time
+ * quadratic in its vertices); BRUME_OK for files that are not OBJ. One pass over the file. */
+static brume_status obj_check(FILE *f, const char *path)
+{
+    size_t n = strlen(path);
+    if (n < 4 || (strcmp(path + n - 4, ".obj") != 0 && strcmp(path + n - 4, ".OBJ") != 0))
+        return BRUME_OK;
+    rewind(f);
+    long line = 1, tokens = 0;
+    int c, prev = '\n';
+    bool face = false, in_token = false;
+    while ((c = getc(f)) != EOF) {
+        if (c == '\n') {
+            if (face && tokens - 1 > MESH_MAX_POLYGON)
+                return err_set(BRUME_ERROR_RANGE, "%s: line %ld: a face of %ld vertices, over the %d brume triangulates",
+                               path, line, tokens - 1, MESH_MAX_POLYGON);
+            line++;
+            face = in_token = false;
+            tokens = 0;
+        } else if (c == ' ' || c == '\t' || c == '\r') {
+            in_token = false;
+        } else {
+            if (prev == '\n')
+                face = c == 'f';
+            if (!in_token)
+                tokens++;
+            in_token = true;
+            if (prev == '\n' && c == 'f') {
+                int d = getc(f); /* "f " starts a face; "fo..." is another statement */
+                face = d == ' ' || d == '\t';
+                if (d == EOF)
+                    break;
+                ungetc(d, f);
+            }
+        }
+        prev = c;
+    }
+    if (face && tokens - 1 > MESH_MAX_POLYGON)
+        return err_set(BRUME_ERROR_RANGE, "%s: line %ld: a face of %ld vertices, over the %d brume triangulates", path,
+                       line, tokens - 1, MESH_MAX_POLYGON);
     return BRUME_OK;
 }
 
-brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out)
+/* Vertices one instance of glTF node n stands for, itself and its subtree: its mesh's
+ * POSITION counts, its children's again for each child (a node named by several parents is
+ * counted once per parent, as assimp's flattening copies it). -1 on a cycle or a bad index. */
+static double gltf_node_vertices(const cJSON *nodes, const cJSON *meshes, const cJSON *accessors, int n, double *memo,
+                                 int depth)
 {
-    *pos_out = NULL;
-    *idx_out = NULL;
-    FILE *probe = NULL; /* a regular file: assimp would block on a pipe */
-    if (io_open_regular(path, &probe) != BRUME_OK)
-        return err_status();
-    /* assimp holds the whole file and more while it imports: a file larger than the memory
-     * budget is refused unread; the import's share is given back once released */
-    long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;
-    brume_status st = file_size > 0 ? ply_check(probe, path, file_size) : BRUME_OK;
-    fclose(probe);
-    if (st != BRUME_OK)
-        return st;
+    int count = cJSON_GetArraySize(nodes);
+    if (n < 0 || n >= count || depth > 64)
+        return -1.0;
+    if (memo[n] >= 0.0)
+        return memo[n];
+    const cJSON *node = cJSON_GetArrayItem(nodes, n);
+    double v = 0.0;
+    const cJSON *mi = cJSON_GetObjectItemCaseSensitive(node, "mesh");
+    const cJSON *mesh = cJSON_IsNumber(mi) ? cJSON_GetArrayItem(meshes, mi->valueint) : NULL;
+    const cJSON *prims = mesh ? cJSON_GetObjectItemCaseSensitive(mesh, "primitives") : NULL;
+    const cJSON *p;
+    cJSON_ArrayForEach(p, prims)
+    {
+        const cJSON *attr = cJSON_GetObjectItemCaseSensitive(p, "attributes");
+        const cJSON *pos = attr ? cJSON_GetObjectItemCaseSensitive(attr, "POSITION") : NULL;
+        const cJSON *acc = cJSON_IsNumber(pos) ? cJSON_GetArrayItem(accessors, pos->valueint) : NULL;
+        const cJSON *c = acc ? cJSON_GetObjectItemCaseSensitive(acc, "count") : NULL;
+        if (cJSON_IsNumber(c) && c->valuedouble > 0)
+            v += c->valuedouble;
+    }
+    const cJSON *ch;
+    cJSON_ArrayForEach(ch, cJSON_GetObjectItemCaseSensitive(node, "children"))
+    {
+        double w = cJSON_IsNumber(ch) ? gltf_node_vertices(nodes, meshes, accessors, ch->valueint, memo, depth + 1) : -1;
+        if (w < 0.0)
+            return -1.0;
+        v += w;
+    }
+    return memo[n] = v;
+}
+
+/* A .gltf (JSON) file: the vertices its scenes make once assimp has copied every instance
+ * (aiProcess_PreTransformVertices) must fit in the memory budget, at about 100 bytes each
+ * in assimp (positions, normals, the copies) -- refused before assimp builds them (issue 36:
+ * a 1 KB file of 4 levels x 50 children built 5.8 GB). BRUME_OK for other files. */
+static brume_status gltf_check(FILE *f, const char *path, long file_size)
+{
+    size_t n = strlen(path);
+    if (n < 5 || strcmp(path + n - 5, ".gltf") != 0 || file_size <= 0 || (size_t)file_size > budget_left())
+        return BRUME_OK; /* too large to parse here: the child's limits hold */
+    char *text = malloc((size_t)file_size + 1);
+    rewind(f);
+    if (!text || fread(text, 1, (size_t)file_size, f) != (size_t)file_size) {
+        free(text);
+        return BRUME_OK;
+    }
+    text[file_size] = '\0';
+    cJSON *doc = cJSON_Parse(text);
+    free(text);
+    if (!doc)
+        return BRUME_OK; /* assimp says what is wrong */
+    const cJSON *nodes = cJSON_GetObjectItemCaseSensitive(doc, "nodes");
+    int count = cJSON_GetArraySize(nodes);
+    double *memo = count > 0 ? malloc((size_t)count * sizeof *memo) : NULL;
+    double total = 0.0;
+    for (int i = 0; i < count && memo; i++)
+        memo[i] = -1.0;
+    const cJSON *sc;
+    cJSON_ArrayForEach(sc, cJSON_GetObjectItemCaseSensitive(doc, "scenes"))
+    {
+        const cJSON *r;
+        cJSON_ArrayForEach(r, cJSON_GetObjectItemCaseSensitive(sc, "nodes"))
+        {
+            double v = memo && cJSON_IsNumber(r)
+                           ? gltf_node_vertices(nodes, cJSON_GetObjectItemCaseSensitive(doc, "meshes"),
+                                                cJSON_GetObjectItemCaseSensitive(doc, "accessors"), r->valueint, memo, 0)
+                           : -1.0;
+            total += v > 0.0 ? v : 0.0;
+        }
+    }
+    free(memo);
+    cJSON_Delete(doc);
+    double bytes = 100.0 * total;
+    if (bytes > (double)budget_left())
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: its instances flattened make %.3g vertices, about %.3g bytes in assimp, over the %zu bytes "
+                       "render.max_memory_mb leaves",
+                       path, total, bytes, budget_left());
+    return BRUME_OK;
+}
+
+/* In the child: assimp's import of path flattened to one triangle list (malloc'd). */
+static brume_status mesh_import(const char *path, long file_size, double **pos_out, long *nv_out, int **idx_out,
+                                long *ntri_out)
+{
     pthread_once(&ai_once, ai_open);
     if (!ai.import_file)
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: mesh files need assimp: %s", path, ai_error);
@@ -141,12 +286,6 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         ai.release(sc);
         budget_give(import_bytes);
         return err_set(BRUME_ERROR_RANGE, "%s: %ld triangles exceed the limit of %ld", path, ntri, MESH_MAX_TRIANGLES);
-    }
-    /* the triangle list here and, about as large again, the ray-tracing hierarchy built on it */
-    if (budget_take(2 * (sizeof(double) * 3 * (size_t)nv + sizeof(int) * 3 * (size_t)ntri), path) != BRUME_OK) {
-        ai.release(sc);
-        budget_give(import_bytes);
-        return err_status();
     }
     double *pos = malloc(sizeof *pos * 3 * (size_t)nv);
     int *idx = malloc(sizeof *idx * 3 * (size_t)ntri);
@@ -190,7 +329,123 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         vbase += me->mNumVertices;
     }
     ai.release(sc);
-    budget_give(import_bytes);
+    *pos_out = pos;
+    *idx_out = idx;
+    *nv_out = nv;
+    *ntri_out = ntri;
+    return BRUME_OK;
+}
+
+/* The child: limits, the import, the answer on fd; never returns. */
+static void mesh_child(const char *path, long file_size, int fd, double cpu, size_t max_memory)
+{
+    sandbox_child_limits(cpu, ((size_t)512 << 20) + max_memory);
+    double *pos = NULL;
+    int *idx = NULL;
+    long nv = 0, ntri = 0;
+    if (mesh_import(path, file_size, &pos, &nv, &idx, &ntri) != BRUME_OK) {
+        sandbox_child_error(fd);
+        _exit(0);
+    }
+    int64_t counts[2] = {nv, ntri};
+    if (sandbox_write_all(fd, "M", 1) || sandbox_write_all(fd, counts, sizeof counts) ||
+        sandbox_write_all(fd, pos, sizeof *pos * 3 * (size_t)nv) || sandbox_write_all(fd, idx, sizeof *idx * 3 * (size_t)ntri))
+        _exit(3);
+    _exit(0);
+}
+
+/* The parent: reads the child's answer into *pos, *idx (malloc'd, counted in the budget). */
+static brume_status mesh_receive(const char *path, int fd, double deadline, double **pos, long *nv, int **idx,
+                                 long *ntri, int *rr)
+{
+    char tag = 0;
+    if ((*rr = sandbox_read_all(fd, &tag, 1, deadline)) != 0)
+        return BRUME_OK; /* sandbox_reap says what happened */
+    if (tag == 'E')
+        return (*rr = sandbox_read_error(fd, deadline)) == 0 ? err_status() : BRUME_OK;
+    int64_t counts[2];
+    if (tag != 'M' || (*rr = sandbox_read_all(fd, counts, sizeof counts, deadline)) != 0) {
+        *rr = *rr ? *rr : -1;
+        return BRUME_OK;
+    }
+    if (counts[0] < 3 || counts[1] < 1 || counts[1] > MESH_MAX_TRIANGLES || counts[0] > 3 * MESH_MAX_TRIANGLES)
+        return err_set(BRUME_ERROR_RANGE, "%s: %lld vertices and %lld triangles, outside brume's limits (%ld triangles)",
+                       path, (long long)counts[0], (long long)counts[1], MESH_MAX_TRIANGLES);
+    *nv = (long)counts[0];
+    *ntri = (long)counts[1];
+    /* the triangle list here and, about as large again, the ray-tracing hierarchy built on it */
+    if (budget_take(2 * (sizeof(double) * 3 * (size_t)*nv + sizeof(int) * 3 * (size_t)*ntri), path) != BRUME_OK)
+        return err_status();
+    *pos = malloc(sizeof **pos * 3 * (size_t)*nv);
+    *idx = malloc(sizeof **idx * 3 * (size_t)*ntri);
+    if (!*pos || !*idx)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld triangles", path, *ntri);
+    if ((*rr = sandbox_read_all(fd, *pos, sizeof **pos * 3 * (size_t)*nv, deadline)) != 0 ||
+        (*rr = sandbox_read_all(fd, *idx, sizeof **idx * 3 * (size_t)*ntri, deadline)) != 0)
+        return BRUME_OK;
+    for (size_t i = 0; i < 3 * (size_t)*nv; i++) /* the child is not trusted */
+        if (!isfinite((*pos)[i]))
+            return err_set(BRUME_ERROR_RANGE, "%s: vertex %zu has a non-finite coordinate", path, i / 3);
+    for (size_t i = 0; i < 3 * (size_t)*ntri; i++)
+        if ((*idx)[i] < 0 || (*idx)[i] >= *nv)
+            return err_set(BRUME_ERROR_PARSE, "%s: triangle %zu names a missing vertex", path, i / 3);
+    return BRUME_OK;
+}
+
+brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out)
+{
+    *pos_out = NULL;
+    *idx_out = NULL;
+    FILE *probe = NULL; /* a regular file: assimp would block on a pipe */
+    if (io_open_regular(path, &probe) != BRUME_OK)
+        return err_status();
+    long file_size = fseek(probe, 0, SEEK_END) == 0 ? ftell(probe) : -1;
+    brume_status st = file_size > 0 ? ply_check(probe, path, file_size) : BRUME_OK;
+    if (st == BRUME_OK)
+        st = obj_check(probe, path);
+    if (st == BRUME_OK)
+        st = gltf_check(probe, path, file_size);
+    fclose(probe);
+    if (st != BRUME_OK)
+        return st;
+    /* assimp holds the whole file and more while it imports: a file larger than the memory
+     * budget is refused unread (the child counts it again against its copy of the budget) */
+    size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
+    if (import_bytes > budget_left())
+        return budget_take(import_bytes, path);
+    double cpu = (5.0 + 2.0 * (double)(file_size > 0 ? file_size : 0) / 1048576.0) * (SANDBOX_ASAN ? 4.0 : 1.0);
+    double wall = 2.0 * cpu + 5.0, deadline = sandbox_now() + wall;
+    int fds[2];
+    if (pipe(fds) != 0)
+        return err_set(BRUME_ERROR_IO, "%s: cannot create a pipe: %s", path, strerror(errno));
+    size_t max_memory = budget_left();
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot start the mesh reader process: %s", path, strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        mesh_child(path, file_size, fds[1], cpu, max_memory);
+    }
+    close(fds[1]);
+    double *pos = NULL;
+    int *idx = NULL;
+    long nv = 0, ntri = 0;
+    int rr = 0;
+    st = mesh_receive(path, fds[0], deadline, &pos, &nv, &idx, &ntri, &rr);
+    close(fds[0]);
+    brume_status reaped = sandbox_reap(pid, st == BRUME_OK ? rr : (rr == -2 ? -2 : 0), path, "the mesh reader",
+                                       "a malformed or hostile mesh file", cpu, wall);
+    if (st == BRUME_OK)
+        st = reaped;
+    if (st != BRUME_OK) {
+        free(pos);
+        free(idx);
+        return st;
+    }
     *pos_out = pos;
     *idx_out = idx;
     *nv_out = (int)nv;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "io/json.h"
@@ -674,13 +675,15 @@ static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "noise", "time", "min_spp", "sampler", "device", NULL};
+                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", "device", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
     double mb = (double)(BUDGET_DEFAULT_BYTES >> 20);
     if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
     budget_set_limit((size_t)(mb * 1048576.0));
+    /* the one work limit: each method estimates its work before it starts (issue 36) */
+    if ((st = json_number(j, at, "max_work", 0, 1.0, 1e18, &s->max_work))) return st;
     brume_render_settings rs;
     brume_scene_get_settings(s, &rs);
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;
@@ -826,7 +829,11 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
         return err_status();
     }
     budget_begin(BUDGET_DEFAULT_BYTES);
+    io_inputs_record(&s->inputs);
+    cancel_load_begin();
     st = parse_scene(root, s, time, frame_no);
+    cancel_load_end();
+    io_inputs_record(NULL);
     s->max_memory = budget_limit();
     s->memory_used = budget_used();
     budget_end();

@@ -42,6 +42,7 @@
 #include "core/sampling.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
+#include "core/cancel.h"
 #include "io/atomic.h"
 #include "render/stam.h"
 #include "surface/surfaces.h"
@@ -503,6 +504,7 @@ typedef struct pass1_job {
     double per_unit;
     light_sums *batch;      /* nbatch: each batch's counts (P unused) */
     progress prog;
+    cancel_poll cancel;     /* the render's progress callback, asked between rays (issue 36) */
 } pass1_job;
 
 static inline void deposit(light_sums *out, size_t v, color w, double f)
@@ -940,6 +942,8 @@ static void pass1_batch(size_t task, int thread, void *user)
     grid_dda_dir sun_mem;
     const grid_dda_dir *sun = sun_dir(job->st, &s->lights[l], &sun_mem);
     for (uint64_t i = first; i < end; i++) {
+        if (cancel_poll_stop(&job->cancel))
+            return; /* the pass is abandoned: its sums are never read */
         while (i >= l1) { /* the next light's share (a light may own no ray) */
             l++;
             l0 = l1;
@@ -1024,6 +1028,21 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         first[l + 1] = first[l] + (n > 0 && k > 0.0 && m == 0 ? 1 : m);
     }
     uint64_t nrays = first[nl];
+    /* the work before it starts (render.max_work, issue 36): rays x the steps of one across the
+     * media's box (a step of blasi.step, or a voxel of the finest medium) */
+    double steps = 0.0;
+    for (int m = 0; m < st->nm; m++)
+        steps = fmax(steps, (double)st->m[m].n[0] + st->m[m].n[1] + st->m[m].n[2]);
+    if (st->step > 0.0)
+        steps = 2.0 * st->radius / st->step;
+    double work = (double)nrays * (steps + 1.0);
+    if (work > s->max_work) {
+        free(first);
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: blasi: the light pass's %llu rays of about %.3g steps each are %.3g units of work, over "
+                       "render.max_work (%.3g): raise blasi.step or lower blasi.light_rays (or raise render.max_work)",
+                       s->source, (unsigned long long)nrays, steps, work, s->max_work);
+    }
     pass1_job job = {.s = s, .st = st, .nrays = nrays, .nbatch = (nrays + BLASI_BATCH - 1) / BLASI_BATCH,
                      .first = first};
     /* the unit: 2^-40 of the largest reference power per ray over the lights, a power of two */
@@ -1063,9 +1082,19 @@ static brume_status first_pass(const brume_scene *s, blasi_state *st)
         free(first);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for the light pass", s->source);
     }
+    cancel_poll_init(&job.cancel, &s->settings);
     progress_begin(&job.prog, "light pass", (size_t)job.nbatch, s->settings.progress, s->settings.progress_interval);
     pool_run((int)threads, (size_t)job.nbatch, pass1_batch, &job);
-    progress_end(&job.prog, true);
+    progress_end(&job.prog, !cancel_poll_cancelled(&job.cancel));
+    if (cancel_poll_cancelled(&job.cancel)) {
+        cancel_poll_finish(&job.cancel);
+        free(slot);
+        free(job.P);
+        free(job.batch);
+        free(first);
+        return err_set(BRUME_ERROR_CANCELLED, "%s: blasi: the light pass was cancelled", s->source);
+    }
+    cancel_poll_finish(&job.cancel);
     for (uint64_t k = 0; k < job.nbatch; k++) { /* batch order: the emitted power's sum is the same bits too */
         st->stats.interceptions += job.batch[k].intercepts;
         st->stats.deposits += job.batch[k].deposits;
@@ -1284,6 +1313,11 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
 {
     *out = NULL;
     double t0 = progress_now();
+    const blasi_options *o0 = scene_options(s, METHOD_OPTIONS_BLASI);
+    /* before any work: the light file must not replace the scene, one of its inputs or a device */
+    if (o0->save_light[0] && io_output_check("blasi.save_light", o0->save_light,
+                                             s->source[0] != '<' ? s->source : NULL, &s->inputs) != BRUME_OK)
+        return err_status();
     blasi_state *st = calloc(1, sizeof *st);
     if (!st)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory", s->source);
@@ -1350,9 +1384,9 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
         bm->volume = fabs(affine3_det(&info.voxel_to_world));
         bm->v2w = info.voxel_to_world;
         {   /* the voxel's edges in world space, for its surface area */
-            vec3 o0 = affine3_apply(&bm->v2w, v3(0, 0, 0)), e[3];
+            vec3 c0 = affine3_apply(&bm->v2w, v3(0, 0, 0)), e[3];
             for (int a = 0; a < 3; a++)
-                e[a] = v3_sub(affine3_apply(&bm->v2w, v3(a == 0, a == 1, a == 2)), o0);
+                e[a] = v3_sub(affine3_apply(&bm->v2w, v3(a == 0, a == 1, a == 2)), c0);
             double area = 2.0 * (v3_length(v3_cross(e[0], e[1])) + v3_length(v3_cross(e[1], e[2])) +
                                  v3_length(v3_cross(e[2], e[0])));
             bm->chord = area > 0.0 ? 4.0 * bm->volume / area : 0.0;

@@ -81,6 +81,22 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
     job->t_start = stats_now();
     job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
+    /* The film and the image made from it count against render.max_memory_mb, after what
+     * reading the scene took (issue 36): per pixel its count, flag and sums, and the RGBA
+     * image with its layers (depth 1, albedo 3, normal 3 floats). */
+    uint64_t doubles = JOB_SUMS + (squares ? JOB_SQS : 0u) + (job->trace_aovs ? JOB_AOVS : 0u);
+    uint64_t floats = 4u + (job->trace_aovs ? 7u : 0u);
+    uint64_t per_pixel = sizeof *job->n + 1u + doubles * sizeof(double) + floats * sizeof(float);
+    uint64_t film_bytes = per_pixel * (uint64_t)job->npix;
+    size_t left = s->max_memory > s->memory_used ? s->max_memory - s->memory_used : 0;
+    if (film_bytes > left) {
+        int w = rs->width, h = rs->height;
+        free(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: render.max_memory_mb: a %d x %d render needs %llu bytes for its film and image, over the "
+                       "%zu left of the limit of %zu (the scene took %zu)",
+                       s->source, w, h, (unsigned long long)film_bytes, left, s->max_memory, s->memory_used);
+    }
     if (rs->stats && !(job->counters = calloc((size_t)job->nthreads, sizeof *job->counters))) {
         free(job);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for statistics", s->source);
@@ -94,9 +110,9 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
     if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
-        brume_render_job_release(job); /* rs points into the job: the message uses the scene's */
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source,
-                       s->settings.width, s->settings.height);
+        int w = rs->width, h = rs->height; /* rs points into the job, freed below */
+        brume_render_job_release(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source, w, h);
     }
     memset(job->active, 1, job->npix);
     double t_prep = progress_now();

@@ -46,6 +46,7 @@ brume_scene *scene_new(const char *source)
     }
     scene_default_settings(&s->settings);
     s->max_memory = BUDGET_DEFAULT_BYTES;
+    s->max_work = SCENE_MAX_WORK_DEFAULT;
     for (int i = 0; i < METHOD_OPTIONS_COUNT; i++) {
         const method_options_def *def = method_options_def_get((method_options_id)i);
         if (!(s->options[i] = malloc(def->size))) {
@@ -222,6 +223,7 @@ void brume_scene_release(brume_scene *s)
     if (s->prepared && s->prepared->valid)
         integrator_finish((integrator_kind)s->prepared->kind, s->prepared->state);
     free(s->prepared);
+    io_inputs_free(&s->inputs);
     for (int m = 0; m < s->nmedia; m++)
         medium_release(&s->media[m]);
     free(s->lights);

@@ -10,11 +10,13 @@
 #include "render/background.h"
 #include "render/camera.h"
 #include "render/light.h"
+#include "io/regular_file.h"
 #include "render/method_options.h"
 #include "surface/surfaces.h"
 
 #define SCENE_MAX_MEDIA 16
 #define SCENE_MAX_LIGHTS 4096
+#define SCENE_MAX_WORK_DEFAULT 1e12 /* render.max_work: about 3 hours of Blasi's light pass on 2 cores */
 
 struct brume_scene {
     bool committed;
@@ -39,6 +41,9 @@ struct brume_scene {
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
     size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
     size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
+    io_inputs inputs;   /* the files the scene was read from (io/regular_file.h), owned */
+    double max_work;    /* render.max_work: units of work a method may estimate before it starts
+                           (a step of a ray, a voxel generated, a blob at a lattice point) */
 };
 
 /* What integrator_prepare built for this scene, reused by later renders of it. Rendering

@@ -448,6 +448,15 @@ brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s
         st = build_number(fn, "scale", scale, 0.0, BIG);
     if (!st && up)
         st = build_direction(fn, "up", up, &u);
+    /* radiance, as a grid's density: a negative value would render negative light, and a
+     * NaN or an infinity poisons every pixel that sees it (checked like grids, issue 36) */
+    for (size_t i = 0, n = (size_t)image->width * (size_t)image->height; !st && i < n; i++)
+        for (int c = 0; c < 3 && !st; c++) {
+            float v = image->rgba[4 * i + (size_t)c];
+            if (!isfinite(v) || v < 0.0f)
+                st = err_set(BRUME_ERROR_RANGE, "%s: image: pixel (%zu, %zu) %c is %g: radiance must be finite and >= 0",
+                             fn, i % (size_t)image->width, i / (size_t)image->width, "RGB"[c], (double)v);
+        }
     if (st)
         return ctx_report(ctx, st);
     brume_image *copy = brume_image_new(image->width, image->height);

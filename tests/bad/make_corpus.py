@@ -248,6 +248,38 @@ write('meshes/nan.obj', 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n')
 write('meshes/empty.obj', '')
 write('meshes/truncated.ply', 'ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\nelement face 1000\nproperty list uchar int vertex_indices\nend_header\n' + '\x00' * 40)
 write('meshes/truncated.stl', b'\x00' * 80 + struct.pack('<I', 1000000) + b'\x00' * 100)
+# issue 36: assimp runs in a child process under time and memory limits (io/mesh.c); what is
+# cheap to see is refused before it starts
+write('meshes/ply_no_end_header.ply', 'ply\nformat ascii 1.0\n')  # 21 bytes: assimp spun forever
+write('meshes/ply_type_typo.ply', b'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n'
+      b'property float y\nproperty flaot z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+      + struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack('<B3i', 3, 0, 1, 2))  # an assimp assertion
+write('meshes/obj_huge_polygon.obj', 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf' + ' 1 2 3' * 1700 + '\n')  # quadratic
+def nested_gltf(levels, width):
+    """A glTF whose every level instances the one below `width` times: width^levels triangles."""
+    nodes, below = [{'mesh': 0}], 0
+    for _ in range(levels):
+        first = len(nodes)
+        nodes += [{'children': [below]} for _ in range(width)]
+        nodes.append({'children': list(range(first, first + width))})
+        below = len(nodes) - 1
+    import base64
+    data = base64.b64encode(struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0)).decode()
+    return json.dumps({'asset': {'version': '2.0'}, 'scene': 0, 'scenes': [{'nodes': [below]}], 'nodes': nodes,
+                       'meshes': [{'primitives': [{'attributes': {'POSITION': 0}}]}],
+                       'accessors': [{'bufferView': 0, 'componentType': 5126, 'count': 3, 'type': 'VEC3',
+                                      'min': [0, 0, 0], 'max': [1, 1, 0]}],
+                       'bufferViews': [{'buffer': 0, 'byteLength': 36}],
+                       'buffers': [{'byteLength': 36, 'uri': 'data:application/octet-stream;base64,' + data}]})
+write('meshes/gltf_nested.gltf', nested_gltf(4, 50))  # 6.25 million instances: 5.8 GB in assimp
+for nm, f, pat in [('mesh_ply_no_end_header', '../meshes/ply_no_end_header.ply', 'ply_no_end_header.ply: .*end_header'),
+                   ('mesh_ply_type_typo', '../meshes/ply_type_typo.ply', "ply_type_typo.ply: .*unknown property type 'flaot'"),
+                   ('mesh_obj_huge_polygon', '../meshes/obj_huge_polygon.obj', 'obj_huge_polygon.obj: .*a face of 5100 vertices')]:
+    surf(nm, 1, pat, [{'type': 'mesh', 'file': f}], group='mesh')
+def gltf_64mb(s):
+    s['surfaces'] = [{'type': 'mesh', 'file': '../meshes/gltf_nested.gltf'}]
+    s['render']['max_memory_mb'] = 64
+scene('mesh_gltf_nested_instances', 1, 'gltf_nested.gltf', gltf_64mb, group='mesh')
 write('meshes/shape.xyz', '1 2 3\n')
 
 # ---- render settings -------------------------------------------------------------------------
@@ -497,6 +529,33 @@ cli('slab_phase_unknown', 1, 'magic', 'slab --albedo 0.5 --tau 1 --phase magic -
 cli('phase_unknown_sub', 2, 'phase', 'phase dance')
 cli('phase_fit_unknown', 1, 'zzz', 'phase fit zzz')
 cli('phase_plot_unknown_option', 2, '--bogus', 'phase plot --bogus')
+
+# ---- issue 36: resources, outputs, checkpoints ----------------------------------------------
+write('images/env_negative.pfm', pfm(2, 1, data=f32(0.5, 0.5, 0.5, 0.5, -1.0, 0.5)))
+write('images/env_inf.pfm', pfm(2, 1, data=f32(0.5, 0.5, 0.5, float('inf'), 0.5, 0.5)))
+scene('background_file_negative', 1, r'background.*pixel \(1, 0\) G is -1', lambda s: s.update(background={'file': '../images/env_negative.pfm'}))
+scene('background_file_inf', 1, r'background.*pixel \(1, 0\) R is inf', lambda s: s.update(background={'file': '../images/env_inf.pfm'}))
+def work_bomb(s):
+    s['render']['method'] = 'blasi'
+    s['media'][0]['density'] = {'type': 'procedural_cloud', 'resolution': 32}
+    s['blasi'] = {'step': 1e-6}  # 17 hours at the default light rays
+scene('blasi_step_work_bomb', 1, r'render\.max_work \(1e\+12\)', work_bomb)
+def film_bomb(s):
+    s['render'].update(width=4096, height=4096, max_memory_mb=1)
+scene('film_over_memory_limit', 1, r'render\.max_memory_mb: a 4096 x 4096 render needs [0-9]+ bytes for its film', film_bomb)
+write('grids/raw_32_bytes.raw', b'\x00' * 32)
+def huge_dims(s):
+    s['media'][0]['density'] = {'type': 'grid', 'file': '../grids/raw_32_bytes.raw', 'format': 'raw', 'dims': [65536, 65536, 1]}
+    s['render']['max_memory_mb'] = 1
+scene('grid_message_64bit', 1, '65536 x 65536 x 1 voxels need 17179869184 bytes, over the memory limit of 1048576', huge_dims, group='grid')
+cli('resume_dev_zero', 1, '/dev/zero: not a regular file', 'render ' + S + ' --resume /dev/zero')
+cli('resume_not_a_checkpoint', 1, 'ok.pfm: not a brume checkpoint', 'render ' + S + ' --resume {D}/images/ok.pfm')
+cli('checkpoint_is_a_folder', 1, r'--checkpoint: .*not a regular file \(a folder\)', 'render ' + S + ' --checkpoint {T}')
+cli('save_light_is_a_folder', 1, r'--save-light: .*not a regular file \(a folder\)', 'render ' + S + ' --method blasi --save-light {T}')
+cli('figures_out_is_a_file', 1, r'figures: -o .*ok\.pfm: not a folder', 'figures -o {D}/images/ok.pfm --quick')
+cli('stam_light_cache_over_max_work', 1, r'stam\.light_grid: .* units of work, over render\.max_work \(1e\+03\)',
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000')
+cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
     f.write('# cases.txt - the bad-input corpus, written by make_corpus.py (edit that, then rerun it).\n')

@@ -1,0 +1,67 @@
+/* cancel.c - the progress callback asked from phases without tiles (cancel.h). */
+#include "core/cancel.h"
+
+#include <time.h>
+
+#include "core/error.h"
+
+static long long now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+void cancel_poll_init(cancel_poll *c, const brume_render_settings *rs)
+{
+    c->fn = rs ? rs->progress_fn : NULL;
+    c->user = rs ? rs->progress_user : NULL;
+    atomic_init(&c->stop, false);
+    atomic_init(&c->next_ns, now_ns() + (long long)(CANCEL_POLL_SECONDS * 1e9));
+    pthread_mutex_init(&c->lock, NULL);
+}
+
+bool cancel_poll_stop(cancel_poll *c)
+{
+    if (atomic_load_explicit(&c->stop, memory_order_relaxed))
+        return true;
+    if (!c->fn)
+        return false;
+    long long t = now_ns();
+    if (t < atomic_load_explicit(&c->next_ns, memory_order_relaxed))
+        return false;
+    if (pthread_mutex_trylock(&c->lock) != 0)
+        return false; /* another thread is asking */
+    if (t >= atomic_load(&c->next_ns) && !atomic_load(&c->stop)) {
+        if (!c->fn(c->user, 0, 1))
+            atomic_store(&c->stop, true);
+        atomic_store(&c->next_ns, now_ns() + (long long)(CANCEL_POLL_SECONDS * 1e9));
+    }
+    pthread_mutex_unlock(&c->lock);
+    return atomic_load(&c->stop);
+}
+
+bool cancel_poll_cancelled(const cancel_poll *c) { return atomic_load((atomic_bool *)&c->stop); }
+
+void cancel_poll_finish(cancel_poll *c) { pthread_mutex_destroy(&c->lock); }
+
+static atomic_uint g_load_cancels;                /* brume_cancel_loads calls so far */
+static _Thread_local unsigned g_load_start;       /* the count when this thread's load began */
+static _Thread_local bool g_loading;
+
+void brume_cancel_loads(void) { atomic_fetch_add(&g_load_cancels, 1u); }
+
+void cancel_load_begin(void)
+{
+    g_load_start = atomic_load(&g_load_cancels);
+    g_loading = true;
+}
+
+void cancel_load_end(void) { g_loading = false; }
+
+brume_status cancel_load_check(const char *what)
+{
+    if (!g_loading || atomic_load_explicit(&g_load_cancels, memory_order_relaxed) == g_load_start)
+        return BRUME_OK;
+    return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_cancel_loads)", what);
+}

@@ -1,0 +1,44 @@
+/* cancel.h - asking a render's progress callback whether to go on, from a phase that
+ * renders no sample yet (Blasi's light pass, issue 36).
+ *
+ * Tiles call the callback as they finish (render/render.c); a phase before the first tile
+ * has no tiles, so its loops call cancel_poll_stop between units of work (a ray): at most
+ * every CANCEL_POLL_SECONDS one thread at a time calls the callback with done = 0 and
+ * total = 1, and once it returns false every later call returns true. Without a callback
+ * nothing is asked and the cost is one atomic load. */
+#ifndef BRUME_CORE_CANCEL_H
+#define BRUME_CORE_CANCEL_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+
+#include "brume.h"
+
+#define CANCEL_POLL_SECONDS 0.1
+
+typedef struct cancel_poll {
+    brume_progress_fn fn; /* the render's callback, or NULL */
+    void *user;
+    atomic_bool stop;
+    atomic_llong next_ns; /* CLOCK_MONOTONIC time of the next call to fn */
+    pthread_mutex_t lock; /* fn is never called twice at once */
+} cancel_poll;
+
+void cancel_poll_init(cancel_poll *c, const brume_render_settings *rs);
+/* true when the phase must stop: the callback said so, now or before. Thread-safe. */
+bool cancel_poll_stop(cancel_poll *c);
+/* true when a call to cancel_poll_stop returned true; asks nothing. */
+bool cancel_poll_cancelled(const cancel_poll *c);
+void cancel_poll_finish(cancel_poll *c);
+
+/* Loading a scene (issue 36): brume_cancel_loads() (async-signal-safe) ends every load in
+ * progress. Each load notes the cancel count when it starts (cancel_load_begin, on its
+ * thread); the generators' loops (procedural cloud, fractal grids) call cancel_load_check at
+ * least every second of work, which says BRUME_ERROR_CANCELLED (err_set naming `what`) once
+ * the count moved. Outside a load it never cancels. */
+void cancel_load_begin(void);
+void cancel_load_end(void);
+brume_status cancel_load_check(const char *what);
+
+#endif
