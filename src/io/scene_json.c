@@ -12,6 +12,7 @@
 #include "io/json.h"
 #include "io/scene_methods.h"
 #include "io/scene_stam.h"
+#include "io/scene_studio.h"
 #include "io/scene_keys.h"
 #include "io/scene_override.h"
 #include "io/scene_surfaces.h"
@@ -59,16 +60,24 @@ static brume_status parse_unit_vector(const cJSON *j, jloc at, const char *key, 
 static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
-                                       "shutter", "keyframes", NULL};
+                                       "shutter", "keyframes", "frame", "frame_margin", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_camera c;
     brume_camera_default(&c);
-    if ((st = jvec(j, at, "position", 1, c.position))) return st;
-    if ((st = jvec(j, at, "look_at", 1, c.look_at))) return st;
+    char framed[64] = "";
+    double margin = 0.1;
+    if ((st = json_string(j, at, "frame", 0, framed, sizeof framed))) return st;
+    if ((st = json_number(j, at, "frame_margin", 0, 0.0, 0.9, &margin))) return st;
     if ((st = jvec(j, at, "up", 0, c.up))) return st;
     if (!(v3_length(v3(c.up[0], c.up[1], c.up[2])) > 0.0))
         return err_set(BRUME_ERROR_RANGE, "%s: camera.up: must not be the zero vector", at.file);
+    if (framed[0] && !cJSON_HasObjectItem(j, "position") && !cJSON_HasObjectItem(j, "look_at"))
+        scene_studio_direction(c.up, c.position, c.look_at); /* framed: only the direction counts */
+    else if ((st = jvec(j, at, "position", 1, c.position)) || (st = jvec(j, at, "look_at", 1, c.look_at)))
+        return st;
+    if (!framed[0] && cJSON_HasObjectItem(j, "frame_margin"))
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: camera.frame_margin: only with camera.frame", at.file);
     if ((st = json_number(j, at, "fov", 0, 1e-3, 179.0, &c.fov))) return st;
     if ((st = json_number(j, at, "aperture_radius", 0, 0.0, BIG, &c.aperture_radius))) return st;
     if ((st = json_number(j, at, "focus_distance", 0, 1e-9, BIG, &c.focus_distance))) return st;
@@ -84,6 +93,7 @@ static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
                            c.shutter_open, c.shutter_close);
     }
     if ((st = built(brume_scene_set_camera(NULL, s, &c), at))) return st;
+    if (framed[0] && (st = built(brume_scene_frame_camera(NULL, s, framed, margin), at))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (!keys_j)
         return BRUME_OK;
@@ -877,8 +887,18 @@ static brume_status read_text_file(const char *path, char **out)
     return BRUME_OK;
 }
 
+/* The one dispatch from a file to the scene description the reader takes: a grid file
+ * becomes its studio scene (io/scene_studio.c), anything else is read as JSON. */
+static brume_status scene_source_text(const char *path, const brume_studio_options *studio, char **text)
+{
+    if (scene_studio_is_grid(path))
+        return scene_studio_json(path, studio, text);
+    return read_text_file(path, text);
+}
+
 static brume_status load(brume_context *ctx, const char *path, double time, long frame_no,
-                         const char *const *overrides, int noverrides, brume_scene **out)
+                         const char *const *overrides, int noverrides, const brume_studio_options *studio,
+                         brume_scene **out)
 {
     err_clear();
     if (out)
@@ -888,7 +908,7 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
     if (!isfinite(time))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", path, time));
     char *text = NULL;
-    brume_status st = read_text_file(path, &text);
+    brume_status st = scene_source_text(path, studio, &text);
     if (st == BRUME_OK) {
         st = scene_parse_json_with(text, path, time, frame_no, overrides, noverrides, out);
         free(text);
@@ -899,7 +919,7 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
 brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
                                    brume_scene **out)
 {
-    brume_load_options o = {0.0, 0, NULL, 0};
+    brume_load_options o = {0.0, 0, NULL, 0, NULL};
     if (opts)
         o = *opts;
     if (!out || o.noverrides < 0 || (o.noverrides > 0 && !o.overrides)) {
@@ -917,7 +937,7 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
     }
     long frame_no = o.frame > 0 ? o.frame : -1;
     if (path)
-        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, out);
+        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, o.studio, out);
     err_clear();
     *out = NULL;
     if (!isfinite(o.time))
@@ -928,12 +948,12 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
 
 brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
 {
-    return load(ctx, path, 0.0, -1, NULL, 0, out);
+    return load(ctx, path, 0.0, -1, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out)
 {
-    return load(ctx, path, time, -1, NULL, 0, out);
+    return load(ctx, path, time, -1, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
@@ -943,7 +963,7 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
         *out = NULL;
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
     }
-    return load(ctx, path, 0.0, frame_no, NULL, 0, out);
+    return load(ctx, path, 0.0, frame_no, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
@@ -952,4 +972,34 @@ brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
     if (!out)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_default: out: NULL"));
     return ctx_report(ctx, scene_parse_json(scene_default_json, "<default scene>", out));
+}
+
+brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json)
+{
+    err_clear();
+    if (!json)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_text: json: NULL"));
+    *json = NULL;
+    if (!path) {
+        if (!(*json = strdup(scene_default_json)))
+            return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "<default scene>: out of memory"));
+        return ctx_report(ctx, BRUME_OK);
+    }
+    return ctx_report(ctx, scene_source_text(path, opts ? opts->studio : NULL, json));
+}
+
+brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,
+                                      brume_scene **out)
+{
+    if (!path || !out || !scene_studio_is_grid(path)) {
+        err_clear();
+        if (out)
+            *out = NULL;
+        if (!path || !out)
+            return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_for_grid: %s: NULL",
+                                           !path ? "path" : "out"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: not a grid file (.vdb, .nvdb)", path));
+    }
+    brume_load_options lo = {0.0, 0, NULL, 0, opts};
+    return brume_scene_load_with(ctx, path, &lo, out);
 }

@@ -39,6 +39,11 @@ struct brume_scene {
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
     size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
     size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
+    struct {
+        bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
+        char media[64]; /* "media" = all of them, else one medium's name */
+        double margin;  /* fraction of the frame left around the box, [0, 0.9] */
+    } frame;
 };
 
 /* What integrator_prepare built for this scene, reused by later renders of it. Rendering
@@ -75,5 +80,12 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
 /* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
  * fields, gray sigma_t. Call after medium_init. */
 bool scene_flight_control(const brume_scene *s);
+
+/* Commit's auto-framing (render/scene_frame.c): moves the camera onto the media that
+ * brume_scene_frame_camera named; BRUME_OK at once when it was not called. */
+brume_status scene_frame_resolve(brume_scene *s);
+/* The world box holding every non-zero value of d (its voxel box cut to the cells that are
+ * not empty), or an empty box: what framing looks at. */
+box3 scene_density_box(const density *d);
 
 #endif

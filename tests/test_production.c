@@ -1,0 +1,193 @@
+/* test_production.c - files as artists hand them over (docs/production.md): auto-framing of
+ * the camera on the media, and the studio scene of a grid file. */
+#include "test.h"
+
+#include "brume.h"
+#include "io/grid_io.h"
+#include "render/scene.h"
+
+/* The largest of |x| / (t_h) and |y| / (t_v) over the box's corners projected by the
+ * committed camera: 1 - margin when the framing is tight, and every corner in front. */
+static double corner_extent(const brume_scene *s, const double box[6])
+{
+    const camera *c = &s->cam;
+    double worst = 0.0;
+    for (int k = 0; k < 8; k++) {
+        vec3 p = v3(box[k & 1 ? 3 : 0], box[k & 2 ? 4 : 1], box[k & 4 ? 5 : 2]);
+        vec3 d = v3_sub(p, c->position);
+        double z = v3_dot(d, c->f.n);
+        ASSERT_TRUE(z > 0.0);
+        double x = fabs(v3_dot(d, c->f.s)) / (z * c->tan_half * c->aspect);
+        double y = fabs(v3_dot(d, c->f.t)) / (z * c->tan_half);
+        worst = fmax(worst, fmax(x, y));
+    }
+    return worst;
+}
+
+static brume_scene *box_scene(brume_context *ctx, const double *box_a, const double *box_b)
+{
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"frame\": \"%s\", \"frame_margin\": 0.2, \"position\": [3, 1, 2], \"look_at\": [0, 0, 0], "
+             "\"fov\": 25},"
+             " \"media\": [{\"name\": \"a\", \"density\": {\"type\": \"constant\", \"bounds\": [[%g, %g, %g], [%g, %g, %g]]},"
+             " \"sigma_a\": 0, \"sigma_s\": 1}, {\"name\": \"b\", \"density\": {\"type\": \"constant\", \"bounds\": "
+             "[[%g, %g, %g], [%g, %g, %g]]}, \"sigma_a\": 0, \"sigma_s\": 1}],"
+             " \"render\": {\"width\": 300, \"height\": 120}}",
+             box_b ? "a" : "media", box_a[0], box_a[1], box_a[2], box_a[3], box_a[4], box_a[5],
+             box_b ? box_b[0] : box_a[0], box_b ? box_b[1] : box_a[1], box_b ? box_b[2] : box_a[2],
+             box_b ? box_b[3] : box_a[3], box_b ? box_b[4] : box_a[4], box_b ? box_b[5] : box_a[5]);
+    brume_scene *s = NULL;
+    if (brume_scene_from_json(ctx, json, "frame.json", 0.0, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    return s;
+}
+
+/* The framed camera sees the whole box, with exactly the margin on the tighter side, and
+ * keeps the direction it was given. */
+TEST(frame_fits_box_with_margin)
+{
+    brume_context *ctx = brume_context_new();
+    const double box[6] = {1, 2, 3, 2, 4, 4};
+    brume_scene *s = box_scene(ctx, box, NULL);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_NEAR(corner_extent(s, box), 0.8, 1e-9);
+    vec3 want = v3_normalize(v3(3, 1, 2)), got = v3_normalize(v3_sub(s->cam.position, s->cam.look_at));
+    ASSERT_NEAR(v3_dot(want, got), 1.0, 1e-12);
+    ASSERT_NEAR(s->cam.look_at.x, 1.5, 1e-12);
+    ASSERT_NEAR(s->cam.look_at.y, 3.0, 1e-12);
+    ASSERT_NEAR(s->cam.look_at.z, 3.5, 1e-12);
+    brume_scene_release(s);
+    /* the final image size counts: a tall image after loading reframes for it */
+    s = box_scene(ctx, box, NULL);
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    rs.width = 100;
+    rs.height = 400;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_NEAR(corner_extent(s, box), 0.8, 1e-9);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* "frame": a medium's name frames that medium alone; an unknown name is an error. */
+TEST(frame_named_medium)
+{
+    brume_context *ctx = brume_context_new();
+    const double a[6] = {-1, -1, -1, 0, 0, 0}, b[6] = {5, 5, 5, 9, 6, 7};
+    brume_scene *s = box_scene(ctx, a, b);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_NEAR(corner_extent(s, a), 0.8, 1e-9);
+    ASSERT_NEAR(s->cam.look_at.x, -0.5, 1e-12);
+    brume_scene_release(s);
+    s = NULL;
+    ASSERT_EQ_INT(brume_scene_from_json(ctx,
+                                        "{\"camera\": {\"frame\": \"nope\"}, \"media\": [{\"name\": \"a\", \"density\": "
+                                        "{\"type\": \"constant\"}, \"sigma_a\": 0, \"sigma_s\": 1}]}",
+                                        "f.json", 0.0, &s),
+                  BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_ERROR_INVALID_ARGUMENT);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "camera.frame: no medium of that name");
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* A small grid file made by `brume gen`; returns its path, or skips without OpenVDB. */
+static const char *gen_grid(const char *name, const char *args)
+{
+    if (!grid_have_openvdb()) {
+        printf("skipped: no OpenVDB (writing .nvdb/.vdb)\n");
+        exit(77);
+    }
+    const char *path = test_tmp_path(name);
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s gen %s -o %s", BRUME_EXE, args, path);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    return path;
+}
+
+/* A .vdb as the scene: framed on its non-zero voxels, lit, and the extinction scaled to the
+ * documented optical depth across the shortest side. */
+TEST(studio_scene_of_a_grid)
+{
+    const char *path = gen_grid("studio.vdb", "cloud --dims 24x12x16 --shape ellipsoid --bounds 2,0,0,6,2,3");
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_studio_options so = {0};
+    so.up = 'z';
+    if (brume_scene_new_for_grid(ctx, path, &so, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    ASSERT_EQ_INT(brume_scene_medium_count(s), 1);
+    ASSERT_EQ_INT(s->nlights, 1);
+    ASSERT_TRUE(s->surf != NULL); /* the ground */
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    box3 b = scene_density_box(s->media[0].rho);
+    const double box[6] = {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z};
+    ASSERT_NEAR(corner_extent(s, box), 0.9, 1e-9);
+    ASSERT_NEAR(s->cam.up.z, 1.0, 1e-12);
+    ASSERT_TRUE(s->cam.position.z > s->cam.look_at.z); /* from above the horizon, z up */
+    double shortest = fmin(b.hi.x - b.lo.x, fmin(b.hi.y - b.lo.y, b.hi.z - b.lo.z));
+    double tau = (s->media[0].sigma_a.c[0] + s->media[0].sigma_s.c[0]) * density_max(s->media[0].rho) * shortest;
+    ASSERT_NEAR(tau, 10.0, 10.0 * 1e-3); /* the printed coefficients keep four digits */
+    brume_scene_release(s);
+    /* no ground, and a name that is not a grid */
+    so.no_ground = true;
+    ASSERT_EQ_INT(brume_scene_new_for_grid(ctx, path, &so, &s), BRUME_OK);
+    ASSERT_TRUE(s->surf == NULL);
+    brume_scene_release(s);
+    so.grid = "nope";
+    ASSERT_EQ_INT(brume_scene_new_for_grid(ctx, path, &so, &s), BRUME_ERROR_INVALID_ARGUMENT);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "no float grid named \"nope\"");
+    brume_context_release(ctx);
+    remove(path);
+}
+
+/* A temperature grid makes the studio scene a fire. */
+TEST(studio_scene_of_a_fire)
+{
+    const char *path = gen_grid("studio-fire.vdb", "fire --resolution 16");
+    brume_context *ctx = brume_context_new();
+    char *text = NULL;
+    if (brume_scene_text(ctx, path, NULL, &text) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    ASSERT_CONTAINS(text, "\"temperature\"");
+    ASSERT_CONTAINS(text, "\"blackbody\"");
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(brume_scene_from_json(ctx, text, path, 0.0, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    ASSERT_TRUE(s->has_emission);
+    brume_scene_release(s);
+    free(text);
+    brume_context_release(ctx);
+    remove(path);
+}
+
+/* brume render FILE.vdb renders; --print-scene writes JSON that renders the same image. */
+TEST(cli_renders_a_grid_file)
+{
+    const char *path = gen_grid("cli.nvdb", "cloud --dims 16x16x8 --shape ellipsoid");
+    const char *png = test_tmp_path("cli-a.png"), *png2 = test_tmp_path("cli-b.png");
+    const char *json = test_tmp_path("cli.json");
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --spp 2 --width 24 --height 16 --threads 2 -q", BRUME_EXE, path, png);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s render %s --print-scene > %s", BRUME_EXE, path, json);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --spp 2 --width 24 --height 16 --threads 1 -q", BRUME_EXE, json, png2);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    size_t n1 = 0, n2 = 0;
+    char *a = test_slurp(png, &n1), *b = test_slurp(png2, &n2);
+    ASSERT_TRUE(n1 == n2 && memcmp(a, b, n1) == 0);
+    free(a);
+    free(b);
+    snprintf(cmd, sizeof cmd, "%s render %s --up x --print-scene 2>/dev/null", BRUME_EXE, path);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    remove(png);
+    remove(png2);
+    remove(json);
+    remove(path);
+}
+
+TEST_MAIN(frame_fits_box_with_margin, frame_named_medium, studio_scene_of_a_grid, studio_scene_of_a_fire,
+          cli_renders_a_grid_file)
