@@ -633,6 +633,16 @@ int cmd_render(int argc, char **argv)
     brume_scene *scene = NULL;
     brume_image *image = NULL;
     int rc = 1;
+    if (sequence && o.scene_path) { /* grid sequences: every frame's file, before the first frame */
+        brume_load_options lo = {0.0, 0, o.sets, o.nsets, &o.studio};
+        if (brume_scene_check_frames(ctx, o.scene_path, &lo, first, last) != BRUME_OK) {
+            cli_error("%.1000s", brume_context_last_error(ctx));
+            brume_context_release(ctx);
+            cli_serve_stop(serve);
+            dist_end(&d);
+            return 1;
+        }
+    }
     long done = 0;
     cli_job_result jr = {0};
     double t_all = now_seconds();

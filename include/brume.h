@@ -252,6 +252,13 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
  * opts->studio is used. *json is a new NUL-terminated string the caller frees with free();
  * file names in it are absolute or relative to `path`'s folder, as the loader reads them. */
 brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json);
+/* SEQUENCES (docs/grids.md, "Sequences"). A grid's file name may hold a frame pattern
+ * (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb): each frame reads its own file, file
+ * number frame_offset + frame_step x frame. Checks, before any frame is loaded, that every
+ * frame in [first, last] (frame numbers as brume_load_options.frame) has its file; fails
+ * with one line naming the first frame that has none. opts may be NULL. */
+brume_status brume_scene_check_frames(brume_context *ctx, const char *path, const brume_load_options *opts, long first,
+                                      long last);
 /* The studio scene of a grid file (opts may be NULL): brume_scene_load_with with only
  * studio options. On success *out is a new uncommitted scene owned by the caller. */
 brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,

@@ -4,6 +4,7 @@
 
 #include "brume.h"
 #include "io/grid_io.h"
+#include "io/grid_sequence.h"
 #include "render/scene.h"
 
 /* The largest of |x| / (t_h) and |y| / (t_v) over the box's corners projected by the
@@ -189,5 +190,126 @@ TEST(cli_renders_a_grid_file)
     remove(path);
 }
 
+/* The patterns: %0Nd, %d, a run of '#', $F and $FN; one per name, in the file name. */
+TEST(sequence_patterns)
+{
+    char out[256];
+    ASSERT_EQ_INT(seq_is_pattern("a/smoke_%04d.vdb"), 1);
+    seq_name("a/smoke_%04d.vdb", 7, out, sizeof out);
+    ASSERT_EQ_STR(out, "a/smoke_0007.vdb");
+    seq_name("smoke_###.vdb", 12345, out, sizeof out);
+    ASSERT_EQ_STR(out, "smoke_12345.vdb"); /* wider when the number needs it */
+    seq_name("smoke_$F4.vdb", 3, out, sizeof out);
+    ASSERT_EQ_STR(out, "smoke_0003.vdb");
+    seq_name("smoke_$F.vdb", 3, out, sizeof out);
+    ASSERT_EQ_STR(out, "smoke_3.vdb");
+    seq_name("s_%d_100%%.vdb", 3, out, sizeof out);
+    ASSERT_EQ_STR(out, "s_3_100%%.vdb"); /* %% stays as written: a file name, not printf */
+    ASSERT_EQ_INT(seq_is_pattern("a_#/smoke.vdb"), 0); /* folders are not patterns */
+    ASSERT_EQ_INT(seq_is_pattern("smoke.vdb"), 0);
+    ASSERT_EQ_INT(seq_is_pattern("smoke_%4d.vdb"), -1);
+    ASSERT_EQ_INT(seq_is_pattern("smoke_%04d_##.vdb"), -1);
+}
+
+/* Three files told apart by their bounds: x from k to k + 1 for file k. */
+static const char *make_sequence(void)
+{
+    if (!grid_have_openvdb()) {
+        printf("skipped: no OpenVDB (writing .nvdb)\n");
+        exit(77);
+    }
+    const char *dir = test_tmp_path("seq");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "rm -rf %s && mkdir -p %s", dir, dir);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    for (int k = 1; k <= 3; k++) {
+        snprintf(cmd, sizeof cmd, "%s gen cloud --dims 8x8x4 --shape none --bounds %d,0,0,%d,1,1 -o %s/smoke_%04d.nvdb",
+                 BRUME_EXE, k, k + 1, dir, k);
+        ASSERT_EQ_INT(test_system(cmd), 0);
+    }
+    return dir;
+}
+
+/* The file frame f reads, told by the loaded density's x bounds (0 = refused). */
+static int file_of_frame(const char *dir, const char *keys, long f, const char *want_error)
+{
+    char json[1024], path[1024];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"frame\": \"media\"}, \"media\": [{\"density\": {\"type\": \"grid\", "
+             "\"file\": \"smoke_####.nvdb\"%s}, \"sigma_a\": 0, \"sigma_s\": 1}]}", keys);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    test_write_file(path, json);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_load_options lo = {0.0, f, NULL, 0, NULL};
+    brume_status st = brume_scene_load_with(ctx, path, &lo, &s);
+    int k = 0;
+    if (st == BRUME_OK) {
+        k = (int)lround(density_bounds(s->media[0].rho).lo.x);
+        ASSERT_TRUE(!brume_scene_world_is_static(s)); /* so that each frame is loaded again */
+        brume_scene_release(s);
+    } else if (!want_error) {
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    } else {
+        ASSERT_CONTAINS(brume_context_last_error(ctx), want_error);
+        ASSERT_TRUE(strchr(brume_context_last_error(ctx), '\n') == NULL);
+    }
+    brume_context_release(ctx);
+    return k;
+}
+
+/* Each frame reads its file: offset, step, and hold / loop / refuse beyond the files. */
+TEST(sequence_frames_read_their_files)
+{
+    const char *dir = make_sequence();
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1", 0, NULL), 1);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1", 2, NULL), 3);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1, \"frame_step\": 2", 1, NULL), 3);
+    ASSERT_EQ_INT(file_of_frame(dir, "", 1, NULL), 1);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1", 3, "frame 3 wants file 4, outside the files 1 to 3"), 0);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1, \"beyond\": \"hold\"", 7, NULL), 3);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1, \"beyond\": \"loop\"", 4, NULL), 2);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"beyond\": \"sometimes\"", 1, "beyond: unknown 'sometimes'"), 0);
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    test_system(cmd);
+}
+
+/* A gap: the whole sequence is refused before any frame renders, naming the first missing
+ * frame; brume info on the pattern gives the range and the bounds over it. */
+TEST(sequence_checked_before_rendering)
+{
+    const char *dir = make_sequence();
+    char cmd[4096], path[1024], err[1024];
+    snprintf(cmd, sizeof cmd, "%s info %s/smoke_%%04d.nvdb > %s/info.txt", BRUME_EXE, dir, dir);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(path, sizeof path, "%s/info.txt", dir);
+    size_t n = 0;
+    char *info = test_slurp(path, &n);
+    ASSERT_CONTAINS(info, "files 1 to 3 (3 files)");
+    ASSERT_CONTAINS(info, "(1, 0, 0) to (4, 1, 1) over the sequence");
+    free(info);
+    ASSERT_EQ_INT(file_of_frame(dir, ", \"frame_offset\": 1, \"beyond\": \"hold\"", 0, NULL), 1); /* writes s.json */
+    snprintf(cmd, sizeof cmd, "rm %s/smoke_0002.nvdb", dir);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_check_frames(ctx, path, NULL, 0, 0), BRUME_ERROR_IO);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "frame file 2 missing");
+    brume_context_release(ctx);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(cmd, sizeof cmd, "%s render %s --frames 0-2 --spp 1 --width 8 --height 8 -q -o %s/f_%%d.png 2> %s",
+             BRUME_EXE, path, dir, err);
+    ASSERT_EQ_INT(test_system(cmd), 1);
+    char *msg = test_slurp(err, &n);
+    ASSERT_CONTAINS(msg, "frame file 2 missing (");
+    ASSERT_TRUE(strchr(msg, '\n') == msg + strlen(msg) - 1); /* one line */
+    free(msg);
+    snprintf(path, sizeof path, "%s/f_0.png", dir);
+    ASSERT_TRUE(!test_exists(path)); /* no frame rendered */
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    test_system(cmd);
+}
+
 TEST_MAIN(frame_fits_box_with_margin, frame_named_medium, studio_scene_of_a_grid, studio_scene_of_a_fire,
-          cli_renders_a_grid_file)
+          cli_renders_a_grid_file, sequence_patterns, sequence_frames_read_their_files, sequence_checked_before_rendering)
