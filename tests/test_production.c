@@ -102,6 +102,8 @@ static const char *gen_grid(const char *name, const char *args)
         exit(77);
     }
     const char *path = test_tmp_path(name);
+    if (strcmp(name, "pbrt-grid.nvdb") == 0 && test_exists(path)) /* one grid for every pbrt case */
+        return path;
     char cmd[2048];
     snprintf(cmd, sizeof cmd, "%s gen %s -o %s", BRUME_EXE, args, path);
     ASSERT_EQ_INT(test_system(cmd), 0);
@@ -311,5 +313,101 @@ TEST(sequence_checked_before_rendering)
     test_system(cmd);
 }
 
-TEST_MAIN(frame_fits_box_with_margin, frame_named_medium, studio_scene_of_a_grid, studio_scene_of_a_fire,
+/* A small pbrt-v4 scene beside a grid made by brume gen; returns the .pbrt's path. */
+static const char *write_pbrt(const char *name, const char *camera_prefix, const char *extra)
+{
+    const char *grid = gen_grid("pbrt-grid.nvdb", "cloud --dims 8x8x8 --shape ellipsoid --bounds 0,0,0,1,1,1");
+    char text[4096];
+    snprintf(text, sizeof text,
+             "Integrator \"volpath\" \"integer maxdepth\" [7]\n"
+             "Sampler \"sobol\" \"integer pixelsamples\" 8\n"
+             "Film \"rgb\" \"integer xresolution\" [64] \"integer yresolution\" [32] \"string filename\" \"x.exr\"\n"
+             "%sLookAt 0 0 5  0 0 0  0 1 0\n"
+             "Camera \"perspective\" \"float fov\" [30]\n"
+             "WorldBegin\n"
+             "LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n"
+             "LightSource \"distant\" \"point3 to\" [0 -1 0] \"rgb L\" [1 2 3] \"float scale\" 2\n"
+             "AttributeBegin\n"
+             "  Translate 1 0 0\n"
+             "  MakeNamedMedium \"smoke\" \"string type\" \"nanovdb\" \"string filename\" \"%s\"\n"
+             "    \"rgb sigma_a\" [1 2 3] \"spectrum sigma_s\" [200 0.5 900 0.5] \"float scale\" [2] \"float g\" 0.3\n"
+             "AttributeEnd\n"
+             "AttributeBegin\n"
+             "  Material \"interface\"\n"
+             "  MediumInterface \"smoke\" \"\"\n"
+             "  Shape \"sphere\" \"float radius\" 3\n"
+             "AttributeEnd\n%s",
+             camera_prefix, grid, extra);
+    const char *path = test_tmp_path(name);
+    test_write_file(path, text);
+    return path;
+}
+
+/* pbrt-v4's units and conventions: sigma x scale per unit density, L x scale, the film,
+ * samples and depth, the medium's transform, the camera's handedness and fov. */
+TEST(pbrt_scene_maps_units)
+{
+    const char *path = write_pbrt("units.pbrt", "Scale -1 1 1\n", "");
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_render_settings rs;
+    brume_scene_get_settings(s, &rs);
+    ASSERT_EQ_INT(rs.width, 64);
+    ASSERT_EQ_INT(rs.height, 32);
+    ASSERT_EQ_INT(rs.spp, 8);
+    ASSERT_EQ_INT(rs.max_depth, 7);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    const medium *m = &s->media[0];
+    ASSERT_NEAR(m->sigma_a.c[0], 2.0, 1e-12);
+    ASSERT_NEAR(m->sigma_a.c[2], 6.0, 1e-12);
+    ASSERT_NEAR(m->sigma_s.c[1], 1.0, 1e-12);
+    ASSERT_NEAR(density_bounds(m->rho).lo.x, 1.0, 1e-9); /* the CTM at MakeNamedMedium */
+    ASSERT_NEAR(density_bounds(m->rho).hi.x, 2.0, 1e-9);
+    ASSERT_NEAR(s->bg.L.c[2], 0.3, 1e-12);
+    ASSERT_EQ_INT(s->nlights, 1);
+    ASSERT_NEAR(s->lights[0].L.c[2], 6.0, 1e-12);
+    ASSERT_NEAR(s->lights[0].direction.y, -1.0, 1e-12);
+    ASSERT_NEAR(s->cam.position.z, 5.0, 1e-12);
+    ASSERT_NEAR(s->cam.f.s.x, 1.0, 1e-12); /* image right is +x, as pbrt draws it with Scale -1 1 1 */
+    ASSERT_NEAR(s->cam.fov, 30.0, 1e-12); /* the shorter side is vertical */
+    ASSERT_TRUE(s->surf == NULL);         /* the interface sphere only bounds the medium */
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    remove(path);
+    remove(test_tmp_path("pbrt-grid.nvdb"));
+}
+
+static void expect_refusal(const char *prefix, const char *extra, const char *line, const char *frag)
+{
+    const char *path = write_pbrt("bad.pbrt", prefix, extra);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_TRUE(brume_scene_load(ctx, path, &s) != BRUME_OK);
+    const char *msg = brume_context_last_error(ctx);
+    char want[1200];
+    snprintf(want, sizeof want, "%s:%s: ", path, line);
+    ASSERT_CONTAINS(msg, want);
+    ASSERT_CONTAINS(msg, frag);
+    ASSERT_TRUE(strchr(msg, '\n') == NULL);
+    brume_context_release(ctx);
+    remove(path);
+}
+
+/* What brume cannot honour is refused with FILE:LINE and the directive or parameter. */
+TEST(pbrt_refuses_what_it_cannot_honour)
+{
+    expect_refusal("", "", "5", "mirrored");
+    expect_refusal("Scale -1 1 1\n", "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]\n", "20",
+                   "Shape \"trianglemesh\"");
+    expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"float power\" 3\n", "20", "parameter \"float power\"");
+    expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"spectrum L\" [400 1 700 2]\n", "20",
+                   "varies with wavelength");
+    expect_refusal("Scale -1 1 1\n", "MakeNamedMedium \"f\" \"string type\" \"cloud\"\n", "20", "type \"cloud\"");
+    expect_refusal("Scale -1 1 1\n", "Include \"more.pbrt\"\n", "20", "Include: not supported");
+    remove(test_tmp_path("pbrt-grid.nvdb"));
+}
+
+TEST_MAIN(pbrt_scene_maps_units, pbrt_refuses_what_it_cannot_honour, frame_fits_box_with_margin, frame_named_medium, studio_scene_of_a_grid, studio_scene_of_a_fire,
           cli_renders_a_grid_file, sequence_patterns, sequence_frames_read_their_files, sequence_checked_before_rendering)

@@ -13,6 +13,7 @@
 #include "io/json.h"
 #include "io/scene_methods.h"
 #include "io/scene_stam.h"
+#include "io/scene_pbrt.h"
 #include "io/scene_studio.h"
 #include "io/scene_keys.h"
 #include "io/scene_override.h"
@@ -942,11 +943,14 @@ static brume_status read_text_file(const char *path, char **out)
 }
 
 /* The one dispatch from a file to the scene description the reader takes: a grid file
- * becomes its studio scene (io/scene_studio.c), anything else is read as JSON. */
+ * becomes its studio scene (io/scene_studio.c), a .pbrt file its translation
+ * (io/scene_pbrt.c), anything else is read as JSON. */
 static brume_status scene_source_text(const char *path, const brume_studio_options *studio, char **text)
 {
     if (scene_studio_is_grid(path))
         return scene_studio_json(path, studio, text);
+    if (scene_pbrt_is_pbrt(path))
+        return scene_pbrt_json(path, text);
     return read_text_file(path, text);
 }
 
