@@ -491,14 +491,12 @@ typedef struct pbrt_state {
     bool have_background;
 } pbrt_state;
 
-static brume_status camera_directive(pbrt_state *S, params *ps)
+static brume_status camera_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
-    if (strcmp(L->text, "perspective") != 0)
-        return fail(L, "Camera \"%s\": brume has a perspective camera only", L->text);
-    next(L);
-    brume_status st = read_params(L, ps);
-    if (st) return st;
+    brume_status st;
+    if (strcmp(type, "perspective") != 0)
+        return fail(L, "Camera \"%s\": brume has a perspective camera only", type);
     S->fov = 90.0;
     S->lens_radius = 0.0;
     S->focal_distance = 1e6;
@@ -522,14 +520,10 @@ static brume_status camera_directive(pbrt_state *S, params *ps)
     return BRUME_OK;
 }
 
-static brume_status light_directive(pbrt_state *S, params *ps)
+static brume_status light_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
-    char type[64];
-    copy(type, sizeof type, L->text);
-    next(L);
-    brume_status st = read_params(L, ps);
-    if (st) return st;
+    brume_status st;
     double Lrgb[3] = {1, 1, 1}, scale = 1.0;
     if ((st = get_float(L, ps, "scale", &scale))) return st;
     m4 ctm = S->a[S->depth].ctm;
@@ -572,14 +566,10 @@ static brume_status light_directive(pbrt_state *S, params *ps)
     return BRUME_OK;
 }
 
-static brume_status medium_directive(pbrt_state *S, params *ps)
+static brume_status medium_directive(pbrt_state *S, const char *name, params *ps)
 {
     lexer *L = &S->L;
-    char name[128];
-    copy(name, sizeof name, L->text);
-    next(L);
-    brume_status st = read_params(L, ps);
-    if (st) return st;
+    brume_status st;
     char type[64] = "", file[1024] = "";
     if ((st = get_string(L, ps, "type", type, sizeof type))) return st;
     if (strcmp(type, "nanovdb") != 0)
@@ -658,14 +648,10 @@ static brume_status medium_directive(pbrt_state *S, params *ps)
     return BRUME_OK;
 }
 
-static brume_status shape_directive(pbrt_state *S, params *ps)
+static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
-    char type[64];
-    copy(type, sizeof type, L->text);
-    next(L);
-    brume_status st = read_params(L, ps);
-    if (st) return st;
+    brume_status st;
     if (strcmp(type, "sphere") != 0)
         return fail(L, "Shape \"%s\": not supported by brume's pbrt reader (sphere)", type);
     double radius = 1.0;
@@ -757,26 +743,26 @@ static brume_status directive(pbrt_state *S, params *ps)
             for (int j = 0; j < 4; j++)
                 t.m[4 * i + j] = v[4 * j + i];
         a->ctm = dir[0] == 'T' ? t : m4_mul(a->ctm, t);
-    } else if (strcmp(dir, "Camera") == 0) {
+    } else if (strcmp(dir, "Camera") == 0 || strcmp(dir, "Film") == 0 || strcmp(dir, "Sampler") == 0 ||
+               strcmp(dir, "Integrator") == 0 || strcmp(dir, "Material") == 0 || strcmp(dir, "LightSource") == 0 ||
+               strcmp(dir, "Shape") == 0 || strcmp(dir, "ColorSpace") == 0 || strcmp(dir, "MakeNamedMedium") == 0) {
+        /* DIRECTIVE "type" (a medium's "name") and a parameter list */
         next(L);
         if (L->kind != TOK_STRING)
-            return fail(L, "%s: expected its type", dir);
-        return camera_directive(S, ps);
-    } else if (strcmp(dir, "Film") == 0 || strcmp(dir, "Sampler") == 0 || strcmp(dir, "Integrator") == 0 ||
-               strcmp(dir, "Material") == 0 || strcmp(dir, "LightSource") == 0 || strcmp(dir, "Shape") == 0 ||
-               strcmp(dir, "ColorSpace") == 0) {
-        next(L);
-        if (L->kind != TOK_STRING)
-            return fail(L, "%s: expected its type", dir);
-        if (strcmp(dir, "LightSource") == 0)
-            return light_directive(S, ps);
-        if (strcmp(dir, "Shape") == 0)
-            return shape_directive(S, ps);
-        char type[64], what[160];
+            return fail(L, "%s: expected its %s", dir, strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type");
+        char type[128], what[200];
         copy(type, sizeof type, L->text);
         snprintf(what, sizeof what, "%s \"%s\"", dir, type);
         next(L);
         if ((st = read_params(L, ps))) return st;
+        if (strcmp(dir, "Camera") == 0)
+            return camera_directive(S, type, ps);
+        if (strcmp(dir, "LightSource") == 0)
+            return light_directive(S, type, ps);
+        if (strcmp(dir, "Shape") == 0)
+            return shape_directive(S, type, ps);
+        if (strcmp(dir, "MakeNamedMedium") == 0)
+            return medium_directive(S, type, ps);
         if (strcmp(dir, "Film") == 0) {
             double x = 1280, y = 720;
             char fn[512];
@@ -813,11 +799,6 @@ static brume_status directive(pbrt_state *S, params *ps)
                 return st;
         }
         if ((st = all_used(L, ps, what))) return st;
-    } else if (strcmp(dir, "MakeNamedMedium") == 0) {
-        next(L);
-        if (L->kind != TOK_STRING)
-            return fail(L, "%s: expected its name", dir);
-        return medium_directive(S, ps);
     } else if (strcmp(dir, "MediumInterface") == 0) {
         next(L);
         if (L->kind != TOK_STRING)
