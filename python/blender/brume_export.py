@@ -185,12 +185,17 @@ def mesh_json(obj, folder):
     bpy.ops.object.select_all(action="DESELECT")
     obj.select_set(True)
     bpy.ops.export_scene.gltf(filepath=path, use_selection=True, export_format="GLB", export_apply=True)
-    albedo = [0.8, 0.8, 0.8]
+    albedo = [0.8, 0.8, 0.8]  # Cycles renders a mesh without material as a 0.8 grey diffuse
     mat = obj.active_material
-    if mat is not None and mat.use_nodes:
-        p = next((n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
-        if p is not None and not p.inputs["Base Color"].is_linked:
-            albedo = vec(p.inputs["Base Color"].default_value[:3])
+    if mat is not None:
+        out = next((n for n in mat.node_tree.nodes if n.type == "OUTPUT_MATERIAL"), None) if mat.use_nodes else None
+        bsdf = out.inputs["Surface"].links[0].from_node if out and out.inputs["Surface"].is_linked else None
+        # brume's surfaces are Lambertian: a Diffuse BSDF of roughness 0 maps exactly (a
+        # Principled BSDF has a specular lobe brume does not have)
+        if bsdf is None or bsdf.type != "BSDF_DIFFUSE" or bsdf.inputs["Color"].is_linked or \
+                bsdf.inputs["Roughness"].default_value != 0 or bsdf.inputs["Normal"].is_linked:
+            raise ExportError("mesh %s: material %s (brume maps a Diffuse BSDF of roughness 0)" % (obj.name, mat.name))
+        albedo = vec(bsdf.inputs["Color"].default_value[:3])
     # glTF is y-up: the exporter turned Blender's z-up; turn it back
     return {"type": "mesh", "name": obj.name, "file": path, "material": {"albedo": albedo},
             "transform": {"rotate": {"axis": [1, 0, 0], "angle": 90}}}

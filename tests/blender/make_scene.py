@@ -20,7 +20,7 @@ cy.samples = int(spp)
 cy.use_adaptive_sampling = False
 cy.use_denoising = False
 cy.seed = 7
-cy.max_bounces = cy.volume_bounces = cy.transparent_max_bounces = 1024
+cy.max_bounces = cy.volume_bounces = cy.transparent_max_bounces = cy.diffuse_bounces = 1024
 cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
 cy.filter_width = 1.0
 scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 48, 36, 100
@@ -52,6 +52,21 @@ pv.inputs["Anisotropy"].default_value = 0.4
 nt.links.new(pv.outputs[0], out.inputs["Volume"])
 mat.cycles.volume_interpolation = "LINEAR"
 vol.data.materials.append(mat)
+
+# a ground under the cloud: a mesh exported as glTF, with a Diffuse BSDF
+bpy.ops.mesh.primitive_plane_add(size=6, location=(0.3, 0.2, -1.2))
+ground = bpy.context.active_object
+ground.rotation_euler = (0.1, 0.0, 0.3)
+gmat = bpy.data.materials.new("ground")
+gmat.use_nodes = True
+gn = gmat.node_tree
+for n in list(gn.nodes):
+    gn.nodes.remove(n)
+gout = gn.nodes.new("ShaderNodeOutputMaterial")
+diff = gn.nodes.new("ShaderNodeBsdfDiffuse")
+diff.inputs["Color"].default_value = (0.5, 0.4, 0.3, 1)
+gn.links.new(diff.outputs[0], gout.inputs["Surface"])
+ground.data.materials.append(gmat)
 
 sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", type="SUN"))
 sun.data.energy = 3.0
