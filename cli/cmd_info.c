@@ -1,6 +1,7 @@
 /* cmd_info.c - `brume info FILE`: every grid of a .vdb/.nvdb (name, value type, class,
  * index box, active voxels, value range, NanoVDB memory), then the grid brume reads (or the
  * one of --grid): format, dimensions, world bounds, value range, memory and active voxels. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,8 +9,44 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "core/error.h"
+#include "io/grid_sequence.h"
 
-static const char usage[] = "usage: brume info [flags] FILE\n" CLI_LOAD_FLAGS_HELP;
+static const char usage[] = "usage: brume info [flags] FILE\n"
+                            "  FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the range and the bounds over it\n"
+                            CLI_LOAD_FLAGS_HELP;
+
+/* A frame pattern: the range of files present and the world box over all of them (each
+ * file loaded in turn, one in memory at a time). */
+static int info_sequence(const char *pattern, const density_load_options *o)
+{
+    long first, last;
+    if (seq_range(pattern, &first, &last) != BRUME_OK) {
+        cli_error("%.1000s", err_message());
+        return 1;
+    }
+    printf("sequence:       %s\n", pattern);
+    printf("frames:         files %ld to %ld (%ld files)\n", first, last, last - first + 1);
+    box3 b = box3_empty();
+    double rho_max = 0.0;
+    for (long n = first; n <= last; n++) {
+        char name[4096];
+        seq_name(pattern, n, name, sizeof name);
+        density *d = density_load_file(name, o);
+        if (!d) {
+            cli_error("%.1000s", err_message());
+            return 1;
+        }
+        box3 a = density_bounds(d);
+        b.lo = v3_min(b.lo, a.lo);
+        b.hi = v3_max(b.hi, a.hi);
+        rho_max = fmax(rho_max, density_max(d));
+        density_release(d);
+    }
+    printf("world bounds:   (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g) over the sequence\n", b.lo.x, b.lo.y, b.lo.z,
+           b.hi.x, b.hi.y, b.hi.z);
+    printf("values:         up to %.6g\n", rho_max);
+    return 0;
+}
 
 int cmd_info(int argc, char **argv)
 {
@@ -36,6 +73,13 @@ int cmd_info(int argc, char **argv)
         cli_error("info: no FILE given (see brume info --help)");
         return 2;
     }
+    int pat = seq_is_pattern(path);
+    if (pat < 0) {
+        cli_error("%.1000s", err_message());
+        return 1;
+    }
+    if (pat)
+        return info_sequence(path, &o);
     unsigned char head[16] = {0};
     size_t nhead = 0;
     FILE *f = fopen(path, "rb");

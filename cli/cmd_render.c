@@ -18,8 +18,10 @@
 static void render_usage(FILE *out)
 {
     fprintf(out,
-            "usage: brume render [SCENE.json] [options]\n"
-            "Renders SCENE (or the built-in default scene) and writes an image, or a sequence of frames.\n\n"
+            "usage: brume render [SCENE] [options]\n"
+            "Renders SCENE (or the built-in default scene) and writes an image, or a sequence of frames.\n"
+            "SCENE is a brume scene (.json), or a grid file (.vdb, .nvdb) rendered in a studio scene\n"
+            "(docs/production.md).\n\n"
             "  -o, --output FILE   output image: .png (8-bit sRGB), .exr (float RGBA), .pfm (float RGB)\n"
             "                      (default brume.png); for several frames a printf pattern such as\n"
             "                      out/frame_%%04d.exr, the frame number in place of %%d\n"
@@ -61,7 +63,11 @@ static void render_usage(FILE *out)
             "                      after the render it serves the final image until Ctrl-C\n"
             "  --serve-exit        with --serve: exit when the render is written\n"
             "  --progress-every S  with stderr not a terminal: a progress line every S seconds (default 10)\n"
-            "  --quiet             no progress bar, progress lines or summary\n\n"
+            "  --quiet             no progress bar, progress lines or summary\n"
+            "  --print-scene       write the scene as brume JSON to stdout and exit (the studio scene of a\n"
+            "                      grid file, to start editing from)\n"
+            "  --up y|z, --grid NAME, --no-ground   a grid file's studio scene: the up axis (default y),\n"
+            "                      the density grid, no ground plane\n\n"
             "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
             "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
             "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once, and so\n"
@@ -374,6 +380,8 @@ typedef struct render_opts {
      * inside its own folder */
     int nlight;
     const char *light_key[MAX_SETS], *light_value[MAX_SETS];
+    brume_studio_options studio; /* a grid file's studio scene (--up, --grid, --no-ground) */
+    bool print_scene;            /* --print-scene */
 } render_opts;
 
 /* Scene overrides name files relative to the scene file's folder; on the command line a
@@ -419,7 +427,7 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     brume_scene *scene = NULL;
     brume_status st;
     /* the built-in scene is static: it is loaded at time 0 and its camera moved below */
-    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets};
+    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio};
     st = brume_scene_load_with(ctx, o->scene_path, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
@@ -488,6 +496,29 @@ static void print_stats(brume_context *ctx, const brume_scene *scene, const char
         fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", st.method,
                 st.path_tracking_cpu_seconds, st.path_nee_cpu_seconds, st.path_shading_cpu_seconds);
     }
+}
+
+/* --print-scene: the scene description the loader reads, on stdout. */
+static int print_scene(const render_opts *o)
+{
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("out of memory");
+        return 1;
+    }
+    brume_load_options lo = {0.0, 0, NULL, 0, &o->studio};
+    char *text = NULL;
+    int rc = 0;
+    if (brume_scene_text(ctx, o->scene_path, &lo, &text) != BRUME_OK) {
+        cli_error("%s", brume_context_last_error(ctx));
+        rc = 1;
+    } else if (fputs(text, stdout) == EOF || putchar('\n') == EOF || fflush(stdout) != 0) {
+        cli_error("--print-scene: cannot write to stdout");
+        rc = 1;
+    }
+    free(text);
+    brume_context_release(ctx);
+    return rc;
 }
 
 int cmd_render(int argc, char **argv)
@@ -588,6 +619,19 @@ int cmd_render(int argc, char **argv)
             serve_exit = true;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
             o.quiet = true;
+        } else if (strcmp(a, "--print-scene") == 0) {
+            o.print_scene = true;
+        } else if (strcmp(a, "--no-ground") == 0) {
+            o.studio.no_ground = true;
+        } else if (strcmp(a, "--grid") == 0) {
+            if (!(o.studio.grid = arg_value(argc, argv, &i))) return 2;
+        } else if (strcmp(a, "--up") == 0) {
+            if (!(v = arg_value(argc, argv, &i))) return 2;
+            if ((strcmp(v, "y") != 0 && strcmp(v, "z") != 0)) {
+                cli_error("--up: '%s': y or z", v);
+                return 2;
+            }
+            o.studio.up = v[0];
         } else if (a[0] == '-' && a[1] != '\0') {
             cli_error("render: unknown option '%s' (try `brume help render`)", a);
             return 2;
@@ -599,6 +643,8 @@ int cmd_render(int argc, char **argv)
         }
     }
 
+    if (o.print_scene)
+        return print_scene(&o);
     /* what to render, checked before any work */
     bool sequence = first >= 0;
     long nframes = sequence ? last - first + 1 : 1;
@@ -713,6 +759,16 @@ int cmd_render(int argc, char **argv)
     brume_scene *scene = NULL;
     brume_image *image = NULL;
     int rc = 1;
+    if (sequence && o.scene_path) { /* grid sequences: every frame's file, before the first frame */
+        brume_load_options lo = {0.0, 0, o.sets, o.nsets, &o.studio};
+        if (brume_scene_check_frames(ctx, o.scene_path, &lo, first, last) != BRUME_OK) {
+            cli_error("%.1000s", brume_context_last_error(ctx));
+            brume_context_release(ctx);
+            cli_serve_stop(serve);
+            dist_end(&d);
+            return 1;
+        }
+    }
     long done = 0;
     cli_job_result jr = {0};
     double t_all = now_seconds();

@@ -172,7 +172,7 @@ int cmd_sweep(int argc, char **argv)
                 snprintf(texts[k], sizeof texts[k], "%s=%s", keys[k].key, keys[k].values[j]);
                 ov[k] = texts[k];
             }
-            brume_load_options lo = {0.0, 0, ov, nkeys};
+            brume_load_options lo = {0.0, 0, ov, nkeys, NULL};
             brume_scene *s = NULL;
             brume_render_settings rs;
             if (brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)

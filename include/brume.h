@@ -246,14 +246,47 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
  * inside it, as for the file's own keys: a caller's own output path goes to
  * brume_scene_set_option instead. opts may be NULL (time 0, no overrides); the strings are
  * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
+/* STUDIO SCENES (docs/production.md). A grid file given where a scene is expected (.vdb,
+ * .nvdb) becomes a studio scene: the camera framed on the grid's non-zero voxels
+ * (brume_scene_frame_camera) from a three-quarter view, a sun and a sky, a ground plane
+ * under the box or none, and optical coefficients from the grids found: "density" (or the
+ * only float grid) as fog, a "temperature" grid as blackbody fire. The scene is written as
+ * scene-file JSON (brume_scene_text) and read by the scene reader. */
+typedef struct brume_studio_options {
+    const char *grid;     /* the density grid's name; NULL or "" = the default (docs/grids.md) */
+    char up;              /* 'y' or 'z': the world's up axis; 0 = 'y' (OpenVDB's and Houdini's) */
+    bool no_ground;       /* true: no ground plane */
+    double optical_depth; /* > 0: the extinction is scaled so that a ray along the box's
+                             shortest side through density max(rho) has this optical depth;
+                             0 = 10 */
+} brume_studio_options;
 typedef struct brume_load_options {
     double time;                   /* scene time, seconds (used when frame is 0) */
     long frame;                    /* > 0: time = frame / render.fps of the file */
     const char *const *overrides;  /* "KEY=VALUE" strings, or NULL when noverrides is 0 */
     int noverrides;
+    const brume_studio_options *studio; /* for a grid file; NULL = the defaults (all 0) */
 } brume_load_options;
 brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
                                    brume_scene **out);
+/* The scene-file JSON that brume_scene_load_with reads for `path` before the overrides: the
+ * file's own text for a JSON scene, the studio scene for a grid file (.vdb, .nvdb), the
+ * translation of a pbrt-v4 scene (.pbrt, docs/production.md); path NULL: the built-in default
+ * scene. opts may be NULL; only
+ * opts->studio is used. *json is a new NUL-terminated string the caller frees with free();
+ * file names in it are absolute or relative to `path`'s folder, as the loader reads them. */
+brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json);
+/* SEQUENCES (docs/grids.md, "Sequences"). A grid's file name may hold a frame pattern
+ * (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb): each frame reads its own file, file
+ * number frame_offset + frame_step x frame. Checks, before any frame is loaded, that every
+ * frame in [first, last] (frame numbers as brume_load_options.frame) has its file; fails
+ * with one line naming the first frame that has none. opts may be NULL. */
+brume_status brume_scene_check_frames(brume_context *ctx, const char *path, const brume_load_options *opts, long first,
+                                      long last);
+/* The studio scene of a grid file (opts may be NULL): brume_scene_load_with with only
+ * studio options. On success *out is a new uncommitted scene owned by the caller. */
+brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,
+                                      brume_scene **out);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
 /* True when nothing but the camera depends on time (no keyframed light, surface or medium,
@@ -342,6 +375,14 @@ typedef struct brume_camera_key {
 } brume_camera_key;
 brume_status brume_scene_set_camera_keys(brume_context *ctx, brume_scene *scene, const brume_camera_key *keys,
                                          int n);
+/* Auto-framing: at commit, the camera keeps its view direction (position - look_at), up and
+ * fov and is moved to look at the centre of the box holding every non-zero density of the
+ * media named (`media` NULL, "" or "media": all of them; else the medium of that name),
+ * from the distance at which the whole box is in view with `margin` (a fraction in
+ * [0, 0.9] of the half-frame) left on the tighter side, for the final image size. The media
+ * are taken at rest (keyframed motion is not followed); a keyframed camera is refused at
+ * commit. The camera's focus distance keeps its ratio to the look-at distance. */
+brume_status brume_scene_frame_camera(brume_context *ctx, brume_scene *scene, const char *media, double margin);
 
 /* Lights (at most 4096). Colors are linear RGB, each component finite and >= 0. */
 /* Sunlight-like: irradiance (W m^-2) on a surface facing the light, travelling along

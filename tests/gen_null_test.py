@@ -16,6 +16,10 @@ OPTIONAL = {
     "brume_scene_new": {"name"},
     "brume_scene_from_json": {"name"},
     "brume_scene_load_with": {"path", "opts"},
+    "brume_scene_text": {"path", "opts"},  # issue-38's: path NULL is the default scene
+    "brume_scene_new_for_grid": {"opts"},
+    "brume_scene_check_frames": {"opts"},
+    "brume_scene_frame_camera": {"media"},
     "brume_image_write": {"opts"},
     "brume_image_encode_png": {"opts"},  # issue-15's, like brume_image_write
     "brume_scene_set_background_image": {"up"},

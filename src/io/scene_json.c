@@ -10,13 +10,17 @@
 #include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
+#include "io/grid_sequence.h"
 #include "io/json.h"
 #include "io/scene_methods.h"
 #include "io/scene_stam.h"
+#include "io/scene_pbrt.h"
+#include "io/scene_studio.h"
 #include "io/scene_keys.h"
 #include "io/scene_override.h"
 #include "io/scene_surfaces.h"
 #include "render/scene.h"
+#include "render/scene_build.h"
 
 #define SCENE_FILE_MAX_BYTES (64L << 20)
 
@@ -60,16 +64,24 @@ static brume_status parse_unit_vector(const cJSON *j, jloc at, const char *key, 
 static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
-                                       "shutter", "keyframes", NULL};
+                                       "shutter", "keyframes", "frame", "frame_margin", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_camera c;
     brume_camera_default(&c);
-    if ((st = jvec(j, at, "position", 1, c.position))) return st;
-    if ((st = jvec(j, at, "look_at", 1, c.look_at))) return st;
+    char framed[64] = "";
+    double margin = 0.1;
+    if ((st = json_string(j, at, "frame", 0, framed, sizeof framed))) return st;
+    if ((st = json_number(j, at, "frame_margin", 0, 0.0, 0.9, &margin))) return st;
     if ((st = jvec(j, at, "up", 0, c.up))) return st;
     if (!(v3_length(v3(c.up[0], c.up[1], c.up[2])) > 0.0))
         return err_set(BRUME_ERROR_RANGE, "%s: camera.up: must not be the zero vector", at.file);
+    if (framed[0] && !cJSON_HasObjectItem(j, "position") && !cJSON_HasObjectItem(j, "look_at"))
+        scene_studio_direction(c.up, c.position, c.look_at); /* framed: only the direction counts */
+    else if ((st = jvec(j, at, "position", 1, c.position)) || (st = jvec(j, at, "look_at", 1, c.look_at)))
+        return st;
+    if (!framed[0] && cJSON_HasObjectItem(j, "frame_margin"))
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: camera.frame_margin: only with camera.frame", at.file);
     if ((st = json_number(j, at, "fov", 0, 1e-3, 179.0, &c.fov))) return st;
     if ((st = json_number(j, at, "aperture_radius", 0, 0.0, BIG, &c.aperture_radius))) return st;
     if ((st = json_number(j, at, "focus_distance", 0, 1e-9, BIG, &c.focus_distance))) return st;
@@ -85,6 +97,7 @@ static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
                            c.shutter_open, c.shutter_close);
     }
     if ((st = built(brume_scene_set_camera(NULL, s, &c), at))) return st;
+    if (framed[0] && (st = built(brume_scene_frame_camera(NULL, s, framed, margin), at))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (!keys_j)
         return BRUME_OK;
@@ -294,18 +307,61 @@ static brume_status parse_filter(const cJSON *j, jloc at, brume_grid_filter *f)
     return BRUME_OK;
 }
 
+/* The scene's frame number: the frame it was loaded at, or its time in frames. */
+static long scene_frame_number(const brume_scene *s)
+{
+    return lround(s->time * s->settings.fps);
+}
+
+/* A grid file name with a frame pattern (io/grid_sequence.h): the frame's file into path,
+ * from frame_offset, frame_step and beyond. Without a pattern those keys are errors. */
+static brume_status parse_sequence(const cJSON *j, jloc at, const char *name, long frame_no, char *path, size_t cap)
+{
+    int pat = seq_is_pattern(name);
+    if (pat < 0)
+        return err_prefix("%s: %s.file", at.file, at.path);
+    if (!pat) {
+        static const char *const seq_keys[] = {"frame_offset", "frame_step", "beyond"};
+        for (int k = 0; k < 3; k++)
+            if (cJSON_HasObjectItem(j, seq_keys[k]))
+                return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s.%s: only with a frame pattern in file (%%04d, ####, $F4)",
+                               at.file, at.path, seq_keys[k]);
+        return BRUME_OK;
+    }
+    seq_options so = {0, 1, SEQ_REFUSE};
+    double offset = 0.0, step = 1.0;
+    char beyond[16] = "refuse";
+    brume_status st;
+    if ((st = json_number(j, at, "frame_offset", 0, -1e9, 1e9, &offset))) return st;
+    if ((st = json_number(j, at, "frame_step", 0, 1.0, 1e6, &step))) return st;
+    if (offset != floor(offset) || step != floor(step))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: must be an integer", at.file, at.path,
+                       offset != floor(offset) ? "frame_offset" : "frame_step");
+    if ((st = json_string(j, at, "beyond", 0, beyond, sizeof beyond))) return st;
+    if (!seq_beyond_from_name(beyond, &so.beyond))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.beyond: unknown '%s' (known: refuse, hold, loop)", at.file, at.path,
+                       beyond);
+    so.offset = (long)offset;
+    so.step = (long)step;
+    char pattern[2048];
+    snprintf(pattern, sizeof pattern, "%s", path);
+    if (seq_file(pattern, &so, frame_no, path, cap) != BRUME_OK)
+        return err_prefix("%s: %s.file", at.file, at.path);
+    return BRUME_OK;
+}
+
 /* The file and loading options of a grid object (a density of type "grid", or a medium's
- * field); `extra` lists keys the caller handles itself. */
-static brume_status parse_grid_options(const cJSON *j, jloc at, const char *const *extra, char *path, size_t cap,
-                                       brume_grid_file_options *o)
+ * field) at scene frame `frame`; `extra` lists keys the caller handles itself. */
+static brume_status parse_grid_options(const cJSON *j, jloc at, const char *const *extra, long frame_no, char *path,
+                                       size_t cap, brume_grid_file_options *o, bool *sequence)
 {
     static const char *const base[] = {"type", "file", "grid", "format", "dims", "bounds", "transform", "filter",
-                                       "scale", "max_memory_mb"};
-    const char *keys[16];
+                                       "scale", "max_memory_mb", "frame_offset", "frame_step", "beyond"};
+    const char *keys[24];
     int nk = 0;
     for (size_t k = 0; k < sizeof base / sizeof *base; k++)
         keys[nk++] = base[k];
-    for (int k = 0; extra && extra[k] && nk < 15; k++)
+    for (int k = 0; extra && extra[k] && nk < 23; k++)
         keys[nk++] = extra[k];
     keys[nk] = NULL;
     brume_status st = json_check_object(j, at, keys);
@@ -314,6 +370,8 @@ static brume_status parse_grid_options(const cJSON *j, jloc at, const char *cons
     char name[1024];
     if ((st = json_string(j, at, "file", 1, name, sizeof name))) return st;
     json_resolve_path(at.file, name, path, cap);
+    if ((st = parse_sequence(j, at, name, frame_no, path, cap))) return st;
+    *sequence = seq_is_pattern(name) == 1; /* a file per frame: the world is not static */
     if ((st = json_string(j, at, "grid", 0, o->grid, sizeof o->grid))) return st;
     if ((st = json_string(j, at, "format", 0, o->format, sizeof o->format))) return st;
     if (cJSON_HasObjectItem(j, "dims")) {
@@ -346,13 +404,16 @@ static brume_status parse_grid_options(const cJSON *j, jloc at, const char *cons
 }
 
 /* A voxel grid from a file (docs/grids.md lists the formats). */
-static brume_status parse_grid_density(const cJSON *j, jloc at, brume_density **out)
+static brume_status parse_grid_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
 {
     brume_grid_file_options o;
     char path[2048];
-    brume_status st = parse_grid_options(j, at, NULL, path, sizeof path, &o);
+    bool sequence = false;
+    brume_status st = parse_grid_options(j, at, NULL, scene_frame_number(s), path, sizeof path, &o, &sequence);
     if (st) return st;
     st = brume_density_load(NULL, path, &o, out);
+    if (st == BRUME_OK && sequence)
+        (*out)->evolves = true; /* frames differ: the scene is loaded again for each */
     return st ? err_prefix("%s: %s.file", at.file, at.path) : BRUME_OK;
 }
 
@@ -440,7 +501,7 @@ static brume_status parse_density(const cJSON *j, jloc at, const brume_scene *s,
         return built(brume_density_new_constant(NULL, value, b, out), at);
     }
     if (strcmp(type, "grid") == 0)
-        return parse_grid_density(j, at, out);
+        return parse_grid_density(j, at, s, out);
     if (strcmp(type, "fractal_cloud") == 0)
         return parse_fractal_density(j, at, s, out);
     return err_set(BRUME_ERROR_PARSE,
@@ -542,7 +603,8 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
  * keys default to the medium's grid density's (same file, placement, filter), so that
  * {"grid": "temperature"} is the temperature grid of the density's file. Loads `count`
  * fields (1: a float grid; 3: a vec3 grid's components, or a float grid's thrice). */
-static brume_status parse_field(const cJSON *medium_j, jloc at, const char *key, const char *const *extra,
+static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scene *s, const char *key,
+                                const char *const *extra,
                                 int count, brume_density **out)
 {
     char kp[256];
@@ -557,7 +619,7 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const char *key,
     const cJSON *dt = d ? cJSON_GetObjectItemCaseSensitive(d, "type") : NULL;
     if (cJSON_IsString(dt) && strcmp(dt->valuestring, "grid") == 0) {
         static const char *const inherit[] = {"file", "format", "dims", "bounds", "transform", "filter",
-                                              "max_memory_mb"};
+                                              "max_memory_mb", "frame_offset", "frame_step", "beyond"};
         bool own_place = cJSON_HasObjectItem(f, "bounds") || cJSON_HasObjectItem(f, "transform");
         for (size_t k = 0; k < sizeof inherit / sizeof *inherit; k++) {
             const cJSON *v = cJSON_GetObjectItemCaseSensitive(d, inherit[k]);
@@ -568,10 +630,13 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const char *key,
     }
     brume_grid_file_options o;
     char path[2048];
-    brume_status st = parse_grid_options(merged, fat, extra, path, sizeof path, &o);
+    bool sequence = false;
+    brume_status st = parse_grid_options(merged, fat, extra, scene_frame_number(s), path, sizeof path, &o, &sequence);
     cJSON_Delete(merged);
     if (st) return st;
     st = count == 3 ? brume_density_load_rgb(NULL, path, &o, out) : brume_density_load(NULL, path, &o, out);
+    if (st == BRUME_OK && sequence)
+        (*out)->evolves = true; /* the scene's builder marks the world moving (scene_build.c) */
     return st ? err_prefix("%s: %s", at.file, kp) : BRUME_OK;
 }
 
@@ -582,7 +647,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
     char kp[256];
     if (cJSON_HasObjectItem(j, "albedo")) {
         brume_density *rgb[3];
-        if ((st = parse_field(j, at, "albedo", NULL, 3, rgb))) return st;
+        if ((st = parse_field(j, at, s, "albedo", NULL, 3, rgb))) return st;
         if ((st = built(brume_scene_set_medium_albedo(NULL, s, index, rgb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "albedo")}))) {
             for (int c = 0; c < 3; c++)
@@ -606,7 +671,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
             if ((st = json_number(bbj, bat, "cutoff", 0, 0.0, 1e30, &bb.cutoff))) return st;
         }
         brume_density *t = NULL;
-        if ((st = parse_field(j, at, "temperature", NULL, 1, &t))) return st;
+        if ((st = parse_field(j, at, s, "temperature", NULL, 1, &t))) return st;
         if ((st = built(brume_scene_set_medium_temperature(NULL, s, index, t, &bb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "temperature")}))) {
             brume_density_release(t);
@@ -620,7 +685,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
         jloc eat = {at.file, json_key_path(kp, sizeof kp, at.path, "emission_field")};
         if (cJSON_IsObject(f) && (st = jcolor(f, eat, "color", 0, BIG, c))) return st;
         brume_density *e[3];
-        if ((st = parse_field(j, at, "emission_field", extra, 3, e))) return st;
+        if ((st = parse_field(j, at, s, "emission_field", extra, 3, e))) return st;
         if ((st = built(brume_scene_set_medium_emission_field(NULL, s, index, e, 3, c), eat))) {
             for (int k = 0; k < 3; k++)
                 brume_density_release(e[k]);
@@ -892,8 +957,21 @@ static brume_status read_text_file(const char *path, char **out)
     return BRUME_OK;
 }
 
+/* The one dispatch from a file to the scene description the reader takes: a grid file
+ * becomes its studio scene (io/scene_studio.c), a .pbrt file its translation
+ * (io/scene_pbrt.c), anything else is read as JSON. */
+static brume_status scene_source_text(const char *path, const brume_studio_options *studio, char **text)
+{
+    if (scene_studio_is_grid(path))
+        return scene_studio_json(path, studio, text);
+    if (scene_pbrt_is_pbrt(path))
+        return scene_pbrt_json(path, text);
+    return read_text_file(path, text);
+}
+
 static brume_status load(brume_context *ctx, const char *path, double time, long frame_no,
-                         const char *const *overrides, int noverrides, brume_scene **out)
+                         const char *const *overrides, int noverrides, const brume_studio_options *studio,
+                         brume_scene **out)
 {
     err_clear();
     if (out)
@@ -903,7 +981,7 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
     if (!isfinite(time))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", path, time));
     char *text = NULL;
-    brume_status st = read_text_file(path, &text);
+    brume_status st = scene_source_text(path, studio, &text);
     if (st == BRUME_OK) {
         st = scene_parse_json_with(text, path, time, frame_no, overrides, noverrides, out);
         free(text);
@@ -914,7 +992,7 @@ static brume_status load(brume_context *ctx, const char *path, double time, long
 brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
                                    brume_scene **out)
 {
-    brume_load_options o = {0.0, 0, NULL, 0};
+    brume_load_options o = {0.0, 0, NULL, 0, NULL};
     if (opts)
         o = *opts;
     if (!out || o.noverrides < 0 || (o.noverrides > 0 && !o.overrides)) {
@@ -932,7 +1010,7 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
     }
     long frame_no = o.frame > 0 ? o.frame : -1;
     if (path)
-        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, out);
+        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, o.studio, out);
     err_clear();
     *out = NULL;
     if (!isfinite(o.time))
@@ -943,12 +1021,12 @@ brume_status brume_scene_load_with(brume_context *ctx, const char *path, const b
 
 brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
 {
-    return load(ctx, path, 0.0, -1, NULL, 0, out);
+    return load(ctx, path, 0.0, -1, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out)
 {
-    return load(ctx, path, time, -1, NULL, 0, out);
+    return load(ctx, path, time, -1, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
@@ -958,7 +1036,7 @@ brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long f
         *out = NULL;
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
     }
-    return load(ctx, path, 0.0, frame_no, NULL, 0, out);
+    return load(ctx, path, 0.0, frame_no, NULL, 0, NULL, out);
 }
 
 brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
@@ -967,4 +1045,34 @@ brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
     if (!out)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_default: out: NULL"));
     return ctx_report(ctx, scene_parse_json(scene_default_json, "<default scene>", out));
+}
+
+brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json)
+{
+    err_clear();
+    if (!json)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_text: json: NULL"));
+    *json = NULL;
+    if (!path) {
+        if (!(*json = strdup(scene_default_json)))
+            return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "<default scene>: out of memory"));
+        return ctx_report(ctx, BRUME_OK);
+    }
+    return ctx_report(ctx, scene_source_text(path, opts ? opts->studio : NULL, json));
+}
+
+brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,
+                                      brume_scene **out)
+{
+    if (!path || !out || !scene_studio_is_grid(path)) {
+        err_clear();
+        if (out)
+            *out = NULL;
+        if (!path || !out)
+            return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_for_grid: %s: NULL",
+                                           !path ? "path" : "out"));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: not a grid file (.vdb, .nvdb)", path));
+    }
+    brume_load_options lo = {0.0, 0, NULL, 0, opts};
+    return brume_scene_load_with(ctx, path, &lo, out);
 }

@@ -147,6 +147,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     brume_status st = scene_check_settings(s->source, &s->settings);
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
+    if ((st = scene_frame_resolve(s)) != BRUME_OK)
+        return ctx_report(ctx, st);
     camera *c = &s->cam;
     vec3 view = v3_sub(c->look_at, c->position);
     if (!(v3_length(view) > 0.0))

@@ -44,6 +44,11 @@ struct brume_scene {
     io_inputs inputs;   /* the files the scene was read from (io/regular_file.h), owned */
     double max_work;    /* render.max_work: units of work a method may estimate before it starts
                            (a step of a ray, a voxel generated, a blob at a lattice point) */
+    struct {
+        bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
+        char media[64]; /* "media" = all of them, else one medium's name */
+        double margin;  /* fraction of the frame left around the box, [0, 0.9] */
+    } frame;
 };
 
 /* What integrator_prepare built for this scene, reused by later renders of it. Rendering
@@ -80,5 +85,12 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
 /* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
  * fields, gray sigma_t. Call after medium_init. */
 bool scene_flight_control(const brume_scene *s);
+
+/* Commit's auto-framing (render/scene_frame.c): moves the camera onto the media that
+ * brume_scene_frame_camera named; BRUME_OK at once when it was not called. */
+brume_status scene_frame_resolve(brume_scene *s);
+/* The world box holding every non-zero value of d (its voxel box cut to the cells that are
+ * not empty), or an empty box: what framing looks at. */
+box3 scene_density_box(const density *d);
 
 #endif

@@ -20,8 +20,10 @@ static brume_status check_medium(const char *fn, const brume_scene *s, int index
 
 /* The fields' values must be usable: finite and >= 0 is checked by every loader; a field
  * that is all 0 is allowed (it does nothing). */
-static void take(density **slot, brume_density *h)
+static void take(brume_scene *s, density **slot, brume_density *h)
 {
+    if (h->evolves) /* a field read per frame (a grid sequence): the world is not static */
+        s->world_moves = true;
     density_release(*slot);
     *slot = h->d;
     free(h);
@@ -40,7 +42,7 @@ brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *s, i
         if (!albedo[c])
             return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: albedo[%d]: NULL", fn, c));
     for (int c = 0; c < 3; c++)
-        take(&s->media[index].albedo[c], albedo[c]);
+        take(s, &s->media[index].albedo[c], albedo[c]);
     return ctx_report(ctx, BRUME_OK);
 }
 
@@ -74,7 +76,7 @@ brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene 
         (st = build_number(fn, "blackbody.cutoff", bb->cutoff, 0.0, 1e30)))
         return ctx_report(ctx, st);
     medium *m = &s->media[index];
-    take(&m->temperature, temperature);
+    take(s, &m->temperature, temperature);
     m->bb_scale = bb->scale;
     m->bb_tscale = bb->temperature_scale;
     m->bb_offset = bb->temperature_offset;
@@ -108,7 +110,7 @@ brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_sce
         m->emission[c] = NULL;
     }
     for (int c = 0; c < n; c++)
-        take(&m->emission[c], fields[c]);
+        take(s, &m->emission[c], fields[c]);
     m->emission_color = col_e;
     return ctx_report(ctx, BRUME_OK);
 }
