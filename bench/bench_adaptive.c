@@ -92,20 +92,12 @@ static brume_image *render(brume_context *ctx, brume_scene *s, double *seconds, 
     return img;
 }
 
-static int layer(const brume_image *img, const char *name)
-{
-    for (int i = 0; i < brume_image_layer_count(img); i++)
-        if (strcmp(brume_image_layer_name(img, i), name) == 0)
-            return i;
-    return -1;
-}
-
 /* RMS relative error of img's channel mean against ref (bias of the reference removed). */
 static double rel_error(const brume_image *img, const brume_image *ref)
 {
     int n = brume_image_width(ref) * brume_image_height(ref);
     const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
-    int v = layer(ref, "variance");
+    int v = bench_layer(ref, "variance");
     const float *var = v >= 0 ? brume_image_layer_pixels(ref, v) : NULL;
     double sum = 0.0;
     for (int i = 0; i < n; i++) {
@@ -151,7 +143,7 @@ static void bench(const setup *su, int ref_spp)
     char ref_path[256];
     snprintf(ref_path, sizeof ref_path, "adaptive-ref-%s-%dx%d-%d.exr", su->name, su->width, su->height, ref_spp);
     brume_image *ref = NULL;
-    if (brume_image_read(ctx, ref_path, &ref) != BRUME_OK || layer(ref, "variance") < 0) {
+    if (brume_image_read(ctx, ref_path, &ref) != BRUME_OK || bench_layer(ref, "variance") < 0) {
         brume_image_release(ref);
         brume_scene *s = scene_for(ctx, su, ref_spp, 0.0, BRUME_AOV_VARIANCE);
         double secs, samples;

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brume.h"
+
 /* "machine: N x MODEL, load L1 L5 L15" from /proc. */
 static inline void bench_machine(void)
 {
@@ -56,6 +58,15 @@ static inline double bench_median(double *v, int n)
 static inline double bench_error_without_reference(double m, int spp, int ref_spp)
 {
     return m / sqrt(1.0 + (double)spp / ref_spp);
+}
+
+/* The index of img's layer `name` (an AOV: "variance", "depth" ...), or -1. */
+static inline int bench_layer(const brume_image *img, const char *name)
+{
+    for (int i = 0; i < brume_image_layer_count(img); i++)
+        if (strcmp(brume_image_layer_name(img, i), name) == 0)
+            return i;
+    return -1;
 }
 
 #endif

@@ -76,20 +76,12 @@ static brume_image *render(brume_context *ctx, const char *path, double seconds,
     return img;
 }
 
-static int layer(const brume_image *img, const char *name)
-{
-    for (int i = 0; i < brume_image_layer_count(img); i++)
-        if (strcmp(brume_image_layer_name(img, i), name) == 0)
-            return i;
-    return -1;
-}
-
 /* Relative MSE of img against ref, the reference's variance removed. */
 static double rel_mse(const brume_image *img, const brume_image *ref)
 {
     int n = brume_image_width(ref) * brume_image_height(ref);
     const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
-    const float *var = brume_image_layer_pixels(ref, layer(ref, "variance"));
+    const float *var = brume_image_layer_pixels(ref, bench_layer(ref, "variance"));
     double sum = 0.0;
     for (int i = 0; i < n; i++)
         for (int c = 0; c < 3; c++) {
