@@ -7,7 +7,7 @@
 # (rendering - T) / T, which the budget promises below 5 %. Medians of 3 runs; the machine's
 # load is printed, since a shared machine slows every sample.
 #
-#   bench/bench_budget.sh BUILD_DIR [T]     (default T = 5; grids from ../shared/data)
+#   bench/bench_budget.sh BUILD_DIR [T]     (default T = 5; grids from data/)
 set -eu
 BUILD=${1:?usage: bench_budget.sh BUILD_DIR [T]}
 T=${2:-5}

@@ -19,7 +19,7 @@
  *
  *   bench_denoise [SECONDS [REFERENCE_SPP [SCENES]]]   (default 5 and 1024; references cached in
  *                   the working folder as denoise-ref-NAME-SPP.exr; run from the build
- *                   folder of a checkout whose ../shared/data holds the grids, or set
+ *                   folder of a checkout (the scenes read the grids in data/), or set
  *                   BRUME_SCENES to the scenes folder) */
 #include <math.h>
 #include <stdio.h>

@@ -551,6 +551,8 @@ static void set_time(brume_render_settings *rs, void *user)
 {
     (void)user;
     rs->time_budget = 0.5;
+    rs->noise_target = 0.0; /* no adaptive sampling: a pixel the default scene's 3 % target stops
+                               would end with fewer samples than the others */
     rs->spp = 1 << 24;
     rs->aovs = BRUME_AOV_SAMPLES;
 }
@@ -573,7 +575,10 @@ TEST(time_budget_ends_the_render)
     ASSERT_TRUE(p.finished);
     ASSERT_TRUE(p.fraction == 1.0 && p.eta == 0.0);
     ASSERT_TRUE(p.spp_min >= 1 && p.spp_max < (1 << 24));
-    ASSERT_TRUE(p.spp_max - p.spp_min <= 1 || p.spp_min == p.spp_max); /* passes are sized to fit whole */
+    /* passes are sized to fit the budget, but the clock read before each sample may cut the last
+     * one (the load of a shared machine changes a sample's cost): the pixels then differ by at
+     * most one pass, PASS_MAX = 16 samples (render.c) */
+    ASSERT_TRUE(p.spp_max - p.spp_min <= 16);
     ASSERT_TRUE(p.elapsed <= 0.5 + 0.2);
     brume_render_job_release(job);
     brume_context_release(ctx);

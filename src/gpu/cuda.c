@@ -123,6 +123,8 @@ static bool cu_open(void)
 brume_status brume_devices(brume_context *ctx, brume_device_info *out, int max, int *count)
 {
     err_clear();
+    if (!out || !count)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_devices: %s: NULL", !out ? "out" : "count"));
     *count = 0;
     pthread_mutex_lock(&cu_lock);
     bool ok = cu_open();
@@ -401,15 +403,18 @@ brume_status gpu_job_pass(brume_render_job *job)
 brume_status brume_device_from_name(brume_context *ctx, const char *name, int *device)
 {
     err_clear();
-    if (name && strcmp(name, "cpu") == 0) {
+    if (!name || !device)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_device_from_name: %s: NULL",
+                                       !name ? "name" : "device"));
+    if (strcmp(name, "cpu") == 0) {
         *device = -1;
         return BRUME_OK;
     }
-    if (name && strcmp(name, "cuda") == 0) {
+    if (strcmp(name, "cuda") == 0) {
         *device = 0;
         return BRUME_OK;
     }
-    if (name && strncmp(name, "cuda:", 5) == 0 && name[5] >= '0' && name[5] <= '9' && strlen(name) <= 7) {
+    if (strncmp(name, "cuda:", 5) == 0 && name[5] >= '0' && name[5] <= '9' && strlen(name) <= 7) {
         char *end;
         long v = strtol(name + 5, &end, 10);
         if (*end == '\0' && v < 64) {
@@ -417,6 +422,5 @@ brume_status brume_device_from_name(brume_context *ctx, const char *name, int *d
             return BRUME_OK;
         }
     }
-    return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "unknown device '%s' (known: cpu, cuda, cuda:N)",
-                                   name ? name : "(null)"));
+    return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "unknown device '%s' (known: cpu, cuda, cuda:N)", name));
 }
