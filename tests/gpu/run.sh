@@ -3,7 +3,7 @@
 #
 #   sh tests/gpu/run.sh [BUNDLE.tar.xz] [OUTDIR]
 #
-# BUNDLE is a brume build packed by gpu-bundle.sh (default .gpu/brume.tar.xz): the GPU
+# BUNDLE is a brume build packed by scripts/gpu-bundle.sh (default .gpu/brume.tar.xz): the GPU
 # machine needs no Debian package. DATA (default .gpu/data) holds cloud64.raw and the 1/16
 # Disney cloud as wdas.nvdb (`brume convert wdas_cloud_sixteenth.vdb wdas.nvdb`).
 # For each check scene it renders on the CPU (all cores) and twice on the GPU with the same
