@@ -928,7 +928,7 @@ static int connect_from(const char *src, int port)
 }
 
 /* Defect 11: idle connections cannot take the live view from others (32 of them blocked it:
- * now 4 per client address, dropped after 10 s idle), and binding beyond loopback warns. */
+ * now 16 per client address, dropped after 10 s idle), and binding beyond loopback warns. */
 TEST(serve_idle_connections_and_exposure)
 {
     const char *dir = fresh_dir("serve");
