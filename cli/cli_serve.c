@@ -24,6 +24,7 @@
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
+#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
@@ -462,6 +463,15 @@ void cli_serve_stop(cli_serve *sv)
 {
     if (!sv)
         return;
+    /* the answers in flight go out first (POST /stop's 202 raced the stop and was sometimes
+     * cut), for at most a second: a browser's idle keep-alive connections do not hold the exit */
+    for (int i = 0; i < 100; i++) {
+        const union MHD_DaemonInfo *di = MHD_get_daemon_info(sv->daemon, MHD_DAEMON_INFO_CURRENT_CONNECTIONS);
+        if (!di || di->num_connections == 0)
+            break;
+        struct timespec ts = {0, 10000000};
+        nanosleep(&ts, NULL);
+    }
     MHD_stop_daemon(sv->daemon); /* closes the listening socket too */
     pthread_mutex_destroy(&sv->lock);
     brume_context_release(sv->ctx);
