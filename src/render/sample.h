@@ -75,6 +75,9 @@ static inline void sample_eval(const brume_scene *s, const void *state, const sa
         v->aov[5] = fv.normal.x;
         v->aov[6] = fv.normal.y;
         v->aov[7] = fv.normal.z;
+    } else {
+        for (int a = 0; a < JOB_AOVS; a++) /* not added (sample_add), but defined */
+            v->aov[a] = 0.0;
     }
     bool opaque = false;
     stats_counters *sc = stats_tls;
