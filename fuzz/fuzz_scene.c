@@ -9,7 +9,7 @@
 
 #include "brume.h"
 #include "core/error.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -1,6 +1,6 @@
 #!/bin/sh
 # build_id_test.sh CMAKE SOURCE_DIR - cmake/build_id.cmake, which names the build a checkpoint
-# was written by (src/io/checkpoint.c): on a copy of the sources, the id must stay the same
+# was written by (src/job/checkpoint.c): on a copy of the sources, the id must stay the same
 # when nothing changes (the header is not rewritten, so nothing recompiles), and change when
 # one byte of one source, the default scene or the compiler flags change.
 set -eu

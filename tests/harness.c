@@ -3,7 +3,7 @@
 
 #include "brume.h"
 #include "core/error.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 #include <fcntl.h>
 #include <signal.h>

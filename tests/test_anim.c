@@ -6,7 +6,7 @@
 #include <sys/stat.h>
 
 #include "brume.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 static brume_scene *scene_at(const char *json, double time, long frame_no)
 {

@@ -6,7 +6,7 @@
 #include "brume.h"
 #include "render/blasi.h"
 #include "core/error.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 #include <unistd.h>
 

@@ -1,7 +1,7 @@
 /* test_gpu.c - what of the GPU path can be checked without a GPU (docs/gpu.md, "Testing"):
  *   - the device math (gpu/devmath.h) against the host's libm, over the ranges the
  *     estimator uses, within its stated error;
- *   - the scene's copy for the device (gpu/arena.h, gpu/device_scene.c): relocated to the
+ *   - the scene's copy for the device (core/arena.h, gpu/device_scene.c): relocated to the
  *     address of its own host buffer, the copy renders bit for bit the original's values
  *     on the CPU, for scenes that exercise every pointer the copy carries (dense and
  *     NanoVDB grids, several media, mixture and tabulated phase functions, a temperature
@@ -16,11 +16,11 @@
 #include "brume.h"
 #include "core/error.h"
 #include "density/density.h"
-#include "gpu/arena.h"
+#include "core/arena.h"
 #include "gpu/devmath.h"
 #include "gpu/device_scene.h"
 #include "render/integrator.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 #include "test.h"
 
 /* |a - b| in units of b's last place (the spacing of doubles at |b|) */

@@ -22,10 +22,10 @@
 #include "brume.h"
 #include "core/error.h"
 #include "io/atomic.h"
-#include "io/checkpoint.h"
+#include "job/checkpoint.h"
 #include "io/grid_io.h"
 #include "io/mesh.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 static double seconds(void)
 {

@@ -11,7 +11,7 @@
 
 #include "brume.h"
 #include "io/atomic.h"
-#include "io/image.h"
+#include "io/image_file.h"
 
 /* ---- helpers ------------------------------------------------------------------------------ */
 
@@ -92,7 +92,7 @@ static void read_fails(brume_context *ctx, const char *path)
     ASSERT_TRUE(strchr(msg, '\n') == NULL);
 }
 
-/* sRGB encoding, IEC 61966-2-1, written out here independently of src/io/image.c. */
+/* sRGB encoding, IEC 61966-2-1, written out here independently of src/image/image.c. */
 static int srgb8_reference(double linear)
 {
     double v = linear <= 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;

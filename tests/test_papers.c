@@ -9,8 +9,8 @@
 #include "density/randfield.h"
 #include "figures_table.h"
 #include "io/json.h"
-#include "render/blasi_options.h"
-#include "render/scene.h"
+#include "method/blasi_options.h"
+#include "scene/scene.h"
 #include "render/stam.h"
 
 #define SCENE(name) BRUME_SOURCE_DIR "/scenes/" name

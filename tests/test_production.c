@@ -5,7 +5,7 @@
 #include "brume.h"
 #include "io/grid_io.h"
 #include "io/grid_sequence.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 /* The largest of |x| / (t_h) and |y| / (t_v) over the box's corners projected by the
  * committed camera: 1 - margin when the framing is tight, and every corner in front. */

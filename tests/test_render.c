@@ -7,7 +7,7 @@
 #include "brume.h"
 #include "core/error.h"
 #include "render/integrator.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 #include "render/track.h"
 
 /* Built-in default scene at a small size, 1 vs 2 threads: bit-identical pixels. */

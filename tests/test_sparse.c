@@ -17,7 +17,7 @@
 #include "io/grid_io.h"
 #include "io/grid_vdb.h"
 #include "medium/blackbody.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 #include "render/track.h"
 
 #define DATA(f) BRUME_DATA_DIR "/" f

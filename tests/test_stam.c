@@ -8,7 +8,7 @@
 #include "core/rng.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 #include "render/stam_stats.h"
 
 /* Composite Simpson over [a, b] with n (even) intervals of f(u) = F(mean of one blob at o + u d). */

@@ -5,7 +5,7 @@
 #include "brume.h"
 #include "core/error.h"
 #include "io/mesh.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 #define err_message_for_test() err_message()
 

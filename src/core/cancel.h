@@ -1,7 +1,7 @@
 /* cancel.h - asking a render's progress callback whether to go on, from a phase that
  * renders no sample yet (Blasi's light pass, issue 36).
  *
- * Tiles call the callback as they finish (render/render.c); a phase before the first tile
+ * Tiles call the callback as they finish (job/render.c); a phase before the first tile
  * has no tiles, so its loops call cancel_poll_stop between units of work (a ray): at most
  * every CANCEL_POLL_SECONDS one thread at a time calls the callback with done = 0 and
  * total = 1, and once it returns false every later call returns true. Without a callback

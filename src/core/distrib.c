@@ -3,7 +3,7 @@
 
 #include <stddef.h>
 
-#include "gpu/arena.h"
+#include "core/arena.h"
 
 #include <stdlib.h>
 #include <string.h>

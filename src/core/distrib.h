@@ -26,7 +26,7 @@ typedef struct distrib2 {
 } distrib2;
 
 /* Copy the tables of the distribution d, which the arena holds at offset `at` (a byte copy
- * of it), into the arena (gpu/arena.h) and point the copy at them. */
+ * of it), into the arena (core/arena.h) and point the copy at them. */
 struct dev_arena;
 void distrib1_device_fix(const distrib1 *d, struct dev_arena *a, size_t at);
 

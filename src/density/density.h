@@ -216,7 +216,7 @@ static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *i
     return true;
 }
 
-/* Copies d with everything it points to into a (gpu/arena.h) for the GPU; returns the
+/* Copies d with everything it points to into a (core/arena.h) for the GPU; returns the
  * copy's offset (ARENA_NULL on failure: a->failed). Blob fields are not copied (the GPU
  * refuses them: gpu/device_scene.c). */
 struct dev_arena;

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/density_impl.h"
-#include "gpu/arena.h"
+#include "core/arena.h"
 
 /* ---- affine maps ------------------------------------------------------------------------ */
 

@@ -31,7 +31,7 @@
 
 #include "core/error.h"
 #include "density/density_impl.h"
-#include "gpu/arena.h"
+#include "core/arena.h"
 
 #define PNANOVDB_C
 #define PNANOVDB_BUF_BOUNDS_CHECK
@@ -1006,7 +1006,7 @@ size_t density_shared_bytes(const density *d)
     return d->kind == DENSITY_NANOVDB && d->nano->shared ? d->nano->shared->size : 0;
 }
 
-/* ---- the GPU's copy (gpu/arena.h) ------------------------------------------------------------ */
+/* ---- the GPU's copy (core/arena.h) ------------------------------------------------------------ */
 
 static void hash_device_put(const cell_hash *h, dev_arena *a, size_t at)
 {

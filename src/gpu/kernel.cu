@@ -71,7 +71,7 @@ static inline double fmax(double a, double b) { return __builtin_fmax(a, b); }
 static inline double copysign(double a, double b) { return __builtin_copysign(a, b); }
 static inline void *memcpy(void *d, const void *s, size_t n) { return __builtin_memcpy(d, s, n); }
 static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d, c, n); }
-#include "render/scene.h"
+#include "scene/scene.h"
 #include "render/integrator.h"
 #include "render/track.h"
 #include "render/film.h"
@@ -81,7 +81,7 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 
 #include "render/blasi.h"
 #include "render/stam.h"
-#include "render/path_options.h"
+#include "method/path_options.h"
 
 #pragma clang force_cuda_host_device begin
 /* What the GPU does not have yet: solid objects (no BVH on the device) and blob densities.
@@ -119,10 +119,10 @@ double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
 #include "medium/medium.c"
 #include "phase/phase.c"
 #include "surface/material.c"
-#include "render/camera.c"
+#include "scene/camera.c"
 #include "render/film.c"
-#include "render/light.c"
-#include "render/background.c"
+#include "scene/light.c"
+#include "scene/background.c"
 #include "render/track.c"
 #include "render/integrator.c"
 #pragma clang force_cuda_host_device end

@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "io/chart.h"
-#include "io/image.h"
+#include "image/image.h"
 
 static double lum(const float *p) { return 0.2126 * (double)p[0] + 0.7152 * (double)p[1] + 0.0722 * (double)p[2]; }
 

@@ -20,7 +20,7 @@
 
 #include "core/error.h"
 #include "io/grid_sandbox.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/grid_vdb.h"
 
 #ifndef BRUME_HAVE_OPENVDB

@@ -25,7 +25,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/sandbox.h"
 
 #ifndef BRUME_HAVE_OPENVDB

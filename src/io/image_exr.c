@@ -26,9 +26,9 @@
 #include <unistd.h>
 
 #include "core/error.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image.h"
+#include "io/image_file.h"
 
 /* Passed to OpenEXR as user data: the file being written and the library's last message. */
 typedef struct exr_io {

@@ -14,9 +14,9 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image.h"
+#include "io/image_file.h"
 
 static void put_f32le(unsigned char *p, float v)
 {

@@ -21,9 +21,9 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image.h"
+#include "io/image_file.h"
 
 /* libpng's messages for this call, reported with the path. */
 typedef struct png_msg {

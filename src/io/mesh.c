@@ -37,7 +37,7 @@
 #include "core/budget.h"
 #include "core/error.h"
 #include "io/json.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "io/sandbox.h"
 
 #define MESH_MAX_TRIANGLES 200000000L

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "io/chart.h"
-#include "io/image.h"
+#include "image/image.h"
 
 #define PAD 8
 #define LABEL_H 18  /* a line of text */

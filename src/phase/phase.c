@@ -12,10 +12,10 @@
 
 #include "core/budget.h"
 #include "core/error.h"
-#include "io/regular_file.h"
+#include "core/regular_file.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
-#include "gpu/arena.h"
+#include "core/arena.h"
 
 /* Entries of the inverse-CDF table of the Mie functions: x = (1 + t) / 2 at u = i / N. */
 #define MIE_TABLE_SIZE 64

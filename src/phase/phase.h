@@ -41,7 +41,7 @@ typedef enum phase_kind {
 /* Opaque; immutable after construction, so one phase may be shared by threads. */
 typedef struct phase phase;
 
-/* Copies p with its lobes and tables into a (gpu/arena.h) for the GPU; returns the copy's
+/* Copies p with its lobes and tables into a (core/arena.h) for the GPU; returns the copy's
  * offset (ARENA_NULL on failure: a->failed). */
 struct dev_arena;
 size_t phase_device_put(const phase *p, struct dev_arena *a);

@@ -22,8 +22,8 @@
 #include <stdint.h>
 
 #include "core/rng.h"
-#include "render/blasi_options.h"
-#include "render/scene.h"
+#include "method/blasi_options.h"
+#include "scene/scene.h"
 
 typedef struct blasi_state blasi_state;
 

@@ -20,28 +20,11 @@
 
 #include "core/error.h"
 #include "core/stats.h"
-#include "gpu/arena.h"
+#include "core/arena.h"
 #include "render/blasi.h"
-#include "render/path_options.h"
+#include "method/path_options.h"
 #include "render/stam.h"
 #include "surface/surfaces.h"
-
-bool integrator_from_name(const char *name, integrator_kind *out)
-{
-    if (strcmp(name, "path") == 0)
-        *out = INTEGRATOR_PATH;
-    else if (strcmp(name, "single") == 0)
-        *out = INTEGRATOR_SINGLE;
-    else if (strcmp(name, "blasi") == 0)
-        *out = INTEGRATOR_BLASI;
-    else if (strcmp(name, "stam") == 0)
-        *out = INTEGRATOR_STAM;
-    else
-        return false;
-    return true;
-}
-
-const char *integrator_names(void) { return "path, single, blasi, stam"; }
 
 /* Offers the collision at t, with the media f->cur and the scattering weight w, to the
  * flight's one-element reservoir. */

@@ -14,20 +14,9 @@
 #define BRUME_RENDER_INTEGRATOR_H
 
 #include "core/rng.h"
-#include "render/scene.h"
+#include "method/method.h"
+#include "scene/scene.h"
 #include "render/track.h"
-
-typedef enum integrator_kind {
-    INTEGRATOR_PATH,
-    INTEGRATOR_SINGLE,
-    INTEGRATOR_BLASI,
-    INTEGRATOR_STAM /* Stam 1994's stochastic renderer (render/stam.h) */
-} integrator_kind;
-
-/* Parses a method name ("path", "single", "blasi", "stam"); false if unknown. */
-bool integrator_from_name(const char *name, integrator_kind *out);
-/* Comma-separated list of the names, for messages. */
-const char *integrator_names(void);
 
 /* Work an integrator does once per scene before any camera ray (Blasi's light pass, a
  * table of per-blob statistics, ...), kept in an opaque state that integrator_Li reads
@@ -67,7 +56,7 @@ double path_sun_transmittance_hat(const void *state, int sun, vec3 p);
 color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
 
 /* Copies path and single's prepared state (integrator_prepare's, may be NULL) into a
- * (gpu/arena.h) for the GPU; returns the copy's offset (ARENA_NULL for NULL or on failure). */
+ * (core/arena.h) for the GPU; returns the copy's offset (ARENA_NULL for NULL or on failure). */
 struct dev_arena;
 size_t path_state_device_put(const void *state, struct dev_arena *a);
 

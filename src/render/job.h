@@ -1,5 +1,5 @@
 /* job.h - the render job behind brume_render_job: per-pixel accumulation state, passes,
- * adaptive sampling (render/render.c), and its checkpoint file (io/checkpoint.c).
+ * adaptive sampling (job/render.c), and its checkpoint file (job/checkpoint.c).
  *
  * Invariants (docs/render-jobs.md):
  * - Pixel p's samples are numbered 0, 1, ... in the order they were taken; sample i draws

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "core/pool.h"
 #include "render/integrator.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 #define SLAB_BATCH 4096
 #define SLAB_HALF_WIDTH 1e9     /* lateral extent: photons never leave sideways */

@@ -47,51 +47,6 @@ typedef struct stam_state {
     light_cache *cache; /* one per light (n = 0 when the light is not cached), or NULL */
 } stam_state;
 
-vec3 stam_blob_extent(const brume_scene *s)
-{
-    box3 b = box3_empty();
-    for (int m = 0; m < s->nmedia; m++) {
-        const blob_field *f = density_get_blobs(s->media[m].rho);
-        if (f) {
-            b.lo = v3_min(b.lo, f->bounds.lo);
-            b.hi = v3_max(b.hi, f->bounds.hi);
-        }
-    }
-    return b.lo.x <= b.hi.x ? v3_sub(b.hi, b.lo) : v3(0, 0, 0);
-}
-
-void stam_randfield_params(const stam_params *p, double scene_time, vec3 extent, randfield_params *out)
-{
-    out->cell = p->cell > 0.0 ? p->cell : p->alpha / 3.0;
-    if (p->lattice > 0) {
-        for (int a = 0; a < 3; a++)
-            out->n[a] = p->lattice;
-    } else {
-        /* one period covers the fields plus 6 alpha: K_Q(6 alpha) = exp(-18) */
-        double span[3];
-        for (int a = 0; a < 3; a++)
-            span[a] = fmin(v3_get(extent, a), 1e12) + 6.0 * p->alpha;
-        for (;;) {
-            double points = 1.0;
-            bool fits = true;
-            for (int a = 0; a < 3; a++) {
-                double n = ceil(span[a] / out->cell);
-                n += fmod(n, 2.0); /* even sizes: the FFT's fast path */
-                out->n[a] = n < 8.0 ? 8 : (int)fmin(n, 1e9);
-                points *= out->n[a];
-                fits = fits && n <= STAM_LATTICE_MAX;
-            }
-            if (fits && points <= STAM_LATTICE_POINTS_MAX)
-                break;
-            out->cell *= 1.25; /* a coarser lattice (docs/stam.md: trilinear lowers the variance) */
-        }
-    }
-    out->alpha = p->alpha;
-    out->seed = p->seed;
-    out->time = p->time + scene_time;
-    out->rate = p->rate;
-}
-
 /* ---- transparency: Eq. 13 summed over the blobs of every medium ----------------------------- */
 
 /* A blob met by a ray, kept for the second pass over the same ray. */

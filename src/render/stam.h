@@ -19,27 +19,9 @@
 
 #include "core/rng.h"
 #include "density/randfield.h"
-#include "render/scene.h"
-#include "render/stam_params.h"
-
-/* Q's synthesis parameters from the scene's stam options (lattice, cell, seed, and time:
- * stam.time + scene_time, the frame's) for
- * blob fields within `extent` (world units per axis, the size of the box Q is read over).
- * With lattice 0 (the default) the lattice covers the extent plus 6 alpha on every axis,
- * so that no two points of the fields see the same value of Q (the period does not show:
- * K_Q at the nearest periodic image is below exp(-18)); at most STAM_LATTICE_MAX points per
- * axis and STAM_LATTICE_POINTS_MAX in all, beyond which the cell grows (docs/stam.md). */
-#define STAM_LATTICE_MAX 256
-#define STAM_LATTICE_POINTS_MAX (1 << 22)
-void stam_randfield_params(const stam_params *p, double scene_time, vec3 extent, randfield_params *out);
-/* The extent of the scene's blob fields (bounds of all of them, per axis; 0 without any). */
-vec3 stam_blob_extent(const brume_scene *s);
-
-/* At commit (stam_media.c): moves drifting blob fields to stam.time + the frame time, sets
- * their lookup (stam.bvh), and with stam.voxelize replaces each by a dense grid. */
-brume_status stam_commit_media(brume_scene *s);
-/* True when some blob field drifts or its Q evolves (stam.rate > 0): the world moves. */
-bool stam_media_move(const brume_scene *s);
+#include "scene/scene.h"
+#include "method/stam_params.h"
+#include "scene/stam_media.h"
 
 /* Builds Q and the light caches; fails (err_set) when a medium is not a blob field. */
 brume_status stam_prepare(const brume_scene *s, void **state);

@@ -14,7 +14,7 @@
 #include "core/color.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 /* A tentative collision at ray parameter t [world units], on a piece of the ray where
  * sigma_maj >= sigma_t(x) [1 / world unit].

@@ -1,0 +1,205 @@
+/* image.c - brume_image (RGBA float32, rows top first): the object, its layers and
+ * attributes, and the linear -> 8-bit sRGB encoding shared by the PNG writer and plots.
+ * The files it is read from and written to are io/image_file.c's. */
+#include "image/image.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/budget.h"
+#include "core/context.h"
+#include "core/error.h"
+
+/* ---- the image object ------------------------------------------------------------------- */
+
+static brume_image *image_alloc(int width, int height)
+{
+    if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
+        return NULL;
+    /* Both sides are at most 2^16, so the count is at most 2^34 floats: check against
+     * SIZE_MAX anyway so that a 32-bit size_t cannot wrap. */
+    size_t n = (size_t)width * (size_t)height;
+    if (n > SIZE_MAX / (4 * sizeof(float)))
+        return NULL;
+    brume_image *img = calloc(1, sizeof *img);
+    if (!img)
+        return NULL;
+    img->rgba = calloc(n * 4, sizeof(float));
+    if (!img->rgba) {
+        free(img);
+        return NULL;
+    }
+    img->width = width;
+    img->height = height;
+    return img;
+}
+
+brume_image *brume_image_new(int width, int height) { return image_alloc(width, height); }
+
+int brume_image_width(const brume_image *image) { return image ? image->width : 0; }
+int brume_image_height(const brume_image *image) { return image ? image->height : 0; }
+float *brume_image_pixels(brume_image *image) { return image ? image->rgba : NULL; }
+const float *brume_image_pixels_const(const brume_image *image) { return image ? image->rgba : NULL; }
+
+void brume_image_release(brume_image *image)
+{
+    if (!image)
+        return;
+    for (int i = 0; i < image->nlayers; i++)
+        free(image->layers[i].px);
+    free(image->rgba);
+    free(image);
+}
+
+float *image_add_layer(brume_image *img, const char *name, int channels, const char *const *chan)
+{
+    if (img->nlayers >= IMAGE_MAX_LAYERS || channels < 1 || channels > 3)
+        return NULL;
+    image_layer *l = &img->layers[img->nlayers];
+    memset(l, 0, sizeof *l);
+    l->px = calloc((size_t)img->width * (size_t)img->height * (size_t)channels, sizeof(float));
+    if (!l->px)
+        return NULL;
+    snprintf(l->name, sizeof l->name, "%s", name);
+    l->channels = channels;
+    for (int c = 0; c < channels; c++)
+        snprintf(l->chan[c], sizeof l->chan[c], "%s", chan[c]);
+    img->nlayers++;
+    return l->px;
+}
+
+void image_set_meta(brume_image *img, const char *key, const char *value)
+{
+    int i = 0;
+    while (i < img->nmeta && strcmp(img->meta[i].key, key) != 0)
+        i++;
+    if (i == IMAGE_MAX_META)
+        return;
+    snprintf(img->meta[i].key, sizeof img->meta[i].key, "%s", key);
+    snprintf(img->meta[i].value, sizeof img->meta[i].value, "%s", value);
+    if (i == img->nmeta)
+        img->nmeta++;
+}
+
+brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, const char *key, const char *value)
+{
+    err_clear();
+    if (!image || !key || !*key || !value)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: %s: NULL",
+                                       !image ? "image" : !key || !*key ? "key" : "value"));
+    int i = 0;
+    while (i < image->nmeta && strcmp(image->meta[i].key, key) != 0)
+        i++;
+    if (i == IMAGE_MAX_META)
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_image_set_attribute: %s: more than %d attributes", key,
+                                       IMAGE_MAX_META));
+    image_set_meta(image, key, value);
+    return ctx_report(ctx, BRUME_OK);
+}
+
+const char *brume_image_attribute(const brume_image *image, const char *key)
+{
+    if (!image || !key)
+        return NULL;
+    for (int i = 0; i < image->nmeta; i++)
+        if (strcmp(image->meta[i].key, key) == 0)
+            return image->meta[i].value;
+    return NULL;
+}
+
+static const image_layer *layer_at(const brume_image *image, int i)
+{
+    return image && i >= 0 && i < image->nlayers ? &image->layers[i] : NULL;
+}
+
+int brume_image_layer_count(const brume_image *image) { return image ? image->nlayers : 0; }
+const char *brume_image_layer_name(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->name : NULL;
+}
+int brume_image_layer_channels(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->channels : 0;
+}
+const float *brume_image_layer_pixels(const brume_image *image, int i)
+{
+    const image_layer *l = layer_at(image, i);
+    return l ? l->px : NULL;
+}
+
+brume_status image_create(const char *path, int64_t width, int64_t height, brume_image **out)
+{
+    *out = NULL;
+    if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
+        return err_set(BRUME_ERROR_PARSE,
+                       "%s: image size %lld x %lld: each side must be in [1, %d]", path,
+                       (long long)width, (long long)height, IMAGE_MAX_SIDE);
+    if (width * height > IMAGE_MAX_PIXELS)
+        return err_set(BRUME_ERROR_PARSE, "%s: image size %lld x %lld: more than %lld pixels", path,
+                       (long long)width, (long long)height, (long long)IMAGE_MAX_PIXELS);
+    /* a read image counts against the scene's memory budget (an environment map) */
+    brume_status st = budget_take((size_t)width * (size_t)height * 4 * sizeof(float), path);
+    if (st != BRUME_OK)
+        return st;
+    brume_image *img = image_alloc((int)width, (int)height);
+    if (!img)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %lld x %lld image", path,
+                       (long long)width, (long long)height);
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++)
+        img->rgba[4 * i + 3] = 1.0f;
+    *out = img;
+    return BRUME_OK;
+}
+
+/* ---- sRGB -------------------------------------------------------------------------------- */
+
+/* IEC 61966-2-1:1999, section 5.2 (encoding) and 5.3 (decoding): a linear segment of slope
+ * 12.92 below 0.0031308 (0.04045 encoded), a 2.4 power curve above. */
+double image_srgb_encode(double linear)
+{
+    if (linear <= 0.0031308)
+        return 12.92 * linear;
+    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+double image_srgb_decode(double encoded)
+{
+    if (encoded <= 0.04045)
+        return encoded / 12.92;
+    return pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+/* ACES filmic tone curve fitted by K. Narkowicz, "ACES Filmic Tone Mapping Curve" (2015,
+ * knarkowicz.wordpress.com/2016/01/06): f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14).
+ * f(0) = 0, increasing for x >= 0, tends to 2.51 / 2.43 > 1 (clamped afterwards). */
+static double aces_filmic(double x)
+{
+    if (x <= 0.0)
+        return 0.0;
+    if (x > 1e12) /* avoids inf / inf; f is 1.03 there, clamped to 1 */
+        return 1.0;
+    return (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+}
+
+unsigned char image_encode_srgb8(double linear, const brume_write_options *opts)
+{
+    double exposure = opts ? opts->exposure : 0.0;
+    brume_tonemap tonemap = opts ? opts->tonemap : BRUME_TONEMAP_CLAMP;
+    double x = linear * exp2(exposure);
+    if (isnan(x))
+        return 0;
+    if (tonemap == BRUME_TONEMAP_FILMIC)
+        x = aces_filmic(x);
+    if (x <= 0.0)
+        return 0;
+    if (x >= 1.0)
+        return 255;
+    return (unsigned char)floor(255.0 * image_srgb_encode(x) + 0.5);
+}
+

@@ -1,0 +1,57 @@
+/* image.h - brume_image: the image type of the library, its layers (AOVs) and attributes.
+ * Pixels are RGBA float32, linear Rec. 709, rows top first, 4 floats per pixel. */
+#ifndef BRUME_IMAGE_IMAGE_H
+#define BRUME_IMAGE_IMAGE_H
+
+#include "brume.h"
+
+#define IMAGE_MAX_LAYERS 8
+#define IMAGE_MAX_META 8
+
+/* An extra layer (AOV): `channels` floats per pixel, channel names for EXR ("R", "G", "B";
+ * "X", "Y", "Z"; or one name). */
+typedef struct image_layer {
+    char name[32];
+    int channels;      /* 1 or 3 */
+    char chan[3][8];   /* EXR channel suffixes */
+    float *px;         /* width * height * channels, owned */
+} image_layer;
+
+/* A string attribute written into EXR headers ("brume.spp_mean" = "24.5"). */
+typedef struct image_meta {
+    char key[48];
+    char value[80];
+} image_meta;
+
+struct brume_image {
+    int width, height; /* pixels, >= 1 */
+    float *rgba;       /* width * height * 4, owned */
+    int nlayers;
+    image_layer layers[IMAGE_MAX_LAYERS];
+    int nmeta;
+    image_meta meta[IMAGE_MAX_META];
+};
+
+/* Adds a zeroed layer with channel suffixes chan[0..channels-1]; returns its pixels, or NULL
+ * (out of memory, too many layers). */
+float *image_add_layer(brume_image *img, const char *name, int channels, const char *const *chan);
+/* Sets (or replaces) a string attribute; silently ignored past IMAGE_MAX_META. */
+void image_set_meta(brume_image *img, const char *key, const char *value);
+
+/* Largest image a reader accepts: 65536 per side and 2^28 pixels (4 GiB of RGBA float). */
+#define IMAGE_MAX_SIDE 65536
+#define IMAGE_MAX_PIXELS ((int64_t)1 << 28)
+
+/* For readers: checks a size taken from the file at path (1..IMAGE_MAX_SIDE per side, at
+ * most IMAGE_MAX_PIXELS) and allocates the image, A = 1, RGB = 0. On failure *out is NULL
+ * and err_set() names path and the reason (BRUME_ERROR_PARSE for a bad size). */
+brume_status image_create(const char *path, int64_t width, int64_t height, brume_image **out);
+
+/* The sRGB transfer functions of IEC 61966-2-1: linear in [0, 1] to encoded and back. */
+double image_srgb_encode(double linear);
+double image_srgb_decode(double encoded);
+
+/* Linear value to 8-bit sRGB after exposure and tone curve (shared by PNG and plots). */
+unsigned char image_encode_srgb8(double linear, const brume_write_options *opts);
+
+#endif

@@ -1,0 +1,18 @@
+/* image_file.h - brume_image's file formats: OpenEXR (C core API), PNG (libpng), PFM. */
+#ifndef BRUME_IO_IMAGE_FILE_H
+#define BRUME_IO_IMAGE_FILE_H
+
+#include "image/image.h"
+
+/* Each writer is atomic (io/atomic.h) and sets err_set() naming the path on failure. */
+brume_status image_write_exr(const char *path, const brume_image *img);
+brume_status image_write_png(const char *path, const brume_image *img, const brume_write_options *opts);
+brume_status image_write_pfm(const char *path, const brume_image *img);
+/* PNG bytes in memory (malloc'd, *size bytes), as image_write_png would write them. */
+brume_status image_encode_png(const brume_image *img, const brume_write_options *opts, unsigned char **data,
+                              size_t *size);
+brume_status image_read_exr(const char *path, brume_image **out);
+brume_status image_read_png(const char *path, brume_image **out);
+brume_status image_read_pfm(const char *path, brume_image **out);
+
+#endif

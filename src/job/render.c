@@ -1,0 +1,837 @@
+/* render.c - render jobs: tiles over the thread pool, passes of samples accumulated per
+ * pixel, budgets (samples, time, noise) with adaptive sampling, the image and its layers;
+ * brume_render and brume_render_part are one job run to its end (render/job.h states the
+ * invariants, docs/render-jobs.md the estimator and the schedule). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "core/error.h"
+#include "core/pool.h"
+#include "core/stats.h"
+#include "image/image.h"
+#include "render/blasi.h"
+#include "render/film.h"
+#include "render/job.h"
+#include "render/sample.h"
+#include "gpu/cuda.h"
+
+#define TILE JOB_TILE
+#define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
+#define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
+                       cancellation or the end of a time budget takes effect soon */
+#define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
+                            pixels darker than this carry no signal (docs/render-jobs.md) */
+
+/* scene_prepared's finish: the scene releases what the renderer prepared. */
+static void prepared_finish(int kind, void *state) { integrator_finish((integrator_kind)kind, state); }
+
+/* The integrator state for s, prepared at the scene's first render and kept with it. */
+static brume_status prepared_state(const brume_scene *s, integrator_kind kind, const void **state)
+{
+    scene_prepared *p = s->prepared;
+    if (p->valid && p->kind != (int)kind) {
+        integrator_finish((integrator_kind)p->kind, p->state);
+        p->valid = false;
+    }
+    if (!p->valid) {
+        void *st = NULL;
+        brume_status r = integrator_prepare(kind, s, &st);
+        if (r != BRUME_OK)
+            return r;
+        p->valid = true;
+        p->kind = (int)kind;
+        p->state = st;
+        p->finish = prepared_finish;
+    }
+    *state = p->state;
+    return BRUME_OK;
+}
+
+/* ---- the job ------------------------------------------------------------------------------ */
+
+static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1);
+
+brume_status job_create(const brume_scene *s, int part, int nparts, bool squares, brume_render_job **out)
+{
+    *out = NULL;
+    if (!s->committed)
+        return err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source);
+    integrator_kind kind;
+    if (!integrator_from_name(s->settings.method, &kind))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)", s->source,
+                       s->settings.method, integrator_names());
+    brume_render_job *job = calloc(1, sizeof *job);
+    if (!job)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a render job", s->source);
+    job->s = s;
+    job->rs = s->settings;
+    job->kind = kind;
+    job->part = part;
+    job->nparts = nparts;
+    const brume_render_settings *rs = &job->rs;
+    job->tiles_x = (rs->width + TILE - 1) / TILE;
+    job->ntiles_all = (size_t)job->tiles_x * (size_t)((rs->height + TILE - 1) / TILE);
+    job->ntiles = job->ntiles_all / (size_t)nparts + ((size_t)part < job->ntiles_all % (size_t)nparts ? 1 : 0);
+    job->npix = (size_t)rs->width * (size_t)rs->height;
+    job->npart = 0;
+    for (size_t t = 0; t < job->ntiles; t++) {
+        int x0, y0, x1, y1;
+        tile_rect(job, t, &x0, &y0, &x1, &y1);
+        job->npart += (size_t)(x1 - x0) * (size_t)(y1 - y0);
+    }
+    job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
+    job->t_start = stats_now();
+    job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
+    /* The film and the image made from it count against render.max_memory_mb, after what
+     * reading the scene took (issue 36): per pixel its count, flag and sums, and the RGBA
+     * image with its layers (depth 1, albedo 3, normal 3 floats). */
+    uint64_t doubles = JOB_SUMS + (squares ? JOB_SQS : 0u) + (job->trace_aovs ? JOB_AOVS : 0u);
+    uint64_t floats = 4u + (job->trace_aovs ? 7u : 0u);
+    uint64_t per_pixel = sizeof *job->n + 1u + doubles * sizeof(double) + floats * sizeof(float);
+    uint64_t film_bytes = per_pixel * (uint64_t)job->npix;
+    size_t left = s->max_memory > s->memory_used ? s->max_memory - s->memory_used : 0;
+    if (film_bytes > left) {
+        int w = rs->width, h = rs->height;
+        free(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: render.max_memory_mb: a %d x %d render needs %llu bytes for its film and image, over the "
+                       "%zu left of the limit of %zu (the scene took %zu)",
+                       s->source, w, h, (unsigned long long)film_bytes, left, s->max_memory, s->memory_used);
+    }
+    if (rs->stats && !(job->counters = calloc((size_t)job->nthreads, sizeof *job->counters))) {
+        free(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for statistics", s->source);
+    }
+    job->n = calloc(job->npix, sizeof *job->n);
+    job->active = malloc(job->npix);
+    job->sum = calloc(job->npix * JOB_SUMS, sizeof *job->sum);
+    job->sq = squares ? calloc(job->npix * JOB_SQS, sizeof *job->sq) : NULL;
+    job->aov = job->trace_aovs ? calloc(job->npix * JOB_AOVS, sizeof *job->aov) : NULL;
+    pthread_mutex_init(&job->lock, NULL);
+    pthread_mutex_init(&job->cb_lock, NULL);
+    atomic_init(&job->stop, false);
+    if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
+        int w = rs->width, h = rs->height; /* rs points into the job, freed below */
+        brume_render_job_release(job);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source, w, h);
+    }
+    memset(job->active, 1, job->npix);
+    double t_prep = progress_now();
+    brume_status st = prepared_state(s, kind, &job->state);
+    job->prep_seconds = progress_now() - t_prep; /* counts against a time budget */
+    if (st != BRUME_OK) {
+        brume_render_job_release(job);
+        return st;
+    }
+    job->total = (uint64_t)job->ntiles * TILE * TILE * (uint64_t)rs->spp; /* refined by job_refresh */
+    job_refresh(job);
+    *out = job;
+    return BRUME_OK;
+}
+
+void brume_render_job_release(brume_render_job *job)
+{
+    if (!job)
+        return;
+    if (job->bar_started) /* a job released before its end: stopped, cancelled or failed */
+        progress_end(&job->bar, false);
+    gpu_job_release(job);
+    pthread_mutex_destroy(&job->lock);
+    pthread_mutex_destroy(&job->cb_lock);
+    free(job->n);
+    free(job->active);
+    free(job->sum);
+    free(job->sq);
+    free(job->aov);
+    free(job->counters);
+    free(job);
+}
+
+/* The pixel rectangle [x0, x1) x [y0, y1) of the job's task-th tile. */
+static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1)
+{
+    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
+    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
+    *x0 = tx * TILE;
+    *y0 = ty * TILE;
+    *x1 = *x0 + TILE < job->rs.width ? *x0 + TILE : job->rs.width;
+    *y1 = *y0 + TILE < job->rs.height ? *y0 + TILE : job->rs.height;
+}
+
+double job_pixel_error(const brume_render_job *job, size_t i)
+{
+    uint32_t n = job->n[i];
+    if (n < 2 || !job->sq) /* no squares kept: unknown (brume_render_part) */
+        return INFINITY;
+    const double *s = job->sum + JOB_SUMS * i;
+    double sy = (s[0] + s[1] + s[2]) / 3.0;
+    double mean = sy / n;
+    double var = (job->sq[JOB_SQS * i + 3] - sy * mean) / (n - 1.0); /* unbiased sample variance of y */
+    if (!(var > 0.0))
+        return 0.0;
+    return sqrt(var / n) / fmax(mean, NOISE_FLOOR);
+}
+
+static bool in_part(const brume_render_job *job, size_t i)
+{
+    size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
+    size_t tile = (y / TILE) * (size_t)job->tiles_x + x / TILE;
+    return tile % (size_t)job->nparts == (size_t)job->part;
+}
+
+/* Under job->lock (or before any pass): done, total and noise from the per-pixel state. The
+ * total is what a fixed count would take, or with a noise target the samples each active
+ * pixel is predicted to need: n (error / target)^2, the error falling as 1 / sqrt(n). */
+void job_refresh(brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    uint64_t done = 0, total = 0;
+    double noise = 0.0;
+    for (size_t i = 0; i < job->npix; i++) {
+        if (job->nparts > 1 && !in_part(job, i))
+            continue;
+        uint32_t n = job->n[i];
+        done += n;
+        double err = job_pixel_error(job, i);
+        const double *s = job->sum + JOB_SUMS * i;
+        if (n >= 2 && (s[0] + s[1] + s[2]) / (3.0 * n) >= NOISE_FLOOR && err > noise)
+            noise = err;
+        double want = (double)(job->target > rs->spp ? job->target : rs->spp);
+        if (!job->active[i]) {
+            want = n;
+        } else if (rs->noise_target > 0.0 && job->spp_done == 0) {
+            want = job->target; /* nothing known before the first pass */
+        } else if (rs->noise_target > 0.0 && n >= 2) {
+            double need = n * (err / rs->noise_target) * (err / rs->noise_target);
+            want = fmin(want, fmax(need, (double)job->target));
+        }
+        total += (uint64_t)fmax(want, (double)n);
+    }
+    job->done = done;
+    job->total = total;
+    job->noise = noise;
+}
+
+/* Camera samples s0 .. s0 + nb - 1 (nb <= CAMERA_BATCH) of pixel (x, y), index i: their
+ * rays, and in g their random sequences positioned after the camera's numbers.
+ * Dimensions: the filter's offset takes the first pair; the lens and the shutter take the
+ * next ones only when the camera has them (lens, shutter); the path the rest. The first
+ * qmc_dims dimensions are Sobol points (render.sampler, docs/sampling.md).
+ * Made stage by stage over the batch (the sequences, then the filter's offsets, then the
+ * lens and shutter numbers, then the rays): each stage is a chain of hashes, or of
+ * divisions and a square root, longer than the processor can look ahead past, and the
+ * samples' chains are independent, so a stage's iterations overlap where one sample's
+ * whole chain at a time would leave the processor waiting. Each sample's numbers are
+ * those it would draw alone. */
+static void camera_samples(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
+                           int y, uint32_t s0, uint32_t nb, rng g[CAMERA_BATCH], ray r[CAMERA_BATCH])
+{
+    const brume_render_settings *rs = &job->rs;
+    double dx[CAMERA_BATCH], dy[CAMERA_BATCH], u1[CAMERA_BATCH], u2[CAMERA_BATCH], ut[CAMERA_BATCH];
+    for (uint32_t b = 0; b < nb; b++)
+        g[b] = rng_make_qmc(rs->seed, (uint64_t)i, s0 + b, qmc_dims);
+    for (uint32_t b = 0; b < nb; b++)
+        film_sample_filter(rs->filter, rs->filter_width, &g[b], &dx[b], &dy[b]);
+    for (uint32_t b = 0; b < nb; b++) {
+        u1[b] = u2[b] = ut[b] = 0.5;
+        if (lens) {
+            u1[b] = rng_next(&g[b]);
+            u2[b] = rng_next(&g[b]);
+        }
+        if (shutter)
+            ut[b] = rng_next(&g[b]);
+    }
+    const camera *cam = &job->s->cam;
+    if (camera_is_pinhole(cam)) { /* the rays made in place in the batch */
+        for (uint32_t b = 0; b < nb; b++)
+            camera_pinhole_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], ut[b], &r[b]);
+        return;
+    }
+    for (uint32_t b = 0; b < nb; b++)
+        r[b] = camera_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
+}
+
+void job_sample_params(const brume_render_job *job, sample_params *sp)
+{
+    const brume_render_settings *rs = &job->rs;
+    const camera *cam = &job->s->cam;
+    *sp = (sample_params){.kind = (int)job->kind,
+                          .width = rs->width,
+                          .height = rs->height,
+                          .seed = rs->seed,
+                          .filter = rs->filter,
+                          .filter_width = rs->filter_width,
+                          .qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0,
+                          .lens = cam->aperture_radius > 0.0,
+                          .shutter = cam->shutter_close > cam->shutter_open,
+                          .trace_aovs = job->trace_aovs,
+                          .squares = job->sq != NULL};
+}
+
+/* Seconds of the time budget used: the integrator's preparation (a light pass) and the
+ * passes so far, the one in progress included. */
+static double job_used(const brume_render_job *job)
+{
+    return job->prep_seconds + job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
+}
+
+/* Under a time budget: true, and the job stopped, once the budget is spent. */
+static bool job_time_is_up(brume_render_job *job)
+{
+    if (job_used(job) < job->rs.time_budget)
+        return false;
+    if (!atomic_exchange(&job->stop, true)) {
+        pthread_mutex_lock(&job->lock);
+        job->out_of_time = true;
+        pthread_mutex_unlock(&job->lock);
+    }
+    return true;
+}
+
+static int job_next_pass(const brume_render_job *job, bool unwatched);
+
+/* Under job->lock: the figures a progress report shows, in O(1) (called after every tile).
+ * The ETA: under a noise target, the samples the pixels' own error trend says they still
+ * need (job_refresh: n (e / target)^2 each, capped at spp) at the wall cost of a pixel
+ * sample in the last pass (the pixels left are the costly ones, so the mean cost over the
+ * whole render would promise too early an end); unknown before the first estimate. Under a
+ * fixed count the same with the exact total; under a time budget at most the time left.
+ * The fraction is elapsed / (elapsed + ETA), below 1 until the job is finished. */
+static void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
+{
+    const brume_render_settings *rs = &job->rs;
+    double used = job_used(job);
+    f->elapsed = used;
+    f->spp = job->npart ? (double)job->done / (double)job->npart : 0.0;
+    f->noise = job->sq && job->spp_done >= 2 ? job->noise : -1.0; /* as of the last pass boundary */
+    if (finished) {
+        f->frac = 1.0;
+        f->eta = 0.0;
+        return;
+    }
+    double rate = job->sample_seconds > 0.0 ? job->sample_seconds
+                  : job->done > 0           ? (used - job->prep_seconds) / (double)job->done
+                                            : 0.0;
+    double eta = -1.0;
+    /* a noise target's total is known once the pixels have error estimates, or when the
+     * pass under way reaches the sample maximum */
+    bool known = rs->noise_target > 0.0 ? job->spp_done >= 2 || job->target >= rs->spp : true;
+    if (known && rate > 0.0)
+        eta = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
+    if (rs->time_budget > 0.0) {
+        double left = fmax(0.0, rs->time_budget - used);
+        eta = eta < 0.0 ? left : fmin(eta, left);
+    }
+    f->eta = eta;
+    f->frac = eta < 0.0 ? -1.0 : fmin(0.99, used / fmax(used + eta, 1e-9));
+}
+
+/* One tile: every active pixel of it from its sample count to job->target (or as far as
+ * the time budget lets it go). */
+
+/* One tile: every active pixel of it from its sample count to job->target. */
+static void job_tile(size_t task, int thread, void *user)
+{
+    brume_render_job *job = user;
+    if (atomic_load(&job->stop))
+        return;
+    stats_counters *sc = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
+    stats_tls = sc;
+    const brume_render_settings *rs = &job->rs;
+    const bool timed = rs->time_budget > 0.0;
+    if (timed && job_time_is_up(job))
+        return;
+    const brume_scene *s = job->s;
+    int x0, y0, x1, y1;
+    tile_rect(job, task, &x0, &y0, &x1, &y1);
+    int target = job->target;
+    const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
+    const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
+    const bool squares = job->sq != NULL;
+    sample_params sp;
+    job_sample_params(job, &sp);
+    enum { P = TILE * TILE };
+    uint32_t n[P];
+    double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
+    uint64_t taken = 0;
+    /* this task alone writes these pixels: read them without the lock */
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
+            int k = (y - y0) * TILE + (x - x0);
+            n[k] = job->n[i];
+            memcpy(sum[k], job->sum + JOB_SUMS * i, sizeof sum[k]);
+            if (squares)
+                memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
+            if (job->trace_aovs)
+                memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
+            if (!job->active[i])
+                continue;
+            /* in batches: first the batch's camera rays (camera_samples), then their radiance.
+             * Under a time budget the clock is read before every sample (some tens of
+             * nanoseconds against microseconds a sample at least): the budget ends within one
+             * sample per thread, however slow a sample is; the pixel keeps the samples it took */
+            bool cut = false;
+            for (uint32_t s0 = n[k]; s0 < (uint32_t)target && !cut; s0 += CAMERA_BATCH) {
+                uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
+                rng gb[CAMERA_BATCH];
+                ray rb[CAMERA_BATCH];
+                camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
+                for (uint32_t b = 0; b < nb; b++) {
+                    const uint32_t sidx = s0 + b;
+                    if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
+                        cut = true;
+                        break;
+                    }
+                    sample_value v;
+                    sample_eval(s, job->state, &sp, rb[b], gb[b], sidx, &v);
+                    sample_add(&sp, &v, sidx, sum[k], sq[k], aov[k]);
+                    taken++;
+                    n[k] = sidx + 1;
+                }
+            }
+        }
+    stats_tls = NULL;
+    pthread_mutex_lock(&job->lock);
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
+            int k = (y - y0) * TILE + (x - x0);
+            if (!job->active[i])
+                continue;
+            job->n[i] = n[k];
+            memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
+            if (squares)
+                memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
+            if (job->trace_aovs)
+                memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
+        }
+    job->done += taken;
+    double elapsed = job->elapsed + (progress_now() - job->t_pass);
+    if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
+        job->total = (uint64_t)fmax((double)job->done, (double)job->done * rs->time_budget / elapsed);
+    if (job->total < job->done)
+        job->total = job->done;
+    pthread_mutex_unlock(&job->lock);
+
+    /* Reports are serialized by cb_lock, and the counts are read inside it: two workers that
+     * finish tiles together must not report the later count first (lock order: cb_lock, then
+     * lock). */
+    pthread_mutex_lock(&job->cb_lock);
+    pthread_mutex_lock(&job->lock);
+    uint64_t done = job->done, total = job->total;
+    progress_figures fig;
+    if (job->bar_started)
+        job_figures(job, false, &fig);
+    pthread_mutex_unlock(&job->lock);
+    if (job->bar_started)
+        progress_show(&job->bar, &fig);
+    if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
+        atomic_store(&job->stop, true);
+        job->cancelled = true;
+    }
+    pthread_mutex_unlock(&job->cb_lock);
+}
+
+/* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
+ * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. An unwatched job
+ * (job_next_pass) skips the per-pixel statistics before and after the pass (job_refresh:
+ * done, total and the largest error, over every pixel, on one thread): no one reads them,
+ * and they do not change the image. */
+static brume_status job_pass(brume_render_job *job, bool unwatched)
+{
+    const brume_render_settings *rs = &job->rs;
+    if (rs->progress && !job->bar_started) {
+        progress_begin(&job->bar, "render", (size_t)job->total, true, rs->progress_interval);
+        job->bar_started = true;
+    }
+    atomic_store(&job->stop, false);
+    job->cancelled = false;
+    pthread_mutex_lock(&job->lock);
+    job->t_pass = progress_now();
+    uint64_t done0 = job->done;
+    if (!unwatched)
+        job_refresh(job);
+    pthread_mutex_unlock(&job->lock);
+    if (rs->device >= 0) { /* the GPU: the whole pass at once, in each pixel's sample order */
+        uint64_t before = 0, after = 0;
+        for (size_t i = 0; i < job->npix; i++)
+            before += job->n[i];
+        brume_status g = gpu_job_pass(job);
+        if (g != BRUME_OK)
+            return g;
+        for (size_t i = 0; i < job->npix; i++)
+            after += job->n[i];
+        pthread_mutex_lock(&job->lock);
+        job->done += after - before;
+        pthread_mutex_unlock(&job->lock);
+        if (rs->progress_fn && !rs->progress_fn(rs->progress_user, job->done, job->total > job->done ? job->total : job->done)) {
+            atomic_store(&job->stop, true);
+            job->cancelled = true;
+        }
+        if (job->bar_started)
+            progress_update(&job->bar, (size_t)job->done, (size_t)(job->total > job->done ? job->total : job->done));
+    } else {
+        pool_run(rs->threads, job->ntiles, job_tile, job);
+    }
+    pthread_mutex_lock(&job->lock);
+    double pass_seconds = progress_now() - job->t_pass;
+    job->elapsed += pass_seconds;
+    job->t_pass = 0.0;
+    if (job->done > done0) /* the cost of a pixel sample as the last pass measured it, waits included */
+        job->sample_seconds = pass_seconds / (double)(job->done - done0);
+    bool complete = !atomic_load(&job->stop);
+    if (complete) {
+        job->spp_done = job->target;
+        if (rs->noise_target > 0.0) /* adaptive sampling: each pixel by its own statistics */
+            for (size_t i = 0; i < job->npix; i++)
+                if (job->active[i] && job->n[i] >= (uint32_t)rs->min_spp && job->n[i] >= 2 &&
+                    job_pixel_error(job, i) <= rs->noise_target)
+                    job->active[i] = 0;
+    }
+    if (!unwatched)
+        job_refresh(job);
+    pthread_mutex_unlock(&job->lock);
+    if (job->cancelled)
+        return err_set(BRUME_ERROR_CANCELLED, "%s: render cancelled by the progress callback (%d to %d samples per pixel)",
+                       job->s->source, job->spp_done, job->target);
+    return BRUME_OK;
+}
+
+/* Samples the next pass adds to each active pixel under the settings' budgets, 0 when
+ * the job is finished. A pass that was cut is completed first. A noise target starts with
+ * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
+ * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
+ * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX.
+ * An unwatched render (brume_render with no callback, no progress bar and no budget: no
+ * one holds the job, sees its progress or can stop it) takes PASS_MAX at once: its passes
+ * would only cost (each rereads every pixel's sums and statistics, and waits for the
+ * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
+ * the passes). */
+static int job_next_pass(const brume_render_job *job, bool unwatched)
+{
+    const brume_render_settings *rs = &job->rs;
+    const bool timed = rs->time_budget > 0.0;
+    if (job->out_of_time)
+        return 0;
+    if (job->target > job->spp_done)
+        return job->target - job->spp_done;
+    if (job->spp_done >= rs->spp)
+        return 0;
+    size_t nactive = 0;
+    for (size_t i = 0; i < job->npix; i++)
+        nactive += job->active[i] && (job->nparts == 1 || in_part(job, i));
+    if (nactive == 0)
+        return 0;
+    int k;
+    if (unwatched)
+        k = PASS_MAX;
+    else if (job->spp_done == 0)
+        k = rs->noise_target > 0.0 && !timed ? rs->min_spp : 1; /* a budget starts at 1: the minimum yields */
+    else
+        k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
+    k = k < 1 ? 1 : k;
+    if (job->spp_done > 0 && k > PASS_MAX)
+        k = PASS_MAX;
+    if (timed && job->spp_done > 0 && job->sample_seconds > 0.0) {
+        /* the passes sized from the measured cost of a pixel sample, so that the last one
+         * ends with the budget. A 1-sample pass that would not fit whole is begun when at
+         * least half of it fits (the clock cuts it: the tiles it did not reach stay one
+         * sample short), else the render ends early by less than half a pass */
+        double left = rs->time_budget - job_used(job);
+        double fit = left / (job->sample_seconds * (double)nactive);
+        if (fit < 0.5)
+            return -1;
+        if (fit < k)
+            k = fit < 1.0 ? 1 : (int)fit;
+    }
+    return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
+}
+
+static brume_status job_add(brume_render_job *job, int spp, bool unwatched)
+{
+    pthread_mutex_lock(&job->lock);
+    if (job->target <= job->spp_done) {
+        long long t = (long long)job->spp_done + spp;
+        job->target = t > (1 << 30) ? (1 << 30) : (int)t;
+    }
+    pthread_mutex_unlock(&job->lock);
+    return job_pass(job, unwatched);
+}
+
+static double per(double a, uint64_t n) { return n ? a / (double)n : 0.0; }
+
+/* The scene's statistics (brume_scene_get_stats) from the job's counters. */
+static void job_fill_stats(const brume_render_job *job)
+{
+    const brume_scene *s = job->s;
+    stats_counters sum = {0};
+    for (int t = 0; job->counters && t < job->nthreads; t++)
+        stats_merge(&sum, &job->counters[t]);
+    const stats_counters *c = &sum;
+    brume_stats *out = &s->prepared->stats;
+    memset(out, 0, sizeof *out);
+    snprintf(out->method, sizeof out->method, "%s", s->settings.method);
+    out->seconds = stats_now() - job->t_start;
+    out->camera_rays = c->camera_rays;
+    out->li_cpu_seconds = c->t_li;
+    switch (job->kind) {
+    case INTEGRATOR_BLASI: {
+        blasi_stats b;
+        blasi_get_stats(job->state, &b);
+        out->blasi_light_seconds = b.light_seconds;
+        out->blasi_view_seconds = job->elapsed;
+        out->blasi_light_rays = b.light_rays;
+        out->blasi_interceptions = b.interceptions;
+        out->blasi_deposits = b.deposits;
+        out->blasi_power_emitted = b.emitted_power;
+        out->blasi_power_stored = b.stored_power;
+        break;
+    }
+    case INTEGRATOR_STAM:
+        out->stam_blobs_per_ray = per((double)c->stam_camera_blobs, c->camera_rays);
+        out->stam_queries_per_ray = per((double)c->blob_queries, c->camera_rays);
+        out->stam_nodes_per_query = per((double)c->blob_nodes, c->blob_queries);
+        out->stam_blobs_per_query = per((double)c->blob_visits, c->blob_queries);
+        break;
+    case INTEGRATOR_PATH:
+    case INTEGRATOR_SINGLE:
+        out->path_vertices = per((double)c->path_vertices, c->camera_rays);
+        out->path_collisions = per((double)c->path_scatterings, c->camera_rays);
+        out->path_null_collisions = per((double)(c->path_tentative - c->path_scatterings), c->camera_rays);
+        out->path_tracking_cpu_seconds = c->t_tracking;
+        out->path_nee_cpu_seconds = c->t_nee;
+        out->path_shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);
+        break;
+    }
+}
+
+static brume_status job_run(brume_render_job *job, bool unwatched)
+{
+    int k;
+    while ((k = job_next_pass(job, unwatched)) > 0) {
+        brume_status st = job_add(job, k, unwatched);
+        if (st != BRUME_OK)
+            return st;
+    }
+    if (k < 0) { /* the time left holds no whole pass: the budget is spent */
+        pthread_mutex_lock(&job->lock);
+        job->out_of_time = true;
+        pthread_mutex_unlock(&job->lock);
+    }
+    if (job->bar_started) {
+        progress_figures fig;
+        pthread_mutex_lock(&job->lock);
+        job_figures(job, true, &fig);
+        pthread_mutex_unlock(&job->lock);
+        job->bar.last = fig;
+        progress_end(&job->bar, true);
+        job->bar_started = false;
+    }
+    job_fill_stats(job);
+    return BRUME_OK;
+}
+
+/* ---- the image ----------------------------------------------------------------------------- */
+
+static brume_status job_image(const brume_render_job *job, brume_image **out)
+{
+    const brume_render_settings *rs = &job->rs;
+    *out = NULL;
+    brume_image *img = brume_image_new(rs->width, rs->height);
+    if (!img)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", job->s->source, rs->width,
+                       rs->height);
+    static const char *const rgb[3] = {"R", "G", "B"}, *const xyz[3] = {"X", "Y", "Z"}, *const z[1] = {"Z"},
+                             *const yy[1] = {"Y"};
+    float *depth = NULL, *albedo = NULL, *normal = NULL, *var = NULL, *count = NULL;
+    bool ok = true;
+    if (rs->aovs & BRUME_AOV_DEPTH)
+        ok &= (depth = image_add_layer(img, "depth", 1, z)) != NULL;
+    if (rs->aovs & BRUME_AOV_ALBEDO)
+        ok &= (albedo = image_add_layer(img, "albedo", 3, rgb)) != NULL;
+    if (rs->aovs & BRUME_AOV_NORMAL)
+        ok &= (normal = image_add_layer(img, "normal", 3, xyz)) != NULL;
+    if (rs->aovs & BRUME_AOV_VARIANCE)
+        ok &= (var = image_add_layer(img, "variance", 3, rgb)) != NULL;
+    if (rs->aovs & BRUME_AOV_SAMPLES)
+        ok &= (count = image_add_layer(img, "samples", 1, yy)) != NULL;
+    if (!ok) {
+        brume_image_release(img);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate the image's layers", job->s->source);
+    }
+    brume_render_job *j = (brume_render_job *)job; /* the lock only */
+    pthread_mutex_lock(&j->lock);
+    for (size_t i = 0; i < job->npix; i++) {
+        uint32_t n = job->n[i];
+        if (n == 0)
+            continue; /* +0 everywhere: not rendered (yet, or by another part) */
+        const double *s = job->sum + JOB_SUMS * i;
+        float *px = img->rgba + 4 * i;
+        double inv = 1.0 / n;
+        for (int c = 0; c < 3; c++)
+            px[c] = (float)(s[c] * inv);
+        uint32_t na = n < JOB_ALPHA_SAMPLES ? n : JOB_ALPHA_SAMPLES;
+        px[3] = (float)fmin(1.0, fmax(0.0, s[3] / na));
+        const double *a = job->aov ? job->aov + JOB_AOVS * i : NULL;
+        if (depth)
+            depth[i] = a[1] > 0.0 ? (float)(a[0] / a[1]) : 0.0f;
+        for (size_t c = 0; c < 3; c++) {
+            if (albedo)
+                albedo[3 * i + c] = (float)(a[2 + c] * inv);
+            if (normal)
+                normal[3 * i + c] = (float)(a[5 + c] * inv);
+            if (var)
+                var[3 * i + c] = n < 2 ? 0.0f
+                                       : (float)fmax(0.0, (job->sq[JOB_SQS * i + c] - s[c] * s[c] * inv) /
+                                                              ((n - 1.0) * n));
+        }
+        if (count)
+            count[i] = (float)n;
+    }
+    pthread_mutex_unlock(&j->lock);
+    *out = img;
+    return BRUME_OK;
+}
+
+/* ---- public ---------------------------------------------------------------------------------- */
+
+brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_render_job **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
+    return ctx_report(ctx, job_create(s, 0, 1, true, out));
+}
+
+brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp)
+{
+    err_clear();
+    if (!job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job: NULL"));
+    if (spp < 1 || spp > (1 << 24))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_render_job_add: spp: %d outside [1, 16777216]", spp));
+    return ctx_report(ctx, job_add(job, spp, false));
+}
+
+brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
+{
+    err_clear();
+    if (!job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
+    return ctx_report(ctx, job_run(job, false)); /* the caller holds the job: passes as scheduled */
+}
+
+brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !job)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: %s: NULL", !job ? "job" : "out"));
+    return ctx_report(ctx, job_image(job, out));
+}
+
+int brume_render_job_samples(const brume_render_job *job)
+{
+    if (!job)
+        return 0;
+    brume_render_job *j = (brume_render_job *)job;
+    pthread_mutex_lock(&j->lock);
+    uint32_t m = 0;
+    for (size_t i = 0; i < job->npix; i++)
+        m = job->n[i] > m ? job->n[i] : m;
+    pthread_mutex_unlock(&j->lock);
+    return (int)m;
+}
+
+void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out)
+{
+    if (!out)
+        return;
+    memset(out, 0, sizeof *out);
+    if (!job)
+        return;
+    brume_render_job *j = (brume_render_job *)job;
+    pthread_mutex_lock(&j->lock);
+    uint32_t nmin = UINT32_MAX, nmax = 0;
+    double ntotal = 0.0;
+    size_t npart = 0, stopped = 0;
+    for (size_t i = 0; i < job->npix; i++) {
+        if (job->nparts > 1 && !in_part(job, i))
+            continue;
+        uint32_t n = job->n[i];
+        nmin = n < nmin ? n : nmin;
+        nmax = n > nmax ? n : nmax;
+        ntotal += n;
+        npart++;
+        stopped += !job->active[i];
+    }
+    out->done = job->done;
+    out->total = job->total;
+    out->spp_min = npart ? (int)nmin : 0;
+    out->spp_max = (int)nmax;
+    out->spp_mean = npart ? ntotal / (double)npart : 0.0;
+    out->noise = job->noise;
+    out->converged = npart ? (double)stopped / (double)npart : 0.0;
+    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) <= 0;
+    progress_figures fig;
+    job_figures(job, out->finished, &fig);
+    out->elapsed = fig.elapsed;
+    out->eta = fig.eta;
+    out->fraction = fig.frac;
+    pthread_mutex_unlock(&j->lock);
+}
+
+brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
+{
+    return brume_render_part(ctx, s, 0, 1, out);
+}
+
+brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!out || !s)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
+    if (nparts < 1 || part < 0 || part >= nparts)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
+                                       s->source, part, nparts));
+    const brume_render_settings *rs = &s->settings;
+    const bool unwatched = !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
+    /* unwatched and without the variance layer, no one reads the squared samples: they are
+     * neither kept nor made (half the job's memory, whose zeroing touches a fresh page, a
+     * page fault, per 4 KiB) */
+    brume_render_job *job = NULL;
+    brume_status st = job_create(s, part, nparts, !unwatched || (rs->aovs & BRUME_AOV_VARIANCE), &job);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    st = job_run(job, unwatched);
+    if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", err_message());
+        brume_status sti = job_image(job, out);
+        if (sti != BRUME_OK)
+            st = sti;
+        else if (st != BRUME_OK)
+            err_set(st, "%s", msg);
+    }
+    brume_render_job_release(job);
+    return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out)
+{
+    err_clear();
+    if (!scene || !out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: %s: NULL",
+                                       !scene ? "scene" : "out"));
+    *out = scene->prepared->stats;
+    return ctx_report(ctx, BRUME_OK);
+}

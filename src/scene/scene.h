@@ -1,0 +1,98 @@
+/* scene.h - the scene behind brume_scene: camera, lights, media, background, settings.
+ * Built unlocked through the public builders (scene/scene_build.c, scene_media.c,
+ * scene_shapes.c; the scene file reader is their client), then frozen by commit; rendering
+ * reads it from many threads and never writes. */
+#ifndef BRUME_SCENE_SCENE_H
+#define BRUME_SCENE_SCENE_H
+
+#include "brume.h"
+#include "medium/medium.h"
+#include "scene/background.h"
+#include "scene/camera.h"
+#include "scene/light.h"
+#include "core/regular_file.h"
+#include "method/method_options.h"
+#include "surface/surfaces.h"
+
+#define SCENE_MAX_MEDIA 16
+#define SCENE_MAX_LIGHTS 4096
+#define SCENE_MAX_WORK_DEFAULT 1e12 /* render.max_work: about 3 hours of Blasi's light pass on 2 cores */
+
+struct brume_scene {
+    bool committed;
+    char source[512]; /* file the scene came from, or "<default scene>" */
+    camera cam;
+    light *lights; /* owned */
+    int nlights, lights_cap;
+    medium media[SCENE_MAX_MEDIA];
+    int nmedia;
+    surfaces *surf;   /* solid objects (owned), or NULL when the scene has none */
+    background bg;    /* radiance arriving from infinity (Blasi's L-infinity) */
+    brume_render_settings settings;
+    void *options[METHOD_OPTIONS_COUNT]; /* owned: each method's options, opaque here
+                                            (method/method_options.h; scene_options()) */
+    bool has_emission; /* some medium has Le > 0 (set by commit) */
+    bool flight_control; /* scene_flight_control, set by commit */
+    bool has_indirect_sources; /* emission, area lights or a background: light a path can reach by
+                                  phase sampling (set by commit) */
+    double time;       /* the frame's time, seconds (brume_scene_set_time) */
+    bool world_moves;  /* something besides the camera depends on time (set by the builders;
+                          brume_scene_world_is_static adds moving surfaces and blobs) */
+    struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
+    size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
+    size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
+    io_inputs inputs;   /* the files the scene was read from (core/regular_file.h), owned */
+    double max_work;    /* render.max_work: units of work a method may estimate before it starts
+                           (a step of a ray, a voxel generated, a blob at a lattice point) */
+    struct {
+        bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
+        char media[64]; /* "media" = all of them, else one medium's name */
+        double margin;  /* fraction of the frame left around the box, [0, 0.9] */
+    } frame;
+};
+
+/* What integrator_prepare built for this scene, reused by later renders of it. Rendering
+ * reads a scene through a const pointer; this is the one part it writes (one render at a
+ * time per scene). prepare must depend on the world only, never on the camera, so that
+ * brume_scene_set_camera_time keeps it valid. */
+typedef struct scene_prepared {
+    bool valid;
+    int kind;    /* integrator_kind */
+    void *state; /* integrator_prepare's */
+    void (*finish)(int kind, void *state); /* releases state (integrator_finish: the renderer
+                                              above this layer sets it) */
+    brume_stats stats; /* of the last render (brume_scene_get_stats) */
+} scene_prepared;
+
+/* An empty scene with default settings and camera; NULL when out of memory. */
+brume_scene *scene_new(const char *source);
+/* Method `id`'s options struct (method/method_options.h): blasi_options, stam_params. */
+const void *scene_options(const brume_scene *s, method_options_id id);
+
+/* Validates settings (err_set names the field); BRUME_OK when usable. */
+brume_status scene_check_settings(const char *source, const brume_render_settings *rs);
+void scene_default_settings(brume_render_settings *rs);
+
+/* The built-in default scene as scene-file JSON (docs/scene-format.md). */
+extern const char scene_default_json[];
+
+/* Reads a scene file text (scene/scene_json.c) at time 0. `source` names it in messages. */
+brume_status scene_parse_json(const char *text, const char *source, brume_scene **out);
+/* The same at frame time `time` (seconds), or, when frame_no >= 0, at frame_no / render.fps. */
+brume_status scene_parse_json_at(const char *text, const char *source, double time, long frame_no, brume_scene **out);
+/* The same after applying overrides "KEY=VALUE" to the document (scene/scene_override.h). */
+brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
+                                   const char *const *overrides, int noverrides, brume_scene **out);
+
+/* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
+ * fields, gray sigma_t. Call after medium_init. */
+bool scene_flight_control(const brume_scene *s);
+
+/* Commit's auto-framing (scene/scene_frame.c): moves the camera onto the media that
+ * brume_scene_frame_camera named; BRUME_OK at once when it was not called. */
+brume_status scene_frame_resolve(brume_scene *s);
+/* The world box holding every non-zero value of d (its voxel box cut to the cells that are
+ * not empty), or an empty box: what framing looks at. */
+box3 scene_density_box(const density *d);
+
+#endif

@@ -1,0 +1,939 @@
+/* scene_pbrt.c - pbrt-v4 scene files translated to brume's scene description (JSON), then
+ * read by the one scene reader (scene/scene_json.c). The subset read and the mapping of units
+ * and conventions are in docs/production.md, "pbrt-v4 scenes". Every directive, type or
+ * parameter outside that subset is refused with one line "FILE:LINE: ..." naming it. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/vec.h"
+#include "io/grid_io.h"
+#include "io/json.h"
+#include "scene/scene_pbrt.h"
+
+#define PBRT_MAX_BYTES (64L << 20)
+#define PBRT_MAX_VALUES 64
+#define PBRT_MAX_PARAMS 32
+#define PBRT_MAX_MEDIA 16
+#define PBRT_MAX_DEPTH 64
+
+/* ---- tokens ------------------------------------------------------------------------------ */
+
+typedef enum { TOK_END, TOK_WORD, TOK_STRING, TOK_OPEN, TOK_CLOSE } tok_kind;
+
+typedef struct lexer {
+    const char *file;
+    const char *p;
+    int line;
+    tok_kind kind; /* the current token */
+    char text[1024];
+    int tok_line;
+    int dir_line;  /* the line of the directive being read: what refusals name */
+} lexer;
+
+static void next(lexer *L)
+{
+    for (;;) {
+        while (isspace((unsigned char)*L->p)) {
+            if (*L->p == '\n')
+                L->line++;
+            L->p++;
+        }
+        if (*L->p != '#')
+            break;
+        while (*L->p && *L->p != '\n')
+            L->p++;
+    }
+    L->tok_line = L->line;
+    char c = *L->p;
+    size_t n = 0;
+    if (!c) {
+        L->kind = TOK_END;
+    } else if (c == '[' || c == ']') {
+        L->kind = c == '[' ? TOK_OPEN : TOK_CLOSE;
+        L->p++;
+    } else if (c == '"') {
+        L->kind = TOK_STRING;
+        L->p++;
+        while (*L->p && *L->p != '"' && *L->p != '\n') {
+            if (n + 1 < sizeof L->text)
+                L->text[n++] = *L->p;
+            L->p++;
+        }
+        if (*L->p == '"')
+            L->p++;
+        else
+            L->kind = TOK_END; /* unterminated: reported by the caller as a syntax error */
+    } else {
+        L->kind = TOK_WORD;
+        while (*L->p && !isspace((unsigned char)*L->p) && *L->p != '"' && *L->p != '[' && *L->p != ']' && *L->p != '#') {
+            if (n + 1 < sizeof L->text)
+                L->text[n++] = *L->p;
+            L->p++;
+        }
+    }
+    L->text[n] = '\0';
+}
+
+/* A refusal: "FILE:LINE: " and the message. */
+static brume_status fail(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static brume_status fail(const lexer *L, const char *fmt, ...)
+{
+    char msg[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return err_set(BRUME_ERROR_UNSUPPORTED, "%s:%d: %s", L->file, L->dir_line, msg);
+}
+
+/* src into dst[cap], cut to fit. */
+static void copy(char *dst, size_t cap, const char *src)
+{
+    size_t n = strlen(src);
+    if (n >= cap)
+        n = cap - 1;
+    memmove(dst, src, n);
+    dst[n] = '\0';
+}
+
+static bool number(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(v))
+        return false;
+    *out = v;
+    return true;
+}
+
+/* n numbers as bare words (LookAt, Translate ...) or in brackets (Transform). */
+static brume_status numbers(lexer *L, const char *dir, int n, double *out)
+{
+    bool bracket = false;
+    next(L);
+    if (L->kind == TOK_OPEN) {
+        bracket = true;
+        next(L);
+    }
+    for (int i = 0; i < n; i++) {
+        if (L->kind != TOK_WORD || !number(L->text, &out[i]))
+            return fail(L, "%s: expected a number", dir);
+        next(L);
+    }
+    if (bracket) {
+        if (L->kind != TOK_CLOSE)
+            return fail(L, "%s: expected ]", dir);
+        next(L);
+    }
+    return BRUME_OK;
+}
+
+/* ---- parameter lists --------------------------------------------------------------------- */
+
+typedef struct param {
+    char type[16], name[64];
+    int n;                           /* values */
+    double v[PBRT_MAX_VALUES];       /* numbers */
+    char s[256];                     /* the first string value */
+    bool is_string, used;
+    int line;
+} param;
+
+typedef struct params {
+    int n;
+    param p[PBRT_MAX_PARAMS];
+} params;
+
+/* Reads "type name" value pairs after a directive; L is on the first token after the
+ * directive's own arguments and is left on the next directive. */
+static brume_status read_params(lexer *L, params *ps)
+{
+    ps->n = 0;
+    while (L->kind == TOK_STRING) {
+        if (ps->n == PBRT_MAX_PARAMS)
+            return fail(L, "more than %d parameters", PBRT_MAX_PARAMS);
+        param *q = &ps->p[ps->n++];
+        memset(q, 0, sizeof *q);
+        q->line = L->tok_line;
+        if (sscanf(L->text, "%15s %63s", q->type, q->name) != 2)
+            return fail(L, "parameter \"%s\": expected \"type name\"", L->text);
+        next(L);
+        bool bracket = L->kind == TOK_OPEN;
+        if (bracket)
+            next(L);
+        do {
+            if (L->kind == TOK_STRING) {
+                if (q->n == 0)
+                    copy(q->s, sizeof q->s, L->text);
+                q->is_string = true;
+                q->n++;
+            } else if (L->kind == TOK_WORD && (strcmp(L->text, "true") == 0 || strcmp(L->text, "false") == 0)) {
+                q->v[q->n < PBRT_MAX_VALUES ? q->n : 0] = strcmp(L->text, "true") == 0;
+                q->n++;
+            } else if (L->kind == TOK_WORD) {
+                if (q->n >= PBRT_MAX_VALUES)
+                    return fail(L, "parameter \"%s\": more values than brume reads", q->name);
+                if (!number(L->text, &q->v[q->n]))
+                    return fail(L, "parameter \"%s\": expected a number", q->name);
+                q->n++;
+            } else {
+                return fail(L, "parameter \"%s\": expected a value", q->name);
+            }
+            next(L);
+        } while (bracket && L->kind != TOK_CLOSE && L->kind != TOK_END);
+        if (bracket) {
+            if (L->kind != TOK_CLOSE)
+                return fail(L, "parameter \"%s\": expected ]", q->name);
+            next(L);
+        }
+    }
+    return BRUME_OK;
+}
+
+static param *get(params *ps, const char *name)
+{
+    for (int i = 0; i < ps->n; i++)
+        if (strcmp(ps->p[i].name, name) == 0) {
+            ps->p[i].used = true;
+            return &ps->p[i];
+        }
+    return NULL;
+}
+
+static brume_status get_float(lexer *L, params *ps, const char *name, double *out)
+{
+    param *q = get(ps, name);
+    if (!q)
+        return BRUME_OK;
+    if (q->is_string || q->n != 1 || (strcmp(q->type, "float") != 0 && strcmp(q->type, "integer") != 0))
+        return fail(L, "parameter \"%s\": expected one float", name);
+    *out = q->v[0];
+    return BRUME_OK;
+}
+
+static brume_status get_point(lexer *L, params *ps, const char *name, double out[3])
+{
+    param *q = get(ps, name);
+    if (!q)
+        return BRUME_OK;
+    if (q->is_string || q->n != 3)
+        return fail(L, "parameter \"%s\": expected three numbers", name);
+    memcpy(out, q->v, 3 * sizeof *out);
+    return BRUME_OK;
+}
+
+/* An "rgb" value, or a "spectrum" given as one constant or as constant (lambda, value)
+ * pairs; anything else (a blackbody, a named or varying spectrum) is refused: brume renders
+ * in RGB and would have to guess the projection. */
+static brume_status get_color(lexer *L, params *ps, const char *name, double out[3])
+{
+    param *q = get(ps, name);
+    if (!q)
+        return BRUME_OK;
+    if (strcmp(q->type, "rgb") == 0 && !q->is_string && q->n == 3) {
+        memcpy(out, q->v, 3 * sizeof *out);
+        return BRUME_OK;
+    }
+    if (strcmp(q->type, "spectrum") == 0 && !q->is_string && (q->n == 1 || (q->n >= 4 && q->n % 2 == 0))) {
+        double v = q->n == 1 ? q->v[0] : q->v[1];
+        for (int i = 3; i < q->n; i += 2)
+            if (q->v[i] != v)
+                return fail(L, "parameter \"%s\": a spectrum that varies with wavelength (brume renders RGB)", name);
+        out[0] = out[1] = out[2] = v;
+        return BRUME_OK;
+    }
+    if (strcmp(q->type, "float") == 0 && !q->is_string && q->n == 1) {
+        out[0] = out[1] = out[2] = q->v[0];
+        return BRUME_OK;
+    }
+    return fail(L, "parameter \"%s\": brume reads rgb values and constant spectra only", name);
+}
+
+static brume_status get_string(lexer *L, params *ps, const char *name, char *out, size_t n)
+{
+    param *q = get(ps, name);
+    if (!q)
+        return BRUME_OK;
+    if (!q->is_string || q->n != 1)
+        return fail(L, "parameter \"%s\": expected one string", name);
+    snprintf(out, n, "%s", q->s);
+    return BRUME_OK;
+}
+
+/* Every parameter must have been read: the first that was not is refused. */
+static brume_status all_used(const lexer *L, const params *ps, const char *dir)
+{
+    for (int i = 0; i < ps->n; i++)
+        if (!ps->p[i].used) {
+            char what[160];
+            snprintf(what, sizeof what, "%s: parameter \"%s %s\"", dir, ps->p[i].type, ps->p[i].name);
+            lexer at = *L;
+            at.dir_line = ps->p[i].line;
+            return fail(&at, "%s: not supported by brume", what);
+        }
+    return BRUME_OK;
+}
+
+/* ---- transforms: 4 x 4 row-major, p' = M p ------------------------------------------------- */
+
+typedef struct m4 {
+    double m[16];
+} m4;
+
+static m4 m4_identity(void)
+{
+    m4 r = {{0}};
+    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0;
+    return r;
+}
+
+static m4 m4_mul(m4 a, m4 b)
+{
+    m4 r;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            double s = 0.0;
+            for (int k = 0; k < 4; k++)
+                s += a.m[4 * i + k] * b.m[4 * k + j];
+            r.m[4 * i + j] = s;
+        }
+    return r;
+}
+
+static bool m4_inverse(m4 a, m4 *out)
+{
+    m4 r = m4_identity();
+    for (int c = 0; c < 4; c++) {
+        int piv = c;
+        for (int i = c + 1; i < 4; i++)
+            if (fabs(a.m[4 * i + c]) > fabs(a.m[4 * piv + c]))
+                piv = i;
+        if (fabs(a.m[4 * piv + c]) < 1e-300)
+            return false;
+        for (int j = 0; j < 4; j++) {
+            double t = a.m[4 * c + j];
+            a.m[4 * c + j] = a.m[4 * piv + j];
+            a.m[4 * piv + j] = t;
+            t = r.m[4 * c + j];
+            r.m[4 * c + j] = r.m[4 * piv + j];
+            r.m[4 * piv + j] = t;
+        }
+        double d = a.m[4 * c + c];
+        for (int j = 0; j < 4; j++) {
+            a.m[4 * c + j] /= d;
+            r.m[4 * c + j] /= d;
+        }
+        for (int i = 0; i < 4; i++)
+            if (i != c) {
+                double f = a.m[4 * i + c];
+                for (int j = 0; j < 4; j++) {
+                    a.m[4 * i + j] -= f * a.m[4 * c + j];
+                    r.m[4 * i + j] -= f * r.m[4 * c + j];
+                }
+            }
+    }
+    *out = r;
+    return true;
+}
+
+static vec3 m4_point(m4 a, vec3 p)
+{
+    const double *m = a.m;
+    return v3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+              m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+static vec3 m4_vector(m4 a, vec3 v)
+{
+    const double *m = a.m;
+    return v3(m[0] * v.x + m[1] * v.y + m[2] * v.z, m[4] * v.x + m[5] * v.y + m[6] * v.z,
+              m[8] * v.x + m[9] * v.y + m[10] * v.z);
+}
+
+static m4 m4_translate(double x, double y, double z)
+{
+    m4 r = m4_identity();
+    r.m[3] = x;
+    r.m[7] = y;
+    r.m[11] = z;
+    return r;
+}
+
+static m4 m4_scale(double x, double y, double z)
+{
+    m4 r = m4_identity();
+    r.m[0] = x;
+    r.m[5] = y;
+    r.m[10] = z;
+    return r;
+}
+
+static m4 m4_rotate(double deg, vec3 axis)
+{
+    vec3 a = v3_normalize(axis);
+    double t = deg * PI / 180.0, s = sin(t), c = cos(t);
+    m4 r = m4_identity();
+    r.m[0] = a.x * a.x + (1 - a.x * a.x) * c;
+    r.m[1] = a.x * a.y * (1 - c) - a.z * s;
+    r.m[2] = a.x * a.z * (1 - c) + a.y * s;
+    r.m[4] = a.x * a.y * (1 - c) + a.z * s;
+    r.m[5] = a.y * a.y + (1 - a.y * a.y) * c;
+    r.m[6] = a.y * a.z * (1 - c) - a.x * s;
+    r.m[8] = a.x * a.z * (1 - c) - a.y * s;
+    r.m[9] = a.y * a.z * (1 - c) + a.x * s;
+    r.m[10] = a.z * a.z + (1 - a.z * a.z) * c;
+    return r;
+}
+
+/* pbrt's LookAt: the camera-from-world matrix with the eye at the origin looking down +z. */
+static bool m4_look_at(vec3 eye, vec3 look, vec3 up, m4 *out)
+{
+    vec3 dir = v3_normalize(v3_sub(look, eye));
+    vec3 right = v3_cross(v3_normalize(up), dir);
+    if (!(v3_length(right) > 1e-12))
+        return false;
+    right = v3_normalize(right);
+    vec3 nup = v3_cross(dir, right);
+    m4 w = m4_identity(); /* world from camera */
+    w.m[0] = right.x; w.m[4] = right.y; w.m[8] = right.z;
+    w.m[1] = nup.x; w.m[5] = nup.y; w.m[9] = nup.z;
+    w.m[2] = dir.x; w.m[6] = dir.y; w.m[10] = dir.z;
+    w.m[3] = eye.x; w.m[7] = eye.y; w.m[11] = eye.z;
+    return m4_inverse(w, out);
+}
+
+/* brume's transform object {"translate", "rotate", "scale"} = T R S for an affine map
+ * without shear (columns of the linear part orthogonal, rotation proper); NULL (a refusal by
+ * the caller) otherwise. */
+static cJSON *transform_json(m4 a)
+{
+    vec3 col[3];
+    double s[3];
+    for (int j = 0; j < 3; j++) {
+        col[j] = v3(a.m[j], a.m[4 + j], a.m[8 + j]);
+        s[j] = v3_length(col[j]);
+        if (!(s[j] > 0.0))
+            return NULL;
+        col[j] = v3_scale(col[j], 1.0 / s[j]);
+    }
+    if (fabs(v3_dot(col[0], col[1])) > 1e-6 || fabs(v3_dot(col[0], col[2])) > 1e-6 || fabs(v3_dot(col[1], col[2])) > 1e-6)
+        return NULL;
+    if (v3_dot(v3_cross(col[0], col[1]), col[2]) < 0.0) { /* a mirror: one negative scale */
+        s[0] = -s[0];
+        col[0] = v3_neg(col[0]);
+    }
+    /* axis-angle of the rotation R = [col0 col1 col2] */
+    double tr = col[0].x + col[1].y + col[2].z;
+    double angle = acos(fmax(-1.0, fmin(1.0, 0.5 * (tr - 1.0))));
+    vec3 axis = v3(col[1].z - col[2].y, col[2].x - col[0].z, col[0].y - col[1].x);
+    if (v3_length(axis) < 1e-9) {
+        if (angle < 1e-6) {
+            axis = v3(0, 0, 1);
+            angle = 0.0;
+        } else { /* a half turn: the axis from R + I */
+            vec3 c = v3_add(col[0], v3(1, 0, 0));
+            if (v3_length(c) < 1e-6)
+                c = v3_add(col[1], v3(0, 1, 0));
+            if (v3_length(c) < 1e-6)
+                c = v3_add(col[2], v3(0, 0, 1));
+            axis = c;
+        }
+    }
+    axis = v3_normalize(axis);
+    cJSON *t = cJSON_CreateObject();
+    double tv[3] = {a.m[3], a.m[7], a.m[11]}, av[3] = {axis.x, axis.y, axis.z};
+    cJSON_AddItemToObject(t, "translate", cJSON_CreateDoubleArray(tv, 3));
+    cJSON *r = cJSON_AddObjectToObject(t, "rotate");
+    cJSON_AddItemToObject(r, "axis", cJSON_CreateDoubleArray(av, 3));
+    cJSON_AddNumberToObject(r, "angle", angle * 180.0 / PI);
+    cJSON_AddItemToObject(t, "scale", cJSON_CreateDoubleArray(s, 3));
+    return t;
+}
+
+/* ---- the translation ------------------------------------------------------------------------ */
+
+typedef struct named_medium {
+    char name[128];
+    cJSON *json; /* the brume medium, emitted when a shape first uses it */
+    bool emitted;
+} named_medium;
+
+typedef struct attrs {
+    m4 ctm;
+    char material[32]; /* "diffuse" or "interface" */
+    double albedo[3];
+    char inside[128], outside[128];
+} attrs;
+
+typedef struct pbrt_state {
+    lexer L;
+    const char *path;
+    char dir[PATH_MAX];
+    attrs a[PBRT_MAX_DEPTH];
+    int depth;
+    bool have_camera, world;
+    m4 world_from_camera;
+    double fov, lens_radius, focal_distance;
+    int xres, yres, spp, max_depth;
+    named_medium media[PBRT_MAX_MEDIA];
+    int nmedia;
+    cJSON *root, *lights, *media_j, *surfaces;
+    double background[3];
+    bool have_background;
+} pbrt_state;
+
+static brume_status camera_directive(pbrt_state *S, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    if (strcmp(type, "perspective") != 0)
+        return fail(L, "Camera \"%s\": brume has a perspective camera only", type);
+    S->fov = 90.0;
+    S->lens_radius = 0.0;
+    S->focal_distance = 1e6;
+    if ((st = get_float(L, ps, "fov", &S->fov)) || (st = get_float(L, ps, "lensradius", &S->lens_radius)) ||
+        (st = get_float(L, ps, "focaldistance", &S->focal_distance)))
+        return st;
+    if ((st = all_used(L, ps, "Camera \"perspective\"")))
+        return st;
+    m4 wc;
+    if (!m4_inverse(S->a[S->depth].ctm, &wc))
+        return fail(L, "Camera: the current transform is not invertible");
+    /* pbrt images camera +x to the right, +y up, looking down +z; brume's camera has right =
+       forward x up. A frame where +x = up x forward (pbrt's own LookAt without a mirror) would
+       come out mirrored: refused rather than rendered flipped. */
+    vec3 R = m4_vector(wc, v3(1, 0, 0)), U = m4_vector(wc, v3(0, 1, 0)), F = m4_vector(wc, v3(0, 0, 1));
+    if (v3_dot(v3_cross(F, U), R) <= 0.0)
+        return fail(L, "Camera: the image would be mirrored in brume (pbrt's LookAt looks left-handed; scenes add "
+                       "\"Scale -1 1 1\" before LookAt for the usual right-handed view)");
+    S->world_from_camera = wc;
+    S->have_camera = true;
+    return BRUME_OK;
+}
+
+static brume_status light_directive(pbrt_state *S, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    double Lrgb[3] = {1, 1, 1}, scale = 1.0;
+    if ((st = get_float(L, ps, "scale", &scale))) return st;
+    m4 ctm = S->a[S->depth].ctm;
+    if (strcmp(type, "distant") == 0) {
+        double from[3] = {0, 0, 0}, to[3] = {0, 0, 1};
+        if ((st = get_color(L, ps, "L", Lrgb)) || (st = get_point(L, ps, "from", from)) ||
+            (st = get_point(L, ps, "to", to)) || (st = all_used(L, ps, "LightSource \"distant\"")))
+            return st;
+        vec3 d = m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
+        if (!(v3_length(d) > 0.0))
+            return fail(L, "LightSource \"%s\": from equals to", type);
+        d = v3_normalize(d);
+        cJSON *l = cJSON_CreateObject();
+        double dv[3] = {d.x, d.y, d.z}, E[3] = {Lrgb[0] * scale, Lrgb[1] * scale, Lrgb[2] * scale};
+        cJSON_AddStringToObject(l, "type", "distant");
+        cJSON_AddItemToObject(l, "direction", cJSON_CreateDoubleArray(dv, 3));
+        cJSON_AddItemToObject(l, "irradiance", cJSON_CreateDoubleArray(E, 3));
+        cJSON_AddItemToArray(S->lights, l);
+    } else if (strcmp(type, "point") == 0) {
+        double from[3] = {0, 0, 0};
+        if ((st = get_color(L, ps, "I", Lrgb)) || (st = get_point(L, ps, "from", from)) ||
+            (st = all_used(L, ps, "LightSource \"point\"")))
+            return st;
+        vec3 p = m4_point(ctm, v3(from[0], from[1], from[2]));
+        cJSON *l = cJSON_CreateObject();
+        double pv[3] = {p.x, p.y, p.z}, I[3] = {Lrgb[0] * scale, Lrgb[1] * scale, Lrgb[2] * scale};
+        cJSON_AddStringToObject(l, "type", "point");
+        cJSON_AddItemToObject(l, "position", cJSON_CreateDoubleArray(pv, 3));
+        cJSON_AddItemToObject(l, "intensity", cJSON_CreateDoubleArray(I, 3));
+        cJSON_AddItemToArray(S->lights, l);
+    } else if (strcmp(type, "infinite") == 0) {
+        if ((st = get_color(L, ps, "L", Lrgb)) || (st = all_used(L, ps, "LightSource \"infinite\"")))
+            return st;
+        for (int c = 0; c < 3; c++) /* several constant skies add */
+            S->background[c] += Lrgb[c] * scale;
+        S->have_background = true;
+    } else {
+        return fail(L, "LightSource \"%s\": not supported by brume (distant, point, infinite with L)", type);
+    }
+    return BRUME_OK;
+}
+
+static brume_status medium_directive(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    char type[64] = "", file[1024] = "";
+    if ((st = get_string(L, ps, "type", type, sizeof type))) return st;
+    if (strcmp(type, "nanovdb") != 0)
+        return fail(L, "MakeNamedMedium type \"%s\": not supported by brume yet (nanovdb)", type);
+    double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, scale = 1.0, g = 0.0, Lescale = 1.0, tscale = 1.0, toff = 0.0,
+           tcut = 0.0;
+    if ((st = get_string(L, ps, "filename", file, sizeof file)) || (st = get_color(L, ps, "sigma_a", sa)) ||
+        (st = get_color(L, ps, "sigma_s", ss)) || (st = get_float(L, ps, "scale", &scale)) ||
+        (st = get_float(L, ps, "g", &g)) || (st = get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = get_float(L, ps, "temperaturescale", &tscale)) || (st = get_float(L, ps, "temperaturecutoff", &tcut)))
+        return st;
+    toff = tcut; /* pbrt-v4: temperatureoffset defaults to temperaturecutoff */
+    if ((st = get_float(L, ps, "temperatureoffset", &toff))) return st;
+    if ((st = all_used(L, ps, "MakeNamedMedium \"nanovdb\"")))
+        return st;
+    if (!file[0])
+        return fail(L, "MakeNamedMedium \"%s\": no \"string filename\"", name);
+    if (S->nmedia == PBRT_MAX_MEDIA)
+        return fail(L, "MakeNamedMedium \"%s\": more than %d media", name, PBRT_MAX_MEDIA);
+    char rel[PATH_MAX + 1100], abs[PATH_MAX];
+    if (file[0] == '/')
+        copy(rel, sizeof rel, file);
+    else
+        snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
+    if (!realpath(rel, abs))
+        return err_set(BRUME_ERROR_IO, "%s:%d: MakeNamedMedium \"%s\": %s: %s", L->file, L->dir_line, name, rel,
+                       strerror(errno));
+    /* pbrt reads the file's "temperature" grid when it has one */
+    bool has_temp = false;
+    gridvdb_info *gi = NULL;
+    int ng = 0;
+    if (grid_list_file(abs, 0, &gi, &ng) != BRUME_OK)
+        return err_prefix("%s:%d: MakeNamedMedium \"%s\"", L->file, L->dir_line, name);
+    for (int i = 0; i < ng; i++)
+        has_temp |= strcmp(gi[i].name, "temperature") == 0;
+    free(gi);
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "name", name);
+    cJSON *d = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(d, "type", "grid");
+    cJSON_AddStringToObject(d, "file", abs);
+    cJSON_AddStringToObject(d, "grid", "density");
+    m4 ctm = S->a[S->depth].ctm;
+    m4 id = m4_identity();
+    if (memcmp(&ctm, &id, sizeof id) != 0) {
+        cJSON *t = transform_json(ctm);
+        if (!t) {
+            cJSON_Delete(m);
+            return fail(L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
+                           "translation)", name);
+        }
+        cJSON_AddItemToObject(d, "transform", t);
+    }
+    /* pbrt: sigma_a(p) = scale sigma_a d(p), the same for sigma_s: brume's per unit density */
+    double a3[3] = {sa[0] * scale, sa[1] * scale, sa[2] * scale}, s3[3] = {ss[0] * scale, ss[1] * scale, ss[2] * scale};
+    cJSON_AddItemToObject(m, "sigma_a", cJSON_CreateDoubleArray(a3, 3));
+    cJSON_AddItemToObject(m, "sigma_s", cJSON_CreateDoubleArray(s3, 3));
+    cJSON *ph = cJSON_AddObjectToObject(m, "phase");
+    cJSON_AddStringToObject(ph, "type", "hg");
+    cJSON_AddNumberToObject(ph, "g", g);
+    if (has_temp) {
+        /* pbrt-v4: T' = (T - offset) scale; above 100 K, Le = Lescale B(T') with B the
+           peak-normalized blackbody, emitted at the rate sigma_a rho Le: brume's model */
+        cJSON *t = cJSON_AddObjectToObject(m, "temperature");
+        cJSON_AddStringToObject(t, "grid", "temperature");
+        cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
+        cJSON_AddNumberToObject(bb, "scale", Lescale);
+        cJSON_AddNumberToObject(bb, "temperature_scale", tscale);
+        cJSON_AddNumberToObject(bb, "temperature_offset", toff);
+        cJSON_AddNumberToObject(bb, "cutoff", 100);
+    }
+    named_medium *nm = &S->media[S->nmedia++];
+    copy(nm->name, sizeof nm->name, name);
+    nm->json = m;
+    nm->emitted = false;
+    return BRUME_OK;
+}
+
+static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    if (strcmp(type, "sphere") != 0)
+        return fail(L, "Shape \"%s\": not supported by brume's pbrt reader (sphere)", type);
+    double radius = 1.0;
+    if ((st = get_float(L, ps, "radius", &radius)) || (st = all_used(L, ps, "Shape \"sphere\"")))
+        return st;
+    attrs *a = &S->a[S->depth];
+    if (a->outside[0])
+        return fail(L, "MediumInterface: an outside medium \"%s\" (brume's media are fields in vacuum)", a->outside);
+    if (strcmp(a->material, "interface") == 0) {
+        /* a medium's boundary: brume's media are fields, so the shape is not rendered and the
+           medium is the grid itself (pbrt-v4-scenes bound their grids by such spheres) */
+        if (!a->inside[0])
+            return fail(L, "Shape: an \"interface\" material without a medium inside (MediumInterface)");
+        for (int i = 0; i < S->nmedia; i++)
+            if (strcmp(S->media[i].name, a->inside) == 0) {
+                if (!S->media[i].emitted) {
+                    cJSON_AddItemToArray(S->media_j, S->media[i].json);
+                    S->media[i].emitted = true;
+                }
+                return BRUME_OK;
+            }
+        return fail(L, "MediumInterface: no medium named \"%s\"", a->inside);
+    }
+    if (a->inside[0])
+        return fail(L, "Shape: medium \"%s\" inside a shape whose material is not \"interface\"", a->inside);
+    cJSON *t = transform_json(a->ctm);
+    if (!t)
+        return fail(L, "Shape \"%s\": a transform with shear", type);
+    cJSON *s = cJSON_CreateObject();
+    cJSON_AddStringToObject(s, "type", "sphere");
+    cJSON_AddNumberToObject(s, "radius", radius);
+    cJSON_AddItemToObject(s, "transform", t);
+    cJSON *mat = cJSON_AddObjectToObject(s, "material");
+    cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
+    cJSON_AddItemToArray(S->surfaces, s);
+    return BRUME_OK;
+}
+
+static brume_status directive(pbrt_state *S, params *ps)
+{
+    lexer *L = &S->L;
+    char dir[64];
+    copy(dir, sizeof dir, L->text);
+    L->dir_line = L->tok_line;
+    attrs *a = &S->a[S->depth];
+    double v[16];
+    brume_status st;
+    if (L->kind != TOK_WORD)
+        return fail(L, "expected a directive, found \"%s\"", L->text);
+    if (strcmp(dir, "WorldBegin") == 0) {
+        if (!S->have_camera)
+            return fail(L, "%s before a Camera", dir);
+        S->world = true;
+        a->ctm = m4_identity();
+        next(L);
+    } else if (strcmp(dir, "AttributeBegin") == 0) {
+        if (S->depth + 1 == PBRT_MAX_DEPTH)
+            return fail(L, "%s: nested too deep", dir);
+        S->a[S->depth + 1] = *a;
+        S->depth++;
+        next(L);
+    } else if (strcmp(dir, "AttributeEnd") == 0) {
+        if (S->depth == 0)
+            return fail(L, "%s without AttributeBegin", dir);
+        S->depth--;
+        next(L);
+    } else if (strcmp(dir, "Identity") == 0) {
+        a->ctm = m4_identity();
+        next(L);
+    } else if (strcmp(dir, "Translate") == 0) {
+        if ((st = numbers(L, dir, 3, v))) return st;
+        a->ctm = m4_mul(a->ctm, m4_translate(v[0], v[1], v[2]));
+    } else if (strcmp(dir, "Scale") == 0) {
+        if ((st = numbers(L, dir, 3, v))) return st;
+        a->ctm = m4_mul(a->ctm, m4_scale(v[0], v[1], v[2]));
+    } else if (strcmp(dir, "Rotate") == 0) {
+        if ((st = numbers(L, dir, 4, v))) return st;
+        a->ctm = m4_mul(a->ctm, m4_rotate(v[0], v3(v[1], v[2], v[3])));
+    } else if (strcmp(dir, "LookAt") == 0) {
+        if ((st = numbers(L, dir, 9, v))) return st;
+        m4 la;
+        if (!m4_look_at(v3(v[0], v[1], v[2]), v3(v[3], v[4], v[5]), v3(v[6], v[7], v[8]), &la))
+            return fail(L, "%s: up parallel to the view direction", dir);
+        a->ctm = m4_mul(a->ctm, la);
+    } else if (strcmp(dir, "Transform") == 0 || strcmp(dir, "ConcatTransform") == 0) {
+        if ((st = numbers(L, dir, 16, v))) return st;
+        m4 t; /* pbrt's matrices are given column by column */
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 4; j++)
+                t.m[4 * i + j] = v[4 * j + i];
+        a->ctm = dir[0] == 'T' ? t : m4_mul(a->ctm, t);
+    } else if (strcmp(dir, "Camera") == 0 || strcmp(dir, "Film") == 0 || strcmp(dir, "Sampler") == 0 ||
+               strcmp(dir, "Integrator") == 0 || strcmp(dir, "Material") == 0 || strcmp(dir, "LightSource") == 0 ||
+               strcmp(dir, "Shape") == 0 || strcmp(dir, "ColorSpace") == 0 || strcmp(dir, "MakeNamedMedium") == 0) {
+        /* DIRECTIVE "type" (a medium's "name") and a parameter list */
+        next(L);
+        if (L->kind != TOK_STRING)
+            return fail(L, "%s: expected its %s", dir, strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type");
+        char type[128], what[200];
+        copy(type, sizeof type, L->text);
+        snprintf(what, sizeof what, "%s \"%s\"", dir, type);
+        next(L);
+        if ((st = read_params(L, ps))) return st;
+        if (strcmp(dir, "Camera") == 0)
+            return camera_directive(S, type, ps);
+        if (strcmp(dir, "LightSource") == 0)
+            return light_directive(S, type, ps);
+        if (strcmp(dir, "Shape") == 0)
+            return shape_directive(S, type, ps);
+        if (strcmp(dir, "MakeNamedMedium") == 0)
+            return medium_directive(S, type, ps);
+        if (strcmp(dir, "Film") == 0) {
+            double x = 1280, y = 720;
+            char fn[512];
+            if ((st = get_float(L, ps, "xresolution", &x)) || (st = get_float(L, ps, "yresolution", &y)) ||
+                (st = get_string(L, ps, "filename", fn, sizeof fn)))
+                return st;
+            if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
+                return fail(L, "%s: resolution outside [1, 65536]", what);
+            S->xres = (int)x;
+            S->yres = (int)y;
+        } else if (strcmp(dir, "Sampler") == 0) {
+            double n = 16;
+            if ((st = get_float(L, ps, "pixelsamples", &n))) return st;
+            if (!(n >= 1 && n <= 1 << 24))
+                return fail(L, "%s: pixelsamples outside [1, 2^24]", what);
+            S->spp = (int)n;
+        } else if (strcmp(dir, "Integrator") == 0) {
+            if (strcmp(type, "volpath") != 0 && strcmp(type, "path") != 0)
+                return fail(L, "%s: brume's path tracer stands for volpath and path only", what);
+            double d = 5;
+            if ((st = get_float(L, ps, "maxdepth", &d))) return st;
+            if (!(d >= 1 && d <= 100000))
+                return fail(L, "%s: maxdepth outside [1, 100000]", what);
+            S->max_depth = (int)d;
+        } else if (strcmp(dir, "ColorSpace") == 0) {
+            if (strcmp(type, "srgb") != 0)
+                return fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
+        } else { /* Material */
+            if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0)
+                return fail(L, "%s: not supported by brume (diffuse, interface)", what);
+            copy(a->material, sizeof a->material, type);
+            a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
+            if (strcmp(type, "diffuse") == 0 && (st = get_color(L, ps, "reflectance", a->albedo)))
+                return st;
+        }
+        if ((st = all_used(L, ps, what))) return st;
+    } else if (strcmp(dir, "MediumInterface") == 0) {
+        next(L);
+        if (L->kind != TOK_STRING)
+            return fail(L, "%s: expected a medium name", dir);
+        copy(a->inside, sizeof a->inside, L->text);
+        next(L);
+        a->outside[0] = '\0';
+        if (L->kind == TOK_STRING) {
+            copy(a->outside, sizeof a->outside, L->text);
+            next(L);
+        } else {
+            copy(a->outside, sizeof a->outside, a->inside);
+        }
+    } else {
+        return fail(L, "%s: not supported by brume's pbrt reader (docs/production.md lists what is)", dir);
+    }
+    return BRUME_OK;
+}
+
+bool scene_pbrt_is_pbrt(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot && strcmp(dot, ".pbrt") == 0;
+}
+
+static brume_status read_all(const char *path, char **out)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char *buf = malloc((size_t)PBRT_MAX_BYTES + 1);
+    size_t n = buf ? fread(buf, 1, (size_t)PBRT_MAX_BYTES + 1, f) : 0;
+    int bad = ferror(f);
+    fclose(f);
+    if (!buf)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    if (bad || n > (size_t)PBRT_MAX_BYTES) {
+        free(buf);
+        return err_set(bad ? BRUME_ERROR_IO : BRUME_ERROR_RANGE, "%s: %s", path, bad ? "read error" : "larger than 64 MiB");
+    }
+    buf[n] = '\0';
+    if (strlen(buf) != n) {
+        free(buf);
+        return err_set(BRUME_ERROR_PARSE, "%s: contains a NUL byte; not a pbrt scene", path);
+    }
+    *out = buf;
+    return BRUME_OK;
+}
+
+brume_status scene_pbrt_json(const char *path, char **json)
+{
+    *json = NULL;
+    char *text = NULL;
+    if (read_all(path, &text) != BRUME_OK)
+        return err_status();
+    pbrt_state *S = calloc(1, sizeof *S);
+    params *ps = malloc(sizeof *ps);
+    if (!S || !ps) {
+        free(S);
+        free(ps);
+        free(text);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    S->L = (lexer){path, text, 1, TOK_END, "", 1, 1};
+    S->path = path;
+    char tmp[PATH_MAX];
+    copy(tmp, sizeof tmp, path);
+    char *slash = strrchr(tmp, '/');
+    snprintf(S->dir, sizeof S->dir, "%s", slash ? (*slash = '\0', tmp[0] ? tmp : "/") : ".");
+    S->a[0].ctm = m4_identity();
+    snprintf(S->a[0].material, sizeof S->a[0].material, "diffuse");
+    S->a[0].albedo[0] = S->a[0].albedo[1] = S->a[0].albedo[2] = 0.5;
+    S->xres = 1280;
+    S->yres = 720;
+    S->spp = 16;
+    S->max_depth = 5;
+    S->root = cJSON_CreateObject();
+    S->lights = cJSON_CreateArray();
+    S->media_j = cJSON_CreateArray();
+    S->surfaces = cJSON_CreateArray();
+    brume_status st = BRUME_OK;
+    next(&S->L);
+    while (st == BRUME_OK && S->L.kind != TOK_END)
+        st = directive(S, ps);
+    if (st == BRUME_OK && *S->L.p)
+        st = fail(&S->L, "syntax error near \"%.64s\"", S->L.text);
+    if (st == BRUME_OK && !S->world)
+        st = err_set(BRUME_ERROR_PARSE, "%s: no WorldBegin", path);
+    if (st == BRUME_OK) {
+        char note[600];
+        snprintf(note, sizeof note, "translated by brume from the pbrt-v4 scene %s (docs/production.md)", path);
+        cJSON_AddStringToObject(S->root, "comment", note);
+        cJSON *cam = cJSON_AddObjectToObject(S->root, "camera");
+        vec3 P = m4_point(S->world_from_camera, v3(0, 0, 0));
+        vec3 F = v3_normalize(m4_vector(S->world_from_camera, v3(0, 0, 1)));
+        vec3 U = v3_normalize(m4_vector(S->world_from_camera, v3(0, 1, 0)));
+        vec3 A = v3_add(P, F);
+        double pv[3] = {P.x, P.y, P.z}, av[3] = {A.x, A.y, A.z}, uv[3] = {U.x, U.y, U.z};
+        cJSON_AddItemToObject(cam, "position", cJSON_CreateDoubleArray(pv, 3));
+        cJSON_AddItemToObject(cam, "look_at", cJSON_CreateDoubleArray(av, 3));
+        cJSON_AddItemToObject(cam, "up", cJSON_CreateDoubleArray(uv, 3));
+        /* pbrt's fov spans the shorter image side; brume's is vertical */
+        double fov = S->fov;
+        if (S->yres > S->xres)
+            fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
+        cJSON_AddNumberToObject(cam, "fov", fov);
+        if (S->lens_radius > 0.0) {
+            cJSON_AddNumberToObject(cam, "aperture_radius", S->lens_radius);
+            cJSON_AddNumberToObject(cam, "focus_distance", S->focal_distance);
+        }
+        if (S->have_background)
+            cJSON_AddItemToObject(S->root, "background", cJSON_CreateDoubleArray(S->background, 3));
+        cJSON_AddItemToObject(S->root, "lights", S->lights);
+        cJSON_AddItemToObject(S->root, "media", S->media_j);
+        cJSON_AddItemToObject(S->root, "surfaces", S->surfaces);
+        S->lights = S->media_j = S->surfaces = NULL;
+        cJSON *r = cJSON_AddObjectToObject(S->root, "render");
+        cJSON_AddNumberToObject(r, "width", S->xres);
+        cJSON_AddNumberToObject(r, "height", S->yres);
+        cJSON_AddNumberToObject(r, "spp", S->spp);
+        cJSON_AddStringToObject(r, "method", "path");
+        cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
+        if (!(*json = cJSON_Print(S->root)))
+            st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    for (int i = 0; i < S->nmedia; i++)
+        if (!S->media[i].emitted)
+            cJSON_Delete(S->media[i].json);
+    cJSON_Delete(S->lights);
+    cJSON_Delete(S->media_j);
+    cJSON_Delete(S->surfaces);
+    cJSON_Delete(S->root);
+    free(S);
+    free(ps);
+    free(text);
+    return st;
+}

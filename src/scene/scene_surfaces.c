@@ -1,0 +1,151 @@
+/* scene_surfaces.c - the "surfaces" array of a scene file: shapes, transforms, materials,
+ * keyframes, each built with brume_scene_add_SHAPE. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/xform.h"
+#include "io/json.h"
+#include "scene/scene_keys.h"
+#include "scene/scene_surfaces.h"
+
+static const double BIG = 1e30;
+
+static brume_status jvec(const cJSON *j, jloc at, const char *key, int required, double out[3])
+{
+    vec3 v = v3(out[0], out[1], out[2]);
+    brume_status st = json_vec3(j, at, key, required, &v);
+    if (st == BRUME_OK)
+        v3_to_array(v, out);
+    return st;
+}
+
+static brume_status jcolor(const cJSON *j, jloc at, const char *key, double hi, double out[3])
+{
+    color c = col_rgb(out[0], out[1], out[2]);
+    brume_status st = json_color(j, at, key, 0, 0.0, hi, &c);
+    for (int i = 0; st == BRUME_OK && i < 3; i++)
+        out[i] = c.c[i];
+    return st;
+}
+
+static brume_status parse_material(const cJSON *j, jloc at, brume_material *m)
+{
+    static const char *const keys[] = {"albedo", "specular", "exponent", "emission", "two_sided", NULL};
+    brume_material_default(m);
+    if (!j)
+        return BRUME_OK;
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    if ((st = jcolor(j, at, "albedo", 1.0, m->albedo))) return st;
+    if ((st = jcolor(j, at, "specular", 1.0, m->specular))) return st;
+    if ((st = json_number(j, at, "exponent", 0, 0.0, 1e6, &m->exponent))) return st;
+    if ((st = jcolor(j, at, "emission", BIG, m->emission))) return st;
+    if ((st = json_bool(j, at, "two_sided", 0, &m->two_sided))) return st;
+    for (int c = 0; c < 3; c++)
+        if (m->albedo[c] + m->specular[c] > 1.0)
+            return err_set(BRUME_ERROR_RANGE, "%s: %s: albedo + specular = %g > 1 would create energy", at.file,
+                           at.path, m->albedo[c] + m->specular[c]);
+    return BRUME_OK;
+}
+
+static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
+{
+    char type[32], name[64] = "";
+    brume_status st = json_object_type(j, at, type, sizeof type);
+    if (st) return st;
+    static const char *const sphere_keys[] = {"type", "name", "material", "transform", "keyframes", "center",
+                                              "radius", NULL};
+    static const char *const box_keys[] = {"type", "name", "material", "transform", "keyframes", "min", "max", NULL};
+    static const char *const quad_keys[] = {"type", "name", "material", "transform", "keyframes", "corner",
+                                            "edge_u", "edge_v", NULL};
+    static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
+                                             "normal", "size", NULL};
+    static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", NULL};
+    const char *const *keys = strcmp(type, "sphere") == 0  ? sphere_keys
+                              : strcmp(type, "box") == 0   ? box_keys
+                              : strcmp(type, "quad") == 0  ? quad_keys
+                              : strcmp(type, "plane") == 0 ? plane_keys
+                              : strcmp(type, "mesh") == 0  ? mesh_keys
+                                                           : NULL;
+    if (!keys)
+        return err_set(BRUME_ERROR_PARSE,
+                       "%s: %s.type: unknown surface type '%s' (known: sphere, box, quad, plane, mesh)", at.file,
+                       at.path, type);
+    if ((st = json_check_object(j, at, keys))) return st;
+    if ((st = json_string(j, at, "name", 0, name, sizeof name))) return st;
+    if (!name[0])
+        snprintf(name, sizeof name, "%s", at.path);
+    char kp[256];
+    brume_material m;
+    if ((st = parse_material(cJSON_GetObjectItemCaseSensitive(j, "material"),
+                             (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "material")}, &m)))
+        return st;
+    affine3 xf;
+    if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
+                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
+        return st;
+
+    if (strcmp(type, "sphere") == 0) {
+        double c[3] = {0, 0, 0}, r = 1.0;
+        if ((st = jvec(j, at, "center", 0, c))) return st;
+        if ((st = json_number(j, at, "radius", 0, 1e-12, BIG, &r))) return st;
+        st = brume_scene_add_sphere(NULL, s, c, r, xf.m, &m, name);
+    } else if (strcmp(type, "box") == 0) {
+        double lo[3], hi[3];
+        if ((st = jvec(j, at, "min", 1, lo))) return st;
+        if ((st = jvec(j, at, "max", 1, hi))) return st;
+        if (!(lo[0] < hi[0] && lo[1] < hi[1] && lo[2] < hi[2]))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s: need min < max on every axis", at.file, at.path);
+        st = brume_scene_add_box(NULL, s, lo, hi, xf.m, &m, name);
+    } else if (strcmp(type, "quad") == 0) {
+        double c[3], u[3], v[3];
+        if ((st = jvec(j, at, "corner", 1, c))) return st;
+        if ((st = jvec(j, at, "edge_u", 1, u))) return st;
+        if ((st = jvec(j, at, "edge_v", 1, v))) return st;
+        st = brume_scene_add_quad(NULL, s, c, u, v, xf.m, &m, name);
+    } else if (strcmp(type, "plane") == 0) {
+        /* a square of side `size` centred on `point`, front side along `normal` */
+        double p[3], n[3], size = 100.0;
+        if ((st = jvec(j, at, "point", 1, p))) return st;
+        if ((st = jvec(j, at, "normal", 1, n))) return st;
+        if (!(v3_length(v3(n[0], n[1], n[2])) > 0.0))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.normal: must not be the zero vector", at.file, at.path);
+        if ((st = json_number(j, at, "size", 0, 1e-9, BIG, &size))) return st;
+        st = brume_scene_add_plane(NULL, s, p, n, size, xf.m, &m, name);
+    } else {
+        char file[1024], path[2048];
+        if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
+        json_resolve_path(at.file, file, path, sizeof path);
+        st = brume_scene_add_mesh_file(NULL, s, path, xf.m, &m, name);
+    }
+    if (st)
+        return err_prefix("%s: %s", at.file, at.path);
+    const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
+    if (keys_j) {
+        /* the object moves: the keyed transform applies after its own `transform` */
+        brume_transform_key k[MOTION_MAX_KEYS];
+        int n = 0;
+        jloc kat = {at.file, json_key_path(kp, sizeof kp, at.path, "keyframes")};
+        if ((st = keys_parse_motion(keys_j, kat, k, &n))) return st;
+        if ((st = brume_scene_set_surface_motion(NULL, s, brume_scene_surface_count(s) - 1, k, n)))
+            return err_prefix("%s: %s", at.file, kat.path);
+    }
+    return BRUME_OK;
+}
+
+brume_status scene_parse_surfaces(const cJSON *arr, const char *file, brume_scene *s)
+{
+    if (!cJSON_IsArray(arr))
+        return err_set(BRUME_ERROR_PARSE, "%s: surfaces: expected an array", file);
+    int i = 0;
+    for (const cJSON *e = arr->child; e; e = e->next, i++) {
+        char kp[64];
+        snprintf(kp, sizeof kp, "surfaces[%d]", i);
+        brume_status st = parse_surface(e, (jloc){file, kp}, s);
+        if (st)
+            return st;
+    }
+    return BRUME_OK;
+}
