@@ -26,7 +26,7 @@
 #include "core/progress.h"
 #include "io/compare.h"
 #include "render/blasi.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 static void die(brume_context *ctx)
 {

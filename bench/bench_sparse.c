@@ -23,7 +23,7 @@
 #include "core/rng.h"
 #include "density/density.h"
 #include "io/grid_io.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 static double now(void)
 {

@@ -9,7 +9,7 @@
 
 #include "brume.h"
 #include "core/error.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 static double clock_s(clockid_t id)
 {

@@ -15,8 +15,8 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "io/checkpoint.h"
-#include "io/regular_file.h"
+#include "job/checkpoint.h"
+#include "core/regular_file.h"
 
 /* ---- signals ------------------------------------------------------------------------------ */
 

@@ -21,8 +21,8 @@
 #include "io/sheet.h"
 #include "phase/phase.h"
 #include "phase/phase_fit.h"
-#include "phase/phase_plot.h"
-#include "render/stam_figures.h"
+#include "figure/phase_plot.h"
+#include "figure/stam_figures.h"
 
 #ifndef BRUME_SCENES_DIR
 #define BRUME_SCENES_DIR "scenes"

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "phase/phase.h"
 #include "phase/phase_fit.h"
-#include "phase/phase_plot.h"
+#include "figure/phase_plot.h"
 
 static const char phase_usage[] =
     "usage: brume phase fit NAME [--norm angle|cos|log] [--given r,k,kprime]\n"

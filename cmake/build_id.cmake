@@ -1,6 +1,6 @@
 # build_id.cmake - writes OUT (build_id.h) with BRUME_BUILD_ID: a hash of what makes brume's
 # images (every file under src/ and include/, the default scene) and of EXTRA (the compiler,
-# its version, the build type and flags). A checkpoint records it (src/io/checkpoint.c), so
+# its version, the build type and flags). A checkpoint records it (src/job/checkpoint.c), so
 # that a render resumes only in the build that wrote it: another build may draw its samples
 # differently, and the resumed image would not be the one an uninterrupted render makes.
 # Run by CMakeLists.txt at build time; OUT is rewritten only when the hash changes.
