@@ -46,13 +46,13 @@ typedef struct setup {
 static brume_scene *scene_for(brume_context *ctx, const setup *su, int spp, double noise, unsigned aovs)
 {
     brume_scene *s = NULL;
-    brume_status st = su->path ? brume_scene_load(ctx, su->path, &s) : brume_scene_new_default(ctx, &s);
+    brume_status st = su->path ? brume_scene_load(ctx, &(brume_source){.path = su->path}, NULL, &s) : brume_scene_load(ctx, NULL, NULL, &s);
     if (st != BRUME_OK) {
         fprintf(stderr, "bench_adaptive: %s\n", brume_context_last_error(ctx));
         exit(1);
     }
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = su->width;
     rs.height = su->height;
     rs.spp = spp;
@@ -96,7 +96,7 @@ static brume_image *render(brume_context *ctx, brume_scene *s, double *seconds, 
 static double rel_error(const brume_image *img, const brume_image *ref)
 {
     int n = brume_image_width(ref) * brume_image_height(ref);
-    const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
+    const float *a = brume_image_pixels(img), *r = brume_image_pixels(ref);
     int v = bench_layer(ref, "variance");
     const float *var = v >= 0 ? brume_image_layer_pixels(ref, v) : NULL;
     double sum = 0.0;
@@ -120,7 +120,7 @@ static int cmp_double(const void *a, const void *b)
 static double rel_error_quantile(const brume_image *img, const brume_image *ref, double q)
 {
     int n = brume_image_width(ref) * brume_image_height(ref);
-    const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
+    const float *a = brume_image_pixels(img), *r = brume_image_pixels(ref);
     double *e = malloc((size_t)n * sizeof *e);
     if (!e) {
         fprintf(stderr, "bench_adaptive: out of memory\n");

@@ -40,10 +40,10 @@ static brume_scene *load(const char *path, const char *method, int threads, int 
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
         die(ctx);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     snprintf(rs.method, sizeof rs.method, "%s", method);
     rs.threads = threads;
     rs.progress = false;

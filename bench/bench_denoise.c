@@ -48,10 +48,10 @@ static brume_image *render(brume_context *ctx, const char *path, double seconds,
                            double *spp_mean, double *wall)
 {
     brume_scene *s = NULL;
-    if ((path ? brume_scene_load(ctx, path, &s) : brume_scene_new_default(ctx, &s)) != BRUME_OK)
+    if ((path ? brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) : brume_scene_load(ctx, NULL, NULL, &s)) != BRUME_OK)
         die(ctx, path ? path : "default scene");
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.spp = seconds > 0.0 ? 1 << 24 : spp;
     rs.time_budget = seconds;
     rs.noise_target = 0.0;
@@ -80,7 +80,7 @@ static brume_image *render(brume_context *ctx, const char *path, double seconds,
 static double rel_mse(const brume_image *img, const brume_image *ref)
 {
     int n = brume_image_width(ref) * brume_image_height(ref);
-    const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
+    const float *a = brume_image_pixels(img), *r = brume_image_pixels(ref);
     const float *var = brume_image_layer_pixels(ref, bench_layer(ref, "variance"));
     double sum = 0.0;
     for (int i = 0; i < n; i++)
@@ -97,7 +97,7 @@ static double rel_mse(const brume_image *img, const brume_image *ref)
 static void bias(const brume_image *img, const brume_image *ref, double *whole, double *worst)
 {
     int w = brume_image_width(ref), h = brume_image_height(ref);
-    const float *a = brume_image_pixels_const(img), *r = brume_image_pixels_const(ref);
+    const float *a = brume_image_pixels(img), *r = brume_image_pixels(ref);
     double sa = 0.0, sr = 0.0;
     for (int i = 0; i < w * h; i++)
         for (int c = 0; c < 3; c++) {

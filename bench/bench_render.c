@@ -24,7 +24,7 @@ static brume_image *render(const char *path, const brume_render_settings *base, 
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     brume_image *img = NULL;
-    if ((path ? brume_scene_load(ctx, path, &s) : brume_scene_new_default(ctx, &s)) != BRUME_OK) {
+    if ((path ? brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) : brume_scene_load(ctx, NULL, NULL, &s)) != BRUME_OK) {
         fprintf(stderr, "bench_render: %s\n", brume_context_last_error(ctx));
         exit(1);
     }
@@ -69,12 +69,12 @@ int main(int argc, char **argv)
     bench_machine();
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if ((scene ? brume_scene_load(ctx, scene, &s) : brume_scene_new_default(ctx, &s)) != BRUME_OK) {
+    if ((scene ? brume_scene_load(ctx, &(brume_source){.path = scene}, NULL, &s) : brume_scene_load(ctx, NULL, NULL, &s)) != BRUME_OK) {
         fprintf(stderr, "bench_render: %s\n", brume_context_last_error(ctx));
         return 1;
     }
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     brume_scene_release(s);
     if (width) rs.width = width;
     if (height) rs.height = height;

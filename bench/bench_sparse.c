@@ -90,7 +90,7 @@ static result measure(const char *path, int dense)
         return r;
     }
     r.sample_us = (now() - t1) / (64.0 * 48.0 * 4.0) * 1e6;
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     for (int i = 0; i < 64 * 48; i++)
         r.mean += (double)px[4 * i + 1] / (64.0 * 48.0);
     brume_image_release(img);

@@ -40,10 +40,10 @@ static brume_image *render(brume_context *ctx, int v, int seed, int w, int h, in
     brume_load_options lo = {0.0, 0, ov, n};
     brume_scene *s = NULL;
     brume_image *img = NULL;
-    if (brume_scene_load_with(ctx, BRUME_SOURCE_DIR "/scenes/stam-compare.json", &lo, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = BRUME_SOURCE_DIR "/scenes/stam-compare.json"}, &lo, &s) != BRUME_OK)
         goto fail;
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = w;
     rs.height = h;
     rs.spp = spp;
@@ -80,7 +80,7 @@ int main(int argc, char **argv)
     unsigned char *cloud = malloc((size_t)n);
     long nc = 0; /* cloud pixels */
     for (long i = 0; i < n; i++)
-        nc += cloud[i] = brume_image_pixels_const(mean)[4 * i + 3] > 0.05f;
+        nc += cloud[i] = brume_image_pixels(mean)[4 * i + 3] > 0.05f;
     brume_image_release(mean);
     double *s1 = calloc((size_t)(NV * n), sizeof *s1), *s2 = calloc((size_t)(NV * n), sizeof *s2);
     double hist[NV][NB] = {{0}}, sq[NV] = {0}, noise = 0.0;
@@ -89,7 +89,7 @@ int main(int argc, char **argv)
         brume_image *img[NV];
         for (int v = 0; v < NV; v++) {
             img[v] = render(ctx, v, k, w, h, spp, eps);
-            px[v] = brume_image_pixels_const(img[v]);
+            px[v] = brume_image_pixels(img[v]);
         }
         for (long i = 0; i < n; i++) {
             if (!cloud[i])

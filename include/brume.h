@@ -30,6 +30,17 @@
  *                  linear Rec. 709, rows top first, 4 floats per pixel; A = 1 - the
  *                  transmittance of the media along the pixel (1 = opaque cloud).
  *
+ * NAMES
+ *   brume_OBJECT_VERB for what changes or makes something (brume_scene_load,
+ *   brume_scene_add_medium, brume_render_job_save); brume_OBJECT_set_NOUN for a setter,
+ *   which takes a context and returns a status; brume_OBJECT_NOUN for a getter
+ *   (brume_image_width, brume_scene_settings, brume_scene_stats): it takes the object
+ *   first and no context, cannot fail, and gives 0, NULL or zeros for a NULL object.
+ *   Every object is made from a context (brume_scene_load, brume_image_new, ...), and no
+ *   call acts on the whole process: what a signal handler may do (cancel loads, remove
+ *   temporary files) it does for one context. A closed set of choices is an enum, with
+ *   brume_X_name and brume_X_from_name where a user types the names (brume_method).
+ *
  * ERRORS
  *   Functions that can fail return a brume_status. On failure nothing is allocated or
  *   changed for the caller (out pointers are set to NULL; the one exception is a render that
@@ -59,10 +70,10 @@ int main(void)
     brume_context *ctx = brume_context_new();
     brume_scene *scene = NULL;
     brume_image *image = NULL;
-    if (brume_scene_new_default(ctx, &scene) != BRUME_OK)
+    if (brume_scene_load(ctx, NULL, NULL, &scene) != BRUME_OK) // NULL source: the default scene
         goto fail;
     brume_render_settings rs;
-    brume_scene_get_settings(scene, &rs);
+    brume_scene_settings(scene, &rs);
     rs.width = 64;
     rs.height = 48;
     rs.spp = 4;
@@ -115,7 +126,13 @@ typedef enum brume_status {
 /* A short English phrase for a status ("malformed input"). Never NULL. */
 const char *brume_status_string(brume_status status);
 
-/* "MAJOR.MINOR.PATCH". */
+/* The version of this header; CMakeLists.txt's project VERSION must equal it (the build
+ * checks). The major number is the shared library's (libbrume.so.MAJOR): it changes when a
+ * call or a struct changes incompatibly (docs/api-migration.md lists what changed). */
+#define BRUME_VERSION_MAJOR 1
+#define BRUME_VERSION_MINOR 0
+#define BRUME_VERSION_PATCH 0
+/* The library's "MAJOR.MINOR.PATCH" (the one it was built as: compare with the macros). */
 const char *brume_version(void);
 
 /* ---- context ---------------------------------------------------------------------------- */
@@ -132,6 +149,16 @@ void brume_context_set_error_callback(brume_context *ctx, brume_error_fn fn, voi
 /* The message of the last failed call ("" if none). Valid until the next call with ctx. */
 const char *brume_context_last_error(const brume_context *ctx);
 brume_status brume_context_last_status(const brume_context *ctx);
+/* Ends every scene load in progress with ctx, on any thread: its generators (procedural
+ * clouds, fractal grids) stop within about a second and brume_scene_load returns
+ * BRUME_ERROR_CANCELLED. Loads with other contexts, and loads that start afterwards, are not
+ * affected. Async-signal-safe: for a SIGINT handler (a render is cancelled by its progress
+ * callback instead). */
+void brume_context_cancel_loads(brume_context *ctx);
+/* Removes the temporary files of the writes in progress made with ctx (brume_image_write,
+ * brume_render_job_save, a render's blasi.save_light); a write that then fails or finishes
+ * leaves no file behind it. Async-signal-safe: for a signal handler that then calls _exit. */
+void brume_context_remove_temporaries(brume_context *ctx);
 
 /* ---- scene -------------------------------------------------------------------------------- */
 
@@ -150,6 +177,19 @@ typedef enum brume_sampler {
     BRUME_SAMPLER_SOBOL = 1        /* "sobol": the first dimensions of each sample are the pixel's
                                       Owen-scrambled Sobol points, the rest the same hash */
 } brume_sampler;
+
+/* The rendering methods, a closed set (render.method in a scene file, docs/scene-format.md). */
+typedef enum brume_method {
+    BRUME_METHOD_PATH = 0,   /* "path": the unbiased volumetric path tracer (docs/path-tracer.md) */
+    BRUME_METHOD_SINGLE = 1, /* "single": the same estimator with single scattering only */
+    BRUME_METHOD_BLASI = 2,  /* "blasi": Blasi, Le Saec and Schlick 1993's two passes (docs/blasi.md) */
+    BRUME_METHOD_STAM = 3    /* "stam": Stam 1994's renderer of blob fields (docs/stam.md) */
+} brume_method;
+/* The method's name as a scene file writes it ("path"); NULL for a value outside the enum. */
+const char *brume_method_name(brume_method method);
+/* Parses a method name ("path", "single", "blasi", "stam") into *method. BRUME_OK, or
+ * BRUME_ERROR_INVALID_ARGUMENT with the context's message naming the text and the names. */
+brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_method *method);
 
 /* Progress of a render: `done` and `total` count pixel samples (total is exact for a fixed
  * sample count, an estimate that may change between calls under a time budget or a noise
@@ -222,36 +262,27 @@ typedef struct brume_device_info {
  * are none (a build without GPU kernels, no driver, no device); *count is then 0. */
 brume_status brume_devices(brume_context *ctx, brume_device_info *out, int max, int *count);
 
-/* Loads a scene file (JSON, docs/scene-format.md). On success *out is a new uncommitted
- * scene owned by the caller; on failure *out is NULL and the context names file and key. */
-brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out);
-/* ANIMATION (docs/animation.md). A scene file may give keyframes (camera, lights, surfaces,
- * media) and time-varying densities; loading it "at" a time evaluates what is fixed per
- * frame (lights, generated densities) at that time, and keeps what moves within the shutter
- * (camera, surface and medium transforms) for each ray's own time. brume_scene_load is
- * brume_scene_load_at(..., 0, ...). */
-brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out);
-/* The same at frame number frame_no >= 0: time = frame_no / render.fps of the file. */
-brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out);
-/* OVERRIDES (the mechanism behind `brume render --set KEY=VALUE`). Loads a scene file, or
- * the built-in default scene when path is NULL, after setting each "KEY=VALUE" of
- * overrides[0..noverrides) in its JSON document, in order: KEY is a dotted path of object
- * keys and array indices ("camera.fov", "media.0.sigma_s", "media[0].density.seed",
- * "stam.eps", "render.spp"), VALUE is JSON (30, [0, 1, 2], true, "text") or, when it does not
- * parse as JSON, a string (stam.variant=paper). Missing objects on the path are created.
- * The edited document then goes through the scene reader, so every override is validated
- * as the file's own keys are; an unknown key fails with the keys known at that place, an
- * index outside an array with the indices there. Relative file names in VALUE are relative
- * to the scene file's folder, and a file an override writes (blasi.save_light) must lie
- * inside it, as for the file's own keys: a caller's own output path goes to
- * brume_scene_set_option instead. opts may be NULL (time 0, no overrides); the strings are
- * borrowed for the call. On success *out is a new uncommitted scene owned by the caller. */
+/* LOADING: the one way from a scene description to a scene.
+ *
+ * A source is a file or a text. A file is read by its name: a scene file (JSON,
+ * docs/scene-format.md), a grid file (.vdb, .nvdb: its studio scene, below) or a pbrt-v4
+ * scene (.pbrt: its translation, docs/production.md). A text is scene-file JSON in memory;
+ * `path` then names it in messages, and relative file names in it resolve against path's
+ * folder (path NULL: "<json>" and the current folder). A NULL source, or one with path and
+ * text both NULL, is the built-in default scene (scenes/default.json: a cumulus of five
+ * fractal clouds over a ground plane, lit by the sun and a blue sky, rendered to a 3 %
+ * noise target). Every source becomes scene-file JSON (brume_scene_text shows it) and goes
+ * through the one reader, which builds with the public builders below. */
+typedef struct brume_source {
+    const char *path; /* the file to read; with text, the text's name and base folder */
+    const char *text; /* scene-file JSON, NUL-terminated, borrowed for the call; NULL: read path */
+} brume_source;
+
 /* STUDIO SCENES (docs/production.md). A grid file given where a scene is expected (.vdb,
  * .nvdb) becomes a studio scene: the camera framed on the grid's non-zero voxels
  * (brume_scene_frame_camera) from a three-quarter view, a sun and a sky, a ground plane
  * under the box or none, and optical coefficients from the grids found: "density" (or the
- * only float grid) as fog, a "temperature" grid as blackbody fire. The scene is written as
- * scene-file JSON (brume_scene_text) and read by the scene reader. */
+ * only float grid) as fog, a "temperature" grid as blackbody fire. */
 typedef struct brume_studio_options {
     const char *grid;     /* the density grid's name; NULL or "" = the default (docs/grids.md) */
     char up;              /* 'y' or 'z': the world's up axis; 0 = 'y' (OpenVDB's and Houdini's) */
@@ -260,33 +291,51 @@ typedef struct brume_studio_options {
                              shortest side through density max(rho) has this optical depth;
                              0 = 10 */
 } brume_studio_options;
+
+/* How to load. opts NULL, or all fields 0, is time 0, no overrides, the studio defaults.
+ *
+ * ANIMATION (docs/animation.md). A scene file may give keyframes (camera, lights, surfaces,
+ * media) and time-varying densities; loading it at a time evaluates what is fixed per frame
+ * (lights, generated densities) at that time, and keeps what moves within the shutter
+ * (camera, surface and medium transforms) for each ray's own time. frame > 0 gives the time
+ * as frame / render.fps of the scene; else `time` (seconds) is used.
+ *
+ * OVERRIDES (the mechanism behind `brume render --set KEY=VALUE`). Each "KEY=VALUE" of
+ * overrides[0..noverrides) is set in the source's JSON document, in order, before it is
+ * read: KEY is a dotted path of object keys and array indices ("camera.fov",
+ * "media.0.sigma_s", "media[0].density.seed", "stam.eps", "render.spp"), VALUE is JSON (30,
+ * [0, 1, 2], true, "text") or, when it does not parse as JSON, a string
+ * (stam.variant=paper). Missing objects on the path are created. The edited document then
+ * goes through the scene reader, so every override is validated as the file's own keys
+ * are; an unknown key fails with the keys known at that place, an index outside an array
+ * with the indices there. Relative file names in VALUE are relative to the source's folder,
+ * and a file an override writes (blasi.save_light) must lie inside it, as for the file's
+ * own keys: a caller's own output path goes to brume_scene_set_option instead. The strings
+ * are borrowed for the call. */
 typedef struct brume_load_options {
     double time;                   /* scene time, seconds (used when frame is 0) */
-    long frame;                    /* > 0: time = frame / render.fps of the file */
+    long frame;                    /* > 0: time = frame / render.fps of the scene; >= 0 */
     const char *const *overrides;  /* "KEY=VALUE" strings, or NULL when noverrides is 0 */
     int noverrides;
     const brume_studio_options *studio; /* for a grid file; NULL = the defaults (all 0) */
 } brume_load_options;
+
+/* Loads a scene from src (NULL: the default scene) with opts (NULL: the defaults). On
+ * success *out is a new uncommitted scene owned by the caller; on failure *out is NULL and
+ * the context names the file (or the text's name) and the key at fault. A load can be
+ * ended from another thread or a signal handler: brume_context_cancel_loads. */
+brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                              brume_scene **out);
+/* TRANSITION: the calls below keep their old form until the command-line tool moves to
+ * the ones above (brume_scene_load with a brume_source); this block then goes. */
 brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
                                    brume_scene **out);
-/* The scene-file JSON that brume_scene_load_with reads for `path` before the overrides: the
- * file's own text for a JSON scene, the studio scene for a grid file (.vdb, .nvdb), the
- * translation of a pbrt-v4 scene (.pbrt, docs/production.md); path NULL: the built-in default
- * scene. opts may be NULL; only
- * opts->studio is used. *json is a new NUL-terminated string the caller frees with free();
- * file names in it are absolute or relative to `path`'s folder, as the loader reads them. */
 brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json);
-/* SEQUENCES (docs/grids.md, "Sequences"). A grid's file name may hold a frame pattern
- * (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb): each frame reads its own file, file
- * number frame_offset + frame_step x frame. Checks, before any frame is loaded, that every
- * frame in [first, last] (frame numbers as brume_load_options.frame) has its file; fails
- * with one line naming the first frame that has none. opts may be NULL. */
 brume_status brume_scene_check_frames(brume_context *ctx, const char *path, const brume_load_options *opts, long first,
                                       long last);
-/* The studio scene of a grid file (opts may be NULL): brume_scene_load_with with only
- * studio options. On success *out is a new uncommitted scene owned by the caller. */
-brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,
-                                      brume_scene **out);
+void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
+const float *brume_image_pixels_const(const brume_image *image);
+void brume_remove_temporaries(void);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
 /* True when nothing but the camera depends on time (no keyframed light, surface or medium,
@@ -297,11 +346,8 @@ bool brume_scene_world_is_static(const brume_scene *scene);
 /* Moves a committed scene whose world is static to frame time `time`: the camera takes its
  * keyframed pose there. Fails with BRUME_ERROR_STATE when the world is not static. */
 brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *scene, double time);
-/* The built-in default scene (scenes/default.json): a cumulus of five fractal clouds over a ground
- * plane, lit by the sun and a blue sky, rendered to a 3 % noise target. */
-brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out);
-/* Copies the scene's render settings into *rs. */
-void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
+/* Copies the scene's render settings into *rs (zeros for a NULL scene). */
+void brume_scene_settings(const brume_scene *scene, brume_render_settings *rs);
 /* Validates and replaces the render settings; only before commit. */
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
 /* Sets a named option of a rendering method from its text form, as the scene file would
@@ -327,7 +373,7 @@ void brume_scene_release(brume_scene *scene);
 
 /* ---- building a scene in memory ------------------------------------------------------------ */
 /* The one way to make a scene: every field a scene file can give has a builder here, and
- * the scene file reader (brume_scene_load, brume_scene_from_json) is a client of these
+ * the scene file reader (brume_scene_load) is a client of these
  * builders. Builders work on an uncommitted scene; each validates its arguments (NaN,
  * infinities, negative or absurd sizes) and on failure changes nothing and names the
  * function and the argument, e.g. "brume_scene_set_camera: fov: 400 outside [0.001, 179]".
@@ -338,11 +384,6 @@ void brume_scene_release(brume_scene *scene);
  * (brume_camera_default), no lights, no media, no surfaces, a black background. `name`
  * names the scene in messages; NULL gives "<scene>". */
 brume_status brume_scene_new(brume_context *ctx, const char *name, brume_scene **out);
-/* A scene from scene-file JSON text (docs/scene-format.md), at frame time `time` (seconds,
- * as brume_scene_load_at). `name` names the text in messages and relative file names in it
- * resolve against name's folder; NULL gives "<json>" and the current folder. */
-brume_status brume_scene_from_json(brume_context *ctx, const char *text, const char *name, double time,
-                                   brume_scene **out);
 /* The scene's frame time in seconds (brume_scene_time), before commit: the camera's shutter
  * and keyframes are relative to it; what a builder evaluates at a time (a fractal's time, a
  * light's keyframes) the caller evaluates. */
@@ -523,8 +564,14 @@ void brume_density_release(brume_density *density);
 
 /* Phase functions, made here and given to a medium. */
 typedef struct brume_phase brume_phase;
-/* "isotropic", "rayleigh", "hazy" or "murky" (Mie, Nishita et al.). */
-brume_status brume_phase_new_named(brume_context *ctx, const char *name, brume_phase **out);
+/* The phase functions without parameters (a scene file's "type" names them). */
+typedef enum brume_phase_preset {
+    BRUME_PHASE_ISOTROPIC = 0, /* "isotropic": 1 / (4 pi) */
+    BRUME_PHASE_RAYLEIGH = 1,  /* "rayleigh": 3 / (16 pi) (1 + cos^2) */
+    BRUME_PHASE_HAZY = 2,      /* "hazy": Mie, hazy atmosphere (Nishita et al.) */
+    BRUME_PHASE_MURKY = 3      /* "murky": Mie, murky atmosphere (Nishita et al.) */
+} brume_phase_preset;
+brume_status brume_phase_new_preset(brume_context *ctx, brume_phase_preset preset, brume_phase **out);
 /* Henyey-Greenstein with mean cosine g in [-0.999999, 0.999999]. */
 brume_status brume_phase_new_hg(brume_context *ctx, double g, brume_phase **out);
 /* Schlick with k in [-0.999999, 0.999999]. */
@@ -753,23 +800,13 @@ brume_status brume_render_job_resume(brume_context *ctx, const brume_scene *scen
                                      const char *path, brume_render_job **out);
 void brume_render_job_release(brume_render_job *job);
 
-/* Removes the temporary files of writes in progress (brume_image_write, checkpoints).
- * Async-signal-safe: for a signal handler that then calls _exit. */
-void brume_remove_temporaries(void);
-
-/* Ends every scene load in progress, on any thread: its generators (procedural clouds,
- * fractal grids) stop within about a second and brume_scene_load* returns
- * BRUME_ERROR_CANCELLED. Loads that start afterwards are not affected. Async-signal-safe: for
- * a SIGINT handler (a render is cancelled by its progress callback instead). */
-void brume_cancel_loads(void);
-
 /* A new black, transparent image; NULL on bad size or out of memory. */
 brume_image *brume_image_new(int width, int height);
 int brume_image_width(const brume_image *image);
 int brume_image_height(const brume_image *image);
-/* width * height * 4 floats, RGBA, rows top first. Owned by the image. */
-float *brume_image_pixels(brume_image *image);
-const float *brume_image_pixels_const(const brume_image *image);
+/* width * height * 4 floats, RGBA, rows top first. Owned by the image; the caller may
+ * write them where it may change the image (one it owns: a const image only reads them). */
+float *brume_image_pixels(const brume_image *image);
 void brume_image_release(brume_image *image);
 
 /* Image layers: besides RGBA an image carries named extra layers (AOVs, in the order of

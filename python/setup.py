@@ -1,5 +1,5 @@
 """setup.py - the build step pyproject.toml cannot say: the package's _cdef.h (the C
-declarations of brume.h, by gen_cdef.py) and _config.py (where libbrume.so.0 is), and, when
+declarations of brume.h, by gen_cdef.py) and _config.py (where libbrume.so.1 is), and, when
 no libbrume is found, libbrume built from this repository with CMake into the package.
 
 libbrume is, in order: the file BRUME_LIBRARY names; the install pkg-config finds
@@ -15,7 +15,7 @@ from setuptools.command.build_py import build_py
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-SONAME = "libbrume.so.0"
+SONAME = "libbrume.so.1"
 
 
 def pkg_config(var):
@@ -30,7 +30,7 @@ def build_libbrume(dest):
     """Builds libbrume (and its OpenVDB module when OpenVDB is there) from the repository;
     returns the files to put in the package."""
     if not os.path.exists(os.path.join(REPO, "CMakeLists.txt")):
-        raise SystemExit("brume: no libbrume found (set BRUME_LIBRARY to libbrume.so.0, or PKG_CONFIG_PATH to "
+        raise SystemExit("brume: no libbrume found (set BRUME_LIBRARY to libbrume.so.1, or PKG_CONFIG_PATH to "
                          "PREFIX/lib/pkgconfig of an install) and no brume repository around %s to build it" % HERE)
     build = os.path.join(HERE, "build", "libbrume")
     print("brume: no libbrume installed; building it in %s" % build, file=sys.stderr)
@@ -43,7 +43,7 @@ def build_libbrume(dest):
     files = [os.path.join(build, SONAME)]
     module = os.path.join(build, "libbrume-openvdb.so")
     if os.path.exists(module):
-        files.append(module)  # found beside libbrume.so.0 (src/io/grid_vdb_load.c)
+        files.append(module)  # found beside libbrume.so.1 (src/io/grid_vdb_load.c)
     return files
 
 

@@ -14,10 +14,9 @@ import sys
 OPTIONAL = {
     "brume_context_set_error_callback": {"fn", "user"},
     "brume_scene_new": {"name"},
-    "brume_scene_from_json": {"name"},
+    "brume_scene_load": {"src", "opts"},  # src NULL is the default scene
     "brume_scene_load_with": {"path", "opts"},
     "brume_scene_text": {"path", "opts"},  # issue-38's: path NULL is the default scene
-    "brume_scene_new_for_grid": {"opts"},
     "brume_scene_check_frames": {"opts"},
     "brume_scene_frame_camera": {"media"},
     "brume_image_write": {"opts"},

@@ -171,7 +171,7 @@ brume_image *test_render_scene(brume_scene *s, int threads, unsigned long long s
 {
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     if (threads >= 0)
         rs.threads = threads;
     rs.seed = seed;

@@ -34,7 +34,7 @@ if [ $vdb = 1 ] && ! [ -e "$prefix/lib/libbrume-openvdb.so" ]; then
     echo "install: lib/libbrume-openvdb.so (the OpenVDB module) missing under the prefix"; exit 1
 fi
 soname=$(readelf -d "$prefix/lib/libbrume.so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
-test "$soname" = libbrume.so.0 || { echo "libbrume.so: SONAME '$soname', want libbrume.so.0"; exit 1; }
+test "$soname" = libbrume.so.1 || { echo "libbrume.so: SONAME '$soname', want libbrume.so.1"; exit 1; }
 # the example exactly as the header prints it
 sed -n '/^ \* BEGIN EXAMPLE$/,/^ \* END EXAMPLE$/p' "$prefix/include/brume.h" | sed '1d;$d' > "$tmp/example.c"
 grep -q brume_render "$tmp/example.c" || { echo "no example in the installed header"; exit 1; }
@@ -44,7 +44,7 @@ case $mode in
 pkg-config)
     # the header's BUILD line, word for word; it runs without LD_LIBRARY_PATH (the rpath)
     $cc -o "$tmp/example" "$tmp/example.c" $(pkg-config --cflags --libs brume)
-    readelf -d "$tmp/example" | grep -q 'NEEDED.*libbrume.so.0' || { echo "example does not use libbrume.so.0"; exit 1; }
+    readelf -d "$tmp/example" | grep -q 'NEEDED.*libbrume.so.1' || { echo "example does not use libbrume.so.1"; exit 1; }
     (cd "$tmp" && env -u LD_LIBRARY_PATH ./example) | grep -q "rendered 64 x 48" ||
         { echo "the example built with pkg-config does not run from the prefix"; exit 1; }
     test -s "$tmp/example.exr"
@@ -76,7 +76,7 @@ int main(int argc, char **argv)
              " \"render\": {\"width\": 8, \"height\": 6, \"spp\": 1}}", argv[1]);
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (brume_scene_from_json(ctx, json, NULL, 0.0, &s) != BRUME_OK) {
+    if (brume_scene_load(ctx, &(brume_source){.text = json}, NULL, &s) != BRUME_OK) {
         fprintf(stderr, "%s\n", brume_context_last_error(ctx));
         return 1;
     }
@@ -109,7 +109,7 @@ cmake)
     cat > "$tmp/project/CMakeLists.txt" <<'EOT'
 cmake_minimum_required(VERSION 3.18)
 project(uses_brume C)
-find_package(brume 0.1 CONFIG REQUIRED)
+find_package(brume 1.0 CONFIG REQUIRED)
 add_executable(example main.c)
 target_link_libraries(example PRIVATE brume::brume)
 add_executable(example_static main.c)
@@ -120,7 +120,7 @@ EOT
     cmake --build "$tmp/project/build" > "$tmp/build.log" || { cat "$tmp/build.log"; exit 1; }
     (cd "$tmp" && env -u LD_LIBRARY_PATH ./project/build/example) | grep -q "rendered 64 x 48"
     test -s "$tmp/example.exr"
-    readelf -d "$tmp/project/build/example" | grep -q 'NEEDED.*libbrume.so.0' || { echo "brume::brume: no libbrume.so.0"; exit 1; }
+    readelf -d "$tmp/project/build/example" | grep -q 'NEEDED.*libbrume.so.1' || { echo "brume::brume: no libbrume.so.1"; exit 1; }
     if readelf -d "$tmp/project/build/example_static" | grep -q 'libbrume'; then echo "brume::brume_static needs libbrume.so"; exit 1; fi
     rm -f "$tmp/example.exr"
     (cd "$tmp" && ./project/build/example_static) | grep -q "rendered 64 x 48"

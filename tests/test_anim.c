@@ -30,7 +30,7 @@ static brume_image *render(brume_scene *s)
 
 static double red(const brume_image *img, int x, int y)
 {
-    return brume_image_pixels_const(img)[4 * ((size_t)y * (size_t)brume_image_width(img) + (size_t)x)];
+    return brume_image_pixels(img)[4 * ((size_t)y * (size_t)brume_image_width(img) + (size_t)x)];
 }
 
 /* Expected coverage of pixel [x, x+1] x [y, y+1] by a shape whose horizontal half-extent at

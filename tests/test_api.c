@@ -38,7 +38,7 @@ static void assert_same_image(const brume_image *a, const brume_image *b)
     ASSERT_EQ_INT(brume_image_width(a), brume_image_width(b));
     ASSERT_EQ_INT(brume_image_height(a), brume_image_height(b));
     size_t n = (size_t)brume_image_width(a) * (size_t)brume_image_height(a) * 4;
-    const float *pa = brume_image_pixels_const(a), *pb = brume_image_pixels_const(b);
+    const float *pa = brume_image_pixels(a), *pb = brume_image_pixels(b);
     double sum = 0.0;
     for (size_t i = 0; i < n; i++) {
         if (memcmp(&pa[i], &pb[i], sizeof *pa) != 0)
@@ -51,8 +51,9 @@ static void assert_same_image(const brume_image *a, const brume_image *b)
 static brume_scene *load_text(brume_context *ctx, const char *json, double time)
 {
     brume_scene *s = NULL;
-    if (brume_scene_from_json(ctx, json, "api-test.json", time, &s) != BRUME_OK)
-        TEST_FAIL("from_json: %s", brume_context_last_error(ctx));
+    brume_source src = {.path = "api-test.json", .text = json};
+    if (brume_scene_load(ctx, &src, &(brume_load_options){.time = time}, &s) != BRUME_OK)
+        TEST_FAIL("load: %s", brume_context_last_error(ctx));
     return s;
 }
 
@@ -112,7 +113,7 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
     brume_scene *s = NULL;
     OK(brume_scene_new(ctx, "api", &s));
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = 40;
     rs.height = 30;
     rs.spp = 4;
@@ -153,7 +154,7 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
     brume_medium cloud = {.sigma_a = {0.5, 0.5, 0.5}, .sigma_s = {4, 4, 4}};
     OK(brume_density_new_procedural_cloud(ctx, 16, 3, (double[6]){-1, -0.5, -1, 1, 0.5, 1}, &d));
     OK(brume_phase_new_schlick(ctx, 0.5, &lobes[0]));
-    OK(brume_phase_new_named(ctx, "rayleigh", &lobes[1]));
+    OK(brume_phase_new_preset(ctx, BRUME_PHASE_RAYLEIGH, &lobes[1]));
     OK(brume_phase_new_mixture(ctx, (double[]){0.7, 0.3}, lobes, 2, &p));
     OK(brume_scene_add_medium(ctx, s, &cloud, d, p));
     brume_transform_key mk[2] = {{.time = 0, .translate = {0, 0, 0}, .axis = {0, 0, 1}, .angle = 0, .scale = {1, 1, 1}},
@@ -180,7 +181,7 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
     g.count = 10;
     g.seed = 4;
     OK(brume_density_new_blobs(ctx, (double[]){-1.5, 0.5, 0, 1, 0.3}, 1, &g, 1, 0.0, (double[3]){0.1, 0, 0}, &d));
-    OK(brume_phase_new_named(ctx, "murky", &p));
+    OK(brume_phase_new_preset(ctx, BRUME_PHASE_MURKY, &p));
     brume_medium puff = {.sigma_a = {0.2, 0.2, 0.2}, .sigma_s = {2, 2, 2}};
     OK(brume_scene_add_medium(ctx, s, &puff, d, p));
 
@@ -248,7 +249,7 @@ TEST(stam_options_equal_json)
     brume_scene *a = load_text(ctx, json, 0.0), *b = NULL;
     OK(brume_scene_new(ctx, NULL, &b));
     brume_render_settings rs;
-    brume_scene_get_settings(b, &rs);
+    brume_scene_settings(b, &rs);
     rs.width = 32, rs.height = 24, rs.spp = 2;
     snprintf(rs.method, sizeof rs.method, "stam");
     OK(brume_scene_set_settings(ctx, b, &rs));
@@ -289,7 +290,7 @@ TEST(mesh_arrays_equal_quad)
     for (int k = 0; k < 2; k++) {
         OK(brume_scene_new(ctx, NULL, &s[k]));
         brume_render_settings rs;
-        brume_scene_get_settings(s[k], &rs);
+        brume_scene_settings(s[k], &rs);
         rs.width = 24, rs.height = 16, rs.spp = 2;
         OK(brume_scene_set_settings(ctx, s[k], &rs));
         OK(brume_scene_add_distant_light(ctx, s[k], (double[3]){0, 0, -1}, (double[3]){1, 1, 1}, 0));
@@ -360,7 +361,7 @@ TEST(array_density_equals_raw_file)
         brume_scene *s = NULL;
         OK(brume_scene_new(ctx, NULL, &s));
         brume_render_settings rs;
-        brume_scene_get_settings(s, &rs);
+        brume_scene_settings(s, &rs);
         rs.width = 32, rs.height = 24, rs.spp = 4;
         OK(brume_scene_set_settings(ctx, s, &rs));
         brume_camera cam;
@@ -452,7 +453,7 @@ TEST(builders_reject_bad_arguments)
     brume_phase *p = (brume_phase *)1;
     expect(ctx, brume_phase_new_hg(ctx, 1.5, &p), BRUME_ERROR_RANGE, "brume_phase_new_hg", "g");
     ASSERT_TRUE(p == NULL);
-    expect(ctx, brume_phase_new_named(ctx, "fuzzy", &p), BRUME_ERROR_PARSE, "brume_phase_new_named", "fuzzy");
+    expect(ctx, brume_phase_new_preset(ctx, (brume_phase_preset)4, &p), BRUME_ERROR_RANGE, "brume_phase_new_preset", "preset");
 
     brume_camera c;
     brume_camera_default(&c);
@@ -497,8 +498,8 @@ TEST(builders_reject_bad_arguments)
            "brume_scene_set_medium_motion", "keys: NULL");
 
     brume_scene *j = (brume_scene *)1;
-    expect(ctx, brume_scene_from_json(ctx, "{\"camera\": {\"position\": [0, 0, 1]}}", NULL, 0, &j), BRUME_ERROR_PARSE,
-           "<json>", "camera.look_at");
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.text = "{\"camera\": {\"position\": [0, 0, 1]}}"}, NULL, &j),
+           BRUME_ERROR_PARSE, "<json>", "camera.look_at");
     ASSERT_TRUE(j == NULL);
 
     OK(brume_scene_commit(ctx, s));
@@ -508,5 +509,96 @@ TEST(builders_reject_bad_arguments)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(every_feature_equals_json, stam_options_equal_json, mesh_arrays_equal_quad, array_density_equals_raw_file,
+/* The one loader: a file and the same text (named as the file) give the same image byte for
+ * byte; the text takes overrides as a file does; frame and time place the scene in its
+ * animation; a NULL source, or an empty one, is the default scene; bad options are refused
+ * naming the source. */
+static const char SMALL_SCENE[] =
+    "{\"render\": {\"width\": 12, \"height\": 9, \"spp\": 2, \"seed\": 3, \"fps\": 8},"
+    " \"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, -1], \"irradiance\": 3}],"
+    " \"media\": [{\"density\": {\"type\": \"constant\", \"value\": 1, \"bounds\": [[-1, -1, -1], [1, 1, 1]]},"
+    "   \"sigma_a\": 0.2, \"sigma_s\": 1.5}]}";
+
+TEST(one_loader_takes_every_source)
+{
+    brume_context *ctx = brume_context_new();
+    const char *path = write_text("one-loader.json", SMALL_SCENE);
+    brume_scene *a = NULL, *b = NULL;
+    OK(brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &a));
+    OK(brume_scene_load(ctx, &(brume_source){.path = path, .text = SMALL_SCENE}, NULL, &b));
+    brume_image *ia = render(ctx, a), *ib = render(ctx, b);
+    assert_same_image(ia, ib);
+    brume_image_release(ia);
+    brume_image_release(ib);
+    brume_scene_release(a);
+    brume_scene_release(b);
+
+    /* overrides, frame and time on a text */
+    const char *set[] = {"render.width=17", "camera.fov=30"};
+    brume_render_settings rs;
+    OK(brume_scene_load(ctx, &(brume_source){.text = SMALL_SCENE},
+                        &(brume_load_options){.frame = 3, .overrides = set, .noverrides = 2}, &a));
+    brume_scene_settings(a, &rs);
+    ASSERT_EQ_INT(rs.width, 17);
+    ASSERT_NEAR(brume_scene_time(a), 3.0 / 8.0, 1e-15);
+    brume_scene_release(a);
+    OK(brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.time = 0.25}, &a));
+    ASSERT_NEAR(brume_scene_time(a), 0.25, 1e-15);
+    brume_scene_release(a);
+
+    /* the default scene: no source, or an empty one */
+    OK(brume_scene_load(ctx, NULL, NULL, &a));
+    OK(brume_scene_load(ctx, &(brume_source){0}, NULL, &b));
+    brume_render_settings ra, rb;
+    brume_scene_settings(a, &ra);
+    brume_scene_settings(b, &rb);
+    ASSERT_EQ_INT(ra.width, rb.width);
+    ASSERT_TRUE(ra.noise_target > 0.0 && ra.noise_target == rb.noise_target);
+    ASSERT_EQ_INT(brume_scene_medium_count(a), brume_scene_medium_count(b));
+    ASSERT_TRUE(brume_scene_medium_count(a) > 0);
+    brume_scene_release(a);
+    brume_scene_release(b);
+
+    /* refusals name the source and leave *out NULL */
+    a = (brume_scene *)1;
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.frame = -1}, &a),
+           BRUME_ERROR_RANGE, "one-loader.json", "frame -1");
+    ASSERT_TRUE(a == NULL);
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.text = "{}", .path = "named.json"},
+                                 &(brume_load_options){.time = NAN}, &a),
+           BRUME_ERROR_RANGE, "named.json", "not finite");
+    expect(ctx, brume_scene_load(ctx, NULL, &(brume_load_options){.noverrides = 1}, &a), BRUME_ERROR_INVALID_ARGUMENT,
+           "brume_scene_load", "overrides");
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.text = SMALL_SCENE, .path = "t.json"},
+                                 &(brume_load_options){.overrides = (const char *[]){"camera.nope=1"}, .noverrides = 1},
+                                 &a),
+           BRUME_ERROR_PARSE, "t.json", "nope");
+    ASSERT_TRUE(a == NULL);
+    brume_context_release(ctx);
+}
+
+/* brume_method: every value has a name that parses back to it; other names and values are
+ * refused. */
+TEST(method_names_round_trip)
+{
+    brume_context *ctx = brume_context_new();
+    const brume_method all[] = {BRUME_METHOD_PATH, BRUME_METHOD_SINGLE, BRUME_METHOD_BLASI, BRUME_METHOD_STAM};
+    const char *names[] = {"path", "single", "blasi", "stam"};
+    for (int i = 0; i < 4; i++) {
+        ASSERT_TRUE(brume_method_name(all[i]) != NULL);
+        ASSERT_TRUE(strcmp(brume_method_name(all[i]), names[i]) == 0);
+        brume_method back = (brume_method)99;
+        OK(brume_method_from_name(ctx, names[i], &back));
+        ASSERT_EQ_INT((int)back, (int)all[i]);
+    }
+    ASSERT_TRUE(brume_method_name((brume_method)4) == NULL);
+    ASSERT_TRUE(brume_method_name((brume_method)-1) == NULL);
+    brume_method m = BRUME_METHOD_STAM;
+    expect(ctx, brume_method_from_name(ctx, "pathh", &m), BRUME_ERROR_INVALID_ARGUMENT, "pathh", "path, single");
+    ASSERT_EQ_INT((int)m, (int)BRUME_METHOD_STAM);
+    brume_context_release(ctx);
+}
+
+TEST_MAIN(one_loader_takes_every_source, method_names_round_trip, every_feature_equals_json, stam_options_equal_json, mesh_arrays_equal_quad, array_density_equals_raw_file,
           builders_reject_bad_arguments)

@@ -37,7 +37,7 @@ static brume_image *render_opts(const char *json, const char *method, int spp, i
     if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
         TEST_FAIL("scene does not parse");
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     snprintf(rs.method, sizeof rs.method, "%s", method);
     rs.spp = spp;
     rs.threads = threads;
@@ -63,7 +63,7 @@ static brume_image *render_opts(const char *json, const char *method, int spp, i
 static double region_mean(const brume_image *img, int c, int q)
 {
     int w = brume_image_width(img), h = brume_image_height(img);
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     double sum = 0.0;
     long n = 0;
     for (int y = 0; y < h; y++)
@@ -104,7 +104,7 @@ static void check_against_single(const char *json, const char *what)
                 var_b += (mb[k] - mean_b) * (mb[k] - mean_b) / (NB - 1);
             double ms1 = region_mean(s1, c, q), ms2 = region_mean(s2, c, q), ms = 0.5 * (ms1 + ms2);
             /* single's pixels are independent: var(mean) from the pixel differences */
-            const float *p1 = brume_image_pixels_const(s1), *p2 = brume_image_pixels_const(s2);
+            const float *p1 = brume_image_pixels(s1), *p2 = brume_image_pixels(s2);
             double d2 = 0.0;
             for (int i = 0; i < n; i++)
                 d2 += (p1[4 * i + c] - p2[4 * i + c]) * (p1[4 * i + c] - p2[4 * i + c]);
@@ -150,7 +150,7 @@ TEST(r1_point_spot_area_lights_converge_to_single)
 static bool same_pixels(const brume_image *a, const brume_image *b)
 {
     size_t n = (size_t)brume_image_width(a) * (size_t)brume_image_height(a) * 4;
-    return memcmp(brume_image_pixels_const(a), brume_image_pixels_const(b), n * sizeof(float)) == 0;
+    return memcmp(brume_image_pixels(a), brume_image_pixels(b), n * sizeof(float)) == 0;
 }
 
 /* Both passes use every thread and give the same bits whatever their number. */
@@ -191,7 +191,7 @@ static void light_file(const char *json, int threads, uint64_t seed, bool one_co
     brume_scene *s = NULL;
     ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.threads = threads;
     rs.seed = seed;
     rs.width = rs.height = 4;
@@ -262,7 +262,7 @@ TEST(light_pass_sums_respect_the_memory_limit)
     brume_scene *s = NULL;
     ASSERT_EQ_INT(scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s), BRUME_OK);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = rs.height = 4;
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
@@ -439,7 +439,7 @@ TEST(paper_variants_are_brighter)
     brume_image *p = render_opts(json, "blasi", 1, 0, 4, phys), *e = render_opts(json, "blasi", 1, 0, 4, exit_paper),
                 *v = render_opts(json, "blasi", 1, 0, 4, view_abs);
     int n = brume_image_width(p) * brume_image_height(p);
-    const float *pp = brume_image_pixels_const(p), *pe = brume_image_pixels_const(e), *pv = brume_image_pixels_const(v);
+    const float *pp = brume_image_pixels(p), *pe = brume_image_pixels(e), *pv = brume_image_pixels(v);
     for (int i = 0; i < 4 * n; i++) {
         if (i % 4 == 3)
             continue;

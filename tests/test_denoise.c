@@ -39,10 +39,10 @@ static brume_image *noisy(double sigma, double step, bool albedo_edge)
     snprintf(json, sizeof json,
              "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]}, \"render\": {\"width\": %d, \"height\": %d, \"spp\": 2}}", W, H);
     brume_scene *s = NULL;
-    if (brume_scene_from_json(ctx, json, "synthetic", 0.0, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = "synthetic", .text = json}, NULL, &s) != BRUME_OK)
         TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.aovs = BRUME_AOV_VARIANCE | (albedo_edge ? BRUME_AOV_ALBEDO : 0);
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -74,7 +74,7 @@ static brume_image *noisy(double sigma, double step, bool albedo_edge)
 
 static double mse(const brume_image *img, double step)
 {
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     double s = 0.0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++)
@@ -114,7 +114,7 @@ TEST(lowers_the_error_of_a_known_image)
         if (strcmp(brume_image_layer_name(out, i), "raw") == 0)
             raw = i;
     ASSERT_TRUE(raw >= 0);
-    const float *r = brume_image_layer_pixels(out, raw), *p = brume_image_pixels_const(in);
+    const float *r = brume_image_layer_pixels(out, raw), *p = brume_image_pixels(in);
     for (int i = 0; i < W * H; i++)
         for (int c = 0; c < 3; c++)
             ASSERT_TRUE(r[3 * i + c] == p[4 * i + c]);
@@ -142,7 +142,7 @@ TEST(keeps_an_edge)
     for (int with_albedo = 0; with_albedo <= 1; with_albedo++) {
         brume_image *in = noisy(0.1, 1.0, with_albedo);
         brume_image *out = denoise(in, 2);
-        const float *px = brume_image_pixels_const(out);
+        const float *px = brume_image_pixels(out);
         double left = 0.0, right = 0.0;
         for (int y = 0; y < H; y++)
             for (int c = 0; c < 3; c++) {
@@ -167,10 +167,10 @@ TEST(independent_of_threads)
     brume_image *in = noisy(0.1, 1.0, true);
     brume_image *a = denoise(in, 1), *b = denoise(in, 2), *c = denoise(in, 3);
     size_t n = (size_t)W * H * 4 * sizeof(float);
-    ASSERT_TRUE(memcmp(brume_image_pixels_const(a), brume_image_pixels_const(b), n) == 0);
-    ASSERT_TRUE(memcmp(brume_image_pixels_const(a), brume_image_pixels_const(c), n) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(b), n) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), n) == 0);
     brume_image *in2 = noisy(0.1, 1.0, true), *d = denoise(in2, 1);
-    ASSERT_TRUE(memcmp(brume_image_pixels_const(a), brume_image_pixels_const(d), n) != 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(d), n) != 0);
     brume_image_release(in);
     brume_image_release(in2);
     brume_image_release(a);
@@ -215,16 +215,16 @@ TEST(command_line)
     ASSERT_TRUE(brume_image_attribute(b, "brume.denoised") == NULL);
     int raw = layer_index(a, "raw");
     ASSERT_TRUE(raw >= 0);
-    const float *r = brume_image_layer_pixels(a, raw), *pb = brume_image_pixels_const(b);
+    const float *r = brume_image_layer_pixels(a, raw), *pb = brume_image_pixels(b);
     size_t n = 48 * 32;
     int differ = 0;
     for (size_t i = 0; i < n; i++)
         for (size_t k = 0; k < 3; k++) {
             ASSERT_TRUE(r[3 * i + k] == pb[4 * i + k]);
-            differ += brume_image_pixels_const(a)[4 * i + k] != pb[4 * i + k];
+            differ += brume_image_pixels(a)[4 * i + k] != pb[4 * i + k];
         }
     ASSERT_TRUE(differ > 0); /* filtered */
-    ASSERT_TRUE(memcmp(brume_image_pixels_const(a), brume_image_pixels_const(c), n * 4 * sizeof(float)) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), n * 4 * sizeof(float)) == 0);
     /* denoising a denoised file is refused with one line naming the file */
     const char *err = test_tmp_path("err.txt");
     snprintf(cmd, sizeof cmd, "%s denoise %s -o %s 2>%s", BRUME_EXE, den, again, err);

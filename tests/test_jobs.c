@@ -18,10 +18,10 @@ static brume_scene *load(const char *json, void (*fn)(brume_render_settings *, v
     fclose(fp);
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
         TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     if (fn)
         fn(&rs, user);
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK)
@@ -35,9 +35,9 @@ static brume_scene *load_default(int w, int h, void (*fn)(brume_render_settings 
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(brume_scene_new_default(ctx, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, NULL, NULL, &s), BRUME_OK);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = w;
     rs.height = h;
     if (fn)
@@ -71,7 +71,7 @@ static bool same_pixels(const brume_image *a, const brume_image *b)
     size_t n = (size_t)brume_image_width(a) * (size_t)brume_image_height(a) * 4;
     if (brume_image_width(a) != brume_image_width(b) || brume_image_height(a) != brume_image_height(b))
         return false;
-    if (memcmp(brume_image_pixels_const(a), brume_image_pixels_const(b), n * sizeof(float)) != 0)
+    if (memcmp(brume_image_pixels(a), brume_image_pixels(b), n * sizeof(float)) != 0)
         return false;
     if (brume_image_layer_count(a) != brume_image_layer_count(b))
         return false;
@@ -167,7 +167,7 @@ TEST(cancel_stops_within_one_tile)
         ASSERT_CONTAINS(brume_context_last_error(ctx), "cancelled");
         ASSERT_TRUE(c.monotone);
         const float *cnt = brume_image_layer_pixels(img, layer_index(img, "samples"));
-        const float *px = brume_image_pixels_const(img);
+        const float *px = brume_image_pixels(img);
         int rendered = 0;
         for (int i = 0; i < 160 * 96; i++) {
             ASSERT_TRUE(cnt[i] == 0.0f || cnt[i] == 4.0f);
@@ -349,12 +349,12 @@ TEST(adaptive_sampling_independent_of_threads)
         brume_image *part = NULL;
         ASSERT_EQ_INT(brume_render_part(ctx, s[1], p, 3, &part), BRUME_OK);
         float *dst = brume_image_pixels(sum);
-        const float *src = brume_image_pixels_const(part);
+        const float *src = brume_image_pixels(part);
         for (int i = 0; i < 48 * 32 * 4; i++)
             dst[i] += src[i];
         brume_image_release(part);
     }
-    ASSERT_TRUE(memcmp(brume_image_pixels_const(sum), brume_image_pixels_const(img[0]), 48 * 32 * 4 * sizeof(float)) == 0);
+    ASSERT_TRUE(memcmp(brume_image_pixels(sum), brume_image_pixels(img[0]), 48 * 32 * 4 * sizeof(float)) == 0);
     brume_image_release(sum);
     brume_context_release(ctx);
     for (int t = 0; t < 2; t++) {
@@ -385,7 +385,7 @@ TEST(noise_target_constant_fog_closed_form)
     double e = 0.1, T = exp(-1.0), n_expect = (1.0 - T) / (T * e * e);
     brume_scene *s = load(json, set_noise, &e);
     brume_image *img = render(s);
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     const float *cnt = brume_image_layer_pixels(img, 0);
     double nsum = 0.0, err2 = 0.0;
     int np = 24 * 24;
@@ -433,7 +433,7 @@ TEST(noise_target_white_furnace)
     e = 0.03;
     s = load(cloud, set_noise, &e);
     img = render(s);
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     cnt = brume_image_layer_pixels(img, 0);
     double err2 = 0.0, nmax = 0.0;
     for (int i = 0; i < 256; i++) {
@@ -484,8 +484,8 @@ TEST(checkpoint_resume_is_bit_identical)
             int left = cuts[c];
             brume_render_settings rs;
             brume_scene *cs = NULL;
-            ASSERT_EQ_INT(brume_scene_new_default(ctx, &cs), BRUME_OK);
-            brume_scene_get_settings(s, &rs);
+            ASSERT_EQ_INT(brume_scene_load(ctx, NULL, NULL, &cs), BRUME_OK);
+            brume_scene_settings(s, &rs);
             rs.progress_fn = cut_cb;
             rs.progress_user = &left;
             ASSERT_EQ_INT(brume_scene_set_settings(ctx, cs, &rs), BRUME_OK);
@@ -633,8 +633,8 @@ TEST(time_budget_cuts_the_first_pass)
     int spp1[2] = {1, 2}, spp2[2] = {2, 2};
     brume_scene *s1 = load_default(240, 160, set_spp_threads, spp1), *s2 = load_default(240, 160, set_spp_threads, spp2);
     brume_image *ref1 = render(s1), *ref2 = render(s2);
-    const float *px = brume_image_pixels_const(img), *r1 = brume_image_pixels_const(ref1),
-                *r2 = brume_image_pixels_const(ref2);
+    const float *px = brume_image_pixels(img), *r1 = brume_image_pixels(ref1),
+                *r2 = brume_image_pixels(ref2);
     int seen = 0, same1 = 0, noisy = 0, same2 = 0;
     for (int i = 0; i < 240 * 160; i++) {
         if (cnt[i] != 1.0f)
@@ -683,7 +683,7 @@ TEST(spp_is_the_maximum_under_a_budget)
     const char *without = "{\"camera\": {\"position\": [0, 0, 1], \"look_at\": [0, 0, 0]}, \"render\": {\"width\": 32, \"height\": 16, \"noise\": 0.5}}";
     s = load(without, NULL, NULL);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     ASSERT_EQ_INT(rs.spp, 1 << 24);
     brume_scene_release(s);
 }

@@ -20,7 +20,7 @@ static brume_scene *load_with(const char *path, const char *const *ov, int n, br
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     brume_load_options o = {0.0, 0, ov, n, NULL};
-    brume_status st = brume_scene_load_with(ctx, path, &o, &s);
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, &o, &s);
     if (st != want)
         TEST_FAIL("load %s with %d overrides: status %d, want %d (%s)", path ? path : "default", n, (int)st, (int)want,
                   brume_context_last_error(ctx));
@@ -121,7 +121,7 @@ static brume_image *render_scene(brume_scene *s, const char *method, int threads
 {
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     snprintf(rs.method, sizeof rs.method, "%s", method);
     rs.threads = threads;
     rs.stats = stats;
@@ -283,7 +283,7 @@ TEST(blasi_on_blobs_refused_or_voxelized)
     brume_scene *s = scene_text(json);
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     snprintf(rs.method, sizeof rs.method, "blasi");
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);

@@ -39,7 +39,7 @@ static brume_scene *box_scene(brume_context *ctx, const double *box_a, const dou
              box_b ? box_b[0] : box_a[0], box_b ? box_b[1] : box_a[1], box_b ? box_b[2] : box_a[2],
              box_b ? box_b[3] : box_a[3], box_b ? box_b[4] : box_a[4], box_b ? box_b[5] : box_a[5]);
     brume_scene *s = NULL;
-    if (brume_scene_from_json(ctx, json, "frame.json", 0.0, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = "frame.json", .text = json}, NULL, &s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     return s;
 }
@@ -62,7 +62,7 @@ TEST(frame_fits_box_with_margin)
     /* the final image size counts: a tall image after loading reframes for it */
     s = box_scene(ctx, box, NULL);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.width = 100;
     rs.height = 400;
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
@@ -83,10 +83,8 @@ TEST(frame_named_medium)
     ASSERT_NEAR(s->cam.look_at.x, -0.5, 1e-12);
     brume_scene_release(s);
     s = NULL;
-    ASSERT_EQ_INT(brume_scene_from_json(ctx,
-                                        "{\"camera\": {\"frame\": \"nope\"}, \"media\": [{\"name\": \"a\", \"density\": "
-                                        "{\"type\": \"constant\"}, \"sigma_a\": 0, \"sigma_s\": 1}]}",
-                                        "f.json", 0.0, &s),
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "f.json", .text = "{\"camera\": {\"frame\": \"nope\"}, \"media\": [{\"name\": \"a\", \"density\": "
+                                        "{\"type\": \"constant\"}, \"sigma_a\": 0, \"sigma_s\": 1}]}"}, NULL, &s),
                   BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_ERROR_INVALID_ARGUMENT);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "camera.frame: no medium of that name");
@@ -129,7 +127,7 @@ TEST(studio_scene_of_a_grid)
     brume_scene *s = NULL;
     brume_studio_options so = {0};
     so.up = 'z';
-    if (brume_scene_new_for_grid(ctx, path, &so, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.studio = &so}, &s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     ASSERT_EQ_INT(brume_scene_medium_count(s), 1);
     ASSERT_EQ_INT(s->nlights, 1);
@@ -146,11 +144,11 @@ TEST(studio_scene_of_a_grid)
     brume_scene_release(s);
     /* no ground, and a name that is not a grid */
     so.no_ground = true;
-    ASSERT_EQ_INT(brume_scene_new_for_grid(ctx, path, &so, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.studio = &so}, &s), BRUME_OK);
     ASSERT_TRUE(s->surf == NULL);
     brume_scene_release(s);
     so.grid = "nope";
-    ASSERT_EQ_INT(brume_scene_new_for_grid(ctx, path, &so, &s), BRUME_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.studio = &so}, &s), BRUME_ERROR_INVALID_ARGUMENT);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "no float grid named \"nope\"");
     brume_context_release(ctx);
     remove(path);
@@ -167,7 +165,7 @@ TEST(studio_scene_of_a_fire)
     ASSERT_CONTAINS(text, "\"temperature\"");
     ASSERT_CONTAINS(text, "\"blackbody\"");
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(brume_scene_from_json(ctx, text, path, 0.0, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = path, .text = text}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_TRUE(s->has_emission);
     brume_scene_release(s);
@@ -254,7 +252,7 @@ static int file_of_frame(const char *dir, const char *keys, long f, const char *
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     brume_load_options lo = {0.0, f, NULL, 0, NULL};
-    brume_status st = brume_scene_load_with(ctx, path, &lo, &s);
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, &lo, &s);
     int k = 0;
     if (st == BRUME_OK) {
         k = (int)lround(density_bounds(s->media[0].rho).lo.x);
@@ -360,10 +358,10 @@ TEST(pbrt_scene_maps_units)
     const char *path = write_pbrt("units.pbrt", "Scale -1 1 1\n", "");
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     ASSERT_EQ_INT(rs.width, 64);
     ASSERT_EQ_INT(rs.height, 32);
     ASSERT_EQ_INT(rs.spp, 8);
@@ -394,7 +392,7 @@ static void expect_refusal(const char *prefix, const char *extra, const char *li
     const char *path = write_pbrt("bad.pbrt", prefix, extra);
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_TRUE(brume_scene_load(ctx, path, &s) != BRUME_OK);
+    ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK);
     const char *msg = brume_context_last_error(ctx);
     char want[1200];
     snprintf(want, sizeof want, "%s:%s: ", path, line);

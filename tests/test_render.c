@@ -17,9 +17,9 @@ TEST(threads_do_not_change_the_image)
     for (int k = 0; k < 3; k++) {
         brume_context *ctx = brume_context_new();
         brume_scene *s = NULL;
-        ASSERT_EQ_INT(brume_scene_new_default(ctx, &s), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_load(ctx, NULL, NULL, &s), BRUME_OK);
         brume_render_settings rs;
-        brume_scene_get_settings(s, &rs);
+        brume_scene_settings(s, &rs);
         rs.width = 48;
         rs.height = 32;
         rs.spp = 2;
@@ -428,7 +428,7 @@ static void same_image_for_threads(const char *json, int npix)
     for (int k = 0; k < 2; k++) {
         ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
         brume_render_settings rs;
-        brume_scene_get_settings(s[k], &rs);
+        brume_scene_settings(s[k], &rs);
         rs.spp = 4;
         ASSERT_EQ_INT(brume_scene_set_settings(NULL, s[k], &rs), BRUME_OK);
         img[k] = test_render_scene(s[k], k + 1, 7);

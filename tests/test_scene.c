@@ -23,7 +23,7 @@ static void expect_error(const char *text, brume_status want, const char *frag1,
     const char *path = write_text("bad.json", text);
     brume_context *ctx = brume_context_new();
     brume_scene *s = (brume_scene *)1;
-    brume_status st = brume_scene_load(ctx, path, &s);
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s);
     if (st == BRUME_OK)
         TEST_FAIL("scene loaded but should fail: %s", text);
     ASSERT_TRUE(s == NULL);
@@ -43,9 +43,9 @@ TEST(minimal_scene_loads)
     const char *path = write_text("ok.json", "{" MINIMAL_CAMERA "}");
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(brume_scene_load(ctx, path, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s), BRUME_OK);
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     ASSERT_EQ_INT(rs.width, 640); /* documented defaults */
     ASSERT_EQ_STR(rs.method, "path");
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -60,7 +60,7 @@ TEST(default_scene_loads)
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(brume_scene_new_default(ctx, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, NULL, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_scene_release(s);
     brume_context_release(ctx);
@@ -147,7 +147,7 @@ TEST(phase_functions_in_scenes)
         const char *path = write_text("phase.json", text);
         brume_context *ctx = brume_context_new();
         brume_scene *s = NULL;
-        if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+        if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
             TEST_FAIL("%s: %s", ok[i], brume_context_last_error(ctx));
         brume_scene_release(s);
         brume_context_release(ctx);
@@ -170,7 +170,7 @@ TEST(missing_file_is_io_error)
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(brume_scene_load(ctx, "/nonexistent/dir/scene.json", &s), BRUME_ERROR_IO);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "/nonexistent/dir/scene.json"}, NULL, &s), BRUME_ERROR_IO);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "/nonexistent/dir/scene.json");
     ASSERT_TRUE(s == NULL);
     brume_context_release(ctx);
@@ -191,7 +191,7 @@ TEST(error_callback_receives_errors)
     brume_context_set_error_callback(ctx, on_error, NULL);
     brume_scene *s = NULL;
     callback_calls = 0;
-    brume_scene_load(ctx, "/nonexistent.json", &s);
+    brume_scene_load(ctx, &(brume_source){.path = "/nonexistent.json"}, NULL, &s);
     ASSERT_EQ_INT(callback_calls, 1);
     ASSERT_EQ_INT(brume_context_last_status(ctx), BRUME_ERROR_IO);
     brume_context_release(ctx);
@@ -206,7 +206,7 @@ TEST(shipped_scenes_load)
         snprintf(path, sizeof path, "%s/scenes/%s", BRUME_SOURCE_DIR, names[i]);
         brume_context *ctx = brume_context_new();
         brume_scene *s = NULL;
-        if (brume_scene_load(ctx, path, &s) != BRUME_OK)
+        if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
             TEST_FAIL("%s", brume_context_last_error(ctx));
         ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
         brume_scene_release(s);

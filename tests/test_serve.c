@@ -254,7 +254,7 @@ static shot_figures screenshot(const char *chromium, int port, const char *fragm
     if (brume_image_read(ctx, shot, &img) != BRUME_OK)
         TEST_FAIL("screenshot: %s", brume_context_last_error(ctx));
     shot_figures f = {0, 1 << 30, 1 << 30, -1, -1, brume_image_width(img), brume_image_height(img)};
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     for (int y = 0; y < f.h; y++)
         for (int x = 0; x < f.w; x++) {
             const float *p = px + 4 * (y * f.w + x);

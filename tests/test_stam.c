@@ -225,7 +225,7 @@ static brume_image *render(const char *json, const char *method, int spp, int th
     brume_scene *s = scene_from(json);
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     snprintf(rs.method, sizeof rs.method, "%s", method);
     rs.spp = spp;
     rs.threads = threads;

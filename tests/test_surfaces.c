@@ -14,7 +14,7 @@
 /* Mean and standard error of channel c over the pixels of img. */
 static void image_mean(const brume_image *img, int c, double *mean, double *se)
 {
-    test_channel_mean(brume_image_pixels_const(img), brume_image_width(img) * brume_image_height(img), c, mean, se);
+    test_channel_mean(brume_image_pixels(img), brume_image_width(img) * brume_image_height(img), c, mean, se);
 }
 
 /* A white-ish Lambertian plane (albedo 0.7) under a distant light at 60 degrees from the
@@ -58,7 +58,7 @@ TEST(fog_shadow_matches_transmittance)
         " \"render\": {\"width\": 32, \"height\": 32, \"spp\": 128, \"max_depth\": 1,"
         "             \"filter\": {\"type\": \"box\", \"width\": 0.001}}}";
     brume_image *img = test_render_json(json, 2);
-    const float *px = brume_image_pixels_const(img);
+    const float *px = brume_image_pixels(img);
     /* the camera sees, through pixel (x, y) centre, the plane point below; the fog box
      * (seen from above) covers |x|, |z| < 0.5 and also dims the view ray itself */
     double tan_half = tan(0.5 * 20.0 * PI_D / 180.0);

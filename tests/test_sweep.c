@@ -25,7 +25,7 @@ static long find_block(const brume_image *sheet, const brume_image *cell)
 {
     int W = brume_image_width(sheet), H = brume_image_height(sheet);
     int w = brume_image_width(cell), h = brume_image_height(cell);
-    const float *S = brume_image_pixels_const(sheet), *C = brume_image_pixels_const(cell);
+    const float *S = brume_image_pixels(sheet), *C = brume_image_pixels(cell);
     for (int y = 0; y + h <= H; y++)
         for (int x = 0; x + w <= W; x++) {
             bool same = true;

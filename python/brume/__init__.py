@@ -307,19 +307,22 @@ class Scene:
         self._aovs = False
         _refuse_time(settings)
         out = ffi.new("brume_scene **")
+        opts = ffi.new("brume_load_options *", {"time": float(frame_time)})
         if scene is None:
-            self._ctx.check(lib.brume_scene_new_default(self._ctx.ptr, out))
+            self._ctx.check(lib.brume_scene_load(self._ctx.ptr, ffi.NULL, opts, out))
             self._ptr = out[0]
         elif isinstance(scene, Mapping):
-            self._from_dict(scene, frame_time, out)
+            self._from_dict(scene, opts, out)
         elif isinstance(scene, (str, bytes, os.PathLike)):
-            self._ctx.check(lib.brume_scene_load_at(self._ctx.ptr, os.fsencode(scene), float(frame_time), out))
+            path = ffi.new("char[]", os.fsencode(scene))
+            src = ffi.new("brume_source *", {"path": path})
+            self._ctx.check(lib.brume_scene_load(self._ctx.ptr, src, opts, out))
             self._ptr = out[0]
         else:
             raise TypeError("scene: expected a path, a dict or None, got %s" % type(scene).__name__)
         self._configure(options, settings)
 
-    def _from_dict(self, scene, time, out):
+    def _from_dict(self, scene, opts, out):
         doc = dict(scene)
         arrays = []
         media = doc.get("media")
@@ -339,7 +342,9 @@ class Scene:
                     m["density"] = {"type": "constant", "value": 0, "bounds": bounds}
                     media[i] = m
         text = json.dumps(doc, default=_json_default).encode()
-        self._ctx.check(lib.brume_scene_from_json(self._ctx.ptr, text, b"<dict>", float(time), out))
+        name, text = ffi.new("char[]", b"<dict>"), ffi.new("char[]", text)
+        src = ffi.new("brume_source *", {"path": name, "text": text})
+        self._ctx.check(lib.brume_scene_load(self._ctx.ptr, src, opts, out))
         self._ptr = out[0]
         for i, d in arrays:
             rho = _array_density(self._ctx, d, "<dict>: media[%d].density" % i)
@@ -357,7 +362,7 @@ class Scene:
             self._ctx.check(lib.brume_scene_set_option(self._ctx.ptr, self._ptr, key.encode(), str(value).encode()))
         if settings:
             rs = ffi.new("brume_render_settings *")
-            lib.brume_scene_get_settings(self._ptr, rs)
+            lib.brume_scene_settings(self._ptr, rs)
             for key, value in settings.items():
                 self._set_field(rs, key, value)
             self._ctx.check(lib.brume_scene_set_settings(self._ctx.ptr, self._ptr, rs))
@@ -399,7 +404,7 @@ class Scene:
                 # the progress callback is always there: it is how Ctrl-C stops a render
                 self._progress_cb = self._run.callback()
                 rs = ffi.new("brume_render_settings *")
-                lib.brume_scene_get_settings(self._ptr, rs)
+                lib.brume_scene_settings(self._ptr, rs)
                 rs.progress_fn = self._progress_cb
                 rs.progress_user = ffi.NULL
                 self._ctx.check(lib.brume_scene_set_settings(self._ctx.ptr, self._ptr, rs))
@@ -411,7 +416,7 @@ class Scene:
         """The render settings as a dict, in the form they are given: filter and sampler by
         name, aovs as a list of names, progress as given (None when none)."""
         rs = ffi.new("brume_render_settings *")
-        lib.brume_scene_get_settings(self._ptr, rs)
+        lib.brume_scene_settings(self._ptr, rs)
         out: Dict[str, Any] = {}
         for name in _SETTINGS:
             v = getattr(rs, name)
@@ -564,7 +569,7 @@ class Scene:
 
 def _image_arrays(img, aovs):
     w, h = lib.brume_image_width(img), lib.brume_image_height(img)
-    rgba = np.frombuffer(ffi.buffer(lib.brume_image_pixels_const(img), w * h * 16), dtype=np.float32)
+    rgba = np.frombuffer(ffi.buffer(lib.brume_image_pixels(img), w * h * 16), dtype=np.float32)
     rgba = rgba.reshape(h, w, 4).copy().view(Image)
     if not aovs:
         return rgba

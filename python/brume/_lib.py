@@ -2,7 +2,7 @@
 
 The library is found from, in order: the environment variable BRUME_LIBRARY (a path),
 the location recorded when the package was built or installed (_config.py), then the
-system's search path (libbrume.so.0)."""
+system's search path (libbrume.so.1)."""
 import os
 
 import cffi
@@ -24,7 +24,7 @@ def _candidates():
         yield os.path.normpath(os.path.join(_here, _config.LIBRARY))
     except ImportError:
         pass
-    yield "libbrume.so.0"
+    yield "libbrume.so.1"
 
 
 def _load():

@@ -3,6 +3,7 @@
 
 #include <time.h>
 
+#include "core/context.h"
 #include "core/error.h"
 
 static long long now_ns(void)
@@ -45,23 +46,27 @@ bool cancel_poll_cancelled(const cancel_poll *c) { return atomic_load((atomic_bo
 
 void cancel_poll_finish(cancel_poll *c) { pthread_mutex_destroy(&c->lock); }
 
-static atomic_uint g_load_cancels;                /* brume_cancel_loads calls so far */
-static _Thread_local unsigned g_load_start;       /* the count when this thread's load began */
-static _Thread_local bool g_loading;
+static _Thread_local atomic_uint *g_load_cancels; /* the loading context's count, NULL: none */
+static _Thread_local unsigned g_load_start;        /* the count when this thread's load began */
 
-void brume_cancel_loads(void) { atomic_fetch_add(&g_load_cancels, 1u); }
-
-void cancel_load_begin(void)
+/* An atomic add on a lock-free atomic: async-signal-safe. */
+void brume_context_cancel_loads(brume_context *ctx)
 {
-    g_load_start = atomic_load(&g_load_cancels);
-    g_loading = true;
+    if (ctx)
+        atomic_fetch_add(&ctx->load_cancels, 1u);
 }
 
-void cancel_load_end(void) { g_loading = false; }
+void cancel_load_begin(brume_context *ctx)
+{
+    g_load_cancels = ctx ? &ctx->load_cancels : NULL;
+    g_load_start = ctx ? atomic_load(&ctx->load_cancels) : 0u;
+}
+
+void cancel_load_end(void) { g_load_cancels = NULL; }
 
 brume_status cancel_load_check(const char *what)
 {
-    if (!g_loading || atomic_load_explicit(&g_load_cancels, memory_order_relaxed) == g_load_start)
+    if (!g_load_cancels || atomic_load_explicit(g_load_cancels, memory_order_relaxed) == g_load_start)
         return BRUME_OK;
-    return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_cancel_loads)", what);
+    return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_context_cancel_loads)", what);
 }

@@ -32,12 +32,13 @@ bool cancel_poll_stop(cancel_poll *c);
 bool cancel_poll_cancelled(const cancel_poll *c);
 void cancel_poll_finish(cancel_poll *c);
 
-/* Loading a scene (issue 36): brume_cancel_loads() (async-signal-safe) ends every load in
- * progress. Each load notes the cancel count when it starts (cancel_load_begin, on its
- * thread); the generators' loops (procedural cloud, fractal grids) call cancel_load_check at
- * least every second of work, which says BRUME_ERROR_CANCELLED (err_set naming `what`) once
- * the count moved. Outside a load it never cancels. */
-void cancel_load_begin(void);
+/* Loading a scene (issue 36): brume_context_cancel_loads(ctx) (async-signal-safe) ends every
+ * load in progress with ctx. Each load notes its context's cancel count when it starts
+ * (cancel_load_begin, on its thread; ctx NULL: a load nothing cancels); the generators' loops
+ * (procedural cloud, fractal grids) call cancel_load_check at least every second of work,
+ * which says BRUME_ERROR_CANCELLED (err_set naming `what`) once the count moved. Outside a
+ * load it never cancels. */
+void cancel_load_begin(brume_context *ctx);
 void cancel_load_end(void);
 brume_status cancel_load_check(const char *what);
 

@@ -15,6 +15,8 @@ const char *brume_version(void) { return BRUME_VERSION_STRING; }
 brume_context *brume_context_new(void)
 {
     brume_context *ctx = calloc(1, sizeof *ctx);
+    if (ctx)
+        atomic_init(&ctx->load_cancels, 0u);
     return ctx;
 }
 

@@ -2,9 +2,12 @@
 #ifndef BRUME_CORE_CONTEXT_H
 #define BRUME_CORE_CONTEXT_H
 
+#include <stdatomic.h>
+
 #include "brume.h"
 
 struct brume_context {
+    atomic_uint load_cancels; /* brume_context_cancel_loads calls so far (core/cancel.h) */
     brume_status last_status;
     char last_error[1024];
     brume_error_fn callback;

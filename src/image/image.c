@@ -41,8 +41,9 @@ brume_image *brume_image_new(int width, int height) { return image_alloc(width, 
 
 int brume_image_width(const brume_image *image) { return image ? image->width : 0; }
 int brume_image_height(const brume_image *image) { return image ? image->height : 0; }
-float *brume_image_pixels(brume_image *image) { return image ? image->rgba : NULL; }
-const float *brume_image_pixels_const(const brume_image *image) { return image ? image->rgba : NULL; }
+float *brume_image_pixels(const brume_image *image) { return image ? image->rgba : NULL; }
+/* TRANSITION (brume.h) */
+const float *brume_image_pixels_const(const brume_image *image) { return brume_image_pixels(image); }
 
 void brume_image_release(brume_image *image)
 {

@@ -35,6 +35,8 @@ static const char tmp_suffix[] = ".tmp-XXXXXX";
 #define ATOMIC_SLOTS 16 /* temporary files open at once (one per writer thread is typical) */
 static char slot_path[ATOMIC_SLOTS][sizeof(((atomic_file *)0)->tmp_path)];
 static atomic_int slot_state[ATOMIC_SLOTS]; /* 0 free, 1 being filled or emptied, 2 listed */
+static _Atomic(const void *) slot_owner[ATOMIC_SLOTS]; /* the context of the call, or NULL */
+static _Thread_local const void *t_owner;              /* this thread's, atomic_owner */
 static atomic_flag handlers_installed = ATOMIC_FLAG_INIT;
 static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
 
@@ -77,6 +79,7 @@ static int slot_take(const char *tmp)
         int expect = 0;
         if (atomic_compare_exchange_strong(&slot_state[i], &expect, 1)) {
             snprintf(slot_path[i], sizeof slot_path[i], "%s", tmp);
+            atomic_store(&slot_owner[i], t_owner);
             atomic_store(&slot_state[i], 2);
             return i;
         }
@@ -267,9 +270,25 @@ void atomic_abort(atomic_file *f)
     }
 }
 
-void brume_remove_temporaries(void)
+const void *atomic_owner(const void *owner)
+{
+    const void *prev = t_owner;
+    t_owner = owner;
+    return prev;
+}
+
+void atomic_remove_temporaries(const void *owner)
 {
     for (int i = 0; i < ATOMIC_SLOTS; i++)
-        if (atomic_load(&slot_state[i]) == 2)
+        if (atomic_load(&slot_state[i]) == 2 && (!owner || atomic_load(&slot_owner[i]) == owner))
             (void)unlink(slot_path[i]); /* async-signal-safe */
 }
+
+void brume_context_remove_temporaries(brume_context *ctx)
+{
+    if (ctx)
+        atomic_remove_temporaries(ctx);
+}
+
+/* TRANSITION (brume.h) */
+void brume_remove_temporaries(void) { atomic_remove_temporaries(NULL); }

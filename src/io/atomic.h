@@ -22,4 +22,14 @@ brume_status atomic_open(atomic_file *f, const char *path);
 brume_status atomic_commit(atomic_file *f);
 void atomic_abort(atomic_file *f);
 
+/* Temporary files are listed with the context whose call made them (brume_image_write,
+ * brume_render_job_save, a render's blasi.save_light): those public calls name their
+ * context for the calling thread with atomic_owner (it returns the previous one, to put
+ * back), and brume_context_remove_temporaries(ctx) removes the files listed with ctx.
+ * atomic_remove_temporaries(NULL) removes every listed file, whoever made it: what a
+ * program's own fatal-signal handler calls (the command-line tool's). Both are
+ * async-signal-safe. */
+const void *atomic_owner(const void *owner);
+void atomic_remove_temporaries(const void *owner);
+
 #endif

@@ -10,6 +10,7 @@
 
 #include "core/context.h"
 #include "core/error.h"
+#include "io/atomic.h"
 
 /* ---- files ------------------------------------------------------------------------------- */
 
@@ -71,12 +72,14 @@ brume_status brume_image_write(brume_context *ctx, const brume_image *image, con
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
 
+    const void *owner = atomic_owner(ctx); /* its temporary file is ctx's (io/atomic.h) */
     switch (format_of(path, &st)) {
     case FORMAT_EXR: st = image_write_exr(path, image); break;
     case FORMAT_PNG: st = image_write_png(path, image, opts); break;
     case FORMAT_PFM: st = image_write_pfm(path, image); break;
     case FORMAT_UNKNOWN: break;
     }
+    atomic_owner(owner);
     return ctx_report(ctx, st);
 }
 

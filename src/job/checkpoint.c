@@ -138,7 +138,9 @@ brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *j
     pthread_mutex_unlock(&j->lock);
 
     atomic_file f;
+    const void *owner = atomic_owner(ctx); /* the temporary file is ctx's (io/atomic.h) */
     brume_status st = atomic_open(&f, path);
+    atomic_owner(owner);
     if (st == BRUME_OK) {
         uint64_t h = FNV_START;
         bool ok = put(f.fp, &h, &hd, sizeof hd) && put(f.fp, &h, n, np * sizeof *n) && put(f.fp, &h, active, np) &&
@@ -243,7 +245,7 @@ static uint64_t pixel_bytes(bool aovs)
 static size_t max_size(const brume_scene *s)
 {
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     uint64_t np = (uint64_t)(rs.width > 0 ? rs.width : 0) * (uint64_t)(rs.height > 0 ? rs.height : 0);
     return (size_t)(sizeof(ckpt_header) + np * pixel_bytes(true) + sizeof(uint64_t));
 }

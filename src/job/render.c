@@ -12,6 +12,7 @@
 #include "core/pool.h"
 #include "core/stats.h"
 #include "image/image.h"
+#include "io/atomic.h"
 #include "render/blasi.h"
 #include "render/film.h"
 #include "render/job.h"
@@ -706,7 +707,10 @@ brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_
         *out = NULL;
     if (!out || !s)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
-    return ctx_report(ctx, job_create(s, 0, 1, true, out));
+    const void *owner = atomic_owner(ctx); /* blasi.save_light's temporary file is ctx's (io/atomic.h) */
+    brume_status st = job_create(s, 0, 1, true, out);
+    atomic_owner(owner);
+    return ctx_report(ctx, st);
 }
 
 brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp)
@@ -809,7 +813,9 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
      * neither kept nor made (half the job's memory, whose zeroing touches a fresh page, a
      * page fault, per 4 KiB) */
     brume_render_job *job = NULL;
+    const void *owner = atomic_owner(ctx); /* blasi.save_light's temporary file is ctx's (io/atomic.h) */
     brume_status st = job_create(s, part, nparts, !unwatched || (rs->aovs & BRUME_AOV_VARIANCE), &job);
+    atomic_owner(owner);
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
     st = job_run(job, unwatched);

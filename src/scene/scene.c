@@ -112,11 +112,14 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     return BRUME_OK;
 }
 
-void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs)
+void brume_scene_settings(const brume_scene *s, brume_render_settings *rs)
 {
-    if (s && rs)
-        *rs = s->settings;
+    if (rs)
+        *rs = s ? s->settings : (brume_render_settings){0};
 }
+
+/* TRANSITION (brume.h) */
+void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs) { brume_scene_settings(s, rs); }
 
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const brume_render_settings *rs)
 {

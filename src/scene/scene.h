@@ -83,6 +83,8 @@ brume_status scene_parse_json_at(const char *text, const char *source, double ti
 /* The same after applying overrides "KEY=VALUE" to the document (scene/scene_override.h). */
 brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
                                    const char *const *overrides, int noverrides, brume_scene **out);
+/* brume_scene_text without a context: the JSON the loader reads for src (scene/scene_json.c). */
+brume_status scene_load_text(const brume_source *src, const brume_load_options *opts, char **json);
 
 /* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
  * fields, gray sigma_t. Call after medium_init. */

@@ -143,20 +143,6 @@ brume_status brume_scene_new(brume_context *ctx, const char *name, brume_scene *
     return ctx_report(ctx, *out ? BRUME_OK : err_status());
 }
 
-brume_status brume_scene_from_json(brume_context *ctx, const char *text, const char *name, double time,
-                                   brume_scene **out)
-{
-    err_clear();
-    if (!out)
-        return ctx_report(ctx, build_null("brume_scene_from_json", "out"));
-    *out = NULL;
-    if (!text)
-        return ctx_report(ctx, build_null("brume_scene_from_json", "text"));
-    if (!isfinite(time))
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_scene_from_json: time: %g is not finite", time));
-    return ctx_report(ctx, scene_parse_json_at(text, name ? name : "<json>", time, -1, out));
-}
-
 brume_status brume_scene_set_time(brume_context *ctx, brume_scene *s, double time)
 {
     err_clear();

@@ -518,11 +518,14 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
     brume_status st = json_object_type(j, at, type, sizeof type);
     if (st) return st;
     static const char *const type_only[] = {"type", NULL};
-    if (strcmp(type, "isotropic") == 0 || strcmp(type, "rayleigh") == 0 || strcmp(type, "hazy") == 0 ||
-        strcmp(type, "murky") == 0) {
-        if ((st = json_check_object(j, at, type_only))) return st;
-        return built(brume_phase_new_named(NULL, type, out), at);
-    }
+    static const struct { const char *name; brume_phase_preset preset; } presets[] = {
+        {"isotropic", BRUME_PHASE_ISOTROPIC}, {"rayleigh", BRUME_PHASE_RAYLEIGH}, {"hazy", BRUME_PHASE_HAZY},
+        {"murky", BRUME_PHASE_MURKY}};
+    for (size_t i = 0; i < sizeof presets / sizeof presets[0]; i++)
+        if (strcmp(type, presets[i].name) == 0) {
+            if ((st = json_check_object(j, at, type_only))) return st;
+            return built(brume_phase_new_preset(NULL, presets[i].preset, out), at);
+        }
     if (strcmp(type, "hg") == 0) {
         static const char *const keys[] = {"type", "g", NULL};
         if ((st = json_check_object(j, at, keys))) return st;
@@ -750,7 +753,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     /* the one work limit: each method estimates its work before it starts (issue 36) */
     if ((st = json_number(j, at, "max_work", 0, 1.0, 1e18, &s->max_work))) return st;
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;
     if ((st = json_int(j, at, "height", 0, 1, 65536, &rs.height))) return st;
     if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs.spp))) return st;
@@ -895,9 +898,7 @@ brume_status scene_parse_json_with(const char *text, const char *source, double 
     }
     budget_begin(BUDGET_DEFAULT_BYTES);
     io_inputs_record(&s->inputs);
-    cancel_load_begin();
     st = parse_scene(root, s, time, frame_no);
-    cancel_load_end();
     io_inputs_record(NULL);
     s->max_memory = budget_limit();
     s->memory_used = budget_used();
@@ -957,122 +958,95 @@ static brume_status read_text_file(const char *path, char **out)
     return BRUME_OK;
 }
 
-/* The one dispatch from a file to the scene description the reader takes: a grid file
- * becomes its studio scene (scene/scene_studio.c), a .pbrt file its translation
- * (scene/scene_pbrt.c), anything else is read as JSON. */
-static brume_status scene_source_text(const char *path, const brume_studio_options *studio, char **text)
+/* The source's name in messages (and, for a text, the folder its file names resolve against). */
+static const char *source_name(const brume_source *src)
 {
-    if (scene_studio_is_grid(path))
-        return scene_studio_json(path, studio, text);
-    if (scene_pbrt_is_pbrt(path))
-        return scene_pbrt_json(path, text);
-    return read_text_file(path, text);
+    if (src && src->text)
+        return src->path ? src->path : "<json>";
+    if (src && src->path)
+        return src->path;
+    return "<default scene>";
 }
 
-static brume_status load(brume_context *ctx, const char *path, double time, long frame_no,
-                         const char *const *overrides, int noverrides, const brume_studio_options *studio,
-                         brume_scene **out)
+static brume_status copy_text(const char *text, const char *name, char **out)
 {
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!out || !path)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load: %s: NULL", !out ? "out" : "path"));
-    if (!isfinite(time))
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", path, time));
-    char *text = NULL;
-    brume_status st = scene_source_text(path, studio, &text);
-    if (st == BRUME_OK) {
-        st = scene_parse_json_with(text, path, time, frame_no, overrides, noverrides, out);
-        free(text);
-    }
-    return ctx_report(ctx, st);
+    if (!(*out = strdup(text)))
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    return BRUME_OK;
 }
 
-brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
-                                   brume_scene **out)
+/* The one dispatch from a source to the scene description the reader takes: a text is
+ * itself, a grid file becomes its studio scene (scene/scene_studio.c), a .pbrt file its
+ * translation (scene/scene_pbrt.c), any other file is read as JSON, no source is the
+ * default scene. */
+static brume_status scene_source_text(const brume_source *src, const brume_studio_options *studio, char **text)
 {
-    brume_load_options o = {0.0, 0, NULL, 0, NULL};
+    *text = NULL;
+    if (src && src->text)
+        return copy_text(src->text, source_name(src), text);
+    if (!src || !src->path)
+        return copy_text(scene_default_json, source_name(src), text);
+    if (scene_studio_is_grid(src->path))
+        return scene_studio_json(src->path, studio, text);
+    if (scene_pbrt_is_pbrt(src->path))
+        return scene_pbrt_json(src->path, text);
+    return read_text_file(src->path, text);
+}
+
+/* Checks opts (NULL: the defaults) into *o; the message names the source. */
+static brume_status load_options(const brume_source *src, const brume_load_options *opts, const char *fn,
+                                 brume_load_options *o)
+{
+    *o = (brume_load_options){0.0, 0, NULL, 0, NULL};
     if (opts)
-        o = *opts;
-    if (!out || o.noverrides < 0 || (o.noverrides > 0 && !o.overrides)) {
-        err_clear();
-        if (out)
-            *out = NULL;
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load_with: %s",
-                                       !out ? "out: NULL" : "opts.overrides: NULL or noverrides < 0"));
-    }
-    if (o.frame < 0) {
-        err_clear();
-        *out = NULL;
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path ? path : "<default scene>",
-                                       o.frame));
-    }
-    long frame_no = o.frame > 0 ? o.frame : -1;
-    if (path)
-        return load(ctx, path, o.time, frame_no, o.overrides, o.noverrides, o.studio, out);
-    err_clear();
-    *out = NULL;
-    if (!isfinite(o.time))
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "<default scene>: load time %g is not finite", o.time));
-    return ctx_report(ctx, scene_parse_json_with(scene_default_json, "<default scene>", o.time, frame_no, o.overrides,
-                                                 o.noverrides, out));
+        *o = *opts;
+    if (o->noverrides < 0 || (o->noverrides > 0 && !o->overrides))
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: opts.overrides: NULL or noverrides < 0", fn);
+    if (o->frame < 0)
+        return err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", source_name(src), o->frame);
+    if (!isfinite(o->time))
+        return err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", source_name(src), o->time);
+    return BRUME_OK;
 }
 
-brume_status brume_scene_load(brume_context *ctx, const char *path, brume_scene **out)
-{
-    return load(ctx, path, 0.0, -1, NULL, 0, NULL, out);
-}
-
-brume_status brume_scene_load_at(brume_context *ctx, const char *path, double time, brume_scene **out)
-{
-    return load(ctx, path, time, -1, NULL, 0, NULL, out);
-}
-
-brume_status brume_scene_load_frame(brume_context *ctx, const char *path, long frame_no, brume_scene **out)
-{
-    if (frame_no < 0 && out && path) {
-        err_clear();
-        *out = NULL;
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", path, frame_no));
-    }
-    return load(ctx, path, 0.0, frame_no, NULL, 0, NULL, out);
-}
-
-brume_status brume_scene_new_default(brume_context *ctx, brume_scene **out)
+brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                              brume_scene **out)
 {
     err_clear();
     if (!out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_default: out: NULL"));
-    return ctx_report(ctx, scene_parse_json(scene_default_json, "<default scene>", out));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_load: out: NULL"));
+    *out = NULL;
+    brume_load_options o;
+    brume_status st = load_options(src, opts, "brume_scene_load", &o);
+    if (st)
+        return ctx_report(ctx, st);
+    char *text = NULL;
+    cancel_load_begin(ctx); /* brume_context_cancel_loads(ctx) ends it */
+    if ((st = scene_source_text(src, o.studio, &text)) == BRUME_OK)
+        st = scene_parse_json_with(text, source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
+                                   o.noverrides, out);
+    cancel_load_end();
+    free(text);
+    return ctx_report(ctx, st);
+}
+
+brume_status scene_load_text(const brume_source *src, const brume_load_options *opts, char **json)
+{
+    err_clear();
+    if (!json)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_text: json: NULL");
+    *json = NULL;
+    return scene_source_text(src, opts ? opts->studio : NULL, json);
+}
+
+/* TRANSITION: the old forms the command-line tool calls until it moves (brume.h). */
+brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
+                                   brume_scene **out)
+{
+    return brume_scene_load(ctx, &(brume_source){path, NULL}, opts, out);
 }
 
 brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json)
 {
-    err_clear();
-    if (!json)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_text: json: NULL"));
-    *json = NULL;
-    if (!path) {
-        if (!(*json = strdup(scene_default_json)))
-            return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "<default scene>: out of memory"));
-        return ctx_report(ctx, BRUME_OK);
-    }
-    return ctx_report(ctx, scene_source_text(path, opts ? opts->studio : NULL, json));
-}
-
-brume_status brume_scene_new_for_grid(brume_context *ctx, const char *path, const brume_studio_options *opts,
-                                      brume_scene **out)
-{
-    if (!path || !out || !scene_studio_is_grid(path)) {
-        err_clear();
-        if (out)
-            *out = NULL;
-        if (!path || !out)
-            return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_new_for_grid: %s: NULL",
-                                           !path ? "path" : "out"));
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: not a grid file (.vdb, .nvdb)", path));
-    }
-    brume_load_options lo = {0.0, 0, NULL, 0, opts};
-    return brume_scene_load_with(ctx, path, &lo, out);
+    return ctx_report(ctx, scene_load_text(&(brume_source){path, NULL}, opts, json));
 }

@@ -549,19 +549,18 @@ static brume_status wrap_phase(const char *fn, phase *p, brume_phase **out)
         return ctx_report(ctx, build_null(fn, "out"));                                                           \
     *out = NULL
 
-brume_status brume_phase_new_named(brume_context *ctx, const char *name, brume_phase **out)
+brume_status brume_phase_new_preset(brume_context *ctx, brume_phase_preset preset, brume_phase **out)
 {
-    PHASE_BEGIN("brume_phase_new_named");
-    if (!name)
-        return ctx_report(ctx, build_null(fn, "name"));
-    phase *p = strcmp(name, "isotropic") == 0 ? phase_new_isotropic()
-             : strcmp(name, "rayleigh") == 0  ? phase_new_rayleigh()
-             : strcmp(name, "hazy") == 0      ? phase_new_mie_hazy()
-             : strcmp(name, "murky") == 0     ? phase_new_mie_murky()
-                                              : NULL;
-    if (!p && (strcmp(name, "isotropic") && strcmp(name, "rayleigh") && strcmp(name, "hazy") && strcmp(name, "murky")))
-        return ctx_report(ctx, err_set(BRUME_ERROR_PARSE, "%s: name: unknown phase function '%.64s' (known: isotropic, "
-                                       "rayleigh, hazy, murky)", fn, name));
+    PHASE_BEGIN("brume_phase_new_preset");
+    phase *p = NULL;
+    switch (preset) {
+    case BRUME_PHASE_ISOTROPIC: p = phase_new_isotropic(); break;
+    case BRUME_PHASE_RAYLEIGH: p = phase_new_rayleigh(); break;
+    case BRUME_PHASE_HAZY: p = phase_new_mie_hazy(); break;
+    case BRUME_PHASE_MURKY: p = phase_new_mie_murky(); break;
+    default:
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: preset: %d is not a brume_phase_preset", fn, (int)preset));
+    }
     return ctx_report(ctx, wrap_phase(fn, p, out));
 }
 

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "io/grid_sequence.h"
 #include "io/json.h"
+#include "scene/scene.h"
 #include "scene/scene_override.h"
 
 /* The first frame in [first, last] whose file a grid object with a pattern cannot give;
@@ -52,8 +53,8 @@ brume_status brume_scene_check_frames(brume_context *ctx, const char *path, cons
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frames %ld to %ld: need 0 <= first <= last", path, first,
                                        last));
     char *text = NULL;
-    if (brume_scene_text(ctx, path, opts, &text) != BRUME_OK)
-        return err_status();
+    if (scene_load_text(&(brume_source){path, NULL}, opts, &text) != BRUME_OK)
+        return ctx_report(ctx, err_status());
     cJSON *root = NULL;
     brume_status st = json_parse(text, path, &root);
     free(text);
