@@ -44,7 +44,8 @@ static brume_scene *load(const char *path, const char *method, int threads, int 
         die(ctx);
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
-    snprintf(rs.method, sizeof rs.method, "%s", method);
+    if (brume_method_from_name(ctx, method, &rs.method) != BRUME_OK)
+        die(ctx);
     rs.threads = threads;
     rs.progress = false;
     if (size) rs.width = rs.height = size;

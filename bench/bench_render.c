@@ -78,10 +78,13 @@ int main(int argc, char **argv)
     brume_scene_release(s);
     if (width) rs.width = width;
     if (height) rs.height = height;
-    if (method) snprintf(rs.method, sizeof rs.method, "%s", method);
+    if (method && brume_method_from_name(ctx, method, &rs.method) != BRUME_OK) {
+        fprintf(stderr, "bench_render: %s\n", brume_context_last_error(ctx));
+        return 1;
+    }
     rs.threads = threads;
     printf("scene: %s, %d x %d, method %s, threads %d\n", scene ? scene : "(default)", rs.width, rs.height,
-           rs.method, threads);
+           brume_method_name(rs.method), threads);
 
     double t_ref;
     brume_image *ref = render(scene, &rs, ref_spp, 1000003, &t_ref);

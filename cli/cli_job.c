@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "io/atomic.h"
 #include "job/checkpoint.h"
 #include "core/regular_file.h"
 
@@ -32,7 +33,7 @@ static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a sign
 static void on_signal(int sig)
 {
     if (g_signal || !g_keep) {
-        brume_remove_temporaries();
+        atomic_remove_temporaries(NULL); /* every write of this process (io/atomic.h) */
         static const char msg[] = "brume: interrupted: the work in progress is not kept\n";
         if (!g_signal)
             (void)!write(2, msg, sizeof msg - 1);

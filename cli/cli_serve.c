@@ -196,10 +196,10 @@ static const char *view_image(brume_context *ctx, const brume_image *img, const 
     if (l < 0)
         return "view: unknown (see the views in /status.json)\n";
     int w = brume_image_width(img), h = brume_image_height(img), ch = brume_image_layer_channels(img, l);
-    brume_image *o = brume_image_new(w, h);
-    if (!o)
+    brume_image *o = NULL;
+    if (brume_image_new(ctx, w, h, &o) != BRUME_OK)
         return "out of memory\n";
-    const float *src = brume_image_layer_pixels(img, l), *rgba = brume_image_pixels_const(img);
+    const float *src = brume_image_layer_pixels(img, l), *rgba = brume_image_pixels(img);
     float *dst = brume_image_pixels(o);
     size_t npix = (size_t)w * (size_t)h;
     double top = 0.0;

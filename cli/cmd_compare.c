@@ -70,14 +70,16 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
     brume_scene *s = NULL;
     brume_image *img = NULL;
     brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL};
-    if (brume_scene_load_with(ctx, r->path, &lo, &s) != BRUME_OK)
+    if (brume_scene_load(ctx, &(brume_source){.path = r->path}, &lo, &s) != BRUME_OK)
         return NULL;
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     rs.seed = seed;
     rs.progress = false;
-    if (r->method)
-        snprintf(rs.method, sizeof rs.method, "%s", r->method);
+    if (r->method && brume_method_from_name(ctx, r->method, &rs.method) != BRUME_OK) {
+        brume_scene_release(s);
+        return NULL;
+    }
     if (r->spp)
         rs.spp = r->spp;
     if (r->width)

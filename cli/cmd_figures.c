@@ -160,10 +160,10 @@ static int run_render(const char *scenes, const figure *f, const char *path, boo
     const char *ov[] = {"blasi.light_rays=" QUICK_LIGHT_RAYS};
     bool blasi = strncmp(f->arg, "blasi", 5) == 0;
     brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0, NULL};
-    if (!ctx || brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)
+    if (!ctx || brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
         goto fail;
     brume_render_settings rs;
-    brume_scene_get_settings(s, &rs);
+    brume_scene_settings(s, &rs);
     char size[160] = "";
     if (quick) {
         rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
@@ -326,14 +326,14 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
     for (int k = 0; k < 3 && ctx; k++) {
         brume_scene *s = NULL;
         brume_load_options lo = {0.0, 0, ov[k], nov[k], NULL};
-        if (brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)
+        if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
             goto fail;
         brume_render_settings rs;
-        brume_scene_get_settings(s, &rs);
-        if (k == 0 && strcmp(rs.method, "blasi") != 0 && strcmp(rs.method, "stam") != 0) {
+        brume_scene_settings(s, &rs);
+        if (k == 0 && rs.method != BRUME_METHOD_BLASI && rs.method != BRUME_METHOD_STAM) {
             brume_scene_release(s);
             cli_error("figures: --compare: %s is rendered by %s, which has no printed and corrected variants", f->name,
-                      rs.method);
+                      brume_method_name(rs.method));
             goto done;
         }
         if (quick) {
@@ -342,7 +342,7 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
             rs.spp = 1;
         }
         if (k == 2) {
-            snprintf(rs.method, sizeof rs.method, "path");
+            rs.method = BRUME_METHOD_PATH;
             rs.spp = quick ? 2 : COMPARE_SPP;
         }
         rs.progress = false;

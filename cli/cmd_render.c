@@ -428,7 +428,7 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     brume_status st;
     /* the built-in scene is static: it is loaded at time 0 and its camera moved below */
     brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio};
-    st = brume_scene_load_with(ctx, o->scene_path, &lo, &scene);
+    st = brume_scene_load(ctx, &(brume_source){.path = o->scene_path}, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
     for (int k = 0; k < o->nlight; k++)
@@ -437,7 +437,7 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
             return NULL;
         }
     brume_render_settings rs;
-    brume_scene_get_settings(scene, &rs);
+    brume_scene_settings(scene, &rs);
     if (o->spp) rs.spp = o->spp;
     if (o->width) rs.width = o->width;
     if (o->height) rs.height = o->height;
@@ -445,8 +445,10 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     if (o->device >= -1) rs.device = o->device;
     if (o->max_depth) rs.max_depth = o->max_depth;
     if (o->have_seed) rs.seed = o->seed;
-    if (o->method)
-        snprintf(rs.method, sizeof rs.method, "%s", o->method);
+    if (o->method && brume_method_from_name(ctx, o->method, &rs.method) != BRUME_OK) {
+        brume_scene_release(scene);
+        return NULL;
+    }
     /* --time and --noise went in as render.time and render.noise (set_override): spp, from
      * --spp, the scene or its default, is the maximum under them all alike */
     if (o->min_spp) rs.min_spp = o->min_spp;
@@ -472,29 +474,32 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
 /* --stats: the run's statistics (brume_stats, docs/stats.md), one line per quantity. */
 static void print_stats(brume_context *ctx, const brume_scene *scene, const char *path)
 {
+    (void)ctx;
     brume_stats st;
-    if (brume_scene_get_stats(ctx, scene, &st) != BRUME_OK)
+    brume_scene_stats(scene, &st);
+    if (!st.rendered)
         return;
+    const char *method = brume_method_name(st.method);
     FILE *e = stderr;
-    fprintf(e, "stats: %s: method %s, %.3f s, %llu camera rays, %.3f CPU s in the estimator\n", path, st.method,
+    fprintf(e, "stats: %s: method %s, %.3f s, %llu camera rays, %.3f CPU s in the estimator\n", path, method,
             st.seconds, (unsigned long long)st.camera_rays, st.li_cpu_seconds);
-    if (strcmp(st.method, "blasi") == 0) {
+    if (st.method == BRUME_METHOD_BLASI) {
         fprintf(e, "stats: blasi light pass %.3f s: %llu rays, %llu interceptions, %llu deposits\n",
-                st.blasi_light_seconds, (unsigned long long)st.blasi_light_rays,
-                (unsigned long long)st.blasi_interceptions, (unsigned long long)st.blasi_deposits);
-        fprintf(e, "stats: blasi power stored %.6g of %.6g emitted (%.1f %%)\n", st.blasi_power_stored,
-                st.blasi_power_emitted,
-                st.blasi_power_emitted > 0.0 ? 100.0 * st.blasi_power_stored / st.blasi_power_emitted : 0.0);
-        fprintf(e, "stats: blasi view pass %.3f s\n", st.blasi_view_seconds);
-    } else if (strcmp(st.method, "stam") == 0) {
+                st.blasi.light_seconds, (unsigned long long)st.blasi.light_rays,
+                (unsigned long long)st.blasi.interceptions, (unsigned long long)st.blasi.deposits);
+        fprintf(e, "stats: blasi power stored %.6g of %.6g emitted (%.1f %%)\n", st.blasi.power_stored,
+                st.blasi.power_emitted,
+                st.blasi.power_emitted > 0.0 ? 100.0 * st.blasi.power_stored / st.blasi.power_emitted : 0.0);
+        fprintf(e, "stats: blasi view pass %.3f s\n", st.blasi.view_seconds);
+    } else if (st.method == BRUME_METHOD_STAM) {
         fprintf(e, "stats: stam %.2f blobs per camera ray; %.2f hierarchy queries per camera ray, %.2f cells "
                    "(BVH nodes) and %.2f blobs per query\n",
-                st.stam_blobs_per_ray, st.stam_queries_per_ray, st.stam_nodes_per_query, st.stam_blobs_per_query);
+                st.stam.blobs_per_ray, st.stam.queries_per_ray, st.stam.nodes_per_query, st.stam.blobs_per_query);
     } else {
         fprintf(e, "stats: %s %.3f vertices per path, %.3f collisions and %.3f null collisions per camera path\n",
-                st.method, st.path_vertices, st.path_collisions, st.path_null_collisions);
-        fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", st.method,
-                st.path_tracking_cpu_seconds, st.path_nee_cpu_seconds, st.path_shading_cpu_seconds);
+                method, st.path.vertices, st.path.collisions, st.path.null_collisions);
+        fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", method,
+                st.path.tracking_cpu_seconds, st.path.nee_cpu_seconds, st.path.shading_cpu_seconds);
     }
 }
 
@@ -509,7 +514,7 @@ static int print_scene(const render_opts *o)
     brume_load_options lo = {0.0, 0, NULL, 0, &o->studio};
     char *text = NULL;
     int rc = 0;
-    if (brume_scene_text(ctx, o->scene_path, &lo, &text) != BRUME_OK) {
+    if (brume_scene_text(ctx, &(brume_source){.path = o->scene_path}, &lo, &text) != BRUME_OK) {
         cli_error("%s", brume_context_last_error(ctx));
         rc = 1;
     } else if (fputs(text, stdout) == EOF || putchar('\n') == EOF || fflush(stdout) != 0) {
@@ -571,10 +576,6 @@ int cmd_render(int argc, char **argv)
             o.have_seed = true;
         } else if (strcmp(a, "--method") == 0) {
             if (!(o.method = arg_value(argc, argv, &i))) return 2;
-            if (strlen(o.method) >= sizeof ((brume_render_settings *)0)->method) {
-                cli_error("--method: unknown method '%s'", o.method);
-                return 2;
-            }
         } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
             if (!(v = arg_value(argc, argv, &i))) return 2;
             if (strcmp(a, "--set") != 0) { /* --save-light, --load-light */
@@ -631,7 +632,7 @@ int cmd_render(int argc, char **argv)
                 cli_error("--up: '%s': y or z", v);
                 return 2;
             }
-            o.studio.up = v[0];
+            o.studio.up = v[0] == 'z' ? BRUME_AXIS_Z : BRUME_AXIS_Y;
         } else if (a[0] == '-' && a[1] != '\0') {
             cli_error("render: unknown option '%s' (try `brume help render`)", a);
             return 2;
@@ -761,7 +762,7 @@ int cmd_render(int argc, char **argv)
     int rc = 1;
     if (sequence && o.scene_path) { /* grid sequences: every frame's file, before the first frame */
         brume_load_options lo = {0.0, 0, o.sets, o.nsets, &o.studio};
-        if (brume_scene_check_frames(ctx, o.scene_path, &lo, first, last) != BRUME_OK) {
+        if (brume_scene_check_frames(ctx, &(brume_source){.path = o.scene_path}, &lo, first, last) != BRUME_OK) {
             cli_error("%.1000s", brume_context_last_error(ctx));
             brume_context_release(ctx);
             cli_serve_stop(serve);
@@ -798,9 +799,8 @@ int cmd_render(int argc, char **argv)
                 goto fail;
             if (!plan.made && prepare_outputs(&plan, true) != 0)
                 goto done;
-            brume_scene_get_settings(scene, &rs);
-            image = brume_image_new(rs.width, rs.height);
-            if (!image || !dist_recv_at_root(&d, brume_image_pixels(image), (size_t)rs.width * (size_t)rs.height * 4, owner,
+            brume_scene_settings(scene, &rs);
+            if (brume_image_new(ctx, rs.width, rs.height, &image) != BRUME_OK || !dist_recv_at_root(&d, brume_image_pixels(image), (size_t)rs.width * (size_t)rs.height * 4, owner,
                                              (int)k)) {
                 cli_error("frame %ld: could not receive it from rank %d", f, owner);
                 goto done;
@@ -809,7 +809,7 @@ int cmd_render(int argc, char **argv)
             /* frames that differ only by the camera share one scene (and its integrator
              * state: Blasi's first pass is done once) */
             if (scene && brume_scene_world_is_static(scene) && f >= 0) {
-                brume_scene_get_settings(scene, &rs);
+                brume_scene_settings(scene, &rs);
                 if (brume_scene_set_camera_time(ctx, scene, (double)f / rs.fps) != BRUME_OK)
                     goto fail;
             } else {
@@ -823,7 +823,7 @@ int cmd_render(int argc, char **argv)
                              (!plan.made && prepare_outputs(&plan, true) != 0)))
                     goto done;
             }
-            brume_scene_get_settings(scene, &rs);
+            brume_scene_settings(scene, &rs);
             if (split_tiles) {
                 if (brume_render_part(ctx, scene, d.rank, d.size, &image) != BRUME_OK)
                     goto fail;
@@ -886,7 +886,7 @@ int cmd_render(int argc, char **argv)
             double secs = now_seconds() - t0;
             if (!o.quiet && owner != d.rank)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs.width,
-                        rs.height, rs.spp, rs.method, owner);
+                        rs.height, rs.spp, brume_method_name(rs.method), owner);
             else if (!o.quiet && job && (rs.time_budget > 0.0 || rs.noise_target > 0.0)) {
                 const brume_render_progress *p = &jr.progress;
                 char noise[64] = "";
@@ -901,10 +901,10 @@ int cmd_render(int argc, char **argv)
                     snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed,
                              rs.time_budget);
                 fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
-                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, rs.method, secs, budget);
+                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs.method), secs, budget);
             } else if (!o.quiet)
                 fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
-                        rs.height, rs.spp, rs.method, secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
+                        rs.height, rs.spp, brume_method_name(rs.method), secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
         }
         brume_image_release(image);
         image = NULL;
@@ -926,7 +926,7 @@ int cmd_render(int argc, char **argv)
     }
     if (root && video && scene) {
         brume_render_settings rs;
-        brume_scene_get_settings(scene, &rs);
+        brume_scene_settings(scene, &rs);
         rc = make_video(out_path, first, rs.fps, video);
     }
     goto done;

@@ -175,9 +175,9 @@ int cmd_sweep(int argc, char **argv)
             brume_load_options lo = {0.0, 0, ov, nkeys, NULL};
             brume_scene *s = NULL;
             brume_render_settings rs;
-            if (brume_scene_load_with(ctx, scene, &lo, &s) != BRUME_OK)
+            if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
                 goto fail;
-            brume_scene_get_settings(s, &rs);
+            brume_scene_settings(s, &rs);
             if (width)
                 rs.width = width;
             if (height)
@@ -186,8 +186,10 @@ int cmd_sweep(int argc, char **argv)
                 rs.spp = spp;
             if (seed_given)
                 rs.seed = seed;
-            if (method)
-                snprintf(rs.method, sizeof rs.method, "%s", method);
+            if (method && brume_method_from_name(ctx, method, &rs.method) != BRUME_OK) {
+                brume_scene_release(s);
+                goto fail;
+            }
             rs.threads = threads;
             rs.progress = false;
             brume_status st = brume_scene_set_settings(ctx, s, &rs);

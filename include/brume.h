@@ -9,7 +9,7 @@
  *   cmake -B build && cmake --build build && cmake --install build   (scripts/setup.sh
  *   installs the dependencies; --prefix DIR to install elsewhere than /usr/local), then
  *     cc app.c $(pkg-config --cflags --libs brume)
- *   which links the shared libbrume.so.0 (with an rpath to it: the program runs from any
+ *   which links the shared libbrume.so.1 (with an rpath to it: the program runs from any
  *   prefix); `pkg-config --cflags --libs brume-static` links the static libbrume.a.
  *   CMake projects: find_package(brume CONFIG) and link brume::brume or
  *   brume::brume_static. Python: import brume (docs/python.md). docs/install.md has more.
@@ -23,9 +23,10 @@
  *                  that calls the API (a context is not thread-safe; the renderer itself
  *                  uses its own worker threads).
  *   brume_scene    camera, lights, media, surfaces, background, render settings: built in
- *                  memory (brume_scene_new and the builders below), read from JSON
- *                  (docs/scene-format.md; the reader uses the same builders), or the
- *                  built-in default scene.
+ *                  memory (brume_scene_new and the builders below) or loaded
+ *                  (brume_scene_load, the one loader: a scene file, a grid or pbrt-v4 file,
+ *                  scene JSON text, or the built-in default scene; its reader uses the
+ *                  same builders).
  *   brume_image    a rendered or loaded picture: width x height pixels, RGBA float32,
  *                  linear Rec. 709, rows top first, 4 floats per pixel; A = 1 - the
  *                  transmittance of the media along the pixel (1 = opaque cloud).
@@ -223,7 +224,7 @@ typedef struct brume_render_settings {
     int spp;            /* samples per pixel, >= 1 */
     uint64_t seed;      /* the image is a function of (scene, seed, spp) */
     int threads;        /* worker threads; 0 = one per core */
-    char method[32];    /* integrator name: "path", "single", "blasi" or "stam" (blob fields only) */
+    brume_method method; /* the rendering method; default BRUME_METHOD_PATH (stam: blob fields only) */
     int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
@@ -238,7 +239,7 @@ typedef struct brume_render_settings {
                             that carries signal meets it (spp is then a maximum), in [0, 1]
                             (docs/render-jobs.md gives the estimator) */
     int min_spp;         /* samples every pixel gets before adaptive sampling may stop it, >= 1 */
-    bool stats;          /* count per-run statistics (brume_scene_get_stats); off: no cost */
+    bool stats;          /* count per-run statistics (brume_scene_stats); off: no cost */
     brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
     int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
                             (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
@@ -283,9 +284,13 @@ typedef struct brume_source {
  * (brume_scene_frame_camera) from a three-quarter view, a sun and a sky, a ground plane
  * under the box or none, and optical coefficients from the grids found: "density" (or the
  * only float grid) as fog, a "temperature" grid as blackbody fire. */
+typedef enum brume_axis {
+    BRUME_AXIS_Y = 0, /* OpenVDB's and Houdini's up */
+    BRUME_AXIS_Z = 1
+} brume_axis;
 typedef struct brume_studio_options {
     const char *grid;     /* the density grid's name; NULL or "" = the default (docs/grids.md) */
-    char up;              /* 'y' or 'z': the world's up axis; 0 = 'y' (OpenVDB's and Houdini's) */
+    brume_axis up;        /* the world's up axis; default BRUME_AXIS_Y */
     bool no_ground;       /* true: no ground plane */
     double optical_depth; /* > 0: the extinction is scaled so that a ray along the box's
                              shortest side through density max(rho) has this optical depth;
@@ -326,16 +331,23 @@ typedef struct brume_load_options {
  * ended from another thread or a signal handler: brume_context_cancel_loads. */
 brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
                               brume_scene **out);
-/* TRANSITION: the calls below keep their old form until the command-line tool moves to
- * the ones above (brume_scene_load with a brume_source); this block then goes. */
-brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
-                                   brume_scene **out);
-brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json);
-brume_status brume_scene_check_frames(brume_context *ctx, const char *path, const brume_load_options *opts, long first,
-                                      long last);
-void brume_scene_get_settings(const brume_scene *scene, brume_render_settings *rs);
-const float *brume_image_pixels_const(const brume_image *image);
-void brume_remove_temporaries(void);
+/* The scene-file JSON that brume_scene_load reads for src, before the overrides: a JSON
+ * file's own text, the studio scene of a grid file, the translation of a pbrt-v4 scene, a
+ * copy of src->text, or the default scene's text (opts may be NULL; only opts->studio is
+ * used). It makes no scene: it shows what the loader reads, so that a translated or
+ * generated scene can be saved, read and edited (`brume render --print-scene`), and a
+ * sequence's frames be checked; the scene itself comes only from brume_scene_load. *json
+ * is a new NUL-terminated string the caller frees with free(); file names in it are
+ * absolute or relative to the source's folder, as the loader reads them. */
+brume_status brume_scene_text(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                              char **json);
+/* SEQUENCES (docs/grids.md, "Sequences"). A grid's file name may hold a frame pattern
+ * (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb): each frame reads its own file, file
+ * number frame_offset + frame_step x frame. Checks, before any frame is loaded, that every
+ * frame in [first, last] (frame numbers as brume_load_options.frame) has its file; fails
+ * with one line naming the first frame that has none. opts may be NULL. */
+brume_status brume_scene_check_frames(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                                      long first, long last);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
 /* True when nothing but the camera depends on time (no keyframed light, surface or medium,
@@ -487,10 +499,19 @@ brume_status brume_density_new_procedural_cloud(brume_context *ctx, int resoluti
  * values multiplied by scale (> 0). */
 brume_status brume_density_new_nanovdb(brume_context *ctx, const void *buffer, size_t size,
                                        brume_grid_filter filter, double scale, brume_density **out);
+/* The formats of grid files (docs/grids.md), a scene file's density "format". */
+typedef enum brume_grid_format {
+    BRUME_GRID_FORMAT_AUTO = 0, /* "auto": by the extension, else the magic number */
+    BRUME_GRID_FORMAT_RAW,      /* "raw": float32 values (docs/grids.md gives the sidecar) */
+    BRUME_GRID_FORMAT_DF3,      /* "df3": POV-Ray density file */
+    BRUME_GRID_FORMAT_VOL,      /* "vol": Mitsuba's grid volume */
+    BRUME_GRID_FORMAT_NVDB,     /* "nvdb": NanoVDB */
+    BRUME_GRID_FORMAT_VDB       /* "vdb": OpenVDB */
+} brume_grid_format;
 /* A grid file (docs/grids.md: raw, df3, vol, nvdb, vdb), as a scene file's density of type
  * "grid". opts may be NULL (defaults). */
 typedef struct brume_grid_file_options {
-    char format[16];        /* "" or "auto" (by extension), "raw", "df3", "vol", "nvdb", "vdb" */
+    brume_grid_format format; /* default BRUME_GRID_FORMAT_AUTO */
     int dims[3];            /* raw without a sidecar: nx, ny, nz; all 0 = from the file */
     bool has_bounds;        /* place the voxel box on bounds (world units), replacing the file's */
     double bounds[6];       /* xmin, ymin, zmin, xmax, ymax, zmax */
@@ -687,38 +708,46 @@ brume_status brume_scene_set_surface_motion(brume_context *ctx, brume_scene *sce
 /* STATISTICS of the last render of a scene (docs/stats.md). Counts are exact sums over the
  * whole run and do not depend on the thread count; times are seconds (wall time, or CPU
  * time summed over threads where named so). Counted only when render settings' `stats` is
- * true (then a few percent slower), except the blasi light pass, which always counts. Fields
- * of methods other than the one that rendered are 0. */
+ * true (then a few percent slower), except the blasi light pass, which always counts. What
+ * every method has is in brume_stats itself; each method's own figures are in its struct,
+ * which is zero unless that method rendered. */
+typedef struct brume_path_stats {     /* path and single (the reference) */
+    double vertices;             /* mean scattering vertices (media and surfaces) per camera path */
+    double collisions;           /* mean real collisions (medium scattering events) per camera path */
+    double null_collisions;      /* mean null (rejected tentative) collisions per camera path */
+    double tracking_cpu_seconds; /* CPU seconds in delta tracking of the path flights */
+    double nee_cpu_seconds;      /* CPU seconds in next-event estimation (shadow rays included) */
+    double shading_cpu_seconds;  /* the rest of the estimator: intersection, emission, phase and
+                                    BSDF sampling */
+} brume_path_stats;
+typedef struct brume_blasi_stats {    /* Blasi et al. 1993: the light pass that made the radiance grid in use */
+    double light_seconds;        /* wall time of the light (first) pass, or of loading it */
+    double view_seconds;         /* wall time of the view (second) pass of the last render */
+    uint64_t light_rays;         /* rays sent from the lights (0 when the pass was loaded) */
+    uint64_t interceptions;      /* scattering events of the light pass (Eq. 9-11) */
+    uint64_t deposits;           /* voxel deposits: interceptions plus exit deposits (erratum 5) */
+    double power_emitted;        /* power sent by the light rays, mean over RGB, W (scene units) */
+    double power_stored;         /* power stored in the voxels, mean over RGB, same unit */
+} brume_blasi_stats;
+typedef struct brume_stam_stats {     /* Stam 1994 */
+    double blobs_per_ray;        /* blobs met by a camera ray's transparency walk, mean */
+    double queries_per_ray;      /* ray queries of the blob hierarchy (camera, shadow and cache rays
+                                    of the render) per camera ray */
+    double nodes_per_query;      /* hierarchy cells (BVH nodes) visited per query, mean */
+    double blobs_per_query;      /* blobs met per query, mean */
+} brume_stam_stats;
 typedef struct brume_stats {
-    char method[32];             /* integrator of the last render ("" before any) */
+    bool rendered;               /* false before a render of the scene finished (all fields 0 then) */
+    brume_method method;         /* the method of the last render */
     double seconds;              /* wall time of the last brume_render, integrator set-up included */
     uint64_t camera_rays;        /* camera samples traced (width x height x spp) */
     double li_cpu_seconds;       /* CPU seconds in the method's per-ray estimator, all threads */
-    /* blasi (Blasi et al. 1993): the light pass that made the radiance grid in use */
-    double blasi_light_seconds;  /* wall time of the light (first) pass, or of loading it */
-    double blasi_view_seconds;   /* wall time of the view (second) pass of the last render */
-    uint64_t blasi_light_rays;   /* rays sent from the lights (0 when the pass was loaded) */
-    uint64_t blasi_interceptions; /* scattering events of the light pass (Eq. 9-11) */
-    uint64_t blasi_deposits;     /* voxel deposits: interceptions plus exit deposits (erratum 5) */
-    double blasi_power_emitted;  /* power sent by the light rays, mean over RGB, W (scene units) */
-    double blasi_power_stored;   /* power stored in the voxels, mean over RGB, same unit */
-    /* stam (Stam 1994) */
-    double stam_blobs_per_ray;   /* blobs met by a camera ray's transparency walk, mean */
-    double stam_queries_per_ray; /* ray queries of the blob hierarchy (camera, shadow and cache
-                                    rays of the render) per camera ray */
-    double stam_nodes_per_query; /* hierarchy cells (BVH nodes) visited per query, mean */
-    double stam_blobs_per_query; /* blobs met per query, mean */
-    /* path and single (the reference) */
-    double path_vertices;        /* mean scattering vertices (media and surfaces) per camera path */
-    double path_collisions;      /* mean real collisions (medium scattering events) per camera path */
-    double path_null_collisions; /* mean null (rejected tentative) collisions per camera path */
-    double path_tracking_cpu_seconds; /* CPU seconds in delta tracking of the path flights */
-    double path_nee_cpu_seconds;      /* CPU seconds in next-event estimation (shadow rays included) */
-    double path_shading_cpu_seconds;  /* the rest of the estimator: intersection, emission,
-                                         phase and BSDF sampling */
+    brume_path_stats path;       /* method path or single */
+    brume_blasi_stats blasi;     /* method blasi */
+    brume_stam_stats stam;       /* method stam */
 } brume_stats;
 /* Copies the statistics of the last render of scene into *out (zeros before any render). */
-brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out);
+void brume_scene_stats(const brume_scene *scene, brume_stats *out);
 
 /* ---- rendering and images ----------------------------------------------------------------- */
 
@@ -800,8 +829,9 @@ brume_status brume_render_job_resume(brume_context *ctx, const brume_scene *scen
                                      const char *path, brume_render_job **out);
 void brume_render_job_release(brume_render_job *job);
 
-/* A new black, transparent image; NULL on bad size or out of memory. */
-brume_image *brume_image_new(int width, int height);
+/* A new black, transparent image of width x height pixels (each in [1, 65536]). On success
+ * *out is owned by the caller. */
+brume_status brume_image_new(brume_context *ctx, int width, int height, brume_image **out);
 int brume_image_width(const brume_image *image);
 int brume_image_height(const brume_image *image);
 /* width * height * 4 floats, RGBA, rows top first. Owned by the image; the caller may

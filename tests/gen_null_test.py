@@ -15,9 +15,8 @@ OPTIONAL = {
     "brume_context_set_error_callback": {"fn", "user"},
     "brume_scene_new": {"name"},
     "brume_scene_load": {"src", "opts"},  # src NULL is the default scene
-    "brume_scene_load_with": {"path", "opts"},
-    "brume_scene_text": {"path", "opts"},  # issue-38's: path NULL is the default scene
-    "brume_scene_check_frames": {"opts"},
+    "brume_scene_text": {"src", "opts"},  # src NULL is the default scene
+    "brume_scene_check_frames": {"src", "opts"},
     "brume_scene_frame_camera": {"media"},
     "brume_image_write": {"opts"},
     "brume_image_encode_png": {"opts"},  # issue-15's, like brume_image_write
@@ -138,7 +137,11 @@ def main():
     w("        fprintf(stderr, \"setup: %s\\n\", brume_context_last_error(ctx));")
     w("        return 1;")
     w("    }")
-    w("    brume_image *image = brume_image_new(2, 2);")
+    w("    brume_image *image = NULL;")
+    w("    if (brume_image_new(ctx, 2, 2, &image) != BRUME_OK) {")
+    w("        fprintf(stderr, \"setup: %s\\n\", brume_context_last_error(ctx));")
+    w("        return 1;")
+    w("    }")
     w("    brume_density *density = NULL;")
     w("    brume_phase *phase = NULL, *lobes[1];")
     w("    const double box[6] = {-1, -1, -1, 1, 1, 1};")

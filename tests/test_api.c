@@ -48,6 +48,17 @@ static void assert_same_image(const brume_image *a, const brume_image *b)
     ASSERT_TRUE(sum > 0.0); /* a black picture would prove nothing */
 }
 
+/* Renders a and b (committing them), asserts the same bytes, releases both. */
+static void assert_same_render(brume_context *ctx, brume_scene *a, brume_scene *b)
+{
+    brume_image *ia = render(ctx, a), *ib = render(ctx, b);
+    assert_same_image(ia, ib);
+    brume_image_release(ia);
+    brume_image_release(ib);
+    brume_scene_release(a);
+    brume_scene_release(b);
+}
+
 static brume_scene *load_text(brume_context *ctx, const char *json, double time)
 {
     brume_scene *s = NULL;
@@ -223,12 +234,7 @@ TEST(every_feature_equals_json)
     ASSERT_EQ_INT(brume_scene_surface_count(a), 5);
     ASSERT_TRUE(brume_scene_time(a) == brume_scene_time(b));
     ASSERT_TRUE(!brume_scene_world_is_static(a) && !brume_scene_world_is_static(b));
-    brume_image *ia = render(ctx, a), *ib = render(ctx, b);
-    assert_same_image(ia, ib);
-    brume_image_release(ia);
-    brume_image_release(ib);
-    brume_scene_release(a);
-    brume_scene_release(b);
+    assert_same_render(ctx, a, b);
     brume_context_release(ctx);
     free(json);
     remove(mesh);
@@ -251,7 +257,7 @@ TEST(stam_options_equal_json)
     brume_render_settings rs;
     brume_scene_settings(b, &rs);
     rs.width = 32, rs.height = 24, rs.spp = 2;
-    snprintf(rs.method, sizeof rs.method, "stam");
+    rs.method = BRUME_METHOD_STAM;
     OK(brume_scene_set_settings(ctx, b, &rs));
     brume_camera cam;
     brume_camera_default(&cam);
@@ -272,12 +278,7 @@ TEST(stam_options_equal_json)
                                           {"stam.light_grid", "0"}, {"stam.seed", "5"}};
     for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
         OK(brume_scene_set_option(ctx, b, opts[i][0], opts[i][1]));
-    brume_image *ia = render(ctx, a), *ib = render(ctx, b);
-    assert_same_image(ia, ib);
-    brume_image_release(ia);
-    brume_image_release(ib);
-    brume_scene_release(a);
-    brume_scene_release(b);
+    assert_same_render(ctx, a, b);
     brume_context_release(ctx);
 }
 
@@ -527,12 +528,7 @@ TEST(one_loader_takes_every_source)
     brume_scene *a = NULL, *b = NULL;
     OK(brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &a));
     OK(brume_scene_load(ctx, &(brume_source){.path = path, .text = SMALL_SCENE}, NULL, &b));
-    brume_image *ia = render(ctx, a), *ib = render(ctx, b);
-    assert_same_image(ia, ib);
-    brume_image_release(ia);
-    brume_image_release(ib);
-    brume_scene_release(a);
-    brume_scene_release(b);
+    assert_same_render(ctx, a, b);
 
     /* overrides, frame and time on a text */
     const char *set[] = {"render.width=17", "camera.fov=30"};
@@ -600,5 +596,65 @@ TEST(method_names_round_trip)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(one_loader_takes_every_source, method_names_round_trip, every_feature_equals_json, stam_options_equal_json, mesh_arrays_equal_quad, array_density_equals_raw_file,
+/* Closed sets are enums, checked where they enter: a grid file's format, the render
+ * method, a phase preset; the scene file's names map onto them or are refused naming the key. */
+TEST(closed_sets_are_checked_enums)
+{
+    brume_context *ctx = brume_context_new();
+    const char *raw = test_tmp_path("enum-grid.raw");
+    FILE *fp = fopen(raw, "wb");
+    ASSERT_TRUE(fp != NULL);
+    const float v[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    ASSERT_TRUE(fwrite(v, sizeof v, 1, fp) == 1);
+    fclose(fp);
+    brume_grid_file_options o;
+    brume_grid_file_options_default(&o);
+    ASSERT_EQ_INT((int)o.format, (int)BRUME_GRID_FORMAT_AUTO);
+    o.format = BRUME_GRID_FORMAT_RAW;
+    o.dims[0] = o.dims[1] = o.dims[2] = 2;
+    brume_density *d = NULL;
+    OK(brume_density_load(ctx, raw, &o, &d));
+    brume_density_release(d);
+    d = NULL;
+    o.format = (brume_grid_format)6;
+    expect(ctx, brume_density_load(ctx, raw, &o, &d), BRUME_ERROR_RANGE, "opts.format", "brume_grid_format");
+    ASSERT_TRUE(d == NULL);
+
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]}, \"media\": [{\"density\": {\"type\": "
+             "\"grid\", \"file\": \"%s\", \"format\": \"rawx\", \"dims\": [2, 2, 2]}, \"sigma_a\": 0, \"sigma_s\": 1}]}",
+             raw);
+    brume_scene *s = NULL;
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.text = json, .path = "g.json"}, NULL, &s), BRUME_ERROR_PARSE,
+           "g.json: media[0].density.format", "rawx");
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]}, \"media\": [{\"density\": {\"type\": "
+             "\"grid\", \"file\": \"%s\", \"format\": \"raw\", \"dims\": [2, 2, 2]}, \"sigma_a\": 0, \"sigma_s\": 1}],"
+             " \"render\": {\"method\": \"single\"}}",
+             raw);
+    OK(brume_scene_load(ctx, &(brume_source){.text = json, .path = "g.json"}, NULL, &s));
+    brume_render_settings rs;
+    brume_scene_settings(s, &rs);
+    ASSERT_EQ_INT((int)rs.method, (int)BRUME_METHOD_SINGLE);
+    rs.method = (brume_method)4;
+    expect(ctx, brume_scene_set_settings(ctx, s, &rs), BRUME_ERROR_UNSUPPORTED, "render.method", "brume_method");
+    brume_scene_release(s);
+    expect(ctx, brume_scene_load(ctx, &(brume_source){.text = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": "
+                                                              "[0, 0, 0]}, \"render\": {\"method\": \"magic\"}}"},
+                                 NULL, &s),
+           BRUME_ERROR_UNSUPPORTED, "render.method", "magic");
+
+    /* brume_scene_text shows what the loader reads: the text itself, or the default scene */
+    char *text = NULL;
+    OK(brume_scene_text(ctx, &(brume_source){.text = json}, NULL, &text));
+    ASSERT_TRUE(strcmp(text, json) == 0);
+    free(text);
+    OK(brume_scene_text(ctx, NULL, NULL, &text));
+    ASSERT_CONTAINS(text, "\"media\"");
+    free(text);
+    brume_context_release(ctx);
+}
+
+TEST_MAIN(one_loader_takes_every_source, method_names_round_trip, closed_sets_are_checked_enums, every_feature_equals_json, stam_options_equal_json, mesh_arrays_equal_quad, array_density_equals_raw_file,
           builders_reject_bad_arguments)

@@ -38,7 +38,7 @@ static brume_image *render_opts(const char *json, const char *method, int spp, i
         TEST_FAIL("scene does not parse");
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
-    snprintf(rs.method, sizeof rs.method, "%s", method);
+    ASSERT_EQ_INT(brume_method_from_name(NULL, method, &rs.method), BRUME_OK);
     rs.spp = spp;
     rs.threads = threads;
     rs.seed = seed;

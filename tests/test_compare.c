@@ -7,7 +7,8 @@
 
 static brume_image *ramp(int w, int h, double scale)
 {
-    brume_image *img = brume_image_new(w, h);
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_new(NULL, w, h, &img), BRUME_OK);
     float *p = brume_image_pixels(img);
     for (int i = 0; i < w * h; i++)
         for (int c = 0; c < 3; c++)
@@ -122,7 +123,9 @@ TEST(bootstrap_interval_has_the_width_of_the_noise)
 {
     const int w = 64, h = 64, n = w * h;
     const double s = 0.1;
-    brume_image *a = brume_image_new(w, h), *b = brume_image_new(w, h);
+    brume_image *a = NULL, *b = NULL;
+    ASSERT_EQ_INT(brume_image_new(NULL, w, h, &a), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_new(NULL, w, h, &b), BRUME_OK);
     float *pa = brume_image_pixels(a), *pb = brume_image_pixels(b);
     for (int i = 0; i < n; i++) {
         rng r = rng_make(99, (uint64_t)i, 0);

@@ -121,7 +121,8 @@ TEST(lowers_the_error_of_a_known_image)
     ASSERT_TRUE(brume_image_attribute(out, "brume.denoised") != NULL);
     /* denoising twice is refused, and so is an image without the variance layer */
     brume_context *ctx = brume_context_new();
-    brume_image *again = NULL, *bare = brume_image_new(8, 8);
+    brume_image *again = NULL, *bare = NULL;
+    ASSERT_EQ_INT(brume_image_new(ctx, 8, 8, &bare), BRUME_OK);
     ASSERT_EQ_INT(brume_denoise(ctx, out, 1, &again), BRUME_ERROR_INVALID_ARGUMENT);
     ASSERT_TRUE(again == NULL);
     ASSERT_EQ_INT(brume_denoise(ctx, bare, 1, &again), BRUME_ERROR_INVALID_ARGUMENT);

@@ -654,8 +654,8 @@ TEST(exr_long_attribute_key_writes)
     if (pid == 0) {
         alarm(30);
         brume_context *ctx = brume_context_new();
-        brume_image *img = brume_image_new(2, 2);
-        if (!img || brume_image_set_attribute(ctx, img, key, "v") != BRUME_OK)
+        brume_image *img = NULL;
+        if (brume_image_new(ctx, 2, 2, &img) != BRUME_OK || brume_image_set_attribute(ctx, img, key, "v") != BRUME_OK)
             _exit(2);
         _exit(brume_image_write(ctx, img, path, NULL) == BRUME_OK ? 0 : 3);
     }
@@ -680,7 +680,8 @@ TEST(environment_image_values_checked)
     for (int k = 0; k < 3; k++) {
         brume_scene *s = NULL;
         ASSERT_EQ_INT(scene_parse_json(scene_default_json, "<test>", &s), BRUME_OK);
-        brume_image *img = brume_image_new(3, 2);
+        brume_image *img = NULL;
+        ASSERT_EQ_INT(brume_image_new(NULL, 3, 2, &img), BRUME_OK);
         float *px = brume_image_pixels(img);
         for (int i = 0; i < 3 * 2 * 4; i++)
             px[i] = 0.5f;

@@ -20,8 +20,8 @@
 
 static brume_image *make_image(int w, int h)
 {
-    brume_image *img = brume_image_new(w, h);
-    ASSERT_TRUE(img != NULL);
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_new(NULL, w, h, &img), BRUME_OK);
     return img;
 }
 
@@ -108,13 +108,17 @@ static double srgb_reference(double linear)
 
 TEST(image_new_validates_size)
 {
-    ASSERT_TRUE(brume_image_new(0, 5) == NULL);
-    ASSERT_TRUE(brume_image_new(5, 0) == NULL);
-    ASSERT_TRUE(brume_image_new(-1, 5) == NULL);
-    ASSERT_TRUE(brume_image_new(65537, 1) == NULL);
-    ASSERT_TRUE(brume_image_new(1, 65537) == NULL);
-    brume_image *img = brume_image_new(65536, 2);
-    ASSERT_TRUE(img != NULL);
+    brume_context *ctx = brume_context_new();
+    const int bad[][2] = {{0, 5}, {5, 0}, {-1, 5}, {65537, 1}, {1, 65537}};
+    brume_image *img = NULL;
+    for (int k = 0; k < 5; k++) {
+        img = (brume_image *)1;
+        ASSERT_EQ_INT(brume_image_new(ctx, bad[k][0], bad[k][1], &img), BRUME_ERROR_RANGE);
+        ASSERT_TRUE(img == NULL);
+        ASSERT_CONTAINS(brume_context_last_error(ctx), "brume_image_new: size");
+    }
+    ASSERT_EQ_INT(brume_image_new(ctx, 65536, 2, &img), BRUME_OK);
+    brume_context_release(ctx);
     ASSERT_EQ_INT(brume_image_width(img), 65536);
     ASSERT_EQ_INT(brume_image_height(img), 2);
     const float *p = brume_image_pixels(img);

@@ -344,7 +344,8 @@ TEST(adaptive_sampling_independent_of_threads)
     ASSERT_TRUE(lo >= 8.0f && hi > lo);
     /* parts: each pixel from one part, the same bits */
     brume_context *ctx = brume_context_new();
-    brume_image *sum = brume_image_new(48, 32);
+    brume_image *sum = NULL;
+    ASSERT_EQ_INT(brume_image_new(ctx, 48, 32, &sum), BRUME_OK);
     for (int p = 0; p < 3; p++) {
         brume_image *part = NULL;
         ASSERT_EQ_INT(brume_render_part(ctx, s[1], p, 3, &part), BRUME_OK);

@@ -62,7 +62,7 @@ TEST(set_every_kind_of_key)
     ASSERT_TRUE(((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->paper);
     ASSERT_TRUE(!((const stam_params *)scene_options(s, METHOD_OPTIONS_STAM))->bvh);
     ASSERT_EQ_INT(s->settings.spp, 65);
-    ASSERT_EQ_STR(s->settings.method, "path");
+    ASSERT_EQ_INT((int)s->settings.method, (int)BRUME_METHOD_PATH);
     ASSERT_NEAR(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->r, 0.25, 0.0);
     brume_scene_release(s);
 
@@ -122,7 +122,7 @@ static brume_image *render_scene(brume_scene *s, const char *method, int threads
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
-    snprintf(rs.method, sizeof rs.method, "%s", method);
+    ASSERT_EQ_INT(brume_method_from_name(NULL, method, &rs.method), BRUME_OK);
     rs.threads = threads;
     rs.stats = stats;
     brume_image *img = NULL;
@@ -284,7 +284,7 @@ TEST(blasi_on_blobs_refused_or_voxelized)
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
-    snprintf(rs.method, sizeof rs.method, "blasi");
+    rs.method = BRUME_METHOD_BLASI;
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -304,9 +304,9 @@ TEST(blasi_on_blobs_refused_or_voxelized)
         im[k] = render_scene(s, "blasi", 2, true);
         brume_stats st;
         ctx = brume_context_new();
-        ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st), BRUME_OK);
+        brume_scene_stats(s, &st);
         brume_context_release(ctx);
-        ASSERT_TRUE(st.blasi_interceptions > 0);
+        ASSERT_TRUE(st.blasi.interceptions > 0);
         brume_scene_release(s);
     }
     const float *a = brume_image_pixels(im[0]), *b = brume_image_pixels(im[1]);
@@ -334,45 +334,50 @@ TEST(stats_per_method)
             brume_scene *s = scene_text(json);
             brume_image_release(render_scene(s, methods[m], t + 1, true));
             brume_context *ctx = brume_context_new();
-            ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st[t]), BRUME_OK);
+            brume_scene_stats(s, &st[t]);
             brume_context_release(ctx);
             brume_scene_release(s);
         }
         printf("%s: %llu rays, path %.3f vertices %.3f collisions %.3f null; stam %.2f blobs/ray %.2f nodes/query; "
                "blasi %llu interceptions %llu deposits, stored %.4g of %.4g\n",
-               methods[m], (unsigned long long)st[0].camera_rays, st[0].path_vertices, st[0].path_collisions,
-               st[0].path_null_collisions, st[0].stam_blobs_per_ray, st[0].stam_nodes_per_query,
-               (unsigned long long)st[0].blasi_interceptions, (unsigned long long)st[0].blasi_deposits,
-               st[0].blasi_power_stored, st[0].blasi_power_emitted);
-        ASSERT_EQ_STR(st[0].method, methods[m]);
+               methods[m], (unsigned long long)st[0].camera_rays, st[0].path.vertices, st[0].path.collisions,
+               st[0].path.null_collisions, st[0].stam.blobs_per_ray, st[0].stam.nodes_per_query,
+               (unsigned long long)st[0].blasi.interceptions, (unsigned long long)st[0].blasi.deposits,
+               st[0].blasi.power_stored, st[0].blasi.power_emitted);
+        ASSERT_TRUE(st[0].rendered && st[1].rendered);
+        ASSERT_EQ_STR(brume_method_name(st[0].method), methods[m]);
         ASSERT_EQ_INT(st[0].camera_rays, 48 * 32);
-        ASSERT_NEAR(st[0].path_vertices, st[1].path_vertices, 0.0);
-        ASSERT_NEAR(st[0].path_null_collisions, st[1].path_null_collisions, 0.0);
-        ASSERT_NEAR(st[0].stam_blobs_per_ray, st[1].stam_blobs_per_ray, 0.0);
-        ASSERT_EQ_INT(st[0].blasi_deposits, st[1].blasi_deposits);
+        ASSERT_NEAR(st[0].path.vertices, st[1].path.vertices, 0.0);
+        ASSERT_NEAR(st[0].path.null_collisions, st[1].path.null_collisions, 0.0);
+        ASSERT_NEAR(st[0].stam.blobs_per_ray, st[1].stam.blobs_per_ray, 0.0);
+        ASSERT_EQ_INT(st[0].blasi.deposits, st[1].blasi.deposits);
+        /* each method fills its own struct only */
+        ASSERT_TRUE(m == 0 || (st[0].path.vertices == 0.0 && st[0].path.tracking_cpu_seconds == 0.0));
+        ASSERT_TRUE(m == 1 || (st[0].stam.blobs_per_ray == 0.0 && st[0].stam.queries_per_ray == 0.0));
+        ASSERT_TRUE(m == 2 || (st[0].blasi.deposits == 0 && st[0].blasi.power_emitted == 0.0));
         if (m == 0) {
-            ASSERT_TRUE(st[0].path_collisions > 0.0 && st[0].path_null_collisions > 0.0);
-            ASSERT_TRUE(st[0].path_vertices >= st[0].path_collisions); /* no surfaces: equal */
-            ASSERT_NEAR(st[0].path_vertices, st[0].path_collisions, 0.0);
-            ASSERT_TRUE(st[0].path_tracking_cpu_seconds > 0.0 && st[0].path_nee_cpu_seconds > 0.0);
+            ASSERT_TRUE(st[0].path.collisions > 0.0 && st[0].path.null_collisions > 0.0);
+            ASSERT_TRUE(st[0].path.vertices >= st[0].path.collisions); /* no surfaces: equal */
+            ASSERT_NEAR(st[0].path.vertices, st[0].path.collisions, 0.0);
+            ASSERT_TRUE(st[0].path.tracking_cpu_seconds > 0.0 && st[0].path.nee_cpu_seconds > 0.0);
         } else if (m == 1) {
             /* the left third of the picture meets the blobs, the rest none */
-            ASSERT_TRUE(st[0].stam_blobs_per_ray > 0.1 && st[0].stam_blobs_per_ray < 3.0);
+            ASSERT_TRUE(st[0].stam.blobs_per_ray > 0.1 && st[0].stam.blobs_per_ray < 3.0);
         } else {
-            ASSERT_TRUE(st[0].blasi_deposits >= st[0].blasi_interceptions && st[0].blasi_interceptions > 0);
-            ASSERT_TRUE(st[0].blasi_power_stored > 0.0 && st[0].blasi_power_stored <= st[0].blasi_power_emitted);
-            ASSERT_EQ_INT(st[0].blasi_light_rays, 20000);
+            ASSERT_TRUE(st[0].blasi.deposits >= st[0].blasi.interceptions && st[0].blasi.interceptions > 0);
+            ASSERT_TRUE(st[0].blasi.power_stored > 0.0 && st[0].blasi.power_stored <= st[0].blasi.power_emitted);
+            ASSERT_EQ_INT(st[0].blasi.light_rays, 20000);
         }
     }
     /* off: the path counters stay zero */
     brume_scene *s = scene_text(json);
     brume_image_release(render_scene(s, "path", 2, false));
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(brume_scene_get_stats(ctx, s, &st[0]), BRUME_OK);
+    brume_scene_stats(s, &st[0]);
     brume_context_release(ctx);
     brume_scene_release(s);
     ASSERT_EQ_INT(st[0].camera_rays, 0);
-    ASSERT_NEAR(st[0].path_vertices, 0.0, 0.0);
+    ASSERT_NEAR(st[0].path.vertices, 0.0, 0.0);
 }
 
 /* `brume phase fit NAME --given r,k,kprime` scores a given mixture in the fit's own norm: the

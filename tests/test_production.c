@@ -126,7 +126,7 @@ TEST(studio_scene_of_a_grid)
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     brume_studio_options so = {0};
-    so.up = 'z';
+    so.up = BRUME_AXIS_Z;
     if (brume_scene_load(ctx, &(brume_source){.path = path}, &(brume_load_options){.studio = &so}, &s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     ASSERT_EQ_INT(brume_scene_medium_count(s), 1);
@@ -160,7 +160,7 @@ TEST(studio_scene_of_a_fire)
     const char *path = gen_grid("studio-fire.vdb", "fire --resolution 16");
     brume_context *ctx = brume_context_new();
     char *text = NULL;
-    if (brume_scene_text(ctx, path, NULL, &text) != BRUME_OK)
+    if (brume_scene_text(ctx, &(brume_source){.path = path}, NULL, &text) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     ASSERT_CONTAINS(text, "\"temperature\"");
     ASSERT_CONTAINS(text, "\"blackbody\"");
@@ -304,7 +304,7 @@ TEST(sequence_checked_before_rendering)
     ASSERT_EQ_INT(test_system(cmd), 0);
     snprintf(path, sizeof path, "%s/s.json", dir);
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(brume_scene_check_frames(ctx, path, NULL, 0, 0), BRUME_ERROR_IO);
+    ASSERT_EQ_INT(brume_scene_check_frames(ctx, &(brume_source){.path = path}, NULL, 0, 0), BRUME_ERROR_IO);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "frame file 2 missing");
     brume_context_release(ctx);
     snprintf(err, sizeof err, "%s/err.txt", dir);

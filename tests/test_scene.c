@@ -47,7 +47,7 @@ TEST(minimal_scene_loads)
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     ASSERT_EQ_INT(rs.width, 640); /* documented defaults */
-    ASSERT_EQ_STR(rs.method, "path");
+    ASSERT_EQ_INT((int)rs.method, (int)BRUME_METHOD_PATH);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     /* settings are frozen after commit */
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_ERROR_STATE);

@@ -226,7 +226,7 @@ static brume_image *render(const char *json, const char *method, int spp, int th
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
-    snprintf(rs.method, sizeof rs.method, "%s", method);
+    ASSERT_EQ_INT(brume_method_from_name(NULL, method, &rs.method), BRUME_OK);
     rs.spp = spp;
     rs.threads = threads;
     rs.seed = seed;

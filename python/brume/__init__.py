@@ -369,10 +369,9 @@ class Scene:
 
     def _set_field(self, rs, key, value):
         if key == "method":
-            raw = value.encode()
-            if len(raw) >= 32:
-                raise Error("method: '%s' is too long" % value)
-            rs.method = raw
+            m = ffi.new("brume_method *")
+            self._ctx.check(lib.brume_method_from_name(self._ctx.ptr, str(value).encode(), m))
+            rs.method = m[0]
         elif key in _ENUMS:
             names = _ENUMS[key]
             if value not in names:
@@ -421,7 +420,7 @@ class Scene:
         for name in _SETTINGS:
             v = getattr(rs, name)
             if name == "method":
-                v = ffi.string(v).decode()
+                v = ffi.string(lib.brume_method_name(v)).decode()
             elif name in _ENUMS:
                 v = next((k for k, e in _ENUMS[name].items() if e == v), v)
             elif name == "aovs":
@@ -602,7 +601,7 @@ class Image(np.ndarray):
         write(self, path, exposure=exposure, tonemap=tonemap)
 
 
-def _to_brume_image(array):
+def _to_brume_image(ctx, array):
     a = np.asarray(array)
     if a.ndim != 3 or a.shape[2] not in (3, 4):
         raise Error("image: expected an array (height, width, 4) of RGBA or (height, width, 3) of RGB, got shape %s"
@@ -610,11 +609,10 @@ def _to_brume_image(array):
     h, w = a.shape[:2]
     rgba = np.ones((h, w, 4), np.float32)
     rgba[..., :a.shape[2]] = a
-    img = lib.brume_image_new(w, h)
-    if img == ffi.NULL:
-        raise Error("image: %d x %d: bad size or out of memory" % (w, h))
-    ffi.memmove(lib.brume_image_pixels(img), ffi.from_buffer(rgba), rgba.nbytes)
-    return img
+    out = ffi.new("brume_image **")
+    ctx.check(lib.brume_image_new(ctx.ptr, w, h, out))
+    ffi.memmove(lib.brume_image_pixels(out[0]), ffi.from_buffer(rgba), rgba.nbytes)
+    return out[0]
 
 
 def _write_options(exposure, tonemap):
@@ -632,8 +630,9 @@ def write(image: Any, path: "Union[str, os.PathLike[str]]", *, exposure: float =
     libbrume's writers, by the extension: .exr (float RGBA), .png (8-bit sRGB after exposure
     in stops and tonemap "clamp" or "filmic"), .pfm. The write is atomic."""
     ctx = _Context()
-    img = _to_brume_image(image)
+    img = ffi.NULL
     try:
+        img = _to_brume_image(ctx, image)
         ctx.check(lib.brume_image_write(ctx.ptr, img, os.fsencode(path), _write_options(exposure, tonemap)))
     finally:
         lib.brume_image_release(img)
@@ -643,10 +642,11 @@ def write(image: Any, path: "Union[str, os.PathLike[str]]", *, exposure: float =
 def encode_png(image: Any, *, exposure: float = 0.0, tonemap: str = "clamp") -> bytes:
     """The image as PNG bytes, as write() would write a .png."""
     ctx = _Context()
-    img = _to_brume_image(image)
+    img = ffi.NULL
     data = ffi.new("unsigned char **")
     size = ffi.new("size_t *")
     try:
+        img = _to_brume_image(ctx, image)
         ctx.check(lib.brume_image_encode_png(ctx.ptr, img, _write_options(exposure, tonemap), data, size))
         try:
             return bytes(ffi.buffer(data[0], size[0]))

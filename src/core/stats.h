@@ -1,4 +1,4 @@
-/* stats.h - per-run counters of the integrators behind brume_scene_get_stats (docs/stats.md).
+/* stats.h - per-run counters of the integrators behind brume_scene_stats (docs/stats.md).
  *
  * Each worker thread of a render counts into its own block, reached through a thread-local
  * pointer that is NULL when statistics are off (render.stats false): the hot loops then pay

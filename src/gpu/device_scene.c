@@ -13,7 +13,7 @@ brume_status device_scene_check(const brume_scene *s, int kind)
     if (kind != INTEGRATOR_PATH && kind != INTEGRATOR_SINGLE)
         return err_set(BRUME_ERROR_UNSUPPORTED,
                        "%s: render.method '%s' runs on the CPU only: the GPU renders path and single (--device cpu)",
-                       s->source, s->settings.method);
+                       s->source, brume_method_name(s->settings.method));
     if (s->surf)
         return err_set(BRUME_ERROR_UNSUPPORTED,
                        "%s: solid objects (surfaces) are not rendered on the GPU yet (--device cpu)", s->source);

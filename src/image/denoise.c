@@ -116,7 +116,7 @@ static const float *layer_of(const brume_image *img, const char *name, int chann
 /* A copy of in (pixels, layers, attributes); NULL when out of memory. */
 static brume_image *image_copy(const brume_image *in)
 {
-    brume_image *img = brume_image_new(in->width, in->height);
+    brume_image *img = image_new(in->width, in->height);
     if (!img)
         return NULL;
     size_t npix = (size_t)in->width * (size_t)in->height;

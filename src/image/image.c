@@ -15,7 +15,7 @@
 
 /* ---- the image object ------------------------------------------------------------------- */
 
-static brume_image *image_alloc(int width, int height)
+brume_image *image_new(int width, int height)
 {
     if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
         return NULL;
@@ -37,13 +37,24 @@ static brume_image *image_alloc(int width, int height)
     return img;
 }
 
-brume_image *brume_image_new(int width, int height) { return image_alloc(width, height); }
+brume_status brume_image_new(brume_context *ctx, int width, int height, brume_image **out)
+{
+    err_clear();
+    if (!out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_new: out: NULL"));
+    *out = NULL;
+    if (width < 1 || width > IMAGE_MAX_SIDE || height < 1 || height > IMAGE_MAX_SIDE)
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_image_new: size %d x %d: each side must be in [1, %d]",
+                                       width, height, IMAGE_MAX_SIDE));
+    if (!(*out = image_new(width, height)))
+        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "brume_image_new: out of memory for a %d x %d image",
+                                       width, height));
+    return ctx_report(ctx, BRUME_OK);
+}
 
 int brume_image_width(const brume_image *image) { return image ? image->width : 0; }
 int brume_image_height(const brume_image *image) { return image ? image->height : 0; }
 float *brume_image_pixels(const brume_image *image) { return image ? image->rgba : NULL; }
-/* TRANSITION (brume.h) */
-const float *brume_image_pixels_const(const brume_image *image) { return brume_image_pixels(image); }
 
 void brume_image_release(brume_image *image)
 {
@@ -147,7 +158,7 @@ brume_status image_create(const char *path, int64_t width, int64_t height, brume
     brume_status st = budget_take((size_t)width * (size_t)height * 4 * sizeof(float), path);
     if (st != BRUME_OK)
         return st;
-    brume_image *img = image_alloc((int)width, (int)height);
+    brume_image *img = image_new((int)width, (int)height);
     if (!img)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %lld x %lld image", path,
                        (long long)width, (long long)height);

@@ -42,6 +42,10 @@ void image_set_meta(brume_image *img, const char *key, const char *value);
 #define IMAGE_MAX_SIDE 65536
 #define IMAGE_MAX_PIXELS ((int64_t)1 << 28)
 
+/* A black, transparent image (brume_image_new without a context); NULL on a side outside
+ * [1, IMAGE_MAX_SIDE] or out of memory. */
+brume_image *image_new(int width, int height);
+
 /* For readers: checks a size taken from the file at path (1..IMAGE_MAX_SIDE per side, at
  * most IMAGE_MAX_PIXELS) and allocates the image, A = 1, RGB = 0. On failure *out is NULL
  * and err_set() names path and the reason (BRUME_ERROR_PARSE for a bad size). */

@@ -289,6 +289,3 @@ void brume_context_remove_temporaries(brume_context *ctx)
     if (ctx)
         atomic_remove_temporaries(ctx);
 }
-
-/* TRANSITION (brume.h) */
-void brume_remove_temporaries(void) { atomic_remove_temporaries(NULL); }

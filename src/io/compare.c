@@ -236,7 +236,7 @@ brume_status image_diff_picture(const brume_image *img, const brume_image *ref, 
     brume_status s = image_compare(img, ref, &st);
     if (s)
         return s;
-    brume_image *d = brume_image_new(img->width, img->height);
+    brume_image *d = image_new(img->width, img->height);
     if (!d)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "compare: out of memory");
     long n = (long)img->width * img->height;

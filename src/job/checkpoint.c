@@ -85,7 +85,7 @@ static void settings_record(const brume_render_job *job, ckpt_settings *c)
     c->seed = rs->seed;
     c->filter_width = rs->filter_width;
     c->noise_target = rs->noise_target;
-    snprintf(c->method, sizeof c->method, "%s", rs->method);
+    snprintf(c->method, sizeof c->method, "%s", brume_method_name(rs->method)); /* the file keeps the name */
 }
 
 /* Writes n bytes and folds them into the hash. */

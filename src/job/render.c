@@ -60,10 +60,7 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     *out = NULL;
     if (!s->committed)
         return err_set(BRUME_ERROR_STATE, "%s: render before brume_scene_commit", s->source);
-    integrator_kind kind;
-    if (!integrator_from_name(s->settings.method, &kind))
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)", s->source,
-                       s->settings.method, integrator_names());
+    integrator_kind kind = (integrator_kind)s->settings.method; /* one enum (method/method_name.c) */
     brume_render_job *job = calloc(1, sizeof *job);
     if (!job)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a render job", s->source);
@@ -565,7 +562,7 @@ static brume_status job_add(brume_render_job *job, int spp, bool unwatched)
 
 static double per(double a, uint64_t n) { return n ? a / (double)n : 0.0; }
 
-/* The scene's statistics (brume_scene_get_stats) from the job's counters. */
+/* The scene's statistics (brume_scene_stats) from the job's counters. */
 static void job_fill_stats(const brume_render_job *job)
 {
     const brume_scene *s = job->s;
@@ -575,7 +572,8 @@ static void job_fill_stats(const brume_render_job *job)
     const stats_counters *c = &sum;
     brume_stats *out = &s->prepared->stats;
     memset(out, 0, sizeof *out);
-    snprintf(out->method, sizeof out->method, "%s", s->settings.method);
+    out->rendered = true;
+    out->method = s->settings.method;
     out->seconds = stats_now() - job->t_start;
     out->camera_rays = c->camera_rays;
     out->li_cpu_seconds = c->t_li;
@@ -583,29 +581,29 @@ static void job_fill_stats(const brume_render_job *job)
     case INTEGRATOR_BLASI: {
         blasi_stats b;
         blasi_get_stats(job->state, &b);
-        out->blasi_light_seconds = b.light_seconds;
-        out->blasi_view_seconds = job->elapsed;
-        out->blasi_light_rays = b.light_rays;
-        out->blasi_interceptions = b.interceptions;
-        out->blasi_deposits = b.deposits;
-        out->blasi_power_emitted = b.emitted_power;
-        out->blasi_power_stored = b.stored_power;
+        out->blasi.light_seconds = b.light_seconds;
+        out->blasi.view_seconds = job->elapsed;
+        out->blasi.light_rays = b.light_rays;
+        out->blasi.interceptions = b.interceptions;
+        out->blasi.deposits = b.deposits;
+        out->blasi.power_emitted = b.emitted_power;
+        out->blasi.power_stored = b.stored_power;
         break;
     }
     case INTEGRATOR_STAM:
-        out->stam_blobs_per_ray = per((double)c->stam_camera_blobs, c->camera_rays);
-        out->stam_queries_per_ray = per((double)c->blob_queries, c->camera_rays);
-        out->stam_nodes_per_query = per((double)c->blob_nodes, c->blob_queries);
-        out->stam_blobs_per_query = per((double)c->blob_visits, c->blob_queries);
+        out->stam.blobs_per_ray = per((double)c->stam_camera_blobs, c->camera_rays);
+        out->stam.queries_per_ray = per((double)c->blob_queries, c->camera_rays);
+        out->stam.nodes_per_query = per((double)c->blob_nodes, c->blob_queries);
+        out->stam.blobs_per_query = per((double)c->blob_visits, c->blob_queries);
         break;
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE:
-        out->path_vertices = per((double)c->path_vertices, c->camera_rays);
-        out->path_collisions = per((double)c->path_scatterings, c->camera_rays);
-        out->path_null_collisions = per((double)(c->path_tentative - c->path_scatterings), c->camera_rays);
-        out->path_tracking_cpu_seconds = c->t_tracking;
-        out->path_nee_cpu_seconds = c->t_nee;
-        out->path_shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);
+        out->path.vertices = per((double)c->path_vertices, c->camera_rays);
+        out->path.collisions = per((double)c->path_scatterings, c->camera_rays);
+        out->path.null_collisions = per((double)(c->path_tentative - c->path_scatterings), c->camera_rays);
+        out->path.tracking_cpu_seconds = c->t_tracking;
+        out->path.nee_cpu_seconds = c->t_nee;
+        out->path.shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);
         break;
     }
 }
@@ -642,7 +640,7 @@ static brume_status job_image(const brume_render_job *job, brume_image **out)
 {
     const brume_render_settings *rs = &job->rs;
     *out = NULL;
-    brume_image *img = brume_image_new(rs->width, rs->height);
+    brume_image *img = image_new(rs->width, rs->height);
     if (!img)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", job->s->source, rs->width,
                        rs->height);
@@ -832,12 +830,8 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
     return ctx_report(ctx, st);
 }
 
-brume_status brume_scene_get_stats(brume_context *ctx, const brume_scene *scene, brume_stats *out)
+void brume_scene_stats(const brume_scene *scene, brume_stats *out)
 {
-    err_clear();
-    if (!scene || !out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_get_stats: %s: NULL",
-                                       !scene ? "scene" : "out"));
-    *out = scene->prepared->stats;
-    return ctx_report(ctx, BRUME_OK);
+    if (out)
+        *out = scene ? scene->prepared->stats : (brume_stats){0};
 }

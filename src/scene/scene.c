@@ -19,7 +19,7 @@ void scene_default_settings(brume_render_settings *rs)
     rs->spp = 16;
     rs->seed = 1;
     rs->threads = 0;
-    snprintf(rs->method, sizeof rs->method, "path");
+    rs->method = BRUME_METHOD_PATH;
     rs->max_depth = 256;
     rs->filter = BRUME_FILTER_GAUSSIAN;
     rs->filter_width = 2.0;
@@ -105,10 +105,9 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     if (rs->aovs & ~(unsigned)(BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_VARIANCE |
                                BRUME_AOV_SAMPLES))
         return err_set(BRUME_ERROR_RANGE, "%s: render.aovs: unknown bits 0x%x", source, rs->aovs);
-    integrator_kind k;
-    if (!memchr(rs->method, '\0', sizeof rs->method) || !integrator_from_name(rs->method, &k))
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%.31s' (known: %s)", source,
-                       rs->method, integrator_names());
+    if (!brume_method_name(rs->method))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: %d is not a brume_method (known: %s)", source,
+                       (int)rs->method, integrator_names());
     return BRUME_OK;
 }
 
@@ -117,9 +116,6 @@ void brume_scene_settings(const brume_scene *s, brume_render_settings *rs)
     if (rs)
         *rs = s ? s->settings : (brume_render_settings){0};
 }
-
-/* TRANSITION (brume.h) */
-void brume_scene_get_settings(const brume_scene *s, brume_render_settings *rs) { brume_scene_settings(s, rs); }
 
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *s, const brume_render_settings *rs)
 {
@@ -208,7 +204,7 @@ brume_status brume_scene_set_camera_time(brume_context *ctx, brume_scene *s, dou
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: camera time set before commit", s->source));
     if (world_moves(s))
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE,
-                                       "%s: more than the camera moves: load each frame (brume_scene_load_at)",
+                                       "%s: more than the camera moves: load each frame (brume_scene_load with its time)",
                                        s->source));
     if (!isfinite(time))
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frame time %g is not finite", s->source, time));

@@ -61,7 +61,7 @@ typedef struct scene_prepared {
     void *state; /* integrator_prepare's */
     void (*finish)(int kind, void *state); /* releases state (integrator_finish: the renderer
                                               above this layer sets it) */
-    brume_stats stats; /* of the last render (brume_scene_get_stats) */
+    brume_stats stats; /* of the last render (brume_scene_stats) */
 } scene_prepared;
 
 /* An empty scene with default settings and camera; NULL when out of memory. */
@@ -83,6 +83,8 @@ brume_status scene_parse_json_at(const char *text, const char *source, double ti
 /* The same after applying overrides "KEY=VALUE" to the document (scene/scene_override.h). */
 brume_status scene_parse_json_with(const char *text, const char *source, double time, long frame_no,
                                    const char *const *overrides, int noverrides, brume_scene **out);
+/* A source's name in messages: its path, "<json>" for an unnamed text, "<default scene>". */
+const char *scene_source_name(const brume_source *src);
 /* brume_scene_text without a context: the JSON the loader reads for src (scene/scene_json.c). */
 brume_status scene_load_text(const brume_source *src, const brume_load_options *opts, char **json);
 

@@ -445,7 +445,7 @@ brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s
         }
     if (st)
         return ctx_report(ctx, st);
-    brume_image *copy = brume_image_new(image->width, image->height);
+    brume_image *copy = image_new(image->width, image->height);
     if (!copy)
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn));
     memcpy(copy->rgba, image->rgba, sizeof *copy->rgba * 4 * (size_t)image->width * (size_t)image->height);

@@ -10,8 +10,10 @@
 #include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
+#include "io/grid_io.h"
 #include "io/grid_sequence.h"
 #include "io/json.h"
+#include "method/method.h"
 #include "scene/scene_methods.h"
 #include "scene/scene_stam.h"
 #include "scene/scene_pbrt.h"
@@ -373,7 +375,14 @@ static brume_status parse_grid_options(const cJSON *j, jloc at, const char *cons
     if ((st = parse_sequence(j, at, name, frame_no, path, cap))) return st;
     *sequence = seq_is_pattern(name) == 1; /* a file per frame: the world is not static */
     if ((st = json_string(j, at, "grid", 0, o->grid, sizeof o->grid))) return st;
-    if ((st = json_string(j, at, "format", 0, o->format, sizeof o->format))) return st;
+    char format[16] = "";
+    if ((st = json_string(j, at, "format", 0, format, sizeof format))) return st;
+    if (format[0]) {
+        o->format = (brume_grid_format)grid_format_from_name(format);
+        if (o->format == BRUME_GRID_FORMAT_AUTO && strcmp(format, "auto") != 0)
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.format: unknown grid format '%s' (known: auto, raw, df3, vol, "
+                           "nvdb, vdb)", at.file, at.path, format);
+    }
     if (cJSON_HasObjectItem(j, "dims")) {
         double d[3] = {0, 0, 0};
         if ((st = jvec(j, at, "dims", 1, d))) return st;
@@ -759,7 +768,13 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_int(j, at, "spp", 0, 1, 1 << 24, &rs.spp))) return st;
     if ((st = json_u64(j, at, "seed", 0, &rs.seed))) return st;
     if ((st = json_int(j, at, "threads", 0, 0, 1024, &rs.threads))) return st;
-    if ((st = json_string(j, at, "method", 0, rs.method, sizeof rs.method))) return st;
+    char method[32] = "";
+    if ((st = json_string(j, at, "method", 0, method, sizeof method))) return st;
+    integrator_kind kind = (integrator_kind)rs.method; /* one enum (method/method_name.c) */
+    if (method[0] && !integrator_from_name(method, &kind))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: render.method: unknown method '%s' (known: %s)", at.file, method,
+                       integrator_names());
+    rs.method = (brume_method)kind;
     if ((st = json_int(j, at, "max_depth", 0, 1, 100000, &rs.max_depth))) return st;
     if ((st = json_number(j, at, "fps", 0, 1e-6, 1e6, &rs.fps))) return st;
     if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
@@ -959,7 +974,7 @@ static brume_status read_text_file(const char *path, char **out)
 }
 
 /* The source's name in messages (and, for a text, the folder its file names resolve against). */
-static const char *source_name(const brume_source *src)
+const char *scene_source_name(const brume_source *src)
 {
     if (src && src->text)
         return src->path ? src->path : "<json>";
@@ -983,9 +998,9 @@ static brume_status scene_source_text(const brume_source *src, const brume_studi
 {
     *text = NULL;
     if (src && src->text)
-        return copy_text(src->text, source_name(src), text);
+        return copy_text(src->text, scene_source_name(src), text);
     if (!src || !src->path)
-        return copy_text(scene_default_json, source_name(src), text);
+        return copy_text(scene_default_json, scene_source_name(src), text);
     if (scene_studio_is_grid(src->path))
         return scene_studio_json(src->path, studio, text);
     if (scene_pbrt_is_pbrt(src->path))
@@ -1003,9 +1018,9 @@ static brume_status load_options(const brume_source *src, const brume_load_optio
     if (o->noverrides < 0 || (o->noverrides > 0 && !o->overrides))
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: opts.overrides: NULL or noverrides < 0", fn);
     if (o->frame < 0)
-        return err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", source_name(src), o->frame);
+        return err_set(BRUME_ERROR_RANGE, "%s: frame %ld is negative", scene_source_name(src), o->frame);
     if (!isfinite(o->time))
-        return err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", source_name(src), o->time);
+        return err_set(BRUME_ERROR_RANGE, "%s: load time %g is not finite", scene_source_name(src), o->time);
     return BRUME_OK;
 }
 
@@ -1023,7 +1038,7 @@ brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const
     char *text = NULL;
     cancel_load_begin(ctx); /* brume_context_cancel_loads(ctx) ends it */
     if ((st = scene_source_text(src, o.studio, &text)) == BRUME_OK)
-        st = scene_parse_json_with(text, source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
+        st = scene_parse_json_with(text, scene_source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
                                    o.noverrides, out);
     cancel_load_end();
     free(text);
@@ -1039,14 +1054,8 @@ brume_status scene_load_text(const brume_source *src, const brume_load_options *
     return scene_source_text(src, opts ? opts->studio : NULL, json);
 }
 
-/* TRANSITION: the old forms the command-line tool calls until it moves (brume.h). */
-brume_status brume_scene_load_with(brume_context *ctx, const char *path, const brume_load_options *opts,
-                                   brume_scene **out)
+brume_status brume_scene_text(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                              char **json)
 {
-    return brume_scene_load(ctx, &(brume_source){path, NULL}, opts, out);
-}
-
-brume_status brume_scene_text(brume_context *ctx, const char *path, const brume_load_options *opts, char **json)
-{
-    return ctx_report(ctx, scene_load_text(&(brume_source){path, NULL}, opts, json));
+    return ctx_report(ctx, scene_load_text(src, opts, json));
 }

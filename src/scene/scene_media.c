@@ -163,6 +163,11 @@ void brume_grid_file_options_default(brume_grid_file_options *o)
 }
 
 /* The public grid file options as the loader's (err_set naming fn and the field). */
+_Static_assert((int)BRUME_GRID_FORMAT_AUTO == (int)GRID_FORMAT_AUTO && (int)BRUME_GRID_FORMAT_RAW == (int)GRID_FORMAT_RAW &&
+                   (int)BRUME_GRID_FORMAT_DF3 == (int)GRID_FORMAT_DF3 && (int)BRUME_GRID_FORMAT_VOL == (int)GRID_FORMAT_VOL &&
+                   (int)BRUME_GRID_FORMAT_NVDB == (int)GRID_FORMAT_NVDB && (int)BRUME_GRID_FORMAT_VDB == (int)GRID_FORMAT_VDB,
+               "brume_grid_format and grid_format are one enum");
+
 static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out);
 
 /* The count (1 or 3) fields of a grid file as public densities, within what the memory
@@ -233,14 +238,9 @@ static brume_status file_options(const char *fn, const brume_grid_file_options *
     density_load_options o;
     density_load_options_default(&o);
     brume_status st;
-    if (!memchr(opts->format, '\0', sizeof opts->format))
-        return err_set(BRUME_ERROR_RANGE, "%s: opts.format: not NUL-terminated", fn);
-    if (opts->format[0]) {
-        o.format = grid_format_from_name(opts->format);
-        if (o.format == GRID_FORMAT_AUTO && strcmp(opts->format, "auto") != 0)
-            return err_set(BRUME_ERROR_PARSE, "%s: opts.format: unknown grid format '%s'", fn,
-                                           opts->format);
-    }
+    if ((unsigned)opts->format > (unsigned)BRUME_GRID_FORMAT_VDB)
+        return err_set(BRUME_ERROR_RANGE, "%s: opts.format: %d is not a brume_grid_format", fn, (int)opts->format);
+    o.format = (grid_format)opts->format;
     bool any_dims = opts->dims[0] || opts->dims[1] || opts->dims[2];
     for (int k = 0; k < 3 && any_dims; k++) {
         if (opts->dims[k] < 1 || opts->dims[k] > 65536)

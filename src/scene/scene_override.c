@@ -1,4 +1,4 @@
-/* scene_override.c - scene overrides "KEY=VALUE" (brume render --set, brume_scene_load_with):
+/* scene_override.c - scene overrides "KEY=VALUE" (brume render --set, brume_load_options.overrides):
  * a dotted path into the scene's JSON document set before the reader builds the scene.
  *
  * KEY is a path of object keys and array indices, "camera.fov", "media.0.sigma_s",

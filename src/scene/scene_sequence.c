@@ -43,17 +43,16 @@ static brume_status check(const cJSON *j, const char *source, long first, long l
     return BRUME_OK;
 }
 
-brume_status brume_scene_check_frames(brume_context *ctx, const char *path, const brume_load_options *opts, long first,
-                                      long last)
+brume_status brume_scene_check_frames(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
+                                      long first, long last)
 {
     err_clear();
-    if (!path)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_check_frames: path: NULL"));
+    const char *path = scene_source_name(src);
     if (first < 0 || last < first)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: frames %ld to %ld: need 0 <= first <= last", path, first,
                                        last));
     char *text = NULL;
-    if (scene_load_text(&(brume_source){path, NULL}, opts, &text) != BRUME_OK)
+    if (scene_load_text(src, opts, &text) != BRUME_OK)
         return ctx_report(ctx, err_status());
     cJSON *root = NULL;
     brume_status st = json_parse(text, path, &root);

@@ -132,12 +132,13 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
     brume_studio_options o = {0};
     if (opts)
         o = *opts;
-    if (o.up != 0 && o.up != 'y' && o.up != 'z')
-        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: studio up axis '%c': y or z", path, o.up);
+    if (o.up != BRUME_AXIS_Y && o.up != BRUME_AXIS_Z)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: studio up axis %d: BRUME_AXIS_Y or BRUME_AXIS_Z", path,
+                       (int)o.up);
     if (!(o.optical_depth >= 0.0 && o.optical_depth <= 1e6))
         return err_set(BRUME_ERROR_RANGE, "%s: studio optical depth %g outside [0, 1e6]", path, o.optical_depth);
     double depth = o.optical_depth > 0.0 ? o.optical_depth : STUDIO_OPTICAL_DEPTH;
-    vec3 up = o.up == 'z' ? v3(0, 0, 1) : v3(0, 1, 0);
+    vec3 up = o.up == BRUME_AXIS_Z ? v3(0, 0, 1) : v3(0, 1, 0);
 
     char abs[PATH_MAX];
     if (!realpath(path, abs))
