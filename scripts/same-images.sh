@@ -126,7 +126,8 @@ if [ "${1:-}" = "--compare" ]; then
 fi
 
 case "${1:-}" in
-    ""|-h|--help) sed -n '2,/^set -u/p' "$0" | sed '$d; s/^# \{0,1\}//'; [ -n "${1:-}" ]; exit $? ;;
+    -h|--help) sed -n '2,/^set -u/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    "") die "usage: $me BASE [HEAD] (see $me --help)" ;;
     -*) die "unknown option $1 (see $me --help)" ;;
 esac
 [ $# -le 2 ] || die "usage: $me BASE [HEAD]"
