@@ -25,6 +25,13 @@ vec3 stam_blob_extent(const brume_scene *s)
     return b.lo.x <= b.hi.x ? v3_sub(b.hi, b.lo) : v3(0, 0, 0);
 }
 
+randfield *stam_scene_randfield(const brume_scene *s)
+{
+    randfield_params rp;
+    stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), s->time, stam_blob_extent(s), &rp);
+    return randfield_new(&rp);
+}
+
 brume_status stam_voxelize_blobs(const brume_scene *s, int resolution, bool realization, const char *option,
                                  density *grids[SCENE_MAX_MEDIA])
 {
@@ -37,13 +44,9 @@ brume_status stam_voxelize_blobs(const brume_scene *s, int resolution, bool real
         const blob_field *f = density_get_blobs(s->media[m].rho);
         if (!f)
             continue;
-        if (!q && realization && p->eps > 0.0) {
-            randfield_params rp;
-            stam_randfield_params(p, s->time, stam_blob_extent(s), &rp);
-            if (!(q = randfield_new(&rp))) {
-                st = err_prefix("%s: %s", s->source, option);
-                break;
-            }
+        if (!q && realization && p->eps > 0.0 && !(q = stam_scene_randfield(s))) {
+            st = err_prefix("%s: %s", s->source, option);
+            break;
         }
         char who[600];
         snprintf(who, sizeof who, "%s: media[%d]: %s", s->source, m, option);
