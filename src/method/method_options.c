@@ -243,5 +243,5 @@ brume_status brume_option_get(brume_context *ctx, int index, brume_option *out)
     out->values = o->what;
     out->default_value = o->def ? o->def : o->def_doc ? o->def_doc : "";
     out->doc = o->doc;
-    return BRUME_OK;
+    return ctx_report(ctx, BRUME_OK);
 }
