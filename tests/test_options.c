@@ -30,6 +30,7 @@ typedef struct opts_buf {
 static void fresh(const method_options_def *def, opts_buf *o)
 {
     ASSERT_TRUE(def->size <= sizeof o->b);
+    memset(o, 0, sizeof *o); /* the bytes past def->size too: set() compares the whole buffer */
     method_options_default(def, o->b);
 }
 
