@@ -415,7 +415,7 @@ TEST(doc_is_generated)
     fputc('\n', f);
     fclose(f);
     same_text(got, want, "docs/scene-format.md's \"Method options\"",
-              "rewrite it with `brume options --markdown` (between BEGIN and END, a blank line each side)");
+              "scripts/option-docs.sh rewrites it (`brume options --markdown` between BEGIN and END)");
     free(want);
     free(got);
     free(doc);

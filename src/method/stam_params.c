@@ -50,9 +50,9 @@ static const method_option options[] = {
             "J-bar's shadows (docs/stam.md)"},
     {.key = "stam.voxelize.resolution", .kind = OPTION_INTEGER, .flags = OPTION_ZERO_OR, .lo = 2.0, .hi = 2048.0,
      .what = "an integer in [2, 2048] (0 = off)", OPTION_FIELD(stam_params, voxelize_resolution), .def = "0",
-     .doc = "N > 0: on load, every blob field becomes a dense trilinear grid of N cells along its longest axis, for "
-            "rendering the same cloud with `path` or `single`; in a scene file also `\"voxelize\": {\"resolution\": "
-            "N}`"},
+     .doc = "N > 0: when the scene is committed (before rendering), every blob field becomes a dense trilinear grid "
+            "of N cells along its longest axis, for rendering the same cloud with `path` or `single`; in a scene file "
+            "also `\"voxelize\": {\"resolution\": N}`"},
     {.key = "stam.voxelize.realization", .kind = OPTION_BOOL, .what = "true or false",
      OPTION_FIELD(stam_params, voxelize_realization), .def = "true",
      .doc = "the voxelized grid holds one explicit realization mean + sum_i sigma_i Q (clamped to >= 0); false: the "
