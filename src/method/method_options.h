@@ -5,10 +5,11 @@
  * (the scene file's "METHOD" objects, and so `brume render --set`, are read through the same
  * call). Everything else is generated from the tables: the setter (method_option_set), the
  * defaults, the "known here" lists of messages, the public list (brume_option_count,
- * brume_option_get), `brume help options` and docs/scene-format.md's "Method options"
- * (`brume help options --markdown`; tests/test_options.c checks the doc and brume.h's list).
- * A method adds an option by adding a row to its table; a method with options adds one entry
- * to the list in method_options.c. */
+ * brume_option_get), `brume options` (and `brume help render`'s list) and
+ * docs/scene-format.md's "Method options" (`brume options --markdown`, put there by
+ * scripts/option-docs.sh); tests/test_options.c checks the doc and brume.h's list of keys.
+ * A method adds an option by adding a row to its table; a new method with options adds its
+ * id below and its table to methods[] and method_options_methods() in method_options.c. */
 #ifndef BRUME_METHOD_METHOD_OPTIONS_H
 #define BRUME_METHOD_METHOD_OPTIONS_H
 
