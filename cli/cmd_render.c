@@ -74,8 +74,11 @@ static void render_usage(FILE *out)
             "does the first outside rendering (loading, Blasi's light pass, writing): nothing is kept.\n"
             "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
             "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
-            "This build: %s.\n",
+            "This build: %s.\n\n"
+            "The methods' options, for --set METHOD.KEY=VALUE (`brume options`: their values, defaults\n"
+            "and meanings):\n",
             dist_build_info());
+    cli_options_keys(out);
 }
 
 static double now_seconds(void)
