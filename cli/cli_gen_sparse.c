@@ -10,7 +10,7 @@
 
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "density/fractal.h"
 #include "io/atomic.h"
 #include "io/grid_vdb.h"
@@ -42,18 +42,18 @@ static int save(gridvdb_writer *w, const char *out)
     }
     atomic_file af;
     if (atomic_open(&af, out) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     fclose(af.fp); /* OpenVDB writes the temporary file by name */
     af.fp = NULL;
     if (gridvdb_writer_save(w, af.tmp_path, nano) != BRUME_OK) {
-        cli_error("%s: %.1000s", out, err_message());
+        cli_error("%s: %.1000s", out, tool_last_error());
         atomic_abort(&af);
         return 1;
     }
     if (atomic_commit(&af) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     return 0;
@@ -121,7 +121,7 @@ int gen_fire(int argc, char **argv)
     perlin_init(&pt, (uint64_t)seed);
     gridvdb_writer *w = gridvdb_writer_new();
     if (!w) {
-        cli_error("gen fire: %.1000s", err_message());
+        cli_error("gen fire: %.1000s", tool_last_error());
         return 1;
     }
     double vs = height / (double)n;
@@ -129,7 +129,7 @@ int gen_fire(int argc, char **argv)
     const double origin[3] = {0.5 * vs, 0.5 * vs, 0.5 * vs}; /* index (I, J, K) centred at ((I + 1/2) vs, ...) */
     int gd = gridvdb_writer_add(w, "density", 0, vs, origin), gt = gridvdb_writer_add(w, "temperature", 0, vs, origin);
     if (gd < 0 || gt < 0) {
-        cli_error("gen fire: %.1000s", err_message());
+        cli_error("gen fire: %.1000s", tool_last_error());
         gridvdb_writer_free(w);
         return 1;
     }
@@ -227,7 +227,7 @@ int gen_upres(int argc, char **argv)
     }
     density *src = density_load_file(in, &o);
     if (!src) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     density_info info;
@@ -248,7 +248,7 @@ int gen_upres(int argc, char **argv)
     const double origin[3] = {m[3] + 0.5 * fv, m[7] + 0.5 * fv, m[11] + 0.5 * fv};
     int g = w ? gridvdb_writer_add(w, "density", 0, fv, origin) : -1;
     if (g < 0) {
-        cli_error("gen upres: %.1000s", err_message());
+        cli_error("gen upres: %.1000s", tool_last_error());
         gridvdb_writer_free(w);
         density_release(src);
         return 1;

@@ -9,8 +9,7 @@
 #include "args.h"
 #include "brume.h"
 #include "commands.h"
-#include "core/error.h"
-#include "io/compare.h"
+#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_SEEDS 256
@@ -175,7 +174,7 @@ int cmd_compare(int argc, char **argv)
     const char *rname = alpha >= 0.0 || mask_path ? "region" : NULL;
     if ((alpha >= 0.0 && image_mask_alpha(ref, alpha, &mask, &mcount) != BRUME_OK) ||
         (mpic && image_mask_picture(mpic, brume_image_width(ref), brume_image_height(ref), &mask, &mcount) != BRUME_OK)) {
-        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, err_message());
+        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, tool_last_error());
         goto done;
     }
     if (rname && mcount == 0) {
@@ -188,7 +187,7 @@ int cmd_compare(int argc, char **argv)
         image_region_stats fr, rg;
         if (image_compare(img, ref, &st) != BRUME_OK || image_compare_region(img, ref, NULL, boot, 1, &fr) != BRUME_OK ||
             (rname && image_compare_region(img, ref, mask, boot, 1, &rg) != BRUME_OK)) {
-            cli_error("%s: %.1000s", paths[0], err_message());
+            cli_error("%s: %.1000s", paths[0], tool_last_error());
             goto done;
         }
         printf("rmse %.6g\nrel_rmse %.6g\nmean_rel %.6g\nmax_rel %.6g\nmean %.6g\nmean_ref %.6g\n", st.rmse,
@@ -210,7 +209,7 @@ int cmd_compare(int argc, char **argv)
             for (int g = 0; g < nreg; g++) {
                 image_region_stats st;
                 if (image_compare_region(img, ref, g ? mask : NULL, 0, 1, &st) != BRUME_OK) {
-                    cli_error("%s: %.1000s", sr.path, err_message());
+                    cli_error("%s: %.1000s", sr.path, tool_last_error());
                     goto done;
                 }
                 printf("seed %llu %s", (unsigned long long)seed, g ? rname : "frame");
@@ -236,7 +235,7 @@ int cmd_compare(int argc, char **argv)
         brume_image *pic = NULL;
         if (png ? image_diff_png(img, ref, mask, scale, diff) != BRUME_OK
                 : image_diff_picture(img, ref, scale, &pic) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             goto done;
         }
         if (pic && brume_image_write(ctx, pic, diff, NULL) != BRUME_OK) {

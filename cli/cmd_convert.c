@@ -5,7 +5,7 @@
 
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 
 static const char usage[] =
     "usage: brume convert [flags] IN OUT\n"
@@ -64,20 +64,20 @@ int cmd_convert(int argc, char **argv)
     /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
     if (fin == GRID_FORMAT_VDB && fout == GRID_FORMAT_NVDB && !placed) {
         if (grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             return 1;
         }
         return 0;
     }
     density *d = density_load_file(in, &o);
     if (!d) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     brume_status s = density_write_file(d, out, fout);
     density_release(d);
     if (s != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     return 0;

@@ -15,10 +15,8 @@
 #include "brume.h"
 #include "commands.h"
 #include "figures_table.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "io/atomic.h"
-#include "io/compare.h"
-#include "io/sheet.h"
 #include "phase/phase.h"
 #include "phase/phase_fit.h"
 #include "figure/phase_plot.h"
@@ -234,7 +232,7 @@ static int run_blasi7(const char *path, fig_run *r)
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: blasi-fig7: %s", err_message());
+    cli_error("figures: blasi-fig7: %s", tool_last_error());
 done:
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
@@ -286,7 +284,7 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: %s: %s", f->name, err_message());
+    cli_error("figures: %s: %s", f->name, tool_last_error());
 done:
     for (int i = 0; i < n; i++)
         phase_release(ph[i]);
@@ -375,7 +373,7 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
     rc = 0;
     goto done;
 fail_err:
-    cli_error("figures: %s: %s", f->name, err_message());
+    cli_error("figures: %s: %s", f->name, tool_last_error());
     goto done;
 fail:
     cli_error("figures: %s: %s", f->name, ctx ? brume_context_last_error(ctx) : "out of memory");
@@ -396,7 +394,7 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
     double t0 = now();
     int rc = 1;
     double z = 0.0;
-    err_clear();
+    tool_clear_error();
     switch (f->kind) {
     case FIG_RENDER: rc = run_render(scenes, f, path, quick, r); break;
     case FIG_PHASE_FIT:
@@ -415,7 +413,7 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
         break;
     }
     if (rc != 0 && (f->kind == FIG_STAM1 || f->kind == FIG_STAM4))
-        cli_error("figures: %s: %s", f->name, err_message());
+        cli_error("figures: %s: %s", f->name, tool_last_error());
     r->seconds = now() - t0;
     return rc;
 }
@@ -476,13 +474,13 @@ static int write_indexes(const char *dir, const fig_run *runs, bool quick, doubl
     atomic_file md, html;
     snprintf(path, sizeof path, "%s/index.md", dir);
     if (atomic_open(&md, path) != BRUME_OK) {
-        cli_error("figures: %s", err_message());
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
     snprintf(path, sizeof path, "%s/index.html", dir);
     if (atomic_open(&html, path) != BRUME_OK) {
         atomic_abort(&md);
-        cli_error("figures: %s", err_message());
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
     FILE *m = md.fp, *h = html.fp;
@@ -534,7 +532,7 @@ static int write_indexes(const char *dir, const fig_run *runs, bool quick, doubl
     fputs("</body></html>\n", h);
     brume_status a = atomic_commit(&md), b = atomic_commit(&html);
     if (a != BRUME_OK || b != BRUME_OK) {
-        cli_error("figures: %s", err_message());
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
     return 0;

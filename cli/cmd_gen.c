@@ -10,7 +10,7 @@
 #include "cli_gen_sparse.h"
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "density/fractal.h"
 
 static const char usage[] =
@@ -143,13 +143,13 @@ int cmd_gen(int argc, char **argv)
     }
     density *d = fractal_cloud(&p, bounds, GRID_NEAREST);
     if (!d) {
-        cli_error("gen: %.1000s", err_message());
+        cli_error("gen: %.1000s", tool_last_error());
         return 2;
     }
     brume_status s = density_write_file(d, out, GRID_FORMAT_AUTO);
     density_release(d);
     if (s != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     return 0;

@@ -8,7 +8,7 @@
 
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "io/grid_sequence.h"
 
 static const char usage[] = "usage: brume info [flags] FILE\n"
@@ -21,7 +21,7 @@ static int info_sequence(const char *pattern, const density_load_options *o)
 {
     long first, last;
     if (seq_range(pattern, &first, &last) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     printf("sequence:       %s\n", pattern);
@@ -33,7 +33,7 @@ static int info_sequence(const char *pattern, const density_load_options *o)
         seq_name(pattern, n, name, sizeof name);
         density *d = density_load_file(name, o);
         if (!d) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             return 1;
         }
         box3 a = density_bounds(d);
@@ -75,7 +75,7 @@ int cmd_info(int argc, char **argv)
     }
     int pat = seq_is_pattern(path);
     if (pat < 0) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     if (pat)
@@ -92,7 +92,7 @@ int cmd_info(int argc, char **argv)
     if (fmt == GRID_FORMAT_VDB || fmt == GRID_FORMAT_NVDB) {
         gridvdb_info *gi = NULL;
         if (grid_list_file(path, o.max_memory, &gi, &ngrids) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             return 1;
         }
         printf("file:           %s\n", path);
@@ -109,10 +109,10 @@ int cmd_info(int argc, char **argv)
     density *d = density_load_file(path, &o);
     if (!d) {
         if (ngrids > 0 && !o.grid[0]) { /* the listing stands; no default grid to detail */
-            printf("density grid:   none by default (%s)\n", err_message());
+            printf("density grid:   none by default (%s)\n", tool_last_error());
             return 0;
         }
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     if (ngrids > 0)

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "phase/phase.h"
 #include "phase/phase_fit.h"
 #include "figure/phase_plot.h"
@@ -71,7 +71,7 @@ static int phase_fit_cmd(int argc, char **argv)
         return phase_usage_error("fit needs a NAME");
     phase *p = phase_new_from_name(name);
     if (!p) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     phase_fit_result fit;
@@ -89,7 +89,7 @@ static int phase_fit_cmd(int argc, char **argv)
     }
     phase_release(p);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
@@ -155,7 +155,7 @@ static int phase_plot_cmd(int argc, char **argv)
         labels[m] = argv[i];
         if (overlay) {
             if (!truth[m]) {
-                cli_error("%.1000s", err_message());
+                cli_error("%.1000s", tool_last_error());
                 m++;
                 goto done;
             }
@@ -165,7 +165,7 @@ static int phase_plot_cmd(int argc, char **argv)
         if (!truth[m] || (have_given ? (fit.error = phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
                                      : phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK) ||
             !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             m++;
             goto done;
         }
@@ -183,7 +183,7 @@ static int phase_plot_cmd(int argc, char **argv)
         rows[0] = (phase_plot_row){titles[0], NULL, NULL, m, (const phase *const *)truth, labels, NULL};
     }
     if (phase_plot_png(out, overlay ? 1 : m, rows, log_scale) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         goto done;
     }
     status = 0;

@@ -4,7 +4,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 #include "render/slab.h"
 
 static void slab_usage(FILE *out)
@@ -90,7 +90,7 @@ int cmd_slab(int argc, char **argv)
         ph = phase_new_from_name(phase_name);
     }
     if (!ph) {
-        cli_error("slab: --phase: %.1000s", err_message());
+        cli_error("slab: --phase: %.1000s", tool_last_error());
         return 1;
     }
     p.ph = ph;
@@ -98,7 +98,7 @@ int cmd_slab(int argc, char **argv)
     brume_status st = slab_run(&p, &r);
     phase_release(ph);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     printf("Rd %.6f %.6f\n", r.Rd, r.Rd_stderr);

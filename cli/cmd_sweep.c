@@ -8,8 +8,7 @@
 #include "args.h"
 #include "brume.h"
 #include "commands.h"
-#include "core/error.h"
-#include "io/sheet.h"
+#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_VALUES 16
@@ -205,7 +204,7 @@ int cmd_sweep(int argc, char **argv)
         brume_write_options wo = {exposure, BRUME_TONEMAP_CLAMP};
         if (sheet_png(out, title ? title : scene, ncols, nrows, (const brume_image *const *)cells, col_labels,
                       nswept == 2 ? row_labels : NULL, NULL, &wo) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
+            cli_error("%.1000s", tool_last_error());
             goto done;
         }
     }

@@ -1,14 +1,53 @@
-/* compare.h - how far an image is from a reference: the figures every comparison in
- * brume's docs reports (a method against the path tracer, brume against another renderer),
- * over the whole frame or over a region (the cloud: the reference's alpha above a
- * threshold), with a confidence interval. Only R, G, B are compared. */
-#ifndef BRUME_IO_COMPARE_H
-#define BRUME_IO_COMPARE_H
+/* tool.h - what the brume tool (cli/) uses from the library beyond include/brume.h.
+ *
+ * The one internal header cli/ includes (docs/architecture.md, checked by
+ * tests/arch_includes.py): the services the command-line tool needs that are not public API,
+ * each declared here with brume.h's types or its own, so that cli/ sees no internal struct.
+ * Not a stable interface: a service a library user would also want belongs in brume.h.
+ * Implemented in src/tool/ (the top layer: it may call any other). */
+#ifndef BRUME_TOOL_TOOL_H
+#define BRUME_TOOL_TOOL_H
 
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "brume.h"
 
+/* ---- Messages (tool.c) ---------------------------------------------------------------- */
+
+/* printf-style formatting into out[n] as the library formats its messages: control
+ * characters in string arguments escaped, a plain %s cut after 200 bytes, a "%.1000s" cut
+ * at its precision (core/error.h's err_vformat). One line. */
+void tool_vformat(char *out, size_t n, const char *fmt, va_list ap);
+/* The message of the calling thread's last failure in a tool_* call ("" when none), and
+ * clearing it. */
+const char *tool_last_error(void);
+void tool_clear_error(void);
+
+/* ---- Outputs and checkpoints (tool.c) ------------------------------------------------- */
+
+/* Before any work: whether brume may write path (named by `what`: "-o", "--checkpoint",
+ * "--video"...): absent or a regular file, not scene_file (may be NULL) nor, when scene is not
+ * NULL, one of the files the scene was read from. Else a one-line error (tool_last_error). */
+brume_status tool_output_check(const char *what, const char *path, const char *scene_file, const brume_scene *scene);
+/* Before any work: a checkpoint path is absent or holds a brume checkpoint (its magic), so
+ * that the saves every few seconds never replace a file brume did not write. */
+brume_status tool_checkpoint_target_check(const char *path);
+/* h with the contents of every file scene was read from folded in (FNV-1a): a checkpoint
+ * key that changes when any of them does. */
+uint64_t tool_checkpoint_inputs_key(const brume_scene *scene, uint64_t h);
+/* Removes path when, and only when, it is a regular file whose header says it is a
+ * checkpoint of this job (this build, scene_key, the job's settings); true when removed. */
+bool tool_checkpoint_remove_own(const brume_render_job *job, uint64_t scene_key, const char *path);
+
+/* ---- Comparing images (compare.c) ----------------------------------------------------- */
+
+/* How far an image is from a reference: the figures every comparison in brume's docs
+ * reports (a method against the path tracer, brume against another renderer), over the
+ * whole frame or over a region (the cloud: the reference's alpha above a threshold), with a
+ * confidence interval. Only R, G, B are compared. Errors: tool_last_error. */
 typedef struct image_diff_stats {
     double rmse;          /* sqrt(mean over pixels and channels of (a - ref)^2) */
     double rel_rmse;      /* rmse / mean(ref) */
@@ -19,7 +58,7 @@ typedef struct image_diff_stats {
     long pixels;
 } image_diff_stats;
 
-/* Same size required (BRUME_ERROR_INVALID_ARGUMENT otherwise, err_set names both sizes). */
+/* Same size required (BRUME_ERROR_INVALID_ARGUMENT otherwise, the message names both sizes). */
 brume_status image_compare(const brume_image *img, const brume_image *ref, image_diff_stats *out);
 
 /* The figures a referee asks for, over a region R of pixels (docs/validation.md, "Comparing
@@ -49,7 +88,7 @@ typedef struct image_region_stats {
 
 /* mask: width * height bytes, non-zero for pixels in R (rows top first), or NULL for the
  * whole frame. boot: bootstrap draws, 0 for none, at most 100000. An empty region or a
- * reference whose mean over R is 0 is BRUME_ERROR_INVALID_ARGUMENT (err_set says which);
+ * reference whose mean over R is 0 is BRUME_ERROR_INVALID_ARGUMENT (the message says which);
  * so is a size mismatch. */
 brume_status image_compare_region(const brume_image *img, const brume_image *ref, const unsigned char *mask, int boot,
                                   uint64_t seed, image_region_stats *out);
@@ -75,5 +114,17 @@ brume_status image_diff_picture(const brume_image *img, const brume_image *ref, 
  * errors name path. */
 brume_status image_diff_png(const brume_image *img, const brume_image *ref, const unsigned char *mask, double scale,
                             const char *path);
+
+/* ---- Contact sheets (sheet.c) --------------------------------------------------------- */
+
+/* cells[r * ncols + c] is drawn at column c, row r, tone mapped as a PNG of it would be
+ * (opts: exposure and curve; NULL = exposure 0, clamp); a NULL cell is left blank. Cells may
+ * differ in size: each column is as wide as its widest cell, each row as tall as its tallest.
+ * col_labels[ncols] go above the columns, row_labels[nrows] left of the rows (either array
+ * NULL: none), captions (NULL, or one per cell, NULL entries allowed) under each cell; title
+ * (may be NULL) on top. Written atomically; errors name path. */
+brume_status sheet_png(const char *path, const char *title, int ncols, int nrows, const brume_image *const *cells,
+                       const char *const *col_labels, const char *const *row_labels, const char *const *captions,
+                       const brume_write_options *opts);
 
 #endif
