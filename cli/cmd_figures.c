@@ -17,10 +17,6 @@
 #include "figures_table.h"
 #include "tool/tool.h"
 #include "io/atomic.h"
-#include "phase/phase.h"
-#include "phase/phase_fit.h"
-#include "figure/phase_plot.h"
-#include "figure/stam_figures.h"
 
 #ifndef BRUME_SCENES_DIR
 #define BRUME_SCENES_DIR "scenes"
@@ -203,12 +199,12 @@ static int run_blasi7(const char *path, fig_run *r)
                              "| --- | --- | --- | --- | --- |\n");
     for (int i = 0; i < 3; i++) {
         phase_fit_result fit;
-        ph[i][0] = phase_new_from_name(names[i]);
+        ph[i][0] = tool_phase_named(names[i]);
         if (!ph[i][0] || phase_fit_schlick_mix(ph[i][0], PHASE_FIT_NORM_ANGLE, &fit) != BRUME_OK)
             goto fail;
         double e7 = phase_fit_error(ph[i][0], PHASE_FIT_NORM_ANGLE, given[i][0], given[i][1], given[i][2]);
-        ph[i][1] = phase_new_schlick_mix(given[i][0], given[i][1], given[i][2]);
-        ph[i][2] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime);
+        ph[i][1] = tool_phase_schlick_mix(given[i][0], given[i][1], given[i][2]);
+        ph[i][2] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime);
         if (!ph[i][1] || !ph[i][2])
             goto fail;
         labels[i][0] = names[i];
@@ -236,7 +232,7 @@ fail:
 done:
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
-            phase_release(ph[i][k]);
+            tool_phase_release(ph[i][k]);
     return rc;
 }
 
@@ -254,8 +250,8 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
         *sp = '\0';
         double g[3];
         sscanf(sp + 1, "%lf,%lf,%lf", &g[0], &g[1], &g[2]);
-        ph[0] = phase_new_from_name(names);
-        ph[1] = phase_new_schlick_mix(g[0], g[1], g[2]);
+        ph[0] = tool_phase_named(names);
+        ph[1] = tool_phase_schlick_mix(g[0], g[1], g[2]);
         n = 2;
         if (!ph[0] || !ph[1])
             goto fail;
@@ -269,7 +265,7 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
     } else {
         for (char *tok = strtok(names, " "); tok && n < 8; tok = strtok(NULL, " ")) {
             labels[n] = tok;
-            if (!(ph[n++] = phase_new_from_name(tok)))
+            if (!(ph[n++] = tool_phase_named(tok)))
                 goto fail;
         }
         snprintf(title, sizeof title, "%s", f->caption);
@@ -287,7 +283,7 @@ fail:
     cli_error("figures: %s: %s", f->name, tool_last_error());
 done:
     for (int i = 0; i < n; i++)
-        phase_release(ph[i]);
+        tool_phase_release(ph[i]);
     return rc;
 }
 

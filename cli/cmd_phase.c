@@ -7,9 +7,6 @@
 
 #include "commands.h"
 #include "tool/tool.h"
-#include "phase/phase.h"
-#include "phase/phase_fit.h"
-#include "figure/phase_plot.h"
 
 static const char phase_usage[] =
     "usage: brume phase fit NAME [--norm angle|cos|log] [--given r,k,kprime]\n"
@@ -69,7 +66,7 @@ static int phase_fit_cmd(int argc, char **argv)
     }
     if (!name)
         return phase_usage_error("fit needs a NAME");
-    phase *p = phase_new_from_name(name);
+    phase *p = tool_phase_named(name);
     if (!p) {
         cli_error("%.1000s", tool_last_error());
         return 1;
@@ -79,7 +76,7 @@ static int phase_fit_cmd(int argc, char **argv)
     if (given) {
         /* Blasi Eq. 22's parameters as given (e.g. Figure 7's table), scored, not fitted */
         if (!parse_given(given, &fit)) {
-            phase_release(p);
+            tool_phase_release(p);
             cli_error("phase fit: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", given);
             return 2;
         }
@@ -87,7 +84,7 @@ static int phase_fit_cmd(int argc, char **argv)
     } else {
         st = phase_fit_schlick_mix(p, norm, &fit);
     }
-    phase_release(p);
+    tool_phase_release(p);
     if (st != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;
@@ -151,7 +148,7 @@ static int phase_plot_cmd(int argc, char **argv)
         if (strcmp(argv[i], "--log") == 0 || strcmp(argv[i], "--overlay") == 0)
             continue;
         phase_fit_result fit = given;
-        truth[m] = phase_new_from_name(argv[i]);
+        truth[m] = tool_phase_named(argv[i]);
         labels[m] = argv[i];
         if (overlay) {
             if (!truth[m]) {
@@ -164,7 +161,7 @@ static int phase_plot_cmd(int argc, char **argv)
         }
         if (!truth[m] || (have_given ? (fit.error = phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
                                      : phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK) ||
-            !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
+            !(approx[m] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime))) {
             cli_error("%.1000s", tool_last_error());
             m++;
             goto done;
@@ -189,8 +186,8 @@ static int phase_plot_cmd(int argc, char **argv)
     status = 0;
 done:
     for (int i = 0; i < m; i++) {
-        phase_release(truth[i]);
-        phase_release(approx[i]);
+        tool_phase_release(truth[i]);
+        tool_phase_release(approx[i]);
     }
     free(labels);
     free(rows);

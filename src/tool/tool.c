@@ -1,10 +1,12 @@
-/* tool.c - the brume tool's messages and output checks over the library's internals
- * (tool.h). */
+/* tool.c - the brume tool's messages, output checks, phase functions and slab over the
+ * library's internals (tool.h). */
 #include "tool/tool.h"
 
 #include "core/error.h"
 #include "core/regular_file.h"
 #include "job/checkpoint.h"
+#include "phase/phase.h"
+#include "render/slab.h"
 
 void tool_vformat(char *out, size_t n, const char *fmt, va_list ap) { err_vformat(out, n, fmt, ap); }
 
@@ -24,4 +26,27 @@ uint64_t tool_checkpoint_inputs_key(const brume_scene *scene, uint64_t h) { retu
 bool tool_checkpoint_remove_own(const brume_render_job *job, uint64_t scene_key, const char *path)
 {
     return checkpoint_remove_own(job, scene_key, path);
+}
+
+phase *tool_phase_named(const char *name) { return phase_new_from_name(name); }
+
+phase *tool_phase_hg(double g) { return phase_new_hg(g); }
+
+phase *tool_phase_schlick(double k) { return phase_new_schlick(k); }
+
+phase *tool_phase_schlick_mix(double r, double k, double kprime) { return phase_new_schlick_mix(r, k, kprime); }
+
+void tool_phase_release(phase *p) { phase_release(p); }
+
+double tool_schlick_k_from_g(double g) { return phase_schlick_k_from_g(g); }
+
+brume_status tool_slab_run(const tool_slab_params *p, tool_slab_result *out)
+{
+    slab_params sp = {.albedo = p->albedo, .tau = p->tau, .ph = p->ph, .samples = p->samples, .seed = p->seed,
+                      .threads = p->threads, .max_depth = p->max_depth};
+    slab_result r;
+    brume_status st = slab_run(&sp, &r);
+    if (st == BRUME_OK)
+        *out = (tool_slab_result){r.Rd, r.Rd_stderr, r.Tt, r.Tt_stderr};
+    return st;
 }

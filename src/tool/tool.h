@@ -127,4 +127,115 @@ brume_status sheet_png(const char *path, const char *title, int ncols, int nrows
                        const char *const *col_labels, const char *const *row_labels, const char *const *captions,
                        const brume_write_options *opts);
 
+/* ---- Phase functions: making them, fitting Blasi's mixture, plotting (tool.c, phase_fit.c,
+ * phase_plot.c) ---------------------------------------------------------------------------- */
+
+typedef struct phase phase; /* a phase function (phase/phase.h), opaque to the tool */
+/* Each NULL on failure (tool_last_error). By name: "isotropic", "rayleigh", "hazy",
+ * "murky", "hg:G", "schlick:K", or else the path of a tabulated file. */
+phase *tool_phase_named(const char *name);
+phase *tool_phase_hg(double g);
+phase *tool_phase_schlick(double k);
+phase *tool_phase_schlick_mix(double r, double k, double kprime); /* Blasi Eq. 22 */
+void tool_phase_release(phase *p); /* accepts NULL */
+/* Schlick's k for Henyey-Greenstein's g: k = 1.55 g - 0.55 g^3, clamped to |k| < 1. */
+double tool_schlick_k_from_g(double g);
+
+/* Fitting Blasi's two-lobe Schlick mixture (Eq. 22) to any phase function.
+ *
+ * The model is phi(t) = r phi_k(t) + (1 - r) phi_k'(t) with Schlick lobes (Eq. 21),
+ * r in [0, 1], |k|, |k'| < 1. The result is reported with k <= k', so that, as in the
+ * paper's Figure 7, k is the backward (or less forward) lobe and r its weight.
+ *
+ * The error norms (docs/phase-functions.md) compare phi = 4 pi p of the model and of the
+ * target; each is relative, so 0.01 means a 1 % root-mean-square difference. */
+typedef enum phase_fit_norm {
+    /* sqrt( int (phi_fit - phi)^2 dt / int phi^2 dt ), t = cos in [-1, 1]: the L2 norm
+     * over the sphere (uniform in solid angle). */
+    PHASE_FIT_NORM_COS,
+    /* The same with d(theta) in [0, pi] in place of dt: the L2 norm of the cartesian plot
+     * of phi against the angle, weighting back and side scattering more than the sphere.
+     * The default: of the three norms, the paper's Figure 7 parameters come closest to
+     * its minimum (docs/phase-functions.md). */
+    PHASE_FIT_NORM_ANGLE,
+    /* sqrt( int (ln phi_fit - ln phi)^2 dt / 2 ): root-mean-square relative (log) error
+     * over the sphere; needs a target without zeros. */
+    PHASE_FIT_NORM_LOG
+} phase_fit_norm;
+
+typedef struct phase_fit_result {
+    double r, k, kprime; /* Blasi Eq. 22, k <= kprime */
+    double error;        /* the norm at (r, k, kprime) */
+} phase_fit_result;
+
+/* "cos", "angle", "log" to a norm; returns false for any other name. */
+bool phase_fit_norm_from_name(const char *name, phase_fit_norm *out);
+const char *phase_fit_norm_name(phase_fit_norm norm);
+
+/* The error of the mixture (r, k, kprime) against target in the given norm, computed by
+ * composite Gauss-Legendre quadrature over the angle (fine near both poles, where the
+ * peaks are). Returns NAN for parameters outside the domain of Eq. 22. */
+double phase_fit_error(const phase *target, phase_fit_norm norm, double r, double k, double kprime);
+
+/* Minimizes phase_fit_error over (r, k, kprime): a coarse grid search over the whole
+ * domain, then Nelder-Mead from the best grid points in unconstrained coordinates
+ * (r = sin^2 a, k = K sin b). Deterministic. Fails (tool_last_error) only when out of memory or
+ * when the log norm meets a target that is 0 somewhere. */
+brume_status phase_fit_schlick_mix(const phase *target, phase_fit_norm norm, phase_fit_result *out);
+
+/* Polar and cartesian plots of phase functions (cairo), as Blasi's
+ * Figures 2 to 6: one row per function, the polar plot of phi(theta) on the left (light
+ * arrives from the left, forward scattering points right), phi against the angle in
+ * degrees on the right; the true function solid, an optional approximation dashed. */
+typedef struct phase_plot_row {
+    const char *title; /* printed above the row, borrowed */
+    const phase *truth; /* drawn solid, borrowed */
+    const phase *approx; /* drawn dashed, or NULL; borrowed */
+    /* An overlay instead (Blasi's Figures 5 and 6): ncurves > 0 functions on the same axes,
+     * each in its own colour (solid; dashed where dashed[i]), named in a legend. */
+    int ncurves;
+    const phase *const *curves;  /* borrowed */
+    const char *const *labels;   /* borrowed, NULL entries: no legend line */
+    const bool *dashed;          /* may be NULL */
+} phase_plot_row;
+
+/* Writes an 8-bit RGB PNG of n >= 1 rows to path, atomically (a temporary file beside it,
+ * renamed when complete). The polar panel is always linear, phi / max phi; log_scale plots
+ * log10(phi) on the cartesian panel (the polar plot's log companion). Errors name path. */
+brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows, bool log_scale);
+
+/* ---- The papers' figures (stam_figures.c) --------------------------------------------- */
+
+
+/* Figure 1: one random blob along a line through its centre, mean, mean +- sigma and one
+ * realization, without clamping and with eta (Section 4). Errors name path. */
+brume_status stam_figure1_png(const char *path, bool quick);
+
+/* Figure 4: Var T_i against d_i for several eta, blob_T_var (lines) against the sample
+ * variance over explicit realizations (points; 120 when quick, else 1200). *max_z (may be
+ * NULL) receives the largest |sample - closed form| in standard errors of the sample
+ * variance. Errors name path. */
+brume_status stam_figure4_png(const char *path, bool quick, double *max_z);
+
+/* ---- A plane-parallel slab (tool.c over render/slab.c; `brume slab`) ------------------ */
+
+/* Total diffuse reflectance and transmittance of a homogeneous slab (render/slab.h: optical
+ * thickness tau with sigma_t = 1, tau = 0 semi-infinite; lit by a collimated beam at normal
+ * incidence), estimated by the renderer's own walk; deterministic for a seed and a sample
+ * count, whatever the thread count. */
+typedef struct tool_slab_params {
+    double albedo;    /* in [0, 1] */
+    double tau;       /* optical thickness, > 0; 0 = semi-infinite */
+    const phase *ph;  /* borrowed */
+    uint64_t samples; /* photons, >= 1 */
+    uint64_t seed;
+    int threads;      /* 0 = one per core */
+    int max_depth;    /* scattering events counted, >= 1 (1 = single scattering) */
+} tool_slab_params;
+typedef struct tool_slab_result {
+    double Rd, Rd_stderr; /* total diffuse reflectance and its standard error */
+    double Tt, Tt_stderr; /* total transmittance (with the unscattered part exp(-tau)) */
+} tool_slab_result;
+brume_status tool_slab_run(const tool_slab_params *p, tool_slab_result *out);
+
 #endif
