@@ -12,7 +12,6 @@
 #include "commands.h"
 #include "tool/tool.h"
 #include "density/fractal.h"
-#include "io/atomic.h"
 #include "io/grid_vdb.h"
 
 static const char fire_usage[] =
@@ -31,7 +30,7 @@ static const char upres_usage[] =
     "  --grid NAME      the grid of IN (default: \"density\", else the only float grid)\n"
     "  --max-memory B   for IN (default 4G)\n";
 
-/* Writes the grids through a temporary file renamed over `out` (io/atomic.h). */
+/* Writes the grids through a temporary file renamed over `out` (tool_file). */
 static int save(gridvdb_writer *w, const char *out)
 {
     const char *dot = strrchr(out, '.');
@@ -40,19 +39,18 @@ static int save(gridvdb_writer *w, const char *out)
         cli_error("%s: the output must be .vdb or .nvdb", out);
         return 2;
     }
-    atomic_file af;
-    if (atomic_open(&af, out) != BRUME_OK) {
+    tool_file *af = tool_file_open(out);
+    if (!af) {
         cli_error("%.1000s", tool_last_error());
         return 1;
     }
-    fclose(af.fp); /* OpenVDB writes the temporary file by name */
-    af.fp = NULL;
-    if (gridvdb_writer_save(w, af.tmp_path, nano) != BRUME_OK) {
+    /* OpenVDB writes the temporary file by name */
+    if (gridvdb_writer_save(w, tool_file_by_name(af), nano) != BRUME_OK) {
         cli_error("%s: %.1000s", out, tool_last_error());
-        atomic_abort(&af);
+        tool_file_abort(af);
         return 1;
     }
-    if (atomic_commit(&af) != BRUME_OK) {
+    if (tool_file_commit(af) != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;
     }

@@ -16,7 +16,6 @@
 #include "commands.h"
 #include "figures_table.h"
 #include "tool/tool.h"
-#include "io/atomic.h"
 
 #ifndef BRUME_SCENES_DIR
 #define BRUME_SCENES_DIR "scenes"
@@ -467,19 +466,19 @@ static void html_table(FILE *fp, const char *md)
 static int write_indexes(const char *dir, const fig_run *runs, bool quick, double total)
 {
     char path[PATH_MAX];
-    atomic_file md, html;
+    tool_file *md, *html;
     snprintf(path, sizeof path, "%s/index.md", dir);
-    if (atomic_open(&md, path) != BRUME_OK) {
+    if (!(md = tool_file_open(path))) {
         cli_error("figures: %s", tool_last_error());
         return 1;
     }
     snprintf(path, sizeof path, "%s/index.html", dir);
-    if (atomic_open(&html, path) != BRUME_OK) {
-        atomic_abort(&md);
+    if (!(html = tool_file_open(path))) {
+        tool_file_abort(md);
         cli_error("figures: %s", tool_last_error());
         return 1;
     }
-    FILE *m = md.fp, *h = html.fp;
+    FILE *m = tool_file_stream(md), *h = tool_file_stream(html);
     fprintf(m, "# The figures of both papers%s\n\nMade by `brume figures -o DIR%s` (brume %s) in %.1f s. Each figure "
                "is followed by its caption, the command that makes it alone, and the time it took. The papers: "
                "Blasi, Le Saec and Schlick, *A Rendering Algorithm for Discrete Volume Density Objects* "
@@ -526,7 +525,7 @@ static int write_indexes(const char *dir, const fig_run *runs, bool quick, doubl
         fprintf(h, "</code> <span class=\"time\">(%.2f s)</span></p></figcaption></figure>\n", runs[i].seconds);
     }
     fputs("</body></html>\n", h);
-    brume_status a = atomic_commit(&md), b = atomic_commit(&html);
+    brume_status a = tool_file_commit(md), b = tool_file_commit(html);
     if (a != BRUME_OK || b != BRUME_OK) {
         cli_error("figures: %s", tool_last_error());
         return 1;

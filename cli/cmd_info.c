@@ -9,7 +9,6 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
-#include "io/grid_sequence.h"
 
 static const char usage[] = "usage: brume info [flags] FILE\n"
                             "  FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the range and the bounds over it\n"
@@ -20,7 +19,7 @@ static const char usage[] = "usage: brume info [flags] FILE\n"
 static int info_sequence(const char *pattern, const density_load_options *o)
 {
     long first, last;
-    if (seq_range(pattern, &first, &last) != BRUME_OK) {
+    if (tool_seq_range(pattern, &first, &last) != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;
     }
@@ -30,7 +29,7 @@ static int info_sequence(const char *pattern, const density_load_options *o)
     double rho_max = 0.0;
     for (long n = first; n <= last; n++) {
         char name[4096];
-        seq_name(pattern, n, name, sizeof name);
+        tool_seq_name(pattern, n, name, sizeof name);
         density *d = density_load_file(name, o);
         if (!d) {
             cli_error("%.1000s", tool_last_error());
@@ -73,7 +72,7 @@ int cmd_info(int argc, char **argv)
         cli_error("info: no FILE given (see brume info --help)");
         return 2;
     }
-    int pat = seq_is_pattern(path);
+    int pat = tool_seq_is_pattern(path);
     if (pat < 0) {
         cli_error("%.1000s", tool_last_error());
         return 1;

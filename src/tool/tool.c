@@ -2,8 +2,12 @@
  * library's internals (tool.h). */
 #include "tool/tool.h"
 
+#include <stdlib.h>
+
 #include "core/error.h"
 #include "core/regular_file.h"
+#include "io/atomic.h"
+#include "io/grid_sequence.h"
 #include "job/checkpoint.h"
 #include "phase/phase.h"
 #include "render/slab.h"
@@ -50,3 +54,52 @@ brume_status tool_slab_run(const tool_slab_params *p, tool_slab_result *out)
         *out = (tool_slab_result){r.Rd, r.Rd_stderr, r.Tt, r.Tt_stderr};
     return st;
 }
+
+struct tool_file {
+    atomic_file af;
+};
+
+tool_file *tool_file_open(const char *path)
+{
+    tool_file *f = malloc(sizeof *f);
+    if (!f) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+        return NULL;
+    }
+    if (atomic_open(&f->af, path) != BRUME_OK) {
+        free(f);
+        return NULL;
+    }
+    return f;
+}
+
+FILE *tool_file_stream(tool_file *f) { return f->af.fp; }
+
+const char *tool_file_by_name(tool_file *f)
+{
+    if (f->af.fp)
+        fclose(f->af.fp);
+    f->af.fp = NULL;
+    return f->af.tmp_path;
+}
+
+brume_status tool_file_commit(tool_file *f)
+{
+    brume_status st = atomic_commit(&f->af);
+    free(f);
+    return st;
+}
+
+void tool_file_abort(tool_file *f)
+{
+    if (!f)
+        return;
+    atomic_abort(&f->af);
+    free(f);
+}
+
+int tool_seq_is_pattern(const char *name) { return seq_is_pattern(name); }
+
+void tool_seq_name(const char *pattern, long n, char *out, size_t cap) { seq_name(pattern, n, out, cap); }
+
+brume_status tool_seq_range(const char *pattern, long *first, long *last) { return seq_range(pattern, first, last); }

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "brume.h"
 
@@ -41,6 +42,33 @@ uint64_t tool_checkpoint_inputs_key(const brume_scene *scene, uint64_t h);
 /* Removes path when, and only when, it is a regular file whose header says it is a
  * checkpoint of this job (this build, scene_key, the job's settings); true when removed. */
 bool tool_checkpoint_remove_own(const brume_render_job *job, uint64_t scene_key, const char *path);
+
+/* ---- Files written whole or not at all (tool.c over io/atomic.h) --------------------- */
+
+/* A temporary file beside path, open for writing: tool_file_commit renames it over path
+ * (flushed and closed first), tool_file_abort removes it; each frees f, and a signal that
+ * ends brume removes it too. NULL on failure (tool_last_error names path). */
+typedef struct tool_file tool_file;
+tool_file *tool_file_open(const char *path);
+FILE *tool_file_stream(tool_file *f);
+/* For a writer that opens the temporary file by name (OpenVDB): closes the stream, returns
+ * the name. */
+const char *tool_file_by_name(tool_file *f);
+brume_status tool_file_commit(tool_file *f);
+void tool_file_abort(tool_file *f);
+
+/* ---- Frame sequences of grid files (tool.c over io/grid_sequence.h) ------------------ */
+
+/* A file name with a frame pattern (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb) names
+ * one file per frame (docs/grids.md, "Sequences"). 1 when the name (after the last '/')
+ * holds one pattern, 0 when none, -1 (tool_last_error) when it holds a malformed one or
+ * more than one. */
+int tool_seq_is_pattern(const char *name);
+/* The name with n in place of the pattern (zero-padded to its width). */
+void tool_seq_name(const char *pattern, long n, char *out, size_t cap);
+/* The smallest and largest number of the files present; a gap, or no file, is an error
+ * naming the first missing number and its file. */
+brume_status tool_seq_range(const char *pattern, long *first, long *last);
 
 /* ---- Comparing images (compare.c) ----------------------------------------------------- */
 
