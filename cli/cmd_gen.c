@@ -11,7 +11,6 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
-#include "density/fractal.h"
 
 static const char usage[] =
     "usage: brume gen cloud [flags] -o OUT(.vol|.raw|.df3|.nvdb|.vdb)\n"
@@ -49,11 +48,11 @@ int cmd_gen(int argc, char **argv)
         cli_error("gen: expected `brume gen cloud|fire|upres` (see brume gen --help)");
         return 2;
     }
-    fractal_params p;
-    fractal_params_default(&p);
+    brume_fractal p;
+    brume_fractal_default(&p);
     const char *out = NULL;
     bool has_bounds = false;
-    box3 bounds = {{0, 0, 0}, {0, 0, 0}};
+
     for (int i = 2; i < argc; i++) {
         const char *f = argv[i];
         if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
@@ -70,53 +69,50 @@ int cmd_gen(int argc, char **argv)
         if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
             out = v;
         else if (strcmp(f, "--dims") == 0)
-            ok = cli_parse_dims(v, p.n);
+            ok = cli_parse_dims(v, p.dims);
         else if (strcmp(f, "--seed") == 0) {
             if (!arg_u64(f, v, &p.seed)) /* digits only: "-1" is refused, not wrapped */
                 return 2;
         } else if (strcmp(f, "--method") == 0) {
             ok = true;
             if (strcmp(v, "midpoint") == 0)
-                p.method = FRACTAL_MIDPOINT;
+                p.method = BRUME_FRACTAL_MIDPOINT;
             else if (strcmp(v, "spectral") == 0)
-                p.method = FRACTAL_SPECTRAL;
+                p.method = BRUME_FRACTAL_SPECTRAL;
             else if (strcmp(v, "perlin") == 0)
-                p.method = FRACTAL_PERLIN;
+                p.method = BRUME_FRACTAL_PERLIN;
             else
                 ok = false;
         } else if (strcmp(f, "--shape") == 0) {
             if (strcmp(v, "ellipsoid") == 0)
-                p.shape = FRACTAL_SHAPE_ELLIPSOID;
+                p.shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
             else if (strcmp(v, "slab") == 0)
-                p.shape = FRACTAL_SHAPE_SLAB;
+                p.shape = BRUME_FRACTAL_SHAPE_SLAB;
             else if (strcmp(v, "none") == 0)
-                p.shape = FRACTAL_SHAPE_NONE;
+                p.shape = BRUME_FRACTAL_SHAPE_NONE;
             else
                 ok = false;
         } else if (strcmp(f, "--octaves") == 0) {
             ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
             p.octaves = (int)x;
         } else if (strcmp(f, "--wind") == 0) {
-            double w[3];
-            ok = cli_parse_doubles(v, w, 3);
-            p.wind = v3(w[0], w[1], w[2]);
+            ok = cli_parse_doubles(v, p.wind, 3);
         } else if (strcmp(f, "--bounds") == 0) {
-            double b[6];
+            double *b = p.bounds;
             ok = has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
-            bounds = (box3){v3(b[0], b[1], b[2]), v3(b[3], b[4], b[5])};
         } else {
             static const struct {
                 const char *flag;
                 size_t off;
-            } nums[] = {{"--hurst", offsetof(fractal_params, hurst)},
-                        {"--frequency", offsetof(fractal_params, frequency)},
-                        {"--falloff", offsetof(fractal_params, falloff)},
-                        {"--threshold", offsetof(fractal_params, threshold)},
-                        {"--threshold-rate", offsetof(fractal_params, threshold_rate)},
-                        {"--turbulence", offsetof(fractal_params, turbulence)},
-                        {"--turbulence-frequency", offsetof(fractal_params, turbulence_frequency)},
-                        {"--time", offsetof(fractal_params, time)},
-                        {"--density", offsetof(fractal_params, density)}};
+            } nums[] = {{"--hurst", offsetof(brume_fractal, hurst)},
+                        {"--frequency", offsetof(brume_fractal, frequency)},
+                        {"--falloff", offsetof(brume_fractal, falloff)},
+                        {"--threshold", offsetof(brume_fractal, threshold)},
+                        {"--threshold-rate", offsetof(brume_fractal, threshold_rate)},
+                        {"--turbulence", offsetof(brume_fractal, turbulence)},
+                        {"--turbulence-frequency", offsetof(brume_fractal, turbulence_frequency)},
+                        {"--time", offsetof(brume_fractal, time)},
+                        {"--density", offsetof(brume_fractal, density)}};
             size_t k = 0;
             while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
                 k++;
@@ -135,19 +131,22 @@ int cmd_gen(int argc, char **argv)
         cli_error("gen: no output file (-o OUT)");
         return 2;
     }
-    if (!has_bounds) {
-        int m = p.n[0] > p.n[1] ? p.n[0] : p.n[1];
-        m = p.n[2] > m ? p.n[2] : m;
-        vec3 h = v3(0.5 * p.n[0] / m, 0.5 * p.n[1] / m, 0.5 * p.n[2] / m);
-        bounds = (box3){v3_neg(h), h};
+    if (!has_bounds) { /* the largest axis spans 1, centred on the origin */
+        int m = p.dims[0] > p.dims[1] ? p.dims[0] : p.dims[1];
+        m = p.dims[2] > m ? p.dims[2] : m;
+        for (int a = 0; a < 3; a++) {
+            p.bounds[a + 3] = 0.5 * p.dims[a] / m;
+            p.bounds[a] = -p.bounds[a + 3];
+        }
     }
-    density *d = fractal_cloud(&p, bounds, GRID_NEAREST);
+    p.filter = BRUME_GRID_NEAREST;
+    density *d = tool_gen_cloud(&p);
     if (!d) {
         cli_error("gen: %.1000s", tool_last_error());
         return 2;
     }
-    brume_status s = density_write_file(d, out, GRID_FORMAT_AUTO);
-    density_release(d);
+    brume_status s = tool_grid_write(d, out, NULL);
+    tool_grid_release(d);
     if (s != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;

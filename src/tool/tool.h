@@ -266,4 +266,52 @@ typedef struct tool_slab_result {
 } tool_slab_result;
 brume_status tool_slab_run(const tool_slab_params *p, tool_slab_result *out);
 
+/* ---- Grid files: `brume info`, `convert`, `gen` (grids.c, gen_sparse.c) ---------------- */
+
+/* The options of reading a grid file are brume.h's brume_grid_file_options, taken as given
+ * (the command line checked them): format "" or a name tool_grid_format_known accepts,
+ * max_memory_mb any size > 0 (the command line's --max-memory counts bytes). */
+typedef struct density density; /* a density field (density/density.h), opaque to the tool */
+/* Whether name is a grid format: "raw", "df3", "vol", "nvdb", "vdb". */
+bool tool_grid_format_known(const char *name);
+/* The format of path: `format` when not NULL or "", else by extension, else (when head has
+ * n > 0 bytes) by its magic number; NULL when none of them says. */
+const char *tool_grid_format_of(const char *path, const char *format, const unsigned char *head, size_t n);
+/* Whether this build reads and writes .vdb and writes .nvdb (OpenVDB). */
+bool tool_grid_have_openvdb(void);
+/* A grid file; NULL on failure (tool_last_error: "PATH: reason"). */
+density *tool_grid_load(const char *path, const brume_grid_file_options *o);
+void tool_grid_release(density *d); /* accepts NULL */
+/* Writes d to path in format (NULL or "": by extension), atomically; errors name path. */
+brume_status tool_grid_write(const density *d, const char *path, const char *format);
+/* A .vdb straight to .nvdb, keeping the sparse trees: every grid, or only `grid` ("": all). */
+brume_status tool_grid_convert_vdb_to_nvdb(const char *in, const char *out, const char *grid);
+/* `brume info`: the grids of a .vdb/.nvdb file, one line each, on out; *count of them. */
+brume_status tool_grid_print_list(FILE *out, const char *path, const brume_grid_file_options *o, int *count);
+/* `brume info`: d's format (as named), dimensions, bounds, placement, values, memory, active
+ * voxels and majorants, one line each, on out. */
+void tool_grid_print_info(FILE *out, const char *path, const char *format, const density *d);
+/* The world box (xmin, ymin, zmin, xmax, ymax, zmax) and the largest value over the files
+ * first..last of a frame pattern, each loaded in turn (one in memory at a time). */
+brume_status tool_grid_sequence_extent(const char *pattern, long first, long last, const brume_grid_file_options *o,
+                                       double bounds[6], double *rho_max);
+/* `brume gen cloud`: the fractal cloud (brume.h's brume_fractal, its bounds and filter
+ * used as given); NULL on failure (tool_last_error). */
+density *tool_gen_cloud(const brume_fractal *f);
+
+/* `brume gen fire` and `gen upres` (gen_sparse.c): sparse grids written through OpenVDB to
+ * out (.vdb or .nvdb, atomically). What was written: */
+typedef struct tool_gen_result {
+    unsigned long long active; /* active voxels of the density grid */
+    long box[3];               /* index box, voxels per axis */
+    double voxel;              /* voxel size, world units */
+} tool_gen_result;
+/* A procedural flame: grids "density" and "temperature" (kelvin), n voxels up its height
+ * (world units), n/2 across. */
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, tool_gen_result *res);
+/* in's density grid upsampled factor times per axis (trilinear) with fractal detail of
+ * amplitude detail in [0, 1], kept sparse. */
+brume_status tool_gen_upres(const char *in, const brume_grid_file_options *o, int factor, uint64_t seed, double detail,
+                            const char *out, tool_gen_result *res);
+
 #endif
