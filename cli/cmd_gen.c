@@ -1,5 +1,5 @@
 /* cmd_gen.c - `brume gen cloud`, and `gen fire|upres` (cli_gen_sparse.c): a fractal cloud grid (Blasi et al. 1993, sec. 4.1; the
- * generator is src/density/fractal.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
+ * generator is src/density/fractal.c, called through src/tool/grids.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
  * cloud.vol` makes the paper's grid. */
 #include <stddef.h>
 #include <stdio.h>
@@ -34,6 +34,71 @@ static const char usage[] =
 
 static bool parse_num(const char *s, double *v) { return cli_parse_doubles(s, v, 1); }
 
+/* One flag of `gen cloud` with its value v into *p (or *out, *has_bounds). 1: taken; 0: a
+ * bad value; -1: the message printed. */
+static int parse_cloud_flag(const char *f, const char *v, brume_fractal *p, const char **out, bool *has_bounds)
+{
+    double x = 0.0;
+    bool ok = true;
+    if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
+        *out = v;
+    else if (strcmp(f, "--dims") == 0)
+        ok = cli_parse_dims(v, p->dims);
+    else if (strcmp(f, "--seed") == 0) {
+        if (!arg_u64(f, v, &p->seed)) /* digits only: "-1" is refused, not wrapped */
+            return -1;
+    } else if (strcmp(f, "--method") == 0) {
+        ok = true;
+        if (strcmp(v, "midpoint") == 0)
+            p->method = BRUME_FRACTAL_MIDPOINT;
+        else if (strcmp(v, "spectral") == 0)
+            p->method = BRUME_FRACTAL_SPECTRAL;
+        else if (strcmp(v, "perlin") == 0)
+            p->method = BRUME_FRACTAL_PERLIN;
+        else
+            ok = false;
+    } else if (strcmp(f, "--shape") == 0) {
+        if (strcmp(v, "ellipsoid") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
+        else if (strcmp(v, "slab") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_SLAB;
+        else if (strcmp(v, "none") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_NONE;
+        else
+            ok = false;
+    } else if (strcmp(f, "--octaves") == 0) {
+        ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
+        p->octaves = (int)x;
+    } else if (strcmp(f, "--wind") == 0) {
+        ok = cli_parse_doubles(v, p->wind, 3);
+    } else if (strcmp(f, "--bounds") == 0) {
+        double *b = p->bounds;
+        ok = *has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
+    } else {
+        static const struct {
+            const char *flag;
+            size_t off;
+        } nums[] = {{"--hurst", offsetof(brume_fractal, hurst)},
+                    {"--frequency", offsetof(brume_fractal, frequency)},
+                    {"--falloff", offsetof(brume_fractal, falloff)},
+                    {"--threshold", offsetof(brume_fractal, threshold)},
+                    {"--threshold-rate", offsetof(brume_fractal, threshold_rate)},
+                    {"--turbulence", offsetof(brume_fractal, turbulence)},
+                    {"--turbulence-frequency", offsetof(brume_fractal, turbulence_frequency)},
+                    {"--time", offsetof(brume_fractal, time)},
+                    {"--density", offsetof(brume_fractal, density)}};
+        size_t k = 0;
+        while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
+            k++;
+        if (k == sizeof nums / sizeof *nums) {
+            cli_error("gen: unknown flag %s (see brume gen --help)", f);
+            return -1;
+        }
+        ok = parse_num(v, (double *)((char *)p + nums[k].off));
+    }
+    return ok ? 1 : 0;
+}
+
 int cmd_gen(int argc, char **argv)
 {
     if (argc >= 2 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
@@ -64,64 +129,9 @@ int cmd_gen(int argc, char **argv)
             return 2;
         }
         const char *v = argv[++i];
-        double x = 0.0;
-        bool ok = true;
-        if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
-            out = v;
-        else if (strcmp(f, "--dims") == 0)
-            ok = cli_parse_dims(v, p.dims);
-        else if (strcmp(f, "--seed") == 0) {
-            if (!arg_u64(f, v, &p.seed)) /* digits only: "-1" is refused, not wrapped */
-                return 2;
-        } else if (strcmp(f, "--method") == 0) {
-            ok = true;
-            if (strcmp(v, "midpoint") == 0)
-                p.method = BRUME_FRACTAL_MIDPOINT;
-            else if (strcmp(v, "spectral") == 0)
-                p.method = BRUME_FRACTAL_SPECTRAL;
-            else if (strcmp(v, "perlin") == 0)
-                p.method = BRUME_FRACTAL_PERLIN;
-            else
-                ok = false;
-        } else if (strcmp(f, "--shape") == 0) {
-            if (strcmp(v, "ellipsoid") == 0)
-                p.shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
-            else if (strcmp(v, "slab") == 0)
-                p.shape = BRUME_FRACTAL_SHAPE_SLAB;
-            else if (strcmp(v, "none") == 0)
-                p.shape = BRUME_FRACTAL_SHAPE_NONE;
-            else
-                ok = false;
-        } else if (strcmp(f, "--octaves") == 0) {
-            ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
-            p.octaves = (int)x;
-        } else if (strcmp(f, "--wind") == 0) {
-            ok = cli_parse_doubles(v, p.wind, 3);
-        } else if (strcmp(f, "--bounds") == 0) {
-            double *b = p.bounds;
-            ok = has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
-        } else {
-            static const struct {
-                const char *flag;
-                size_t off;
-            } nums[] = {{"--hurst", offsetof(brume_fractal, hurst)},
-                        {"--frequency", offsetof(brume_fractal, frequency)},
-                        {"--falloff", offsetof(brume_fractal, falloff)},
-                        {"--threshold", offsetof(brume_fractal, threshold)},
-                        {"--threshold-rate", offsetof(brume_fractal, threshold_rate)},
-                        {"--turbulence", offsetof(brume_fractal, turbulence)},
-                        {"--turbulence-frequency", offsetof(brume_fractal, turbulence_frequency)},
-                        {"--time", offsetof(brume_fractal, time)},
-                        {"--density", offsetof(brume_fractal, density)}};
-            size_t k = 0;
-            while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
-                k++;
-            if (k == sizeof nums / sizeof *nums) {
-                cli_error("gen: unknown flag %s (see brume gen --help)", f);
-                return 2;
-            }
-            ok = parse_num(v, (double *)((char *)&p + nums[k].off));
-        }
+        int ok = parse_cloud_flag(f, v, &p, &out, &has_bounds);
+        if (ok < 0)
+            return 2;
         if (!ok) {
             cli_error("gen: bad value for %s: %s", f, v);
             return 2;

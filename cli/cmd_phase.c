@@ -93,42 +93,61 @@ static int phase_fit_cmd(int argc, char **argv)
     return 0;
 }
 
-static int phase_plot_cmd(int argc, char **argv)
+typedef struct plot_opts {
+    const char *out;
+    bool log_scale, overlay, have_given;
+    phase_fit_result given;
+    phase_fit_norm norm;
+    int n; /* NAMEs */
+} plot_opts;
+
+/* The options of `phase plot` into *o. -1: go on; otherwise the exit status (2 with a
+ * message). */
+static int parse_plot(int argc, char **argv, plot_opts *o)
 {
-    const char *out = NULL;
-    bool log_scale = false, overlay = false, have_given = false;
-    phase_fit_result given = {0};
-    phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
-    int n = 0;
     for (int i = 2; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0) {
             if (i + 1 >= argc)
                 return phase_usage_error("-o needs a file name");
-            out = argv[++i];
+            o->out = argv[++i];
         } else if (strcmp(argv[i], "--log") == 0) {
-            log_scale = true;
+            o->log_scale = true;
         } else if (strcmp(argv[i], "--overlay") == 0) {
-            overlay = true;
+            o->overlay = true;
         } else if (strcmp(argv[i], "--given") == 0) {
-            if (i + 1 >= argc || !parse_given(argv[i + 1], &given))
+            if (i + 1 >= argc || !parse_given(argv[i + 1], &o->given))
                 return phase_usage_error("--given needs r,k,kprime with r in [0, 1] and |k|, |kprime| < 1");
-            have_given = true;
+            o->have_given = true;
             i++;
         } else if (strcmp(argv[i], "--norm") == 0) {
-            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
+            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &o->norm))
                 return phase_usage_error("--norm needs angle, cos or log");
             i++;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             cli_error("phase plot: unknown option %s", argv[i]);
             return 2;
         } else {
-            n++;
+            o->n++;
         }
     }
-    if (n == 0)
+    if (o->n == 0)
         return phase_usage_error("plot needs at least one NAME");
-    if (!out)
+    if (!o->out)
         return phase_usage_error("plot needs -o FILE.png");
+    return -1;
+}
+
+static int phase_plot_cmd(int argc, char **argv)
+{
+    plot_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    int rc = parse_plot(argc, argv, &o);
+    if (rc >= 0)
+        return rc;
+    const char *out = o.out;
+    bool log_scale = o.log_scale, overlay = o.overlay, have_given = o.have_given;
+    phase_fit_result given = o.given;
+    phase_fit_norm norm = o.norm;
+    int n = o.n;
 
     /* rows borrow the phases that truth[] and approx[] own. */
     phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
