@@ -131,23 +131,7 @@ brume_status tool_grid_sequence_extent(const char *pattern, long first, long las
 density *tool_gen_cloud(const brume_fractal *f)
 {
     fractal_params p;
-    fractal_params_default(&p);
-    for (int k = 0; k < 3; k++)
-        p.n[k] = f->dims[k];
-    p.seed = f->seed;
-    p.method = (fractal_method)f->method;
-    p.hurst = f->hurst;
-    p.octaves = f->octaves;
-    p.frequency = f->frequency;
-    p.shape = (fractal_shape)f->shape;
-    p.falloff = f->falloff;
-    p.threshold = f->threshold;
-    p.threshold_rate = f->threshold_rate;
-    p.turbulence = f->turbulence;
-    p.turbulence_frequency = f->turbulence_frequency;
-    p.wind = v3(f->wind[0], f->wind[1], f->wind[2]);
-    p.time = f->time;
-    p.density = f->density;
+    fractal_params_from_api(f, &p);
     box3 b = {v3(f->bounds[0], f->bounds[1], f->bounds[2]), v3(f->bounds[3], f->bounds[4], f->bounds[5])};
     return fractal_cloud(&p, b, f->filter == BRUME_GRID_NEAREST ? GRID_NEAREST : GRID_TRILINEAR);
 }
