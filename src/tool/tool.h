@@ -22,8 +22,8 @@
  * characters in string arguments escaped, a plain %s cut after 200 bytes, a "%.1000s" cut
  * at its precision (core/error.h's err_vformat). One line. */
 void tool_vformat(char *out, size_t n, const char *fmt, va_list ap);
-/* The message of the calling thread's last failure in a tool_* call ("" when none), and
- * clearing it. */
+/* The message of the calling thread's last failure in a call declared here ("" when none;
+ * brume_* calls report to their context instead), and clearing it. */
 const char *tool_last_error(void);
 void tool_clear_error(void);
 
