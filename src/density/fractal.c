@@ -229,6 +229,26 @@ void fractal_params_default(fractal_params *p)
     p->density = 1.0;
 }
 
+void fractal_params_from_api(const brume_fractal *f, fractal_params *p)
+{
+    for (int k = 0; k < 3; k++)
+        p->n[k] = f->dims[k];
+    p->seed = f->seed;
+    p->method = (fractal_method)f->method;
+    p->hurst = f->hurst;
+    p->octaves = f->octaves;
+    p->frequency = f->frequency;
+    p->shape = (fractal_shape)f->shape;
+    p->falloff = f->falloff;
+    p->threshold = f->threshold;
+    p->threshold_rate = f->threshold_rate;
+    p->turbulence = f->turbulence;
+    p->turbulence_frequency = f->turbulence_frequency;
+    p->wind = v3(f->wind[0], f->wind[1], f->wind[2]);
+    p->time = f->time;
+    p->density = f->density;
+}
+
 static double smoothstep(double a, double b, double x)
 {
     double t = fmin(1.0, fmax(0.0, (x - a) / (b - a)));

@@ -1,6 +1,6 @@
 /* compare.c - error figures between an image and a reference (over a region, with a
- * bootstrap interval), and signed difference pictures (compare.h). */
-#include "io/compare.h"
+ * bootstrap interval), and signed difference pictures (tool.h). */
+#include "tool/tool.h"
 
 #include <cairo.h>
 #include <math.h>

@@ -1,11 +1,12 @@
 /* phase_plot.c - polar and cartesian plots of phase functions with cairo. */
-#include "figure/phase_plot.h"
+#include "tool/tool.h"
 
 #include <cairo.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "phase/phase.h"
 #include "io/chart.h"
 
 #define PLOT_WIDTH 900

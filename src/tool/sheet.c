@@ -1,5 +1,5 @@
-/* sheet.c - contact sheets of images with labels, drawn with cairo (sheet.h). */
-#include "io/sheet.h"
+/* sheet.c - contact sheets of images with labels, drawn with cairo (tool.h). */
+#include "tool/tool.h"
 
 #include <cairo.h>
 #include <stdint.h>

@@ -5,12 +5,13 @@
  * once. The minimizer is a grid search over the whole domain followed by Nelder-Mead
  * (Nelder and Mead 1965, with the coefficients of Lagarias et al. 1998) from the best
  * grid points; docs/phase-functions.md compares the result with the paper's Figure 7. */
-#include "phase/phase_fit.h"
+#include "tool/tool.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "phase/phase.h"
 #include "phase/quadrature.h"
 
 #define FIT_PANELS 180

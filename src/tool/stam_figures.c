@@ -1,8 +1,8 @@
-/* stam_figures.c - the plots of Stam 1994 that are not renderings (stam_figures.h): Figure 1,
+/* stam_figures.c - the plots of Stam 1994 that are not renderings (tool.h): Figure 1,
  * a random blob with and without clamping, and Figure 4, the variance of the optical depth
  * against the distance of the ray from the blob's centre, closed form against a Monte-Carlo
  * estimate over explicit 3-D realizations. docs/stam.md explains both. */
-#include "figure/stam_figures.h"
+#include "tool/tool.h"
 
 #include <stdio.h>
 #include <stdlib.h>
