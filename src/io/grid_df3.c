@@ -4,7 +4,6 @@
 #include "io/grid_formats.h"
 
 #include <math.h>
-#include <stdlib.h>
 
 #include "core/error.h"
 
@@ -26,11 +25,8 @@ bool grid_df3_read(const unsigned char *b, size_t size, const char *name, size_t
                 body, (long long)n[0], (long long)n[1], (long long)n[2]);
         return false;
     }
-    out->data = malloc(count * sizeof(float));
-    if (!out->data) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (!grid_dense_alloc(out, n, count, name))
         return false;
-    }
     const unsigned char *p = b + 6;
     for (size_t i = 0; i < count; i++, p += width) {
         if (width == 1)
@@ -40,8 +36,6 @@ bool grid_df3_read(const unsigned char *b, size_t size, const char *name, size_t
         else
             out->data[i] = (float)(((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]) / 4294967295.0);
     }
-    for (int a = 0; a < 3; a++)
-        out->n[a] = (int)n[a];
     out->v2w = grid_box_map((box3){v3(0, 0, 0), v3(1, 1, 1)}, out->n); /* POV-Ray: the unit cube */
     return true;
 }

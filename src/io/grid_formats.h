@@ -45,6 +45,8 @@ typedef struct dense_read {
 size_t grid_voxel_count(const char *name, const int64_t n[3], size_t max_memory);
 /* Voxel box [0, n) onto the axis-aligned box b. */
 affine3 grid_box_map(box3 b, const int n[3]);
+/* out->data for count voxels (malloc'd) and out->n from n; false with err_set. */
+bool grid_dense_alloc(dense_read *out, const int64_t n[3], size_t count, const char *name);
 /* A write through io/atomic.h: a temporary file beside the destination (NULL with err_set),
  * renamed over it by grid_commit_tmp when ok, else removed (err_set naming the path). */
 FILE *grid_open_tmp(atomic_file *af, const char *path);

@@ -104,6 +104,18 @@ affine3 grid_box_map(box3 b, const int n[3])
     return (affine3){{e.x / n[0], 0, 0, b.lo.x, 0, e.y / n[1], 0, b.lo.y, 0, 0, e.z / n[2], b.lo.z}};
 }
 
+bool grid_dense_alloc(dense_read *out, const int64_t n[3], size_t count, const char *name)
+{
+    out->data = malloc(count * sizeof(float));
+    if (!out->data) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+        return false;
+    }
+    for (int a = 0; a < 3; a++)
+        out->n[a] = (int)n[a];
+    return true;
+}
+
 /* Writes go through io/atomic.h: a temporary file beside the destination, renamed over it
  * when complete. These two wrap it for the writers below. */
 FILE *grid_open_tmp(atomic_file *af, const char *path)

@@ -3,7 +3,6 @@
 #include "io/grid_formats.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <sys/stat.h>
 
 #include "core/error.h"
@@ -110,15 +109,10 @@ bool grid_raw_read(const unsigned char *b, size_t size, const char *name, const 
                 (long long)n[0], (long long)n[1], (long long)n[2], count * 4);
         return false;
     }
-    out->data = malloc(count * sizeof(float));
-    if (!out->data) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (!grid_dense_alloc(out, n, count, name))
         return false;
-    }
     for (size_t i = 0; i < count; i++)
         out->data[i] = rd_lef(b + 4 * i);
-    for (int a = 0; a < 3; a++)
-        out->n[a] = (int)n[a];
     out->v2w = has_v2w ? *v2w : grid_box_map(centred_box(out->n), out->n);
     return true;
 }

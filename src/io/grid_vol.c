@@ -3,8 +3,6 @@
  * documentation, "gridvolume"). */
 #include "io/grid_formats.h"
 
-#include <stdlib.h>
-
 #include "core/error.h"
 
 bool grid_vol_read(const unsigned char *b, size_t size, const char *name, size_t max_memory, dense_read *out)
@@ -48,15 +46,10 @@ bool grid_vol_read(const unsigned char *b, size_t size, const char *name, size_t
         err_set(BRUME_ERROR_PARSE, "%s: .vol bounding box is empty or not finite", name);
         return false;
     }
-    out->data = malloc(count * sizeof(float));
-    if (!out->data) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (!grid_dense_alloc(out, n, count, name))
         return false;
-    }
     for (size_t i = 0; i < count; i++)
         out->data[i] = enc == 1 ? rd_lef(b + 48 + 4 * i) : (float)(b[48 + i] / 255.0);
-    for (int a = 0; a < 3; a++)
-        out->n[a] = (int)n[a];
     out->v2w = grid_box_map(box, out->n);
     return true;
 }
