@@ -275,29 +275,31 @@ density *density_load_memory(const void *bytes, size_t size, const char *name, c
     return load_fields(bytes, size, name, NULL, opts, 1, d) ? d[0] : NULL;
 }
 
-/* Reads the whole file (not for .vdb, which the child process reads itself). */
-static bool load_path(const char *path, const density_load_options *opts, int count, density **out)
+/* Opens the regular file path as *f, with *len its size in bytes, and reads its first bytes
+ * into head (what grid_format_detect reads); false with err_set naming path. */
+static bool grid_file_open(const char *path, FILE **f, long *len, unsigned char head[16], size_t *nhead)
 {
-    size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
-    FILE *f = NULL;
-    if (io_open_regular(path, &f) != BRUME_OK)
+    if (io_open_regular(path, f) != BRUME_OK)
         return false;
-    long len = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
-        len = ftell(f);
-    if (len < 0 || fseek(f, 0, SEEK_SET) != 0) {
-        fclose(f);
+    *len = -1;
+    if (fseek(*f, 0, SEEK_END) == 0)
+        *len = ftell(*f);
+    if (*len < 0 || fseek(*f, 0, SEEK_SET) != 0) {
+        fclose(*f);
         err_set(BRUME_ERROR_IO, "%s: cannot determine the file size", path);
         return false;
     }
-    unsigned char head[16] = {0};
-    size_t nhead = fread(head, 1, sizeof head, f);
-    grid_format fmt = opts && opts->format != GRID_FORMAT_AUTO ? opts->format : grid_format_detect(path, head, nhead);
-    if (fmt == GRID_FORMAT_VDB) {
-        fclose(f);
-        return load_fields(NULL, (size_t)len, path, path, opts, count, out);
-    }
-    /* a file larger than the voxel budget (plus headers) cannot fit once decoded */
+    memset(head, 0, 16);
+    *nhead = fread(head, 1, 16, *f);
+    return true;
+}
+
+/* The whole of f (grid_file_open's, len bytes) into *out (malloc'd), and closes f: a file
+ * larger than the voxel budget (plus headers) cannot fit once decoded and is refused. false
+ * with err_set naming path. */
+static bool grid_file_read(FILE *f, const char *path, long len, size_t max_memory, unsigned char **out)
+{
+    *out = NULL;
     if ((size_t)len > max_memory + ((size_t)1 << 20)) {
         fclose(f);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: file of %ld bytes exceeds the memory limit of %zu", path, len,
@@ -318,7 +320,29 @@ static bool load_path(const char *path, const density_load_options *opts, int co
         err_set(BRUME_ERROR_IO, "%s: read %zu of %ld bytes", path, got, len);
         return false;
     }
-    bool ok = load_fields(b, got, path, path, opts, count, out);
+    *out = b;
+    return true;
+}
+
+/* Reads the whole file (not for .vdb, which the child process reads itself). */
+static bool load_path(const char *path, const density_load_options *opts, int count, density **out)
+{
+    size_t max_memory = opts && opts->max_memory ? opts->max_memory : DENSITY_DEFAULT_MAX_MEMORY;
+    FILE *f = NULL;
+    long len;
+    unsigned char head[16];
+    size_t nhead;
+    if (!grid_file_open(path, &f, &len, head, &nhead))
+        return false;
+    grid_format fmt = opts && opts->format != GRID_FORMAT_AUTO ? opts->format : grid_format_detect(path, head, nhead);
+    if (fmt == GRID_FORMAT_VDB) {
+        fclose(f);
+        return load_fields(NULL, (size_t)len, path, path, opts, count, out);
+    }
+    unsigned char *b;
+    if (!grid_file_read(f, path, len, max_memory, &b))
+        return false;
+    bool ok = load_fields(b, (size_t)len, path, path, opts, count, out);
     free(b);
     return ok;
 }
@@ -344,37 +368,23 @@ brume_status grid_list_file(const char *path, size_t max_memory, gridvdb_info **
     *count = 0;
     if (max_memory == 0)
         max_memory = DENSITY_DEFAULT_MAX_MEMORY;
-    unsigned char head[16] = {0};
-    size_t nhead = 0;
     FILE *f = NULL;
-    if (io_open_regular(path, &f) != BRUME_OK)
+    long len;
+    unsigned char head[16];
+    size_t nhead;
+    if (!grid_file_open(path, &f, &len, head, &nhead))
         return err_status();
-    nhead = fread(head, 1, sizeof head, f);
-    fclose(f);
     grid_format fmt = grid_format_detect(path, head, nhead);
-    if (fmt == GRID_FORMAT_VDB)
-        return grid_sandbox_list(path, NULL, 0, path, max_memory, out, count);
-    if (fmt != GRID_FORMAT_NVDB)
+    if (fmt != GRID_FORMAT_NVDB) {
+        fclose(f);
+        if (fmt == GRID_FORMAT_VDB)
+            return grid_sandbox_list(path, NULL, 0, path, max_memory, out, count);
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: only .vdb and .nvdb files hold named grids", path);
-    size_t n = 0;
-    unsigned char *b = NULL;
-    {
-        FILE *g = NULL;
-        long len = -1;
-        if (io_open_regular(path, &g) != BRUME_OK)
-            return err_status();
-        if (g && fseek(g, 0, SEEK_END) == 0)
-            len = ftell(g);
-        if (!g || len < 0 || fseek(g, 0, SEEK_SET) != 0 || (size_t)len > max_memory + ((size_t)1 << 20) ||
-            !(b = malloc((size_t)len + 1)) || (n = fread(b, 1, (size_t)len, g)) != (size_t)len) {
-            if (g)
-                fclose(g);
-            free(b);
-            return err_set(BRUME_ERROR_IO, "%s: cannot read the file (or over the memory limit)", path);
-        }
-        fclose(g);
     }
-    brume_status st = grid_nvdb_list(b, n, path, max_memory, out, count);
+    unsigned char *b;
+    if (!grid_file_read(f, path, len, max_memory, &b))
+        return err_status();
+    brume_status st = grid_nvdb_list(b, (size_t)len, path, max_memory, out, count);
     free(b);
     return st;
 }
