@@ -17,6 +17,7 @@ import re
 import sys
 
 SIG = re.compile(r'^[A-Za-z_][\w \*]*?\b(\w+)\s*\(')
+ATTR = re.compile(r'__attribute__\s*\(\(.*?\)\)\s*')  # not a function's name
 SKIP = ('typedef', 'struct', 'enum', 'union', '#', 'extern "C" {')
 
 
@@ -25,7 +26,7 @@ def functions(path):
         lines = f.read().split('\n')
     i = 0
     while i < len(lines):
-        m = SIG.match(lines[i])
+        m = SIG.match(ATTR.sub('', lines[i]))
         if not m or lines[i].startswith(SKIP) or lines[i].rstrip().endswith(';'):
             i += 1
             continue
