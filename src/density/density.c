@@ -1,5 +1,6 @@
-/* grid.c - dense float32 voxel grids; placement, lookup, majorant grid and majorant
- * iteration shared by every grid kind (one switch per operation over density_kind). */
+/* density.c - a density field whatever its kind (density_kind: dense grid, NanoVDB grid,
+ * blobs): placement, majorant grid and its walk, lookup, release, the GPU's copy; one
+ * switch per operation over the kind. The kinds: dense_grid.c, nanovdb.c, blobs.c. */
 #include <float.h>
 #include <stdlib.h>
 
@@ -8,7 +9,7 @@
 #include "density/density_impl.h"
 #include "core/arena.h"
 
-/* ---- affine maps ------------------------------------------------------------------------ */
+/* ---- placement and majorants, shared by every kind ---------------------------------------- */
 
 bool density_set_placement(density *d, const affine3 *voxel_to_world, const char *who)
 {
@@ -27,17 +28,6 @@ bool density_place(density *d, const affine3 *voxel_to_world)
 {
     return density_set_placement(d, voxel_to_world, "grid");
 }
-
-/* ---- dense grids -------------------------------------------------------------------------- */
-
-static inline double dense_at(const density *d, int i, int j, int k)
-{
-    if (d->bricked)
-        return (double)d->data[dense_brick_x(i) + dense_brick_y(d, j) + dense_brick_z(d, k)];
-    return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
-}
-
-static double dense_fetch(const density *d, int i, int j, int k) { return dense_at(d, i, j, k); }
 
 /* Max and min over each majorant cell of the voxels a lookup inside it can read: the cell
  * itself (nearest) or the cell dilated by one voxel (trilinear). A trilinear value is a
@@ -131,72 +121,6 @@ void density_set_active_box(density *d)
     }
 }
 
-density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affine3 *voxel_to_world,
-                                 grid_filter filter)
-{
-    if (nx < 1 || ny < 1 || nz < 1) {
-        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: dimensions %d x %d x %d must be positive", nx, ny, nz);
-        return NULL;
-    }
-    size_t n = (size_t)nx * (size_t)ny * (size_t)nz;
-    double rho_min = INFINITY, rho_max = 0.0;
-    uint64_t active = 0;
-    for (size_t i = 0; i < n; i++) {
-        if (!isfinite(data[i]) || data[i] < 0.0f) {
-            err_set(BRUME_ERROR_RANGE, "grid: voxel %zu (%zu, %zu, %zu) has density %g: need finite and >= 0", i,
-                    i % (size_t)nx, i / (size_t)nx % (size_t)ny, i / ((size_t)nx * (size_t)ny), (double)data[i]);
-            return NULL;
-        }
-        rho_min = fmin(rho_min, (double)data[i]);
-        rho_max = fmax(rho_max, (double)data[i]);
-        active += data[i] > 0.0f;
-    }
-    density *d = calloc(1, sizeof *d);
-    if (!d) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid: out of memory");
-        return NULL;
-    }
-    d->kind = DENSITY_GRID;
-    d->n[0] = nx;
-    d->n[1] = ny;
-    d->n[2] = nz;
-    d->filter = filter;
-    if (!density_set_placement(d, voxel_to_world, "grid")) {
-        free(d);
-        return NULL;
-    }
-    d->data = data;
-    if (!density_build_cell_bounds(d, dense_fetch)) {
-        free(d);
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid: out of memory for the majorant grid");
-        return NULL;
-    }
-    d->rho_min = rho_min;
-    d->rho_max = rho_max;
-    d->active = active;
-    d->memory = n * sizeof(float) + 3 * (size_t)d->mn[0] * (size_t)d->mn[1] * (size_t)d->mn[2] * sizeof(float);
-    return d;
-}
-
-density *density_new_grid(int nx, int ny, int nz, float *data, box3 bounds, grid_filter filter)
-{
-    if (!(bounds.hi.x > bounds.lo.x && bounds.hi.y > bounds.lo.y && bounds.hi.z > bounds.lo.z) ||
-        !v3_isfinite(bounds.lo) || !v3_isfinite(bounds.hi)) {
-        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: bounds must be a finite box with lo < hi");
-        return NULL;
-    }
-    if (nx < 1 || ny < 1 || nz < 1) {
-        err_set(BRUME_ERROR_INVALID_ARGUMENT, "grid: dimensions %d x %d x %d must be positive", nx, ny, nz);
-        return NULL;
-    }
-    vec3 ext = v3_sub(bounds.hi, bounds.lo);
-    affine3 v2w = {{ext.x / nx, 0, 0, bounds.lo.x, 0, ext.y / ny, 0, bounds.lo.y, 0, 0, ext.z / nz, bounds.lo.z}};
-    density *d = density_new_grid_affine(nx, ny, nz, data, &v2w, filter);
-    if (d)
-        d->bounds = bounds; /* exactly, not through rounding of the map */
-    return d;
-}
-
 void density_release(density *d)
 {
     if (!d)
@@ -218,12 +142,6 @@ void density_release(density *d)
     free(d->mino);
     free(d->mean);
     free(d);
-}
-
-void density_grid_borrow(density *d, void (*release)(void *user), void *user)
-{
-    d->data_release = release;
-    d->data_user = user;
 }
 
 density_kind density_get_kind(const density *d) { return d->kind; }
@@ -278,26 +196,6 @@ double density_voxel(const density *d, int i, int j, int k)
     case DENSITY_BLOBS: return blob_field_mean(d->blobs, affine3_apply(&d->v2w, v3(i + 0.5, j + 0.5, k + 0.5)));
     }
     return 0.0;
-}
-
-/* Trilinear between voxel centres, clamped to the outermost samples; u in voxel space. */
-static double dense_trilinear(const density *d, vec3 u)
-{
-    int ijk[3][2];
-    double a[3], c[8];
-    trilinear_corners(u, d->n, ijk, a);
-    if (d->bricked) {
-        const size_t x0 = dense_brick_x(ijk[0][0]), x1 = dense_brick_x(ijk[0][1]);
-        const size_t y0 = dense_brick_y(d, ijk[1][0]), y1 = dense_brick_y(d, ijk[1][1]);
-        const size_t z0 = dense_brick_z(d, ijk[2][0]), z1 = dense_brick_z(d, ijk[2][1]);
-        const float *v = d->data;
-        c[0] = v[x0 + y0 + z0], c[1] = v[x1 + y0 + z0], c[2] = v[x0 + y1 + z0], c[3] = v[x1 + y1 + z0];
-        c[4] = v[x0 + y0 + z1], c[5] = v[x1 + y0 + z1], c[6] = v[x0 + y1 + z1], c[7] = v[x1 + y1 + z1];
-        return trilinear_blend(c, a);
-    }
-    for (int q = 0; q < 8; q++)
-        c[q] = dense_at(d, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
-    return trilinear_blend(c, a);
 }
 
 double density_eval(const density *d, vec3 p)
