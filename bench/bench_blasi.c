@@ -24,7 +24,7 @@
 
 #include "brume.h"
 #include "core/progress.h"
-#include "io/compare.h"
+#include "tool/tool.h"
 #include "render/blasi.h"
 #include "scene/scene.h"
 

@@ -17,7 +17,7 @@
 
 #include "brume.h"
 #include "core/progress.h"
-#include "io/compare.h"
+#include "tool/tool.h"
 
 static brume_image *render(const char *path, const brume_render_settings *base, int spp, uint64_t seed, double *secs)
 {

@@ -1,6 +1,6 @@
 #!/bin/sh
-# run_all.sh - every benchmark in one run, on an otherwise idle machine, printed in the
-# order of docs/performance.md. Usage: sh bench/run_all.sh [BUILD_DIR] > bench.txt
+# run_all.sh - most benchmarks in one run, on an otherwise idle machine; docs/performance.md
+# says what each measures. Usage: sh bench/run_all.sh [BUILD_DIR] > bench.txt
 # Takes about 20 minutes on 2 cores; Blender for the Cycles comparison is installed when
 # run as root (bench/cloud64_vs_cycles.sh).
 set -eu

@@ -6,7 +6,7 @@
 #include <stdio.h>
 
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 
 void cli_error(const char *fmt, ...)
 {
@@ -14,7 +14,7 @@ void cli_error(const char *fmt, ...)
     char msg[2048];
     va_list ap;
     va_start(ap, fmt);
-    err_vformat(msg, sizeof msg, fmt, ap);
+    tool_vformat(msg, sizeof msg, fmt, ap);
     va_end(ap);
     fprintf(stderr, "brume: %s\n", msg);
 }

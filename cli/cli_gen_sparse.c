@@ -1,6 +1,7 @@
-/* cli_gen_sparse.c - `brume gen fire` (a procedural flame: density and temperature grids,
- * sparse) and `brume gen upres` (a cloud upsampled by an integer factor with fractal
- * detail, kept sparse), written through OpenVDB as .vdb or .nvdb (docs/grids.md). */
+/* cli_gen_sparse.c - the command lines of `brume gen fire` (a procedural flame: density and
+ * temperature grids, sparse) and `brume gen upres` (a cloud upsampled by an integer factor
+ * with fractal detail, kept sparse); the grids are made and written through OpenVDB by
+ * src/tool/gen_sparse.c (docs/grids.md). */
 #include "cli_gen_sparse.h"
 
 #include <stdio.h>
@@ -10,10 +11,7 @@
 
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
-#include "density/fractal.h"
-#include "io/atomic.h"
-#include "io/grid_vdb.h"
+#include "tool/tool.h"
 
 static const char fire_usage[] =
     "usage: brume gen fire [flags] -o OUT(.vdb|.nvdb)\n"
@@ -31,30 +29,13 @@ static const char upres_usage[] =
     "  --grid NAME      the grid of IN (default: \"density\", else the only float grid)\n"
     "  --max-memory B   for IN (default 4G)\n";
 
-/* Writes the grids through a temporary file renamed over `out` (io/atomic.h). */
-static int save(gridvdb_writer *w, const char *out)
+/* OUT must be .vdb or .nvdb: 0, or 2 with a message. */
+static int check_output(const char *out)
 {
     const char *dot = strrchr(out, '.');
-    int nano = dot && strcmp(dot, ".nvdb") == 0;
-    if (!dot || (!nano && strcmp(dot, ".vdb") != 0)) {
+    if (!dot || (strcmp(dot, ".nvdb") != 0 && strcmp(dot, ".vdb") != 0)) {
         cli_error("%s: the output must be .vdb or .nvdb", out);
         return 2;
-    }
-    atomic_file af;
-    if (atomic_open(&af, out) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
-        return 1;
-    }
-    fclose(af.fp); /* OpenVDB writes the temporary file by name */
-    af.fp = NULL;
-    if (gridvdb_writer_save(w, af.tmp_path, nano) != BRUME_OK) {
-        cli_error("%s: %.1000s", out, err_message());
-        atomic_abort(&af);
-        return 1;
-    }
-    if (atomic_commit(&af) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
-        return 1;
     }
     return 0;
 }
@@ -67,12 +48,6 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
         return false;
     *out = v;
     return true;
-}
-
-static double smoothstep(double a, double b, double x)
-{
-    double t = x <= a ? 0.0 : (x >= b ? 1.0 : (x - a) / (b - a));
-    return t * t * (3.0 - 2.0 * t);
 }
 
 int gen_fire(int argc, char **argv)
@@ -113,57 +88,20 @@ int gen_fire(int argc, char **argv)
         cli_error("gen fire: no output file (-o OUT.vdb)");
         return 2;
     }
-    if (!grid_have_openvdb()) {
+    if (!tool_grid_have_openvdb()) {
         cli_error("gen fire: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
-    perlin_table pt;
-    perlin_init(&pt, (uint64_t)seed);
-    gridvdb_writer *w = gridvdb_writer_new();
-    if (!w) {
-        cli_error("gen fire: %.1000s", err_message());
+    if (check_output(out))
+        return 2;
+    tool_gen_result res;
+    if (tool_gen_fire(out, (int)n, (uint64_t)seed, height, &res) != BRUME_OK) {
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
-    double vs = height / (double)n;
-    int half = (int)(n / 4);
-    const double origin[3] = {0.5 * vs, 0.5 * vs, 0.5 * vs}; /* index (I, J, K) centred at ((I + 1/2) vs, ...) */
-    int gd = gridvdb_writer_add(w, "density", 0, vs, origin), gt = gridvdb_writer_add(w, "temperature", 0, vs, origin);
-    if (gd < 0 || gt < 0) {
-        cli_error("gen fire: %.1000s", err_message());
-        gridvdb_writer_free(w);
-        return 1;
-    }
-    /* Normalized coordinates: h in [0, 1) up the flame, (x, z) across, |x|, |z| < 1/4. The
-     * flame core narrows and cools with height; smoke widens above it; turbulence, growing
-     * with height, displaces both and breaks them into licks and puffs. */
-    for (int j = 0; j < n; j++)
-        for (int k = 0; k < 2 * half; k++)
-            for (int i = 0; i < 2 * half; i++) {
-                double x = (i - half + 0.5) / (double)n, h = (j + 0.5) / (double)n, z = (k - half + 0.5) / (double)n;
-                vec3 q = v3(x, h, z);
-                double sway = 0.06 * h;
-                q.x += sway * perlin_noise(&pt, v3(3.0 * x, 2.5 * h - 0.0, 3.0 * z));
-                q.z += sway * perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * h, 3.0 * z - 5.0));
-                double d = sqrt(q.x * q.x + q.z * q.z);
-                double turb = perlin_turbulence(&pt, v3(9.0 * q.x, 5.0 * h, 9.0 * q.z), 4);
-                double rf = 0.11 * (1.0 - h) * (1.0 - h) + 0.015; /* flame radius */
-                double core = fmax(0.0, 1.0 - d / rf) * (1.0 - smoothstep(0.35, 0.8, h));
-                double T = 300.0 + 1700.0 * core * (0.55 + 0.9 * turb);
-                double rs = 0.04 + 0.16 * h; /* smoke radius */
-                double smoke = pow(fmax(0.0, 1.0 - d / rs), 1.5) * smoothstep(0.2, 0.6, h) * (0.2 + 1.6 * turb);
-                double rho = smoke + 0.6 * core * (0.5 + turb);
-                if (rho < 2e-3)
-                    continue;
-                float fv = (float)rho, ft = (float)T;
-                gridvdb_writer_set(w, gd, i - half, j, k - half, &fv);
-                gridvdb_writer_set(w, gt, i - half, j, k - half, &ft);
-            }
-    int rc = save(w, out);
-    if (rc == 0)
-        printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", out, gridvdb_writer_active(w, gd),
-               2 * (long)half, n, 2 * (long)half, vs);
-    gridvdb_writer_free(w);
-    return rc;
+    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", out, res.active, res.box[0], res.box[1],
+           res.box[2], res.voxel);
+    return 0;
 }
 
 int gen_upres(int argc, char **argv)
@@ -171,9 +109,8 @@ int gen_upres(int argc, char **argv)
     long factor = 0, seed = 1;
     double detail = 0.5;
     const char *in = NULL, *out = NULL;
-    density_load_options o;
-    density_load_options_default(&o);
-    o.filter = GRID_TRILINEAR;
+    brume_grid_file_options o;
+    brume_grid_file_options_default(&o); /* trilinear */
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i];
         if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
@@ -221,74 +158,18 @@ int gen_upres(int argc, char **argv)
         cli_error("gen upres: need IN, --factor F and -o OUT (see brume gen upres --help)");
         return 2;
     }
-    if (!grid_have_openvdb()) {
+    if (!tool_grid_have_openvdb()) {
         cli_error("gen upres: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
-    density *src = density_load_file(in, &o);
-    if (!src) {
-        cli_error("%.1000s", err_message());
+    if (check_output(out))
+        return 2;
+    tool_gen_result res;
+    if (tool_gen_upres(in, &o, (int)factor, (uint64_t)seed, detail, out, &res) != BRUME_OK) {
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
-    density_info info;
-    density_get_info(src, &info);
-    const double *m = info.voxel_to_world.m;
-    double vs = m[0];
-    if (!(vs > 0.0) || m[1] != 0.0 || m[2] != 0.0 || m[4] != 0.0 || m[6] != 0.0 || m[8] != 0.0 || m[9] != 0.0 ||
-        m[5] != vs || m[10] != vs) {
-        cli_error("%s: gen upres needs an axis-aligned grid with cubic voxels", in);
-        density_release(src);
-        return 1;
-    }
-    perlin_table pt;
-    perlin_init(&pt, (uint64_t)seed);
-    gridvdb_writer *w = gridvdb_writer_new();
-    double fv = vs / (double)factor;
-    /* fine voxel (I, J, K) has its centre at source voxel space ((I + 1/2) / F, ...) */
-    const double origin[3] = {m[3] + 0.5 * fv, m[7] + 0.5 * fv, m[11] + 0.5 * fv};
-    int g = w ? gridvdb_writer_add(w, "density", 0, fv, origin) : -1;
-    if (g < 0) {
-        cli_error("gen upres: %.1000s", err_message());
-        gridvdb_writer_free(w);
-        density_release(src);
-        return 1;
-    }
-    int F = (int)factor;
-    /* detail at about 4 fine voxels, whatever the factor: the same features at each F */
-    double freq = 1.0 / (4.0 * fv);
-    for (int k = 0; k < info.n[2]; k++)
-        for (int j = 0; j < info.n[1]; j++)
-            for (int i = 0; i < info.n[0]; i++) {
-                /* only source voxels that a trilinear lookup can see as non-zero */
-                double near = 0.0;
-                for (int q = 0; q < 27 && near <= 0.0; q++) {
-                    int a = i + q % 3 - 1, b = j + (q / 3) % 3 - 1, c = k + q / 9 - 1;
-                    if (a >= 0 && b >= 0 && c >= 0 && a < info.n[0] && b < info.n[1] && c < info.n[2])
-                        near = density_voxel(src, a, b, c);
-                }
-                if (near <= 0.0)
-                    continue;
-                for (int c = 0; c < F; c++)
-                    for (int b = 0; b < F; b++)
-                        for (int a = 0; a < F; a++) {
-                            vec3 u = v3(i + (a + 0.5) / F, j + (b + 0.5) / F, k + (c + 0.5) / F);
-                            vec3 p = affine3_apply(&info.voxel_to_world, u);
-                            double v = density_eval(src, p);
-                            if (v <= 0.0)
-                                continue;
-                            double t = perlin_turbulence(&pt, v3_scale(p, freq), 3);
-                            v *= fmax(0.0, 1.0 + detail * (2.0 * fmin(t, 1.0) - 1.0));
-                            if (v < 1e-4)
-                                continue;
-                            float fvv = (float)v;
-                            gridvdb_writer_set(w, g, i * F + a, j * F + b, k * F + c, &fvv);
-                        }
-            }
-    density_release(src);
-    int rc = save(w, out);
-    if (rc == 0)
-        printf("%s: %llu active voxels, index box %d x %d x %d, voxel %g\n", out, gridvdb_writer_active(w, g),
-               info.n[0] * F, info.n[1] * F, info.n[2] * F, fv);
-    gridvdb_writer_free(w);
-    return rc;
+    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", out, res.active, res.box[0], res.box[1],
+           res.box[2], res.voxel);
+    return 0;
 }

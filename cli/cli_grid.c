@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "tool/tool.h"
 
 bool cli_parse_dims(const char *s, int n[3])
 {
@@ -73,7 +74,7 @@ bool cli_parse_bytes(const char *s, size_t *out)
     return true;
 }
 
-int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_options *o)
+int cli_load_flag(const char *cmd, int argc, char **argv, int *i, brume_grid_file_options *o)
 {
     const char *f = argv[*i];
     static const char *const with_value[] = {"--format", "--dims", "--bounds", "--transform",
@@ -90,28 +91,29 @@ int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_o
     const char *v = argv[++*i];
     bool ok = true;
     if (strcmp(f, "--format") == 0) {
-        o->format = grid_format_from_name(v);
-        ok = o->format != GRID_FORMAT_AUTO;
+        ok = tool_grid_format_known(v);
+        o->format = tool_grid_format_parse(ok ? v : NULL);
     } else if (strcmp(f, "--dims") == 0) {
-        ok = cli_parse_dims(v, o->raw_dims);
+        ok = cli_parse_dims(v, o->dims);
     } else if (strcmp(f, "--bounds") == 0) {
-        double b[6];
-        ok = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
+        ok = cli_parse_doubles(v, o->bounds, 6) && o->bounds[3] > o->bounds[0] && o->bounds[4] > o->bounds[1] &&
+             o->bounds[5] > o->bounds[2];
         o->has_bounds = ok;
-        o->bounds = (box3){v3(b[0], b[1], b[2]), v3(b[3], b[4], b[5])};
     } else if (strcmp(f, "--transform") == 0) {
-        ok = cli_parse_doubles(v, o->transform.m, 12);
+        ok = cli_parse_doubles(v, o->transform, 12);
         o->has_transform = ok;
     } else if (strcmp(f, "--filter") == 0) {
         ok = strcmp(v, "nearest") == 0 || strcmp(v, "trilinear") == 0;
-        o->filter = strcmp(v, "nearest") == 0 ? GRID_NEAREST : GRID_TRILINEAR;
+        o->filter = strcmp(v, "nearest") == 0 ? BRUME_GRID_NEAREST : BRUME_GRID_TRILINEAR;
     } else if (strcmp(f, "--scale") == 0) {
         ok = cli_parse_doubles(v, &o->scale, 1) && o->scale > 0.0;
     } else if (strcmp(f, "--grid") == 0) {
         ok = v[0] != '\0' && strlen(v) < sizeof o->grid;
         snprintf(o->grid, sizeof o->grid, "%s", v);
     } else {
-        ok = cli_parse_bytes(v, &o->max_memory);
+        size_t bytes = 0;
+        ok = cli_parse_bytes(v, &bytes);
+        o->max_memory_mb = (double)bytes / 1048576.0; /* exact below 2^53 bytes: the reader multiplies back */
     }
     if (!ok) {
         cli_error("%s: bad value for %s: %s", cmd, f, v);

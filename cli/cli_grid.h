@@ -1,12 +1,13 @@
 /* cli_grid.h - flags shared by the grid subcommands (info, convert, gen): parsing of
- * dimensions, boxes, transforms, sizes, and of the grid loading options. */
+ * dimensions, boxes, transforms, sizes, and of the grid loading options (brume.h's
+ * brume_grid_file_options, --max-memory in bytes turned into max_memory_mb, exactly). */
 #ifndef BRUME_CLI_CLI_GRID_H
 #define BRUME_CLI_CLI_GRID_H
 
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "io/grid_io.h"
+#include "brume.h"
 
 /* "NXxNYxNZ" (or one number N for a cube), each in [1, 2^31). */
 bool cli_parse_dims(const char *s, int n[3]);
@@ -19,7 +20,7 @@ bool cli_parse_bytes(const char *s, size_t *out);
  * it is not one, and -1 (after printing the usage error) when its value is bad. Flags:
  *   --format F  --dims NXxNYxNZ  --bounds X0,Y0,Z0,X1,Y1,Z1  --transform 12 numbers (row-major 3x4)
  *   --filter nearest|trilinear  --scale S  --max-memory BYTES  --grid NAME */
-int cli_load_flag(const char *cmd, int argc, char **argv, int *i, density_load_options *o);
+int cli_load_flag(const char *cmd, int argc, char **argv, int *i, brume_grid_file_options *o);
 #define CLI_LOAD_FLAGS_HELP                                                                     \
     "  --format raw|df3|vol|nvdb|vdb   override detection by extension and magic\n"            \
     "  --dims NXxNYxNZ                 raw dimensions when there is no FILE.hdr sidecar\n"      \

@@ -14,10 +14,7 @@
 #include <unistd.h>
 
 #include "commands.h"
-#include "core/error.h"
-#include "io/atomic.h"
-#include "job/checkpoint.h"
-#include "core/regular_file.h"
+#include "tool/tool.h"
 
 /* ---- signals ------------------------------------------------------------------------------ */
 
@@ -33,7 +30,7 @@ static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a sign
 static void on_signal(int sig)
 {
     if (g_signal || !g_keep) {
-        atomic_remove_temporaries(NULL); /* every write of this process (io/atomic.h) */
+        tool_remove_temporaries();
         static const char msg[] = "brume: interrupted: the work in progress is not kept\n";
         if (!g_signal)
             (void)!write(2, msg, sizeof msg - 1);
@@ -207,14 +204,14 @@ void cli_job_callback(brume_progress_fn *fn, void **user)
 
 int cli_check_output(const char *flag, const char *path, const char *scene_path, const brume_scene *scene)
 {
-    brume_status st = scene ? checkpoint_output_check(scene, flag, path) : io_output_check(flag, path, scene_path, NULL);
-    if (st == BRUME_OK && strcmp(flag, "--checkpoint") == 0 && checkpoint_target_check(path) != BRUME_OK) {
-        cli_error("%s: %s", flag, err_message());
+    brume_status st = tool_output_check(flag, path, scene_path, scene);
+    if (st == BRUME_OK && strcmp(flag, "--checkpoint") == 0 && tool_checkpoint_target_check(path) != BRUME_OK) {
+        cli_error("%s: %s", flag, tool_last_error());
         return 1;
     }
     if (st == BRUME_OK)
         return 0;
-    cli_error("%s", err_message());
+    cli_error("%s", tool_last_error());
     return 1;
 }
 
@@ -242,7 +239,7 @@ uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nse
         FOLD(sets[i], strlen(sets[i]) + 1)
     FOLD(&frame, sizeof frame)
 #undef FOLD
-    return checkpoint_inputs_key(scene, h);
+    return tool_checkpoint_inputs_key(scene, h);
 }
 
 /* Releases a job that failed: the live view stops showing it first (its server thread reads
@@ -293,7 +290,7 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
         } else {
             /* finished: the image is the result. Removed only when the file there is this
              * render's checkpoint (its header says so): never a file brume did not write */
-            checkpoint_remove_own(job, o->scene_key, o->checkpoint);
+            tool_checkpoint_remove_own(job, o->scene_key, o->checkpoint);
         }
     }
     brume_render_job_progress(job, &res->progress);

@@ -9,8 +9,7 @@
 #include "args.h"
 #include "brume.h"
 #include "commands.h"
-#include "core/error.h"
-#include "io/compare.h"
+#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_SEEDS 256
@@ -94,90 +93,196 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
     return img;
 }
 
-int cmd_compare(int argc, char **argv)
+typedef struct compare_opts {
+    const char *paths[2]; /* IMAGE REFERENCE, or REFERENCE alone with --scene */
+    int np;
+    const char *diff, *mask_path; /* -o, --mask, or NULL */
+    double scale, alpha;          /* --scale; --alpha, < 0 without */
+    int boot;
+    scene_run sr;                 /* --scene and its render options */
+} compare_opts;
+
+/* The command line into *o. -1: go on; otherwise the exit status (0 after --help, 2 with a
+ * message). */
+static int parse_compare(compare_opts *o, int argc, char **argv)
 {
-    const char *paths[2] = {NULL, NULL}, *diff = NULL, *mask_path = NULL;
-    double scale = 0.5, alpha = -1.0;
-    int np = 0, boot = 1000;
-    scene_run sr = {0};
-    sr.seed0 = 1;
+    scene_run *sr = &o->sr;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
             fputs(compare_usage, stdout);
             return 0;
         } else if (strcmp(a, "-o") == 0) {
-            if (!(diff = arg_value(argc, argv, &i))) return 2;
+            if (!(o->diff = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--scale") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-6, 1e6, &scale)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-6, 1e6, &o->scale)) return 2;
         } else if (strcmp(a, "--alpha") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 0.0, 0.999999, &alpha)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 0.0, 0.999999, &o->alpha)) return 2;
         } else if (strcmp(a, "--mask") == 0) {
-            if (!(mask_path = arg_value(argc, argv, &i))) return 2;
+            if (!(o->mask_path = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--boot") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 100000, &boot)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 100000, &o->boot)) return 2;
         } else if (strcmp(a, "--scene") == 0) {
-            if (!(sr.path = arg_value(argc, argv, &i))) return 2;
+            if (!(sr->path = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--seeds") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 2, MAX_SEEDS, &sr.seeds)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 2, MAX_SEEDS, &sr->seeds)) return 2;
         } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &sr.seed0)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &sr->seed0)) return 2;
         } else if (strcmp(a, "--set") == 0) {
             if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (sr.nsets == MAX_SETS) {
+            if (sr->nsets == MAX_SETS) {
                 cli_error("compare: more than %d --set options", MAX_SETS);
                 return 2;
             }
-            sr.sets[sr.nsets++] = v;
+            sr->sets[sr->nsets++] = v;
         } else if (strcmp(a, "--method") == 0) {
-            if (!(sr.method = arg_value(argc, argv, &i))) return 2;
+            if (!(sr->method = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &sr.spp)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &sr->spp)) return 2;
         } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr.width)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr->width)) return 2;
         } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr.height)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr->height)) return 2;
         } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &sr.threads)) return 2;
-        } else if (np < 2 && (a[0] != '-' || a[1] == '\0')) {
-            paths[np++] = a;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &sr->threads)) return 2;
+        } else if (o->np < 2 && (a[0] != '-' || a[1] == '\0')) {
+            o->paths[o->np++] = a;
         } else {
             cli_error("compare: unexpected argument '%s'", a);
             return 2;
         }
     }
-    if (alpha >= 0.0 && mask_path) {
+    return -1;
+}
+
+/* The options that go together: 0, or 2 with a message. */
+static int check_compare(const compare_opts *o)
+{
+    const scene_run *sr = &o->sr;
+    if (o->alpha >= 0.0 && o->mask_path) {
         cli_error("compare: --alpha and --mask both give the region: choose one");
         return 2;
     }
-    if (!sr.path && (sr.seeds || sr.nsets || sr.method || sr.spp || sr.width || sr.height)) {
+    if (!sr->path && (sr->seeds || sr->nsets || sr->method || sr->spp || sr->width || sr->height)) {
         cli_error("compare: --seeds, --set, --method, --spp, --width and --height need --scene");
         return 2;
     }
-    if (sr.path && (!sr.seeds || np != 1)) {
+    if (sr->path && (!sr->seeds || o->np != 1)) {
         cli_error("compare: --scene needs --seeds K and the REFERENCE alone (try `brume help compare`)");
         return 2;
     }
-    if (!sr.path && np != 2) {
+    if (!sr->path && o->np != 2) {
         cli_error("compare: need IMAGE and REFERENCE (try `brume help compare`)");
         return 2;
     }
-    const char *ref_path = sr.path ? paths[0] : paths[1];
+    return 0;
+}
+
+/* IMAGE against REFERENCE: the whole-frame figures, then the frame's and the region's (rname
+ * not NULL) with their intervals. 0, or 1 with a message. */
+static int compare_two(const compare_opts *o, const brume_image *img, const brume_image *ref,
+                       const unsigned char *mask, const char *rname)
+{
+    image_diff_stats st;
+    image_region_stats fr, rg;
+    if (image_compare(img, ref, &st) != BRUME_OK || image_compare_region(img, ref, NULL, o->boot, 1, &fr) != BRUME_OK ||
+        (rname && image_compare_region(img, ref, mask, o->boot, 1, &rg) != BRUME_OK)) {
+        cli_error("%s: %.1000s", o->paths[0], tool_last_error());
+        return 1;
+    }
+    printf("rmse %.6g\nrel_rmse %.6g\nmean_rel %.6g\nmax_rel %.6g\nmean %.6g\nmean_ref %.6g\n", st.rmse,
+           st.rel_rmse, st.mean_rel, st.max_rel, st.mean_img, st.mean_ref);
+    print_region("frame", &fr, o->boot);
+    if (rname)
+        print_region(rname, &rg, o->boot);
+    return 0;
+}
+
+/* K renders of the scene: each one's figures, then the mean and its standard error over K.
+ * *img is the last render (the caller releases it). 0, or 1 with a message. */
+static int compare_seeds(brume_context *ctx, const scene_run *sr, const brume_image *ref, const unsigned char *mask,
+                         const char *rname, brume_image **img)
+{
+    double sum[2][IMAGE_NFIGS] = {{0}}, sum2[2][IMAGE_NFIGS] = {{0}};
+    int nreg = rname ? 2 : 1;
+    for (int k = 0; k < sr->seeds; k++) {
+        uint64_t seed = sr->seed0 + (uint64_t)k;
+        brume_image_release(*img);
+        if (!(*img = render_seed(ctx, sr, seed))) {
+            cli_error("%.1000s", brume_context_last_error(ctx));
+            return 1;
+        }
+        for (int g = 0; g < nreg; g++) {
+            image_region_stats st;
+            if (image_compare_region(*img, ref, g ? mask : NULL, 0, 1, &st) != BRUME_OK) {
+                cli_error("%s: %.1000s", sr->path, tool_last_error());
+                return 1;
+            }
+            printf("seed %llu %s", (unsigned long long)seed, g ? rname : "frame");
+            for (int f = 0; f < IMAGE_NFIGS; f++) {
+                printf(" %s %.6g", fig_names[f], st.fig[f]);
+                sum[g][f] += st.fig[f];
+                sum2[g][f] += st.fig[f] * st.fig[f];
+            }
+            printf("\n");
+        }
+    }
+    double K = sr->seeds;
+    for (int g = 0; g < nreg; g++)
+        for (int f = 0; f < IMAGE_NFIGS; f++) {
+            double m = sum[g][f] / K, var = fmax(0.0, (sum2[g][f] - K * m * m) / (K - 1.0));
+            printf("%s %s %.6g +- %.2g (%d seeds)\n", g ? rname : "frame", fig_names[f], m, sqrt(var / K), sr->seeds);
+        }
+    return 0;
+}
+
+/* -o: the signed difference picture, as a PNG with its scale bar or as linear colours. 0, or
+ * 1 with a message. */
+static int write_diff(brume_context *ctx, const compare_opts *o, const brume_image *img, const brume_image *ref,
+                      const unsigned char *mask)
+{
+    size_t n = strlen(o->diff);
+    bool png = n >= 4 && strcmp(o->diff + n - 4, ".png") == 0;
+    brume_image *pic = NULL;
+    if (png ? image_diff_png(img, ref, mask, o->scale, o->diff) != BRUME_OK
+            : image_diff_picture(img, ref, o->scale, &pic) != BRUME_OK) {
+        cli_error("%.1000s", tool_last_error());
+        return 1;
+    }
+    if (pic && brume_image_write(ctx, pic, o->diff, NULL) != BRUME_OK) {
+        brume_image_release(pic);
+        cli_error("%.1000s", brume_context_last_error(ctx));
+        return 1;
+    }
+    brume_image_release(pic);
+    return 0;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+    compare_opts o = {.scale = 0.5, .alpha = -1.0, .boot = 1000, .sr = {.seed0 = 1}};
+    int rc = parse_compare(&o, argc, argv);
+    if (rc >= 0)
+        return rc;
+    if ((rc = check_compare(&o)) != 0)
+        return rc;
+    const scene_run *sr = &o.sr;
+    const char *ref_path = sr->path ? o.paths[0] : o.paths[1], *mask_path = o.mask_path;
     brume_context *ctx = brume_context_new();
     brume_image *img = NULL, *ref = NULL, *mpic = NULL;
     unsigned char *mask = NULL;
     long mcount = 0;
-    int rc = 1;
+    rc = 1;
     if (!ctx || brume_image_read(ctx, ref_path, &ref) != BRUME_OK ||
-        (!sr.path && brume_image_read(ctx, paths[0], &img) != BRUME_OK) ||
+        (!sr->path && brume_image_read(ctx, o.paths[0], &img) != BRUME_OK) ||
         (mask_path && brume_image_read(ctx, mask_path, &mpic) != BRUME_OK)) {
         cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
         goto done;
     }
-    const char *rname = alpha >= 0.0 || mask_path ? "region" : NULL;
-    if ((alpha >= 0.0 && image_mask_alpha(ref, alpha, &mask, &mcount) != BRUME_OK) ||
+    const char *rname = o.alpha >= 0.0 || mask_path ? "region" : NULL;
+    if ((o.alpha >= 0.0 && image_mask_alpha(ref, o.alpha, &mask, &mcount) != BRUME_OK) ||
         (mpic && image_mask_picture(mpic, brume_image_width(ref), brume_image_height(ref), &mask, &mcount) != BRUME_OK)) {
-        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, err_message());
+        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, tool_last_error());
         goto done;
     }
     if (rname && mcount == 0) {
@@ -185,69 +290,10 @@ int cmd_compare(int argc, char **argv)
                   mask_path ? "no pixel brighter than 0.5" : "no pixel of the reference's alpha above --alpha");
         goto done;
     }
-    if (!sr.path) {
-        image_diff_stats st;
-        image_region_stats fr, rg;
-        if (image_compare(img, ref, &st) != BRUME_OK || image_compare_region(img, ref, NULL, boot, 1, &fr) != BRUME_OK ||
-            (rname && image_compare_region(img, ref, mask, boot, 1, &rg) != BRUME_OK)) {
-            cli_error("%s: %.1000s", paths[0], err_message());
-            goto done;
-        }
-        printf("rmse %.6g\nrel_rmse %.6g\nmean_rel %.6g\nmax_rel %.6g\nmean %.6g\nmean_ref %.6g\n", st.rmse,
-               st.rel_rmse, st.mean_rel, st.max_rel, st.mean_img, st.mean_ref);
-        print_region("frame", &fr, boot);
-        if (rname)
-            print_region(rname, &rg, boot);
-    } else {
-        /* K renders: each one's figures, then the mean and its standard error over K */
-        double sum[2][IMAGE_NFIGS] = {{0}}, sum2[2][IMAGE_NFIGS] = {{0}};
-        int nreg = rname ? 2 : 1;
-        for (int k = 0; k < sr.seeds; k++) {
-            uint64_t seed = sr.seed0 + (uint64_t)k;
-            brume_image_release(img);
-            if (!(img = render_seed(ctx, &sr, seed))) {
-                cli_error("%.1000s", brume_context_last_error(ctx));
-                goto done;
-            }
-            for (int g = 0; g < nreg; g++) {
-                image_region_stats st;
-                if (image_compare_region(img, ref, g ? mask : NULL, 0, 1, &st) != BRUME_OK) {
-                    cli_error("%s: %.1000s", sr.path, err_message());
-                    goto done;
-                }
-                printf("seed %llu %s", (unsigned long long)seed, g ? rname : "frame");
-                for (int f = 0; f < IMAGE_NFIGS; f++) {
-                    printf(" %s %.6g", fig_names[f], st.fig[f]);
-                    sum[g][f] += st.fig[f];
-                    sum2[g][f] += st.fig[f] * st.fig[f];
-                }
-                printf("\n");
-            }
-        }
-        double K = sr.seeds;
-        for (int g = 0; g < nreg; g++)
-            for (int f = 0; f < IMAGE_NFIGS; f++) {
-                double m = sum[g][f] / K, var = fmax(0.0, (sum2[g][f] - K * m * m) / (K - 1.0));
-                printf("%s %s %.6g +- %.2g (%d seeds)\n", g ? rname : "frame", fig_names[f], m, sqrt(var / K),
-                       sr.seeds);
-            }
-    }
-    if (diff) {
-        size_t n = strlen(diff);
-        bool png = n >= 4 && strcmp(diff + n - 4, ".png") == 0;
-        brume_image *pic = NULL;
-        if (png ? image_diff_png(img, ref, mask, scale, diff) != BRUME_OK
-                : image_diff_picture(img, ref, scale, &pic) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
-            goto done;
-        }
-        if (pic && brume_image_write(ctx, pic, diff, NULL) != BRUME_OK) {
-            brume_image_release(pic);
-            cli_error("%.1000s", brume_context_last_error(ctx));
-            goto done;
-        }
-        brume_image_release(pic);
-    }
+    if (sr->path ? compare_seeds(ctx, sr, ref, mask, rname, &img) != 0 : compare_two(&o, img, ref, mask, rname) != 0)
+        goto done;
+    if (o.diff && write_diff(ctx, &o, img, ref, mask) != 0)
+        goto done;
     rc = 0;
 done:
     free(mask);

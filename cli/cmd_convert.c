@@ -5,7 +5,7 @@
 
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
+#include "tool/tool.h"
 
 static const char usage[] =
     "usage: brume convert [flags] IN OUT\n"
@@ -13,10 +13,9 @@ static const char usage[] =
 
 int cmd_convert(int argc, char **argv)
 {
-    density_load_options o;
-    density_load_options_default(&o);
-    const char *in = NULL, *out = NULL;
-    grid_format to = GRID_FORMAT_AUTO;
+    brume_grid_file_options o;
+    brume_grid_file_options_default(&o);
+    const char *in = NULL, *out = NULL, *to = NULL;
     bool placed = false;
     for (int i = 1; i < argc; i++) {
         int r = cli_load_flag("convert", argc, argv, &i, &o);
@@ -31,7 +30,7 @@ int cmd_convert(int argc, char **argv)
             return 0;
         }
         if (strcmp(argv[i], "--to") == 0) {
-            if (i + 1 >= argc || (to = grid_format_from_name(argv[i + 1])) == GRID_FORMAT_AUTO) {
+            if (i + 1 >= argc || !tool_grid_format_known(to = argv[i + 1])) {
                 cli_error("convert: --to needs one of raw, df3, vol, nvdb, vdb");
                 return 2;
             }
@@ -55,29 +54,28 @@ int cmd_convert(int argc, char **argv)
         cli_error("convert: need IN and OUT (see brume convert --help)");
         return 2;
     }
-    grid_format fin = o.format != GRID_FORMAT_AUTO ? o.format : grid_format_detect(in, NULL, 0);
-    grid_format fout = to != GRID_FORMAT_AUTO ? to : grid_format_detect(out, NULL, 0);
-    if (fout == GRID_FORMAT_AUTO) {
+    const char *fin = tool_grid_format_of(in, o.format, NULL, 0), *fout = tool_grid_format_of(out, tool_grid_format_parse(to), NULL, 0);
+    if (!fout) {
         cli_error("%s: unknown output format (use .raw, .df3, .vol, .nvdb, .vdb or --to)", out);
         return 2;
     }
     /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
-    if (fin == GRID_FORMAT_VDB && fout == GRID_FORMAT_NVDB && !placed) {
-        if (grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
+    if (fin && strcmp(fin, "vdb") == 0 && strcmp(fout, "nvdb") == 0 && !placed) {
+        if (tool_grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
+            cli_error("%.1000s", tool_last_error());
             return 1;
         }
         return 0;
     }
-    density *d = density_load_file(in, &o);
+    density *d = tool_grid_load(in, &o);
     if (!d) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
-    brume_status s = density_write_file(d, out, fout);
-    density_release(d);
+    brume_status s = tool_grid_write(d, out, fout);
+    tool_grid_release(d);
     if (s != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     return 0;

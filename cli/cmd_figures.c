@@ -15,14 +15,7 @@
 #include "brume.h"
 #include "commands.h"
 #include "figures_table.h"
-#include "core/error.h"
-#include "io/atomic.h"
-#include "io/compare.h"
-#include "io/sheet.h"
-#include "phase/phase.h"
-#include "phase/phase_fit.h"
-#include "figure/phase_plot.h"
-#include "figure/stam_figures.h"
+#include "tool/tool.h"
 
 #ifndef BRUME_SCENES_DIR
 #define BRUME_SCENES_DIR "scenes"
@@ -205,12 +198,12 @@ static int run_blasi7(const char *path, fig_run *r)
                              "| --- | --- | --- | --- | --- |\n");
     for (int i = 0; i < 3; i++) {
         phase_fit_result fit;
-        ph[i][0] = phase_new_from_name(names[i]);
+        ph[i][0] = tool_phase_named(names[i]);
         if (!ph[i][0] || phase_fit_schlick_mix(ph[i][0], PHASE_FIT_NORM_ANGLE, &fit) != BRUME_OK)
             goto fail;
         double e7 = phase_fit_error(ph[i][0], PHASE_FIT_NORM_ANGLE, given[i][0], given[i][1], given[i][2]);
-        ph[i][1] = phase_new_schlick_mix(given[i][0], given[i][1], given[i][2]);
-        ph[i][2] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime);
+        ph[i][1] = tool_phase_schlick_mix(given[i][0], given[i][1], given[i][2]);
+        ph[i][2] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime);
         if (!ph[i][1] || !ph[i][2])
             goto fail;
         labels[i][0] = names[i];
@@ -234,11 +227,11 @@ static int run_blasi7(const char *path, fig_run *r)
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: blasi-fig7: %s", err_message());
+    cli_error("figures: blasi-fig7: %s", tool_last_error());
 done:
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
-            phase_release(ph[i][k]);
+            tool_phase_release(ph[i][k]);
     return rc;
 }
 
@@ -256,8 +249,8 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
         *sp = '\0';
         double g[3];
         sscanf(sp + 1, "%lf,%lf,%lf", &g[0], &g[1], &g[2]);
-        ph[0] = phase_new_from_name(names);
-        ph[1] = phase_new_schlick_mix(g[0], g[1], g[2]);
+        ph[0] = tool_phase_named(names);
+        ph[1] = tool_phase_schlick_mix(g[0], g[1], g[2]);
         n = 2;
         if (!ph[0] || !ph[1])
             goto fail;
@@ -271,7 +264,7 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
     } else {
         for (char *tok = strtok(names, " "); tok && n < 8; tok = strtok(NULL, " ")) {
             labels[n] = tok;
-            if (!(ph[n++] = phase_new_from_name(tok)))
+            if (!(ph[n++] = tool_phase_named(tok)))
                 goto fail;
         }
         snprintf(title, sizeof title, "%s", f->caption);
@@ -286,10 +279,10 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: %s: %s", f->name, err_message());
+    cli_error("figures: %s: %s", f->name, tool_last_error());
 done:
     for (int i = 0; i < n; i++)
-        phase_release(ph[i]);
+        tool_phase_release(ph[i]);
     return rc;
 }
 
@@ -375,7 +368,7 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
     rc = 0;
     goto done;
 fail_err:
-    cli_error("figures: %s: %s", f->name, err_message());
+    cli_error("figures: %s: %s", f->name, tool_last_error());
     goto done;
 fail:
     cli_error("figures: %s: %s", f->name, ctx ? brume_context_last_error(ctx) : "out of memory");
@@ -396,7 +389,7 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
     double t0 = now();
     int rc = 1;
     double z = 0.0;
-    err_clear();
+    tool_clear_error();
     switch (f->kind) {
     case FIG_RENDER: rc = run_render(scenes, f, path, quick, r); break;
     case FIG_PHASE_FIT:
@@ -415,7 +408,7 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
         break;
     }
     if (rc != 0 && (f->kind == FIG_STAM1 || f->kind == FIG_STAM4))
-        cli_error("figures: %s: %s", f->name, err_message());
+        cli_error("figures: %s: %s", f->name, tool_last_error());
     r->seconds = now() - t0;
     return rc;
 }
@@ -473,19 +466,19 @@ static void html_table(FILE *fp, const char *md)
 static int write_indexes(const char *dir, const fig_run *runs, bool quick, double total)
 {
     char path[PATH_MAX];
-    atomic_file md, html;
+    tool_file *md, *html;
     snprintf(path, sizeof path, "%s/index.md", dir);
-    if (atomic_open(&md, path) != BRUME_OK) {
-        cli_error("figures: %s", err_message());
+    if (!(md = tool_file_open(path))) {
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
     snprintf(path, sizeof path, "%s/index.html", dir);
-    if (atomic_open(&html, path) != BRUME_OK) {
-        atomic_abort(&md);
-        cli_error("figures: %s", err_message());
+    if (!(html = tool_file_open(path))) {
+        tool_file_abort(md);
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
-    FILE *m = md.fp, *h = html.fp;
+    FILE *m = tool_file_stream(md), *h = tool_file_stream(html);
     fprintf(m, "# The figures of both papers%s\n\nMade by `brume figures -o DIR%s` (brume %s) in %.1f s. Each figure "
                "is followed by its caption, the command that makes it alone, and the time it took. The papers: "
                "Blasi, Le Saec and Schlick, *A Rendering Algorithm for Discrete Volume Density Objects* "
@@ -532,9 +525,9 @@ static int write_indexes(const char *dir, const fig_run *runs, bool quick, doubl
         fprintf(h, "</code> <span class=\"time\">(%.2f s)</span></p></figcaption></figure>\n", runs[i].seconds);
     }
     fputs("</body></html>\n", h);
-    brume_status a = atomic_commit(&md), b = atomic_commit(&html);
+    brume_status a = tool_file_commit(md), b = tool_file_commit(html);
     if (a != BRUME_OK || b != BRUME_OK) {
-        cli_error("figures: %s", err_message());
+        cli_error("figures: %s", tool_last_error());
         return 1;
     }
     return 0;

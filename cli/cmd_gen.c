@@ -1,5 +1,5 @@
 /* cmd_gen.c - `brume gen cloud`, and `gen fire|upres` (cli_gen_sparse.c): a fractal cloud grid (Blasi et al. 1993, sec. 4.1; the
- * generator is src/density/fractal.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
+ * generator is src/density/fractal.c, called through src/tool/grids.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
  * cloud.vol` makes the paper's grid. */
 #include <stddef.h>
 #include <stdio.h>
@@ -10,8 +10,7 @@
 #include "cli_gen_sparse.h"
 #include "cli_grid.h"
 #include "commands.h"
-#include "core/error.h"
-#include "density/fractal.h"
+#include "tool/tool.h"
 
 static const char usage[] =
     "usage: brume gen cloud [flags] -o OUT(.vol|.raw|.df3|.nvdb|.vdb)\n"
@@ -35,6 +34,71 @@ static const char usage[] =
 
 static bool parse_num(const char *s, double *v) { return cli_parse_doubles(s, v, 1); }
 
+/* One flag of `gen cloud` with its value v into *p (or *out, *has_bounds). 1: taken; 0: a
+ * bad value; -1: the message printed. */
+static int parse_cloud_flag(const char *f, const char *v, brume_fractal *p, const char **out, bool *has_bounds)
+{
+    double x = 0.0;
+    bool ok = true;
+    if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
+        *out = v;
+    else if (strcmp(f, "--dims") == 0)
+        ok = cli_parse_dims(v, p->dims);
+    else if (strcmp(f, "--seed") == 0) {
+        if (!arg_u64(f, v, &p->seed)) /* digits only: "-1" is refused, not wrapped */
+            return -1;
+    } else if (strcmp(f, "--method") == 0) {
+        ok = true;
+        if (strcmp(v, "midpoint") == 0)
+            p->method = BRUME_FRACTAL_MIDPOINT;
+        else if (strcmp(v, "spectral") == 0)
+            p->method = BRUME_FRACTAL_SPECTRAL;
+        else if (strcmp(v, "perlin") == 0)
+            p->method = BRUME_FRACTAL_PERLIN;
+        else
+            ok = false;
+    } else if (strcmp(f, "--shape") == 0) {
+        if (strcmp(v, "ellipsoid") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
+        else if (strcmp(v, "slab") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_SLAB;
+        else if (strcmp(v, "none") == 0)
+            p->shape = BRUME_FRACTAL_SHAPE_NONE;
+        else
+            ok = false;
+    } else if (strcmp(f, "--octaves") == 0) {
+        ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
+        p->octaves = (int)x;
+    } else if (strcmp(f, "--wind") == 0) {
+        ok = cli_parse_doubles(v, p->wind, 3);
+    } else if (strcmp(f, "--bounds") == 0) {
+        double *b = p->bounds;
+        ok = *has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
+    } else {
+        static const struct {
+            const char *flag;
+            size_t off;
+        } nums[] = {{"--hurst", offsetof(brume_fractal, hurst)},
+                    {"--frequency", offsetof(brume_fractal, frequency)},
+                    {"--falloff", offsetof(brume_fractal, falloff)},
+                    {"--threshold", offsetof(brume_fractal, threshold)},
+                    {"--threshold-rate", offsetof(brume_fractal, threshold_rate)},
+                    {"--turbulence", offsetof(brume_fractal, turbulence)},
+                    {"--turbulence-frequency", offsetof(brume_fractal, turbulence_frequency)},
+                    {"--time", offsetof(brume_fractal, time)},
+                    {"--density", offsetof(brume_fractal, density)}};
+        size_t k = 0;
+        while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
+            k++;
+        if (k == sizeof nums / sizeof *nums) {
+            cli_error("gen: unknown flag %s (see brume gen --help)", f);
+            return -1;
+        }
+        ok = parse_num(v, (double *)((char *)p + nums[k].off));
+    }
+    return ok ? 1 : 0;
+}
+
 int cmd_gen(int argc, char **argv)
 {
     if (argc >= 2 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
@@ -49,11 +113,11 @@ int cmd_gen(int argc, char **argv)
         cli_error("gen: expected `brume gen cloud|fire|upres` (see brume gen --help)");
         return 2;
     }
-    fractal_params p;
-    fractal_params_default(&p);
+    brume_fractal p;
+    brume_fractal_default(&p);
     const char *out = NULL;
     bool has_bounds = false;
-    box3 bounds = {{0, 0, 0}, {0, 0, 0}};
+
     for (int i = 2; i < argc; i++) {
         const char *f = argv[i];
         if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
@@ -65,67 +129,9 @@ int cmd_gen(int argc, char **argv)
             return 2;
         }
         const char *v = argv[++i];
-        double x = 0.0;
-        bool ok = true;
-        if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
-            out = v;
-        else if (strcmp(f, "--dims") == 0)
-            ok = cli_parse_dims(v, p.n);
-        else if (strcmp(f, "--seed") == 0) {
-            if (!arg_u64(f, v, &p.seed)) /* digits only: "-1" is refused, not wrapped */
-                return 2;
-        } else if (strcmp(f, "--method") == 0) {
-            ok = true;
-            if (strcmp(v, "midpoint") == 0)
-                p.method = FRACTAL_MIDPOINT;
-            else if (strcmp(v, "spectral") == 0)
-                p.method = FRACTAL_SPECTRAL;
-            else if (strcmp(v, "perlin") == 0)
-                p.method = FRACTAL_PERLIN;
-            else
-                ok = false;
-        } else if (strcmp(f, "--shape") == 0) {
-            if (strcmp(v, "ellipsoid") == 0)
-                p.shape = FRACTAL_SHAPE_ELLIPSOID;
-            else if (strcmp(v, "slab") == 0)
-                p.shape = FRACTAL_SHAPE_SLAB;
-            else if (strcmp(v, "none") == 0)
-                p.shape = FRACTAL_SHAPE_NONE;
-            else
-                ok = false;
-        } else if (strcmp(f, "--octaves") == 0) {
-            ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
-            p.octaves = (int)x;
-        } else if (strcmp(f, "--wind") == 0) {
-            double w[3];
-            ok = cli_parse_doubles(v, w, 3);
-            p.wind = v3(w[0], w[1], w[2]);
-        } else if (strcmp(f, "--bounds") == 0) {
-            double b[6];
-            ok = has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
-            bounds = (box3){v3(b[0], b[1], b[2]), v3(b[3], b[4], b[5])};
-        } else {
-            static const struct {
-                const char *flag;
-                size_t off;
-            } nums[] = {{"--hurst", offsetof(fractal_params, hurst)},
-                        {"--frequency", offsetof(fractal_params, frequency)},
-                        {"--falloff", offsetof(fractal_params, falloff)},
-                        {"--threshold", offsetof(fractal_params, threshold)},
-                        {"--threshold-rate", offsetof(fractal_params, threshold_rate)},
-                        {"--turbulence", offsetof(fractal_params, turbulence)},
-                        {"--turbulence-frequency", offsetof(fractal_params, turbulence_frequency)},
-                        {"--time", offsetof(fractal_params, time)},
-                        {"--density", offsetof(fractal_params, density)}};
-            size_t k = 0;
-            while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
-                k++;
-            if (k == sizeof nums / sizeof *nums) {
-                cli_error("gen: unknown flag %s (see brume gen --help)", f);
-                return 2;
-            }
-            ok = parse_num(v, (double *)((char *)&p + nums[k].off));
-        }
+        int ok = parse_cloud_flag(f, v, &p, &out, &has_bounds);
+        if (ok < 0)
+            return 2;
         if (!ok) {
             cli_error("gen: bad value for %s: %s", f, v);
             return 2;
@@ -135,21 +141,24 @@ int cmd_gen(int argc, char **argv)
         cli_error("gen: no output file (-o OUT)");
         return 2;
     }
-    if (!has_bounds) {
-        int m = p.n[0] > p.n[1] ? p.n[0] : p.n[1];
-        m = p.n[2] > m ? p.n[2] : m;
-        vec3 h = v3(0.5 * p.n[0] / m, 0.5 * p.n[1] / m, 0.5 * p.n[2] / m);
-        bounds = (box3){v3_neg(h), h};
+    if (!has_bounds) { /* the largest axis spans 1, centred on the origin */
+        int m = p.dims[0] > p.dims[1] ? p.dims[0] : p.dims[1];
+        m = p.dims[2] > m ? p.dims[2] : m;
+        for (int a = 0; a < 3; a++) {
+            p.bounds[a + 3] = 0.5 * p.dims[a] / m;
+            p.bounds[a] = -p.bounds[a + 3];
+        }
     }
-    density *d = fractal_cloud(&p, bounds, GRID_NEAREST);
+    p.filter = BRUME_GRID_NEAREST;
+    density *d = tool_gen_cloud(&p);
     if (!d) {
-        cli_error("gen: %.1000s", err_message());
+        cli_error("gen: %.1000s", tool_last_error());
         return 2;
     }
-    brume_status s = density_write_file(d, out, GRID_FORMAT_AUTO);
-    density_release(d);
+    brume_status s = tool_grid_write(d, out, NULL);
+    tool_grid_release(d);
     if (s != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     return 0;

@@ -6,10 +6,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "core/error.h"
-#include "phase/phase.h"
-#include "phase/phase_fit.h"
-#include "figure/phase_plot.h"
+#include "tool/tool.h"
 
 static const char phase_usage[] =
     "usage: brume phase fit NAME [--norm angle|cos|log] [--given r,k,kprime]\n"
@@ -69,9 +66,9 @@ static int phase_fit_cmd(int argc, char **argv)
     }
     if (!name)
         return phase_usage_error("fit needs a NAME");
-    phase *p = phase_new_from_name(name);
+    phase *p = tool_phase_named(name);
     if (!p) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     phase_fit_result fit;
@@ -79,7 +76,7 @@ static int phase_fit_cmd(int argc, char **argv)
     if (given) {
         /* Blasi Eq. 22's parameters as given (e.g. Figure 7's table), scored, not fitted */
         if (!parse_given(given, &fit)) {
-            phase_release(p);
+            tool_phase_release(p);
             cli_error("phase fit: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", given);
             return 2;
         }
@@ -87,51 +84,70 @@ static int phase_fit_cmd(int argc, char **argv)
     } else {
         st = phase_fit_schlick_mix(p, norm, &fit);
     }
-    phase_release(p);
+    tool_phase_release(p);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
     return 0;
 }
 
-static int phase_plot_cmd(int argc, char **argv)
+typedef struct plot_opts {
+    const char *out;
+    bool log_scale, overlay, have_given;
+    phase_fit_result given;
+    phase_fit_norm norm;
+    int n; /* NAMEs */
+} plot_opts;
+
+/* The options of `phase plot` into *o. -1: go on; otherwise the exit status (2 with a
+ * message). */
+static int parse_plot(int argc, char **argv, plot_opts *o)
 {
-    const char *out = NULL;
-    bool log_scale = false, overlay = false, have_given = false;
-    phase_fit_result given = {0};
-    phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
-    int n = 0;
     for (int i = 2; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0) {
             if (i + 1 >= argc)
                 return phase_usage_error("-o needs a file name");
-            out = argv[++i];
+            o->out = argv[++i];
         } else if (strcmp(argv[i], "--log") == 0) {
-            log_scale = true;
+            o->log_scale = true;
         } else if (strcmp(argv[i], "--overlay") == 0) {
-            overlay = true;
+            o->overlay = true;
         } else if (strcmp(argv[i], "--given") == 0) {
-            if (i + 1 >= argc || !parse_given(argv[i + 1], &given))
+            if (i + 1 >= argc || !parse_given(argv[i + 1], &o->given))
                 return phase_usage_error("--given needs r,k,kprime with r in [0, 1] and |k|, |kprime| < 1");
-            have_given = true;
+            o->have_given = true;
             i++;
         } else if (strcmp(argv[i], "--norm") == 0) {
-            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
+            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &o->norm))
                 return phase_usage_error("--norm needs angle, cos or log");
             i++;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             cli_error("phase plot: unknown option %s", argv[i]);
             return 2;
         } else {
-            n++;
+            o->n++;
         }
     }
-    if (n == 0)
+    if (o->n == 0)
         return phase_usage_error("plot needs at least one NAME");
-    if (!out)
+    if (!o->out)
         return phase_usage_error("plot needs -o FILE.png");
+    return -1;
+}
+
+static int phase_plot_cmd(int argc, char **argv)
+{
+    plot_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    int rc = parse_plot(argc, argv, &o);
+    if (rc >= 0)
+        return rc;
+    const char *out = o.out;
+    bool log_scale = o.log_scale, overlay = o.overlay, have_given = o.have_given;
+    phase_fit_result given = o.given;
+    phase_fit_norm norm = o.norm;
+    int n = o.n;
 
     /* rows borrow the phases that truth[] and approx[] own. */
     phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
@@ -151,11 +167,11 @@ static int phase_plot_cmd(int argc, char **argv)
         if (strcmp(argv[i], "--log") == 0 || strcmp(argv[i], "--overlay") == 0)
             continue;
         phase_fit_result fit = given;
-        truth[m] = phase_new_from_name(argv[i]);
+        truth[m] = tool_phase_named(argv[i]);
         labels[m] = argv[i];
         if (overlay) {
             if (!truth[m]) {
-                cli_error("%.1000s", err_message());
+                cli_error("%.1000s", tool_last_error());
                 m++;
                 goto done;
             }
@@ -164,8 +180,8 @@ static int phase_plot_cmd(int argc, char **argv)
         }
         if (!truth[m] || (have_given ? (fit.error = phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
                                      : phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK) ||
-            !(approx[m] = phase_new_schlick_mix(fit.r, fit.k, fit.kprime))) {
-            cli_error("%.1000s", err_message());
+            !(approx[m] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime))) {
+            cli_error("%.1000s", tool_last_error());
             m++;
             goto done;
         }
@@ -183,14 +199,14 @@ static int phase_plot_cmd(int argc, char **argv)
         rows[0] = (phase_plot_row){titles[0], NULL, NULL, m, (const phase *const *)truth, labels, NULL};
     }
     if (phase_plot_png(out, overlay ? 1 : m, rows, log_scale) != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         goto done;
     }
     status = 0;
 done:
     for (int i = 0; i < m; i++) {
-        phase_release(truth[i]);
-        phase_release(approx[i]);
+        tool_phase_release(truth[i]);
+        tool_phase_release(approx[i]);
     }
     free(labels);
     free(rows);

@@ -74,8 +74,11 @@ static void render_usage(FILE *out)
             "does the first outside rendering (loading, Blasi's light pass, writing): nothing is kept.\n"
             "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
             "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n"
-            "This build: %s.\n",
+            "This build: %s.\n\n"
+            "The methods' options, for --set METHOD.KEY=VALUE (`brume options`: their values, defaults\n"
+            "and meanings):\n",
             dist_build_info());
+    cli_options_keys(out);
 }
 
 static double now_seconds(void)
@@ -382,6 +385,18 @@ typedef struct render_opts {
     const char *light_key[MAX_SETS], *light_value[MAX_SETS];
     brume_studio_options studio; /* a grid file's studio scene (--up, --grid, --no-ground) */
     bool print_scene;            /* --print-scene */
+    /* what the command writes, and how */
+    const char *out_path;        /* -o: one file, or a frame pattern (kind 1) */
+    const char *video;           /* --video, or NULL */
+    long first, last;            /* --frames A-B or --frame F; -1: one image, no sequence */
+    int shard, nshards;          /* --shard I/N */
+    brume_write_options wopts;   /* --exposure, --filmic */
+    const char *checkpoint, *resume, *serve_spec; /* or NULL */
+    bool serve_exit;
+    /* derived by check_request */
+    bool sequence;               /* --frames or --frame given */
+    long nframes;
+    int kind;                    /* pattern_kind of out_path */
 } render_opts;
 
 /* Scene overrides name files relative to the scene file's folder; on the command line a
@@ -526,397 +541,499 @@ static int print_scene(const render_opts *o)
     return rc;
 }
 
-int cmd_render(int argc, char **argv)
+/* The options that set the scene's settings or what is loaded. 1: argv[*i] taken (with its
+ * value); 0: not one of these; -1: a bad value (the message printed). */
+static int parse_scene_option(render_opts *o, int argc, char **argv, int *i)
 {
-    render_opts o = {0};
-    o.threads = -1;
-    o.device = -2;
-    const char *out_path = "brume.png", *video = NULL;
-    long first = -1, last = -1;
-    int shard = 0, nshards = 1;
-    brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
-    const char *checkpoint = NULL, *resume = NULL, *serve_spec = NULL;
-    bool serve_exit = false;
+    const char *a = argv[*i], *v;
+    if (strcmp(a, "--spp") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 1, 1 << 24, &o->spp)) return -1;
+    } else if (strcmp(a, "--width") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 1, 65536, &o->width)) return -1;
+    } else if (strcmp(a, "--height") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 1, 65536, &o->height)) return -1;
+    } else if (strcmp(a, "--threads") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 0, 1024, &o->threads)) return -1;
+    } else if (strcmp(a, "--device") == 0) {
+        if (!(v = arg_value(argc, argv, i))) return -1;
+        if (brume_device_from_name(NULL, v, &o->device) != BRUME_OK) {
+            cli_error("--device: unknown device '%s' (known: cpu, cuda, cuda:N)", v);
+            return -1;
+        }
+    } else if (strcmp(a, "--max-depth") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 1, 100000, &o->max_depth)) return -1;
+    } else if (strcmp(a, "--seed") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_u64(a, v, &o->seed)) return -1;
+        o->have_seed = true;
+    } else if (strcmp(a, "--method") == 0) {
+        if (!(o->method = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
+        if (!(v = arg_value(argc, argv, i))) return -1;
+        if (strcmp(a, "--set") != 0) { /* --save-light, --load-light */
+            const char *key = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
+            return set_override(o, key, strlen(key), v) ? 1 : -1;
+        }
+        const char *eq = strchr(v, '=');
+        if (!eq || eq == v) {
+            cli_error("--set: expected KEY=VALUE, got '%s'", v);
+            return -1;
+        }
+        if (!set_override(o, v, (size_t)(eq - v), eq + 1)) return -1;
+    } else if (strcmp(a, "--stats") == 0) {
+        o->stats = true;
+    } else if (strcmp(a, "--time") == 0 || strcmp(a, "--noise") == 0) {
+        bool t = a[2] == 't';
+        double *x = t ? &o->time_budget : &o->noise;
+        if (!(v = arg_value(argc, argv, i)) || !arg_double(a, v, t ? 1e-3 : 1e-6, t ? 1e9 : 1.0, x)) return -1;
+        char json[64];
+        snprintf(json, sizeof json, "%.17g", *x);
+        if (!set_override(o, t ? "render.time" : "render.noise", t ? 11 : 12, json)) return -1;
+    } else if (strcmp(a, "--denoise") == 0) {
+        o->denoise = true;
+    } else if (strcmp(a, "--progress-every") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_double(a, v, 0.01, 1e9, &o->progress_every)) return -1;
+    } else if (strcmp(a, "--min-spp") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_int(a, v, 1, 1 << 24, &o->min_spp)) return -1;
+    } else if (strcmp(a, "--aov") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !parse_aovs(v, &o->aovs)) return -1;
+    } else if (strcmp(a, "--no-ground") == 0) {
+        o->studio.no_ground = true;
+    } else if (strcmp(a, "--grid") == 0) {
+        if (!(o->studio.grid = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--up") == 0) {
+        if (!(v = arg_value(argc, argv, i))) return -1;
+        if ((strcmp(v, "y") != 0 && strcmp(v, "z") != 0)) {
+            cli_error("--up: '%s': y or z", v);
+            return -1;
+        }
+        o->studio.up = v[0] == 'z' ? BRUME_AXIS_Z : BRUME_AXIS_Y;
+    } else
+        return 0;
+    return 1;
+}
 
+/* The options that say what the command writes and how it runs; returns as
+ * parse_scene_option. */
+static int parse_output_option(render_opts *o, int argc, char **argv, int *i)
+{
+    const char *a = argv[*i], *v;
+    if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
+        if (!(o->out_path = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--frames") == 0 || strcmp(a, "--frame") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !parse_range(a, v, &o->first, &o->last)) return -1;
+        if (a[7] == '\0' && o->first != o->last) {
+            cli_error("--frame: one frame number expected, got '%s' (use --frames A-B)", v);
+            return -1;
+        }
+    } else if (strcmp(a, "--video") == 0) {
+        if (!(o->video = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--shard") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !parse_shard(v, &o->shard, &o->nshards)) return -1;
+    } else if (strcmp(a, "--exposure") == 0) {
+        if (!(v = arg_value(argc, argv, i)) || !arg_double(a, v, -64.0, 64.0, &o->wopts.exposure)) return -1;
+    } else if (strcmp(a, "--filmic") == 0) {
+        o->wopts.tonemap = BRUME_TONEMAP_FILMIC;
+    } else if (strcmp(a, "--checkpoint") == 0) {
+        if (!(o->checkpoint = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--resume") == 0) {
+        if (!(o->resume = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--serve") == 0) {
+        if (!(o->serve_spec = arg_value(argc, argv, i))) return -1;
+    } else if (strcmp(a, "--serve-exit") == 0) {
+        o->serve_exit = true;
+    } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
+        o->quiet = true;
+    } else if (strcmp(a, "--print-scene") == 0) {
+        o->print_scene = true;
+    } else
+        return 0;
+    return 1;
+}
+
+/* The command line into *o (zeroed by the caller). -1: go on; otherwise the exit status
+ * (0 after --help, 2 for a bad command line, with its message). */
+static int parse_options(render_opts *o, int argc, char **argv)
+{
+    o->threads = -1;
+    o->device = -2;
+    o->out_path = "brume.png";
+    o->first = o->last = -1;
+    o->nshards = 1;
+    o->wopts = (brume_write_options){0.0, BRUME_TONEMAP_CLAMP};
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
+        const char *a = argv[i];
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
             render_usage(stdout);
             return 0;
-        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (!(out_path = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--frames") == 0 || strcmp(a, "--frame") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !parse_range(a, v, &first, &last)) return 2;
-            if (a[7] == '\0' && first != last) {
-                cli_error("--frame: one frame number expected, got '%s' (use --frames A-B)", v);
-                return 2;
-            }
-        } else if (strcmp(a, "--video") == 0) {
-            if (!(video = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--shard") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !parse_shard(v, &shard, &nshards)) return 2;
-        } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o.spp)) return 2;
-        } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &o.width)) return 2;
-        } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &o.height)) return 2;
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &o.threads)) return 2;
-        } else if (strcmp(a, "--device") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (brume_device_from_name(NULL, v, &o.device) != BRUME_OK) {
-                cli_error("--device: unknown device '%s' (known: cpu, cuda, cuda:N)", v);
-                return 2;
-            }
-        } else if (strcmp(a, "--max-depth") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 100000, &o.max_depth)) return 2;
-        } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &o.seed)) return 2;
-            o.have_seed = true;
-        } else if (strcmp(a, "--method") == 0) {
-            if (!(o.method = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--set") == 0 || strcmp(a, "--save-light") == 0 || strcmp(a, "--load-light") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (strcmp(a, "--set") != 0) { /* --save-light, --load-light */
-                const char *key = a[2] == 's' ? "blasi.save_light" : "blasi.load_light";
-                if (!set_override(&o, key, strlen(key), v)) return 2;
-                continue;
-            }
-            const char *eq = strchr(v, '=');
-            if (!eq || eq == v) {
-                cli_error("--set: expected KEY=VALUE, got '%s'", v);
-                return 2;
-            }
-            if (!set_override(&o, v, (size_t)(eq - v), eq + 1)) return 2;
-        } else if (strcmp(a, "--stats") == 0) {
-            o.stats = true;
-        } else if (strcmp(a, "--exposure") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
-        } else if (strcmp(a, "--filmic") == 0) {
-            wopts.tonemap = BRUME_TONEMAP_FILMIC;
-        } else if (strcmp(a, "--time") == 0 || strcmp(a, "--noise") == 0) {
-            bool t = a[2] == 't';
-            double *x = t ? &o.time_budget : &o.noise;
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, t ? 1e-3 : 1e-6, t ? 1e9 : 1.0, x)) return 2;
-            char json[64];
-            snprintf(json, sizeof json, "%.17g", *x);
-            if (!set_override(&o, t ? "render.time" : "render.noise", t ? 11 : 12, json)) return 2;
-        } else if (strcmp(a, "--denoise") == 0) {
-            o.denoise = true;
-        } else if (strcmp(a, "--progress-every") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 0.01, 1e9, &o.progress_every)) return 2;
-        } else if (strcmp(a, "--min-spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o.min_spp)) return 2;
-        } else if (strcmp(a, "--aov") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !parse_aovs(v, &o.aovs)) return 2;
-        } else if (strcmp(a, "--checkpoint") == 0) {
-            if (!(checkpoint = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--resume") == 0) {
-            if (!(resume = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--serve") == 0) {
-            if (!(serve_spec = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--serve-exit") == 0) {
-            serve_exit = true;
-        } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
-            o.quiet = true;
-        } else if (strcmp(a, "--print-scene") == 0) {
-            o.print_scene = true;
-        } else if (strcmp(a, "--no-ground") == 0) {
-            o.studio.no_ground = true;
-        } else if (strcmp(a, "--grid") == 0) {
-            if (!(o.studio.grid = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--up") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if ((strcmp(v, "y") != 0 && strcmp(v, "z") != 0)) {
-                cli_error("--up: '%s': y or z", v);
-                return 2;
-            }
-            o.studio.up = v[0] == 'z' ? BRUME_AXIS_Z : BRUME_AXIS_Y;
-        } else if (a[0] == '-' && a[1] != '\0') {
+        }
+        int taken = parse_scene_option(o, argc, argv, &i);
+        if (taken == 0)
+            taken = parse_output_option(o, argc, argv, &i);
+        if (taken < 0)
+            return 2;
+        if (taken > 0)
+            continue;
+        if (a[0] == '-' && a[1] != '\0') {
             cli_error("render: unknown option '%s' (try `brume help render`)", a);
             return 2;
-        } else if (!o.scene_path) {
-            o.scene_path = a;
+        } else if (!o->scene_path) {
+            o->scene_path = a;
         } else {
-            cli_error("render: more than one scene given ('%s' and '%s')", o.scene_path, a);
+            cli_error("render: more than one scene given ('%s' and '%s')", o->scene_path, a);
             return 2;
         }
     }
+    return -1;
+}
 
-    if (o.print_scene)
-        return print_scene(&o);
-    /* what to render, checked before any work */
-    bool sequence = first >= 0;
-    long nframes = sequence ? last - first + 1 : 1;
-    int kind = pattern_kind(out_path);
-    if (kind < 0) {
+/* What to render, checked before any work: the output name against the frames, the shards,
+ * the video, the checkpoint. Sets sequence, nframes and kind. 0, or the exit status with a
+ * message. */
+static int check_request(render_opts *o)
+{
+    o->sequence = o->first >= 0;
+    o->nframes = o->sequence ? o->last - o->first + 1 : 1;
+    o->kind = pattern_kind(o->out_path);
+    if (o->kind < 0) {
         cli_error("-o: '%s': use one %%d conversion (such as %%04d, width at most 99) for the frame number, and %%%% for a percent "
-                  "sign", out_path);
+                  "sign", o->out_path);
         return 2;
     }
-    if (nframes > 1 && kind == 0) {
+    if (o->nframes > 1 && o->kind == 0) {
         cli_error("-o: '%s' has no %%d for the frame number, and %ld frames would overwrite one file "
-                  "(e.g. -o out/frame_%%04d.png)", out_path, nframes);
+                  "(e.g. -o out/frame_%%04d.png)", o->out_path, o->nframes);
         return 2;
     }
-    if (!sequence && kind == 1) {
-        cli_error("-o: '%s' is a frame pattern: give --frames A-B or --frame F", out_path);
+    if (!o->sequence && o->kind == 1) {
+        cli_error("-o: '%s' is a frame pattern: give --frames A-B or --frame F", o->out_path);
         return 2;
     }
-    if (nshards > 1 && nframes < 2) {
+    if (o->nshards > 1 && o->nframes < 2) {
         cli_error("--shard: splits the frames of a sequence (--frames A-B); to split one frame over processes, "
                   "run it under mpirun");
         return 2;
     }
-    if (video && nshards > 1) {
+    if (o->video && o->nshards > 1) {
         cli_error("--video: needs every frame, and --shard renders only some: assemble the video once every shard "
                   "is done (docs/animation.md gives the ffmpeg command)");
         return 2;
     }
-    if (video) {
-        const char *dot = strrchr(out_path, '.');
-        if (!dot || strcmp(dot, ".png") != 0 || kind != 1) {
+    if (o->video) {
+        const char *dot = strrchr(o->out_path, '.');
+        if (!dot || strcmp(dot, ".png") != 0 || o->kind != 1) {
             cli_error("--video: the frames must be PNG files named by a pattern (-o out/frame_%%04d.png)");
             return 2;
         }
-        int vbad = check_video(video, o.scene_path);
+        int vbad = check_video(o->video, o->scene_path);
         if (vbad)
             return vbad;
     }
-    int bad = cli_check_image_name("-o", out_path, o.aovs != 0);
+    int bad = cli_check_image_name("-o", o->out_path, o->aovs != 0);
     if (bad)
         return bad;
-    if ((checkpoint || resume) && sequence) {
-        cli_error("%s: one frame at a time (a checkpoint holds one image's state)", checkpoint ? "--checkpoint" : "--resume");
+    if ((o->checkpoint || o->resume) && o->sequence) {
+        cli_error("%s: one frame at a time (a checkpoint holds one image's state)",
+                  o->checkpoint ? "--checkpoint" : "--resume");
         return 2;
     }
-    if (serve_exit && !serve_spec) {
+    if (o->serve_exit && !o->serve_spec) {
         cli_error("--serve-exit: only with --serve");
         return 2;
     }
+    return 0;
+}
 
+/* One run of the command: the processes, the files, and what is alive between frames. */
+typedef struct render_run {
+    const render_opts *o;
     dist d;
-    if (!dist_begin(&d))
-        return 1;
-    if (d.size > 1 && nshards > 1) {
+    bool split_frames, split_tiles; /* several ranks split the frames, or each frame's tiles */
+    bool root;                      /* rank 0: it writes every file */
+    output_plan plan;
+    cli_serve *serve;               /* the live view, or NULL */
+    brume_context *ctx;
+    brume_scene *scene;             /* the last frame's, kept while the world is static */
+    brume_image *image;
+    brume_render_job *job;
+    cli_job_result jr;
+    long done;                      /* frames written */
+} render_run;
+
+/* After dist_begin: checks the processes against the options and, on rank 0, every file
+ * the run will write or read. 0, or the exit status with a message. */
+static int check_processes(render_run *r)
+{
+    const render_opts *o = r->o;
+    if (r->d.size > 1 && o->nshards > 1) {
         cli_error("--shard: not under mpirun (mpirun already splits the work)");
-        dist_end(&d);
         return 2;
     }
     /* Several ranks split the frames when each gets a fair share, else the tiles of each
      * frame. Either way rank 0 writes every file. */
-    bool split_frames = d.size > 1 && (nframes % d.size == 0 || nframes >= 4L * d.size);
-    bool split_tiles = d.size > 1 && !split_frames;
-    bool root = d.rank == 0;
-    if (d.size > 1 && (checkpoint || resume || serve_spec || o.time_budget > 0.0 || o.noise > 0.0)) {
-        cli_error("%s: not under mpirun", checkpoint ? "--checkpoint" : resume ? "--resume" : serve_spec ? "--serve"
-                                                                      : o.time_budget > 0.0 ? "--time" : "--noise");
-        dist_end(&d);
+    r->split_frames = r->d.size > 1 && (o->nframes % r->d.size == 0 || o->nframes >= 4L * r->d.size);
+    r->split_tiles = r->d.size > 1 && !r->split_frames;
+    r->root = r->d.rank == 0;
+    if (r->d.size > 1 && (o->checkpoint || o->resume || o->serve_spec || o->time_budget > 0.0 || o->noise > 0.0)) {
+        cli_error("%s: not under mpirun", o->checkpoint ? "--checkpoint" : o->resume ? "--resume" : o->serve_spec ? "--serve"
+                                            : o->time_budget > 0.0 ? "--time" : "--noise");
         return 2;
     }
     /* outputs: checked before any work (every frame's, once per folder); the missing folders
      * are made once the first scene has been read and checked (prepare_outputs), so that a bad
      * scene leaves none behind */
-    output_plan plan = {out_path, kind, sequence, first, nframes, nshards, shard, checkpoint, video, o.scene_path, false};
-    if (root) {
-        if (prepare_outputs(&plan, false) != 0) {
-            dist_end(&d);
+    r->plan = (output_plan){o->out_path, o->kind, o->sequence, o->first, o->nframes, o->nshards, o->shard,
+                            o->checkpoint, o->video, o->scene_path, false};
+    if (!r->root)
+        return 0;
+    if (prepare_outputs(&r->plan, false) != 0)
+        return 1;
+    for (int k = 0; k < o->nlight; k++)
+        if (o->light_key[k][6] == 's' && cli_check_output("--save-light", o->light_value[k], o->scene_path, NULL) != 0)
             return 1;
-        }
-        for (int k = 0; k < o.nlight; k++)
-            if (o.light_key[k][6] == 's' && cli_check_output("--save-light", o.light_value[k], o.scene_path, NULL) != 0) {
-                dist_end(&d);
-                return 1;
-            }
-        if (checkpoint && (cli_check_output("--checkpoint", checkpoint, o.scene_path, NULL) != 0 ||
-                           cli_prepare_folder("--checkpoint", checkpoint, false) != 0)) {
-            dist_end(&d);
-            return 1;
-        }
-        if (resume && access(resume, R_OK) != 0) {
-            cli_error("--resume: %s: %s", resume, strerror(errno));
-            dist_end(&d);
-            return 1;
-        }
-    }
-    cli_signals_install();
-    cli_serve *serve = NULL;
-    if (serve_spec) {
-        if (!(serve = cli_serve_start(serve_spec))) {
-            dist_end(&d);
-            return 1;
-        }
-        fprintf(stderr, "brume: live view at %s\n", cli_serve_url(serve));
-    }
-    brume_render_job *job = NULL;
-
-    brume_context *ctx = brume_context_new();
-    if (!ctx) {
-        cli_error("out of memory");
-        dist_end(&d);
+    if (o->checkpoint && (cli_check_output("--checkpoint", o->checkpoint, o->scene_path, NULL) != 0 ||
+                          cli_prepare_folder("--checkpoint", o->checkpoint, false) != 0))
+        return 1;
+    if (o->resume && access(o->resume, R_OK) != 0) {
+        cli_error("--resume: %s: %s", o->resume, strerror(errno));
         return 1;
     }
-    brume_scene *scene = NULL;
-    brume_image *image = NULL;
-    int rc = 1;
-    if (sequence && o.scene_path) { /* grid sequences: every frame's file, before the first frame */
-        brume_load_options lo = {0.0, 0, o.sets, o.nsets, &o.studio};
-        if (brume_scene_check_frames(ctx, &(brume_source){.path = o.scene_path}, &lo, first, last) != BRUME_OK) {
-            cli_error("%.1000s", brume_context_last_error(ctx));
-            brume_context_release(ctx);
-            cli_serve_stop(serve);
-            dist_end(&d);
+    return 0;
+}
+
+/* Everything before the first frame: processes, outputs, signals, the live view, the
+ * context, a grid sequence's files. 0, or the exit status with a message and nothing left
+ * open. */
+static int begin_run(render_run *r)
+{
+    const render_opts *o = r->o;
+    if (!dist_begin(&r->d))
+        return 1;
+    int rc = check_processes(r);
+    if (rc != 0) {
+        dist_end(&r->d);
+        return rc;
+    }
+    cli_signals_install();
+    if (o->serve_spec) {
+        if (!(r->serve = cli_serve_start(o->serve_spec))) {
+            dist_end(&r->d);
+            return 1;
+        }
+        fprintf(stderr, "brume: live view at %s\n", cli_serve_url(r->serve));
+    }
+    if (!(r->ctx = brume_context_new())) {
+        cli_error("out of memory");
+        cli_serve_stop(r->serve);
+        dist_end(&r->d);
+        return 1;
+    }
+    if (o->sequence && o->scene_path) { /* grid sequences: every frame's file, before the first frame */
+        brume_load_options lo = {0.0, 0, o->sets, o->nsets, &o->studio};
+        if (brume_scene_check_frames(r->ctx, &(brume_source){.path = o->scene_path}, &lo, o->first, o->last) != BRUME_OK) {
+            cli_error("%.1000s", brume_context_last_error(r->ctx));
+            brume_context_release(r->ctx);
+            cli_serve_stop(r->serve);
+            dist_end(&r->d);
             return 1;
         }
     }
-    long done = 0;
-    cli_job_result jr = {0};
-    double t_all = now_seconds();
-    for (long k = 0; k < nframes; k++) {
-        long f = sequence ? first + k : -1;
-        if (nshards > 1 && f % nshards != shard)
+    return 0;
+}
+
+/* A failure the context explains: its message, exit status 1. */
+static int render_failed(const render_run *r)
+{
+    cli_error("%.1000s", brume_context_last_error(r->ctx));
+    return 1;
+}
+
+/* Rank 0 receives frame f (index k) that rank `owner` rendered; the scene gives its size.
+ * 0, or the exit status with a message. */
+static int receive_frame(render_run *r, long k, long f, int owner, brume_render_settings *rs)
+{
+    if (!r->scene && !(r->scene = load_scene(r->ctx, r->o, f, false)))
+        return render_failed(r);
+    if (!r->plan.made && prepare_outputs(&r->plan, true) != 0)
+        return 1;
+    brume_scene_settings(r->scene, rs);
+    if (brume_image_new(r->ctx, rs->width, rs->height, &r->image) != BRUME_OK || !dist_recv_at_root(&r->d, brume_image_pixels(r->image), (size_t)rs->width * (size_t)rs->height * 4,
+                                        owner, (int)k)) {
+        cli_error("frame %ld: could not receive it from rank %d", f, owner);
+        return 1;
+    }
+    return 0;
+}
+
+/* Loads frame f (or moves the camera of the scene it shares with the frame before), then
+ * renders it here: the whole image, or this rank's tiles gathered on rank 0. 0; -1 when
+ * the frame went to rank 0 (nothing more to do here); or the exit status with a message. */
+static int render_frame(render_run *r, long k, long f, const char *path, brume_render_settings *rs)
+{
+    const render_opts *o = r->o;
+    /* frames that differ only by the camera share one scene (and its integrator state:
+     * Blasi's first pass is done once) */
+    if (r->scene && brume_scene_world_is_static(r->scene) && f >= 0) {
+        brume_scene_settings(r->scene, rs);
+        if (brume_scene_set_camera_time(r->ctx, r->scene, (double)f / rs->fps) != BRUME_OK)
+            return render_failed(r);
+    } else {
+        brume_scene_release(r->scene);
+        if (!(r->scene = load_scene(r->ctx, o, f, !o->quiet && r->root && !r->split_frames)))
+            return render_failed(r);
+        /* the scene's inputs are known now: none of them may be written over; the scene is
+         * good, so the output folders are made */
+        if (r->root && (cli_check_output("-o", path, o->scene_path, r->scene) != 0 ||
+                        (o->checkpoint && cli_check_output("--checkpoint", o->checkpoint, o->scene_path, r->scene) != 0) ||
+                        (!r->plan.made && prepare_outputs(&r->plan, true) != 0)))
+            return 1;
+    }
+    brume_scene_settings(r->scene, rs);
+    if (r->split_tiles) {
+        if (brume_render_part(r->ctx, r->scene, r->d.rank, r->d.size, &r->image) != BRUME_OK)
+            return render_failed(r);
+    } else {
+        if (r->serve)
+            cli_serve_show(r->serve, NULL, NULL);
+        brume_render_job_release(r->job);
+        r->job = NULL;
+        cli_job_opts jo = {o->checkpoint, 5.0, o->resume, 0, rs->noise_target, rs->time_budget, r->serve, path};
+        if (o->checkpoint || o->resume)
+            jo.scene_key = cli_scene_key(o->scene_path, r->scene, o->nsets, o->sets, f);
+        if (cli_run_job(r->ctx, r->scene, &jo, &r->job, &r->image, &r->jr) != BRUME_OK)
+            return render_failed(r);
+    }
+    size_t n = (size_t)rs->width * (size_t)rs->height * 4;
+    if (r->split_tiles && !dist_reduce_to_root(&r->d, brume_image_pixels(r->image), n)) {
+        cli_error("frame %ld: gathering the tiles on rank 0 failed", f);
+        return 1;
+    }
+    if (r->split_frames && !r->root) {
+        if (!dist_send_to_root(&r->d, brume_image_pixels(r->image), n, (int)k)) {
+            cli_error("frame %ld: could not send it to rank 0", f);
+            return 1;
+        }
+        brume_image_release(r->image);
+        r->image = NULL;
+        return -1;
+    }
+    return 0;
+}
+
+/* The line a written frame gets on stderr (not with --quiet): size, samples, method, time,
+ * and the noise and time budgets when the render had them. */
+static void report_frame(const render_run *r, const char *path, int owner, const brume_render_settings *rs,
+                         double secs)
+{
+    if (owner != r->d.rank)
+        fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs->width, rs->height,
+                rs->spp, brume_method_name(rs->method), owner);
+    else if (r->job && (rs->time_budget > 0.0 || rs->noise_target > 0.0)) {
+        const brume_render_progress *p = &r->jr.progress;
+        char noise[64] = "";
+        if (rs->noise_target > 0.0 && p->spp_max < 2)
+            snprintf(noise, sizeof noise, ", noise not known (under 2 samples; target %.3g%%)",
+                     100.0 * rs->noise_target);
+        else if (rs->noise_target > 0.0)
+            snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
+                     100.0 * rs->noise_target);
+        char budget[64] = "";
+        if (rs->time_budget > 0.0)
+            snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed, rs->time_budget);
+        fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
+                rs->width, rs->height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs->method), secs, budget);
+    } else
+        fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs->width,
+                rs->height, rs->spp, brume_method_name(rs->method), secs, (double)rs->width * rs->height * rs->spp / secs * 1e-6);
+}
+
+/* After a frame: its statistics; on rank 0 its image written (denoised with --denoise), or
+ * the partial image of an interrupted render under a name that says so. 0, or the exit
+ * status with a message. path (a buffer of size n) may be renamed. */
+static int write_frame(render_run *r, char *path, size_t n, int owner, const brume_render_settings *rs,
+                       double t0)
+{
+    const render_opts *o = r->o;
+    if (o->stats && owner == r->d.rank)
+        print_stats(r->ctx, r->scene, path);
+    if (r->root && r->jr.interrupted && r->jr.progress.spp_max == 0) {
+        fprintf(stderr, "brume: interrupted by %s before any sample of %s: nothing written\n",
+                cli_signal_name(r->jr.signal), path);
+        return 128 + r->jr.signal;
+    }
+    if (r->root && r->jr.interrupted) {
+        /* a frame of a sequence is named for what it is: "f_0003.partial.png", never the
+         * name a finished frame has (a video or a later run would take it for whole) */
+        if (o->sequence) {
+            char whole[4096];
+            snprintf(whole, sizeof whole, "%s", path);
+            const char *slash = strrchr(whole, '/'), *dot = strrchr(whole, '.');
+            size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - whole) : strlen(whole);
+            snprintf(path, n, "%.*s.partial%s", (int)stem, whole, whole + stem);
+        }
+        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet) != BRUME_OK)
+            return render_failed(r);
+        const brume_render_progress *p = &r->jr.progress;
+        fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s (%d to %d samples per pixel, %.1f on "
+                        "average)%s%s\n", cli_signal_name(r->jr.signal), path, p->spp_min, p->spp_max, p->spp_mean,
+                r->jr.checkpoint_written ? "; checkpoint " : "", r->jr.checkpoint_written ? o->checkpoint : "");
+        return 128 + r->jr.signal;
+    }
+    if (r->root) {
+        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet) != BRUME_OK)
+            return render_failed(r);
+        if (!o->quiet)
+            report_frame(r, path, owner, rs, now_seconds() - t0);
+    }
+    brume_image_release(r->image);
+    r->image = NULL;
+    return 0;
+}
+
+/* Every frame of the run this process has a part in (a shard's, a rank's share), stopping
+ * between frames on a signal. 0, or the exit status with a message. */
+static int render_frames(render_run *r)
+{
+    const render_opts *o = r->o;
+    for (long k = 0; k < o->nframes; k++) {
+        long f = o->sequence ? o->first + k : -1;
+        if (o->nshards > 1 && f % o->nshards != o->shard)
             continue;
         if (cli_signal()) { /* between frames: the finished ones stay */
-            fprintf(stderr, "brume: interrupted by %s after %ld frame%s\n", cli_signal_name(cli_signal()), done,
-                    done == 1 ? "" : "s");
-            rc = 128 + cli_signal();
-            goto done;
+            fprintf(stderr, "brume: interrupted by %s after %ld frame%s\n", cli_signal_name(cli_signal()), r->done,
+                    r->done == 1 ? "" : "s");
+            return 128 + cli_signal();
         }
-        int owner = split_frames ? (int)(k % d.size) : d.rank;
-        if (owner != d.rank && !root)
+        int owner = r->split_frames ? (int)(k % r->d.size) : r->d.rank;
+        if (owner != r->d.rank && !r->root)
             continue;
         char path[4096];
-        if (kind == 1)
-            frame_path(out_path, f, path, sizeof path);
+        if (o->kind == 1)
+            frame_path(o->out_path, f, path, sizeof path);
         else
-            snprintf(path, sizeof path, "%s", out_path);
+            snprintf(path, sizeof path, "%s", o->out_path);
         brume_render_settings rs;
         double t0 = now_seconds();
-        if (owner != d.rank) {
-            /* rank 0 receives a frame that another rank rendered; the scene gives its size */
-            if (!scene && !(scene = load_scene(ctx, &o, f, false)))
-                goto fail;
-            if (!plan.made && prepare_outputs(&plan, true) != 0)
-                goto done;
-            brume_scene_settings(scene, &rs);
-            if (brume_image_new(ctx, rs.width, rs.height, &image) != BRUME_OK || !dist_recv_at_root(&d, brume_image_pixels(image), (size_t)rs.width * (size_t)rs.height * 4, owner,
-                                             (int)k)) {
-                cli_error("frame %ld: could not receive it from rank %d", f, owner);
-                goto done;
-            }
-        } else {
-            /* frames that differ only by the camera share one scene (and its integrator
-             * state: Blasi's first pass is done once) */
-            if (scene && brume_scene_world_is_static(scene) && f >= 0) {
-                brume_scene_settings(scene, &rs);
-                if (brume_scene_set_camera_time(ctx, scene, (double)f / rs.fps) != BRUME_OK)
-                    goto fail;
-            } else {
-                brume_scene_release(scene);
-                if (!(scene = load_scene(ctx, &o, f, !o.quiet && root && !split_frames)))
-                    goto fail;
-                /* the scene's inputs are known now: none of them may be written over; the
-                 * scene is good, so the output folders are made */
-                if (root && (cli_check_output("-o", path, o.scene_path, scene) != 0 ||
-                             (checkpoint && cli_check_output("--checkpoint", checkpoint, o.scene_path, scene) != 0) ||
-                             (!plan.made && prepare_outputs(&plan, true) != 0)))
-                    goto done;
-            }
-            brume_scene_settings(scene, &rs);
-            if (split_tiles) {
-                if (brume_render_part(ctx, scene, d.rank, d.size, &image) != BRUME_OK)
-                    goto fail;
-            } else {
-                if (serve)
-                    cli_serve_show(serve, NULL, NULL);
-                brume_render_job_release(job);
-                job = NULL;
-                cli_job_opts jo = {checkpoint, 5.0, resume, 0, rs.noise_target, rs.time_budget, serve, path};
-                if (checkpoint || resume)
-                    jo.scene_key = cli_scene_key(o.scene_path, scene, o.nsets, o.sets, f);
-                if (cli_run_job(ctx, scene, &jo, &job, &image, &jr) != BRUME_OK)
-                    goto fail;
-            }
-            size_t n = (size_t)rs.width * (size_t)rs.height * 4;
-            if (split_tiles && !dist_reduce_to_root(&d, brume_image_pixels(image), n)) {
-                cli_error("frame %ld: gathering the tiles on rank 0 failed", f);
-                goto done;
-            }
-            if (split_frames && !root) {
-                if (!dist_send_to_root(&d, brume_image_pixels(image), n, (int)k)) {
-                    cli_error("frame %ld: could not send it to rank 0", f);
-                    goto done;
-                }
-                brume_image_release(image);
-                image = NULL;
-                continue;
-            }
-        }
-        if (o.stats && owner == d.rank)
-            print_stats(ctx, scene, path);
-        if (root && jr.interrupted && jr.progress.spp_max == 0) {
-            fprintf(stderr, "brume: interrupted by %s before any sample of %s: nothing written\n",
-                    cli_signal_name(jr.signal), path);
-            rc = 128 + jr.signal;
-            goto done;
-        }
-        if (root && jr.interrupted) {
-            /* a frame of a sequence is named for what it is: "f_0003.partial.png", never the
-             * name a finished frame has (a video or a later run would take it for whole) */
-            if (sequence) {
-                char whole[4096];
-                snprintf(whole, sizeof whole, "%s", path);
-                const char *slash = strrchr(whole, '/'), *dot = strrchr(whole, '.');
-                size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - whole) : strlen(whole);
-                snprintf(path, sizeof path, "%.*s.partial%s", (int)stem, whole, whole + stem);
-            }
-            if (write_image(ctx, image, path, &wopts, o.denoise, rs.threads, o.quiet) != BRUME_OK)
-                goto fail;
-            const brume_render_progress *p = &jr.progress;
-            fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s (%d to %d samples per pixel, %.1f on "
-                            "average)%s%s\n", cli_signal_name(jr.signal), path, p->spp_min, p->spp_max, p->spp_mean,
-                    jr.checkpoint_written ? "; checkpoint " : "", jr.checkpoint_written ? checkpoint : "");
-            rc = 128 + jr.signal;
-            goto done;
-        }
-        if (root) {
-            if (write_image(ctx, image, path, &wopts, o.denoise, rs.threads, o.quiet) != BRUME_OK)
-                goto fail;
-            double secs = now_seconds() - t0;
-            if (!o.quiet && owner != d.rank)
-                fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs.width,
-                        rs.height, rs.spp, brume_method_name(rs.method), owner);
-            else if (!o.quiet && job && (rs.time_budget > 0.0 || rs.noise_target > 0.0)) {
-                const brume_render_progress *p = &jr.progress;
-                char noise[64] = "";
-                if (rs.noise_target > 0.0 && p->spp_max < 2)
-                    snprintf(noise, sizeof noise, ", noise not known (under 2 samples; target %.3g%%)",
-                             100.0 * rs.noise_target);
-                else if (rs.noise_target > 0.0)
-                    snprintf(noise, sizeof noise, ", noise %.3g%% (target %.3g%%)", 100.0 * p->noise,
-                             100.0 * rs.noise_target);
-                char budget[64] = "";
-                if (rs.time_budget > 0.0)
-                    snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed,
-                             rs.time_budget);
-                fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
-                        rs.width, rs.height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs.method), secs, budget);
-            } else if (!o.quiet)
-                fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs.width,
-                        rs.height, rs.spp, brume_method_name(rs.method), secs, (double)rs.width * rs.height * rs.spp / secs * 1e-6);
-        }
-        brume_image_release(image);
-        image = NULL;
-        done++;
+        int st = owner != r->d.rank ? receive_frame(r, k, f, owner, &rs) : render_frame(r, k, f, path, &rs);
+        if (st < 0)
+            continue;
+        if (st > 0 || (st = write_frame(r, path, sizeof path, owner, &rs, t0)) != 0)
+            return st;
+        r->done++;
     }
-    if (root && !o.quiet && (nframes > 1 || d.size > 1))
-        fprintf(stderr, "brume: %ld frame%s in %.2f s (%d process%s)\n", done, done == 1 ? "" : "s",
-                now_seconds() - t_all, d.size, d.size == 1 ? "" : "es");
-    rc = 0;
-    if (serve && !serve_exit && root && !cli_signal()) {
-        if (!o.quiet)
-            fprintf(stderr, "brume: serving the final image at %s until Ctrl-C\n", cli_serve_url(serve));
+    return 0;
+}
+
+/* After the frames: the summary line, the live view's final image until Ctrl-C, the video.
+ * 0, or the exit status with a message. */
+static int finish_run(render_run *r, double t_all)
+{
+    const render_opts *o = r->o;
+    if (r->root && !o->quiet && (o->nframes > 1 || r->d.size > 1))
+        fprintf(stderr, "brume: %ld frame%s in %.2f s (%d process%s)\n", r->done, r->done == 1 ? "" : "s",
+                now_seconds() - t_all, r->d.size, r->d.size == 1 ? "" : "es");
+    if (r->serve && !o->serve_exit && r->root && !cli_signal()) {
+        if (!o->quiet)
+            fprintf(stderr, "brume: serving the final image at %s until Ctrl-C\n", cli_serve_url(r->serve));
         cli_signals_keep(true); /* Ctrl-C ends the serving, not the command */
         while (!cli_signal()) {
             struct timespec ts = {0, 50000000};
@@ -924,22 +1041,44 @@ int cmd_render(int argc, char **argv)
         }
         cli_signals_keep(false);
     }
-    if (root && video && scene) {
+    if (r->root && o->video && r->scene) {
         brume_render_settings rs;
-        brume_scene_settings(scene, &rs);
-        rc = make_video(out_path, first, rs.fps, video);
+        brume_scene_settings(r->scene, &rs);
+        return make_video(o->out_path, o->first, rs.fps, o->video);
     }
-    goto done;
-fail:
-    cli_error("%.1000s", brume_context_last_error(ctx));
-done:
-    if (rc != 0 && d.size > 1)
-        dist_abort(&d, rc);
-    cli_serve_stop(serve);
-    brume_render_job_release(job);
-    brume_image_release(image);
-    brume_scene_release(scene);
-    brume_context_release(ctx);
-    dist_end(&d);
+    return 0;
+}
+
+/* Releases what the run holds; a failure on one rank stops the others. */
+static void end_run(render_run *r, int rc)
+{
+    if (rc != 0 && r->d.size > 1)
+        dist_abort(&r->d, rc);
+    cli_serve_stop(r->serve);
+    brume_render_job_release(r->job);
+    brume_image_release(r->image);
+    brume_scene_release(r->scene);
+    brume_context_release(r->ctx);
+    dist_end(&r->d);
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_opts o = {0};
+    int rc = parse_options(&o, argc, argv);
+    if (rc >= 0)
+        return rc;
+    if (o.print_scene)
+        return print_scene(&o);
+    if ((rc = check_request(&o)) != 0)
+        return rc;
+    render_run r = {.o = &o};
+    if ((rc = begin_run(&r)) != 0)
+        return rc;
+    double t_all = now_seconds();
+    rc = render_frames(&r);
+    if (rc == 0)
+        rc = finish_run(&r, t_all);
+    end_run(&r, rc);
     return rc;
 }

@@ -4,8 +4,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "core/error.h"
-#include "render/slab.h"
+#include "tool/tool.h"
 
 static void slab_usage(FILE *out)
 {
@@ -24,7 +23,7 @@ static void slab_usage(FILE *out)
 
 int cmd_slab(int argc, char **argv)
 {
-    slab_params p = {.albedo = -1.0, .tau = -1.0, .samples = 1000000, .seed = 1, .threads = 0, .max_depth = 1 << 30};
+    tool_slab_params p = {.albedo = -1.0, .tau = -1.0, .samples = 1000000, .seed = 1, .threads = 0, .max_depth = 1 << 30};
     const char *phase_name = NULL;
     double g = 0.0, k = 0.0;
     bool have_g = false, have_k = false;
@@ -75,30 +74,30 @@ int cmd_slab(int argc, char **argv)
             cli_error("slab: --phase hg needs --g");
             return 2;
         }
-        ph = phase_new_hg(g);
+        ph = tool_phase_hg(g);
     } else if (strcmp(phase_name, "schlick") == 0) {
         if (!have_g && !have_k) {
             cli_error("slab: --phase schlick needs --k (or --g)");
             return 2;
         }
-        ph = phase_new_schlick(have_k ? k : phase_schlick_k_from_g(g));
+        ph = tool_phase_schlick(have_k ? k : tool_schlick_k_from_g(g));
     } else {
         if (have_g || have_k) {
             cli_error("slab: --g and --k apply to hg and schlick only, not '%s'", phase_name);
             return 2;
         }
-        ph = phase_new_from_name(phase_name);
+        ph = tool_phase_named(phase_name);
     }
     if (!ph) {
-        cli_error("slab: --phase: %.1000s", err_message());
+        cli_error("slab: --phase: %.1000s", tool_last_error());
         return 1;
     }
     p.ph = ph;
-    slab_result r;
-    brume_status st = slab_run(&p, &r);
-    phase_release(ph);
+    tool_slab_result r;
+    brume_status st = tool_slab_run(&p, &r);
+    tool_phase_release(ph);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", err_message());
+        cli_error("%.1000s", tool_last_error());
         return 1;
     }
     printf("Rd %.6f %.6f\n", r.Rd, r.Rd_stderr);

@@ -8,8 +8,7 @@
 #include "args.h"
 #include "brume.h"
 #include "commands.h"
-#include "core/error.h"
-#include "io/sheet.h"
+#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_VALUES 16
@@ -74,147 +73,181 @@ static bool parse_set(const char *text, sweep_key *k)
     return true;
 }
 
-int cmd_sweep(int argc, char **argv)
+typedef struct sweep_opts {
+    const char *scene, *out, *title, *method; /* title, method: or NULL */
+    sweep_key *keys;                          /* --set, MAX_SETS of room */
+    int nkeys, width, height, spp, threads;   /* 0: the scene's */
+    uint64_t seed;
+    bool seed_given;
+    double exposure;
+    int swept[2], nswept;                     /* the keys with several values: columns, rows */
+    int ncols, nrows;
+} sweep_opts;
+
+/* The command line into *o. -1: go on; otherwise the exit status (0 after --help, 2 with a
+ * message). */
+static int parse_sweep(sweep_opts *o, int argc, char **argv)
 {
-    const char *scene = NULL, *out = NULL, *title = NULL, *method = NULL;
-    static sweep_key keys[MAX_SETS];
-    int nkeys = 0, width = 0, height = 0, spp = 0, threads = 0;
-    uint64_t seed = 0;
-    bool seed_given = false;
-    double exposure = 0.0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
             fputs(sweep_usage, stdout);
             return 0;
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (!(out = arg_value(argc, argv, &i))) return 2;
+            if (!(o->out = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--set") == 0) {
             if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (nkeys == MAX_SETS) {
+            if (o->nkeys == MAX_SETS) {
                 cli_error("sweep: more than %d --set options", MAX_SETS);
                 return 2;
             }
-            if (!parse_set(v, &keys[nkeys++])) return 2;
+            if (!parse_set(v, &o->keys[o->nkeys++])) return 2;
         } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &width)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &o->width)) return 2;
         } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &height)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &o->height)) return 2;
         } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &spp)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o->spp)) return 2;
         } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &threads)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &o->threads)) return 2;
         } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &seed)) return 2;
-            seed_given = true;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &o->seed)) return 2;
+            o->seed_given = true;
         } else if (strcmp(a, "--method") == 0) {
-            if (!(method = arg_value(argc, argv, &i))) return 2;
+            if (!(o->method = arg_value(argc, argv, &i))) return 2;
         } else if (strcmp(a, "--exposure") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &exposure)) return 2;
+            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &o->exposure)) return 2;
         } else if (strcmp(a, "--title") == 0) {
-            if (!(title = arg_value(argc, argv, &i))) return 2;
-        } else if (!scene && a[0] != '-') {
-            scene = a;
+            if (!(o->title = arg_value(argc, argv, &i))) return 2;
+        } else if (!o->scene && a[0] != '-') {
+            o->scene = a;
         } else {
             cli_error("sweep: unexpected argument '%s'", a);
             return 2;
         }
     }
-    if (!scene || !out) {
+    return -1;
+}
+
+/* The sheet's plan: the output's name, the swept keys (one or two), the number of renders.
+ * 0, or 2 with a message. */
+static int plan_sweep(sweep_opts *o)
+{
+    if (!o->scene || !o->out) {
         cli_error("sweep: need SCENE and -o SHEET.png (try `brume help sweep`)");
         return 2;
     }
-    size_t olen = strlen(out);
-    if (olen < 4 || strcmp(out + olen - 4, ".png") != 0) {
-        cli_error("sweep: %s: the sheet is a .png", out);
+    size_t olen = strlen(o->out);
+    if (olen < 4 || strcmp(o->out + olen - 4, ".png") != 0) {
+        cli_error("sweep: %s: the sheet is a .png", o->out);
         return 2;
     }
-    int swept[2] = {-1, -1}, nswept = 0;
-    for (int k = 0; k < nkeys; k++)
-        if (keys[k].n > 1) {
-            if (nswept == 2) {
-                cli_error("sweep: --set %s: at most two keys take several values", keys[k].key);
+    o->swept[0] = o->swept[1] = -1;
+    o->nswept = 0;
+    for (int k = 0; k < o->nkeys; k++)
+        if (o->keys[k].n > 1) {
+            if (o->nswept == 2) {
+                cli_error("sweep: --set %s: at most two keys take several values", o->keys[k].key);
                 return 2;
             }
-            swept[nswept++] = k;
+            o->swept[o->nswept++] = k;
         }
-    if (nswept == 0) {
+    if (o->nswept == 0) {
         cli_error("sweep: no --set KEY=A,B,... with several values to sweep");
         return 2;
     }
-    int ncols = keys[swept[0]].n, nrows = nswept == 2 ? keys[swept[1]].n : 1;
-    if (ncols * nrows > MAX_CELLS) {
-        cli_error("sweep: %d x %d = %d renders, at most %d", ncols, nrows, ncols * nrows, MAX_CELLS);
+    o->ncols = o->keys[o->swept[0]].n;
+    o->nrows = o->nswept == 2 ? o->keys[o->swept[1]].n : 1;
+    if (o->ncols * o->nrows > MAX_CELLS) {
+        cli_error("sweep: %d x %d = %d renders, at most %d", o->ncols, o->nrows, o->ncols * o->nrows, MAX_CELLS);
         return 2;
     }
-    static char texts[MAX_SETS][TEXT_MAX + TEXT_MAX + 2], col_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2],
-        row_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2];
-    const char *ov[MAX_SETS], *col_labels[MAX_VALUES], *row_labels[MAX_VALUES];
+    return 0;
+}
+
+/* The render of cell (c, r): the scene with every key at its value there and the command
+ * line's settings. On failure returns the status (the context has the message). */
+static brume_status render_cell(brume_context *ctx, const sweep_opts *o, int c, int r, brume_image **out)
+{
+    static char texts[MAX_SETS][TEXT_MAX + TEXT_MAX + 2];
+    const char *ov[MAX_SETS];
+    for (int k = 0; k < o->nkeys; k++) {
+        int j = k == o->swept[0] ? c : k == o->swept[1] ? r : 0;
+        snprintf(texts[k], sizeof texts[k], "%s=%s", o->keys[k].key, o->keys[k].values[j]);
+        ov[k] = texts[k];
+    }
+    brume_load_options lo = {0.0, 0, ov, o->nkeys, NULL};
+    brume_scene *s = NULL;
+    brume_render_settings rs;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = o->scene}, &lo, &s);
+    if (st != BRUME_OK)
+        return st;
+    brume_scene_settings(s, &rs);
+    if (o->width)
+        rs.width = o->width;
+    if (o->height)
+        rs.height = o->height;
+    if (o->spp)
+        rs.spp = o->spp;
+    if (o->seed_given)
+        rs.seed = o->seed;
+    st = o->method ? brume_method_from_name(ctx, o->method, &rs.method) : BRUME_OK;
+    rs.threads = o->threads;
+    rs.progress = false;
+    if (st == BRUME_OK)
+        st = brume_scene_set_settings(ctx, s, &rs);
+    if (st == BRUME_OK)
+        st = brume_scene_commit(ctx, s);
+    if (st == BRUME_OK)
+        st = brume_render(ctx, s, out);
+    brume_scene_release(s);
+    return st;
+}
+
+int cmd_sweep(int argc, char **argv)
+{
+    static sweep_key keys[MAX_SETS];
+    sweep_opts o = {.keys = keys};
+    int rc = parse_sweep(&o, argc, argv);
+    if (rc >= 0)
+        return rc;
+    if ((rc = plan_sweep(&o)) != 0)
+        return rc;
+    int ncols = o.ncols, nrows = o.nrows;
+    const sweep_key *kc = &keys[o.swept[0]], *kr = o.nswept == 2 ? &keys[o.swept[1]] : NULL;
+    static char col_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2], row_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2];
+    const char *col_labels[MAX_VALUES], *row_labels[MAX_VALUES];
     brume_image *cells[MAX_CELLS] = {0};
     brume_context *ctx = brume_context_new();
-    int rc = 1;
+    rc = 1;
     if (!ctx) {
         cli_error("sweep: out of memory");
         return 1;
     }
     for (int c = 0; c < ncols; c++) {
-        snprintf(col_text[c], sizeof col_text[c], "%s=%s", keys[swept[0]].key, keys[swept[0]].values[c]);
+        snprintf(col_text[c], sizeof col_text[c], "%s=%s", kc->key, kc->values[c]);
         col_labels[c] = col_text[c];
     }
-    for (int r = 0; nswept == 2 && r < nrows; r++) {
-        snprintf(row_text[r], sizeof row_text[r], "%s=%s", keys[swept[1]].key, keys[swept[1]].values[r]);
+    for (int r = 0; kr && r < nrows; r++) {
+        snprintf(row_text[r], sizeof row_text[r], "%s=%s", kr->key, kr->values[r]);
         row_labels[r] = row_text[r];
     }
     for (int r = 0; r < nrows; r++)
         for (int c = 0; c < ncols; c++) {
-            for (int k = 0; k < nkeys; k++) {
-                int j = k == swept[0] ? c : k == swept[1] ? r : 0;
-                snprintf(texts[k], sizeof texts[k], "%s=%s", keys[k].key, keys[k].values[j]);
-                ov[k] = texts[k];
+            if (render_cell(ctx, &o, c, r, &cells[r * ncols + c]) != BRUME_OK) {
+                cli_error("%.1000s", brume_context_last_error(ctx));
+                goto done;
             }
-            brume_load_options lo = {0.0, 0, ov, nkeys, NULL};
-            brume_scene *s = NULL;
-            brume_render_settings rs;
-            if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
-                goto fail;
-            brume_scene_settings(s, &rs);
-            if (width)
-                rs.width = width;
-            if (height)
-                rs.height = height;
-            if (spp)
-                rs.spp = spp;
-            if (seed_given)
-                rs.seed = seed;
-            if (method && brume_method_from_name(ctx, method, &rs.method) != BRUME_OK) {
-                brume_scene_release(s);
-                goto fail;
-            }
-            rs.threads = threads;
-            rs.progress = false;
-            brume_status st = brume_scene_set_settings(ctx, s, &rs);
-            if (st == BRUME_OK)
-                st = brume_scene_commit(ctx, s);
-            if (st == BRUME_OK)
-                st = brume_render(ctx, s, &cells[r * ncols + c]);
-            brume_scene_release(s);
-            if (st != BRUME_OK)
-                goto fail;
-            fprintf(stderr, "sweep: %d of %d rendered (%s%s%s)\n", r * ncols + c + 1, ncols * nrows,
-                    col_labels[c], nswept == 2 ? ", " : "", nswept == 2 ? row_labels[r] : "");
+            fprintf(stderr, "sweep: %d of %d rendered (%s%s%s)\n", r * ncols + c + 1, ncols * nrows, col_labels[c],
+                    kr ? ", " : "", kr ? row_labels[r] : "");
         }
-    {
-        brume_write_options wo = {exposure, BRUME_TONEMAP_CLAMP};
-        if (sheet_png(out, title ? title : scene, ncols, nrows, (const brume_image *const *)cells, col_labels,
-                      nswept == 2 ? row_labels : NULL, NULL, &wo) != BRUME_OK) {
-            cli_error("%.1000s", err_message());
-            goto done;
-        }
+    brume_write_options wo = {o.exposure, BRUME_TONEMAP_CLAMP};
+    if (sheet_png(o.out, o.title ? o.title : o.scene, ncols, nrows, (const brume_image *const *)cells, col_labels,
+                  kr ? row_labels : NULL, NULL, &wo) != BRUME_OK) {
+        cli_error("%.1000s", tool_last_error());
+        goto done;
     }
     rc = 0;
-    goto done;
-fail:
-    cli_error("%.1000s", brume_context_last_error(ctx));
 done:
     for (int i = 0; i < MAX_CELLS; i++)
         brume_image_release(cells[i]);

@@ -4,6 +4,8 @@
 #ifndef BRUME_CLI_COMMANDS_H
 #define BRUME_CLI_COMMANDS_H
 
+#include <stdio.h>
+
 #define BRUME_COMMANDS(X)                                                   \
     X(render, "render a scene (or the built-in default scene) to an image") \
     X(phase, "phase functions: fit a Schlick mixture, plot")               \
@@ -15,11 +17,17 @@
     X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
     X(devices, "list the GPUs brume can render on (or say why there are none)") \
     X(figures, "render every figure of both papers into a folder, with an index") \
-    X(sweep, "render a scene over one or two parameters into a labelled contact sheet")
+    X(sweep, "render a scene over one or two parameters into a labelled contact sheet") \
+    X(options, "list the rendering methods' options (METHOD.KEY for --set and scene files)")
 
 #define X(name, summary) int cmd_##name(int argc, char **argv);
 BRUME_COMMANDS(X)
 #undef X
+
+/* The methods' option keys, wrapped, for a command's help (cmd_options.c). */
+void cli_options_keys(FILE *out);
+/* docs/scene-format.md's tables of "Method options" (`brume options --markdown`). */
+void cli_options_markdown(FILE *out);
 
 /* Shared by commands: print "brume: MESSAGE" on stderr. */
 void cli_error(const char *fmt, ...)

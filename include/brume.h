@@ -364,21 +364,60 @@ void brume_scene_settings(const brume_scene *scene, brume_render_settings *rs);
 brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, const brume_render_settings *rs);
 /* Sets a named option of a rendering method from its text form, as the scene file would
  * give it; only before commit. This is the one option mechanism: each method owns its keys
- * "METHOD.KEY" (the scene file's "METHOD" object is read through it). The path method's is
- * path.sun_lobe (a number in [0, 100], default 2: the scale of the probability of a
- * sun-lobe sample per scattering event, 0 = none; docs/path-tracer.md). The blasi method's are
- * blasi.light_rays, blasi.r, blasi.kprime, blasi.step, blasi.threshold, blasi.sources,
- * blasi.exit_deposit (paper|none), blasi.view_attenuation (absorption|extinction),
- * blasi.variant (paper|physical: both of the previous two unless they are set themselves),
- * blasi.voxels (cells of a blob field's grid), blasi.save_light PATH and blasi.load_light
- * PATH (docs/blasi.md); the stam method's are stam.eps, stam.eta, stam.alpha, stam.lattice
- * (0 = covering the blob fields), stam.cell, stam.seed, stam.time, stam.rate, stam.ambient
- * ("v" or "r,g,b"), stam.steps, stam.light_grid, stam.bvh (true|false), stam.variant
- * (paper|corrected), stam.voxelize.resolution and stam.voxelize.realization
- * (docs/scene-format.md, docs/stam.md). Paths are
- * used as given (a scene file's are relative to its folder). An unknown key or a bad value
- * fails with a message naming the key; nothing is changed then. */
+ * "METHOD.KEY" (the scene file's "METHOD" object is read through it), one table per method
+ * in the library. Paths are used as given (a scene file's are relative to its folder). An
+ * unknown key or a bad value fails with a message naming the key; nothing is changed then.
+ * The keys and their values (brume_option_get lists them with defaults and meanings, as do
+ * `brume options` and docs/scene-format.md, "Method options"; ctest options.header_lists_every_key
+ * fails when this list differs from the tables):
+ * BEGIN OPTION KEYS
+ *   path.sun_lobe              a number in [0, 100]
+ *   path.sun_roulette          a number in [0, 1]
+ *   path.split                 a whole number in [1, 8]
+ *   blasi.light_rays           an integer in [1, 1e12]
+ *   blasi.r                    a number in [0, 1]
+ *   blasi.kprime               a number in (-1, 1)
+ *   blasi.step                 a length >= 0 (0 = voxel by voxel)
+ *   blasi.threshold            a number in [0, 1)
+ *   blasi.sources              an integer in [1, 65536]
+ *   blasi.exit_deposit         one of paper, none
+ *   blasi.view_attenuation     one of absorption, extinction
+ *   blasi.gather               one of path_length, printed
+ *   blasi.variant              one of paper, physical
+ *   blasi.voxels               0 or an integer in [2, 2048]
+ *   blasi.save_light           a file name
+ *   blasi.load_light           a file name
+ *   stam.eps                   a number >= 0
+ *   stam.eta                   a number > 0
+ *   stam.alpha                 a length > 0
+ *   stam.lattice               0 (automatic) or an integer in [2, 512]
+ *   stam.cell                  a length >= 0 (0 = alpha / 3)
+ *   stam.seed                  an integer in [0, 2^53]
+ *   stam.time                  a finite time in seconds
+ *   stam.rate                  a rate >= 0
+ *   stam.ambient               a radiance >= 0 (v or r,g,b)
+ *   stam.steps                 an integer in [1, 256]
+ *   stam.light_grid            an integer in [0, 512]
+ *   stam.bvh                   true or false
+ *   stam.variant               one of corrected, paper
+ *   stam.voxelize.resolution   an integer in [2, 2048] (0 = off)
+ *   stam.voxelize.realization  true or false
+ * END OPTION KEYS */
 brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);
+/* The methods' options, from the same tables that parse them: brume_option_count() of them,
+ * in a fixed order (by method, then as docs/scene-format.md lists them). */
+typedef struct brume_option {
+    const char *key;           /* "METHOD.KEY", as brume_scene_set_option takes it: "blasi.r" */
+    const char *kind;          /* "number", "integer", "enum", "bool", "color" or "path" */
+    const char *values;        /* what a value is: "a number in [0, 1]", "one of paper, none" */
+    const char *default_value; /* the default as text ("2", "paper"), words when the method
+                                  computes it ("from the phase function"), "" when none */
+    const char *doc;           /* meaning and units, one line */
+} brume_option;
+int brume_option_count(void);
+/* Fills *out with option `index`, 0 <= index < brume_option_count() (BRUME_ERROR_RANGE
+ * otherwise); its strings are the library's, valid as long as it is loaded. */
+brume_status brume_option_get(brume_context *ctx, int index, brume_option *out);
 /* Freezes the scene and builds what rendering needs (majorants, light tables). */
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *scene);
 void brume_scene_release(brume_scene *scene);

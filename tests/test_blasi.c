@@ -6,6 +6,7 @@
 #include "brume.h"
 #include "render/blasi.h"
 #include "core/error.h"
+#include "io/light_file.h"
 #include "scene/scene.h"
 
 #include <unistd.h>
@@ -762,9 +763,114 @@ TEST(printed_gather_is_two_thirds_along_an_axis)
     ASSERT_TRUE(lit >= 18);
 }
 
+/* Little-endian bytes of a light file, written from docs/blasi.md's description. */
+static void put_u32(unsigned char *b, size_t *at, uint32_t x)
+{
+    for (int i = 0; i < 4; i++)
+        b[(*at)++] = (unsigned char)(x >> (8 * i));
+}
+
+static void put_f32(unsigned char *b, size_t *at, float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    put_u32(b, at, u);
+}
+
+static void write_bytes(const char *path, const unsigned char *b, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    ASSERT_TRUE(fp != NULL);
+    ASSERT_TRUE(fwrite(b, 1, n, fp) == n);
+    fclose(fp);
+}
+
+/* A light file built byte by byte from the format in docs/blasi.md (two media of 2 x 1 x 1
+ * and 1 x 1 x 1 voxels) reads into the values written; light_file_write makes the same
+ * bytes (files saved before still load); and a file broken in each field is refused with
+ * its name and what is wrong. */
+TEST(light_file_format_is_the_documented_one)
+{
+    const int n[2][3] = {{2, 1, 1}, {1, 1, 1}};
+    const light_file_layout lay = {0x0123456789abcdefULL, 2, n, 3};
+    const float S[9] = {0.5f, 1.0f, 2.0f, 0.0f, 3.25f, 4.0f, 1e-3f, 7.0f, 8.0f};
+    unsigned char file[128];
+    size_t len = 0;
+    memcpy(file, "BRUMEBL1", 8);
+    len = 8;
+    put_u32(file, &len, 1); /* version */
+    put_u32(file, &len, 2); /* media */
+    put_u32(file, &len, 0x89abcdefu); /* the hash, low word first */
+    put_u32(file, &len, 0x01234567u);
+    for (int m = 0; m < 2; m++) {
+        for (int a = 0; a < 3; a++)
+            put_u32(file, &len, (uint32_t)n[m][a]);
+        put_u32(file, &len, 0);
+    }
+    for (int i = 0; i < 9; i++)
+        put_f32(file, &len, S[i]);
+    ASSERT_EQ_INT((int)len, 8 + 8 + 8 + 32 + 36);
+    char path[512], made[512];
+    snprintf(path, sizeof path, "%s", test_tmp_path("format.bbl"));
+    snprintf(made, sizeof made, "%s", test_tmp_path("made.bbl"));
+    write_bytes(path, file, len);
+    float got[9];
+    ASSERT_EQ_INT(light_file_read(path, &lay, got), BRUME_OK);
+    ASSERT_TRUE(memcmp(got, S, sizeof S) == 0);
+
+    ASSERT_EQ_INT(light_file_write(made, &lay, S), BRUME_OK);
+    unsigned char back[256];
+    FILE *fp = fopen(made, "rb");
+    ASSERT_TRUE(fp != NULL);
+    size_t nb = fread(back, 1, sizeof back, fp);
+    fclose(fp);
+    ASSERT_EQ_INT((int)nb, (int)len);
+    ASSERT_TRUE(memcmp(back, file, len) == 0);
+    remove(made);
+
+    /* each field broken: {offset, byte written there (-1: cut the file there, -2: one byte
+     * more), what the message says} */
+    const struct {
+        int at, byte;
+        const char *says;
+    } bad[] = {
+        {0, 'X', "not a brume light file"},
+        {8, 2, "version 2, this brume reads 1"},
+        {12, 3, "made for 3 media, the scene has 2"},
+        {40, 2, "medium 1 is 2 x 1 x 1 voxels, the scene's 1 x 1 x 1"},
+        {16, 0xee, "made for another scene"},
+        {30, -1, "truncated header"},
+        {(int)len - 1, -1, "truncated data"},
+        {(int)len, -2, "trailing bytes"},
+        {56 + 4 * 4 + 3, 0xbf, "value 4 is negative or not finite"}, /* S[4] with its sign bit set */
+        {56 + 4 * 6 + 3, 0x7f, "value 6 is negative or not finite"}, /* S[6] with an exponent of all ones */
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        unsigned char broken[129];
+        memcpy(broken, file, len);
+        size_t blen = len;
+        if (bad[k].byte == -1)
+            blen = (size_t)bad[k].at;
+        else if (bad[k].byte == -2)
+            broken[blen++] = 0;
+        else
+            broken[bad[k].at] = (unsigned char)bad[k].byte;
+        if (bad[k].at == 56 + 4 * 6 + 3)
+            broken[bad[k].at - 1] = 0xff; /* the exponent's low bit too: NaN */
+        write_bytes(path, broken, blen);
+        ASSERT_TRUE(light_file_read(path, &lay, got) != BRUME_OK);
+        ASSERT_CONTAINS(err_message(), path);
+        ASSERT_CONTAINS(err_message(), "blasi.load_light");
+        ASSERT_CONTAINS(err_message(), bad[k].says);
+    }
+    remove(path);
+    ASSERT_TRUE(light_file_read(path, &lay, got) != BRUME_OK);
+    ASSERT_CONTAINS(err_message(), "cannot open");
+}
+
 TEST_MAIN(printed_gather_is_two_thirds_along_an_axis, r1_physical_converges_to_single, r1_point_spot_area_lights_converge_to_single,
           threads_do_not_change_the_image, light_pass_sums_do_not_depend_on_threads, light_pass_keeps_the_power,
-          light_rays_aim_at_the_non_empty_voxels, save_and_load_light,
+          light_rays_aim_at_the_non_empty_voxels, save_and_load_light, light_file_format_is_the_documented_one,
           paper_variants_are_brighter,
           uniform_steps_agree_with_voxel_walk, bad_options_name_the_key, transmittance_matches_brute_force,
           view_radiance_matches_brute_force, light_pass_sums_respect_the_memory_limit)

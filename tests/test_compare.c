@@ -3,7 +3,7 @@
 
 #include "brume.h"
 #include "core/rng.h"
-#include "io/compare.h"
+#include "tool/tool.h"
 
 static brume_image *ramp(int w, int h, double scale)
 {

@@ -1071,9 +1071,10 @@ static void *load_thread(void *user)
 }
 
 /* Defect 4: the library's cancel reaches scene loading: brume_context_cancel_loads(ctx) from
- * another thread (or a signal handler) ends a procedural_cloud at 512 (67 s) loaded with ctx
- * within a second; the same load with another context goes on until that one is cancelled,
- * and a load started afterwards is not affected. */
+ * another thread (or a signal handler) ends a procedural_cloud at 512 (67 s) loaded with ctx,
+ * and the fractal generators' midpoint and spectral syntheses, within a second; the same load
+ * with another context goes on until that one is cancelled, and a load started afterwards is
+ * not affected. */
 TEST(scene_load_cancels)
 {
     const char *dir = fresh_dir("loadcancel");
@@ -1104,6 +1105,33 @@ TEST(scene_load_cancels)
     ASSERT_EQ_INT(other.st, BRUME_ERROR_CANCELLED);
     brume_context_release(a.ctx);
     brume_context_release(other.ctx);
+    /* the fractal generators too: midpoint displacement on a 513^3 lattice, spectral
+     * synthesis of 512^3 (about a minute each on 2 cores), cancelled inside their loops */
+    static const char *const methods[] = {"midpoint", "spectral"};
+    for (int m = 0; m < 2; m++) {
+        snprintf(path, sizeof path, "%s/fractal-%s.json", dir, methods[m]);
+        char text[600];
+        snprintf(text, sizeof text,
+                 "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                 " \"media\": [{\"density\": {\"type\": \"fractal_cloud\", \"method\": \"%s\","
+                 " \"dims\": [512, 512, 512]}, \"sigma_a\": 0.1, \"sigma_s\": 1}],"
+                 " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1}}",
+                 methods[m]);
+        write_text(path, text);
+        load_arg f = {path, BRUME_OK, "", 0.0, brume_context_new(), false};
+        ASSERT_EQ_INT(pthread_create(&th, NULL, load_thread, &f), 0);
+        test_sleep(0.5);
+        t0 = seconds();
+        brume_context_cancel_loads(f.ctx);
+        pthread_join(th, NULL);
+        after = seconds() - t0;
+        fprintf(stderr, "%s: load ended %.2f s after the cancel (%.2f s in all): %s\n", methods[m], after, f.took,
+                f.msg);
+        ASSERT_EQ_INT(f.st, BRUME_ERROR_CANCELLED);
+        ASSERT_TRUE(after < 1.0);
+        ASSERT_CONTAINS(f.msg, "loading cancelled");
+        brume_context_release(f.ctx);
+    }
     /* the next load is not cancelled */
     snprintf(path, sizeof path, "%s/small.json", dir);
     write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"

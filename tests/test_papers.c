@@ -98,7 +98,8 @@ TEST(set_bad_keys)
     const char *range[] = {"camera.fov=400"};
     load_with(SCENE("stam-fig5-a.json"), range, 1, BRUME_ERROR_RANGE, "(set by override camera.fov=400)");
     const char *variant[] = {"stam.variant=printed"};
-    load_with(SCENE("stam-fig5-a.json"), variant, 1, BRUME_ERROR_PARSE, "known: paper, corrected");
+    load_with(SCENE("stam-fig5-a.json"), variant, 1, BRUME_ERROR_PARSE,
+              "stam.variant: 'printed' is not one of corrected, paper");
     const char *noeq[] = {"camera.fov"};
     load_with(SCENE("stam-fig5-a.json"), noeq, 1, BRUME_ERROR_PARSE, "expected KEY=VALUE");
 

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "phase/phase.h"
-#include "phase/phase_fit.h"
+#include "tool/tool.h"
 
 /* ---- the functions under test ---------------------------------------------------------------- */
 

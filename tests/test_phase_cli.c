@@ -7,7 +7,8 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "phase/phase_fit.h"
+#include "phase/phase.h"
+#include "tool/tool.h"
 
 /* fontconfig (under cairo's text) keeps process-lifetime caches that LeakSanitizer reports
  * at exit; they are not ours. The hook is read only by sanitizer builds. */

@@ -168,7 +168,7 @@ TEST(single_scattering_closed_form)
 
 /* The same slab with a forward phase function (HG g = 0.6): p(-1) = 0.0124 is a sixth of
  * an isotropic phase function's 1 / (4 pi), so next-event estimation traces the shadow ray
- * with probability q = 4 pi p(-1) = 0.156 and divides by it (integrator.c, nee_roulette).
+ * with probability q = 4 pi p(-1) = 0.156 and divides by it (path.c, nee_roulette).
  * The tolerance is 5 standard errors of the image mean, which include the roulette's
  * variance; an estimate not divided by q would be 0.156 times the expectation. */
 TEST(single_scattering_forward_hg_shadow_roulette)
@@ -282,7 +282,7 @@ TEST(residual_ratio_tracking_transmittance)
     }
 }
 
-/* The flight's delta tail (integrator.c; docs/path-tracer.md, "The flight's delta tail")
+/* The flight's delta tail (flight.c; docs/path-tracer.md, "The flight's delta tail")
  * changes how a flight's weights are drawn, not their expectations. One ray through the
  * heterogeneous grid above, in a medium of gray extinction sigma_t = 1.5 and chromatic
  * albedo; with T(t) the transmittance to t, the expectations are closed forms up to
@@ -440,7 +440,7 @@ static void same_image_for_threads(const char *json, int npix)
     }
 }
 
-/* Sun-lobe sampling (integrator.c; docs/path-tracer.md, "Sun-lobe sampling") changes the
+/* Sun-lobe sampling (path.c; docs/path-tracer.md, "Sun-lobe sampling") changes the
  * estimator, not its expectation. A homogeneous slab (thickness 1, sigma_s 2, sigma_a 0.1,
  * HG g = 0.9) lit by a delta sun 60 degrees off the vertical, seen head-on through a narrow
  * camera: every pixel has the same expectation, so the pixels' spread gives the image
@@ -564,7 +564,7 @@ TEST(camera_cull_changes_no_pixel)
     brume_image_release(full);
 }
 
-/* The sun roulette's prediction (integrator.c, sun_tau_build; docs/path-tracer.md, "Sun rays
+/* The sun roulette's prediction (path_state.c, sun_tau_build; docs/path-tracer.md, "Sun rays
  * deep in a cloud") in a homogeneous box ([-1, 1]^3, sigma_t 3) under an oblique sun: the
  * exact transmittance from p is exp(-3 d(p)), d the distance to the box's face along the
  * direction to the sun. The prediction takes the least optical depth of the 8 grid nodes

@@ -33,13 +33,13 @@ import json
 import os
 import sys
 import threading
-from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
 from ._lib import ffi, lib, has
 
-__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Scene", "render", "write", "version", "AOVS"]
+__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Scene", "render", "write", "version", "options", "AOVS"]
 
 SceneSource = Union[None, str, bytes, "os.PathLike[str]", Mapping[str, Any]]
 ProgressFn = Callable[[int, int], Optional[bool]]
@@ -93,6 +93,20 @@ def _refuse_time(kwargs):
 def version() -> str:
     """libbrume's version, "MAJOR.MINOR.PATCH"."""
     return ffi.string(lib.brume_version()).decode()
+
+
+def options() -> "List[Dict[str, str]]":
+    """The rendering methods' options, as the library's own tables give them (brume_option_get):
+    one dict per "METHOD.KEY" that Scene(options=...) and render(options=...) take, with its
+    "key", "kind" (number, integer, enum, bool, color, path), "values" (what a value is),
+    "default_value" and "doc"."""
+    out = []
+    o = ffi.new("brume_option *")
+    for i in range(lib.brume_option_count()):
+        if lib.brume_option_get(ffi.NULL, i, o) != 0:
+            raise Error("brume_option_get(%d) failed" % i)
+        out.append({f: ffi.string(getattr(o, f)).decode() for f in ("key", "kind", "values", "default_value", "doc")})
+    return out
 
 
 class _Context:

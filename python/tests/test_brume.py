@@ -125,6 +125,25 @@ class PackageTest(unittest.TestCase):
             brume.render(scene_with({"type": "constant"}), options={"blasi.rays": 3})
         self.assertIn("blasi.rays: unknown key", str(e.exception))
 
+    @unittest.skipUnless(has("brume_option_get"), "this libbrume does not list its options")
+    def test_options_listed_by_the_library_are_taken(self):
+        opts = brume.options()
+        keys = [o["key"] for o in opts]
+        for k in ("path.sun_lobe", "path.split", "blasi.light_rays", "blasi.gather", "stam.voxelize.resolution"):
+            self.assertIn(k, keys)
+        self.assertEqual(len(keys), len(set(keys)))
+        by_key = {o["key"]: o for o in opts}
+        self.assertEqual(by_key["path.split"]["values"], "a whole number in [1, 8]")
+        self.assertEqual(by_key["blasi.gather"]["kind"], "enum")
+        # every option whose default is a value (not words for a computed one) takes it back
+        def settable(o):
+            v = o["default_value"]
+            return v != "" and (o["kind"] in ("enum", "bool") or not v[0].isalpha())
+        given = {k: o["default_value"] for k, o in by_key.items() if settable(o)}
+        self.assertGreater(len(given), 20)
+        s = brume.Scene(scene_with({"type": "constant", "value": 1}), options=given)
+        s.close()
+
     def test_scene_renders_again_and_takes_options(self):
         s = brume.Scene(scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS}), spp=2,
                         method="blasi", options={"blasi.light_rays": 2000, "blasi.variant": "physical"})

@@ -57,10 +57,127 @@ static void put_escaped(char *out, size_t n, size_t *k, const char *s, int prec)
     out[*k] = '\0';
 }
 
-void err_vformat(char *out, size_t n, const char *fmt, va_list ap)
+/* One conversion of a format: %[flags][width][.precision][length]conv. */
+typedef struct fmt_spec {
+    char spec[32]; /* the conversion as snprintf takes it, length included */
+    char len[3];   /* "", "l", "ll", "z", ... */
+    char conv;     /* 'd', 's', ...; '\0' when the format ends inside the conversion */
+    int star_w, star_p; /* width, precision given as arguments */
+    int prec;           /* the written precision, -1 when none */
+    const char *next;   /* the format after the conversion */
+} fmt_spec;
+
+static void fmt_parse(const char *p, fmt_spec *f)
+{
+    size_t s = 0;
+    const char *q = p + 1;
+    f->spec[s++] = '%';
+    f->star_w = f->star_p = 0;
+    f->prec = -1;
+    while (*q && strchr("-+ #0", *q) && s < 8)
+        f->spec[s++] = *q++;
+    if (*q == '*') {
+        f->star_w = 1;
+        f->spec[s++] = *q++;
+    } else {
+        while (*q >= '0' && *q <= '9' && s < 16)
+            f->spec[s++] = *q++;
+    }
+    if (*q == '.') {
+        f->spec[s++] = *q++;
+        if (*q == '*') {
+            f->star_p = 1;
+            f->spec[s++] = *q++;
+        } else {
+            f->prec = 0;
+            while (*q >= '0' && *q <= '9' && s < 24) {
+                f->prec = 10 * f->prec + (*q - '0');
+                f->spec[s++] = *q++;
+            }
+        }
+    }
+    size_t ln = 0;
+    while (*q && strchr("hlLzjt", *q) && ln < 2)
+        f->len[ln++] = *q++;
+    f->len[ln] = '\0';
+    f->conv = *q;
+    /* the length goes into the spec too: "%d" given a long long would print its low half */
+    for (size_t i = 0; i < ln; i++)
+        f->spec[s++] = f->len[i];
+    f->spec[s++] = f->conv;
+    f->spec[s] = '\0';
+    f->next = *q ? q + 1 : q;
+}
+
+/* A numeric (or %p, %%) conversion of f into tmp, its arguments taken from *ap. */
+static void fmt_number(const fmt_spec *f, int w, int pr, va_list *ap, char *tmp, size_t ntmp)
+{
+    const char *spec = f->spec, *len = f->len;
+    int have_w = f->star_w, have_p = f->star_p;
+    tmp[0] = '\0';
+#define EMIT(v)                                                                                 \
+    do {                                                                                        \
+        if (have_w && have_p)                                                                   \
+            snprintf(tmp, ntmp, spec, w, pr, v);                                                \
+        else if (have_w)                                                                        \
+            snprintf(tmp, ntmp, spec, w, v);                                                    \
+        else if (have_p)                                                                        \
+            snprintf(tmp, ntmp, spec, pr, v);                                                   \
+        else                                                                                    \
+            snprintf(tmp, ntmp, spec, v);                                                       \
+    } while (0)
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+#endif
+    switch (f->conv) {
+    case '%': snprintf(tmp, ntmp, "%%"); break;
+    case 'd':
+    case 'i':
+        if (!strcmp(len, "l")) EMIT(va_arg(*ap, long));
+        else if (!strcmp(len, "ll")) EMIT(va_arg(*ap, long long));
+        else if (!strcmp(len, "z")) EMIT(va_arg(*ap, ptrdiff_t));
+        else if (!strcmp(len, "j")) EMIT(va_arg(*ap, intmax_t));
+        else if (!strcmp(len, "t")) EMIT(va_arg(*ap, ptrdiff_t));
+        else EMIT(va_arg(*ap, int));
+        break;
+    case 'u':
+    case 'x':
+    case 'X':
+    case 'o':
+        if (!strcmp(len, "l")) EMIT(va_arg(*ap, unsigned long));
+        else if (!strcmp(len, "ll")) EMIT(va_arg(*ap, unsigned long long));
+        else if (!strcmp(len, "z")) EMIT(va_arg(*ap, size_t));
+        else if (!strcmp(len, "j")) EMIT(va_arg(*ap, uintmax_t));
+        else if (!strcmp(len, "t")) EMIT(va_arg(*ap, size_t));
+        else EMIT(va_arg(*ap, unsigned));
+        break;
+    case 'f':
+    case 'F':
+    case 'e':
+    case 'E':
+    case 'g':
+    case 'G':
+    case 'a':
+    case 'A':
+        if (!strcmp(len, "L")) EMIT(va_arg(*ap, long double));
+        else EMIT(va_arg(*ap, double));
+        break;
+    case 'p': EMIT(va_arg(*ap, void *)); break;
+    default: snprintf(tmp, ntmp, "?"); break; /* not a conversion brume uses */
+    }
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+#undef EMIT
+}
+
+void err_vformat(char *out, size_t n, const char *fmt, va_list ap_in)
 {
     if (n == 0)
         return;
+    va_list ap;
+    va_copy(ap, ap_in);
     size_t k = 0;
     out[0] = '\0';
     for (const char *p = fmt; *p && k + 1 < n;) {
@@ -70,126 +187,31 @@ void err_vformat(char *out, size_t n, const char *fmt, va_list ap)
             out[k] = '\0';
             continue;
         }
-        /* one conversion: %[flags][width][.precision][length]conv */
-        char spec[32];
-        size_t s = 0;
-        const char *q = p + 1;
-        spec[s++] = '%';
-        int star_w = 0, star_p = 0, have_w = 0, have_p = 0, prec = -1;
-        while (*q && strchr("-+ #0", *q) && s < 8)
-            spec[s++] = *q++;
-        if (*q == '*') {
-            star_w = 1;
-            spec[s++] = *q++;
-        } else {
-            while (*q >= '0' && *q <= '9' && s < 16)
-                spec[s++] = *q++;
-        }
-        if (*q == '.') {
-            spec[s++] = *q++;
-            if (*q == '*') {
-                star_p = 1;
-                spec[s++] = *q++;
-            } else {
-                prec = 0;
-                while (*q >= '0' && *q <= '9' && s < 24) {
-                    prec = 10 * prec + (*q - '0');
-                    spec[s++] = *q++;
-                }
-            }
-        }
-        char len[3] = "";
-        size_t ln = 0;
-        while (*q && strchr("hlLzjt", *q) && ln < 2)
-            len[ln++] = *q++;
-        len[ln] = '\0';
-        char conv = *q;
-        if (!conv)
+        fmt_spec f;
+        fmt_parse(p, &f);
+        if (!f.conv)
             break;
-        /* the length goes into the spec too: "%d" given a long long would print its low half */
-        for (size_t i = 0; i < ln; i++)
-            spec[s++] = len[i];
-        spec[s++] = conv;
-        spec[s] = '\0';
-        p = q + 1;
-        int w = 0, pr = 0;
-        if (star_w) {
-            w = va_arg(ap, int);
-            have_w = 1;
-        }
-        if (star_p) {
-            pr = va_arg(ap, int);
-            have_p = 1;
-            prec = pr;
-        }
-        char tmp[512];
-        tmp[0] = '\0';
-#define EMIT(v)                                                                                 \
-    do {                                                                                        \
-        if (have_w && have_p)                                                                   \
-            snprintf(tmp, sizeof tmp, spec, w, pr, v);                                          \
-        else if (have_w)                                                                        \
-            snprintf(tmp, sizeof tmp, spec, w, v);                                              \
-        else if (have_p)                                                                        \
-            snprintf(tmp, sizeof tmp, spec, pr, v);                                             \
-        else                                                                                    \
-            snprintf(tmp, sizeof tmp, spec, v);                                                 \
-    } while (0)
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wformat-nonliteral"
-#endif
-        switch (conv) {
-        case '%': snprintf(tmp, sizeof tmp, "%%"); break;
-        case 'd':
-        case 'i':
-            if (!strcmp(len, "l")) EMIT(va_arg(ap, long));
-            else if (!strcmp(len, "ll")) EMIT(va_arg(ap, long long));
-            else if (!strcmp(len, "z")) EMIT(va_arg(ap, ptrdiff_t));
-            else if (!strcmp(len, "j")) EMIT(va_arg(ap, intmax_t));
-            else if (!strcmp(len, "t")) EMIT(va_arg(ap, ptrdiff_t));
-            else EMIT(va_arg(ap, int));
-            break;
-        case 'u':
-        case 'x':
-        case 'X':
-        case 'o':
-            if (!strcmp(len, "l")) EMIT(va_arg(ap, unsigned long));
-            else if (!strcmp(len, "ll")) EMIT(va_arg(ap, unsigned long long));
-            else if (!strcmp(len, "z")) EMIT(va_arg(ap, size_t));
-            else if (!strcmp(len, "j")) EMIT(va_arg(ap, uintmax_t));
-            else if (!strcmp(len, "t")) EMIT(va_arg(ap, size_t));
-            else EMIT(va_arg(ap, unsigned));
-            break;
-        case 'f':
-        case 'F':
-        case 'e':
-        case 'E':
-        case 'g':
-        case 'G':
-        case 'a':
-        case 'A':
-            if (!strcmp(len, "L")) EMIT(va_arg(ap, long double));
-            else EMIT(va_arg(ap, double));
-            break;
-        case 'c': {
+        p = f.next;
+        int w = f.star_w ? va_arg(ap, int) : 0;
+        int pr = f.star_p ? va_arg(ap, int) : 0;
+        int prec = f.star_p ? pr : f.prec;
+        if (f.conv == 'c') {
             char one[2] = {(char)va_arg(ap, int), '\0'};
             put_escaped(out, n, &k, one, -1);
             continue;
         }
-        case 'p': EMIT(va_arg(ap, void *)); break;
-        case 's': put_escaped(out, n, &k, va_arg(ap, const char *), prec); continue;
-        default: snprintf(tmp, sizeof tmp, "?"); break; /* not a conversion brume uses */
+        if (f.conv == 's') {
+            put_escaped(out, n, &k, va_arg(ap, const char *), prec);
+            continue;
         }
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
-#undef EMIT
+        char tmp[512];
+        fmt_number(&f, w, pr, &ap, tmp, sizeof tmp);
         for (const char *t = tmp; *t && k + 1 < n; t++)
             out[k++] = *t;
         out[k] = '\0';
     }
     out[k] = '\0';
+    va_end(ap);
 }
 
 void err_format(char *out, size_t n, const char *fmt, ...)

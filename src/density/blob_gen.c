@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "density/blobs.h"
@@ -54,6 +55,8 @@ static brume_status cloud_with_stream(const blob_cloud_params *p, uint64_t strea
         return err_set(BRUME_ERROR_RANGE, "cloud: need count >= 1, 0 < h_min <= h_max, radii > 0, density >= 0");
     rng g = rng_make(p->seed, stream, 0);
     for (int i = 0; i < p->count; i++) {
+        if ((i & 0xffff) == 0 && cancel_load_check("blob cloud") != BRUME_OK)
+            return BRUME_ERROR_CANCELLED;
         vec3 u = unit_ball(&g);
         double s = v3_length(u);
         double h = p->h_max + (p->h_min - p->h_max) * s;

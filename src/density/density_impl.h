@@ -79,11 +79,11 @@ static inline size_t dense_brick_z(const density *d, int k)
 }
 
 /* Fills maj, mino, mean, mn, mcell, moff: the cells' bounds over the voxels fetch reads, and
- * the mean of each cell's own voxels (grid.c).
+ * the mean of each cell's own voxels (density.c).
  * false when out of memory. */
 bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int, int, int));
 
-/* Sets clo, chi from maj, and w2c, wlo, whi (grid.c); after every change of maj. */
+/* Sets clo, chi from maj, and w2c, wlo, whi (density.c); after every change of maj. */
 void density_set_active_box(density *d);
 
 /* Fills v2w, w2v and bounds from a voxel-to-world map; false (err_set) if not invertible. */
@@ -120,6 +120,35 @@ static inline double trilinear_blend(const double c[8], const double a[3])
     double c01 = c[4] * (1 - a[0]) + c[5] * a[0], c11 = c[6] * (1 - a[0]) + c[7] * a[0];
     double c0 = c00 * (1 - a[1]) + c10 * a[1], c1 = c01 * (1 - a[1]) + c11 * a[1];
     return c0 * (1 - a[2]) + c1 * a[2];
+}
+
+/* ---- dense voxel arrays (d->data: a dense grid, or a small NanoVDB box's copy) ---------------- *
+ * Inline: density_eval (density.c) reads them at every tentative collision. */
+static inline double dense_at(const density *d, int i, int j, int k)
+{
+    if (d->bricked)
+        return (double)d->data[dense_brick_x(i) + dense_brick_y(d, j) + dense_brick_z(d, k)];
+    return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
+}
+
+/* Trilinear between voxel centres, clamped to the outermost samples; u in voxel space. */
+static inline double dense_trilinear(const density *d, vec3 u)
+{
+    int ijk[3][2];
+    double a[3], c[8];
+    trilinear_corners(u, d->n, ijk, a);
+    if (d->bricked) {
+        const size_t x0 = dense_brick_x(ijk[0][0]), x1 = dense_brick_x(ijk[0][1]);
+        const size_t y0 = dense_brick_y(d, ijk[1][0]), y1 = dense_brick_y(d, ijk[1][1]);
+        const size_t z0 = dense_brick_z(d, ijk[2][0]), z1 = dense_brick_z(d, ijk[2][1]);
+        const float *v = d->data;
+        c[0] = v[x0 + y0 + z0], c[1] = v[x1 + y0 + z0], c[2] = v[x0 + y1 + z0], c[3] = v[x1 + y1 + z0];
+        c[4] = v[x0 + y0 + z1], c[5] = v[x1 + y0 + z1], c[6] = v[x0 + y1 + z1], c[7] = v[x1 + y1 + z1];
+        return trilinear_blend(c, a);
+    }
+    for (int q = 0; q < 8; q++)
+        c[q] = dense_at(d, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
+    return trilinear_blend(c, a);
 }
 
 #endif

@@ -49,7 +49,9 @@ brume_status fractal_midpoint(int level, double hurst, uint64_t seed, float *out
         /* substep kind: how many coordinates sit at odd multiples of h (3 centres, 2 faces, 1 edges) */
         for (int kind = 3; kind >= 1; kind--) {
             double dev = delta * pow(sub, 3 - kind);
-            for (int k = 0; k < N; k += h)
+            for (int k = 0; k < N; k += h) {
+                if (cancel_load_check("fractal midpoint") != BRUME_OK) /* a plane: 1025^2 points at most */
+                    return BRUME_ERROR_CANCELLED;
                 for (int j = 0; j < N; j += h)
                     for (int i = 0; i < N; i += h) {
                         int oi = (i % s) == h, oj = (j % s) == h, ok = (k % s) == h;
@@ -92,6 +94,7 @@ brume_status fractal_midpoint(int level, double hurst, uint64_t seed, float *out
                         uint64_t idx = (uint64_t)i + sN * ((uint64_t)j + sN * (uint64_t)k);
                         AT(i, j, k) = (float)(sum / cnt + dev * gauss(seed, 0, idx));
                     }
+            }
         }
     }
 #undef AT
@@ -119,7 +122,13 @@ brume_status fractal_spectral(const int n[3], double hurst, uint64_t seed, float
     }
     /* FFTW is row-major with the last index fastest: dims (nz, ny, nx) keep x fastest */
     fftw_plan plan = fftw_plan_dft_c2r_3d(n[2], n[1], n[0], c, r, FFTW_ESTIMATE);
-    for (int k = 0; k < n[2]; k++)
+    for (int k = 0; k < n[2]; k++) {
+        if (cancel_load_check("fractal spectral") != BRUME_OK) { /* a plane: 1024 x 513 coefficients at most */
+            fftw_destroy_plan(plan);
+            fftw_free(c);
+            fftw_free(r);
+            return BRUME_ERROR_CANCELLED;
+        }
         for (int j = 0; j < n[1]; j++)
             for (int i = 0; i < hx; i++) {
                 size_t idx = (size_t)i + (size_t)hx * ((size_t)j + (size_t)n[1] * (size_t)k);
@@ -130,7 +139,8 @@ brume_status fractal_spectral(const int n[3], double hurst, uint64_t seed, float
                 c[idx][0] = amp * gauss(seed, 1, 2 * idx);
                 c[idx][1] = amp * gauss(seed, 1, 2 * idx + 1);
             }
-    fftw_execute(plan);
+    }
+    fftw_execute(plan); /* not interruptible: some seconds at 1024^3 */
     fftw_destroy_plan(plan);
     double mean = 0.0, var = 0.0;
     for (size_t i = 0; i < nreal; i++)
@@ -217,6 +227,26 @@ void fractal_params_default(fractal_params *p)
     p->turbulence_frequency = 4.0;
     p->wind = v3(0.0, 0.0, 0.0);
     p->density = 1.0;
+}
+
+void fractal_params_from_api(const brume_fractal *f, fractal_params *p)
+{
+    for (int k = 0; k < 3; k++)
+        p->n[k] = f->dims[k];
+    p->seed = f->seed;
+    p->method = (fractal_method)f->method;
+    p->hurst = f->hurst;
+    p->octaves = f->octaves;
+    p->frequency = f->frequency;
+    p->shape = (fractal_shape)f->shape;
+    p->falloff = f->falloff;
+    p->threshold = f->threshold;
+    p->threshold_rate = f->threshold_rate;
+    p->turbulence = f->turbulence;
+    p->turbulence_frequency = f->turbulence_frequency;
+    p->wind = v3(f->wind[0], f->wind[1], f->wind[2]);
+    p->time = f->time;
+    p->density = f->density;
 }
 
 static double smoothstep(double a, double b, double x)
@@ -351,7 +381,11 @@ float *fractal_cloud_voxels(const fractal_params *p)
     /* Perlin's turbulence with 6 octaves has mean 0.44 (measured, tests/test_fractal.c);
      * subtracting it keeps the cloud's mean size when the turbulence amplitude grows. */
     const double turb_mean = 0.44;
-    for (int k = 0; k < p->n[2]; k++)
+    for (int k = 0; k < p->n[2]; k++) {
+        if (cancel_load_check("fractal") != BRUME_OK) { /* a plane: 1024^2 voxels at most */
+            free(f);
+            return NULL;
+        }
         for (int j = 0; j < p->n[1]; j++)
             for (int i = 0; i < p->n[0]; i++) {
                 size_t idx = (size_t)i + (size_t)p->n[0] * ((size_t)j + (size_t)p->n[1] * (size_t)k);
@@ -366,6 +400,7 @@ float *fractal_cloud_voxels(const fractal_params *p)
                 double v = (shape(p, q) * g - theta) / (1.0 - theta);
                 f[idx] = (float)(p->density * fmin(1.0, fmax(0.0, v)));
             }
+    }
     return f;
 }
 

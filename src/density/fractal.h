@@ -51,6 +51,9 @@ typedef struct fractal_params {
  * falloff 0.6, threshold 0.4, no turbulence,
  * 6 octaves at frequency 2, density 1, time 0, 65 x 65 x 10 voxels, seed 1. */
 void fractal_params_default(fractal_params *p);
+/* The parameters of brume.h's brume_fractal (all but its bounds and filter), copied as they
+ * are: the caller checked them (brume_density_new_fractal, `brume gen cloud`). */
+void fractal_params_from_api(const brume_fractal *f, fractal_params *p);
 
 /* The cloud's voxels (n0 n1 n2 floats, x fastest), malloc'd for the caller; NULL with
  * err_set() on bad parameters or no memory. */

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/rng.h"
 
@@ -35,7 +36,12 @@ brume_status randfield_synthesize(const randfield_params *p, uint64_t index, flo
     fftw_plan plan = fftw_plan_dft_3d(nz, ny, nx, c, c, FFTW_BACKWARD, FFTW_ESTIMATE);
     double dk[3] = {2.0 * PI / (nx * p->cell), 2.0 * PI / (ny * p->cell), 2.0 * PI / (nz * p->cell)};
     double a2 = p->alpha * p->alpha, gsum = 0.0;
-    for (int k = 0; k < nz; k++)
+    for (int k = 0; k < nz; k++) {
+        if (cancel_load_check("random field") != BRUME_OK) { /* a plane: 512^2 modes at most */
+            fftw_destroy_plan(plan);
+            fftw_free(c);
+            return BRUME_ERROR_CANCELLED;
+        }
         for (int j = 0; j < ny; j++)
             for (int i = 0; i < nx; i++) {
                 double kx = dk[0] * freq_index(i, nx), ky = dk[1] * freq_index(j, ny), kz = dk[2] * freq_index(k, nz);
@@ -54,6 +60,7 @@ brume_status randfield_synthesize(const randfield_params *p, uint64_t index, flo
                 c[idx][0] = amp * rad * cos(phase);
                 c[idx][1] = amp * rad * sin(phase);
             }
+    }
     double norm = 1.0 / sqrt(gsum);
     fftw_execute(plan);
     fftw_destroy_plan(plan);

@@ -113,7 +113,8 @@ double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
 #include "core/motion.c"
 #include "core/distrib.c"
 #include "density/dda.c"
-#include "density/grid.c"
+#include "density/density.c"
+#include "density/dense_grid.c"
 #include "density/nanovdb.c"
 #include "medium/blackbody.c"
 #include "medium/medium.c"
@@ -124,6 +125,10 @@ double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
 #include "scene/light.c"
 #include "scene/background.c"
 #include "render/track.c"
+#include "render/flight.c"
+#include "render/path_state.c"
+#include "render/path.c"
+#include "render/first_vertex.c"
 #include "render/integrator.c"
 #pragma clang force_cuda_host_device end
 } /* namespace */

@@ -53,7 +53,14 @@ static void style(cairo_t *cr, const chart_series *s)
     cairo_set_dash(cr, s->style == CHART_DASHED ? dash : NULL, s->style == CHART_DASHED ? 2 : 0, 0.0);
 }
 
-static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
+/* A panel's plot area on the page and the data range it shows. */
+typedef struct panel_frame {
+    double left, right, top, bottom; /* page units */
+    double xlo, xhi, ylo, yhi;       /* data units */
+} panel_frame;
+
+/* The data range of p's finite points (error bars included), padded above. */
+static void panel_range(const chart_panel *p, panel_frame *f)
 {
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
     for (int k = 0; k < p->nseries; k++)
@@ -78,7 +85,17 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
         yhi = ylo + 2.0;
     }
     yhi += 0.05 * (yhi - ylo);
-    double left = x0 + 58.0, right = x0 + PANEL_W - 12.0, top = y0 + 24.0, bottom = y0 + PANEL_H - 40.0;
+    f->xlo = xlo;
+    f->xhi = xhi;
+    f->ylo = ylo;
+    f->yhi = yhi;
+}
+
+/* Title, grid lines with their numbers, axis labels and the frame. */
+static void panel_axes(cairo_t *cr, const chart_panel *p, const panel_frame *f, double x0, double y0)
+{
+    double left = f->left, right = f->right, top = f->top, bottom = f->bottom;
+    double xlo = f->xlo, xhi = f->xhi, ylo = f->ylo, yhi = f->yhi;
     char label[64];
     cairo_set_font_size(cr, 12.0);
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
@@ -116,7 +133,14 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
     cairo_restore(cr);
     cairo_rectangle(cr, left, top, right - left, bottom - top);
     cairo_stroke(cr);
+}
 
+/* Every series, clipped to the plot area: lines broken at non-finite points, or dots with
+ * error bars. */
+static void panel_series(cairo_t *cr, const chart_panel *p, const panel_frame *f)
+{
+    double left = f->left, right = f->right, top = f->top, bottom = f->bottom;
+    double xlo = f->xlo, xhi = f->xhi, ylo = f->ylo, yhi = f->yhi;
     cairo_save(cr);
     cairo_rectangle(cr, left, top, right - left, bottom - top);
     cairo_clip(cr);
@@ -152,8 +176,12 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
             cairo_stroke(cr);
     }
     cairo_restore(cr);
-    /* legend, top right */
-    double ly = top + 14.0;
+}
+
+/* The labelled series' legend, top right. */
+static void panel_legend(cairo_t *cr, const chart_panel *p, const panel_frame *f)
+{
+    double right = f->right, ly = f->top + 14.0;
     for (int k = 0; k < p->nseries; k++) {
         const chart_series *s = &p->series[k];
         if (!s->label)
@@ -171,6 +199,19 @@ static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
         chart_text(cr, right - 132.0, ly, s->label, 0.0);
         ly += 14.0;
     }
+}
+
+static void draw_panel(cairo_t *cr, const chart_panel *p, double x0, double y0)
+{
+    panel_frame f;
+    panel_range(p, &f);
+    f.left = x0 + 58.0;
+    f.right = x0 + PANEL_W - 12.0;
+    f.top = y0 + 24.0;
+    f.bottom = y0 + PANEL_H - 40.0;
+    panel_axes(cr, p, &f, x0, y0);
+    panel_series(cr, p, &f);
+    panel_legend(cr, p, &f);
 }
 
 static cairo_status_t png_to_file(void *closure, const unsigned char *data, unsigned int length)

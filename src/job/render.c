@@ -327,10 +327,31 @@ static void job_figures(const brume_render_job *job, bool finished, progress_fig
     f->frac = eta < 0.0 ? -1.0 : fmin(0.99, used / fmax(used + eta, 1e-9));
 }
 
+/* After a tile: the progress bar and the caller's callback, which may stop the job.
+ * Reports are serialized by cb_lock, and the counts are read inside it: two workers that
+ * finish tiles together must not report the later count first (lock order: cb_lock, then
+ * lock). */
+static void job_report_tile(brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    pthread_mutex_lock(&job->cb_lock);
+    pthread_mutex_lock(&job->lock);
+    uint64_t done = job->done, total = job->total;
+    progress_figures fig;
+    if (job->bar_started)
+        job_figures(job, false, &fig);
+    pthread_mutex_unlock(&job->lock);
+    if (job->bar_started)
+        progress_show(&job->bar, &fig);
+    if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
+        atomic_store(&job->stop, true);
+        job->cancelled = true;
+    }
+    pthread_mutex_unlock(&job->cb_lock);
+}
+
 /* One tile: every active pixel of it from its sample count to job->target (or as far as
  * the time budget lets it go). */
-
-/* One tile: every active pixel of it from its sample count to job->target. */
 static void job_tile(size_t task, int thread, void *user)
 {
     brume_render_job *job = user;
@@ -414,24 +435,7 @@ static void job_tile(size_t task, int thread, void *user)
     if (job->total < job->done)
         job->total = job->done;
     pthread_mutex_unlock(&job->lock);
-
-    /* Reports are serialized by cb_lock, and the counts are read inside it: two workers that
-     * finish tiles together must not report the later count first (lock order: cb_lock, then
-     * lock). */
-    pthread_mutex_lock(&job->cb_lock);
-    pthread_mutex_lock(&job->lock);
-    uint64_t done = job->done, total = job->total;
-    progress_figures fig;
-    if (job->bar_started)
-        job_figures(job, false, &fig);
-    pthread_mutex_unlock(&job->lock);
-    if (job->bar_started)
-        progress_show(&job->bar, &fig);
-    if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
-        atomic_store(&job->stop, true);
-        job->cancelled = true;
-    }
-    pthread_mutex_unlock(&job->cb_lock);
+    job_report_tile(job);
 }
 
 /* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out

@@ -1,7 +1,8 @@
 /* blasi_options.h - the settings of the `blasi` integrator (Blasi, Le Saec and Schlick
  * 1993, Section 4), set by name through brume_scene_set_option ("blasi.KEY"; a scene
- * file's "blasi" object is read through it). Meanings, units and defaults:
- * docs/scene-format.md and docs/blasi.md. */
+ * file's "blasi" object is read through it). Their keys, ranges, defaults and meanings: the
+ * table in blasi_options.c (`brume help options`, docs/scene-format.md, "Method options");
+ * the method: docs/blasi.md. */
 #ifndef BRUME_METHOD_BLASI_OPTIONS_H
 #define BRUME_METHOD_BLASI_OPTIONS_H
 
@@ -51,17 +52,7 @@ typedef struct blasi_options {
     bool exit_given, view_given; /* set by their own keys: `variant` leaves them alone */
 } blasi_options;
 
-void blasi_options_default(blasi_options *o);
-
-/* Sets option `key` (without the "blasi." prefix) from its text form, as the scene file
- * would give it: light_rays, r, kprime, step, threshold, sources, exit_deposit
- * (paper|none), view_attenuation (absorption|extinction), gather (path_length|printed), variant (paper|physical: both
- * of the previous two, except one set by its own key, in any order), voxels, save_light,
- * load_light. On failure returns an error status with
- * err_set() naming "blasi.KEY" and the bad value, and leaves *o unchanged. */
-brume_status blasi_options_set(blasi_options *o, const char *key, const char *value);
-
-/* Names of the options, for messages. */
-const char *blasi_option_names(void);
+/* The table of "blasi.KEY" options (blasi_options.c; method/method_options.h). */
+extern const struct method_options_def blasi_options_def;
 
 #endif

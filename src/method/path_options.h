@@ -1,6 +1,7 @@
 /* path_options.h - the settings of the `path` and `single` integrators, set by name through
  * brume_scene_set_option ("path.KEY"; a scene file's "path" object is read through it).
- * Meanings, units and defaults: docs/scene-format.md and docs/path-tracer.md. */
+ * Their keys, ranges, defaults and meanings: the table in path_options.c (`brume help
+ * options`, docs/scene-format.md, "Method options"); the methods: docs/path-tracer.md. */
 #ifndef BRUME_METHOD_PATH_OPTIONS_H
 #define BRUME_METHOD_PATH_OPTIONS_H
 
@@ -28,14 +29,7 @@ typedef struct path_options {
     double split;
 } path_options;
 
-void path_options_default(path_options *o);
-
-/* Sets option `key` (without the "path." prefix) from its text form: sun_lobe,
- * sun_roulette, split. On failure returns an error status with err_set() naming "path.KEY" and the
- * bad value, and leaves *o unchanged. */
-brume_status path_options_set(path_options *o, const char *key, const char *value);
-
-/* Names of the options, for messages. */
-const char *path_option_names(void);
+/* The table of "path.KEY" options (path_options.c; method/method_options.h). */
+extern const struct method_options_def path_options_def;
 
 #endif

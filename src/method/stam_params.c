@@ -1,139 +1,66 @@
-/* stam_params.c - defaults and by-name setting of Stam's renderer options. */
+/* stam_params.c - the table of Stam's renderer options, and Q's parameters from them. */
 #include "method/stam_params.h"
 
 #include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
-#include "core/error.h"
 #include "method/method_options.h"
 
-void stam_params_default(stam_params *p)
-{
-    memset(p, 0, sizeof *p);
-    p->eps = 0.0;
-    p->eta = 1e30;
-    p->alpha = 0.05;
-    p->lattice = 0;
-    p->cell = 0.0;
-    p->seed = 1;
-    p->time = 0.0;
-    p->rate = 1.0;
-    p->ambient = col(0.0);
-    p->steps = 16;
-    p->light_grid = 32;
-    p->bvh = true;
-    p->paper = false;
-    p->voxelize_resolution = 0;
-    p->voxelize_realization = true;
-}
+static const method_option options[] = {
+    {.key = "stam.eps", .kind = OPTION_NUMBER, .lo = 0.0, .hi = OPTION_BIG, .what = "a number >= 0",
+     OPTION_FIELD(stam_params, eps), .def = "0",
+     .doc = "magnitude of the density variance of the random blobs rho_i = mean_i + sigma_i Q: sigma_i^2 = eps "
+            "min(mean_i, eta) (Stam 1994, Section 4; docs/stam.md)"},
+    {.key = "stam.eta", .kind = OPTION_NUMBER, .lo = 1e-30, .hi = OPTION_BIG, .what = "a number > 0",
+     OPTION_FIELD(stam_params, eta), .def = "1e30", .doc = "clamping value of the variance"},
+    {.key = "stam.alpha", .kind = OPTION_NUMBER, .lo = 1e-9, .hi = OPTION_BIG, .what = "a length > 0",
+     OPTION_FIELD(stam_params, alpha), .def = "0.05",
+     .doc = "correlation length of Q (world units): correlation exp(-r^2 / (2 alpha^2))"},
+    {.key = "stam.lattice", .kind = OPTION_INTEGER, .flags = OPTION_ZERO_OR, .lo = 2.0, .hi = 512.0,
+     .what = "0 (automatic) or an integer in [2, 512]", OPTION_FIELD(stam_params, lattice), .def = "0",
+     .doc = "Q is synthesized on a periodic lattice^3 lattice (the paper: 32); 0 = a lattice covering the blob "
+            "fields plus 6 alpha on each axis, so that Q's period never shows (at most " OPTION_STR(STAM_LATTICE_MAX)
+            " points per axis and 2^22 in all, beyond which the cell grows; docs/stam.md)"},
+    {.key = "stam.cell", .kind = OPTION_NUMBER, .lo = 0.0, .hi = OPTION_BIG, .what = "a length >= 0 (0 = alpha / 3)",
+     OPTION_FIELD(stam_params, cell), .def = "0", .doc = "spacing of Q's lattice (world units); 0 = alpha / 3"},
+    {.key = "stam.seed", .kind = OPTION_INTEGER, .lo = 0.0, .hi = 9007199254740992.0,
+     .what = "an integer in [0, 2^53]", OPTION_FIELD(stam_params, seed), .def = "1", .doc = "Q's realization"},
+    {.key = "stam.time", .kind = OPTION_NUMBER, .lo = -OPTION_BIG, .hi = OPTION_BIG,
+     .what = "a finite time in seconds", OPTION_FIELD(stam_params, time), .def = "0",
+     .doc = "scene time, added to the frame's: drifting blob fields move, Q evolves (and drifts with them); render "
+            "a frame of an animation by setting it"},
+    {.key = "stam.rate", .kind = OPTION_NUMBER, .lo = 0.0, .hi = OPTION_BIG, .what = "a rate >= 0",
+     OPTION_FIELD(stam_params, rate), .def = "1",
+     .doc = "Q's base angular frequency in time (radians per unit time); fine detail changes faster"},
+    {.key = "stam.ambient", .kind = OPTION_COLOR, .lo = 0.0, .hi = OPTION_BIG,
+     .what = "a radiance >= 0 (v or r,g,b)", OPTION_FIELD(stam_params, ambient), .def = "0",
+     .doc = "constant source term standing in for multiple scattering: J += albedo x ambient"},
+    {.key = "stam.steps", .kind = OPTION_INTEGER, .lo = 1.0, .hi = 256.0, .what = "an integer in [1, 256]",
+     OPTION_FIELD(stam_params, steps), .def = "16",
+     .doc = "steps of the average-source-function quadrature per ray"},
+    {.key = "stam.light_grid", .kind = OPTION_INTEGER, .lo = 0.0, .hi = 512.0, .what = "an integer in [0, 512]",
+     OPTION_FIELD(stam_params, light_grid), .def = "32",
+     .doc = "cells along the longest axis of the cache of light transparencies inside the media; 0 = an exact "
+            "shadow ray per step"},
+    {.key = "stam.bvh", .kind = OPTION_BOOL, .what = "true or false", OPTION_FIELD(stam_params, bvh), .def = "true",
+     .doc = "false: each ray tests every blob (benchmarks)"},
+    {.key = "stam.variant", .kind = OPTION_ENUM, OPTION_NAMES2("corrected", "paper"), OPTION_FIELD(stam_params, paper),
+     .def = "corrected",
+     .doc = "`paper`: Eq. 12 and 13 as printed (Var T_i = K_Q(0) eps I_F, realized with a Q of variance K_Q(0)) and "
+            "J-bar's shadows from the mean density; `corrected`: the repaired variance and the realized density in "
+            "J-bar's shadows (docs/stam.md)"},
+    {.key = "stam.voxelize.resolution", .kind = OPTION_INTEGER, .flags = OPTION_ZERO_OR, .lo = 2.0, .hi = 2048.0,
+     .what = "an integer in [2, 2048] (0 = off)", OPTION_FIELD(stam_params, voxelize_resolution), .def = "0",
+     .doc = "N > 0: when the scene is committed (before rendering), every blob field becomes a dense trilinear grid "
+            "of N cells along its longest axis, for rendering the same cloud with `path` or `single`; in a scene file "
+            "also `\"voxelize\": {\"resolution\": N}`"},
+    {.key = "stam.voxelize.realization", .kind = OPTION_BOOL, .what = "true or false",
+     OPTION_FIELD(stam_params, voxelize_realization), .def = "true",
+     .doc = "the voxelized grid holds one explicit realization mean + sum_i sigma_i Q (clamped to >= 0); false: the "
+            "mean"},
+};
 
-const char *stam_param_names(void)
-{
-    return "eps, eta, alpha, lattice, cell, seed, time, rate, ambient, steps, light_grid, bvh, variant, "
-           "voxelize.resolution, voxelize.realization";
-}
-
-static bool boolean(const char *text, bool *out)
-{
-    if (strcmp(text, "true") == 0 || strcmp(text, "1") == 0)
-        *out = true;
-    else if (strcmp(text, "false") == 0 || strcmp(text, "0") == 0)
-        *out = false;
-    else
-        return false;
-    return true;
-}
-
-/* "v" (gray) or "r,g,b", each finite and >= 0. */
-static bool rgb(const char *text, color *out)
-{
-    char buf[256];
-    if (strlen(text) >= sizeof buf)
-        return false;
-    snprintf(buf, sizeof buf, "%s", text);
-    double v[3];
-    int n = 0;
-    for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        while (*t == ' ')
-            t++;
-        if (n == 3 || !method_option_number(t, 0.0, 1e30, &v[n]))
-            return false;
-        n++;
-    }
-    if (n == 1)
-        *out = col(v[0]);
-    else if (n == 3)
-        *out = col_rgb(v[0], v[1], v[2]);
-    else
-        return false;
-    return true;
-}
-
-brume_status stam_params_set(stam_params *p, const char *key, const char *value)
-{
-    stam_params n = *p;
-    double v = 0.0;
-    static const double BIG = 1e30;
-#define NUMBER(name, lo, hi, field, what)                                                                       \
-    else if (strcmp(key, name) == 0)                                                                             \
-    {                                                                                                            \
-        if (!method_option_number(value, lo, hi, &n.field))                                                     \
-            return err_set(BRUME_ERROR_RANGE, "stam.%s: '%s' is not %s", key, value, what);                     \
-    }
-#define INTEGER(name, lo, hi, field)                                                                            \
-    else if (strcmp(key, name) == 0)                                                                             \
-    {                                                                                                            \
-        if (!method_option_integer(value, lo, hi, &v))                                                                           \
-            return err_set(BRUME_ERROR_RANGE, "stam.%s: '%s' is not an integer in [%g, %g]", key, value,        \
-                           (double)(lo), (double)(hi));                                                          \
-        n.field = (int)v;                                                                                        \
-    }
-    if (0) {
-    }
-    NUMBER("eps", 0.0, BIG, eps, "a number >= 0")
-    NUMBER("eta", 1e-30, BIG, eta, "a number > 0")
-    NUMBER("alpha", 1e-9, BIG, alpha, "a length > 0")
-    NUMBER("cell", 0.0, BIG, cell, "a length >= 0 (0 = alpha / 3)")
-    NUMBER("time", -BIG, BIG, time, "a finite time in seconds")
-    NUMBER("rate", 0.0, BIG, rate, "a rate >= 0")
-    INTEGER("steps", 1, 256, steps)
-    INTEGER("light_grid", 0, 512, light_grid)
-    else if (strcmp(key, "lattice") == 0) {
-        if (!method_option_integer(value, 0, 512, &v) || v == 1)
-            return err_set(BRUME_ERROR_RANGE, "stam.lattice: '%s' is not 0 (automatic) or an integer in [2, 512]", value);
-        n.lattice = (int)v;
-    } else if (strcmp(key, "variant") == 0) {
-        if (strcmp(value, "paper") != 0 && strcmp(value, "corrected") != 0)
-            return err_set(BRUME_ERROR_PARSE, "stam.variant: unknown variant '%s' (known: paper, corrected)", value);
-        n.paper = value[0] == 'p';
-    } else if (strcmp(key, "seed") == 0) {
-        if (!method_option_integer(value, 0.0, 9007199254740992.0, &v))
-            return err_set(BRUME_ERROR_RANGE, "stam.seed: '%s' is not an integer in [0, 2^53]", value);
-        n.seed = (uint64_t)v;
-    } else if (strcmp(key, "ambient") == 0) {
-        if (!rgb(value, &n.ambient))
-            return err_set(BRUME_ERROR_RANGE, "stam.ambient: '%s' is not a radiance >= 0 (v or r,g,b)", value);
-    } else if (strcmp(key, "bvh") == 0) {
-        if (!boolean(value, &n.bvh))
-            return err_set(BRUME_ERROR_PARSE, "stam.bvh: '%s' is not true or false", value);
-    } else if (strcmp(key, "voxelize.resolution") == 0) {
-        if (!method_option_integer(value, 0, 2048, &v) || v == 1)
-            return err_set(BRUME_ERROR_RANGE, "stam.voxelize.resolution: '%s' is not an integer in [2, 2048] (0 = off)",
-                           value);
-        n.voxelize_resolution = (int)v;
-    } else if (strcmp(key, "voxelize.realization") == 0) {
-        if (!boolean(value, &n.voxelize_realization))
-            return err_set(BRUME_ERROR_PARSE, "stam.voxelize.realization: '%s' is not true or false", value);
-    } else {
-        return err_set(BRUME_ERROR_PARSE, "stam.%s: unknown key (known here: %s)", key, stam_param_names());
-    }
-#undef NUMBER
-#undef INTEGER
-    *p = n;
-    return BRUME_OK;
-}
+const method_options_def stam_options_def = {
+    .method = "stam", .size = sizeof(stam_params), .options = options, .count = sizeof options / sizeof options[0]};
 
 void stam_randfield_params(const stam_params *p, double scene_time, vec3 extent, randfield_params *out)
 {

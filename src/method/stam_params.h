@@ -36,14 +36,8 @@ typedef struct stam_params {
     bool voxelize_realization; /* the grid holds one realization (mean + Q) rather than the mean */
 } stam_params;
 
-void stam_params_default(stam_params *p);
-/* Sets KEY (without "stam.") from its text form: eps, eta, alpha, lattice, cell, seed, time,
- * rate, ambient ("v" or "r,g,b"), steps, light_grid, bvh (true|false), variant
- * (paper|corrected), voxelize.resolution
- * ([2, 2048], 0 = off), voxelize.realization (true|false). On failure err_set() names
- * "stam.KEY" and *p is unchanged. lattice: 0 (covering the blob fields) or [2, 512]. */
-brume_status stam_params_set(stam_params *p, const char *key, const char *value);
-const char *stam_param_names(void);
+/* The table of "stam.KEY" options (stam_params.c; method/method_options.h). */
+extern const struct method_options_def stam_options_def;
 
 /* Q's synthesis parameters from the scene's stam options (lattice, cell, seed, and time:
  * stam.time + scene_time, the frame's) for

@@ -477,6 +477,48 @@ static const char *next_field(const char *s)
     return (*s == '\0' || *s == '#') ? NULL : s;
 }
 
+/* One line of a phase table: 1 and its angle (degrees) and value, 0 for a line with no
+ * data, -1 after err_set() naming path:lineno. prev: the row before's angle, < 0 if none. */
+static int table_row(const char *path, int lineno, const char *line, double prev, double *angle, double *value)
+{
+    const char *s = next_field(line);
+    if (!s)
+        return 0;
+    char *end;
+    double a = strtod(s, &end);
+    if (end == s) {
+        err_set(BRUME_ERROR_PARSE, "%s:%d: expected an angle in degrees, got \"%.32s\"", path, lineno, s);
+        return -1;
+    }
+    s = next_field(end);
+    double v = s ? strtod(s, &end) : 0.0;
+    if (!s || end == s) {
+        err_set(BRUME_ERROR_PARSE, "%s:%d: expected a value after the angle %g", path, lineno, a);
+        return -1;
+    }
+    if (next_field(end)) {
+        err_set(BRUME_ERROR_PARSE, "%s:%d: unexpected \"%.32s\" after angle %g and value %g", path, lineno,
+                next_field(end), a, v);
+        return -1;
+    }
+    if (!(a >= 0.0 && a <= 180.0)) {
+        err_set(BRUME_ERROR_RANGE, "%s:%d: angle %g: need [0, 180] degrees", path, lineno, a);
+        return -1;
+    }
+    if (prev >= 0.0 && !(a > prev)) {
+        err_set(BRUME_ERROR_RANGE, "%s:%d: angle %g after %g: not a function of angle (angles must increase strictly)",
+                path, lineno, a, prev);
+        return -1;
+    }
+    if (!(v >= 0.0) || !isfinite(v)) {
+        err_set(BRUME_ERROR_RANGE, "%s:%d: value %g at angle %g: need a finite value >= 0", path, lineno, v, a);
+        return -1;
+    }
+    *angle = a;
+    *value = v;
+    return 1;
+}
+
 phase *phase_load_tabulated(const char *path)
 {
     FILE *f = NULL;
@@ -506,41 +548,12 @@ phase *phase_load_tabulated(const char *path)
             goto done;
         }
         line[strcspn(line, "\r")] = '\0';
-        const char *s = next_field(line);
-        if (!s)
+        double a, v;
+        int got = table_row(path, lineno, line, n > 0 ? angle[n - 1] : -1.0, &a, &v);
+        if (got < 0)
+            goto done;
+        if (got == 0)
             continue;
-        char *end;
-        double a = strtod(s, &end);
-        if (end == s) {
-            err_set(BRUME_ERROR_PARSE, "%s:%d: expected an angle in degrees, got \"%.32s\"", path, lineno, s);
-            goto done;
-        }
-        s = next_field(end);
-        double v = s ? strtod(s, &end) : 0.0;
-        if (!s || end == s) {
-            err_set(BRUME_ERROR_PARSE, "%s:%d: expected a value after the angle %g", path, lineno, a);
-            goto done;
-        }
-        if (next_field(end)) {
-            err_set(BRUME_ERROR_PARSE, "%s:%d: unexpected \"%.32s\" after angle %g and value %g",
-                    path, lineno, next_field(end), a, v);
-            goto done;
-        }
-        if (!(a >= 0.0 && a <= 180.0)) {
-            err_set(BRUME_ERROR_RANGE, "%s:%d: angle %g: need [0, 180] degrees", path, lineno, a);
-            goto done;
-        }
-        if (n > 0 && !(a > angle[n - 1])) {
-            err_set(BRUME_ERROR_RANGE,
-                    "%s:%d: angle %g after %g: not a function of angle (angles must increase strictly)",
-                    path, lineno, a, angle[n - 1]);
-            goto done;
-        }
-        if (!(v >= 0.0) || !isfinite(v)) {
-            err_set(BRUME_ERROR_RANGE, "%s:%d: value %g at angle %g: need a finite value >= 0",
-                    path, lineno, v, a);
-            goto done;
-        }
         if (n == cap) {
             if (cap >= PHASE_TABLE_MAX / 2) {
                 err_set(BRUME_ERROR_RANGE, "%s:%d: more than %d rows", path, lineno, PHASE_TABLE_MAX);

@@ -298,9 +298,7 @@ brume_status stam_prepare(const brume_scene *s, void **state)
         st->any_scatter |= sm->scatters;
     }
     if (st->eps > 0.0) {
-        randfield_params rp;
-        stam_randfield_params(p, s->time, stam_blob_extent(s), &rp);
-        if (!(st->q = randfield_new(&rp))) {
+        if (!(st->q = stam_scene_randfield(s))) {
             stam_finish(st);
             return err_prefix("%s: stam", s->source);
         }

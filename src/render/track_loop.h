@@ -1,7 +1,9 @@
 /* track_loop.h - the body of the tracking loop (render/track.h), included once per bound on
  * the number of media: TRACK_NAME is the function's name, TRACK_NMAX the streams it keeps.
  * One body, so every instance is the same estimator; a small bound keeps the walk's state
- * (a majorant iterator per medium) small, which a GPU thread holds in local memory. */
+ * (a majorant iterator per medium) small, which a GPU thread holds in local memory.
+ * Long: the hot loop of every estimator, kept whole so that the compiler keeps its state in
+ * registers across the majorant segments and the collisions (docs/performance.md). */
 static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ray r,
                                                                      double tmax, rng *g, bool residual, track_fn fn,
                                                                      void *user, double *tau_c_end)

@@ -54,7 +54,7 @@ brume_scene *scene_new(const char *source)
             err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", source);
             return NULL;
         }
-        def->defaults(s->options[i]);
+        method_options_default(def, s->options[i]);
     }
     s->cam = (camera){.position = v3(0, 0, 5), .look_at = v3(0, 0, 0), .up = v3(0, 1, 0), .fov = 40.0,
                       .aperture_radius = 0.0, .focus_distance = 1.0, .shutter_open = 0.0, .shutter_close = 0.0};

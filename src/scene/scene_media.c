@@ -341,20 +341,7 @@ brume_status brume_density_new_fractal(brume_context *ctx, const brume_fractal *
         (st = build_number(fn, "fractal.time", f->time, -1e12, 1e12)) ||
         (st = build_number(fn, "fractal.density", f->density, 1e-9, 1e9)) || (st = check_filter(fn, f->filter)))
         return ctx_report(ctx, st);
-    p.seed = f->seed;
-    p.method = (fractal_method)f->method;
-    p.hurst = f->hurst;
-    p.octaves = f->octaves;
-    p.frequency = f->frequency;
-    p.shape = (fractal_shape)f->shape;
-    p.falloff = f->falloff;
-    p.threshold = f->threshold;
-    p.threshold_rate = f->threshold_rate;
-    p.turbulence = f->turbulence;
-    p.turbulence_frequency = f->turbulence_frequency;
-    p.wind = wind;
-    p.time = f->time;
-    p.density = f->density;
+    fractal_params_from_api(f, &p); /* checked above; wind is finite */
     /* bounds all zero: unit voxels centred on the origin, as in the paper */
     box3 b = {v3(-0.5 * p.n[0], -0.5 * p.n[1], -0.5 * p.n[2]), v3(0.5 * p.n[0], 0.5 * p.n[1], 0.5 * p.n[2])};
     bool zero = true;

@@ -57,13 +57,12 @@ static brume_status parse_object(const cJSON *obj, jloc top, const method_option
         if (!value_text(it, text, sizeof text))
             return err_set(BRUME_ERROR_PARSE, "%s: %s: expected a number, a string, true, false or an array of numbers",
                            top.file, key);
-        if (cJSON_IsString(it) && strcmp(key, "blasi.save_light") == 0) {
-            /* a path written because the scene file says so: inside the scene's folder only */
-            if ((st = scene_output_path(top.file, key, text, path, sizeof path)))
-                return st;
-            snprintf(text, sizeof text, "%s", path);
-        } else if (cJSON_IsString(it) && def->is_path(key + strlen(def->method) + 1)) {
-            json_resolve_path(top.file, text, path, sizeof path);
+        const method_option *o = method_option_find(def, key);
+        if (o && o->kind == OPTION_PATH && cJSON_IsString(it)) {
+            if (!(o->flags & OPTION_WRITES))
+                json_resolve_path(top.file, text, path, sizeof path);
+            else if ((st = scene_output_path(top.file, key, text, path, sizeof path)))
+                return st; /* a path written because the scene file says so: inside its folder only */
             snprintf(text, sizeof text, "%s", path);
         }
         if ((st = brume_scene_set_option(NULL, s, key, text)))

@@ -1,5 +1,6 @@
 /* scene_options.c - brume_scene_set_option: the one option mechanism of the rendering
- * methods, "METHOD.KEY" = text, each method parsing its own keys (method/method_options.h). */
+ * methods, "METHOD.KEY" = text, parsed by the row of that key in its method's table
+ * (method/method_options.h). */
 #include <string.h>
 
 #include "core/context.h"
@@ -15,11 +16,10 @@ brume_status brume_scene_set_option(brume_context *ctx, brume_scene *s, const ch
     if (s->committed)
         return ctx_report(ctx, err_set(BRUME_ERROR_STATE, "%s: option %s set after commit", s->source, key));
     method_options_id id;
-    const char *rest = NULL;
-    const method_options_def *def = method_options_find(key, &id, &rest);
+    const method_options_def *def = method_options_find(key, &id);
     brume_status st;
     if (def)
-        st = def->set(s->options[id], rest, value);
+        st = method_option_set(def, s->options[id], key, value);
     else
         st = err_set(BRUME_ERROR_PARSE, "%.200s: unknown key (known here: METHOD.KEY for METHOD one of %s)", key,
                      method_options_methods());

@@ -690,35 +690,93 @@ static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
     return BRUME_OK;
 }
 
-static brume_status directive(pbrt_state *S, params *ps)
+/* Film, Sampler, Integrator, ColorSpace, Material: what they set of the scene or of the
+ * current attributes a (their type and parameters read). */
+static brume_status setting_directive(pbrt_state *S, attrs *a, const char *dir, const char *type, const char *what,
+                                      params *ps)
 {
     lexer *L = &S->L;
-    char dir[64];
-    copy(dir, sizeof dir, L->text);
-    L->dir_line = L->tok_line;
-    attrs *a = &S->a[S->depth];
+    brume_status st;
+    if (strcmp(dir, "Film") == 0) {
+        double x = 1280, y = 720;
+        char fn[512];
+        if ((st = get_float(L, ps, "xresolution", &x)) || (st = get_float(L, ps, "yresolution", &y)) ||
+            (st = get_string(L, ps, "filename", fn, sizeof fn)))
+            return st;
+        if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
+            return fail(L, "%s: resolution outside [1, 65536]", what);
+        S->xres = (int)x;
+        S->yres = (int)y;
+    } else if (strcmp(dir, "Sampler") == 0) {
+        double n = 16;
+        if ((st = get_float(L, ps, "pixelsamples", &n))) return st;
+        if (!(n >= 1 && n <= 1 << 24))
+            return fail(L, "%s: pixelsamples outside [1, 2^24]", what);
+        S->spp = (int)n;
+    } else if (strcmp(dir, "Integrator") == 0) {
+        if (strcmp(type, "volpath") != 0 && strcmp(type, "path") != 0)
+            return fail(L, "%s: brume's path tracer stands for volpath and path only", what);
+        double d = 5;
+        if ((st = get_float(L, ps, "maxdepth", &d))) return st;
+        if (!(d >= 1 && d <= 100000))
+            return fail(L, "%s: maxdepth outside [1, 100000]", what);
+        S->max_depth = (int)d;
+    } else if (strcmp(dir, "ColorSpace") == 0) {
+        if (strcmp(type, "srgb") != 0)
+            return fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
+    } else { /* Material */
+        if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0)
+            return fail(L, "%s: not supported by brume (diffuse, interface)", what);
+        copy(a->material, sizeof a->material, type);
+        a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
+        if (strcmp(type, "diffuse") == 0 && (st = get_color(L, ps, "reflectance", a->albedo)))
+            return st;
+    }
+    return all_used(L, ps, what);
+}
+
+static bool is_typed_directive(const char *dir)
+{
+    static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material",
+                                        "LightSource", "Shape", "ColorSpace", "MakeNamedMedium"};
+    for (size_t i = 0; i < sizeof typed / sizeof typed[0]; i++)
+        if (strcmp(dir, typed[i]) == 0)
+            return true;
+    return false;
+}
+
+/* DIRECTIVE "type" (a medium's "name") and a parameter list. */
+static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    next(L);
+    if (L->kind != TOK_STRING)
+        return fail(L, "%s: expected its %s", dir, strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type");
+    char type[128], what[200];
+    copy(type, sizeof type, L->text);
+    snprintf(what, sizeof what, "%s \"%s\"", dir, type);
+    next(L);
+    if ((st = read_params(L, ps))) return st;
+    if (strcmp(dir, "Camera") == 0)
+        return camera_directive(S, type, ps);
+    if (strcmp(dir, "LightSource") == 0)
+        return light_directive(S, type, ps);
+    if (strcmp(dir, "Shape") == 0)
+        return shape_directive(S, type, ps);
+    if (strcmp(dir, "MakeNamedMedium") == 0)
+        return medium_directive(S, type, ps);
+    return setting_directive(S, a, dir, type, what, ps);
+}
+
+/* The transform directives: *handled false when dir is none of them. */
+static brume_status transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled)
+{
+    lexer *L = &S->L;
     double v[16];
     brume_status st;
-    if (L->kind != TOK_WORD)
-        return fail(L, "expected a directive, found \"%s\"", L->text);
-    if (strcmp(dir, "WorldBegin") == 0) {
-        if (!S->have_camera)
-            return fail(L, "%s before a Camera", dir);
-        S->world = true;
-        a->ctm = m4_identity();
-        next(L);
-    } else if (strcmp(dir, "AttributeBegin") == 0) {
-        if (S->depth + 1 == PBRT_MAX_DEPTH)
-            return fail(L, "%s: nested too deep", dir);
-        S->a[S->depth + 1] = *a;
-        S->depth++;
-        next(L);
-    } else if (strcmp(dir, "AttributeEnd") == 0) {
-        if (S->depth == 0)
-            return fail(L, "%s without AttributeBegin", dir);
-        S->depth--;
-        next(L);
-    } else if (strcmp(dir, "Identity") == 0) {
+    *handled = true;
+    if (strcmp(dir, "Identity") == 0) {
         a->ctm = m4_identity();
         next(L);
     } else if (strcmp(dir, "Translate") == 0) {
@@ -743,62 +801,44 @@ static brume_status directive(pbrt_state *S, params *ps)
             for (int j = 0; j < 4; j++)
                 t.m[4 * i + j] = v[4 * j + i];
         a->ctm = dir[0] == 'T' ? t : m4_mul(a->ctm, t);
-    } else if (strcmp(dir, "Camera") == 0 || strcmp(dir, "Film") == 0 || strcmp(dir, "Sampler") == 0 ||
-               strcmp(dir, "Integrator") == 0 || strcmp(dir, "Material") == 0 || strcmp(dir, "LightSource") == 0 ||
-               strcmp(dir, "Shape") == 0 || strcmp(dir, "ColorSpace") == 0 || strcmp(dir, "MakeNamedMedium") == 0) {
-        /* DIRECTIVE "type" (a medium's "name") and a parameter list */
+    } else {
+        *handled = false;
+    }
+    return BRUME_OK;
+}
+
+static brume_status directive(pbrt_state *S, params *ps)
+{
+    lexer *L = &S->L;
+    char dir[64];
+    copy(dir, sizeof dir, L->text);
+    L->dir_line = L->tok_line;
+    attrs *a = &S->a[S->depth];
+    if (L->kind != TOK_WORD)
+        return fail(L, "expected a directive, found \"%s\"", L->text);
+    bool handled;
+    brume_status st = transform_directive(S, a, dir, &handled);
+    if (handled)
+        return st;
+    if (is_typed_directive(dir))
+        return typed_directive(S, a, dir, ps);
+    if (strcmp(dir, "WorldBegin") == 0) {
+        if (!S->have_camera)
+            return fail(L, "%s before a Camera", dir);
+        S->world = true;
+        a->ctm = m4_identity();
         next(L);
-        if (L->kind != TOK_STRING)
-            return fail(L, "%s: expected its %s", dir, strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type");
-        char type[128], what[200];
-        copy(type, sizeof type, L->text);
-        snprintf(what, sizeof what, "%s \"%s\"", dir, type);
+    } else if (strcmp(dir, "AttributeBegin") == 0) {
+        if (S->depth + 1 == PBRT_MAX_DEPTH)
+            return fail(L, "%s: nested too deep", dir);
+        S->a[S->depth + 1] = *a;
+        S->depth++;
         next(L);
-        if ((st = read_params(L, ps))) return st;
-        if (strcmp(dir, "Camera") == 0)
-            return camera_directive(S, type, ps);
-        if (strcmp(dir, "LightSource") == 0)
-            return light_directive(S, type, ps);
-        if (strcmp(dir, "Shape") == 0)
-            return shape_directive(S, type, ps);
-        if (strcmp(dir, "MakeNamedMedium") == 0)
-            return medium_directive(S, type, ps);
-        if (strcmp(dir, "Film") == 0) {
-            double x = 1280, y = 720;
-            char fn[512];
-            if ((st = get_float(L, ps, "xresolution", &x)) || (st = get_float(L, ps, "yresolution", &y)) ||
-                (st = get_string(L, ps, "filename", fn, sizeof fn)))
-                return st;
-            if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
-                return fail(L, "%s: resolution outside [1, 65536]", what);
-            S->xres = (int)x;
-            S->yres = (int)y;
-        } else if (strcmp(dir, "Sampler") == 0) {
-            double n = 16;
-            if ((st = get_float(L, ps, "pixelsamples", &n))) return st;
-            if (!(n >= 1 && n <= 1 << 24))
-                return fail(L, "%s: pixelsamples outside [1, 2^24]", what);
-            S->spp = (int)n;
-        } else if (strcmp(dir, "Integrator") == 0) {
-            if (strcmp(type, "volpath") != 0 && strcmp(type, "path") != 0)
-                return fail(L, "%s: brume's path tracer stands for volpath and path only", what);
-            double d = 5;
-            if ((st = get_float(L, ps, "maxdepth", &d))) return st;
-            if (!(d >= 1 && d <= 100000))
-                return fail(L, "%s: maxdepth outside [1, 100000]", what);
-            S->max_depth = (int)d;
-        } else if (strcmp(dir, "ColorSpace") == 0) {
-            if (strcmp(type, "srgb") != 0)
-                return fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
-        } else { /* Material */
-            if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0)
-                return fail(L, "%s: not supported by brume (diffuse, interface)", what);
-            copy(a->material, sizeof a->material, type);
-            a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
-            if (strcmp(type, "diffuse") == 0 && (st = get_color(L, ps, "reflectance", a->albedo)))
-                return st;
-        }
-        if ((st = all_used(L, ps, what))) return st;
+    } else if (strcmp(dir, "AttributeEnd") == 0) {
+        if (S->depth == 0)
+            return fail(L, "%s without AttributeBegin", dir);
+        S->depth--;
+        next(L);
     } else if (strcmp(dir, "MediumInterface") == 0) {
         next(L);
         if (L->kind != TOK_STRING)

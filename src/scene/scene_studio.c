@@ -126,6 +126,60 @@ static brume_status pick_grids(const char *path, const char *want, char *density
     return BRUME_OK;
 }
 
+/* The studio's one medium: fog, or fire (smoke with a blackbody) when a temperature grid
+ * was found; extinction sigma_t per unit density. */
+static cJSON *studio_medium(const char *file, const char *dname, const char *tname, double tmax, double sigma_t)
+{
+    bool fire = tname[0] != '\0';
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "name", fire ? "fire" : "fog");
+    cJSON *dj = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(dj, "type", "grid");
+    cJSON_AddStringToObject(dj, "file", file);
+    cJSON_AddStringToObject(dj, "grid", dname);
+    if (fire) {
+        /* smoke darker than cloud, and a blackbody in kelvin: a temperature grid whose
+           values stay below 100 is taken as normalized (Houdini's pyro, Blender's smoke)
+           and stretched so that its maximum is 3000 K */
+        cJSON_AddNumberToObject(m, "sigma_a", round4(0.75 * sigma_t));
+        cJSON_AddNumberToObject(m, "sigma_s", round4(0.25 * sigma_t));
+        cJSON *tj = cJSON_AddObjectToObject(m, "temperature");
+        cJSON_AddStringToObject(tj, "grid", tname);
+        cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
+        cJSON_AddNumberToObject(bb, "scale", 200);
+        cJSON_AddNumberToObject(bb, "cutoff", 600);
+        if (tmax > 0.0 && tmax < 100.0)
+            cJSON_AddNumberToObject(bb, "temperature_scale", round4(3000.0 / tmax));
+    } else {
+        cJSON_AddNumberToObject(m, "sigma_a", round4(0.01 * sigma_t));
+        cJSON_AddNumberToObject(m, "sigma_s", round4(0.99 * sigma_t));
+    }
+    cJSON *ph = cJSON_AddObjectToObject(m, "phase");
+    cJSON_AddStringToObject(ph, "type", "hg");
+    cJSON_AddNumberToObject(ph, "g", fire ? 0.3 : 0.6);
+    return m;
+}
+
+/* A ground plane under box b along up (+y or +z), wide enough to reach the horizon of the
+ * framed view. */
+static void studio_ground(cJSON *root, box3 b, vec3 up)
+{
+    vec3 ext = v3_sub(b.hi, b.lo);
+    vec3 centre = v3_scale(v3_add(b.lo, b.hi), 0.5);
+    double below = v3_dot(b.lo, up); /* up is +y or +z */
+    vec3 point = v3_add(v3_sub(centre, v3_scale(up, v3_dot(centre, up))), v3_scale(up, below));
+    cJSON *surf = cJSON_AddArrayToObject(root, "surfaces");
+    cJSON *pl = cJSON_CreateObject();
+    cJSON_AddStringToObject(pl, "type", "plane");
+    cJSON_AddStringToObject(pl, "name", "ground");
+    cJSON_AddItemToObject(pl, "point", vec_json(point));
+    cJSON_AddItemToObject(pl, "normal", vec_json(up));
+    cJSON_AddNumberToObject(pl, "size", round4(40.0 * v3_length(ext)));
+    cJSON *mat = cJSON_AddObjectToObject(pl, "material");
+    cJSON_AddItemToObject(mat, "albedo", vec_json(v3(0.3, 0.3, 0.3)));
+    cJSON_AddItemToArray(surf, pl);
+}
+
 brume_status scene_studio_json(const char *path, const brume_studio_options *opts, char **json)
 {
     *json = NULL;
@@ -162,7 +216,6 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
     vec3 ext = v3_sub(b.hi, b.lo);
     double shortest = fmin(ext.x, fmin(ext.y, ext.z));
     double sigma_t = depth / (rho_max * shortest);
-    bool fire = tname[0] != '\0';
 
     cJSON *root = cJSON_CreateObject();
     char note[512];
@@ -184,51 +237,9 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
     cJSON_AddNumberToObject(sun, "angular_radius", 0.27);
     cJSON_AddItemToArray(lights, sun);
 
-    cJSON *media = cJSON_AddArrayToObject(root, "media");
-    cJSON *m = cJSON_CreateObject();
-    cJSON_AddStringToObject(m, "name", fire ? "fire" : "fog");
-    cJSON *dj = cJSON_AddObjectToObject(m, "density");
-    cJSON_AddStringToObject(dj, "type", "grid");
-    cJSON_AddStringToObject(dj, "file", abs);
-    cJSON_AddStringToObject(dj, "grid", dname);
-    if (fire) {
-        /* smoke darker than cloud, and a blackbody in kelvin: a temperature grid whose
-           values stay below 100 is taken as normalized (Houdini's pyro, Blender's smoke)
-           and stretched so that its maximum is 3000 K */
-        cJSON_AddNumberToObject(m, "sigma_a", round4(0.75 * sigma_t));
-        cJSON_AddNumberToObject(m, "sigma_s", round4(0.25 * sigma_t));
-        cJSON *tj = cJSON_AddObjectToObject(m, "temperature");
-        cJSON_AddStringToObject(tj, "grid", tname);
-        cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
-        cJSON_AddNumberToObject(bb, "scale", 200);
-        cJSON_AddNumberToObject(bb, "cutoff", 600);
-        if (tmax > 0.0 && tmax < 100.0)
-            cJSON_AddNumberToObject(bb, "temperature_scale", round4(3000.0 / tmax));
-    } else {
-        cJSON_AddNumberToObject(m, "sigma_a", round4(0.01 * sigma_t));
-        cJSON_AddNumberToObject(m, "sigma_s", round4(0.99 * sigma_t));
-    }
-    cJSON *ph = cJSON_AddObjectToObject(m, "phase");
-    cJSON_AddStringToObject(ph, "type", "hg");
-    cJSON_AddNumberToObject(ph, "g", fire ? 0.3 : 0.6);
-    cJSON_AddItemToArray(media, m);
-
-    if (!o.no_ground) {
-        /* under the box along up, wide enough to reach the horizon of the framed view */
-        vec3 centre = v3_scale(v3_add(b.lo, b.hi), 0.5);
-        double below = v3_dot(b.lo, up); /* up is +y or +z */
-        vec3 point = v3_add(v3_sub(centre, v3_scale(up, v3_dot(centre, up))), v3_scale(up, below));
-        cJSON *surf = cJSON_AddArrayToObject(root, "surfaces");
-        cJSON *pl = cJSON_CreateObject();
-        cJSON_AddStringToObject(pl, "type", "plane");
-        cJSON_AddStringToObject(pl, "name", "ground");
-        cJSON_AddItemToObject(pl, "point", vec_json(point));
-        cJSON_AddItemToObject(pl, "normal", vec_json(up));
-        cJSON_AddNumberToObject(pl, "size", round4(40.0 * v3_length(ext)));
-        cJSON *mat = cJSON_AddObjectToObject(pl, "material");
-        cJSON_AddItemToObject(mat, "albedo", vec_json(v3(0.3, 0.3, 0.3)));
-        cJSON_AddItemToArray(surf, pl);
-    }
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(root, "media"), studio_medium(abs, dname, tname, tmax, sigma_t));
+    if (!o.no_ground)
+        studio_ground(root, b, up);
     cJSON *r = cJSON_AddObjectToObject(root, "render");
     cJSON_AddNumberToObject(r, "width", 640);
     cJSON_AddNumberToObject(r, "height", 480);

@@ -25,32 +25,54 @@ vec3 stam_blob_extent(const brume_scene *s)
     return b.lo.x <= b.hi.x ? v3_sub(b.hi, b.lo) : v3(0, 0, 0);
 }
 
-static brume_status voxelize_media(brume_scene *s, const stam_params *p)
+randfield *stam_scene_randfield(const brume_scene *s)
 {
-    randfield *q = NULL;
-    if (p->voxelize_realization) {
-        randfield_params rp;
-        stam_randfield_params(p, s->time, stam_blob_extent(s), &rp);
-        if (!(q = randfield_new(&rp)))
-            return err_prefix("%s: stam.voxelize", s->source);
-    }
+    randfield_params rp;
+    stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), s->time, stam_blob_extent(s), &rp);
+    return randfield_new(&rp);
+}
+
+brume_status stam_voxelize_blobs(const brume_scene *s, int resolution, bool realization, const char *option,
+                                 density *grids[SCENE_MAX_MEDIA])
+{
+    const stam_params *p = scene_options(s, METHOD_OPTIONS_STAM);
+    for (int m = 0; m < SCENE_MAX_MEDIA; m++)
+        grids[m] = NULL;
+    randfield *q = NULL; /* one Q for all the fields, made at the first (with eps = 0 it adds nothing) */
     brume_status st = BRUME_OK;
     for (int m = 0; m < s->nmedia && st == BRUME_OK; m++) {
-        blob_field *f = density_get_blobs(s->media[m].rho);
+        const blob_field *f = density_get_blobs(s->media[m].rho);
         if (!f)
             continue;
-        char who[600];
-        snprintf(who, sizeof who, "%s: stam.voxelize", s->source);
-        density *g = blob_field_grid(f, p->voxelize_resolution, q, p->eps, p->eta, who);
-        if (!g) {
-            st = err_status();
+        if (!q && realization && p->eps > 0.0 && !(q = stam_scene_randfield(s))) {
+            st = err_prefix("%s: %s", s->source, option);
             break;
         }
-        density_release(s->media[m].rho);
-        s->media[m].rho = g;
+        char who[600];
+        snprintf(who, sizeof who, "%s: media[%d]: %s", s->source, m, option);
+        if (!(grids[m] = blob_field_grid(f, resolution, q, p->eps, p->eta, who)))
+            st = err_status();
     }
     randfield_release(q);
+    for (int m = 0; m < s->nmedia && st != BRUME_OK; m++) {
+        density_release(grids[m]);
+        grids[m] = NULL;
+    }
     return st;
+}
+
+/* stam.voxelize: every blob field replaced by its grid. */
+static brume_status voxelize_media(brume_scene *s, const stam_params *p)
+{
+    density *grids[SCENE_MAX_MEDIA];
+    if (stam_voxelize_blobs(s, p->voxelize_resolution, p->voxelize_realization, "stam.voxelize", grids) != BRUME_OK)
+        return err_status();
+    for (int m = 0; m < s->nmedia; m++)
+        if (grids[m]) {
+            density_release(s->media[m].rho);
+            s->media[m].rho = grids[m];
+        }
+    return BRUME_OK;
 }
 
 brume_status stam_commit_media(brume_scene *s)

@@ -159,7 +159,7 @@ scene('memory_fractal_over_budget', 1, 'render.max_memory_mb', lambda s: (dens({
 scene('memory_fractal_1024_default', 1, 'render.max_memory_mb', dens({'type': 'fractal_cloud', 'dims': [1024, 1024, 1024], 'method': 'spectral'}))
 scene('memory_grid_over_budget', 1, 'memory limit', lambda s: (dens({'type': 'grid', 'file': '../grids/big.vol'})(s), s['render'].update(max_memory_mb=1)))
 scene('memory_max_memory_mb_zero', 1, 'max_memory_mb', lambda s: s['render'].update(max_memory_mb=0))
-scene('memory_stam_lattice', 1, 'render.max_memory_mb', lambda s: (dens({'type': 'blobs', 'blobs': [[0, 0, 0, 1, 0.3]]})(s), s['render'].update(max_memory_mb=16), s.update(stam={'lattice': 512, 'voxelize': {'resolution': 8}})))
+scene('memory_stam_lattice', 1, 'render.max_memory_mb', lambda s: (dens({'type': 'blobs', 'blobs': [[0, 0, 0, 1, 0.3]]})(s), s['render'].update(max_memory_mb=16), s.update(stam={'lattice': 512, 'eps': 0.2, 'voxelize': {'resolution': 8}})))
 
 # ---- blobs -----------------------------------------------------------------------------------
 scene('blobs_none', 1, 'no blobs', dens({'type': 'blobs'}))

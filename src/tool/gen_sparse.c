@@ -1,0 +1,160 @@
+/* gen_sparse.c - `brume gen fire` (a procedural flame: density and temperature grids,
+ * sparse) and `brume gen upres` (a cloud upsampled by an integer factor with fractal
+ * detail, kept sparse), written through OpenVDB as .vdb or .nvdb (docs/grids.md; tool.h). */
+#include "tool/tool.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "density/fractal.h"
+#include "io/grid_io.h"
+#include "io/grid_vdb.h"
+
+/* The status of the failure just reported (an I/O error if the callee set none). */
+static brume_status failed(void) { return err_status() != BRUME_OK ? err_status() : BRUME_ERROR_IO; }
+
+/* Writes the grids through a temporary file renamed over `out` (tool_file); out ends in
+ * .vdb or .nvdb (the caller checked). */
+static brume_status save(gridvdb_writer *w, const char *out)
+{
+    const char *dot = strrchr(out, '.');
+    int nano = dot && strcmp(dot, ".nvdb") == 0;
+    tool_file *af = tool_file_open(out);
+    if (!af)
+        return failed();
+    /* OpenVDB writes the temporary file by name */
+    if (gridvdb_writer_save(w, tool_file_by_name(af), nano) != BRUME_OK) {
+        err_prefix("%s", out);
+        brume_status st = failed();
+        tool_file_abort(af);
+        return st;
+    }
+    return tool_file_commit(af);
+}
+
+static double smoothstep(double a, double b, double x)
+{
+    double t = x <= a ? 0.0 : (x >= b ? 1.0 : (x - a) / (b - a));
+    return t * t * (3.0 - 2.0 * t);
+}
+
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, tool_gen_result *res)
+{
+    perlin_table pt;
+    perlin_init(&pt, seed);
+    gridvdb_writer *w = gridvdb_writer_new();
+    if (!w) {
+        err_prefix("gen fire");
+        return failed();
+    }
+    double vs = height / (double)n;
+    int half = n / 4;
+    const double origin[3] = {0.5 * vs, 0.5 * vs, 0.5 * vs}; /* index (I, J, K) centred at ((I + 1/2) vs, ...) */
+    int gd = gridvdb_writer_add(w, "density", 0, vs, origin), gt = gridvdb_writer_add(w, "temperature", 0, vs, origin);
+    if (gd < 0 || gt < 0) {
+        err_prefix("gen fire");
+        brume_status st = failed();
+        gridvdb_writer_free(w);
+        return st;
+    }
+    /* Normalized coordinates: h in [0, 1) up the flame, (x, z) across, |x|, |z| < 1/4. The
+     * flame core narrows and cools with height; smoke widens above it; turbulence, growing
+     * with height, displaces both and breaks them into licks and puffs. */
+    for (int j = 0; j < n; j++)
+        for (int k = 0; k < 2 * half; k++)
+            for (int i = 0; i < 2 * half; i++) {
+                double x = (i - half + 0.5) / (double)n, h = (j + 0.5) / (double)n, z = (k - half + 0.5) / (double)n;
+                vec3 q = v3(x, h, z);
+                double sway = 0.06 * h;
+                q.x += sway * perlin_noise(&pt, v3(3.0 * x, 2.5 * h - 0.0, 3.0 * z));
+                q.z += sway * perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * h, 3.0 * z - 5.0));
+                double d = sqrt(q.x * q.x + q.z * q.z);
+                double turb = perlin_turbulence(&pt, v3(9.0 * q.x, 5.0 * h, 9.0 * q.z), 4);
+                double rf = 0.11 * (1.0 - h) * (1.0 - h) + 0.015; /* flame radius */
+                double core = fmax(0.0, 1.0 - d / rf) * (1.0 - smoothstep(0.35, 0.8, h));
+                double T = 300.0 + 1700.0 * core * (0.55 + 0.9 * turb);
+                double rs = 0.04 + 0.16 * h; /* smoke radius */
+                double smoke = pow(fmax(0.0, 1.0 - d / rs), 1.5) * smoothstep(0.2, 0.6, h) * (0.2 + 1.6 * turb);
+                double rho = smoke + 0.6 * core * (0.5 + turb);
+                if (rho < 2e-3)
+                    continue;
+                float fv = (float)rho, ft = (float)T;
+                gridvdb_writer_set(w, gd, i - half, j, k - half, &fv);
+                gridvdb_writer_set(w, gt, i - half, j, k - half, &ft);
+            }
+    brume_status st = save(w, out);
+    if (st == BRUME_OK)
+        *res = (tool_gen_result){gridvdb_writer_active(w, gd), {2 * (long)half, n, 2 * (long)half}, vs};
+    gridvdb_writer_free(w);
+    return st;
+}
+
+brume_status tool_gen_upres(const char *in, const brume_grid_file_options *o, int factor, uint64_t seed, double detail,
+                            const char *out, tool_gen_result *res)
+{
+    density *src = tool_grid_load(in, o);
+    if (!src)
+        return failed();
+    density_info info;
+    density_get_info(src, &info);
+    const double *m = info.voxel_to_world.m;
+    double vs = m[0];
+    if (!(vs > 0.0) || m[1] != 0.0 || m[2] != 0.0 || m[4] != 0.0 || m[6] != 0.0 || m[8] != 0.0 || m[9] != 0.0 ||
+        m[5] != vs || m[10] != vs) {
+        density_release(src);
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: gen upres needs an axis-aligned grid with cubic voxels", in);
+    }
+    perlin_table pt;
+    perlin_init(&pt, seed);
+    gridvdb_writer *w = gridvdb_writer_new();
+    double fv = vs / (double)factor;
+    /* fine voxel (I, J, K) has its centre at source voxel space ((I + 1/2) / F, ...) */
+    const double origin[3] = {m[3] + 0.5 * fv, m[7] + 0.5 * fv, m[11] + 0.5 * fv};
+    int g = w ? gridvdb_writer_add(w, "density", 0, fv, origin) : -1;
+    if (g < 0) {
+        err_prefix("gen upres");
+        brume_status st = failed();
+        gridvdb_writer_free(w);
+        density_release(src);
+        return st;
+    }
+    int F = (int)factor;
+    /* detail at about 4 fine voxels, whatever the factor: the same features at each F */
+    double freq = 1.0 / (4.0 * fv);
+    for (int k = 0; k < info.n[2]; k++)
+        for (int j = 0; j < info.n[1]; j++)
+            for (int i = 0; i < info.n[0]; i++) {
+                /* only source voxels that a trilinear lookup can see as non-zero */
+                double near = 0.0;
+                for (int q = 0; q < 27 && near <= 0.0; q++) {
+                    int a = i + q % 3 - 1, b = j + (q / 3) % 3 - 1, c = k + q / 9 - 1;
+                    if (a >= 0 && b >= 0 && c >= 0 && a < info.n[0] && b < info.n[1] && c < info.n[2])
+                        near = density_voxel(src, a, b, c);
+                }
+                if (near <= 0.0)
+                    continue;
+                for (int c = 0; c < F; c++)
+                    for (int b = 0; b < F; b++)
+                        for (int a = 0; a < F; a++) {
+                            vec3 u = v3(i + (a + 0.5) / F, j + (b + 0.5) / F, k + (c + 0.5) / F);
+                            vec3 p = affine3_apply(&info.voxel_to_world, u);
+                            double v = density_eval(src, p);
+                            if (v <= 0.0)
+                                continue;
+                            double t = perlin_turbulence(&pt, v3_scale(p, freq), 3);
+                            v *= fmax(0.0, 1.0 + detail * (2.0 * fmin(t, 1.0) - 1.0));
+                            if (v < 1e-4)
+                                continue;
+                            float fvv = (float)v;
+                            gridvdb_writer_set(w, g, i * F + a, j * F + b, k * F + c, &fvv);
+                        }
+            }
+    density_release(src);
+    brume_status st = save(w, out);
+    if (st == BRUME_OK)
+        *res = (tool_gen_result){gridvdb_writer_active(w, g), {(long)info.n[0] * F, (long)info.n[1] * F,
+                                 (long)info.n[2] * F}, fv};
+    gridvdb_writer_free(w);
+    return st;
+}
