@@ -89,7 +89,7 @@ void cli_options_markdown(FILE *out)
         fputc('|', out);
         cell(out, o.key + mlen + 1, true);
         cell(out, o.values, false);
-        cell(out, o.default_value, strcmp(o.kind, "enum") == 0 && o.default_value[0]);
+        cell(out, o.default_value, o.kind == BRUME_OPTION_ENUM && o.default_value[0]);
         cell(out, o.doc, false);
         fputc('\n', out);
     }

@@ -406,9 +406,19 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, co
 brume_status brume_scene_set_option(brume_context *ctx, brume_scene *scene, const char *key, const char *value);
 /* The methods' options, from the same tables that parse them: brume_option_count() of them,
  * in a fixed order (by method, then as docs/scene-format.md lists them). */
+typedef enum brume_option_kind {
+    BRUME_OPTION_NUMBER = 0, /* "number": a finite number in a range */
+    BRUME_OPTION_INTEGER,    /* "integer": a whole number in a range */
+    BRUME_OPTION_ENUM,       /* "enum": one of the names `values` lists */
+    BRUME_OPTION_BOOL,       /* "bool": true, false, 1 or 0 */
+    BRUME_OPTION_COLOR,      /* "color": "v" (gray) or "r,g,b" */
+    BRUME_OPTION_PATH        /* "path": a file name */
+} brume_option_kind;
+/* The kind's name as above ("enum"); NULL for a value outside the enum. */
+const char *brume_option_kind_name(brume_option_kind kind);
 typedef struct brume_option {
     const char *key;           /* "METHOD.KEY", as brume_scene_set_option takes it: "blasi.r" */
-    const char *kind;          /* "number", "integer", "enum", "bool", "color" or "path" */
+    brume_option_kind kind;    /* what a value's text is */
     const char *values;        /* what a value is: "a number in [0, 1]", "one of paper, none" */
     const char *default_value; /* the default as text ("2", "paper"), words when the method
                                   computes it ("from the phase function"), "" when none */

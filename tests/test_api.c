@@ -589,6 +589,11 @@ TEST(method_names_round_trip)
         ASSERT_EQ_INT((int)back, (int)all[i]);
     }
     ASSERT_TRUE(brume_method_name((brume_method)4) == NULL);
+    /* brume_option_kind, the same way */
+    const char *kinds[] = {"number", "integer", "enum", "bool", "color", "path"};
+    for (int k = 0; k < 6; k++)
+        ASSERT_TRUE(brume_option_kind_name((brume_option_kind)k) && strcmp(brume_option_kind_name((brume_option_kind)k), kinds[k]) == 0);
+    ASSERT_TRUE(brume_option_kind_name((brume_option_kind)6) == NULL);
     ASSERT_TRUE(brume_method_name((brume_method)-1) == NULL);
     brume_method m = BRUME_METHOD_STAM;
     expect(ctx, brume_method_from_name(ctx, "pathh", &m), BRUME_ERROR_INVALID_ARGUMENT, "pathh", "path, single");

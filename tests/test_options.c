@@ -476,15 +476,15 @@ TEST(help_lists_every_key)
 static void json_value(const brume_option *o, char *out, size_t n)
 {
     const char *v = o->default_value;
-    if (strcmp(o->kind, "enum") == 0 && !v[0])
+    if (o->kind == BRUME_OPTION_ENUM && !v[0])
         v = "paper"; /* blasi.variant has no default */
-    if (strcmp(o->kind, "path") == 0)
+    if (o->kind == BRUME_OPTION_PATH)
         snprintf(out, n, "\"light.bin\"");
-    else if (strcmp(o->kind, "enum") == 0)
+    else if (o->kind == BRUME_OPTION_ENUM)
         snprintf(out, n, "\"%s\"", v);
-    else if (strcmp(o->kind, "color") == 0)
+    else if (o->kind == BRUME_OPTION_COLOR)
         snprintf(out, n, "[%s, %s, %s]", v, v, v);
-    else if (v[0] >= 'a' && v[0] <= 'z' && strcmp(o->kind, "bool") != 0)
+    else if (v[0] >= 'a' && v[0] <= 'z' && o->kind != BRUME_OPTION_BOOL)
         snprintf(out, n, "0.5"); /* computed ("from the phase function"): a value in range */
     else
         snprintf(out, n, "%s", v);

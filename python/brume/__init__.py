@@ -105,7 +105,8 @@ def options() -> "List[Dict[str, str]]":
     for i in range(lib.brume_option_count()):
         if lib.brume_option_get(ffi.NULL, i, o) != 0:
             raise Error("brume_option_get(%d) failed" % i)
-        out.append({f: ffi.string(getattr(o, f)).decode() for f in ("key", "kind", "values", "default_value", "doc")})
+        out.append({f: ffi.string(lib.brume_option_kind_name(o.kind) if f == "kind" else getattr(o, f)).decode()
+                    for f in ("key", "kind", "values", "default_value", "doc")})
     return out
 
 

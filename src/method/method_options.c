@@ -230,16 +230,12 @@ brume_status brume_option_get(brume_context *ctx, int index, brume_option *out)
     if (index < 0 || index >= option_total())
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_option_get: index %d outside [0, %d)", index,
                                        option_total()));
-    static const char *const kinds[] = {
-        [OPTION_NUMBER] = "number", [OPTION_INTEGER] = "integer", [OPTION_ENUM] = "enum",
-        [OPTION_BOOL] = "bool",     [OPTION_COLOR] = "color",     [OPTION_PATH] = "path",
-    };
     int i = 0;
     while (index >= methods[i]->count)
         index -= methods[i++]->count;
     const method_option *o = &methods[i]->options[index];
     out->key = o->key;
-    out->kind = kinds[o->kind];
+    out->kind = (brume_option_kind)o->kind; /* one enum (method_name.c) */
     out->values = o->what;
     out->default_value = o->def ? o->def : o->def_doc ? o->def_doc : "";
     out->doc = o->doc;
