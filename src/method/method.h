@@ -15,6 +15,8 @@ typedef enum integrator_kind {
 
 /* Parses a method name ("path", "single", "blasi", "stam"); false if unknown. */
 bool integrator_from_name(const char *name, integrator_kind *out);
+/* The name of kind ("path" ...), or NULL outside the enum. */
+const char *integrator_name(integrator_kind kind);
 /* Comma-separated list of the names, for messages. */
 const char *integrator_names(void);
 

@@ -24,14 +24,7 @@ const char *brume_option_kind_name(brume_option_kind kind)
     return (unsigned)kind < sizeof names / sizeof names[0] ? names[kind] : NULL;
 }
 
-/* in the order of the enum; integrator_from_name reads the same names back (test_api.c:
- * method_names_round_trip) */
-static const char *const method_names[] = {"path", "single", "blasi", "stam"};
-
-const char *brume_method_name(brume_method method)
-{
-    return (unsigned)method < sizeof method_names / sizeof method_names[0] ? method_names[method] : NULL;
-}
+const char *brume_method_name(brume_method method) { return integrator_name((integrator_kind)method); }
 
 brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_method *method)
 {
