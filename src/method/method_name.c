@@ -34,8 +34,8 @@ brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_
                                        !name ? "name" : "method"));
     integrator_kind k;
     if (!integrator_from_name(name, &k))
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "render.method: unknown method '%s' (known: %s)", name,
-                                       integrator_names()));
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "render.method: unknown method '%s' (known: %s)",
+                                       name, integrator_names()));
     *method = (brume_method)k;
     return ctx_report(ctx, BRUME_OK);
 }
