@@ -1031,7 +1031,7 @@ TEST(film_allocation_failure_is_one_line)
                      " \"render\": {\"width\": 8192, \"height\": 8192, \"spp\": 1, \"max_memory_mb\": 100000}}");
 #if defined(__SANITIZE_ADDRESS__)
     /* the test's caps come last: ASan takes the last value of an option, and `make test` sets
-     * max_allocation_size_mb=2048 in the environment */
+     * max_allocation_size_mb=1536 in the environment */
     const char *limit = "ASAN_OPTIONS=$ASAN_OPTIONS:allocator_may_return_null=1:max_allocation_size_mb=100";
 #else
     const char *limit = "ulimit -v 1500000 &&";
@@ -1128,7 +1128,9 @@ TEST(scene_load_cancels)
         fprintf(stderr, "%s: load ended %.2f s after the cancel (%.2f s in all): %s\n", methods[m], after, f.took,
                 f.msg);
         ASSERT_EQ_INT(f.st, BRUME_ERROR_CANCELLED);
-        ASSERT_TRUE(after < 1.0);
+        /* a plane of the lattice between two checks: 0.1 s in a release build, 1.5 s seen
+         * under ASan on a loaded machine; uncancelled, either load runs a minute or more */
+        ASSERT_TRUE(after < 5.0);
         ASSERT_CONTAINS(f.msg, "loading cancelled");
         brume_context_release(f.ctx);
     }
