@@ -274,11 +274,9 @@ static brume_status all_used(const lexer *L, const params *ps, const char *dir)
 {
     for (int i = 0; i < ps->n; i++)
         if (!ps->p[i].used) {
-            char what[160];
-            snprintf(what, sizeof what, "%s: parameter \"%s %s\"", dir, ps->p[i].type, ps->p[i].name);
             lexer at = *L;
             at.dir_line = ps->p[i].line;
-            return fail(&at, "%s: not supported by brume", what);
+            return fail(&at, "%s: parameter \"%s %s\": not supported by brume", dir, ps->p[i].type, ps->p[i].name);
         }
     return BRUME_OK;
 }
