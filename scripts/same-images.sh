@@ -201,7 +201,7 @@ for side in base head; do
     [ -x "$bin" ] || bin=$(find_in "$tmp/$side/build" brume)
     [ -x "$bin" ] || die "$n: no brume tool in the build"
     ln -s "$bin" "$tmp/$side.brume"
-    lib=$(find_in "$tmp/$side/build" libbrume.so.0)
+    lib=$(find_in "$tmp/$side/build" "libbrume.so.[0-9]*") # the SONAME: .so.0 before 1.0, .so.1 since
     pkg=$(find_in "$tmp/$side/build" _cdef.h)
     [ -n "$lib" ] && ln -s "$lib" "$tmp/$side.lib"
     [ -n "$pkg" ] && ln -s "$(dirname "$(dirname "$pkg")")" "$tmp/$side.python"
