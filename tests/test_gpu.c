@@ -5,8 +5,11 @@
  *     address of its own host buffer, the copy renders bit for bit the original's values
  *     on the CPU, for scenes that exercise every pointer the copy carries (dense and
  *     NanoVDB grids, several media, mixture and tabulated phase functions, a temperature
- *     field, an environment map, motion, the sun roulette's grid);
- *   - what the GPU refuses (surfaces, blobs, Blasi, Stam), with one line;
+ *     field, an environment map, motion, the sun roulette's grid, solid objects with their
+ *     hierarchy and emitters, a blob field);
+ *   - brume's own hierarchy of solid objects (core/bvh.h, what the GPU traverses) gives
+ *     Embree's hits and occlusions on the CPU;
+ *   - what the GPU refuses (the Blasi and Stam methods), with one line;
  *   - a GPU asked for where there is no driver: one line, and the CPU's images unchanged.
  * The GPU itself is checked by tests/gpu/run.sh on a machine that has one. */
 #include <math.h>
@@ -21,6 +24,7 @@
 #include "gpu/device_scene.h"
 #include "render/integrator.h"
 #include "scene/scene.h"
+#include "surface/surfaces.h"
 #include "test.h"
 
 /* |a - b| in units of b's last place (the spacing of doubles at |b|) */
@@ -98,6 +102,10 @@ static void copy_renders_the_same(const char *json, int n)
     ASSERT_EQ_INT(device_scene_check(s, INTEGRATOR_PATH), BRUME_OK);
     void *state = NULL;
     ASSERT_EQ_INT(integrator_prepare(INTEGRATOR_PATH, s, &state), BRUME_OK);
+    /* the copy traverses brume's hierarchy: the original too, so that the two agree bit for
+     * bit (bvh_matches_embree compares the hierarchy with Embree) */
+    if (s->surf)
+        ASSERT_EQ_INT(surfaces_use_bvh(s->surf), BRUME_OK);
     dev_arena a;
     arena_init(&a, 0);
     size_t state_at = ARENA_NULL;
@@ -106,7 +114,8 @@ static void copy_renders_the_same(const char *json, int n)
     arena_relocate(&a, (uint64_t)(uintptr_t)a.buf);
     const brume_scene *c = (const brume_scene *)arena_at(&a, at);
     const void *cstate = state_at == ARENA_NULL ? NULL : arena_at(&a, state_at);
-    ASSERT_TRUE(c->surf == NULL && c->prepared == NULL && (cstate != NULL) == (state != NULL));
+    ASSERT_TRUE((c->surf != NULL) == (s->surf != NULL) && c->prepared == NULL && (cstate != NULL) == (state != NULL));
+    ASSERT_TRUE(c->surf == NULL || (const void *)c->surf != (const void *)s->surf);
     /* the copy shares nothing with the original */
     for (int m = 0; m < s->nmedia; m++)
         ASSERT_TRUE((const void *)c->media[m].rho != (const void *)s->media[m].rho);
@@ -187,20 +196,134 @@ TEST(device_copy_nanovdb_and_environment)
     nanovdb_set_cell_grid_limit(old);
 }
 
+/* Solid objects as the default scene has them and more: a ground plane, a box, a moving
+ * sphere, an emissive quad (an area light of the surfaces' own) over a medium. */
+TEST(device_copy_surfaces)
+{
+    copy_renders_the_same(
+        "{\"camera\": {\"position\": [0, 1, 6], \"look_at\": [0, 0, 0], \"fov\": 40,"
+        "  \"shutter\": [0, 1]},"
+        " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.2], \"irradiance\": 3.0}],"
+        " \"background\": [0.2, 0.3, 0.5],"
+        " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 3.0,"
+        "   \"density\": {\"type\": \"procedural_cloud\", \"resolution\": 16, \"seed\": 3, \"bounds\": [[-1, -0.5, -1], [1, 1, 1]]}}],"
+        " \"surfaces\": [{\"type\": \"plane\", \"point\": [0, -0.6, 0], \"normal\": [0, 1, 0], \"size\": 40,"
+        "                 \"material\": {\"albedo\": [0.3, 0.32, 0.28]}},"
+        "   {\"type\": \"box\", \"min\": [1.2, -0.6, -0.5], \"max\": [1.8, 0.8, 0.1], \"material\": {\"albedo\": 0.6}},"
+        "   {\"type\": \"sphere\", \"center\": [-1.5, 0, 0.5], \"radius\": 0.4, \"material\": {\"albedo\": 0.5},"
+        "    \"keyframes\": [{\"time\": 0, \"transform\": {\"translate\": [0, 0, 0]}},"
+        "                   {\"time\": 1, \"transform\": {\"translate\": [0, 0.4, 0]}}]},"
+        "   {\"type\": \"quad\", \"corner\": [-0.5, 2.0, -0.5], \"edge_u\": [1, 0, 0], \"edge_v\": [0, 0, 1],"
+        "    \"material\": {\"albedo\": 0, \"emission\": [4, 3.5, 3], \"two_sided\": true}}],"
+        " \"render\": {\"max_depth\": 16}}",
+        400);
+}
+
+/* Stam's blob field (its hierarchy and the per-blob tables) rendered by the path tracer. */
+TEST(device_copy_blobs)
+{
+    copy_renders_the_same(
+        "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 30},"
+        " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.2], \"irradiance\": 3.0}],"
+        " \"background\": [0.2, 0.3, 0.5],"
+        " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 4.0,"
+        "   \"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0],"
+        "     \"radii\": [1.0, 0.6, 0.8], \"count\": 60, \"seed\": 4}]}}],"
+        " \"render\": {\"max_depth\": 32}}",
+        400);
+}
+
+/* A triangle soup, a box, spheres and moving objects: brume's hierarchy (the GPU's) and
+ * Embree (the CPU's) agree on the nearest hit (object, primitive, distance and normal) and on
+ * occlusion, ray for ray. Embree intersects in single precision and brume's hierarchy in
+ * double, so a ray that grazes an edge may go either way: such rays are counted, and must
+ * be rarer than one in a thousand; distances agree to single precision of the ray's scale. */
+TEST(bvh_matches_embree)
+{
+    surfaces *sf[2];
+    material m = {.albedo = col(0.5)};
+    uint64_t seed = 11;
+    for (int v = 0; v < 2; v++) {
+        sf[v] = surfaces_new();
+        ASSERT_TRUE(sf[v] != NULL);
+        uint64_t g = seed;
+        enum { NT = 300 };
+        double pos[9 * NT];
+        int idx[3 * NT];
+        for (int i = 0; i < NT; i++) {
+            vec3 c = v3(4.0 * (lcg(&g) - 0.5), 4.0 * (lcg(&g) - 0.5), 4.0 * (lcg(&g) - 0.5));
+            for (int k = 0; k < 3; k++) {
+                pos[9 * i + 3 * k + 0] = c.x + 0.6 * (lcg(&g) - 0.5);
+                pos[9 * i + 3 * k + 1] = c.y + 0.6 * (lcg(&g) - 0.5);
+                pos[9 * i + 3 * k + 2] = c.z + 0.6 * (lcg(&g) - 0.5);
+                idx[3 * i + k] = 3 * i + k;
+            }
+        }
+        ASSERT_EQ_INT(surfaces_add_mesh(sf[v], pos, 3 * NT, idx, NT, &m, "soup"), BRUME_OK);
+        double ground[] = {-5, -2.5, -5, 5, -2.5, -5, 5, -2.5, 5, -5, -2.5, 5};
+        int gi[] = {0, 2, 1, 0, 3, 2};
+        ASSERT_EQ_INT(surfaces_add_mesh(sf[v], ground, 4, gi, 2, &m, "ground"), BRUME_OK);
+        for (int k = 0; k < 6; k++)
+            ASSERT_EQ_INT(surfaces_add_sphere(sf[v], v3(3.0 * (lcg(&g) - 0.5), 3.0 * (lcg(&g) - 0.5), 3.0 * (lcg(&g) - 0.5)),
+                                              0.1 + 0.4 * lcg(&g), &m, "ball"),
+                          BRUME_OK);
+        /* a moving sphere (linear) and a turning soup (17 steps) */
+        motion mo = {.n = 2};
+        mo.key[0].time = 0.0;
+        mo.key[0].scale = v3(1, 1, 1);
+        mo.key[0].q[0] = 1.0;
+        mo.key[1] = mo.key[0];
+        mo.key[1].time = 1.0;
+        mo.key[1].translate = v3(0.8, 0.3, 0.0);
+        ASSERT_EQ_INT(surfaces_set_motion(sf[v], 3, &mo), BRUME_OK);
+        mo.key[1].translate = v3(0, 0, 0);
+        motion_quat_axis_angle(v3(0, 1, 0.3), 40.0, mo.key[1].q);
+        ASSERT_EQ_INT(surfaces_set_motion(sf[v], 0, &mo), BRUME_OK);
+        surfaces_set_shutter(sf[v], 0.0, 1.0);
+        ASSERT_EQ_INT(surfaces_commit(sf[v]), BRUME_OK);
+    }
+    ASSERT_EQ_INT(surfaces_use_bvh(sf[1]), BRUME_OK);
+    int n = 20000, hits = 0, grazing = 0, occl_differ = 0;
+    double worst_t = 0.0, worst_n = 0.0;
+    uint64_t g = 99;
+    for (int i = 0; i < n; i++) {
+        vec3 o = v3(12.0 * (lcg(&g) - 0.5), 12.0 * (lcg(&g) - 0.5), 12.0 * (lcg(&g) - 0.5));
+        vec3 to = v3(3.0 * (lcg(&g) - 0.5), 3.0 * (lcg(&g) - 0.5), 3.0 * (lcg(&g) - 0.5));
+        ray r = {o, v3_normalize(v3_sub(to, o)), lcg(&g)};
+        double tmax = i % 3 == 0 ? 6.0 + 6.0 * lcg(&g) : INFINITY;
+        surface_hit h0, h1;
+        bool a = surfaces_intersect(sf[0], r, 0.0, tmax, &h0), b = surfaces_intersect(sf[1], r, 0.0, tmax, &h1);
+        if (a != b || (a && (h0.object != h1.object || h0.prim != h1.prim))) {
+            grazing++;
+            continue;
+        }
+        if (a) {
+            hits++;
+            worst_t = fmax(worst_t, fabs(h0.t - h1.t) / (v3_length(o) + h1.t)); /* Embree's float inputs' scale */
+            worst_n = fmax(worst_n, v3_length(v3_sub(h0.ng, h1.ng)));
+        }
+        double d = a ? h1.t * (0.5 + 0.5 * lcg(&g)) : 20.0;
+        occl_differ += surfaces_occluded(sf[0], r.o, r.d, 0.0, d, r.time) != surfaces_occluded(sf[1], r.o, r.d, 0.0, d, r.time);
+    }
+    printf("%d of %d rays hit; %d differ at an edge, %d occlusions differ; worst relative distance %.2g, normal %.2g\n",
+           hits, n, grazing, occl_differ, worst_t, worst_n);
+    ASSERT_TRUE(hits > n / 4);
+    ASSERT_TRUE(grazing <= n / 1000 && occl_differ <= n / 1000);
+    ASSERT_TRUE(worst_t < 1e-5 && worst_n < 1e-4);
+    surfaces_release(sf[0]);
+    surfaces_release(sf[1]);
+}
+
 /* What the GPU does not render yet is refused with one line naming it. */
 TEST(device_refuses_with_one_line)
 {
     const char *cases[][2] = {
         {"{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0]},"
          " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 1.0, \"density\": {\"type\": \"constant\", \"bounds\": [[-1,-1,-1],[1,1,1]]}}],"
-         " \"surfaces\": [{\"type\": \"sphere\", \"center\": [0, 0, 3], \"radius\": 0.5}]}",
-         "solid objects"},
-        {"{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0]},"
-         " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 1.0, \"density\": {\"type\": \"constant\", \"bounds\": [[-1,-1,-1],[1,1,1]]}}],"
          " \"render\": {\"method\": \"blasi\"}}",
          "runs on the CPU only"},
     };
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < (int)(sizeof cases / sizeof cases[0]); k++) {
         brume_scene *s = NULL;
         brume_context *ctx = brume_context_new();
         ASSERT_EQ_INT(scene_parse_json(cases[k][0], "<test>", &s), BRUME_OK);
@@ -254,4 +377,4 @@ TEST(device_without_driver)
 }
 
 TEST_MAIN(device_math_against_libm, device_copy_dense_media, device_copy_nanovdb_and_environment,
-          device_refuses_with_one_line, device_without_driver)
+          device_copy_surfaces, device_copy_blobs, bvh_matches_embree, device_refuses_with_one_line, device_without_driver)

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/arena.h"
 #include "core/budget.h"
 #include "core/error.h"
 #include "core/stats.h"
@@ -264,7 +265,9 @@ void blob_field_voxelize(const blob_field *f, const int n[3], box3 bounds, const
                          double eps, double eta, float *out)
 {
     size_t count = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
-    double *mean = calloc(count, sizeof *mean), *sig = q ? calloc(count, sizeof *sig) : NULL;
+    double *mean = calloc(count, sizeof *mean), *sig = NULL;
+    if (q)
+        sig = calloc(count, sizeof *sig);
     vec3 cs = v3((bounds.hi.x - bounds.lo.x) / n[0], (bounds.hi.y - bounds.lo.y) / n[1],
                  (bounds.hi.z - bounds.lo.z) / n[2]);
     if (!mean || (q && !sig)) {
@@ -492,4 +495,20 @@ density *blob_field_grid(const blob_field *f, int resolution, const randfield *q
         err_prefix("%s", who);
     }
     return g;
+}
+
+/* ---- the GPU's copy ------------------------------------------------------------------------ */
+
+size_t blob_field_device_put(const blob_field *f, dev_arena *a)
+{
+    size_t at = arena_put(a, f, sizeof *f);
+    if (at == ARENA_NULL)
+        return at;
+    const size_t n = (size_t)f->n;
+    ARENA_PUT_MEMBER(a, at, blob_field, b, f->b, n * sizeof *f->b);
+    ARENA_PUT_MEMBER(a, at, blob_field, peak, f->peak, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, blob_field, inv2h2, f->inv2h2, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, blob_field, R2, f->R2, n * sizeof(double));
+    ARENA_PUT_MEMBER(a, at, blob_field, nodes, f->nodes, (size_t)f->nnodes * sizeof *f->nodes);
+    return at;
 }

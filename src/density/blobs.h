@@ -66,6 +66,10 @@ double blob_majorant_pairs(const blob *b, int n, double cutoff, int majorant_cel
  * rebuilds the hierarchy. BRUME_OK or an out-of-memory error. */
 brume_status blob_field_at_time(blob_field *f, vec3 velocity, double t);
 
+struct dev_arena;
+/* Copies f for the GPU (core/arena.h); its offset, or ARENA_NULL when out of memory. */
+size_t blob_field_device_put(const blob_field *f, struct dev_arena *a);
+
 /* Mean density at p (Eq. 3), over the truncated blobs. */
 double blob_field_mean(const blob_field *f, vec3 p);
 /* A single blob's truncated mean density at p. */

@@ -272,6 +272,6 @@ size_t density_device_put(const density *d, dev_arena *a)
     arena_ptr(a, at + offsetof(density, data_release), ARENA_NULL); /* the host's to call */
     arena_ptr(a, at + offsetof(density, data_user), ARENA_NULL);
     arena_ptr(a, at + offsetof(density, nano), d->nano ? nanovdb_device_put(d->nano, a) : ARENA_NULL);
-    arena_ptr(a, at + offsetof(density, blobs), ARENA_NULL);
+    arena_ptr(a, at + offsetof(density, blobs), d->blobs ? blob_field_device_put(d->blobs, a) : ARENA_NULL);
     return at;
 }

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/integrator.h"
+#include "surface/surfaces.h"
 
 brume_status device_scene_check(const brume_scene *s, int kind)
 {
@@ -14,14 +15,6 @@ brume_status device_scene_check(const brume_scene *s, int kind)
         return err_set(BRUME_ERROR_UNSUPPORTED,
                        "%s: render.method '%s' runs on the CPU only: the GPU renders path and single (--device cpu)",
                        s->source, brume_method_name(s->settings.method));
-    if (s->surf)
-        return err_set(BRUME_ERROR_UNSUPPORTED,
-                       "%s: solid objects (surfaces) are not rendered on the GPU yet (--device cpu)", s->source);
-    for (int m = 0; m < s->nmedia; m++)
-        if (density_get_kind(s->media[m].rho) == DENSITY_BLOBS)
-            return err_set(BRUME_ERROR_UNSUPPORTED,
-                           "%s: media[%d]: blob densities (Stam's fields) are not rendered on the GPU yet (--device cpu)",
-                           s->source, m);
     return BRUME_OK;
 }
 
@@ -86,8 +79,8 @@ size_t device_scene_put(const brume_scene *s, const void *state, dev_arena *a, s
         arena_ptr(a, mat + offsetof(medium, temperature), put_density(md->temperature, a, &pm));
         ARENA_PUT_MEMBER(a, mat, medium, motion, md->motion, sizeof(motion));
     }
+    arena_ptr(a, at + offsetof(brume_scene, surf), surfaces_device_put(s->surf, a));
     /* what rendering does not read on the device: the host's alone */
-    arena_ptr(a, at + offsetof(brume_scene, surf), ARENA_NULL);
     for (int i = 0; i < METHOD_OPTIONS_COUNT; i++)
         arena_ptr(a, at + offsetof(brume_scene, options) + (size_t)i * sizeof(void *), ARENA_NULL);
     arena_ptr(a, at + offsetof(brume_scene, prepared), ARENA_NULL);

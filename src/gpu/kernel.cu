@@ -9,7 +9,8 @@
  * construction code (malloc, files, messages) is parsed but never compiled for it.
  *
  * What the device lacks is supplied before the estimator: libm (gpu/devmath.h, tested on
- * the CPU) and the solid objects' queries (gpu/bvh.h). */
+ * the CPU). The solid objects' queries traverse brume's own hierarchy (core/bvh.h), Embree
+ * being the CPU's alone. */
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
@@ -83,28 +84,6 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 #include "render/stam.h"
 #include "method/path_options.h"
 
-#pragma clang force_cuda_host_device begin
-/* What the GPU does not have yet: solid objects (no BVH on the device) and blob densities.
- * gpu/device_scene.c refuses scenes with them before anything is uploaded, so these are
- * never reached (but for surfaces_has_emitters(NULL), which says no as on the CPU); were
- * they, the kernel stops with an error (trap) rather than render wrong. */
-bool surfaces_intersect(const surfaces *, ray, double, double, surface_hit *) { __builtin_trap(); }
-bool surfaces_occluded(const surfaces *, vec3, vec3, double, double, double) { __builtin_trap(); }
-vec3 surface_offset(const surface_hit *, vec3) { __builtin_trap(); }
-bool surfaces_has_emitters(const surfaces *s) /* asked of every scene, NULL when it has none */
-{
-    if (!s)
-        return false;
-    __builtin_trap();
-}
-color surface_emission(const surface_hit *, vec3) { __builtin_trap(); }
-bool surfaces_sample_emitter(const surfaces *, vec3, double, double, double, double, vec3 *, double *, color *, double *)
-{
-    __builtin_trap();
-}
-double surfaces_emitter_pdf(const surfaces *, const surface_hit *, vec3) { __builtin_trap(); }
-double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
-#pragma clang force_cuda_host_device end
 
 #pragma clang force_cuda_host_device begin
 #include "core/sampling.c"
@@ -116,10 +95,12 @@ double blob_field_mean(const blob_field *, vec3) { __builtin_trap(); }
 #include "density/density.c"
 #include "density/dense_grid.c"
 #include "density/nanovdb.c"
+#include "density/blobs.c"
 #include "medium/blackbody.c"
 #include "medium/medium.c"
 #include "phase/phase.c"
 #include "surface/material.c"
+#include "surface/surface_query.c"
 #include "scene/camera.c"
 #include "render/film.c"
 #include "scene/light.c"

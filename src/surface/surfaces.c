@@ -1,5 +1,6 @@
-/* surfaces.c - Embree 3 scene of spheres and triangle meshes (fixed or motion-blurred),
- * and emitter sampling. */
+/* surfaces.c - solid objects: spheres and triangle meshes (fixed or motion-blurred), their
+ * Embree 3 scene and queries on the CPU, their emitter table, and their copy for the GPU
+ * with brume's own hierarchy (the queries themselves: surface_query.c). */
 #include "surface/surfaces.h"
 
 #include <embree3/rtcore.h>
@@ -8,46 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/distrib.h"
+#include "core/arena.h"
 #include "core/error.h"
-#include "core/sampling.h"
-
-typedef struct surface_object {
-    char name[64];
-    material mat;
-    bool is_sphere;
-    vec3 center; /* sphere */
-    double radius;
-    int nv, ntri;   /* mesh */
-    double *pos;    /* 3 nv, owned */
-    int *idx;       /* 3 ntri, owned */
-    motion *mo;     /* owned; NULL = fixed */
-    int nsteps;     /* with mo: Embree time steps over the shutter (1 = closed shutter) */
-    double *step;   /* with mo: per step, 3 nv positions (mesh) or centre and radius (sphere) */
-} surface_object;
-
-/* Linear motion between two steps is exact; else this many steps over the shutter. */
-#define SURFACES_MOTION_STEPS 17
-
-/* One emissive primitive: a triangle of a mesh, or a whole sphere. */
-typedef struct emitter {
-    int object, prim;
-    double area;
-} emitter;
-
-struct surfaces {
-    RTCDevice device;
-    RTCScene scene;
-    surface_object *obj;
-    int n, cap;
-    bool committed;
-    emitter *em;
-    int nem;
-    int *em_first;    /* per object: index of its first emitter record, or -1 */
-    distrib1 em_dist; /* over emitters, in proportion to area x average radiance */
-    double em_total;  /* sum of area x average radiance */
-    double t0, t1;    /* shutter interval, absolute seconds; Embree's ray time 0..1 spans it */
-};
+#include "surface/surfaces_impl.h"
 
 static void on_embree_error(void *user, enum RTCError code, const char *msg)
 {
@@ -87,6 +51,8 @@ void surfaces_release(surfaces *s)
     free(s->em_first);
     if (s->nem)
         distrib1_free(&s->em_dist);
+    bvh_free(&s->hier);
+    free(s->ref);
     if (s->scene)
         rtcReleaseScene(s->scene);
     rtcReleaseDevice(s->device);
@@ -193,86 +159,6 @@ bool surfaces_moving(const surfaces *s)
         if (s->obj[i].mo)
             return true;
     return false;
-}
-
-/* Absolute time -> Embree's ray time in [0, 1] over the shutter. */
-static double shutter_time(const surfaces *s, double t)
-{
-    if (!(s->t1 > s->t0))
-        return 0.0;
-    double u = (t - s->t0) / (s->t1 - s->t0);
-    return u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
-}
-
-/* The two steps around shutter time u and the weight of the second, as Embree does. */
-static void step_at(const surface_object *o, double u, int *i, double *w)
-{
-    *i = 0;
-    *w = 0.0;
-    if (o->nsteps <= 1)
-        return;
-    double x = u * (o->nsteps - 1);
-    int k = (int)floor(x);
-    if (k > o->nsteps - 2)
-        k = o->nsteps - 2;
-    *i = k;
-    *w = x - k;
-}
-
-static vec3 mesh_vertex(const surface_object *o, int v, double u)
-{
-    if (!o->mo) {
-        const double *p = o->pos + 3 * (size_t)v;
-        return v3(p[0], p[1], p[2]);
-    }
-    int i;
-    double w;
-    step_at(o, u, &i, &w);
-    const double *a = o->step + 3 * ((size_t)i * (size_t)o->nv + (size_t)v);
-    if (w == 0.0)
-        return v3(a[0], a[1], a[2]);
-    const double *b = a + 3 * (size_t)o->nv;
-    return v3(a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w, a[2] + (b[2] - a[2]) * w);
-}
-
-static void sphere_at(const surface_object *o, double u, vec3 *c, double *r)
-{
-    if (!o->mo) {
-        *c = o->center;
-        *r = o->radius;
-        return;
-    }
-    int i;
-    double w;
-    step_at(o, u, &i, &w);
-    const double *a = o->step + 4 * (size_t)i, *b = o->nsteps > 1 ? a + 4 : a;
-    *c = v3(a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w, a[2] + (b[2] - a[2]) * w);
-    *r = a[3] + (b[3] - a[3]) * w;
-}
-
-static vec3 tri_vertex(const surface_object *o, int prim, int k, double u)
-{
-    return mesh_vertex(o, o->idx[3 * prim + k], u);
-}
-
-static double tri_area(const surface_object *o, int prim, double u)
-{
-    vec3 a = tri_vertex(o, prim, 0, u), b = tri_vertex(o, prim, 1, u), c = tri_vertex(o, prim, 2, u);
-    return 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
-}
-
-/* An emitter's area at shutter time u (moving objects may scale). */
-static double emitter_area(const surface_object *o, const emitter *e, double u)
-{
-    if (!o->mo)
-        return e->area;
-    if (o->is_sphere) {
-        vec3 c;
-        double r;
-        sphere_at(o, u, &c, &r);
-        return 4.0 * PI * r * r;
-    }
-    return tri_area(o, e->prim, u);
 }
 
 /* The positions of a moving object at each of its time steps over the shutter. */
@@ -448,10 +334,8 @@ static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tm
     rr->flags = 0;
 }
 
-bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h)
+bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h)
 {
-    if (!s || s->n == 0)
-        return false;
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
@@ -502,10 +386,8 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     return true;
 }
 
-bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time)
+bool surfaces_embree_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time)
 {
-    if (!s || s->n == 0)
-        return false;
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay rr;
@@ -514,82 +396,120 @@ bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tm
     return rr.tfar < 0.0f;
 }
 
-vec3 surface_offset(const surface_hit *h, vec3 d)
-{
-    double scale = 1e-4 * (1.0 + fmax(fabs(h->p.x), fmax(fabs(h->p.y), fabs(h->p.z))));
-    double side = v3_dot(d, h->ng) >= 0.0 ? 1.0 : -1.0;
-    return v3_madd(h->p, h->ng, side * scale);
-}
 
-bool surfaces_has_emitters(const surfaces *s) { return s && s->nem > 0; }
+/* ---- brume's own hierarchy and the device's copy --------------------------------------- */
 
-color surface_emission(const surface_hit *h, vec3 w)
+/* A box that holds the primitive at every time of the shutter: the union of its boxes at
+ * the motion steps (between steps it moves linearly, inside their hull), padded by a few
+ * ulps of its coordinates so that interpolated positions stay inside. */
+static box3 prim_box(const surface_object *o, int prim)
 {
-    const material *m = h->mat;
-    if (col_is_black(m->emission))
-        return col(0.0);
-    if (v3_dot(w, h->ng) > 0.0 || m->two_sided_emission)
-        return m->emission;
-    return col(0.0);
-}
-
-bool surfaces_sample_emitter(const surfaces *s, vec3 p, double time, double u0, double u1, double u2, vec3 *wi,
-                             double *dist, color *Le, double *pdf)
-{
-    if (!surfaces_has_emitters(s))
-        return false;
-    double pick;
-    int k;
-    distrib1_sample(&s->em_dist, u0, &pick, &k);
-    const emitter *e = &s->em[k];
-    const surface_object *o = &s->obj[e->object];
-    double u = shutter_time(s, time);
-    vec3 y, n;
-    if (o->is_sphere) {
-        vec3 center;
-        double radius;
-        sphere_at(o, u, &center, &radius);
-        n = sample_sphere(u1, u2);
-        y = v3_madd(center, n, radius);
-    } else {
-        double su = sqrt(u1), b0 = 1.0 - su, b1 = u2 * su;
-        vec3 a = tri_vertex(o, e->prim, 0, u), b = tri_vertex(o, e->prim, 1, u), c = tri_vertex(o, e->prim, 2, u);
-        y = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, 1.0 - b0 - b1));
-        n = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    box3 b = box3_empty();
+    int steps = o->mo ? o->nsteps : 1;
+    for (int k = 0; k < steps; k++) {
+        double u = steps > 1 ? (double)k / (steps - 1) : 0.0;
+        if (o->is_sphere) {
+            vec3 c;
+            double r;
+            sphere_at(o, u, &c, &r);
+            b.lo = v3_min(b.lo, v3_sub(c, v3(r, r, r)));
+            b.hi = v3_max(b.hi, v3_add(c, v3(r, r, r)));
+        } else {
+            for (int v = 0; v < 3; v++) {
+                vec3 p = tri_vertex(o, prim, v, u);
+                b.lo = v3_min(b.lo, p);
+                b.hi = v3_max(b.hi, p);
+            }
+        }
     }
-    vec3 d = v3_sub(y, p);
-    double d2 = v3_dot(d, d);
-    if (!(d2 > 0.0))
-        return false;
-    *dist = sqrt(d2);
-    *wi = v3_scale(d, 1.0 / *dist);
-    double cos_l = -v3_dot(*wi, n);
-    if (cos_l <= 0.0 && !o->mat.two_sided_emission)
-        return false;
-    cos_l = fabs(cos_l);
-    if (cos_l < 1e-12)
-        return false;
-    /* pick probability (pdf over the unit interval / number of bins) x area pdf -> solid angle */
-    double p_pick = pick / s->nem;
-    *pdf = p_pick / emitter_area(o, e, u) * d2 / cos_l;
-    *Le = o->mat.emission;
-    return true;
+    double m = fmax(fmax(fabs(b.lo.x), fabs(b.hi.x)), fmax(fmax(fabs(b.lo.y), fabs(b.hi.y)), fmax(fabs(b.lo.z), fabs(b.hi.z))));
+    double pad = 1e-12 * (1.0 + m);
+    b.lo = v3_sub(b.lo, v3(pad, pad, pad));
+    b.hi = v3_add(b.hi, v3(pad, pad, pad));
+    return b;
 }
 
-double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p)
+/* The hierarchy over every primitive of s, and its primitive table. */
+static brume_status build_hierarchy(const surfaces *s, bvh *h, surface_ref **ref)
 {
-    if (!surfaces_has_emitters(s) || col_is_black(h->mat->emission))
-        return 0.0;
-    const surface_object *o = &s->obj[h->object];
-    /* emitters are stored object by object, primitives in order */
-    if (s->em_first[h->object] < 0)
-        return 0.0;
-    int k = s->em_first[h->object] + (o->is_sphere ? 0 : h->prim);
-    double p_pick = distrib1_pdf(&s->em_dist, (k + 0.5) / s->nem) / s->nem;
-    vec3 d = v3_sub(h->p, p);
-    double d2 = v3_dot(d, d);
-    double cos_l = fabs(v3_dot(v3_normalize(d), h->ng));
-    if (cos_l < 1e-12)
-        return 0.0;
-    return p_pick / emitter_area(o, &s->em[k], shutter_time(s, h->time)) * d2 / cos_l;
+    long count = 0;
+    for (int i = 0; i < s->n; i++)
+        count += s->obj[i].is_sphere ? 1 : s->obj[i].ntri;
+    if (count > 0x7fffffff)
+        return err_set(BRUME_ERROR_RANGE, "surfaces: %ld primitives are more than the GPU's hierarchy holds", count);
+    *ref = malloc(sizeof **ref * (size_t)(count ? count : 1));
+    box3 *boxes = malloc(sizeof *boxes * (size_t)(count ? count : 1));
+    if (!*ref || !boxes) {
+        free(*ref);
+        free(boxes);
+        *ref = NULL;
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory for the hierarchy of %ld primitives", count);
+    }
+    int k = 0;
+    for (int i = 0; i < s->n; i++) {
+        const surface_object *o = &s->obj[i];
+        for (int p = 0; p < (o->is_sphere ? 1 : o->ntri); p++, k++) {
+            (*ref)[k] = (surface_ref){i, p};
+            boxes[k] = prim_box(o, p);
+        }
+    }
+    brume_status st = bvh_build(h, boxes, (int)count);
+    free(boxes);
+    if (st) {
+        free(*ref);
+        *ref = NULL;
+    }
+    return st;
+}
+
+brume_status surfaces_use_bvh(surfaces *s)
+{
+    if (!s->committed)
+        return err_set(BRUME_ERROR_STATE, "surfaces: brume's hierarchy asked for before commit");
+    if (s->hier.nnodes)
+        return BRUME_OK;
+    return build_hierarchy(s, &s->hier, &s->ref);
+}
+
+size_t surfaces_device_put(const surfaces *s, dev_arena *a)
+{
+    if (!s)
+        return ARENA_NULL;
+    bvh h = s->hier;
+    surface_ref *ref = s->ref;
+    if (!h.nnodes && build_hierarchy(s, &h, &ref) != BRUME_OK) {
+        a->failed = true;
+        return ARENA_NULL;
+    }
+    size_t at = arena_put(a, s, sizeof *s);
+    if (at != ARENA_NULL) {
+        arena_ptr(a, at + offsetof(surfaces, device), ARENA_NULL);
+        arena_ptr(a, at + offsetof(surfaces, scene), ARENA_NULL);
+        size_t objs = arena_put(a, s->obj, sizeof *s->obj * (size_t)s->n);
+        arena_ptr(a, at + offsetof(surfaces, obj), objs);
+        for (int i = 0; i < s->n && objs != ARENA_NULL; i++) {
+            const surface_object *o = &s->obj[i];
+            size_t oat = objs + (size_t)i * sizeof *o, per = o->is_sphere ? 4 : 3 * (size_t)o->nv;
+            ARENA_PUT_MEMBER(a, oat, surface_object, pos, o->pos, sizeof *o->pos * 3 * (size_t)o->nv);
+            ARENA_PUT_MEMBER(a, oat, surface_object, idx, o->idx, sizeof *o->idx * 3 * (size_t)o->ntri);
+            ARENA_PUT_MEMBER(a, oat, surface_object, mo, o->mo, sizeof *o->mo);
+            ARENA_PUT_MEMBER(a, oat, surface_object, step, o->step, sizeof *o->step * per * (size_t)o->nsteps);
+        }
+        ARENA_PUT_MEMBER(a, at, surfaces, em, s->em, sizeof *s->em * (size_t)s->nem);
+        ARENA_PUT_MEMBER(a, at, surfaces, em_first, s->em_first, sizeof *s->em_first * (size_t)(s->nem ? s->n : 0));
+        if (s->nem)
+            distrib1_device_fix(&s->em_dist, a, at + offsetof(surfaces, em_dist));
+        size_t hat = at + offsetof(surfaces, hier);
+        ARENA_PUT_MEMBER(a, hat, bvh, nodes, h.nodes, sizeof *h.nodes * (size_t)h.nnodes);
+        ARENA_PUT_MEMBER(a, hat, bvh, item, h.item, sizeof *h.item * (size_t)h.nitems);
+        bvh *ch = (bvh *)arena_at(a, hat);
+        ch->nnodes = h.nnodes;
+        ch->nitems = h.nitems;
+        ARENA_PUT_MEMBER(a, at, surfaces, ref, ref, sizeof *ref * (size_t)h.nitems);
+    }
+    if (!s->hier.nnodes) {
+        bvh_free(&h);
+        free(ref);
+    }
+    return at;
 }

@@ -1,4 +1,5 @@
-/* surfaces.h - solid objects traced with Embree 3: spheres and triangle meshes (boxes,
+/* surfaces.h - solid objects traced with Embree 3 on the CPU and with brume's own
+ * hierarchy on the GPU: spheres and triangle meshes (boxes,
  * quads and OBJ meshes become triangles) in world space, each with a material; emissive
  * objects are area lights of any shape.
  *
@@ -54,6 +55,14 @@ typedef struct surface_hit {
     int prim;    /* triangle index, 0 for spheres */
     double time; /* the ray's time, absolute seconds */
 } surface_hit;
+
+/* brume's own hierarchy (core/bvh.h) for the queries instead of Embree's: what the GPU
+ * traverses, and on the CPU what the tests compare with Embree. After commit. */
+brume_status surfaces_use_bvh(surfaces *s);
+struct dev_arena;
+/* Copies s for the GPU (core/arena.h), with brume's hierarchy (built for the copy when
+ * s has none); its offset, or ARENA_NULL (a->failed set) when out of memory. */
+size_t surfaces_device_put(const surfaces *s, struct dev_arena *a);
 
 /* Nearest hit of r (unit direction) in (tmin, tmax) at time r.time. */
 bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h);

@@ -1,0 +1,205 @@
+/* surface_query.c - the solid objects' queries: nearest hit, occlusion, emission and
+ * emitter sampling. Compiled for the CPU and, by gpu/kernel.cu, for the GPU: on the CPU
+ * the hits come from Embree's scene (surfaces.c); where there is none (the device, and a
+ * scene given brume's own hierarchy by surfaces_use_bvh) they come from core/bvh.h, with
+ * each primitive intersected in double precision at the ray's time. */
+#include "surface/surfaces_impl.h"
+
+/* ---- brume's own hierarchy -------------------------------------------------------------- */
+
+/* The ray parameter of the nearest hit of the primitive (object o, prim) in (tmin, tmax) at
+ * shutter time u, and its unit geometric normal (front side: counter-clockwise, or
+ * outward). */
+static bool prim_hit(const surface_object *o, int prim, ray r, double u, double tmin, double tmax, double *t, vec3 *ng)
+{
+    if (o->is_sphere) {
+        vec3 center;
+        double radius;
+        sphere_at(o, u, &center, &radius);
+        vec3 oc = v3_sub(r.o, center);
+        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - radius * radius, disc = b * b - c;
+        if (disc < 0.0)
+            return false;
+        double sq = sqrt(disc), th = -b - sq;
+        if (th <= tmin)
+            th = -b + sq;
+        if (!(th > tmin && th < tmax))
+            return false;
+        *t = th;
+        if (ng)
+            *ng = v3_normalize(v3_sub(ray_at(r, th), center));
+        return true;
+    }
+    /* Moller and Trumbore 1997 */
+    vec3 a = tri_vertex(o, prim, 0, u), e1 = v3_sub(tri_vertex(o, prim, 1, u), a), e2 = v3_sub(tri_vertex(o, prim, 2, u), a);
+    vec3 pv = v3_cross(r.d, e2);
+    double det = v3_dot(e1, pv);
+    if (det == 0.0 || !isfinite(det))
+        return false;
+    double inv = 1.0 / det;
+    vec3 tv = v3_sub(r.o, a);
+    double bu = v3_dot(tv, pv) * inv;
+    if (bu < 0.0 || bu > 1.0)
+        return false;
+    vec3 qv = v3_cross(tv, e1);
+    double bv = v3_dot(r.d, qv) * inv;
+    if (bv < 0.0 || bu + bv > 1.0)
+        return false;
+    double th = v3_dot(e2, qv) * inv;
+    if (!(th > tmin && th < tmax))
+        return false;
+    *t = th;
+    if (ng)
+        *ng = v3_normalize(v3_cross(e1, e2));
+    return true;
+}
+
+typedef struct bvh_query {
+    const surfaces *s;
+    ray r;
+    double u, tmin;
+    int item;    /* the nearest hit's, or -1 */
+    vec3 ng;
+} bvh_query;
+
+static bool leaf_nearest(void *user, int item, double *tmax)
+{
+    bvh_query *q = (bvh_query *)user;
+    const surface_ref *f = &q->s->ref[item];
+    double t;
+    vec3 ng;
+    if (prim_hit(&q->s->obj[f->object], f->prim, q->r, q->u, q->tmin, *tmax, &t, &ng)) {
+        *tmax = t;
+        q->item = item;
+        q->ng = ng;
+    }
+    return false;
+}
+
+static bool leaf_any(void *user, int item, double *tmax)
+{
+    bvh_query *q = (bvh_query *)user;
+    const surface_ref *f = &q->s->ref[item];
+    double t;
+    return prim_hit(&q->s->obj[f->object], f->prim, q->r, q->u, q->tmin, *tmax, &t, NULL);
+}
+
+bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h)
+{
+    if (!s || s->n == 0)
+        return false;
+#if !defined(__CUDA_ARCH__)
+    if (!s->hier.nnodes)
+        return surfaces_embree_intersect(s, r, tmin, tmax, h);
+#endif
+    bvh_query q = {s, r, shutter_time(s, r.time), tmin, -1, v3(0, 0, 0)};
+    double t = tmax;
+    bvh_traverse(&s->hier, r.o, r.d, tmin, &t, leaf_nearest, &q);
+    if (q.item < 0)
+        return false;
+    const surface_ref *f = &s->ref[q.item];
+    h->t = t;
+    h->p = ray_at(r, t);
+    h->ng = q.ng;
+    h->object = f->object;
+    h->prim = s->obj[f->object].is_sphere ? 0 : f->prim;
+    h->mat = &s->obj[f->object].mat;
+    h->time = r.time;
+    return true;
+}
+
+bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time)
+{
+    if (!s || s->n == 0)
+        return false;
+#if !defined(__CUDA_ARCH__)
+    if (!s->hier.nnodes)
+        return surfaces_embree_occluded(s, o, d, tmin, tmax, time);
+#endif
+    ray r = {o, d, time};
+    bvh_query q = {s, r, shutter_time(s, time), tmin, -1, v3(0, 0, 0)};
+    double t = tmax;
+    return bvh_traverse(&s->hier, o, d, tmin, &t, leaf_any, &q);
+}
+
+/* ---- emission and emitters ---------------------------------------------------------------- */
+
+vec3 surface_offset(const surface_hit *h, vec3 d)
+{
+    double scale = 1e-4 * (1.0 + fmax(fabs(h->p.x), fmax(fabs(h->p.y), fabs(h->p.z))));
+    double side = v3_dot(d, h->ng) >= 0.0 ? 1.0 : -1.0;
+    return v3_madd(h->p, h->ng, side * scale);
+}
+
+bool surfaces_has_emitters(const surfaces *s) { return s && s->nem > 0; }
+
+color surface_emission(const surface_hit *h, vec3 w)
+{
+    const material *m = h->mat;
+    if (col_is_black(m->emission))
+        return col(0.0);
+    if (v3_dot(w, h->ng) > 0.0 || m->two_sided_emission)
+        return m->emission;
+    return col(0.0);
+}
+
+bool surfaces_sample_emitter(const surfaces *s, vec3 p, double time, double u0, double u1, double u2, vec3 *wi,
+                             double *dist, color *Le, double *pdf)
+{
+    if (!surfaces_has_emitters(s))
+        return false;
+    double pick;
+    int k;
+    distrib1_sample(&s->em_dist, u0, &pick, &k);
+    const emitter *e = &s->em[k];
+    const surface_object *o = &s->obj[e->object];
+    double u = shutter_time(s, time);
+    vec3 y, n;
+    if (o->is_sphere) {
+        vec3 center;
+        double radius;
+        sphere_at(o, u, &center, &radius);
+        n = sample_sphere(u1, u2);
+        y = v3_madd(center, n, radius);
+    } else {
+        double su = sqrt(u1), b0 = 1.0 - su, b1 = u2 * su;
+        vec3 a = tri_vertex(o, e->prim, 0, u), b = tri_vertex(o, e->prim, 1, u), c = tri_vertex(o, e->prim, 2, u);
+        y = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, 1.0 - b0 - b1));
+        n = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    }
+    vec3 d = v3_sub(y, p);
+    double d2 = v3_dot(d, d);
+    if (!(d2 > 0.0))
+        return false;
+    *dist = sqrt(d2);
+    *wi = v3_scale(d, 1.0 / *dist);
+    double cos_l = -v3_dot(*wi, n);
+    if (cos_l <= 0.0 && !o->mat.two_sided_emission)
+        return false;
+    cos_l = fabs(cos_l);
+    if (cos_l < 1e-12)
+        return false;
+    /* pick probability (pdf over the unit interval / number of bins) x area pdf -> solid angle */
+    double p_pick = pick / s->nem;
+    *pdf = p_pick / emitter_area(o, e, u) * d2 / cos_l;
+    *Le = o->mat.emission;
+    return true;
+}
+
+double surfaces_emitter_pdf(const surfaces *s, const surface_hit *h, vec3 p)
+{
+    if (!surfaces_has_emitters(s) || col_is_black(h->mat->emission))
+        return 0.0;
+    const surface_object *o = &s->obj[h->object];
+    /* emitters are stored object by object, primitives in order */
+    if (s->em_first[h->object] < 0)
+        return 0.0;
+    int k = s->em_first[h->object] + (o->is_sphere ? 0 : h->prim);
+    double p_pick = distrib1_pdf(&s->em_dist, (k + 0.5) / s->nem) / s->nem;
+    vec3 d = v3_sub(h->p, p);
+    double d2 = v3_dot(d, d);
+    double cos_l = fabs(v3_dot(v3_normalize(d), h->ng));
+    if (cos_l < 1e-12)
+        return 0.0;
+    return p_pick / emitter_area(o, &s->em[k], shutter_time(s, h->time)) * d2 / cos_l;
+}
