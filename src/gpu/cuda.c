@@ -26,6 +26,7 @@ enum {
     CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR = 75,
     CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MINOR = 76,
     CU_LIMIT_STACK_SIZE = 0,
+    CU_JIT_MAX_REGISTERS = 0,
     CU_JIT_ERROR_LOG_BUFFER = 5,
     CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES = 6,
 };
@@ -160,9 +161,34 @@ typedef struct gpu_device {
     bool ready;
     CUcontext ctx;
     CUmodule mod;
-    CUfunction samples, reduce;
+    CUfunction samples, paths, reduce;
+    int sms; /* multiprocessors */
 } gpu_device;
 static gpu_device devices[GPU_MAX_DEVICES];
+
+/* How the kernels are compiled and launched. The defaults are what docs/gpu.md measured
+ * best; the environment may change them for benchmarks (bench/gpu.sh), never the image:
+ *   BRUME_GPU_KERNEL  paths (one event per turn, path regeneration) or samples (one
+ *                     sample per thread, start to end)
+ *   BRUME_GPU_MAXREG  registers per thread the driver may give the kernels (0: its choice)
+ *   BRUME_GPU_BLOCK   threads per block */
+typedef struct gpu_tuning {
+    bool paths;
+    unsigned maxreg, block;
+} gpu_tuning;
+
+static gpu_tuning gpu_tune(void)
+{
+    gpu_tuning t = {true, 0, 128};
+    const char *k = getenv("BRUME_GPU_KERNEL"), *m = getenv("BRUME_GPU_MAXREG"), *b = getenv("BRUME_GPU_BLOCK");
+    if (k && strcmp(k, "samples") == 0)
+        t.paths = false;
+    if (m && atoi(m) >= 16 && atoi(m) <= 255)
+        t.maxreg = (unsigned)atoi(m);
+    if (b && atoi(b) >= 32 && atoi(b) <= 1024 && atoi(b) % 32 == 0)
+        t.block = (unsigned)atoi(b);
+    return t;
+}
 
 /* The device `ordinal`, its context current on this thread; NULL with err_set(). */
 static gpu_device *gpu_open(const char *source, int ordinal)
@@ -187,17 +213,21 @@ static gpu_device *gpu_open(const char *source, int ordinal)
     g = &devices[ordinal];
     if (!g->ready) {
         CUdevice d;
-        int opt[2] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES};
-        void *val[2] = {log, (void *)(uintptr_t)sizeof log};
+        gpu_tuning tune = gpu_tune();
+        int opt[3] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES, CU_JIT_MAX_REGISTERS};
+        void *val[3] = {log, (void *)(uintptr_t)sizeof log, (void *)(uintptr_t)tune.maxreg};
         if ((r = cu.DeviceGet(&d, ordinal)) != 0)
             what = "cuDeviceGet";
         else if ((r = cu.CtxCreate(&g->ctx, 0, d)) != 0)
             what = "cuCtxCreate";
         else if ((r = cu.CtxSetLimit(CU_LIMIT_STACK_SIZE, GPU_STACK_BYTES)) != 0)
             what = "cuCtxSetLimit";
-        else if ((r = cu.ModuleLoadDataEx(&g->mod, gpu_ptx, 2, opt, val)) != 0)
+        else if ((r = cu.DeviceGetAttribute(&g->sms, CU_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT, d)) != 0)
+            what = "cuDeviceGetAttribute";
+        else if ((r = cu.ModuleLoadDataEx(&g->mod, gpu_ptx, tune.maxreg ? 3 : 2, opt, val)) != 0)
             what = "loading the kernels (cuModuleLoadDataEx)";
         else if ((r = cu.ModuleGetFunction(&g->samples, g->mod, "brume_samples")) != 0 ||
+                 (r = cu.ModuleGetFunction(&g->paths, g->mod, "brume_paths")) != 0 ||
                  (r = cu.ModuleGetFunction(&g->reduce, g->mod, "brume_reduce")) != 0)
             what = "cuModuleGetFunction";
         if (!what) {
@@ -225,7 +255,7 @@ static gpu_device *gpu_open(const char *source, int ordinal)
 
 /* ---- a job on the GPU ----------------------------------------------------------------------- */
 #define GPU_MAX_SAMPLES (1u << 22) /* samples of one launch: their values take 96 bytes each */
-#define GPU_BLOCK 128
+#define GPU_RESIDENT 2048 /* threads a multiprocessor holds at most (compute capability 7.0 to 9.0) */
 
 typedef struct gpu_job {
     gpu_device *dev;
@@ -233,13 +263,14 @@ typedef struct gpu_job {
     size_t scene_at, state_at;
     CUdeviceptr params;  /* sample_params */
     CUdeviceptr pixels, n, sum, sq, aov, values;
+    CUdeviceptr next;    /* brume_paths' counter of the samples taken */
     size_t npix, nvalues;
     uint32_t *list;      /* host: the active pixels of the pass */
 } gpu_job;
 
 static void gpu_free(gpu_job *gj)
 {
-    CUdeviceptr *p[] = {&gj->scene, &gj->params, &gj->pixels, &gj->n, &gj->sum, &gj->sq, &gj->aov, &gj->values};
+    CUdeviceptr *p[] = {&gj->scene, &gj->params, &gj->pixels, &gj->n, &gj->sum, &gj->sq, &gj->aov, &gj->values, &gj->next};
     for (size_t i = 0; i < sizeof p / sizeof p[0]; i++)
         if (*p[i]) {
             cu.MemFree(*p[i]);
@@ -317,6 +348,7 @@ static brume_status gpu_job_start(brume_render_job *job, gpu_job **out)
     const size_t np = job->npix;
     if ((st = gpu_alloc(job, &gj->params, sizeof sp, "the parameters")) ||
         (st = gpu_alloc(job, &gj->pixels, np * sizeof(uint32_t), "the pixel list")) ||
+        (st = gpu_alloc(job, &gj->next, sizeof(uint32_t), "the sample counter")) ||
         (st = gpu_alloc(job, &gj->n, np * sizeof(uint32_t), "the sample counts")) ||
         (st = gpu_alloc(job, &gj->sum, np * JOB_SUMS * sizeof(double), "the image sums")) ||
         (job->sq && (st = gpu_alloc(job, &gj->sq, np * JOB_SQS * sizeof(double), "the squares"))) ||
@@ -379,14 +411,26 @@ brume_status gpu_job_pass(brume_render_job *job)
         CUdeviceptr scene = gj->scene + gj->scene_at;
         CUdeviceptr state = gj->state_at == ARENA_NULL ? 0 : gj->scene + gj->state_at;
         uint64_t threads = (uint64_t)np * per;
-        void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values};
-        if ((r = cu.LaunchKernel(gj->dev->samples, (unsigned)((threads + GPU_BLOCK - 1) / GPU_BLOCK), 1, 1, GPU_BLOCK, 1,
-                                 1, 0, NULL, a1, NULL)))
-            return gpu_fail(job, "launching the samples", r);
+        const gpu_tuning tune = gpu_tune();
+        const unsigned block = tune.block;
+        if (tune.paths) { /* as many threads as the GPU holds, each taking samples until none is left */
+            uint32_t zero = 0;
+            uint64_t resident = (uint64_t)gj->dev->sms * GPU_RESIDENT;
+            uint64_t launch = threads < resident ? threads : resident;
+            void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->next};
+            if ((r = cu.MemcpyHtoD(gj->next, &zero, sizeof zero)) ||
+                (r = cu.LaunchKernel(gj->dev->paths, (unsigned)((launch + block - 1) / block), 1, 1, block, 1, 1, 0,
+                                     NULL, a1, NULL)))
+                return gpu_fail(job, "launching the paths", r);
+        } else {
+            void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values};
+            if ((r = cu.LaunchKernel(gj->dev->samples, (unsigned)((threads + block - 1) / block), 1, 1, block, 1, 1, 0,
+                                     NULL, a1, NULL)))
+                return gpu_fail(job, "launching the samples", r);
+        }
         CUdeviceptr sq = job->sq ? gj->sq : 0, aov = job->aov ? gj->aov : 0;
         void *a2[] = {&gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->sum, &sq, &aov};
-        if ((r = cu.LaunchKernel(gj->dev->reduce, (np + GPU_BLOCK - 1) / GPU_BLOCK, 1, 1, GPU_BLOCK, 1, 1, 0, NULL, a2,
-                                 NULL)))
+        if ((r = cu.LaunchKernel(gj->dev->reduce, (np + block - 1) / block, 1, 1, block, 1, 1, 0, NULL, a2, NULL)))
             return gpu_fail(job, "launching the sums", r);
         if ((r = cu.CtxSynchronize()))
             return gpu_fail(job, "rendering", r);

@@ -140,6 +140,50 @@ extern "C" __global__ void brume_samples(const brume_scene *s, const void *state
     sample_eval(s, state, sp, r, g, sidx, &values[t]);
 }
 
+/* brume_paths does what brume_samples does for `path` and `single`, with path regeneration
+ * (Novak et al. 2010): each thread takes the next sample of the launch (a counter in device
+ * memory), and runs its walk one event per turn of its loop (render/path.c,
+ * path_walk_step); when the walk ends, it writes the value and takes the next sample at
+ * once. A warp then keeps its threads busy while its longest path goes on, instead of
+ * waiting for it with the others idle. Each sample is still a function of its index alone
+ * and is written to its own slot: the order in which threads take them changes nothing. */
+extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, const sample_params *sp,
+                                       const uint32_t *pixels, uint32_t npixels, const uint32_t *n, uint32_t target,
+                                       uint32_t per_pixel, sample_value *values, uint32_t *next)
+{
+    const uint32_t total = npixels * per_pixel;
+    const int max_depth = sp->kind == INTEGRATOR_PATH ? s->settings.max_depth : 1;
+    path_walk w;
+    rng g;
+    color T;
+    bool opaque = false, live = false;
+    uint32_t t = 0;
+    for (;;) {
+        if (live) {
+            if (path_walk_step(&w))
+                continue;
+            sample_set(&values[t], path_walk_end(&w), opaque, T);
+            live = false;
+        }
+        t = (uint32_t)__nvvm_atom_add_gen_i((int *)next, 1);
+        if (t >= total)
+            return;
+        uint32_t p = t / per_pixel, k = t % per_pixel;
+        uint32_t i = pixels[p], sidx = n[i] + k;
+        if (sidx >= target)
+            continue;
+        int x = (int)(i % (uint32_t)sp->width), y = (int)(i / (uint32_t)sp->width);
+        ray r;
+        sample_camera(&s->cam, sp, i, x, y, sidx, &g, &r);
+        sample_aovs(s, sp, r, g, &values[t]);
+        T = col(1.0);
+        opaque = false;
+        live = path_walk_begin(&w, s, state, r, max_depth, &g, &opaque, sidx < JOB_ALPHA_SAMPLES ? &T : NULL);
+        if (!live)
+            sample_set(&values[t], path_walk_end(&w), opaque, T);
+    }
+}
+
 extern "C" __global__ void brume_reduce(const sample_params *sp, const uint32_t *pixels, uint32_t npixels, uint32_t *n,
                                         uint32_t target, uint32_t per_pixel, const sample_value *values, double *sum,
                                         double *sq, double *aov)

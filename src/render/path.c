@@ -380,6 +380,8 @@ typedef struct path_walk {
     bool *hit_surface;
     color *Tr_cam;
     double t_cam;           /* where the camera ray's flight ended: a surface or an area light */
+    ray r_cam;              /* the camera ray */
+    int depth;              /* the next event's */
 } path_walk;
 
 /* The flight of event `depth` along w->r up to t_end (a surface or an area light): true when
@@ -539,38 +541,71 @@ static void path_split_next(path_walk *w)
     w->prev.pdf = w->pdf_dir;
 }
 
-color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
-                    color *Tr_cam)
+/* One camera sample's walk, cut into its start, its events and its end (path_Li_alpha runs
+ * them in one call). The GPU runs them from its own loop so that a thread whose walk ended
+ * starts the next camera sample while its warp's other walks go on (gpu/kernel.cu,
+ * brume_paths): the same walk, cut where its events already are.
+ *
+ * path_walk_begin sets up *w (which must stay in place: it points into itself) for the
+ * camera ray r and sequence g (kept by the caller until the end); false when the walk is
+ * already over (a culled camera ray). path_walk_step runs the next event, or starts the
+ * split's next continuation; false when nothing is left. path_walk_end completes alpha's
+ * transmittance and returns the radiance. */
+static bool path_walk_begin(path_walk *w, const brume_scene *s, const void *state, ray r, int max_depth, rng *g,
+                            bool *hit_surface, color *Tr_cam)
 {
     const path_state *st = (const path_state *)state;
     double t_in, t_out;
-    if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
-        /* what the walk below comes to for this ray, bit for bit: no flight, Tr = 1 */
-        if (hit_surface)
-            *hit_surface = false;
-        if (Tr_cam)
-            *Tr_cam = col(1.0);
-        return escaped_radiance(s, r.d, 0.0);
-    }
-    path_walk w = {.s = s, .st = st, .max_depth = max_depth, .g = g, .dim0 = g->counter,
-                   .gt = rng_make(g->key, 0x7472616b5f646d73ULL, 0), .g_cam = g, .r = r, .pdf_dir = 0.0,
-                   .prev = {.ph = NULL}, .k_split = st ? st->split : 1, .pending = 0, .share = 1.0,
-                   .split = {.v = {.ph = NULL}}, .hit_surface = hit_surface, .Tr_cam = Tr_cam, .t_cam = INFINITY};
-    w.f.s = s;
-    w.f.g = &w.gt;
-    w.f.beta = col(1.0);
-    w.f.L = col(0.0);
+    *w = (path_walk){.s = s, .st = st, .max_depth = max_depth, .g = g, .dim0 = g->counter,
+                     .gt = rng_make(g->key, 0x7472616b5f646d73ULL, 0), .g_cam = g, .r = r, .pdf_dir = 0.0,
+                     .prev = {.ph = NULL}, .k_split = st ? st->split : 1, .pending = 0, .share = 1.0,
+                     .split = {.v = {.ph = NULL}}, .hit_surface = hit_surface, .Tr_cam = Tr_cam, .t_cam = INFINITY,
+                     .r_cam = r, .depth = 0};
+    w->f.s = s;
+    w->f.g = &w->gt;
+    w->f.beta = col(1.0);
+    w->f.L = col(0.0);
     if (hit_surface)
         *hit_surface = false;
-    for (int depth_start = 0;; depth_start = 1) {
-        for (int depth = depth_start; path_event(&w, depth); depth++)
-            ;
-        if (w.pending == 0)
-            break;
-        path_split_next(&w);
+    if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
+        /* what the walk would come to for this ray, bit for bit: no flight, Tr = 1 */
+        if (Tr_cam)
+            *Tr_cam = col(1.0);
+        w->f.L = escaped_radiance(s, r.d, 0.0);
+        return false;
     }
+    return true;
+}
+
+static bool path_walk_step(path_walk *w)
+{
+    if (path_event(w, w->depth)) {
+        w->depth++;
+        return true;
+    }
+    if (w->pending == 0)
+        return false;
+    path_split_next(w);
+    w->depth = 1;
+    return true;
+}
+
+static color path_walk_end(path_walk *w)
+{
     /* alpha sees the media along the whole camera ray: past an area light too */
-    if (Tr_cam && w.t_cam > 0.0 && isfinite(w.t_cam) && !col_is_black(*Tr_cam))
-        *Tr_cam = col_mul(*Tr_cam, track_transmittance(s, (ray){ray_at(r, w.t_cam), r.d, r.time}, INFINITY, &w.gt));
-    return w.f.L;
+    color *Tr_cam = w->Tr_cam;
+    ray r = w->r_cam;
+    if (Tr_cam && w->t_cam > 0.0 && isfinite(w->t_cam) && !col_is_black(*Tr_cam))
+        *Tr_cam = col_mul(*Tr_cam, track_transmittance(w->s, (ray){ray_at(r, w->t_cam), r.d, r.time}, INFINITY, &w->gt));
+    return w->f.L;
+}
+
+color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_depth, rng *g, bool *hit_surface,
+                    color *Tr_cam)
+{
+    path_walk w;
+    if (path_walk_begin(&w, s, state, r, max_depth, g, hit_surface, Tr_cam))
+        while (path_walk_step(&w))
+            ;
+    return path_walk_end(&w);
 }

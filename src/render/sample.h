@@ -57,11 +57,9 @@ static inline void sample_camera(const camera *cam, const sample_params *sp, siz
     *r = camera_ray(cam, sp->width, sp->height, x + 0.5 + dx, y + 0.5 + dy, u1, u2, ut);
 }
 
-/* The sample's radiance along r with the sequence g (from sample_camera), its alpha (on
- * the first JOB_ALPHA_SAMPLES samples only: a smooth estimator that needs few samples, and
- * no cost for the others) and, with sp->trace_aovs, its first vertex. */
-static inline void sample_eval(const brume_scene *s, const void *state, const sample_params *sp, ray r, rng g,
-                               uint32_t sidx, sample_value *v)
+/* With sp->trace_aovs, the first vertex along r (its own dimensions of g, from
+ * AOV_DIMENSION on) into v's layers; else the layers are zero. */
+static inline void sample_aovs(const brume_scene *s, const sample_params *sp, ray r, rng g, sample_value *v)
 {
     if (sp->trace_aovs) {
         rng ga = g;
@@ -79,6 +77,23 @@ static inline void sample_eval(const brume_scene *s, const void *state, const sa
         for (int a = 0; a < JOB_AOVS; a++) /* not added (sample_add), but defined */
             v->aov[a] = 0.0;
     }
+}
+
+/* The estimator's radiance L, whether the camera ray ended on a surface (opaque) and its
+ * transmittance T, as the sample's value. */
+static inline void sample_set(sample_value *v, color L, bool opaque, color T)
+{
+    v->L = col_isfinite(L) ? L : col(0.0); /* a failed sample counts as black */
+    v->alpha = opaque ? 1.0 : 1.0 - col_avg(T);
+}
+
+/* The sample's radiance along r with the sequence g (from sample_camera), its alpha (on
+ * the first JOB_ALPHA_SAMPLES samples only: a smooth estimator that needs few samples, and
+ * no cost for the others) and, with sp->trace_aovs, its first vertex. */
+static inline void sample_eval(const brume_scene *s, const void *state, const sample_params *sp, ray r, rng g,
+                               uint32_t sidx, sample_value *v)
+{
+    sample_aovs(s, sp, r, g, v);
     bool opaque = false;
     stats_counters *sc = stats_tls;
     double t0 = sc ? stats_now() : 0.0;
@@ -88,8 +103,7 @@ static inline void sample_eval(const brume_scene *s, const void *state, const sa
         sc->t_li += stats_now() - t0;
         sc->camera_rays++;
     }
-    v->L = col_isfinite(L) ? L : col(0.0); /* a failed sample counts as black */
-    v->alpha = opaque ? 1.0 : 1.0 - col_avg(T);
+    sample_set(v, L, opaque, T);
 }
 
 /* Adds sample sidx's value to its pixel's sums (JOB_SUMS), squares (JOB_SQS, with
