@@ -360,12 +360,18 @@ static brume_status gpu_job_start(brume_render_job *job, gpu_job **out)
     return BRUME_OK;
 }
 
-brume_status gpu_job_pass(brume_render_job *job)
+brume_status gpu_job_prepare(brume_render_job *job)
 {
     gpu_job *gj = job->gpu;
-    brume_status st;
-    if (!gj && (st = gpu_job_start(job, &gj)) != BRUME_OK)
+    return gj ? BRUME_OK : gpu_job_start(job, &gj);
+}
+
+brume_status gpu_job_pass(brume_render_job *job)
+{
+    brume_status st = gpu_job_prepare(job);
+    if (st != BRUME_OK)
         return st;
+    gpu_job *gj = job->gpu;
     if (cu.CtxSetCurrent(gj->dev->ctx) != 0)
         return gpu_fail(job, "cuCtxSetCurrent", 1);
     /* the pass's pixels: active ones of the job's part below the target */

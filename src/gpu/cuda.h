@@ -24,6 +24,11 @@ extern const char gpu_ptx[];
  * BRUME_OK, or an error naming the scene and what failed (no driver, a refused feature
  * (gpu/device_scene.h), device memory over render.max_memory_mb or the GPU's). */
 brume_status gpu_job_pass(brume_render_job *job);
+/* What gpu_job_pass does first for a job, done now: opens the device (the driver compiles
+ * the PTX on a machine's first run, about 20 s) and uploads the scene. The job calls it
+ * before it starts timing its first pass, so that the pass's measured cost, and the ETA
+ * and budgets made from it, are the GPU's rendering alone. Idempotent. */
+brume_status gpu_job_prepare(brume_render_job *job);
 /* Frees what gpu_job_pass kept for job on the device. */
 void gpu_job_release(brume_render_job *job);
 

@@ -452,6 +452,11 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     }
     atomic_store(&job->stop, false);
     job->cancelled = false;
+    if (rs->device >= 0) { /* the device's start-up (the driver's compile, the upload) is not the pass's */
+        brume_status g = gpu_job_prepare(job);
+        if (g != BRUME_OK)
+            return g;
+    }
     pthread_mutex_lock(&job->lock);
     job->t_pass = progress_now();
     uint64_t done0 = job->done;
