@@ -26,7 +26,6 @@ enum {
     CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR = 75,
     CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MINOR = 76,
     CU_LIMIT_STACK_SIZE = 0,
-    CU_JIT_MAX_REGISTERS = 0,
     CU_JIT_ERROR_LOG_BUFFER = 5,
     CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES = 6,
 };
@@ -161,34 +160,10 @@ typedef struct gpu_device {
     bool ready;
     CUcontext ctx;
     CUmodule mod;
-    CUfunction samples, paths, reduce;
+    CUfunction paths, reduce;
     int sms; /* multiprocessors */
 } gpu_device;
 static gpu_device devices[GPU_MAX_DEVICES];
-
-/* How the kernels are compiled and launched. The defaults are what docs/gpu.md measured
- * best; the environment may change them for benchmarks (bench/gpu.sh), never the image:
- *   BRUME_GPU_KERNEL  paths (one event per turn, path regeneration) or samples (one
- *                     sample per thread, start to end)
- *   BRUME_GPU_MAXREG  registers per thread the driver may give the kernels (0: its choice)
- *   BRUME_GPU_BLOCK   threads per block */
-typedef struct gpu_tuning {
-    bool paths;
-    unsigned maxreg, block;
-} gpu_tuning;
-
-static gpu_tuning gpu_tune(void)
-{
-    gpu_tuning t = {true, 0, 128};
-    const char *k = getenv("BRUME_GPU_KERNEL"), *m = getenv("BRUME_GPU_MAXREG"), *b = getenv("BRUME_GPU_BLOCK");
-    if (k && strcmp(k, "samples") == 0)
-        t.paths = false;
-    if (m && atoi(m) >= 16 && atoi(m) <= 255)
-        t.maxreg = (unsigned)atoi(m);
-    if (b && atoi(b) >= 32 && atoi(b) <= 1024 && atoi(b) % 32 == 0)
-        t.block = (unsigned)atoi(b);
-    return t;
-}
 
 /* The device `ordinal`, its context current on this thread; NULL with err_set(). */
 static gpu_device *gpu_open(const char *source, int ordinal)
@@ -213,9 +188,8 @@ static gpu_device *gpu_open(const char *source, int ordinal)
     g = &devices[ordinal];
     if (!g->ready) {
         CUdevice d;
-        gpu_tuning tune = gpu_tune();
-        int opt[3] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES, CU_JIT_MAX_REGISTERS};
-        void *val[3] = {log, (void *)(uintptr_t)sizeof log, (void *)(uintptr_t)tune.maxreg};
+        int opt[2] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES};
+        void *val[2] = {log, (void *)(uintptr_t)sizeof log};
         if ((r = cu.DeviceGet(&d, ordinal)) != 0)
             what = "cuDeviceGet";
         else if ((r = cu.CtxCreate(&g->ctx, 0, d)) != 0)
@@ -224,10 +198,9 @@ static gpu_device *gpu_open(const char *source, int ordinal)
             what = "cuCtxSetLimit";
         else if ((r = cu.DeviceGetAttribute(&g->sms, CU_DEVICE_ATTRIBUTE_MULTIPROCESSOR_COUNT, d)) != 0)
             what = "cuDeviceGetAttribute";
-        else if ((r = cu.ModuleLoadDataEx(&g->mod, gpu_ptx, tune.maxreg ? 3 : 2, opt, val)) != 0)
+        else if ((r = cu.ModuleLoadDataEx(&g->mod, gpu_ptx, 2, opt, val)) != 0)
             what = "loading the kernels (cuModuleLoadDataEx)";
-        else if ((r = cu.ModuleGetFunction(&g->samples, g->mod, "brume_samples")) != 0 ||
-                 (r = cu.ModuleGetFunction(&g->paths, g->mod, "brume_paths")) != 0 ||
+        else if ((r = cu.ModuleGetFunction(&g->paths, g->mod, "brume_paths")) != 0 ||
                  (r = cu.ModuleGetFunction(&g->reduce, g->mod, "brume_reduce")) != 0)
             what = "cuModuleGetFunction";
         if (!what) {
@@ -255,6 +228,7 @@ static gpu_device *gpu_open(const char *source, int ordinal)
 
 /* ---- a job on the GPU ----------------------------------------------------------------------- */
 #define GPU_MAX_SAMPLES (1u << 22) /* samples of one launch: their values take 96 bytes each */
+#define GPU_BLOCK 128
 #define GPU_RESIDENT 2048 /* threads a multiprocessor holds at most (compute capability 7.0 to 9.0) */
 
 typedef struct gpu_job {
@@ -417,26 +391,18 @@ brume_status gpu_job_pass(brume_render_job *job)
         CUdeviceptr scene = gj->scene + gj->scene_at;
         CUdeviceptr state = gj->state_at == ARENA_NULL ? 0 : gj->scene + gj->state_at;
         uint64_t threads = (uint64_t)np * per;
-        const gpu_tuning tune = gpu_tune();
-        const unsigned block = tune.block;
-        if (tune.paths) { /* as many threads as the GPU holds, each taking samples until none is left */
-            uint32_t zero = 0;
-            uint64_t resident = (uint64_t)gj->dev->sms * GPU_RESIDENT;
-            uint64_t launch = threads < resident ? threads : resident;
-            void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->next};
-            if ((r = cu.MemcpyHtoD(gj->next, &zero, sizeof zero)) ||
-                (r = cu.LaunchKernel(gj->dev->paths, (unsigned)((launch + block - 1) / block), 1, 1, block, 1, 1, 0,
-                                     NULL, a1, NULL)))
-                return gpu_fail(job, "launching the paths", r);
-        } else {
-            void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values};
-            if ((r = cu.LaunchKernel(gj->dev->samples, (unsigned)((threads + block - 1) / block), 1, 1, block, 1, 1, 0,
-                                     NULL, a1, NULL)))
-                return gpu_fail(job, "launching the samples", r);
-        }
+        /* as many threads as the GPU holds, each taking samples until none is left */
+        uint32_t zero = 0;
+        uint64_t resident = (uint64_t)gj->dev->sms * GPU_RESIDENT;
+        uint64_t launch = threads < resident ? threads : resident;
+        void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->next};
+        if ((r = cu.MemcpyHtoD(gj->next, &zero, sizeof zero)) ||
+            (r = cu.LaunchKernel(gj->dev->paths, (unsigned)((launch + GPU_BLOCK - 1) / GPU_BLOCK), 1, 1, GPU_BLOCK, 1, 1,
+                                 0, NULL, a1, NULL)))
+            return gpu_fail(job, "launching the paths", r);
         CUdeviceptr sq = job->sq ? gj->sq : 0, aov = job->aov ? gj->aov : 0;
         void *a2[] = {&gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->sum, &sq, &aov};
-        if ((r = cu.LaunchKernel(gj->dev->reduce, (np + block - 1) / block, 1, 1, block, 1, 1, 0, NULL, a2, NULL)))
+        if ((r = cu.LaunchKernel(gj->dev->reduce, (np + GPU_BLOCK - 1) / GPU_BLOCK, 1, 1, GPU_BLOCK, 1, 1, 0, NULL, a2, NULL)))
             return gpu_fail(job, "launching the sums", r);
         if ((r = cu.CtxSynchronize()))
             return gpu_fail(job, "rendering", r);

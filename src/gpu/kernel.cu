@@ -116,37 +116,20 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 
 /* ---- the kernels -------------------------------------------------------------------------- *
  * A pass adds samples n[p] .. target - 1 to each pixel p of the list `pixels` (the active
- * pixels of the job's part). brume_samples evaluates one sample per thread, thread t taking
- * sample t % per_pixel of pixel t / per_pixel, into its own slot of `values`; brume_reduce
- * then adds each pixel's samples in their order into its sums, one thread a pixel. The sums
- * are thus made in a fixed order, whatever the scheduling: the image is a function of
- * scene, seed and samples on one GPU, run after run. */
-
-extern "C" __global__ void brume_samples(const brume_scene *s, const void *state, const sample_params *sp,
-                                         const uint32_t *pixels, uint32_t npixels, const uint32_t *n, uint32_t target,
-                                         uint32_t per_pixel, sample_value *values)
-{
-    uint64_t t = (uint64_t)blockIdx.x * blockDim.x + threadIdx.x;
-    if (t >= (uint64_t)npixels * per_pixel)
-        return;
-    uint32_t p = (uint32_t)(t / per_pixel), k = (uint32_t)(t % per_pixel);
-    uint32_t i = pixels[p], sidx = n[i] + k;
-    if (sidx >= target)
-        return;
-    int x = (int)(i % (uint32_t)sp->width), y = (int)(i / (uint32_t)sp->width);
-    rng g;
-    ray r;
-    sample_camera(&s->cam, sp, i, x, y, sidx, &g, &r);
-    sample_eval(s, state, sp, r, g, sidx, &values[t]);
-}
-
-/* brume_paths does what brume_samples does for `path` and `single`, with path regeneration
- * (Novak et al. 2010): each thread takes the next sample of the launch (a counter in device
- * memory), and runs its walk one event per turn of its loop (render/path.c,
- * path_walk_step); when the walk ends, it writes the value and takes the next sample at
- * once. A warp then keeps its threads busy while its longest path goes on, instead of
- * waiting for it with the others idle. Each sample is still a function of its index alone
- * and is written to its own slot: the order in which threads take them changes nothing. */
+ * pixels of the job's part), in launches of per_pixel samples a pixel: sample t of a launch
+ * is sample t % per_pixel of pixel t / per_pixel. brume_paths evaluates the samples into
+ * their own slots of `values`; brume_reduce then adds each pixel's samples in their order
+ * into its sums, one thread a pixel. The sums are thus made in a fixed order, whatever the
+ * scheduling: the image is a function of scene, seed and samples on one GPU, run after run.
+ *
+ * brume_paths runs `path` and `single` with path regeneration (Novak et al. 2010): each
+ * thread takes the next sample of the launch (a counter in device memory) and runs its walk
+ * one event per turn of its loop (render/path.c, path_walk_step); when the walk ends, it
+ * writes the value and takes the next sample at once. A warp thus keeps its threads busy
+ * while its longest path goes on, instead of waiting for it with the others idle (measured
+ * against one sample per thread, start to end: docs/gpu.md, "Speed"). Each sample is a
+ * function of its index alone and goes to its own slot: the order in which threads take
+ * them changes nothing. */
 extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, const sample_params *sp,
                                        const uint32_t *pixels, uint32_t npixels, const uint32_t *n, uint32_t target,
                                        uint32_t per_pixel, sample_value *values, uint32_t *next)

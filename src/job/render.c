@@ -2,6 +2,7 @@
  * pixel, budgets (samples, time, noise) with adaptive sampling, the image and its layers;
  * brume_render and brume_render_part are one job run to its end (render/job.h states the
  * invariants, docs/render-jobs.md the estimator and the schedule). */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +24,10 @@
 #define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
 #define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
+#define GPU_PASS_SAMPLES (1 << 21) /* samples a GPU pass takes at least after the first: each
+                                      launch ends with its longest paths running alone, a cost
+                                      that small passes pay again and again (docs/gpu.md), while
+                                      a pass this size takes well under a second */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
 
@@ -517,7 +522,8 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
  * one holds the job, sees its progress or can stop it) takes PASS_MAX at once: its passes
  * would only cost (each rereads every pixel's sums and statistics, and waits for the
  * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
- * the passes). */
+ * the passes). On a GPU, a pass after the first takes at least GPU_PASS_SAMPLES samples
+ * (more than PASS_MAX a pixel on small images), budgets permitting. */
 static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
@@ -543,6 +549,10 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
     k = k < 1 ? 1 : k;
     if (job->spp_done > 0 && k > PASS_MAX)
         k = PASS_MAX;
+    if (rs->device >= 0 && job->spp_done > 0) { /* the GPU: passes of GPU_PASS_SAMPLES */
+        size_t k_gpu = (GPU_PASS_SAMPLES + nactive - 1) / nactive;
+        k = k_gpu > (size_t)k ? (k_gpu > (size_t)INT_MAX ? INT_MAX : (int)k_gpu) : k;
+    }
     if (timed && job->spp_done > 0 && job->sample_seconds > 0.0) {
         /* the passes sized from the measured cost of a pixel sample, so that the last one
          * ends with the budget. A 1-sample pass that would not fit whole is begun when at

@@ -7,15 +7,13 @@
 # machine needs no Debian package. DATA (default .gpu/data) holds cloud64.raw and the 1/16
 # Disney cloud as wdas.nvdb (`brume convert wdas_cloud_sixteenth.vdb wdas.nvdb`).
 #
-# 1. The kernels' variants (bench: docs/gpu.md, "Speed"): the driver compiles the PTX for
-#    each register cap at once, then wdas-dense is timed with each kernel and cap; the
-#    fastest is used for the rest (TUNE=0 skips this and keeps the defaults).
+# 1. The first GPU run, in which the driver compiles the PTX.
 # 2. For each check scene it renders on the CPU (all cores) and twice on the GPU with the
 #    same seed: the two GPU images must be byte-identical (determinism), and the GPU's must
 #    agree with the CPU's within the noise, per channel and per 32^2 block
 #    (tests/gpu/compare.c).
-# 3. The floors of issue 35, timed on the GPU and on this machine's own cores.
-# 4. Where the kernel's time goes (ncu), when Nsight Compute is there.
+# 3. The floors of issue 35, timed on the GPU and on this machine's own cores, and where the
+#    kernel's time goes (ncu, when Nsight Compute is there): bench/gpu.sh.
 # Exit status 0 when every check passed.
 set -u
 bundle=${1:-.gpu/brume.tar.xz}
@@ -35,34 +33,10 @@ sub() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", a - b }'; }
 wdas="scenes/wdas-dense.json --set media.0.density.file=$data/wdas.nvdb"
 tiny="scenes/cloud64.json --set media.0.density.file=$data/cloud64.raw --width 16 --height 16 --spp 1"
 
-# 1. variants
-if [ "${TUNE:-1}" = 1 ]; then
-    echo "== the driver compiles the PTX for each register cap (two at a time)"
-    t0=$(now)
-    for pair in "0 128" "96 64"; do
-        for m in $pair; do
-            BRUME_GPU_MAXREG=$m timeout 120 "$br" render $tiny --device cuda -o "$out/jit$m.exr" 2>/dev/null &
-        done
-        wait
-    done
-    echo "compiled in $(sub "$(now)" "$t0") s"
-    best=""; best_t=1e9
-    for k in paths samples; do
-        for m in 0 128 96 64; do
-            t0=$(now)
-            line=$(BRUME_GPU_KERNEL=$k BRUME_GPU_MAXREG=$m timeout 120 "$br" render $wdas --spp 64 --device cuda \
-                   -o "$out/v.exr" 2>&1 | tail -1)
-            t=$(sub "$(now)" "$t0")
-            echo "variant kernel=$k maxreg=$m: wdas-dense 64 spp $t s whole process; $line"
-            if awk -v a="$t" -v b="$best_t" 'BEGIN { exit !(a < b) }' && echo "$line" | grep -q "64 spp"; then
-                best="$k $m"; best_t=$t
-            fi
-        done
-    done
-    set -- $best
-    export BRUME_GPU_KERNEL=$1 BRUME_GPU_MAXREG=$2
-    echo "== fastest: kernel=$1 maxreg=$2 ($best_t s); used below"
-fi
+# 1. the driver's compile of the PTX, once per machine (cached in ~/.nv/ComputeCache)
+t0=$(now)
+timeout 200 "$br" render $tiny --device cuda -o "$out/jit.exr" 2>/dev/null
+echo "== the first GPU run on this machine (the driver compiles the PTX): $(sub "$(now)" "$t0") s"
 
 # 2. check NAME SPP ARGS...: CPU vs GPU, GPU vs GPU
 check() {
@@ -88,33 +62,8 @@ check chromatic-ground 256 tests/gpu/chromatic-emissive.json
 check default 128 scenes/default.json --width 240 --height 160 --set render.noise=0
 check blobs 256 scenes/stam-fig5-a.json --set render.method=path --width 160 --height 120
 
-# 3. floors
-echo "== timings: wdas-dense 256 x 256 on the GPU, whole process (start-up, load, prepare, passes, write)"
-for spp in 1 64 64 64 256 1024; do
-    t0=$(now)
-    line=$(timeout 120 "$br" render $wdas --spp $spp --device cuda -o "$out/t.exr" 2>&1 | tail -1)
-    echo "wdas-dense gpu $spp spp: $(sub "$(now)" "$t0") s; $line"
-done
-t0=$(now)
-line=$(timeout 120 "$br" render $wdas --spp 64 -o "$out/t.exr" 2>&1 | tail -1)
-echo "wdas-dense cpu ($(nproc) cores) 64 spp: $(sub "$(now)" "$t0") s; $line"
-echo "== the default scene at its 3 % noise target, whole process"
-for dev in cuda cuda cpu; do
-    t0=$(now)
-    line=$(timeout 150 "$br" render --device $dev -o "$out/default-$dev.png" 2>&1 | tail -1)
-    echo "default $dev: $(sub "$(now)" "$t0") s; $line"
-done
+# 3. and 4.: the timings (bench/gpu.sh)
+sh bench/gpu.sh "$br" "$out" "$data"
 
-# 4. ncu
-ncu=$(command -v ncu || ls /opt/nvidia/nsight-compute/*/ncu /usr/local/cuda/bin/ncu 2>/dev/null | head -1)
-if [ -n "$ncu" ] && [ "${NCU:-1}" = 1 ]; then
-    kname=brume_paths
-    [ "${BRUME_GPU_KERNEL:-paths}" = samples ] && kname=brume_samples
-    echo "== ncu ($ncu) on $kname: wdas-dense 128 x 128, 16 spp"
-    timeout 150 "$ncu" --launch-count 1 --kernel-name $kname --section SpeedOfLight --section Occupancy \
-        --section LaunchStats --section WarpStateStats --section SchedulerStats --section MemoryWorkloadAnalysis \
-        "$br" render $wdas --spp 16 --width 128 --height 128 --device cuda -o "$out/n.exr" 2>&1 |
-        grep -v "^==PROF==" | grep -E "Duration|Throughput|Occupancy|Registers|Local|Block Limit|Warp Cycles|Stall|Eligible|Issued|Hit Rate|Threads|Waves|Achieved|Theoretical|Active Warps|No Eligible" | head -60
-fi
 echo "== result: $([ $fail = 0 ] && echo PASS || echo FAIL)"
 exit $fail
