@@ -62,6 +62,42 @@ check chromatic-ground 256 tests/gpu/chromatic-emissive.json
 check default 128 scenes/default.json --width 240 --height 160 --set render.noise=0
 check blobs 256 scenes/stam-fig5-a.json --set render.method=path --width 160 --height 120
 
+# The job system on the GPU: an interrupted and resumed render is the uninterrupted one, byte
+# for byte; a sequence; the live view.
+echo "== checkpoint, Ctrl-C, resume (wdas-dense, 256 spp, as checked above)"
+rm -f "$out/ck.brume"
+timeout 100 "$br" render $wdas --spp 256 --seed 12 --aov variance --device cuda --checkpoint "$out/ck.brume" \
+    -o "$out/ck.exr" 2>/dev/null &
+pid=$!
+sleep 3
+kill -INT $pid
+wait $pid
+echo "interrupted: exit status $? (130 expected), checkpoint $(stat -c %s "$out/ck.brume" 2>/dev/null || echo missing) bytes"
+timeout 100 "$br" render $wdas --spp 256 --seed 12 --aov variance --device cuda --resume "$out/ck.brume" \
+    -o "$out/ck.exr" 2>&1 | tail -1
+if cmp -s "$out/ck.exr" "$out/wdas-dense-gpu.exr"; then
+    echo "resumed: byte-identical to the uninterrupted render"
+else
+    echo "resumed: DIFFERS from the uninterrupted render"; fail=1
+fi
+echo "== a sequence of three frames"
+timeout 100 "$br" render scenes/anim-blasi-cloud.json --set render.method=path --frames 0-2 --spp 16 --width 128 \
+    --height 96 --device cuda -o "$out/seq_%d.png" 2>&1 | tail -1
+for f in 0 1 2; do [ -s "$out/seq_$f.png" ] || { echo "frame $f missing"; fail=1; }; done
+echo "== the live view"
+if command -v curl >/dev/null; then
+    timeout 100 "$br" render $wdas --spp 512 --device cuda --serve 127.0.0.1:8765 --serve-exit -o "$out/serve.png" \
+        2>/dev/null &
+    pid=$!
+    sleep 3
+    page=$(curl -s http://127.0.0.1:8765/ | head -c 2000)
+    kill -INT $pid 2>/dev/null
+    wait $pid
+    if echo "$page" | grep -qi "<html"; then echo "live view: the page is served during a GPU render"; else echo "live view: NO page"; fail=1; fi
+else
+    echo "live view: no curl on this machine, not checked"
+fi
+
 # 3. and 4.: the timings (bench/gpu.sh)
 sh bench/gpu.sh "$br" "$out" "$data"
 
