@@ -14,20 +14,10 @@ static bool prim_hit(const surface_object *o, int prim, ray r, double u, double 
 {
     if (o->is_sphere) {
         vec3 center;
-        double radius;
-        sphere_at(o, u, &center, &radius);
-        vec3 oc = v3_sub(r.o, center);
-        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - radius * radius, disc = b * b - c;
-        if (disc < 0.0)
+        if (!sphere_hit(o, u, r, tmin, tmax, t, &center))
             return false;
-        double sq = sqrt(disc), th = -b - sq;
-        if (th <= tmin)
-            th = -b + sq;
-        if (!(th > tmin && th < tmax))
-            return false;
-        *t = th;
         if (ng)
-            *ng = v3_normalize(v3_sub(ray_at(r, th), center));
+            *ng = v3_normalize(v3_sub(ray_at(r, *t), center));
         return true;
     }
     /* Moller and Trumbore 1997 */

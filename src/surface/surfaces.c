@@ -356,18 +356,10 @@ bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tma
     if (o->is_sphere) {
         /* recompute the hit in double precision from the sphere itself (where it is at u) */
         vec3 center;
-        double radius;
-        sphere_at(o, u, &center, &radius);
-        vec3 oc = v3_sub(r.o, center);
-        double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - radius * radius, disc = b * b - c;
-        if (disc >= 0.0) {
-            double sq = sqrt(disc), t = -b - sq;
-            if (t <= tmin)
-                t = -b + sq;
-            if (t > tmin && t < tmax) {
-                h->t = t;
-                h->p = ray_at(r, t);
-            }
+        double t;
+        if (sphere_hit(o, u, r, tmin, tmax, &t, &center)) {
+            h->t = t;
+            h->p = ray_at(r, t);
         }
         h->ng = v3_normalize(v3_sub(h->p, center));
     } else {

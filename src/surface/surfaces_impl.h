@@ -133,6 +133,26 @@ static inline double emitter_area(const surface_object *o, const emitter *e, dou
     return tri_area(o, e->prim, u);
 }
 
+/* The nearest root t in (tmin, tmax) of sphere object o at shutter time u along r (unit
+ * direction), in double precision; *center is its centre at u, hit or not. */
+static inline bool sphere_hit(const surface_object *o, double u, ray r, double tmin, double tmax, double *t,
+                              vec3 *center)
+{
+    double radius;
+    sphere_at(o, u, center, &radius);
+    vec3 oc = v3_sub(r.o, *center);
+    double b = v3_dot(oc, r.d), c = v3_dot(oc, oc) - radius * radius, disc = b * b - c;
+    if (disc < 0.0)
+        return false;
+    double sq = sqrt(disc), th = -b - sq;
+    if (th <= tmin)
+        th = -b + sq;
+    if (!(th > tmin && th < tmax))
+        return false;
+    *t = th;
+    return true;
+}
+
 /* Embree's queries (surfaces.c, host only): what surfaces_intersect and surfaces_occluded
  * use on the CPU when no hierarchy of brume's own was built. */
 bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h);
