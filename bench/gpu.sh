@@ -22,6 +22,13 @@ done
 t0=$(now)
 line=$(timeout 120 "$br" render $wdas --spp 64 -o "$out/t.exr" 2>&1 | tail -1)
 echo "wdas-dense cpu ($(nproc) cores) 64 spp: $(sub "$(now)" "$t0") s; $line"
+echo "== budgets on the GPU: --time 3 (wdas-dense), --noise 0.05 (the chromatic cloud over a ground)"
+t0=$(now)
+line=$(timeout 60 "$br" render $wdas --spp 100000 --time 3 --device cuda -o "$out/t.exr" 2>&1 | tail -1)
+echo "wdas-dense --time 3: $(sub "$(now)" "$t0") s whole process; $line"
+t0=$(now)
+line=$(timeout 60 "$br" render tests/gpu/chromatic-emissive.json --noise 0.05 --device cuda -o "$out/t.exr" 2>&1 | tail -1)
+echo "chromatic --noise 0.05: $(sub "$(now)" "$t0") s whole process; $line"
 echo "== the default scene at its 3 % noise target, whole process"
 for dev in cuda cpu; do
     t0=$(now)
@@ -37,4 +44,9 @@ if [ -n "$ncu" ] && [ "${NCU:-1}" = 1 ]; then
         --section Occupancy --section LaunchStats --section WarpStateStats --section SchedulerStats \
         --section MemoryWorkloadAnalysis "$br" render $wdas --spp 64 --device cuda -o "$out/n.exr" 2>&1 |
         grep -v "^==PROF==" | grep -E "Duration|Throughput|Occupancy|Registers|Local|Block Limit|Warp Cycles|Stall|Eligible|Issued|Hit Rate|Threads|Waves|Achieved|Theoretical|Active Warps|No Eligible" | head -60
+    echo "== ncu: why warps wait (cycles per issued instruction, by stall reason), same launch"
+    timeout 150 "$ncu" --launch-skip 1 --launch-count 1 --kernel-name brume_paths \
+        --metrics "regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio,smsp__thread_inst_executed_per_inst_executed.ratio,smsp__inst_executed.sum,sm__warps_active.avg.pct_of_peak_sustained_active" \
+        "$br" render $wdas --spp 64 --device cuda -o "$out/n.exr" 2>&1 | grep -v "^==PROF==" | grep -E "smsp__|sm__" |
+        awk '{ if ($NF + 0 >= 0.05 || $1 !~ /stalled/) print }' | head -40
 fi

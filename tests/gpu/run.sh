@@ -33,10 +33,29 @@ sub() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", a - b }'; }
 wdas="scenes/wdas-dense.json --set media.0.density.file=$data/wdas.nvdb"
 tiny="scenes/cloud64.json --set media.0.density.file=$data/cloud64.raw --width 16 --height 16 --spp 1"
 
-# 1. the driver's compile of the PTX, once per machine (cached in ~/.nv/ComputeCache)
+# 1. the driver's compile of the PTX, once per machine (cached in ~/.nv/ComputeCache); with
+# VARIANTS (a folder of brume tools built with other BRUME_PTX_OPT, each in NAME/brume), each
+# is compiled too (in parallel), timed on wdas-dense, and the fastest renders everything below.
 t0=$(now)
-timeout 200 "$br" render $tiny --device cuda -o "$out/jit.exr" 2>/dev/null
+for v in "$br" $(ls -d "${VARIANTS:-/nonexistent}"/*/brume 2>/dev/null); do
+    timeout 200 "$v" render $tiny --device cuda -o "$out/jit.exr" 2>/dev/null &
+done
+wait
 echo "== the first GPU run on this machine (the driver compiles the PTX): $(sub "$(now)" "$t0") s"
+if ls "${VARIANTS:-/nonexistent}"/*/brume >/dev/null 2>&1; then
+    best="$br"; best_t=1e9
+    for v in "$br" "${VARIANTS}"/*/brume; do
+        t0=$(now)
+        line=$(timeout 120 "$v" render $wdas --spp 64 --device cuda -o "$out/v.exr" 2>&1 | tail -1)
+        t=$(sub "$(now)" "$t0")
+        echo "variant $v: wdas-dense 64 spp $t s whole process; $line"
+        if awk -v a="$t" -v b="$best_t" 'BEGIN { exit !(a < b) }' && echo "$line" | grep -q "64 spp"; then
+            best="$v"; best_t=$t
+        fi
+    done
+    br="$best"
+    echo "== fastest: $br ($best_t s); it renders everything below"
+fi
 
 # 2. check NAME SPP ARGS...: CPU vs GPU, GPU vs GPU
 check() {
