@@ -422,10 +422,17 @@ static void depth_visit(int i, double u, double d2, void *user)
     hi = hi < end ? hi : end;
     if (!(hi > lo))
         return;
-    double inv_h = 1.0 / br.h, scale = br.peak * br.h, base = stam_Phi((lo - u) * inv_h);
     int k0 = (int)ceil((lo - w->u0) * w->inv_du), k1 = (int)floor((hi - w->u0) * w->inv_du);
     k0 = k0 < 0 ? 0 : k0;
     k1 = k1 > w->n ? w->n : k1;
+    if (br.k) { /* a tabulated kernel: the integrals from its table (Section 6.1) */
+        for (int k = k0; k <= k1; k++)
+            w->C[k] += blob_T_mean(&br, lo, w->u0 + k * w->du);
+        if (k1 + 1 <= w->n)
+            w->D[k1 + 1] += blob_T_mean(&br, lo, hi);
+        return;
+    }
+    double inv_h = 1.0 / br.h, scale = br.peak * br.h, base = stam_Phi((lo - u) * inv_h);
     for (int k = k0; k <= k1; k++)
         w->C[k] += scale * (stam_Phi((w->u0 + k * w->du - u) * inv_h) - base);
     if (k1 + 1 <= w->n)

@@ -26,8 +26,11 @@ blob_ray blob_ray_make(const blob_field *f, int i, double u, double d2)
     blob_ray br;
     br.h = f->b[i].h;
     br.u = u;
-    br.peak = f->peak[i] * exp(-d2 * f->inv2h2[i]);
+    br.peak = blob_density_r2(f, i, d2);
     br.half = sqrt(fmax(0.0, f->R2[i] - d2));
+    br.k = f->kernel;
+    br.peak0 = f->peak[i];
+    br.dh = br.k ? sqrt(d2) / br.h : 0.0;
     return br;
 }
 
@@ -38,8 +41,11 @@ double blob_T_mean(const blob_ray *br, double a, double b)
     b = b < hi ? b : hi;
     if (!(b > a))
         return 0.0;
-    /* m / ((2 pi)^(3/2) h^3) exp(-d^2 / 2h^2) h (Phi((b - u) / h) - Phi((a - u) / h)) */
     double inv = 1.0 / br->h;
+    if (br->k) /* Section 6.1: m W(0) / h^3 h (G(d / h, (b - u) / h) - G(d / h, (a - u) / h)) */
+        return br->peak0 * br->h *
+               (blob_kernel_line(br->k, br->dh, (b - br->u) * inv) - blob_kernel_line(br->k, br->dh, (a - br->u) * inv));
+    /* m / ((2 pi)^(3/2) h^3) exp(-d^2 / 2h^2) h (Phi((b - u) / h) - Phi((a - u) / h)) */
     return br->peak * br->h * (stam_Phi((b - br->u) * inv) - stam_Phi((a - br->u) * inv));
 }
 
@@ -47,7 +53,13 @@ double blob_T_clamped(const blob_ray *br, double eta, double a, double b)
 {
     if (!(br->peak > eta))
         return blob_T_mean(br, a, b); /* the log in Delta u_i is <= 0: nothing is clamped */
-    double du = br->h * sqrt(2.0 * log(br->peak / eta)); /* Appendix A, in units of h there */
+    double du;
+    if (br->k) { /* W(s_eta) = eta: s_eta >= d / h since the peak along the ray exceeds eta */
+        double s = blob_kernel_radius(br->k, eta / br->peak0);
+        du = br->h * sqrt(fmax(0.0, s * s - br->dh * br->dh));
+    } else {
+        du = br->h * sqrt(2.0 * log(br->peak / eta)); /* Appendix A, in units of h there */
+    }
     if (du > br->half)
         du = br->half;
     double lo = br->u - du, hi = br->u + du;

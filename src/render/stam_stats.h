@@ -19,7 +19,12 @@
  * Geometry (Figure 2): a unit-direction ray o + u d over u in [a, b]; u_i = (x_i - o).d and
  * d_i^2 = |x_i - o|^2 - u_i^2. The blob is truncated at radius R (blobs.h), so integrals run
  * over the chord |u - u_i| < sqrt(R^2 - d_i^2) only: exactly the field the other
- * integrators see. */
+ * integrators see.
+ *
+ * With a tabulated kernel W (blob_kernel.h) the mean is Section 6.1's table of line
+ * integrals, the clamped region |u - u_i| < h sqrt(s_eta^2 - (d_i/h)^2) where m W(s_eta) / h^3
+ * = eta, and the variance the same eps sqrt(2 pi) alpha c I_F (c is the gaussian's
+ * next-order factor, kept for every kernel: docs/stam.md). */
 #ifndef BRUME_RENDER_STAM_STATS_H
 #define BRUME_RENDER_STAM_STATS_H
 
@@ -56,6 +61,11 @@ typedef struct blob_ray {
     double h;      /* blob radius */
     double u;      /* u_i */
     double half;   /* half-length of the chord inside the truncation sphere */
+    /* a tabulated kernel (blob_kernel.h), NULL for the gaussian: then the integrals are
+     * Section 6.1's m (Table[d_i, b - u_i] - Table[d_i, a - u_i]) */
+    const blob_kernel *k;
+    double peak0;  /* mean density at the centre, m W(0) / h^3 */
+    double dh;     /* d_i / h */
 } blob_ray;
 
 /* The blob i of f seen along a ray with closest parameter u and squared distance d2. */
