@@ -80,6 +80,18 @@ double blob_T_clamped(const blob_ray *br, double eta, double a, double b);
 double blob_T_var(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
 /* The factor eps sqrt(2 pi) alpha c(alpha / h) of blob_T_var: T_var = it x blob_T_clamped. */
 double blob_T_var_scale(double eps, double alpha, double h);
+/* Blob's truncated mean density at ray parameter u. */
+double blob_ray_density(const blob_ray *br, double u);
+/* Integral over [a, b] of sqrt(F_eta(mean_i) F_eta(mean_j)) along the ray (stam.overlap =
+ * joint): in closed form (Phi) for gaussian blobs, piece by piece between the plateaus'
+ * ends; by 8-point Gauss-Legendre per piece for a tabulated kernel. Equals blob_T_clamped
+ * for i = j. */
+double blob_T_cross(const blob_ray *bi, const blob_ray *bj, double eta, double a, double b);
+/* Cov(T_i, T_j) over [a, b] of two blobs perturbed by the same Q (docs/stam.md, "Overlapping
+ * blobs"): eps sqrt(2 pi) alpha c_ij blob_T_cross, c_ij = sqrt(S / (S + alpha^2))
+ * exp((u_i - u_j)^2 alpha^2 / (2 S (S + alpha^2))), S = 2 (h_i^2 + h_j^2); = blob_T_var for
+ * i = j. */
+double blob_T_cov(const blob_ray *bi, const blob_ray *bj, double eps, double eta, double alpha, double a, double b);
 /* Eq. 12 as printed, for comparison: K_Q(0) eps integral F_eta, K_Q(0) = (2 pi)^(-3/2) alpha^-3. */
 double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
 /* Eq. 12 and Eq. 13 as printed together: T_i = T_mean + sigma_T Q^(0) with sigma_T^2 from Eq. 12
