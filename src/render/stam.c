@@ -140,6 +140,14 @@ static double joint_perturbation(const stam_state *st, const tau_walk *w)
     return v_samples > 0.0 ? p * sqrt(v_joint / v_samples) : p;
 }
 
+/* One medium's realized optical depth over w's segment [0, tmax] (Eq. 13) into w->T. */
+static void tau_walk_run(tau_walk *w)
+{
+    blob_field_query_ray(w->m->f, w->o, w->d, 0.0, w->tmax, tau_visit, w);
+    if (w->njoint)
+        w->T += joint_perturbation(w->st, w);
+}
+
 /* exp(-sum_m kappa_m max(0, T_m)) over (0, tmax), media only; of the mean density when
  * mean_only. */
 static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax, bool mean_only)
@@ -149,9 +157,7 @@ static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax, bool m
     for (int m = 0; m < st->nmed; m++) {
         tau_walk w = {st, &st->med[m], o, d, tmax, mean_only, 0.0, INFINITY, -INFINITY, NULL, 0,
                       st->joint && !mean_only ? joint : NULL, 0};
-        blob_field_query_ray(st->med[m].f, o, d, 0.0, tmax, tau_visit, &w);
-        if (w.njoint)
-            w.T += joint_perturbation(st, &w);
+        tau_walk_run(&w);
         if (w.T > 0.0)
             depth = col_madd(depth, st->med[m].kappa, w.T);
     }
@@ -541,9 +547,7 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
         const stam_medium *sm = &st->med[m];
         tau_walk w = {st, sm, r.o, r.d, b, false, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0,
                       st->joint ? joint : NULL, 0};
-        blob_field_query_ray(sm->f, r.o, r.d, 0.0, b, tau_visit, &w);
-        if (w.njoint)
-            w.T += joint_perturbation(st, &w);
+        tau_walk_run(&w);
         nhits[m] = m < 4 && w.nhits <= STAM_HIT_BUFFER ? w.nhits : -1;
         if (stats_tls)
             stats_tls->stam_camera_blobs += (uint64_t)w.nhits;
