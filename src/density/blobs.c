@@ -538,5 +538,13 @@ size_t blob_field_device_put(const blob_field *f, dev_arena *a)
     ARENA_PUT_MEMBER(a, at, blob_field, inv2h2, f->inv2h2, n * sizeof(double));
     ARENA_PUT_MEMBER(a, at, blob_field, R2, f->R2, n * sizeof(double));
     ARENA_PUT_MEMBER(a, at, blob_field, nodes, f->nodes, (size_t)f->nnodes * sizeof *f->nodes);
+    if (f->kernel) { /* stam.kernel = table: the point density's table; the line table is stam's, host only */
+        size_t k = arena_put(a, f->kernel, sizeof *f->kernel);
+        arena_ptr(a, at + offsetof(blob_field, kernel), k);
+        if (k != ARENA_NULL) {
+            ARENA_PUT_MEMBER(a, k, blob_kernel, w, f->kernel->w, (size_t)(f->kernel->n + 2) * sizeof(double));
+            arena_ptr(a, k + offsetof(blob_kernel, g), ARENA_NULL);
+        }
+    }
     return at;
 }
