@@ -35,6 +35,25 @@ static void take_hit(int i, double u, double d2, void *user)
     h->count++;
 }
 
+/* The ray of direction (0.2, 0.1, 1) passing `offset` beside c, from 10 before it: its
+ * origin *o and direction *d, and its one hit in f. */
+static one_hit ray_beside(const blob_field *f, vec3 c, double offset, vec3 *o, vec3 *d)
+{
+    *d = v3_normalize(v3(0.2, 0.1, 1.0));
+    vec3 side = v3_normalize(v3_cross(*d, v3(0, 1, 0)));
+    *o = v3_sub(v3_add(c, v3_scale(side, offset)), v3_scale(*d, 10.0));
+    one_hit h = {0, 0, 0};
+    blob_field_query_ray(f, *o, *d, 0.0, 1e9, take_hit, &h);
+    ASSERT_EQ_INT(h.count, 1);
+    return h;
+}
+
+/* The integral of F_eta(mean) over [a, b]: the mean's when eta is infinite. */
+static double depth_F(const blob_ray *br, double eta, double a, double b)
+{
+    return isinf(eta) ? blob_T_mean(br, a, b) : blob_T_clamped(br, eta, a, b);
+}
+
 /* T_mean and the clamped integral in closed form (erf) against Simpson quadrature, for rays
  * through, beside and ending inside a blob, with and without clamping. */
 TEST(closed_form_mean_matches_quadrature)
@@ -49,18 +68,14 @@ TEST(closed_form_mean_matches_quadrature)
     for (int oi = 0; oi < 4; oi++)
         for (int ei = 0; ei < 4; ei++)
             for (int k = 0; k < 3; k++) {
-                vec3 d = v3_normalize(v3(0.2, 0.1, 1.0));
-                vec3 side = v3_normalize(v3_cross(d, v3(0, 1, 0)));
-                vec3 o = v3_sub(v3_add(b.x, v3_scale(side, offsets[oi])), v3_scale(d, 10.0));
-                one_hit h = {0, 0, 0};
-                blob_field_query_ray(f, o, d, 0.0, 1e9, take_hit, &h);
-                ASSERT_EQ_INT(h.count, 1);
+                vec3 o, d;
+                one_hit h = ray_beside(f, b.x, offsets[oi], &o, &d);
                 ASSERT_NEAR(sqrt(h.d2), offsets[oi], 1e-12);
                 ASSERT_NEAR(h.u, 10.0, 1e-12);
                 blob_ray br = blob_ray_make(f, 0, h.u, h.d2);
                 double a = ends[ei][0], e = ends[ei][1];
                 double want = quad_blob(f, o, d, a, e, etas[k], 200000);
-                double got = isinf(etas[k]) ? blob_T_mean(&br, a, e) : blob_T_clamped(&br, etas[k], a, e);
+                double got = depth_F(&br, etas[k], a, e);
                 ASSERT_NEAR(got, want, 2e-6 * (1.0 + want)); /* Simpson across the truncation jump */
             }
     /* the clamped integral is below the mean integral and equals it for a large eta */
@@ -327,20 +342,26 @@ TEST(light_cache_close_to_exact_shadow_rays)
     brume_image_release(cached);
 }
 
-/* Renders with 1 and 2 threads are bit-identical, and eps changes the image. */
-TEST(threads_do_not_change_the_image)
+/* Stam's 24 x 24 image of `json` is bit-identical with 1 and 2 threads, and `other`'s differs. */
+static void threads_same_other_differs(const char *json, const char *other)
 {
-    char json[2048];
-    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 16);
     brume_image *a = render(json, "stam", 2, 1, 1), *b = render(json, "stam", 2, 2, 1);
-    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.0, 16, 16);
-    brume_image *c = render(json, "stam", 2, 2, 1);
+    brume_image *c = render(other, "stam", 2, 2, 1);
     size_t bytes = 24 * 24 * 4 * sizeof(float);
     ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(b), bytes) == 0);
     ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), bytes) != 0);
     brume_image_release(a);
     brume_image_release(b);
     brume_image_release(c);
+}
+
+/* Renders with 1 and 2 threads are bit-identical, and eps changes the image. */
+TEST(threads_do_not_change_the_image)
+{
+    char json[2048], other[2048];
+    snprintf(json, sizeof json, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.3, 16, 16);
+    snprintf(other, sizeof other, FEW_BLOBS_JSON, 0.3, WALL, 2.5, "[0.3, 0.15, 0.05]", 0.0, 16, 16);
+    threads_same_other_differs(json, other);
 }
 
 /* A medium that is not a blob field: --method stam says so plainly. */
@@ -425,6 +446,17 @@ static const char *write_profile(const char *name, double (*w)(double), int n, d
     return path;
 }
 
+/* The kernel of a profile written by write_profile and read back (the file then removed). */
+static blob_kernel *profile_kernel(const char *name, double (*w)(double), int n, double ds)
+{
+    const char *path = write_profile(name, w, n, ds);
+    blob_kernel *k = blob_kernel_read(path, "stam.kernel_file");
+    remove(path);
+    if (!k)
+        TEST_FAIL("%s", err_message());
+    return k;
+}
+
 static double gaussian(double s) { return exp(-0.5 * s * s); }
 static double cone(double s) { return 1.0 - s / 2.0; } /* on [0, 2] */
 
@@ -437,10 +469,7 @@ static double cone(double s) { return 1.0 - s / 2.0; } /* on [0, 2] */
 TEST(tabulated_gaussian_matches_the_analytic_kernel)
 {
     stam_stats_init();
-    const char *path = write_profile("gauss.txt", gaussian, 2048, 8.0 / 2048);
-    blob_kernel *k = blob_kernel_read(path, "stam.kernel_file");
-    if (!k)
-        TEST_FAIL("%s", err_message());
+    blob_kernel *k = profile_kernel("gauss.txt", gaussian, 2048, 8.0 / 2048);
     ASSERT_NEAR(k->w0, pow(2.0 * PI, -1.5), 1e-5 * pow(2.0 * PI, -1.5));
     blob b = {v3(0.3, -0.2, 0.1), 2.5, 0.7};
     blob_field *fa = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, "test");
@@ -465,23 +494,17 @@ TEST(tabulated_gaussian_matches_the_analytic_kernel)
     for (int oi = 0; oi < 4; oi++)
         for (int ei = 0; ei < 4; ei++)
             for (int e = 0; e < 3; e++) {
-                vec3 d = v3_normalize(v3(0.2, 0.1, 1.0));
-                vec3 side = v3_normalize(v3_cross(d, v3(0, 1, 0)));
-                vec3 o = v3_sub(v3_add(b.x, v3_scale(side, offsets[oi])), v3_scale(d, 10.0));
-                one_hit h = {0, 0, 0};
-                blob_field_query_ray(ft, o, d, 0.0, 1e9, take_hit, &h);
-                ASSERT_EQ_INT(h.count, 1);
+                vec3 o, d;
+                one_hit h = ray_beside(ft, b.x, offsets[oi], &o, &d);
                 blob_ray ba = blob_ray_make(fa, 0, h.u, h.d2), bt = blob_ray_make(ft, 0, h.u, h.d2);
                 double a = ends[ei][0], z = ends[ei][1];
-                double want = isinf(etas[e]) ? blob_T_mean(&ba, a, z) : blob_T_clamped(&ba, etas[e], a, z);
-                double got = isinf(etas[e]) ? blob_T_mean(&bt, a, z) : blob_T_clamped(&bt, etas[e], a, z);
+                double want = depth_F(&ba, etas[e], a, z), got = depth_F(&bt, etas[e], a, z);
                 wt = fmax(wt, fabs(got - want));
                 ASSERT_NEAR(got, want, tol);
             }
     printf("ray integrals: worst difference %.2e of peak h (bound 3.8e-4)\n", wt / (peak * b.h));
     blob_field_release(fa);
     blob_field_release(ft);
-    remove(path);
 }
 
 /* A kernel that is not a gaussian, the cone w = 1 - s / 2 on [0, 2]: its normalisation is
@@ -493,10 +516,7 @@ TEST(tabulated_gaussian_matches_the_analytic_kernel)
 TEST(tabulated_cone_kernel_is_consistent)
 {
     stam_stats_init();
-    const char *path = write_profile("cone.txt", cone, 64, 2.0 / 64);
-    blob_kernel *k = blob_kernel_read(path, "stam.kernel_file");
-    if (!k)
-        TEST_FAIL("%s", err_message());
+    blob_kernel *k = profile_kernel("cone.txt", cone, 64, 2.0 / 64);
     ASSERT_NEAR(k->w0, 3.0 / (PI * 8.0), 1e-12);
     blob b = {v3(0.0, 0.0, 0.0), 1.7, 0.5};
     blob_field *f = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, "test");
@@ -521,7 +541,7 @@ TEST(tabulated_cone_kernel_is_consistent)
             for (int ei = 0; ei < 3; ei++) {
                 double a = ends[ei][0], z = ends[ei][1];
                 double want = quad_blob(f, o, d, a, z, etas[e], 200000);
-                double got = isinf(etas[e]) ? blob_T_mean(&br, a, z) : blob_T_clamped(&br, etas[e], a, z);
+                double got = depth_F(&br, etas[e], a, z);
                 worst = fmax(worst, fabs(got - want));
                 ASSERT_NEAR(got, want, 1e-4 * peak * b.h);
             }
@@ -540,7 +560,6 @@ TEST(tabulated_cone_kernel_is_consistent)
     check_majorant(dn, 100);
     density_release(dn);
     blob_list_free(&l);
-    remove(path);
 }
 
 /* Bad kernel files: each refused when the scene is committed, with one line naming the file,
@@ -635,9 +654,7 @@ static void take_hits(int i, double u, double d2, void *user)
 TEST(cross_integral_matches_quadrature)
 {
     stam_stats_init();
-    const char *path = write_profile("cone2.txt", cone, 64, 2.0 / 64);
-    blob_kernel *k = blob_kernel_read(path, "stam.kernel_file");
-    ASSERT_TRUE(k);
+    blob_kernel *k = profile_kernel("cone2.txt", cone, 64, 2.0 / 64);
     blob bb[2] = {{v3(0.0, 0.0, 0.0), 2.0, 0.6}, {v3(0.2, 0.1, 0.7), 1.0, 0.4}};
     for (int kern = 0; kern < 2; kern++) {
         blob_field *f = blob_field_new(bb, 2, BLOB_DEFAULT_CUTOFF, "test");
@@ -674,7 +691,6 @@ TEST(cross_integral_matches_quadrature)
         blob_field_release(f);
     }
     blob_kernel_release(k);
-    remove(path);
 }
 
 /* The Monte-Carlo test of overlapping blobs: three blobs perturbed by the same Q (two on the
@@ -799,17 +815,10 @@ TEST(tabulated_kernel_renders_the_same_field_in_stam_and_single)
  * is its own. */
 TEST(joint_overlap_renders)
 {
-    char json[4096];
+    char json[4096], other[4096];
     snprintf(json, sizeof json, SWITCH_JSON, FEW, 0.4, ", \"overlap\": \"joint\"");
-    brume_image *a = render(json, "stam", 2, 1, 1), *b = render(json, "stam", 2, 2, 1);
-    snprintf(json, sizeof json, SWITCH_JSON, FEW, 0.4, "");
-    brume_image *c = render(json, "stam", 2, 2, 1);
-    size_t bytes = 24 * 24 * 4 * sizeof(float);
-    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(b), bytes) == 0);
-    ASSERT_TRUE(memcmp(brume_image_pixels(a), brume_image_pixels(c), bytes) != 0);
-    brume_image_release(a);
-    brume_image_release(b);
-    brume_image_release(c);
+    snprintf(other, sizeof other, SWITCH_JSON, FEW, 0.4, "");
+    threads_same_other_differs(json, other);
     snprintf(json, sizeof json, SWITCH_JSON, "[0, 0, 0, 0.5, 0.3]", 0.4, ", \"overlap\": \"joint\"");
     brume_image *j = render(json, "stam", 1, 0, 1);
     snprintf(json, sizeof json, SWITCH_JSON, "[0, 0, 0, 0.5, 0.3]", 0.4, "");
