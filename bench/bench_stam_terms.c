@@ -1,7 +1,8 @@
 /* bench_stam_terms.c - Stam's two variants on equal terms with the explicit realization
  * (docs/stam.md, "On one realization"): the pixel transparency T = 1 - alpha of
  * scenes/stam-compare.json over K realizations of Q (stam.seed = 1 .. K), rendered by
- *   - stam, variant corrected and variant paper (Stam's per-blob transparencies), and
+ *   - stam, variant corrected and variant paper (Stam's per-blob transparencies), and the
+ *     corrected variant with stam.overlap = joint, and
  *   - `single` on stam.voxelize's explicit realization mean + sum_i sigma_i Q of the SAME Q
  *     (the truth: the transparency of the realized density, estimated by ratio tracking),
  * and reports over the cloud's pixels (the mean field's alpha > 0.05):
@@ -21,8 +22,9 @@
 #include "brume.h"
 
 #define NB 10
-enum { V_CORRECTED, V_PAPER, V_EXPLICIT, V_EXPLICIT2, NV };
-static const char *const vname[NV] = {"corrected", "paper", "explicit", "explicit, 2nd render seed"};
+enum { V_CORRECTED, V_PAPER, V_JOINT, V_EXPLICIT, V_EXPLICIT2, NV };
+static const char *const vname[NV] = {"corrected", "paper", "corrected, overlap joint", "explicit",
+                                      "explicit, 2nd render seed"};
 
 static brume_image *render(brume_context *ctx, int v, int seed, int w, int h, int spp, double eps)
 {
@@ -33,11 +35,13 @@ static brume_image *render(brume_context *ctx, int v, int seed, int w, int h, in
     int n = 2;
     if (v == V_PAPER)
         ov[n++] = "stam.variant=paper";
+    if (v == V_JOINT)
+        ov[n++] = "stam.overlap=joint";
     if (v >= V_EXPLICIT) {
         ov[n++] = "stam.voxelize.resolution=192";
         ov[n++] = "stam.voxelize.realization=true";
     }
-    brume_load_options lo = {0.0, 0, ov, n};
+    brume_load_options lo = {.overrides = ov, .noverrides = n};
     brume_scene *s = NULL;
     brume_image *img = NULL;
     if (brume_scene_load(ctx, &(brume_source){.path = BRUME_SOURCE_DIR "/scenes/stam-compare.json"}, &lo, &s) != BRUME_OK)

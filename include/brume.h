@@ -400,6 +400,9 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, co
  *   stam.light_grid            an integer in [0, 512]
  *   stam.bvh                   true or false
  *   stam.variant               one of corrected, paper
+ *   stam.kernel                one of gaussian, table
+ *   stam.kernel_file           a file name
+ *   stam.overlap               one of independent, joint
  *   stam.voxelize.resolution   an integer in [2, 2048] (0 = off)
  *   stam.voxelize.realization  true or false
  * END OPTION KEYS */

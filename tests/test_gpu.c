@@ -219,18 +219,39 @@ TEST(device_copy_surfaces)
         400);
 }
 
+/* A cloud of 60 blobs under a sun; %s: more top-level keys, each followed by a comma. */
+#define BLOB_CLOUD_JSON                                                                                            \
+    "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 30},"                                 \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.2], \"irradiance\": 3.0}],"               \
+    " \"background\": [0.2, 0.3, 0.5],"                                                                           \
+    " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 4.0,"                                                           \
+    "   \"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0],"          \
+    "     \"radii\": [1.0, 0.6, 0.8], \"count\": 60, \"seed\": 4}]}}],"                                           \
+    " %s \"render\": {\"max_depth\": 32}}"
+
 /* Stam's blob field (its hierarchy and the per-blob tables) rendered by the path tracer. */
 TEST(device_copy_blobs)
 {
-    copy_renders_the_same(
-        "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 30},"
-        " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.2], \"irradiance\": 3.0}],"
-        " \"background\": [0.2, 0.3, 0.5],"
-        " \"media\": [{\"sigma_a\": 0.1, \"sigma_s\": 4.0,"
-        "   \"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0],"
-        "     \"radii\": [1.0, 0.6, 0.8], \"count\": 60, \"seed\": 4}]}}],"
-        " \"render\": {\"max_depth\": 32}}",
-        400);
+    char json[2048];
+    snprintf(json, sizeof json, BLOB_CLOUD_JSON, "");
+    copy_renders_the_same(json, 400);
+}
+
+/* The same with a tabulated kernel (stam.kernel = table): the copy carries the kernel's
+ * table of W, and its point densities are the original's bit for bit. */
+TEST(device_copy_blobs_kernel_table)
+{
+    const char *path = test_tmp_path("cone.txt");
+    FILE *f = fopen(path, "w");
+    ASSERT_TRUE(f);
+    for (int k = 0; k <= 64; k++)
+        fprintf(f, "%.17g %.17g\n", k * 2.0 / 64, 1.0 - k / 64.0);
+    fclose(f);
+    char extra[1100], json[4096];
+    snprintf(extra, sizeof extra, "\"stam\": {\"kernel\": \"table\", \"kernel_file\": \"%s\"},", path);
+    snprintf(json, sizeof json, BLOB_CLOUD_JSON, extra);
+    copy_renders_the_same(json, 400);
+    remove(path);
 }
 
 /* A triangle soup, a box, spheres and moving objects: brume's hierarchy (the GPU's) and
@@ -377,4 +398,5 @@ TEST(device_without_driver)
 }
 
 TEST_MAIN(device_math_against_libm, device_copy_dense_media, device_copy_nanovdb_and_environment,
-          device_copy_surfaces, device_copy_blobs, bvh_matches_embree, device_refuses_with_one_line, device_without_driver)
+          device_copy_surfaces, device_copy_blobs, device_copy_blobs_kernel_table, bvh_matches_embree,
+          device_refuses_with_one_line, device_without_driver)

@@ -312,7 +312,8 @@ TEST(messages_are_unchanged)
         /* the one message that changed: it was "unknown variant 'x' (known: paper, corrected)" */
         {"stam.variant", "x", "stam.variant: 'x' is not one of corrected, paper"},
         {"stam.epz", "0.1", "stam.epz: unknown key (known here: eps, eta, alpha, lattice, cell, seed, time, rate, "
-                            "ambient, steps, light_grid, bvh, variant, voxelize.resolution, voxelize.realization)"},
+                            "ambient, steps, light_grid, bvh, variant, kernel, kernel_file, overlap, voxelize.resolution, "
+                            "voxelize.realization)"},
     };
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;

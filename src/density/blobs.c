@@ -86,13 +86,14 @@ static brume_status build_bvh(blob_field *f)
     free(f->nodes);
     f->nodes = nodes;
     f->nnodes = 0;
-    build_node(f, it, 0, f->n, f->cutoff);
+    double cutoff = blob_field_cutoff(f);
+    build_node(f, it, 0, f->n, cutoff);
     for (int i = 0; i < f->n; i++) {
         blob b = it[i].b;
         f->b[i] = b;
-        f->peak[i] = b.m / (TWO_PI_3_2 * b.h * b.h * b.h);
+        f->peak[i] = f->kernel ? b.m * f->kernel->w0 / (b.h * b.h * b.h) : b.m / (TWO_PI_3_2 * b.h * b.h * b.h);
         f->inv2h2[i] = 1.0 / (2.0 * b.h * b.h);
-        f->R2[i] = f->cutoff * f->cutoff * b.h * b.h;
+        f->R2[i] = cutoff * cutoff * b.h * b.h;
     }
     f->bounds = f->nodes[0].box;
     free(it);
@@ -143,7 +144,15 @@ void blob_field_release(blob_field *f)
     free(f->inv2h2);
     free(f->R2);
     free(f->nodes);
+    blob_kernel_release(f->kernel);
     free(f);
+}
+
+brume_status blob_field_set_kernel(blob_field *f, blob_kernel *k)
+{
+    blob_kernel_release(f->kernel);
+    f->kernel = blob_kernel_retain(k);
+    return build_bvh(f);
 }
 
 brume_status blob_field_at_time(blob_field *f, vec3 velocity, double t)
@@ -333,7 +342,8 @@ void blob_field_voxelize(const blob_field *f, const int n[3], box3 bounds, const
 /* ---- the blob kind of density -------------------------------------------------------------- */
 
 /* Upper bound of the truncated mean over each majorant cell: sum over the blobs whose sphere
- * reaches the cell of m W at the cell's nearest point to the centre (W falls with distance). */
+ * reaches the cell of m W at the cell's nearest point to the centre (W falls with distance:
+ * a kernel table must not increase, blob_kernel.h). */
 static bool blobs_build_majorant(density *d)
 {
     const blob_field *f = d->blobs;
@@ -364,7 +374,7 @@ static bool blobs_build_majorant(density *d)
                         continue;
                     size_t idx = (size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k);
                     /* a float that rounds up: the bound must stay a bound */
-                    double v = (double)d->maj[idx] + f->peak[b] * exp(-r2 * f->inv2h2[b]);
+                    double v = (double)d->maj[idx] + blob_density_r2(f, b, r2);
                     d->maj[idx] = nextafterf((float)v, INFINITY);
                     rho_max = fmax(rho_max, (double)d->maj[idx]);
                 }
@@ -449,6 +459,8 @@ density *density_new_blobs(blob_field *f, int majorant_cells)
 
 blob_field *density_get_blobs(const density *d) { return d->kind == DENSITY_BLOBS ? d->blobs : NULL; }
 
+static brume_status rebuild_density(density *d);
+
 brume_status density_blobs_at_time(density *d, vec3 velocity, double t)
 {
     if (d->kind != DENSITY_BLOBS)
@@ -456,6 +468,22 @@ brume_status density_blobs_at_time(density *d, vec3 velocity, double t)
     brume_status st = blob_field_at_time(d->blobs, velocity, t);
     if (st != BRUME_OK)
         return st;
+    return rebuild_density(d);
+}
+
+brume_status density_blobs_set_kernel(density *d, blob_kernel *k)
+{
+    if (d->kind != DENSITY_BLOBS)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "not a blob field");
+    brume_status st = blob_field_set_kernel(d->blobs, k);
+    if (st != BRUME_OK)
+        return st;
+    return rebuild_density(d);
+}
+
+/* The density of a changed field (bounds, majorants) at the same majorant resolution. */
+static brume_status rebuild_density(density *d)
+{
     int cells = d->n[0];
     for (int a = 1; a < 3; a++)
         cells = d->n[a] > cells ? d->n[a] : cells;
@@ -510,5 +538,13 @@ size_t blob_field_device_put(const blob_field *f, dev_arena *a)
     ARENA_PUT_MEMBER(a, at, blob_field, inv2h2, f->inv2h2, n * sizeof(double));
     ARENA_PUT_MEMBER(a, at, blob_field, R2, f->R2, n * sizeof(double));
     ARENA_PUT_MEMBER(a, at, blob_field, nodes, f->nodes, (size_t)f->nnodes * sizeof *f->nodes);
+    if (f->kernel) { /* stam.kernel = table: the point density's table; the line table is stam's, host only */
+        size_t k = arena_put(a, f->kernel, sizeof *f->kernel);
+        arena_ptr(a, at + offsetof(blob_field, kernel), k);
+        if (k != ARENA_NULL) {
+            ARENA_PUT_MEMBER(a, k, blob_kernel, w, f->kernel->w, (size_t)(f->kernel->n + 2) * sizeof(double));
+            arena_ptr(a, k + offsetof(blob_kernel, g), ARENA_NULL);
+        }
+    }
     return at;
 }

@@ -8,6 +8,10 @@
  * ray for 0.03 % of the peak); every query, the renderers and the majorants use the same
  * truncation, so `path`, `single` and `stam` render the same field.
  *
+ * The kernel may instead be a tabulated radial profile (blob_kernel.h, `stam.kernel`):
+ * rho_i(x) = m_i W(|x - x_i| / h_i) / h_i^3, truncated at min(cutoff, s_max) h_i; every
+ * query, the majorants, the voxelizer and Stam's statistics then use that W.
+ *
  * A blob field may drift with a constant velocity: blob_field_at_time moves the centres to
  * x_i + v t (Figure 7's clouds). Fields are immutable once built and may be shared by
  * threads. */
@@ -19,6 +23,7 @@
 
 #include "brume.h"
 #include "core/vec.h"
+#include "density/blob_kernel.h"
 #include "density/density.h"
 #include "density/randfield.h"
 
@@ -42,11 +47,14 @@ typedef struct blob_node blob_node;
 
 typedef struct blob_field {
     blob *b;          /* n blobs, owned, in BVH leaf order */
-    double *peak;     /* m_i / ((2 pi)^(3/2) h_i^3): the mean density at the centre */
+    double *peak;     /* m_i / ((2 pi)^(3/2) h_i^3), or m_i W(0) / h_i^3 with a kernel table: the
+                         mean density at the centre */
     double *inv2h2;   /* 1 / (2 h_i^2) */
-    double *R2;       /* (cutoff h_i)^2 */
+    double *R2;       /* (blob_field_cutoff(f) h_i)^2 */
     int n;
-    double cutoff;
+    double cutoff;    /* as given; the truncation is blob_field_cutoff(f) */
+    blob_kernel *kernel; /* NULL: the gaussian; else a tabulated W, shared (reference counted).
+                            The GPU needs it and its w[] copied with the field */
     vec3 velocity;    /* world units per unit time */
     double time;      /* centres are at x_i(0) + velocity time */
     box3 bounds;      /* union of the truncation spheres */
@@ -70,6 +78,27 @@ struct dev_arena;
 /* Copies f for the GPU (core/arena.h); its offset, or ARENA_NULL when out of memory. */
 size_t blob_field_device_put(const blob_field *f, struct dev_arena *a);
 
+/* Sets the field's kernel (NULL: the gaussian; k is retained) and rebuilds the hierarchy
+ * for the new truncation. BRUME_OK or an out-of-memory error. */
+brume_status blob_field_set_kernel(blob_field *f, blob_kernel *k);
+/* The same for the field of a DENSITY_BLOBS density, whose majorants it rebuilds; only while
+ * loading, before the field is shared (as density_blobs_at_time). */
+brume_status density_blobs_set_kernel(density *d, blob_kernel *k);
+
+/* The truncation radius in units of h: the cutoff, or the kernel table's end if smaller. */
+static inline double blob_field_cutoff(const blob_field *f)
+{
+    return f->kernel && f->kernel->s_max < f->cutoff ? f->kernel->s_max : f->cutoff;
+}
+
+/* Blob i's mean density m_i W_h_i at squared distance r2 from its centre, not truncated. */
+static inline double blob_density_r2(const blob_field *f, int i, double r2)
+{
+    if (f->kernel)
+        return f->peak[i] * blob_kernel_eval(f->kernel, sqrt(r2) / f->b[i].h);
+    return f->peak[i] * exp(-r2 * f->inv2h2[i]);
+}
+
 /* Mean density at p (Eq. 3), over the truncated blobs. */
 double blob_field_mean(const blob_field *f, vec3 p);
 /* A single blob's truncated mean density at p. */
@@ -77,7 +106,7 @@ static inline double blob_mean_at(const blob_field *f, int i, vec3 p)
 {
     vec3 dx = v3_sub(p, f->b[i].x);
     double r2 = v3_dot(dx, dx);
-    return r2 < f->R2[i] ? f->peak[i] * exp(-r2 * f->inv2h2[i]) : 0.0;
+    return r2 < f->R2[i] ? blob_density_r2(f, i, r2) : 0.0;
 }
 
 /* Called for every blob whose truncation sphere meets the segment o + t d, t in [tmin,

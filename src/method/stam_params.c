@@ -48,6 +48,19 @@ static const method_option options[] = {
      .doc = "`paper`: Eq. 12 and 13 as printed (Var T_i = K_Q(0) eps I_F, realized with a Q of variance K_Q(0)) and "
             "J-bar's shadows from the mean density; `corrected`: the repaired variance and the realized density in "
             "J-bar's shadows (docs/stam.md)"},
+    {.key = "stam.kernel", .kind = OPTION_ENUM, OPTION_NAMES2("gaussian", "table"), OPTION_FIELD(stam_params, kernel),
+     .def = "gaussian",
+     .doc = "the blobs' radial kernel W of Eq. 3: `gaussian` (Appendix A) or `table`, the profile W(r/h) of "
+            "stam.kernel_file, normalised by brume to unit mass; every method renders the same field (docs/stam.md)"},
+    {.key = "stam.kernel_file", .kind = OPTION_PATH, .what = "a file name", OPTION_FIELD(stam_params, kernel_file),
+     .def = "",
+     .doc = "with stam.kernel = table: a text file of evenly spaced `r/h W` pairs from r/h = 0, W finite, >= 0 and "
+            "not increasing (docs/scene-format.md, \"Radial kernel files\")"},
+    {.key = "stam.overlap", .kind = OPTION_ENUM, OPTION_NAMES2("independent", "joint"),
+     OPTION_FIELD(stam_params, overlap_joint), .def = "independent",
+     .doc = "`independent`: each blob's optical depth perturbed by its own sample Q(x_ui), as printed (Section 6.3); "
+            "`joint`: the ray's summed perturbation scaled to the joint variance of overlapping blobs, "
+            "sum_ij Cov(T_i, T_j) (docs/stam.md)"},
     {.key = "stam.voxelize.resolution", .kind = OPTION_INTEGER, .flags = OPTION_ZERO_OR, .lo = 2.0, .hi = 2048.0,
      .what = "an integer in [2, 2048] (0 = off)", OPTION_FIELD(stam_params, voxelize_resolution), .def = "0",
      .doc = "N > 0: when the scene is committed (before rendering), every blob field becomes a dense trilinear grid "

@@ -13,6 +13,10 @@
 #include "core/vec.h"
 #include "density/randfield.h"
 
+/* The blobs' kernel: Appendix A's gaussian or a radial profile from a file (Section 6.1). */
+typedef enum stam_kernel_kind { STAM_KERNEL_GAUSSIAN, STAM_KERNEL_TABLE } stam_kernel_kind;
+#define STAM_PATH_MAX 1024
+
 typedef struct stam_params {
     double eps;     /* magnitude of the density variance: sigma^2 = eps F_eta(mean), >= 0 */
     double eta;     /* clamping value of F_eta, > 0 (INFINITY: no clamping) */
@@ -31,6 +35,10 @@ typedef struct stam_params {
     bool paper;     /* variant "paper": Eq. 12 and 13 as printed (Var T_i = K_Q(0) eps I_F with
                        K_Q(0) = (2 pi)^(-3/2) alpha^-3, realized with a Q of variance K_Q(0)) and
                        J-bar's shadows from the mean density; false = "corrected" (docs/stam.md) */
+    stam_kernel_kind kernel;   /* the blobs' radial kernel W (Eq. 3; blob_kernel.h) */
+    char kernel_file[STAM_PATH_MAX]; /* stam.kernel = table: the file of W(r / h) */
+    bool overlap_joint;        /* overlapping blobs' perturbations with their joint covariance
+                                  (docs/stam.md); false = independent, as printed */
     int voxelize_resolution;   /* > 0: at commit, every blob field becomes a dense trilinear grid
                                   with this many cells along its longest axis */
     bool voxelize_realization; /* the grid holds one realization (mean + Q) rather than the mean */

@@ -41,6 +41,7 @@ typedef struct stam_state {
     int nmed;
     double eps, eta, alpha;
     bool paper;          /* stam.variant = paper: Eq. 12-13 as printed, J-bar's shadows from the mean */
+    bool joint;          /* stam.overlap = joint: a ray's perturbation scaled to the joint variance */
     double sigma_paper;  /* paper: K_Q(0) sqrt(eps), the factor of sqrt(I_F) Q */
     int steps;
     bool any_scatter;
@@ -59,6 +60,17 @@ typedef struct blob_hit {
  * hierarchy again. */
 #define STAM_HIT_BUFFER 256
 
+/* stam.overlap = joint: a perturbed blob met by a ray, kept until the ray's blobs are all
+ * known. Beyond STAM_JOINT_MAX blobs per medium on one ray, the others are perturbed
+ * independently (their covariances with the rest are left out; docs/stam.md). */
+#define STAM_JOINT_MAX 512
+typedef struct joint_hit {
+    blob_ray br;
+    double sigma; /* sqrt(Var T_i) */
+    double q;     /* Q(x_ui) */
+    double uc;    /* x_ui's parameter on the segment */
+} joint_hit;
+
 typedef struct tau_walk {
     const stam_state *st;
     const stam_medium *m;
@@ -69,6 +81,8 @@ typedef struct tau_walk {
     double umin, umax; /* span of the chords inside [0, tmax] */
     blob_hit *hits;    /* NULL, or room for STAM_HIT_BUFFER */
     int nhits;         /* blobs met (may exceed the buffer) */
+    joint_hit *joint;  /* stam.overlap = joint: room for STAM_JOINT_MAX, else NULL */
+    int njoint;
 } tau_walk;
 
 static void tau_visit(int i, double u, double d2, void *user)
@@ -92,9 +106,46 @@ static void tau_visit(int i, double u, double d2, void *user)
         vec3 x = v3_sub(v3_madd(w->o, w->d, uc), w->m->q_shift);
         /* Eq. 13; sigma_T from the repaired variance, or from Eq. 12-13 as printed */
         double sigma = st->paper ? st->sigma_paper * sqrt(I) : sqrt(blob_T_var_scale(st->eps, st->alpha, br.h) * I);
-        T += sigma * randfield_eval(st->q, x);
+        double q = randfield_eval(st->q, x);
+        if (w->joint && w->njoint < STAM_JOINT_MAX)
+            w->joint[w->njoint++] = (joint_hit){br, sigma, q, uc};
+        else
+            T += sigma * q;
     }
     w->T += T;
+}
+
+/* stam.overlap = joint: the ray's perturbation sum_i sigma_i Q(x_ui), scaled so that its
+ * variance is the joint variance of the summed depth, sum_ij Cov(T_i, T_j) (blob_T_cov),
+ * instead of the variance of the samples themselves, sum_ij sigma_i sigma_j K_Q(x_ui - x_uj)
+ * (the points lie on the ray: |x_ui - x_uj| = |uc_i - uc_j|). docs/stam.md. */
+static double joint_perturbation(const stam_state *st, const tau_walk *w)
+{
+    double p = 0.0, v_joint = 0.0, v_samples = 0.0, cut = 6.0 * st->alpha, inv2a2 = 0.5 / (st->alpha * st->alpha);
+    for (int i = 0; i < w->njoint; i++) {
+        const joint_hit *a = &w->joint[i];
+        p += a->sigma * a->q;
+        v_joint += a->sigma * a->sigma;
+        v_samples += a->sigma * a->sigma;
+        double alo = a->br.u - a->br.half, ahi = a->br.u + a->br.half;
+        for (int j = i + 1; j < w->njoint; j++) {
+            const joint_hit *b = &w->joint[j];
+            double dq = a->uc - b->uc;
+            if (fabs(dq) < cut)
+                v_samples += 2.0 * a->sigma * b->sigma * exp(-dq * dq * inv2a2);
+            if (b->br.u - b->br.half < ahi && b->br.u + b->br.half > alo)
+                v_joint += 2.0 * blob_T_cov(&a->br, &b->br, st->eps, st->eta, st->alpha, 0.0, w->tmax);
+        }
+    }
+    return v_samples > 0.0 ? p * sqrt(v_joint / v_samples) : p;
+}
+
+/* One medium's realized optical depth over w's segment [0, tmax] (Eq. 13) into w->T. */
+static void tau_walk_run(tau_walk *w)
+{
+    blob_field_query_ray(w->m->f, w->o, w->d, 0.0, w->tmax, tau_visit, w);
+    if (w->njoint)
+        w->T += joint_perturbation(w->st, w);
 }
 
 /* exp(-sum_m kappa_m max(0, T_m)) over (0, tmax), media only; of the mean density when
@@ -102,9 +153,11 @@ static void tau_visit(int i, double u, double d2, void *user)
 static color media_tau(const stam_state *st, vec3 o, vec3 d, double tmax, bool mean_only)
 {
     color depth = col(0.0);
+    joint_hit joint[STAM_JOINT_MAX]; /* untouched unless stam.overlap = joint */
     for (int m = 0; m < st->nmed; m++) {
-        tau_walk w = {st, &st->med[m], o, d, tmax, mean_only, 0.0, INFINITY, -INFINITY, NULL, 0};
-        blob_field_query_ray(st->med[m].f, o, d, 0.0, tmax, tau_visit, &w);
+        tau_walk w = {st, &st->med[m], o, d, tmax, mean_only, 0.0, INFINITY, -INFINITY, NULL, 0,
+                      st->joint && !mean_only ? joint : NULL, 0};
+        tau_walk_run(&w);
         if (w.T > 0.0)
             depth = col_madd(depth, st->med[m].kappa, w.T);
     }
@@ -283,6 +336,13 @@ brume_status stam_prepare(const brume_scene *s, void **state)
     st->eta = p->eta;
     st->alpha = p->alpha;
     st->paper = p->paper;
+    st->joint = p->overlap_joint;
+    if (st->joint && st->paper) {
+        free(st);
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                       "%s: stam.overlap: joint needs stam.variant = corrected (Eq. 12 as printed has no covariances)",
+                       s->source);
+    }
     st->sigma_paper = blob_T_sigma_paper_scale(p->eps, p->alpha);
     st->steps = p->steps < STAM_MAX_STEPS ? p->steps : STAM_MAX_STEPS;
     for (int m = 0; m < s->nmedia; m++) {
@@ -422,10 +482,17 @@ static void depth_visit(int i, double u, double d2, void *user)
     hi = hi < end ? hi : end;
     if (!(hi > lo))
         return;
-    double inv_h = 1.0 / br.h, scale = br.peak * br.h, base = stam_Phi((lo - u) * inv_h);
     int k0 = (int)ceil((lo - w->u0) * w->inv_du), k1 = (int)floor((hi - w->u0) * w->inv_du);
     k0 = k0 < 0 ? 0 : k0;
     k1 = k1 > w->n ? w->n : k1;
+    if (br.k) { /* a tabulated kernel: the integrals from its table (Section 6.1) */
+        for (int k = k0; k <= k1; k++)
+            w->C[k] += blob_T_mean(&br, lo, w->u0 + k * w->du);
+        if (k1 + 1 <= w->n)
+            w->D[k1 + 1] += blob_T_mean(&br, lo, hi);
+        return;
+    }
+    double inv_h = 1.0 / br.h, scale = br.peak * br.h, base = stam_Phi((lo - u) * inv_h);
     for (int k = k0; k <= k1; k++)
         w->C[k] += scale * (stam_Phi((w->u0 + k * w->du - u) * inv_h) - base);
     if (k1 + 1 <= w->n)
@@ -475,10 +542,12 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
     double umin = INFINITY, umax = -INFINITY;
     blob_hit hits[SCENE_MAX_MEDIA > 4 ? 4 : SCENE_MAX_MEDIA][STAM_HIT_BUFFER];
     int nhits[SCENE_MAX_MEDIA];
+    joint_hit joint[STAM_JOINT_MAX]; /* untouched unless stam.overlap = joint */
     for (int m = 0; m < st->nmed; m++) {
         const stam_medium *sm = &st->med[m];
-        tau_walk w = {st, sm, r.o, r.d, b, false, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0};
-        blob_field_query_ray(sm->f, r.o, r.d, 0.0, b, tau_visit, &w);
+        tau_walk w = {st, sm, r.o, r.d, b, false, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0,
+                      st->joint ? joint : NULL, 0};
+        tau_walk_run(&w);
         nhits[m] = m < 4 && w.nhits <= STAM_HIT_BUFFER ? w.nhits : -1;
         if (stats_tls)
             stats_tls->stam_camera_blobs += (uint64_t)w.nhits;

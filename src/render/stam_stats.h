@@ -19,7 +19,12 @@
  * Geometry (Figure 2): a unit-direction ray o + u d over u in [a, b]; u_i = (x_i - o).d and
  * d_i^2 = |x_i - o|^2 - u_i^2. The blob is truncated at radius R (blobs.h), so integrals run
  * over the chord |u - u_i| < sqrt(R^2 - d_i^2) only: exactly the field the other
- * integrators see. */
+ * integrators see.
+ *
+ * With a tabulated kernel W (blob_kernel.h) the mean is Section 6.1's table of line
+ * integrals, the clamped region |u - u_i| < h sqrt(s_eta^2 - (d_i/h)^2) where m W(s_eta) / h^3
+ * = eta, and the variance the same eps sqrt(2 pi) alpha c I_F (c is the gaussian's
+ * next-order factor, kept for every kernel: docs/stam.md). */
 #ifndef BRUME_RENDER_STAM_STATS_H
 #define BRUME_RENDER_STAM_STATS_H
 
@@ -56,6 +61,11 @@ typedef struct blob_ray {
     double h;      /* blob radius */
     double u;      /* u_i */
     double half;   /* half-length of the chord inside the truncation sphere */
+    /* a tabulated kernel (blob_kernel.h), NULL for the gaussian: then the integrals are
+     * Section 6.1's m (Table[d_i, b - u_i] - Table[d_i, a - u_i]) */
+    const blob_kernel *k;
+    double peak0;  /* mean density at the centre, m W(0) / h^3 */
+    double dh;     /* d_i / h */
 } blob_ray;
 
 /* The blob i of f seen along a ray with closest parameter u and squared distance d2. */
@@ -70,6 +80,18 @@ double blob_T_clamped(const blob_ray *br, double eta, double a, double b);
 double blob_T_var(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
 /* The factor eps sqrt(2 pi) alpha c(alpha / h) of blob_T_var: T_var = it x blob_T_clamped. */
 double blob_T_var_scale(double eps, double alpha, double h);
+/* Blob's truncated mean density at ray parameter u. */
+double blob_ray_density(const blob_ray *br, double u);
+/* Integral over [a, b] of sqrt(F_eta(mean_i) F_eta(mean_j)) along the ray (stam.overlap =
+ * joint): in closed form (Phi) for gaussian blobs, piece by piece between the plateaus'
+ * ends; by 8-point Gauss-Legendre per piece for a tabulated kernel. Equals blob_T_clamped
+ * for i = j. */
+double blob_T_cross(const blob_ray *bi, const blob_ray *bj, double eta, double a, double b);
+/* Cov(T_i, T_j) over [a, b] of two blobs perturbed by the same Q (docs/stam.md, "Overlapping
+ * blobs"): eps sqrt(2 pi) alpha c_ij blob_T_cross, c_ij = sqrt(S / (S + alpha^2))
+ * exp((u_i - u_j)^2 alpha^2 / (2 S (S + alpha^2))), S = 2 (h_i^2 + h_j^2); = blob_T_var for
+ * i = j. */
+double blob_T_cov(const blob_ray *bi, const blob_ray *bj, double eps, double eta, double alpha, double a, double b);
 /* Eq. 12 as printed, for comparison: K_Q(0) eps integral F_eta, K_Q(0) = (2 pi)^(-3/2) alpha^-3. */
 double blob_T_var_paper(const blob_ray *br, double eps, double eta, double alpha, double a, double b);
 /* Eq. 12 and Eq. 13 as printed together: T_i = T_mean + sigma_T Q^(0) with sigma_T^2 from Eq. 12

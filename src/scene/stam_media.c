@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
@@ -75,9 +76,35 @@ static brume_status voxelize_media(brume_scene *s, const stam_params *p)
     return BRUME_OK;
 }
 
+/* stam.kernel: every blob field takes the kernel read from stam.kernel_file. */
+static brume_status set_kernel(brume_scene *s, const stam_params *p)
+{
+    if (p->kernel == STAM_KERNEL_GAUSSIAN) {
+        if (p->kernel_file[0])
+            return err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                           "%s: stam.kernel_file: given, but stam.kernel is gaussian (set stam.kernel = table to use it)",
+                           s->source);
+        return BRUME_OK;
+    }
+    if (!p->kernel_file[0])
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: stam.kernel: table needs stam.kernel_file", s->source);
+    blob_kernel *k = blob_kernel_read(p->kernel_file, "stam.kernel_file");
+    if (!k)
+        return err_status();
+    brume_status st = budget_take((size_t)(k->n + 2 + (BLOB_KERNEL_G + 1) * (BLOB_KERNEL_G + 1)) * sizeof(double),
+                                  "stam.kernel_file");
+    for (int m = 0; m < s->nmedia && st == BRUME_OK; m++)
+        if (density_get_blobs(s->media[m].rho) && density_blobs_set_kernel(s->media[m].rho, k) != BRUME_OK)
+            st = err_prefix("%s: media[%d]", s->source, m);
+    blob_kernel_release(k); /* the fields hold it */
+    return st;
+}
+
 brume_status stam_commit_media(brume_scene *s)
 {
     const stam_params *p = scene_options(s, METHOD_OPTIONS_STAM);
+    if (set_kernel(s, p) != BRUME_OK)
+        return err_status();
     double t = p->time + s->time;
     for (int m = 0; m < s->nmedia; m++) {
         blob_field *f = density_get_blobs(s->media[m].rho);
