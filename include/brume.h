@@ -234,7 +234,8 @@ typedef struct brume_render_settings {
     brume_progress_fn progress_fn; /* NULL: none. See brume_progress_fn */
     void *progress_user;           /* passed to progress_fn */
     unsigned aovs;       /* bit mask of brume_aov: extra layers of the rendered image */
-    double time_budget;  /* seconds, 0 = none: passes until spent (spp is then a maximum), in [0, 1e9] */
+    double time_budget;  /* seconds, 0 = none: passes until spent (spp is then a maximum), in [0, 1e9];
+                            a job resumed from a checkpoint spends a budget of its own */
     double noise_target; /* relative standard error, 0 = none: adaptive sampling until every pixel
                             that carries signal meets it (spp is then a maximum), in [0, 1]
                             (docs/render-jobs.md gives the estimator) */
