@@ -769,6 +769,68 @@ TEST(blasi_work_is_bounded)
     brume_context_release(ctx);
 }
 
+#define GEN_FMT \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}," \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}]," \
+    " \"media\": [{\"density\": %s, \"sigma_a\": 0.1, \"sigma_s\": 1}]," \
+    " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"threads\": 2%s}%s}"
+
+/* Loads the scene text (named gen.json), commits and renders it: BRUME_OK or the first
+ * failure, with its message in ctx. */
+static brume_status load_and_render(brume_context *ctx, const char *json)
+{
+    brume_scene *s = NULL;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = "gen.json", .text = json}, NULL, &s);
+    brume_image *img = NULL;
+    if (st == BRUME_OK && (st = brume_scene_commit(ctx, s)) == BRUME_OK && (st = brume_render(ctx, s, &img)) == BRUME_OK)
+        brume_image_release(img);
+    brume_scene_release(s);
+    return st;
+}
+
+/* Defect 4: the generators estimate their work before they start (issue 36) and refuse a
+ * scene over render.max_work with the figure, one line naming the file and the field: the
+ * procedural cloud (voxels x 5 octaves), the fractal cloud (its base, turbulence and shape)
+ * and Stam's random field (lattice points x (1 + log2 points), the FFT). The same scenes at
+ * the default limit render. The figures are the formulas' for these sizes. */
+TEST(generators_work_is_bounded)
+{
+    static const char blobs[] =
+        "{\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7],"
+        " \"count\": 20, \"h\": [0.2, 0.4], \"density\": 0.15, \"falloff\": 1.0, \"seed\": 5}]}";
+    struct {
+        const char *density, *render, *extra, *field, *figure;
+    } cases[] = {
+        {"{\"type\": \"procedural_cloud\", \"resolution\": 32}", "", "", "media[0].density",
+         "32^3 voxels x 5 octaves of noise are 1.64e+05 units of work"},
+        {"{\"type\": \"fractal_cloud\", \"dims\": [32, 16, 8], \"method\": \"perlin\", \"octaves\": 4, \"turbulence\": 0.5}",
+         "", "", "media[0].density", "are 3.69e+04 units of work"}, /* 4096 voxels x (4 + 4 + 1) */
+        {"{\"type\": \"fractal_cloud\", \"dims\": [32, 16, 8], \"method\": \"midpoint\", \"turbulence\": 0}", "", "",
+         "media[0].density", "are 4e+04 units of work"}, /* a 33^3 lattice + 4096 voxels */
+        {blobs, ", \"method\": \"stam\"", ", \"stam\": {\"eps\": 0.4, \"lattice\": 16, \"light_grid\": 0}",
+         "stam.lattice", "16 x 16 x 16 lattice points are 5.32e+04 units of work"}, /* 4096 x 13 */
+    };
+    brume_context *ctx = brume_context_new();
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char json[2048], render[256];
+        snprintf(render, sizeof render, "%s, \"max_work\": 1e4", cases[k].render);
+        snprintf(json, sizeof json, GEN_FMT, cases[k].density, render, cases[k].extra);
+        ASSERT_EQ_INT(load_and_render(ctx, json), BRUME_ERROR_RANGE);
+        const char *msg = brume_context_last_error(ctx);
+        fprintf(stderr, "%s\n", msg);
+        ASSERT_CONTAINS(msg, "gen.json");
+        ASSERT_CONTAINS(msg, cases[k].field);
+        ASSERT_CONTAINS(msg, cases[k].figure);
+        ASSERT_CONTAINS(msg, "over render.max_work (1e+04)");
+        ASSERT_TRUE(strchr(msg, '\n') == NULL);
+        snprintf(json, sizeof json, GEN_FMT, cases[k].density, cases[k].render, cases[k].extra);
+        if (load_and_render(ctx, json) != BRUME_OK)
+            TEST_FAIL("case %zu at the default render.max_work: %s", k, brume_context_last_error(ctx));
+    }
+    brume_context_release(ctx);
+}
+#undef GEN_FMT
+
 static bool cancel_at_once(void *user, uint64_t done, uint64_t total)
 {
     (void)done;
@@ -1183,4 +1245,4 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
           serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line,
-          scene_load_cancels, temporaries_removed_per_context)
+          scene_load_cancels, temporaries_removed_per_context, generators_work_is_bounded)

@@ -29,6 +29,17 @@ randfield *stam_scene_randfield(const brume_scene *s)
 {
     randfield_params rp;
     stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), s->time, stam_blob_extent(s), &rp);
+    /* the work before it starts (render.max_work, issue 36): a mode drawn per lattice point,
+     * then the FFT's log2(points) butterflies per point */
+    double points = (double)rp.n[0] * rp.n[1] * rp.n[2], work = points * (1.0 + log2(points));
+    if (work > s->max_work) {
+        err_set(BRUME_ERROR_RANGE,
+                "stam.lattice: the random field's %d x %d x %d lattice points are %.3g units of work (the FFT's "
+                "log2 per point), over render.max_work (%.3g): lower stam.lattice or raise stam.cell (or raise "
+                "render.max_work)",
+                rp.n[0], rp.n[1], rp.n[2], work, s->max_work);
+        return NULL;
+    }
     return randfield_new(&rp);
 }
 

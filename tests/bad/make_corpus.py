@@ -554,7 +554,16 @@ cli('checkpoint_is_a_folder', 1, r'--checkpoint: .*not a regular file \(a folder
 cli('save_light_is_a_folder', 1, r'--save-light: .*not a regular file \(a folder\)', 'render ' + S + ' --method blasi --save-light {T}')
 cli('figures_out_is_a_file', 1, r'figures: -o .*ok\.pfm: not a folder', 'figures -o {D}/images/ok.pfm --quick')
 cli('stam_light_cache_over_max_work', 1, r'stam\.light_grid: .* units of work, over render\.max_work \(1e\+03\)',
-    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000')
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000 --set stam.eps=0')  # no random field: the light cache is the first work
+# work bounded like memory: each generator estimates its work before it starts
+scene('procedural_cloud_over_max_work', 1,
+      r'procedural_cloud_over_max_work\.json: media\[0\]\.density: .*64\^3 voxels x 5 octaves of noise are 1\.31e\+06 units of work, over render\.max_work \(1e\+05\)',
+      lambda s: (dens({'type': 'procedural_cloud', 'resolution': 64})(s), s['render'].update(max_work=1e5)))
+scene('fractal_cloud_over_max_work', 1,
+      r'fractal_cloud_over_max_work\.json: media\[0\]\.density: .*fractal cloud: 64 x 64 x 64 voxels .* units of work, over render\.max_work \(1e\+05\)',
+      lambda s: (dens({'type': 'fractal_cloud', 'dims': [64, 64, 64]})(s), s['render'].update(max_work=1e5)))
+cli('stam_random_field_over_max_work', 1, r'stam-compare\.json: stam: stam\.lattice: the random field.s 64 x 64 x 64 lattice points are 4\.98e\+06 units of work',
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set stam.lattice=64 --set render.max_work=1e6')
 cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
