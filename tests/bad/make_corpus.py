@@ -280,6 +280,22 @@ def gltf_64mb(s):
     s['surfaces'] = [{'type': 'mesh', 'file': '../meshes/gltf_nested.gltf'}]
     s['render']['max_memory_mb'] = 64
 scene('mesh_gltf_nested_instances', 1, 'gltf_nested.gltf', gltf_64mb, group='mesh')
+def glb(text):
+    """A binary glTF 2.0 (.glb) of the glTF text: its JSON chunk (padded with spaces), its buffer 0 the BIN chunk."""
+    doc = json.loads(text)
+    import base64
+    binary = base64.b64decode(doc['buffers'][0].pop('uri').split(',', 1)[1])
+    data = json.dumps(doc).encode()
+    data += b' ' * (-len(data) % 4)
+    binary += b'\0' * (-len(binary) % 4)
+    return (struct.pack('<4sII', b'glTF', 2, 12 + 8 + len(data) + 8 + len(binary)) + struct.pack('<I4s', len(data), b'JSON')
+            + data + struct.pack('<I4s', len(binary), b'BIN\0') + binary)
+write('meshes/gltf_nested.glb', glb(nested_gltf(4, 50)))  # the same instances, binary: counted alike
+def glb_64mb(s):
+    s['surfaces'] = [{'type': 'mesh', 'file': '../meshes/gltf_nested.glb'}]
+    s['render']['max_memory_mb'] = 64
+scene('mesh_glb_nested_instances', 1, r'gltf_nested\.glb: its instances flattened make 1\.88e\+07 vertices', glb_64mb,
+      group='mesh')
 write('meshes/shape.xyz', '1 2 3\n')
 
 # ---- render settings -------------------------------------------------------------------------
