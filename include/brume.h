@@ -196,9 +196,9 @@ brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_
  * sample count, an estimate that may change between calls under a time budget or a noise
  * target; never below done). Called after each finished tile, from the calling thread or a
  * worker, never two at once. Return true to go on, false to cancel: every worker then stops
- * after the tile it is rendering. A phase before the first tile (Blasi's light pass) calls
- * it with done = 0 and total = 1 about every 0.1 s, so that it may cancel there too
- * (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
+ * after the tile it is rendering. A phase before the first tile (Blasi's light pass, Stam's
+ * random field) calls it with done = 0 and total = 1 about every 0.1 s, so that it may
+ * cancel there too (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
 typedef bool (*brume_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 /* Extra image layers (AOVs), a bit mask for brume_render_settings.aovs. Each layer is the

@@ -829,6 +829,49 @@ TEST(generators_work_is_bounded)
     }
     brume_context_release(ctx);
 }
+
+static bool cancel_first(void *user, uint64_t done, uint64_t total)
+{
+    (void)done;
+    (void)total;
+    ++*(int *)user;
+    return false;
+}
+
+/* Defect 4: the library's cancel (the progress callback returning false) stops Stam's random
+ * field, made when a render begins, within a second: its loops asked only a load's cancel
+ * (brume_context_cancel_loads), never the render's callback. A 256^3 lattice: some 6 to 13 s
+ * on the 2-core test machine, uncancelled. */
+TEST(stam_random_field_cancels)
+{
+    static const char blobs[] =
+        "{\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7],"
+        " \"count\": 20, \"h\": [0.2, 0.4], \"density\": 0.15, \"falloff\": 1.0, \"seed\": 5}]}";
+    char json[2048];
+    snprintf(json, sizeof json, GEN_FMT, blobs, ", \"method\": \"stam\"",
+             ", \"stam\": {\"eps\": 0.4, \"lattice\": 256, \"light_grid\": 0}");
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "field.json", .text = json}, NULL, &s), BRUME_OK);
+    int calls = 0;
+    brume_render_settings rs;
+    brume_scene_settings(s, &rs);
+    rs.progress_fn = cancel_first;
+    rs.progress_user = &calls;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_render_job *job = NULL;
+    double t0 = seconds();
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_ERROR_CANCELLED);
+    double took = seconds() - t0;
+    fprintf(stderr, "cancelled after %.2f s, %d call(s): %s\n", took, calls, brume_context_last_error(ctx));
+    ASSERT_TRUE(job == NULL);
+    ASSERT_TRUE(took < 1.5); /* the first call comes after 0.1 s; a plane of 256^2 modes takes ms */
+    ASSERT_EQ_INT(calls, 1);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "random field: cancelled");
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
 #undef GEN_FMT
 
 static bool cancel_at_once(void *user, uint64_t done, uint64_t total)
@@ -868,7 +911,8 @@ TEST(blasi_light_pass_cancels)
 }
 
 /* Defect 4: SIGINT and SIGTERM stop brume render within a second in every phase: loading
- * (procedural_cloud at 512, answered after 67 s before) and Blasi's light pass (ignored). */
+ * (procedural_cloud at 512, answered after 67 s before), Blasi's light pass (ignored) and
+ * Stam's random field. */
 TEST(signals_stop_every_phase)
 {
     const char *dir = fresh_dir("phases");
@@ -881,9 +925,15 @@ TEST(signals_stop_every_phase)
     snprintf(path, sizeof path, "%s/light.json", dir);
     snprintf(json, sizeof json, BLASI_FMT, "", "\"light_rays\": 1e8, \"step\": 0.001");
     write_text(path, json);
-    const char *scenes[2] = {"load.json", "light.json"};
+    snprintf(path, sizeof path, "%s/field.json", dir); /* Stam's random field, 256^3: some 6 to 13 s */
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"media\": [{\"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\","
+                     " \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7], \"count\": 20, \"h\": [0.2, 0.4], \"seed\": 5}]},"
+                     " \"sigma_a\": 0.1, \"sigma_s\": 1}], \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1,"
+                     " \"method\": \"stam\"}, \"stam\": {\"eps\": 0.4, \"lattice\": 256, \"light_grid\": 0}}");
+    const char *scenes[3] = {"load.json", "light.json", "field.json"};
     const int sigs[2] = {SIGINT, SIGTERM};
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 3; k++)
         for (int j = 0; j < 2; j++) {
             char args[4400], err[4400];
             snprintf(args, sizeof args, "render %s/%s -o %s/out.png", dir, scenes[k], dir);
@@ -1289,4 +1339,5 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
           serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line,
-          scene_load_cancels, temporaries_removed_per_context, generators_work_is_bounded)
+          scene_load_cancels, temporaries_removed_per_context, generators_work_is_bounded,
+          stam_random_field_cancels)

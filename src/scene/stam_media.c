@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core/cancel.h"
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
@@ -40,7 +41,15 @@ randfield *stam_scene_randfield(const brume_scene *s)
                 rp.n[0], rp.n[1], rp.n[2], work, s->max_work);
         return NULL;
     }
-    return randfield_new(&rp);
+    /* its loops ask the render's progress callback too (issue 36: a 512^3 lattice takes
+     * minutes, and the library's cancel must stop it within a second) */
+    cancel_poll cancel;
+    cancel_poll_init(&cancel, &s->settings);
+    cancel_load_watch(&cancel);
+    randfield *q = randfield_new(&rp);
+    cancel_load_watch(NULL);
+    cancel_poll_finish(&cancel);
+    return q;
 }
 
 brume_status stam_voxelize_blobs(const brume_scene *s, int resolution, bool realization, const char *option,
