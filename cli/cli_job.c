@@ -235,8 +235,11 @@ uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nse
     } else {
         FOLD("<default scene>", 15) /* compiled in: the brume version in the checkpoint covers it */
     }
+    /* a resumed render may take another time budget or thread count (neither changes a
+     * sample): --time (render.time) and --set render.threads are left out */
     for (int i = 0; i < nsets; i++)
-        FOLD(sets[i], strlen(sets[i]) + 1)
+        if (strncmp(sets[i], "render.time=", 12) != 0 && strncmp(sets[i], "render.threads=", 15) != 0)
+            FOLD(sets[i], strlen(sets[i]) + 1)
     FOLD(&frame, sizeof frame)
 #undef FOLD
     return tool_checkpoint_inputs_key(scene, h);
@@ -259,6 +262,7 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     *out = NULL;
     *job_out = NULL;
     brume_render_job *job = NULL;
+    double t0 = now_seconds();
     brume_status st = o->resume ? brume_render_job_resume(ctx, scene, o->scene_key, o->resume, &job)
                                 : brume_render_begin(ctx, scene, &job);
     if (st != BRUME_OK)
@@ -272,6 +276,7 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
         cli_serve_show(o->serve, job, o->label);
     cli_signals_keep(true);
     st = g_signal ? BRUME_ERROR_CANCELLED : brume_render_job_run(ctx, job);
+    res->seconds = now_seconds() - t0;
     cli_signals_keep(false);
     g_job.job = NULL;
     brume_context_release(g_job.ctx);

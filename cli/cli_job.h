@@ -32,7 +32,7 @@ int cli_prepare_folder(const char *flag, const char *path, bool make);
 void cli_job_callback(brume_progress_fn *fn, void **user);
 /* What a checkpoint is tied to: the scene file's bytes (or the default scene), the bytes of
  * every file the loaded scene read (grids, meshes, tables, images), the scene overrides
- * (--set KEY=VALUE) and the frame. */
+ * (--set KEY=VALUE) but the time budget and the thread count, and the frame. */
 uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nsets, const char *const *sets,
                        long frame);
 /* Before any work: brume writes path (named by flag) only when it is absent or a regular
@@ -56,6 +56,9 @@ typedef struct cli_job_result {
     int signal;
     bool checkpoint_written;
     brume_render_progress progress;
+    double seconds;          /* this run's rendering: begin (or resume, with the integrator's
+                                preparation) and the passes; progress.elapsed counts the runs
+                                before a resume too, not part of this run's time budget */
 } cli_job_result;
 
 /* Begins (or resumes) a job on the committed scene and runs it to its end or to a signal;

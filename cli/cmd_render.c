@@ -938,7 +938,7 @@ static void report_frame(const render_run *r, const char *path, int owner, const
                      100.0 * rs->noise_target);
         char budget[64] = "";
         if (rs->time_budget > 0.0)
-            snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", p->elapsed, rs->time_budget);
+            snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", r->jr.seconds, rs->time_budget);
         fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s\n", path,
                 rs->width, rs->height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs->method), secs, budget);
     } else

@@ -196,9 +196,9 @@ brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_
  * sample count, an estimate that may change between calls under a time budget or a noise
  * target; never below done). Called after each finished tile, from the calling thread or a
  * worker, never two at once. Return true to go on, false to cancel: every worker then stops
- * after the tile it is rendering. A phase before the first tile (Blasi's light pass) calls
- * it with done = 0 and total = 1 about every 0.1 s, so that it may cancel there too
- * (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
+ * after the tile it is rendering. A phase before the first tile (Blasi's light pass, Stam's
+ * random field) calls it with done = 0 and total = 1 about every 0.1 s, so that it may
+ * cancel there too (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
 typedef bool (*brume_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 /* Extra image layers (AOVs), a bit mask for brume_render_settings.aovs. Each layer is the
@@ -234,7 +234,8 @@ typedef struct brume_render_settings {
     brume_progress_fn progress_fn; /* NULL: none. See brume_progress_fn */
     void *progress_user;           /* passed to progress_fn */
     unsigned aovs;       /* bit mask of brume_aov: extra layers of the rendered image */
-    double time_budget;  /* seconds, 0 = none: passes until spent (spp is then a maximum), in [0, 1e9] */
+    double time_budget;  /* seconds, 0 = none: passes until spent (spp is then a maximum), in [0, 1e9];
+                            a job resumed from a checkpoint spends a budget of its own */
     double noise_target; /* relative standard error, 0 = none: adaptive sampling until every pixel
                             that carries signal meets it (spp is then a maximum), in [0, 1]
                             (docs/render-jobs.md gives the estimator) */

@@ -769,6 +769,111 @@ TEST(blasi_work_is_bounded)
     brume_context_release(ctx);
 }
 
+#define GEN_FMT \
+    "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}," \
+    " \"lights\": [{\"type\": \"distant\", \"direction\": [0, -1, 0], \"irradiance\": 1}]," \
+    " \"media\": [{\"density\": %s, \"sigma_a\": 0.1, \"sigma_s\": 1}]," \
+    " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"threads\": 2%s}%s}"
+
+/* Loads the scene text (named gen.json), commits and renders it: BRUME_OK or the first
+ * failure, with its message in ctx. */
+static brume_status load_and_render(brume_context *ctx, const char *json)
+{
+    brume_scene *s = NULL;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = "gen.json", .text = json}, NULL, &s);
+    brume_image *img = NULL;
+    if (st == BRUME_OK && (st = brume_scene_commit(ctx, s)) == BRUME_OK && (st = brume_render(ctx, s, &img)) == BRUME_OK)
+        brume_image_release(img);
+    brume_scene_release(s);
+    return st;
+}
+
+/* Defect 4: the generators estimate their work before they start (issue 36) and refuse a
+ * scene over render.max_work with the figure, one line naming the file and the field: the
+ * procedural cloud (voxels x 5 octaves), the fractal cloud (its base, turbulence and shape)
+ * and Stam's random field (lattice points x (1 + log2 points), the FFT). The same scenes at
+ * the default limit render. The figures are the formulas' for these sizes. */
+TEST(generators_work_is_bounded)
+{
+    static const char blobs[] =
+        "{\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7],"
+        " \"count\": 20, \"h\": [0.2, 0.4], \"density\": 0.15, \"falloff\": 1.0, \"seed\": 5}]}";
+    struct {
+        const char *density, *render, *extra, *field, *figure;
+    } cases[] = {
+        {"{\"type\": \"procedural_cloud\", \"resolution\": 32}", "", "", "media[0].density",
+         "32^3 voxels x 5 octaves of noise are 1.64e+05 units of work"},
+        {"{\"type\": \"fractal_cloud\", \"dims\": [32, 16, 8], \"method\": \"perlin\", \"octaves\": 4, \"turbulence\": 0.5}",
+         "", "", "media[0].density", "are 3.69e+04 units of work"}, /* 4096 voxels x (4 + 4 + 1) */
+        {"{\"type\": \"fractal_cloud\", \"dims\": [32, 16, 8], \"method\": \"midpoint\", \"turbulence\": 0}", "", "",
+         "media[0].density", "are 4e+04 units of work"}, /* a 33^3 lattice + 4096 voxels */
+        {blobs, ", \"method\": \"stam\"", ", \"stam\": {\"eps\": 0.4, \"lattice\": 16, \"light_grid\": 0}",
+         "stam.lattice", "16 x 16 x 16 lattice points are 5.32e+04 units of work"}, /* 4096 x 13 */
+    };
+    brume_context *ctx = brume_context_new();
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char json[2048], render[256];
+        snprintf(render, sizeof render, "%s, \"max_work\": 1e4", cases[k].render);
+        snprintf(json, sizeof json, GEN_FMT, cases[k].density, render, cases[k].extra);
+        ASSERT_EQ_INT(load_and_render(ctx, json), BRUME_ERROR_RANGE);
+        const char *msg = brume_context_last_error(ctx);
+        fprintf(stderr, "%s\n", msg);
+        ASSERT_CONTAINS(msg, "gen.json");
+        ASSERT_CONTAINS(msg, cases[k].field);
+        ASSERT_CONTAINS(msg, cases[k].figure);
+        ASSERT_CONTAINS(msg, "over render.max_work (1e+04)");
+        ASSERT_TRUE(strchr(msg, '\n') == NULL);
+        snprintf(json, sizeof json, GEN_FMT, cases[k].density, cases[k].render, cases[k].extra);
+        if (load_and_render(ctx, json) != BRUME_OK)
+            TEST_FAIL("case %zu at the default render.max_work: %s", k, brume_context_last_error(ctx));
+    }
+    brume_context_release(ctx);
+}
+
+static bool cancel_first(void *user, uint64_t done, uint64_t total)
+{
+    (void)done;
+    (void)total;
+    ++*(int *)user;
+    return false;
+}
+
+/* Defect 4: the library's cancel (the progress callback returning false) stops Stam's random
+ * field, made when a render begins, within a second: its loops asked only a load's cancel
+ * (brume_context_cancel_loads), never the render's callback. A 256^3 lattice: some 6 to 13 s
+ * on the 2-core test machine, uncancelled. */
+TEST(stam_random_field_cancels)
+{
+    static const char blobs[] =
+        "{\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\", \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7],"
+        " \"count\": 20, \"h\": [0.2, 0.4], \"density\": 0.15, \"falloff\": 1.0, \"seed\": 5}]}";
+    char json[2048];
+    snprintf(json, sizeof json, GEN_FMT, blobs, ", \"method\": \"stam\"",
+             ", \"stam\": {\"eps\": 0.4, \"lattice\": 256, \"light_grid\": 0}");
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "field.json", .text = json}, NULL, &s), BRUME_OK);
+    int calls = 0;
+    brume_render_settings rs;
+    brume_scene_settings(s, &rs);
+    rs.progress_fn = cancel_first;
+    rs.progress_user = &calls;
+    ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    brume_render_job *job = NULL;
+    double t0 = seconds();
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_ERROR_CANCELLED);
+    double took = seconds() - t0;
+    fprintf(stderr, "cancelled after %.2f s, %d call(s): %s\n", took, calls, brume_context_last_error(ctx));
+    ASSERT_TRUE(job == NULL);
+    ASSERT_TRUE(took < 1.5); /* the first call comes after 0.1 s; a plane of 256^2 modes takes ms */
+    ASSERT_EQ_INT(calls, 1);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "random field: cancelled");
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+#undef GEN_FMT
+
 static bool cancel_at_once(void *user, uint64_t done, uint64_t total)
 {
     (void)done;
@@ -806,7 +911,8 @@ TEST(blasi_light_pass_cancels)
 }
 
 /* Defect 4: SIGINT and SIGTERM stop brume render within a second in every phase: loading
- * (procedural_cloud at 512, answered after 67 s before) and Blasi's light pass (ignored). */
+ * (procedural_cloud at 512, answered after 67 s before), Blasi's light pass (ignored) and
+ * Stam's random field. */
 TEST(signals_stop_every_phase)
 {
     const char *dir = fresh_dir("phases");
@@ -819,9 +925,15 @@ TEST(signals_stop_every_phase)
     snprintf(path, sizeof path, "%s/light.json", dir);
     snprintf(json, sizeof json, BLASI_FMT, "", "\"light_rays\": 1e8, \"step\": 0.001");
     write_text(path, json);
-    const char *scenes[2] = {"load.json", "light.json"};
+    snprintf(path, sizeof path, "%s/field.json", dir); /* Stam's random field, 256^3: some 6 to 13 s */
+    write_text(path, "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40},"
+                     " \"media\": [{\"density\": {\"type\": \"blobs\", \"generators\": [{\"type\": \"cloud\","
+                     " \"center\": [0, 0, 0], \"radii\": [1, 0.5, 0.7], \"count\": 20, \"h\": [0.2, 0.4], \"seed\": 5}]},"
+                     " \"sigma_a\": 0.1, \"sigma_s\": 1}], \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1,"
+                     " \"method\": \"stam\"}, \"stam\": {\"eps\": 0.4, \"lattice\": 256, \"light_grid\": 0}}");
+    const char *scenes[3] = {"load.json", "light.json", "field.json"};
     const int sigs[2] = {SIGINT, SIGTERM};
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 3; k++)
         for (int j = 0; j < 2; j++) {
             char args[4400], err[4400];
             snprintf(args, sizeof args, "render %s/%s -o %s/out.png", dir, scenes[k], dir);
@@ -1003,6 +1115,38 @@ TEST(gltf_instances_counted)
     ASSERT_EQ_INT(ntri, 9);
     free(pos);
     free(idx);
+    /* the same as a .glb (binary glTF: the JSON chunk, padded with spaces, then the vertices
+     * in the BIN chunk), read and counted alike */
+    static const char small_bin_json[] =
+        "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [8]}],"
+        " \"nodes\": [{\"mesh\": 0}, {\"children\": [0]}, {\"children\": [0]}, {\"children\": [0]},"
+        " {\"children\": [1, 2, 3]}, {\"children\": [4]}, {\"children\": [4]}, {\"children\": [4]},"
+        " {\"children\": [5, 6, 7]}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\","
+        " \"min\": [0, 0, 0], \"max\": [1, 1, 0]}], \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36}],"
+        " \"buffers\": [{\"byteLength\": 36}]}";
+    const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    uint32_t jlen = (uint32_t)(strlen(small_bin_json) + 3) / 4 * 4, blen = sizeof tri;
+    uint32_t head[5] = {0, 2, 12 + 8 + jlen + 8 + blen, jlen, 0}, bhead[2] = {blen, 0};
+    memcpy(head, "glTF", 4);
+    memcpy(head + 4, "JSON", 4);
+    memcpy(bhead + 1, "BIN", 4);
+    snprintf(path, sizeof path, "%s/small.glb", dir);
+    FILE *fp = fopen(path, "wb");
+    ASSERT_TRUE(fp != NULL);
+    fwrite(head, sizeof head, 1, fp);
+    fputs(small_bin_json, fp);
+    for (size_t k = strlen(small_bin_json); k < jlen; k++)
+        fputc(' ', fp);
+    fwrite(bhead, sizeof bhead, 1, fp);
+    fwrite(tri, sizeof tri, 1, fp);
+    fclose(fp);
+    if (mesh_load(path, &pos, &nv, &idx, &ntri) != BRUME_OK)
+        TEST_FAIL("%s", err_message());
+    ASSERT_EQ_INT(ntri, 9);
+    free(pos);
+    free(idx);
     char scene[4400], msg[1100];
     snprintf(scene, sizeof scene, "%s/s.json", dir);
     snprintf(path, sizeof path,
@@ -1016,6 +1160,18 @@ TEST(gltf_instances_counted)
     ASSERT_TRUE(seconds() - t0 < 2.0);
     ASSERT_CONTAINS(msg, "1.88e+07 vertices");
     ASSERT_CONTAINS(msg, "render.max_memory_mb");
+    /* the same instances in a .glb: counted before assimp builds them (it ran out of its
+     * address space before, seconds later) */
+    snprintf(path, sizeof path,
+             "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}, \"surfaces\": [{\"type\":"
+             " \"mesh\", \"file\": \"%s/tests/bad/meshes/gltf_nested.glb\"}], \"render\": {\"width\": 8,"
+             " \"height\": 8, \"spp\": 1, \"max_memory_mb\": 64}}",
+             BRUME_SOURCE_DIR);
+    write_text(scene, path);
+    t0 = seconds();
+    ASSERT_TRUE(load_commit(scene, msg, sizeof msg, NULL) != BRUME_OK);
+    ASSERT_TRUE(seconds() - t0 < 2.0);
+    ASSERT_CONTAINS(msg, "gltf_nested.glb: its instances flattened make 1.88e+07 vertices");
 }
 
 /* Defect 5: when the film's allocation fails (within render.max_memory_mb: the machine has
@@ -1183,4 +1339,5 @@ TEST_MAIN(sun_radius_tends_to_point_sun, messages_stay_on_one_line, scene_cannot
           film_counts_against_the_memory_limit, blasi_work_is_bounded, blasi_light_pass_cancels,
           signals_stop_every_phase, bad_scene_makes_no_folders, partial_frame_says_so,
           serve_idle_connections_and_exposure, gltf_instances_counted, film_allocation_failure_is_one_line,
-          scene_load_cancels, temporaries_removed_per_context)
+          scene_load_cancels, temporaries_removed_per_context, generators_work_is_bounded,
+          stam_random_field_cancels)

@@ -350,6 +350,61 @@ TEST(bad_checkpoints_refused)
     free(kept);
 }
 
+/* A resumed render may take another budget (docs/render-jobs.md): a render interrupted
+ * with a checkpoint, resumed with --time, continues from the samples it saved and spends
+ * the new budget. Before, --time was part of the scene key and the resume was refused as
+ * "made from another scene"; and the library charged the saved seconds to the new budget. */
+TEST(resume_takes_another_budget)
+{
+    const char *dir = fresh_dir("rebudget");
+    char scene[400], err[400], out[400], ck[400], args[8192];
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(out, sizeof out, "%s/out.exr", dir);
+    snprintf(ck, sizeof ck, "%s/render.ckpt", dir);
+    test_write_file(scene, scene_json);
+    /* interrupted once it has samples (a signal during start-up leaves no checkpoint: wait
+     * twice as long) */
+    snprintf(args, sizeof args, "render %s --spp 1000000 --threads 2 --aov samples -o %s --checkpoint %s", scene, out,
+             ck);
+    for (int attempt = 0; attempt < 4 && !test_exists(ck); attempt++) {
+        pid_t pid = test_spawn(BRUME_EXE, args, err);
+        test_sleep(1.5 * (1 << attempt));
+        kill(pid, SIGINT);
+        ASSERT_EQ_INT(test_wait_exit(pid, 60.0), 130);
+    }
+    ASSERT_TRUE(test_exists(ck));
+    size_t n;
+    char *msg = test_slurp(err, &n);
+    const char *counts = strstr(msg, "partial image");
+    int saved_min = -1, saved_max = -1;
+    ASSERT_TRUE(counts && (counts = strchr(counts, '(')) != NULL);
+    ASSERT_EQ_INT(sscanf(counts, "(%d to %d samples", &saved_min, &saved_max), 2);
+    free(msg);
+    ASSERT_TRUE(saved_min >= 1);
+    /* another budget, shorter than the seconds the checkpoint had spent, another thread
+     * count: the resumed job goes on from there */
+    snprintf(args, sizeof args, "render %s --spp 1000000 --threads 1 --time 0.5 --aov samples -o %s --resume %s",
+             scene, out, ck);
+    ASSERT_EQ_INT(run(args, err), 0);
+    msg = test_slurp(err, &n);
+    fprintf(stderr, "saved %d to %d spp; resumed with --time 0.5: %s", saved_min, saved_max, msg);
+    ASSERT_CONTAINS(msg, "of a 0.5 s budget");
+    free(msg);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
+    const float *cnt = brume_image_layer_pixels(img, 0);
+    for (int i = 0; i < 48 * 32; i++)
+        if (cnt[i] <= (float)saved_max) /* each pixel past the most any had: the cut pass completed, then more */
+            TEST_FAIL("pixel %d: %.0f samples after the resume, the checkpoint had %d to %d", i, cnt[i], saved_min,
+                      saved_max);
+    ASSERT_TRUE(atoi(brume_image_attribute(img, "brume.spp_min")) > saved_max);
+    brume_image_release(img);
+    brume_context_release(ctx);
+    ASSERT_EQ_INT(temporaries(dir), 0);
+}
+
 /* Outputs are checked before any rendering: a render that would take days fails at once
  * on a bad extension, a --aov layer with PNG, a folder that cannot be made; missing folders
  * of a good output are made. */
@@ -514,4 +569,4 @@ TEST(ctrl_c_on_a_terminal)
 
 TEST_MAIN(signal_writes_partial_image, second_sigint_ends_at_once, sequence_keeps_finished_frames,
           resume_is_byte_identical, bad_checkpoints_refused, outputs_checked_before_rendering,
-          budgets_on_the_command_line, ctrl_c_on_a_terminal)
+          budgets_on_the_command_line, ctrl_c_on_a_terminal, resume_takes_another_budget)

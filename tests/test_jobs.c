@@ -586,6 +586,46 @@ TEST(time_budget_ends_the_render)
     brume_scene_release(s);
 }
 
+/* A resumed job takes another time budget (docs/render-jobs.md): it continues from the
+ * samples the checkpoint saved and spends its own budget, the seconds the checkpoint had
+ * spent counted in the progress but not against the new budget. Before, the saved seconds
+ * were charged to it: a job that had spent its budget resumed with nothing left. */
+TEST(resumed_job_spends_its_own_budget)
+{
+    brume_scene *s = load_default(40, 24, set_time, NULL);
+    brume_context *ctx = brume_context_new();
+    const char *ck = test_tmp_path("budget.ckpt");
+    brume_render_job *job = NULL;
+    ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_OK);
+    ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK); /* the 0.5 s budget spent */
+    brume_render_progress before, after;
+    brume_render_job_progress(job, &before);
+    ASSERT_EQ_INT(brume_render_job_save(ctx, job, 42, ck), BRUME_OK);
+    brume_render_job_release(job);
+    ASSERT_EQ_INT(brume_render_job_resume(ctx, s, 42, ck, &job), BRUME_OK);
+    brume_render_progress resumed;
+    brume_render_job_progress(job, &resumed);
+    ASSERT_EQ_INT(resumed.spp_min, before.spp_min); /* the saved samples, none lost */
+    ASSERT_EQ_INT(resumed.spp_max, before.spp_max);
+    ASSERT_TRUE(!resumed.finished); /* a new budget: work left */
+    ASSERT_EQ_INT(brume_render_job_run(ctx, job), BRUME_OK);
+    brume_render_job_progress(job, &after);
+    fprintf(stderr, "0.5 s budget: %.3f s, %d to %d spp; resumed with another 0.5 s: %.3f s, %d to %d spp\n",
+            before.elapsed, before.spp_min, before.spp_max, after.elapsed, after.spp_min, after.spp_max);
+    ASSERT_TRUE(after.finished);
+    /* every pixel past what the first budget gave it: the cut pass completed, then more */
+    ASSERT_TRUE(after.spp_min > before.spp_max);
+    /* the seconds across both runs; the second ends within half a pass of its budget
+     * (render-jobs.md: a pass that does not half fit is not begun) or past it by the join
+     * of the threads */
+    ASSERT_TRUE(after.elapsed > before.elapsed + 0.25);
+    ASSERT_TRUE(after.elapsed <= before.elapsed + 0.5 + 0.2);
+    brume_render_job_release(job);
+    remove(ck);
+    brume_context_release(ctx);
+    brume_scene_release(s);
+}
+
 static void set_tiny_time(brume_render_settings *rs, void *user)
 {
     (void)user;
@@ -743,4 +783,5 @@ TEST(noise_eta_unknown_then_known_never_full_early)
 TEST_MAIN(progressive_passes_equal_one_render, cancel_stops_within_one_tile, progress_counts_never_go_back, aovs_known_depth_albedo_normal,
           adaptive_sampling_independent_of_threads, noise_target_constant_fog_closed_form, noise_target_white_furnace,
           checkpoint_resume_is_bit_identical, time_budget_ends_the_render, time_budget_cuts_the_first_pass,
-          spp_is_the_maximum_under_a_budget, noise_eta_unknown_then_known_never_full_early)
+          spp_is_the_maximum_under_a_budget, noise_eta_unknown_then_known_never_full_early,
+          resumed_job_spends_its_own_budget)

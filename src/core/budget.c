@@ -5,12 +5,31 @@
 
 static _Thread_local bool open_;
 static _Thread_local size_t limit_, used_;
+static _Thread_local double work_limit_;
 
 void budget_begin(size_t limit)
 {
     open_ = true;
     limit_ = limit ? limit : BUDGET_DEFAULT_BYTES;
     used_ = 0;
+    work_limit_ = BUDGET_DEFAULT_WORK;
+}
+
+void budget_set_work_limit(double units)
+{
+    if (open_)
+        work_limit_ = units > 0.0 ? units : BUDGET_DEFAULT_WORK;
+}
+
+double budget_work_limit(void) { return open_ ? work_limit_ : BUDGET_DEFAULT_WORK; }
+
+brume_status budget_work(double units, const char *who, const char *how)
+{
+    double limit = budget_work_limit();
+    if (!(units <= limit))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s are %.3g units of work, over render.max_work (%.3g)", who, how,
+                       units, limit);
+    return BRUME_OK;
 }
 
 void budget_set_limit(size_t limit)

@@ -21,7 +21,12 @@
 #define BUDGET_DEFAULT_BYTES ((size_t)4 << 30)
 #endif
 
-/* Opens this thread's budget with `limit` bytes (0 = the default); nests by replacing. */
+/* 1e12: the default of render.max_work, the one work limit (units of work: a step of a ray,
+ * a noise value or a lattice point generated; about 3 hours of Blasi's light pass on 2 cores). */
+#define BUDGET_DEFAULT_WORK 1e12
+
+/* Opens this thread's budget with `limit` bytes (0 = the default) and the default work
+ * limit; nests by replacing. */
 void budget_begin(size_t limit);
 /* Changes the open budget's limit (render.max_memory_mb); bytes already taken stay taken. */
 void budget_set_limit(size_t limit);
@@ -29,6 +34,15 @@ void budget_end(void);
 /* Opens this thread's budget again for an object that took `used` of `limit` before (a
  * scene read earlier and committed now). */
 void budget_resume(size_t limit, size_t used);
+/* Changes the open budget's work limit (render.max_work, units of work; 0 = the default). */
+void budget_set_work_limit(double units);
+/* The open budget's work limit, or the default when none is open. */
+double budget_work_limit(void);
+/* A generator about to do `units` of work asks first (`how` says how they were counted,
+ * e.g. "64^3 voxels x 5 octaves"): BRUME_OK, or BRUME_ERROR_RANGE with err_set() naming who,
+ * the figure and the limit when they pass it. Work is not summed: each phase is bounded
+ * alone, as each phase is interruptible alone. */
+brume_status budget_work(double units, const char *who, const char *how);
 /* Bytes taken from the open budget (0 when none is open). */
 size_t budget_used(void);
 /* Takes `bytes` for `who` (e.g. "scene.json: media[0].phase.file"): BRUME_OK, or

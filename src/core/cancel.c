@@ -64,8 +64,14 @@ void cancel_load_begin(brume_context *ctx)
 
 void cancel_load_end(void) { g_load_cancels = NULL; }
 
+static _Thread_local cancel_poll *g_watch; /* a render's callback, asked too (cancel_load_watch) */
+
+void cancel_load_watch(cancel_poll *c) { g_watch = c; }
+
 brume_status cancel_load_check(const char *what)
 {
+    if (g_watch && cancel_poll_stop(g_watch))
+        return err_set(BRUME_ERROR_CANCELLED, "%s: cancelled by the render's progress callback", what);
     if (!g_load_cancels || atomic_load_explicit(g_load_cancels, memory_order_relaxed) == g_load_start)
         return BRUME_OK;
     return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_context_cancel_loads)", what);

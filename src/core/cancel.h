@@ -42,4 +42,10 @@ void cancel_load_begin(brume_context *ctx);
 void cancel_load_end(void);
 brume_status cancel_load_check(const char *what);
 
+/* A render's phase that runs a generator's code (Stam's random field, made when a render
+ * begins): while c is set on this thread, cancel_load_check also asks it (cancel_poll_stop),
+ * so the render's progress callback stops the generator as brume_context_cancel_loads stops
+ * a load. NULL unsets it. */
+void cancel_load_watch(cancel_poll *c);
+
 #endif

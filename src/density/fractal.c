@@ -3,6 +3,7 @@
 #include "density/fractal.h"
 
 #include <fftw3.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -337,6 +338,36 @@ static float *fractal_base(const fractal_params *p)
     return f;
 }
 
+/* The work before it starts (render.max_work, issue 36), in noise values and lattice points:
+ * the base (Perlin: a value per voxel and octave; midpoint: every point of its (2^L + 1)^3
+ * lattice; spectral: the FFT's log2(count) butterflies per voxel and a coefficient), the
+ * turbulence (a value per voxel and octave) and the shape (one per voxel). */
+static brume_status fractal_check_work(const fractal_params *p, size_t count)
+{
+    double n = (double)count, base;
+    const char *method;
+    if (p->method == FRACTAL_MIDPOINT) {
+        int nmax = p->n[0] > p->n[1] ? p->n[0] : p->n[1], L = 1;
+        nmax = p->n[2] > nmax ? p->n[2] : nmax;
+        while ((1 << L) + 1 < nmax)
+            L++;
+        double N = (double)((1 << L) + 1);
+        base = N * N * N;
+        method = "midpoint";
+    } else if (p->method == FRACTAL_SPECTRAL) {
+        base = n * (1.0 + log2(n));
+        method = "spectral";
+    } else {
+        base = n * p->octaves;
+        method = "perlin";
+    }
+    double turbulence = p->turbulence > 0.0 ? n * p->octaves : 0.0;
+    char how[160];
+    snprintf(how, sizeof how, "%d x %d x %d voxels (a %s base of %.3g, turbulence %.3g, shape %.3g)", p->n[0],
+             p->n[1], p->n[2], method, base, turbulence, n);
+    return budget_work(base + turbulence + n, "fractal cloud", how);
+}
+
 float *fractal_cloud_voxels(const fractal_params *p)
 {
     for (int a = 0; a < 3; a++)
@@ -366,7 +397,8 @@ float *fractal_cloud_voxels(const fractal_params *p)
     } else if (p->method == FRACTAL_SPECTRAL) {
         temp = count * (2 * sizeof(double) + sizeof(double));
     }
-    if (budget_take(count * sizeof(float), "fractal cloud grid") != BRUME_OK ||
+    if (fractal_check_work(p, count) != BRUME_OK ||
+        budget_take(count * sizeof(float), "fractal cloud grid") != BRUME_OK ||
         budget_take(temp, "fractal cloud lattice") != BRUME_OK)
         return NULL;
     float *f = fractal_base(p);

@@ -1,4 +1,5 @@
 /* procedural.c - the default scene's cloud: value-noise fBm carved by a cumulus shape. */
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/budget.h"
@@ -6,6 +7,8 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "density/density.h"
+
+#define PROCEDURAL_OCTAVES 5 /* of the fBm: the work of a voxel (render.max_work) */
 
 /* Lattice value in [-1, 1] at integer point (i, j, k). */
 static double lattice(int64_t i, int64_t j, int64_t k, uint64_t seed)
@@ -73,7 +76,10 @@ density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds)
         return NULL;
     }
     size_t count = (size_t)n * (size_t)n * (size_t)n;
-    if (budget_take(count * sizeof(float), "procedural cloud") != BRUME_OK)
+    char how[64];
+    snprintf(how, sizeof how, "%d^3 voxels x %d octaves of noise", n, PROCEDURAL_OCTAVES);
+    if (budget_work((double)count * PROCEDURAL_OCTAVES, "procedural cloud", how) != BRUME_OK ||
+        budget_take(count * sizeof(float), "procedural cloud") != BRUME_OK)
         return NULL;
     float *data = malloc(count * sizeof *data);
     if (!data) {
@@ -91,7 +97,7 @@ density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds)
             for (int i = 0; i < n; i++) {
                 vec3 q = v3(2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0, 2.0 * (k + 0.5) / n - 1.0);
                 double shape = cumulus_shape(q);
-                double noise = fbm(v3_scale(q, 3.0), seed, 5);
+                double noise = fbm(v3_scale(q, 3.0), seed, PROCEDURAL_OCTAVES);
                 double v = fmax(0.0, 2.5 * shape + 0.9 * noise);
                 data[(size_t)i + (size_t)n * ((size_t)j + (size_t)n * (size_t)k)] = (float)v;
                 vmax = fmax(vmax, v);

@@ -207,22 +207,46 @@ static double gltf_node_vertices(const cJSON *nodes, const cJSON *meshes, const 
     return memo[n] = v;
 }
 
-/* A .gltf (JSON) file: the vertices its scenes make once assimp has copied every instance
- * (aiProcess_PreTransformVertices) must fit in the memory budget, at about 100 bytes each
- * in assimp (positions, normals, the copies) -- refused before assimp builds them (issue 36:
- * a 1 KB file of 4 levels x 50 children built 5.8 GB). BRUME_OK for other files. */
-static brume_status gltf_check(FILE *f, const char *path, long file_size)
+/* The JSON of a glTF file, malloc'd and NUL-terminated: the whole of a .gltf, the first
+ * chunk of a .glb (binary glTF 2.0: "glTF", version, length, then the JSON chunk's length
+ * and type "JSON"); NULL for other files, or one too large to parse here (the child's limits
+ * hold). */
+static char *gltf_json(FILE *f, const char *path, long file_size)
 {
     size_t n = strlen(path);
-    if (n < 5 || strcmp(path + n - 5, ".gltf") != 0 || file_size <= 0 || (size_t)file_size > budget_left())
-        return BRUME_OK; /* too large to parse here: the child's limits hold */
-    char *text = malloc((size_t)file_size + 1);
+    bool text = n >= 5 && strcmp(path + n - 5, ".gltf") == 0, binary = n >= 4 && strcmp(path + n - 4, ".glb") == 0;
+    if ((!text && !binary) || file_size <= 0 || (size_t)file_size > budget_left())
+        return NULL;
+    size_t offset = 0, len = (size_t)file_size;
     rewind(f);
-    if (!text || fread(text, 1, (size_t)file_size, f) != (size_t)file_size) {
-        free(text);
-        return BRUME_OK;
+    if (binary) {
+        uint32_t h[5];
+        if (fread(h, sizeof h, 1, f) != 1 || memcmp(h, "glTF", 4) != 0 || memcmp(h + 4, "JSON", 4) != 0 ||
+            h[3] > (uint64_t)file_size - sizeof h)
+            return NULL; /* assimp says what is wrong (the header is little-endian, as this machine) */
+        offset = sizeof h;
+        len = h[3];
     }
-    text[file_size] = '\0';
+    char *json = malloc(len + 1);
+    if (!json || fseek(f, (long)offset, SEEK_SET) != 0 || fread(json, 1, len, f) != len) {
+        free(json);
+        return NULL;
+    }
+    json[len] = '\0';
+    return json;
+}
+
+/* A glTF file (.gltf or .glb): the vertices its scenes make once assimp has copied every
+ * instance (aiProcess_PreTransformVertices) must fit in the memory budget, at about 100
+ * bytes each in assimp (positions, normals, the copies) -- refused before assimp builds them
+ * (issue 36: a 1 KB file of 4 levels x 50 children built 5.8 GB). BRUME_OK for other files:
+ * formats without instancing (PLY, OBJ, STL) build what their size says, and the others are
+ * bounded by the child's address space and CPU time. */
+static brume_status gltf_check(FILE *f, const char *path, long file_size)
+{
+    char *text = gltf_json(f, path, file_size);
+    if (!text)
+        return BRUME_OK;
     cJSON *doc = cJSON_Parse(text);
     free(text);
     if (!doc)

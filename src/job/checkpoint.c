@@ -338,6 +338,7 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
     job->spp_done = hd.spp_done;
     job->target = hd.target;
     job->elapsed = hd.elapsed;
+    job->elapsed_saved = hd.elapsed; /* reported; this run's budget is its own */
     job_refresh(job);
     *out = job;
     return BRUME_OK;

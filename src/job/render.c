@@ -274,12 +274,17 @@ void job_sample_params(const brume_render_job *job, sample_params *sp)
                           .squares = job->sq != NULL};
 }
 
-/* Seconds of the time budget used: the integrator's preparation (a light pass) and the
- * passes so far, the one in progress included. */
-static double job_used(const brume_render_job *job)
+/* Seconds spent: the integrator's preparation (a light pass) and the passes so far, the one
+ * in progress included, those of the runs before a resume too. */
+static double job_spent(const brume_render_job *job)
 {
     return job->prep_seconds + job->elapsed + (job->t_pass > 0.0 ? progress_now() - job->t_pass : 0.0);
 }
+
+/* Seconds of this run's time budget used: what was spent since brume_render_begin or
+ * brume_render_job_resume (a resumed job takes another budget: the saved seconds are not
+ * charged to it). */
+static double job_used(const brume_render_job *job) { return job_spent(job) - job->elapsed_saved; }
 
 /* Under a time budget: true, and the job stopped, once the budget is spent. */
 static bool job_time_is_up(brume_render_job *job)
@@ -306,7 +311,7 @@ static int job_next_pass(const brume_render_job *job, bool unwatched);
 static void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
 {
     const brume_render_settings *rs = &job->rs;
-    double used = job_used(job);
+    double used = job_spent(job);
     f->elapsed = used;
     f->spp = job->npart ? (double)job->done / (double)job->npart : 0.0;
     f->noise = job->sq && job->spp_done >= 2 ? job->noise : -1.0; /* as of the last pass boundary */
@@ -325,7 +330,7 @@ static void job_figures(const brume_render_job *job, bool finished, progress_fig
     if (known && rate > 0.0)
         eta = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
     if (rs->time_budget > 0.0) {
-        double left = fmax(0.0, rs->time_budget - used);
+        double left = fmax(0.0, rs->time_budget - job_used(job));
         eta = eta < 0.0 ? left : fmin(eta, left);
     }
     f->eta = eta;
@@ -436,7 +441,8 @@ static void job_tile(size_t task, int thread, void *user)
     job->done += taken;
     double elapsed = job->elapsed + (progress_now() - job->t_pass);
     if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
-        job->total = (uint64_t)fmax((double)job->done, (double)job->done * rs->time_budget / elapsed);
+        job->total = (uint64_t)fmax((double)job->done,
+                                    (double)job->done * (job->elapsed_saved + rs->time_budget) / elapsed);
     if (job->total < job->done)
         job->total = job->done;
     pthread_mutex_unlock(&job->lock);

@@ -54,7 +54,10 @@ struct brume_render_job {
     double noise;     /* at the last completed pass: largest relative error on signal pixels */
     uint64_t done;    /* pixel samples taken */
     uint64_t total;   /* estimate of the pixel samples the whole job takes */
-    double elapsed;   /* seconds spent in passes before the current one */
+    double elapsed;   /* seconds spent in passes before the current one, across resumes */
+    double elapsed_saved; /* of elapsed, the seconds the checkpoint this job resumed had spent
+                             (0 for a new job): reported, never charged to this run's time
+                             budget (a resumed job takes another budget) */
     double t_pass;    /* progress_now() when the current pass started, 0 outside passes */
     bool out_of_time; /* the time budget ran out */
     double prep_seconds;   /* the integrator's preparation at job_create: part of a time budget */

@@ -157,6 +157,7 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     s->world_moves = world_moves(s); /* before voxelization turns moving blobs into grids */
     /* what commit generates counts against the scene's memory budget, after what reading took */
     budget_resume(s->max_memory, s->memory_used);
+    budget_set_work_limit(s->max_work);
     st = stam_commit_media(s);
     s->memory_used = budget_used();
     budget_end();

@@ -6,6 +6,7 @@
 #define BRUME_SCENE_SCENE_H
 
 #include "brume.h"
+#include "core/budget.h"
 #include "medium/medium.h"
 #include "scene/background.h"
 #include "scene/camera.h"
@@ -16,7 +17,7 @@
 
 #define SCENE_MAX_MEDIA 16
 #define SCENE_MAX_LIGHTS 4096
-#define SCENE_MAX_WORK_DEFAULT 1e12 /* render.max_work: about 3 hours of Blasi's light pass on 2 cores */
+#define SCENE_MAX_WORK_DEFAULT BUDGET_DEFAULT_WORK /* render.max_work (core/budget.h) */
 
 struct brume_scene {
     bool committed;

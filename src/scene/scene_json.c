@@ -761,6 +761,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     budget_set_limit((size_t)(mb * 1048576.0));
     /* the one work limit: each method estimates its work before it starts (issue 36) */
     if ((st = json_number(j, at, "max_work", 0, 1.0, 1e18, &s->max_work))) return st;
+    budget_set_work_limit(s->max_work); /* the generators below ask it (budget_work) */
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     if ((st = json_int(j, at, "width", 0, 1, 65536, &rs.width))) return st;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "core/budget.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
@@ -30,7 +31,26 @@ randfield *stam_scene_randfield(const brume_scene *s)
 {
     randfield_params rp;
     stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), s->time, stam_blob_extent(s), &rp);
-    return randfield_new(&rp);
+    /* the work before it starts (render.max_work, issue 36): a mode drawn per lattice point,
+     * then the FFT's log2(points) butterflies per point */
+    double points = (double)rp.n[0] * rp.n[1] * rp.n[2], work = points * (1.0 + log2(points));
+    if (work > s->max_work) {
+        err_set(BRUME_ERROR_RANGE,
+                "stam.lattice: the random field's %d x %d x %d lattice points are %.3g units of work (the FFT's "
+                "log2 per point), over render.max_work (%.3g): lower stam.lattice or raise stam.cell (or raise "
+                "render.max_work)",
+                rp.n[0], rp.n[1], rp.n[2], work, s->max_work);
+        return NULL;
+    }
+    /* its loops ask the render's progress callback too (issue 36: a 512^3 lattice takes
+     * minutes, and the library's cancel must stop it within a second) */
+    cancel_poll cancel;
+    cancel_poll_init(&cancel, &s->settings);
+    cancel_load_watch(&cancel);
+    randfield *q = randfield_new(&rp);
+    cancel_load_watch(NULL);
+    cancel_poll_finish(&cancel);
+    return q;
 }
 
 brume_status stam_voxelize_blobs(const brume_scene *s, int resolution, bool realization, const char *option,

@@ -280,6 +280,22 @@ def gltf_64mb(s):
     s['surfaces'] = [{'type': 'mesh', 'file': '../meshes/gltf_nested.gltf'}]
     s['render']['max_memory_mb'] = 64
 scene('mesh_gltf_nested_instances', 1, 'gltf_nested.gltf', gltf_64mb, group='mesh')
+def glb(text):
+    """A binary glTF 2.0 (.glb) of the glTF text: its JSON chunk (padded with spaces), its buffer 0 the BIN chunk."""
+    doc = json.loads(text)
+    import base64
+    binary = base64.b64decode(doc['buffers'][0].pop('uri').split(',', 1)[1])
+    data = json.dumps(doc).encode()
+    data += b' ' * (-len(data) % 4)
+    binary += b'\0' * (-len(binary) % 4)
+    return (struct.pack('<4sII', b'glTF', 2, 12 + 8 + len(data) + 8 + len(binary)) + struct.pack('<I4s', len(data), b'JSON')
+            + data + struct.pack('<I4s', len(binary), b'BIN\0') + binary)
+write('meshes/gltf_nested.glb', glb(nested_gltf(4, 50)))  # the same instances, binary: counted alike
+def glb_64mb(s):
+    s['surfaces'] = [{'type': 'mesh', 'file': '../meshes/gltf_nested.glb'}]
+    s['render']['max_memory_mb'] = 64
+scene('mesh_glb_nested_instances', 1, r'gltf_nested\.glb: its instances flattened make 1\.88e\+07 vertices', glb_64mb,
+      group='mesh')
 write('meshes/shape.xyz', '1 2 3\n')
 
 # ---- render settings -------------------------------------------------------------------------
@@ -554,7 +570,16 @@ cli('checkpoint_is_a_folder', 1, r'--checkpoint: .*not a regular file \(a folder
 cli('save_light_is_a_folder', 1, r'--save-light: .*not a regular file \(a folder\)', 'render ' + S + ' --method blasi --save-light {T}')
 cli('figures_out_is_a_file', 1, r'figures: -o .*ok\.pfm: not a folder', 'figures -o {D}/images/ok.pfm --quick')
 cli('stam_light_cache_over_max_work', 1, r'stam\.light_grid: .* units of work, over render\.max_work \(1e\+03\)',
-    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000')
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set render.max_work=1000 --set stam.eps=0')  # no random field: the light cache is the first work
+# work bounded like memory: each generator estimates its work before it starts
+scene('procedural_cloud_over_max_work', 1,
+      r'procedural_cloud_over_max_work\.json: media\[0\]\.density: .*64\^3 voxels x 5 octaves of noise are 1\.31e\+06 units of work, over render\.max_work \(1e\+05\)',
+      lambda s: (dens({'type': 'procedural_cloud', 'resolution': 64})(s), s['render'].update(max_work=1e5)))
+scene('fractal_cloud_over_max_work', 1,
+      r'fractal_cloud_over_max_work\.json: media\[0\]\.density: .*fractal cloud: 64 x 64 x 64 voxels .* units of work, over render\.max_work \(1e\+05\)',
+      lambda s: (dens({'type': 'fractal_cloud', 'dims': [64, 64, 64]})(s), s['render'].update(max_work=1e5)))
+cli('stam_random_field_over_max_work', 1, r'stam-compare\.json: stam: stam\.lattice: the random field.s 64 x 64 x 64 lattice points are 4\.98e\+06 units of work',
+    'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set stam.lattice=64 --set render.max_work=1e6')
 cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
