@@ -28,6 +28,8 @@
                                       launch ends with its longest paths running alone, a cost
                                       that small passes pay again and again (docs/gpu.md), while
                                       a pass this size takes well under a second */
+#define PASS_SHORT_REST 0.5 /* seconds: a fixed count whose remaining samples the last pass's cost
+                               predicts to take less than this ends in one pass (job_next_pass) */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
 
@@ -529,7 +531,10 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
  * would only cost (each rereads every pixel's sums and statistics, and waits for the
  * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
  * the passes). On a GPU, a pass after the first takes at least GPU_PASS_SAMPLES samples
- * (more than PASS_MAX a pixel on small images), budgets permitting. */
+ * (more than PASS_MAX a pixel on small images), budgets permitting. A watched render with a
+ * fixed count whose first passes show the rest to be short (PASS_SHORT_REST) takes it in one
+ * pass too: an interruption in that half second leaves tiles with different counts, which
+ * the partial image reports anyway. */
 static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
@@ -552,6 +557,10 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
         k = rs->noise_target > 0.0 && !timed ? rs->min_spp : 1; /* a budget starts at 1: the minimum yields */
     else
         k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
+    if (!timed && !(rs->noise_target > 0.0) && job->spp_done > 0 && job->sample_seconds > 0.0 &&
+        job->sample_seconds * (double)nactive * (double)(rs->spp - job->spp_done) <= PASS_SHORT_REST)
+        k = rs->spp - job->spp_done; /* the rest is short: in one pass (at most PASS_MAX), not in
+                                        several that each reread every pixel and wait for the slowest thread */
     k = k < 1 ? 1 : k;
     if (job->spp_done > 0 && k > PASS_MAX)
         k = PASS_MAX;
