@@ -512,6 +512,50 @@ TEST(filmic_curve)
     ASSERT_TRUE(image_encode_srgb8(1.0, &filmic) > 200);
 }
 
+/* The PNG writer's table gives image_encode_srgb8's byte for every float: checked float by
+ * float around every bound (where a wrong bound would show), at 2^-12 of all positive floats
+ * elsewhere, at the special values, and with every guess of the neighbour's code, under
+ * exposures that are and are not powers of two and under the tone curve. */
+TEST(srgb8_table_matches_the_function)
+{
+    const brume_write_options opts[4] = {
+        {0.0, BRUME_TONEMAP_CLAMP}, {1.3, BRUME_TONEMAP_CLAMP}, {-2.7, BRUME_TONEMAP_CLAMP}, {0.5, BRUME_TONEMAP_FILMIC}};
+    for (int o = 0; o < 4; o++) {
+        image_srgb8_table t;
+        image_srgb8_table_init(&t, &opts[o]);
+        long checked = 0;
+        for (int k = 1; k < 256; k++) {
+            ASSERT_TRUE(t.first[k] > t.first[k - 1]); /* every code is reached by some float */
+            for (int64_t d = -64; d <= 64; d++) {
+                int64_t b = (int64_t)t.first[k] + d;
+                if (b < 1 || b > 0x7f800000)
+                    continue;
+                uint32_t u = (uint32_t)b;
+                float f;
+                memcpy(&f, &u, sizeof f);
+                unsigned char want = image_encode_srgb8((double)f, &opts[o]);
+                if (image_srgb8_lookup(&t, f, 0) != want || image_srgb8_lookup(&t, f, 255) != want ||
+                    image_srgb8_lookup(&t, f, (unsigned char)k) != want)
+                    TEST_FAIL("options %d: %.9g (bits 0x%08x) gives %d by table, %d by function", o, (double)f,
+                              (unsigned)u, image_srgb8_lookup(&t, f, 0), want);
+                checked++;
+            }
+        }
+        for (uint32_t u = 1; u <= 0x7f800000u - 4096u; u += 4096u) {
+            float f;
+            memcpy(&f, &u, sizeof f);
+            ASSERT_EQ_INT(image_srgb8_lookup(&t, f, (unsigned char)(u >> 12)), image_encode_srgb8((double)f, &opts[o]));
+            checked++;
+        }
+        const float special[] = {0.0f, -0.0f, -1.0f, -INFINITY, NAN, -NAN, INFINITY, 1e-45f, 1.0f, 3e38f};
+        for (size_t i = 0; i < sizeof special / sizeof special[0]; i++)
+            for (int near = 0; near < 256; near += 51)
+                ASSERT_EQ_INT(image_srgb8_lookup(&t, special[i], (unsigned char)near),
+                              image_encode_srgb8((double)special[i], &opts[o]));
+        ASSERT_TRUE(checked > 500000);
+    }
+}
+
 /* ---- dispatch ----------------------------------------------------------------------------- */
 
 TEST(unknown_extension)
@@ -739,7 +783,8 @@ TEST(pfm_bad_headers_fail)
 
 TEST_MAIN(image_new_validates_size, exr_round_trip_exact, exr_reads_half_rgb_without_alpha,
           pfm_round_trip_exact, pfm_row_order, pfm_gray_big_endian, srgb_known_values,
-          png_file_is_srgb8, png_round_trip, exposure_scales_by_powers_of_two, filmic_curve,
+          srgb8_table_matches_the_function, png_file_is_srgb8, png_round_trip, exposure_scales_by_powers_of_two,
+          filmic_curve,
           unknown_extension, write_into_missing_folder_fails, failed_write_keeps_old_file,
           write_replaces_and_leaves_no_temp, truncated_files_fail, garbage_and_wrong_magic_fail,
           pfm_bad_headers_fail)

@@ -215,3 +215,41 @@ unsigned char image_encode_srgb8(double linear, const brume_write_options *opts)
     return (unsigned char)floor(255.0 * image_srgb_encode(x) + 0.5);
 }
 
+static float float_of_bits(uint32_t b)
+{
+    float f;
+    memcpy(&f, &b, sizeof f);
+    return f;
+}
+
+/* Each bound by bisection over the bit patterns of the positive floats, 1 (the smallest
+ * subnormal) to 0x7f800000 (+inf), which are ordered as the floats: 255 x 31 evaluations of
+ * image_encode_srgb8, under a millisecond. The code is a rising step function of the float:
+ * x = linear 2^exposure, the tone curve and the sRGB curve all rise, and between two floats
+ * (2^29 doubles apart) the rising parts outweigh any rounding of exp2 or pow, so each code
+ * is taken by one run of floats and bisection finds where it starts
+ * (tests/test_image.c checks the table against image_encode_srgb8 float by float around
+ * every bound). */
+void image_srgb8_table_init(image_srgb8_table *t, const brume_write_options *opts)
+{
+    t->first[0] = 0;
+    uint32_t lo = 1;
+    for (int k = 1; k < 256; k++) {
+        const uint32_t top = 0x7f800000u; /* +inf */
+        if (image_encode_srgb8((double)float_of_bits(top), opts) < k) {
+            for (; k < 256; k++)
+                t->first[k] = UINT32_MAX; /* no float reaches code k (a tone curve below 1) */
+            return;
+        }
+        uint32_t hi = top; /* code(hi) >= k; code(b) < k for every b < lo */
+        while (lo < hi) {
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (image_encode_srgb8((double)float_of_bits(mid), opts) >= k)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        t->first[k] = lo;
+    }
+}
+
