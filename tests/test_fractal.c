@@ -54,18 +54,46 @@ TEST(midpoint_hurst_and_determinism)
     float *f = malloc(65 * 65 * 65 * sizeof *f), *g = malloc(65 * 65 * 65 * sizeof *g);
     for (int h = 0; h < 2; h++) {
         double H = h ? 0.8 : 0.4;
-        ASSERT_EQ_INT(fractal_midpoint(6, H, 5, f), BRUME_OK);
+        ASSERT_EQ_INT(fractal_midpoint(6, H, 5, 65, f), BRUME_OK);
         double est = estimated_h(f, n);
         printf("midpoint H %.2f: estimated %.3f\n", H, est);
         ASSERT_NEAR(est, H, 0.15);
     }
-    ASSERT_EQ_INT(fractal_midpoint(6, 0.8, 5, g), BRUME_OK);
+    ASSERT_EQ_INT(fractal_midpoint(6, 0.8, 5, 65, g), BRUME_OK);
     ASSERT_TRUE(memcmp(f, g, 65 * 65 * 65 * sizeof *f) == 0);
-    ASSERT_EQ_INT(fractal_midpoint(6, 0.8, 6, g), BRUME_OK);
+    ASSERT_EQ_INT(fractal_midpoint(6, 0.8, 6, 65, g), BRUME_OK);
     ASSERT_TRUE(memcmp(f, g, 65 * 65 * 65 * sizeof *f) != 0);
-    ASSERT_TRUE(fractal_midpoint(11, 0.5, 1, g) != BRUME_OK);
+    ASSERT_TRUE(fractal_midpoint(11, 0.5, 1, 2049, g) != BRUME_OK);
+    ASSERT_TRUE(fractal_midpoint(6, 0.5, 1, 0, g) != BRUME_OK);
+    ASSERT_TRUE(fractal_midpoint(6, 0.5, 1, 66, g) != BRUME_OK);
     free(f);
     free(g);
+}
+
+/* The first planes alone are those of the whole lattice, bit for bit, at every count of
+ * planes (the bounds of the substeps filled); the planes after them are not written. */
+TEST(midpoint_first_planes_are_the_whole_lattices)
+{
+    const size_t plane = 33 * 33, all = 33 * plane;
+    float *whole = malloc(all * sizeof *whole), *part = malloc(all * sizeof *part);
+    ASSERT_EQ_INT(fractal_midpoint(5, 0.7, 11, 33, whole), BRUME_OK);
+    for (int planes = 1; planes <= 33; planes++) {
+        for (size_t i = 0; i < all; i++)
+            part[i] = NAN;
+        ASSERT_EQ_INT(fractal_midpoint(5, 0.7, 11, planes, part), BRUME_OK);
+        ASSERT_TRUE(memcmp(part, whole, (size_t)planes * plane * sizeof *part) == 0);
+        size_t filled = 0;
+        for (size_t i = 0; i < all; i++)
+            filled += isnan(part[i]) ? 0u : 1u;
+        if (planes <= 10) { /* most of the lattice is left alone: (1, 1, 32), set at the last level, too */
+            ASSERT_TRUE(isnan(part[1 + 33 + 32 * plane]));
+            ASSERT_TRUE(filled < all / 2);
+        }
+        if (planes == 33)
+            ASSERT_TRUE(filled == all);
+    }
+    free(whole);
+    free(part);
 }
 
 TEST(perlin_noise_properties)
@@ -193,5 +221,6 @@ TEST(cli_gen_info_convert)
     remove(df3);
 }
 
-TEST_MAIN(spectral_hurst, midpoint_hurst_and_determinism, perlin_noise_properties, cloud_shape_threshold_time,
+TEST_MAIN(spectral_hurst, midpoint_hurst_and_determinism, midpoint_first_planes_are_the_whole_lattices,
+          perlin_noise_properties, cloud_shape_threshold_time,
           cli_gen_info_convert)

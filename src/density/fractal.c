@@ -29,14 +29,29 @@ static double gauss(uint64_t seed, uint64_t stream, uint64_t index)
  * and the 4 neighbouring face centres), each an average of the points at hand plus a
  * gaussian displacement. Spacing shrinks by 2 per level, so for fBm of exponent H the
  * displacement's deviation shrinks by 2^-H per level: 2^(-H/3) per substep here, as P&S
- * use 2^(-H/2) per substep in 2-D. */
-brume_status fractal_midpoint(int level, double hurst, uint64_t seed, float *out)
+ * use 2^(-H/2) per substep in 2-D.
+ *
+ * Only the planes k < planes are asked for (a 65 x 65 x 10 grid keeps 10 of the 65^3
+ * lattice's planes): a point reads points at most h away, in points set by earlier
+ * substeps, so going back from the last substep, each substep must fill the planes up to
+ * the bound of the one after it plus that one's h (bound[]). Every point filled is computed
+ * as in the whole lattice, from the same points: the same bits. */
+brume_status fractal_midpoint(int level, double hurst, uint64_t seed, int planes, float *out)
 {
     if (level < 1 || level > 10 || !(hurst > 0.0 && hurst < 1.0))
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "midpoint: level %d outside [1, 10] or H %g outside (0, 1)",
                        level, hurst);
     const int N = (1 << level) + 1;
     const size_t sN = (size_t)N;
+    if (planes < 1 || planes > N)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "midpoint: %d planes of a lattice of %d", planes, N);
+    int bound[3 * 10]; /* substep t (level by level, kinds 3, 2, 1) fills the planes k <= bound[t] */
+    int nsub = 3 * level, need = planes - 1;
+    for (int t = nsub - 1; t >= 0; t--) {
+        int h = 1 << (level - 1 - t / 3); /* the first level's h is 2^(level - 1), the last's 1 */
+        bound[t] = need;
+        need = need + h < N - 1 ? need + h : N - 1;
+    }
 #define AT(i, j, k) out[(size_t)(i) + sN * ((size_t)(j) + sN * (size_t)(k))]
     for (int c = 0; c < 8; c++) {
         int i = (c & 1) ? N - 1 : 0, j = (c & 2) ? N - 1 : 0, k = (c & 4) ? N - 1 : 0;
@@ -44,13 +59,14 @@ brume_status fractal_midpoint(int level, double hurst, uint64_t seed, float *out
     }
     double delta = sqrt(1.0 - pow(2.0, 2.0 * hurst - 2.0)); /* P&S: sigma^2 (1 - 2^(2H-2)) at the first level */
     const double sub = pow(2.0, -hurst / 3.0);
+    int t = 0; /* the substep */
     for (int s = N - 1; s >= 2; s /= 2) {
         int h = s / 2;
         delta *= pow(2.0, -hurst); /* first level: delta = (1/2)^H sqrt(1 - 2^(2H-2)) */
         /* substep kind: how many coordinates sit at odd multiples of h (3 centres, 2 faces, 1 edges) */
-        for (int kind = 3; kind >= 1; kind--) {
+        for (int kind = 3; kind >= 1; kind--, t++) {
             double dev = delta * pow(sub, 3 - kind);
-            for (int k = 0; k < N; k += h) {
+            for (int k = 0; k <= bound[t]; k += h) {
                 if (cancel_load_check("fractal midpoint") != BRUME_OK) /* a plane: 1025^2 points at most */
                     return BRUME_ERROR_CANCELLED;
                 for (int j = 0; j < N; j += h)
@@ -288,7 +304,7 @@ static float *fractal_base(const fractal_params *p)
             L++;
         size_t N = ((size_t)1 << L) + 1;
         float *lat = malloc(N * N * N * sizeof *lat);
-        if (!lat || fractal_midpoint(L, p->hurst, p->seed, lat) != BRUME_OK) {
+        if (!lat || fractal_midpoint(L, p->hurst, p->seed, p->n[2], lat) != BRUME_OK) {
             if (!lat)
                 err_set(BRUME_ERROR_OUT_OF_MEMORY, "fractal: out of memory for a %zu^3 lattice", N);
             free(lat);

@@ -62,8 +62,10 @@ float *fractal_cloud_voxels(const fractal_params *p);
 density *fractal_cloud(const fractal_params *p, box3 bounds, grid_filter filter);
 
 /* Building blocks, each returning BRUME_OK or an error. out must hold the stated count. */
-/* (2^level + 1)^3 values, zero mean at the corners' scale sigma = 1, level in [1, 10]. */
-brume_status fractal_midpoint(int level, double hurst, uint64_t seed, float *out);
+/* (2^level + 1)^3 values, zero mean at the corners' scale sigma = 1, level in [1, 10]; only
+ * the planes k < planes (in [1, 2^level + 1]) are filled, each as in the whole lattice, and
+ * the others hold what they held. */
+brume_status fractal_midpoint(int level, double hurst, uint64_t seed, int planes, float *out);
 /* n0 n1 n2 values (x fastest), periodic, normalized to zero mean and unit variance. */
 brume_status fractal_spectral(const int n[3], double hurst, uint64_t seed, float *out);
 
