@@ -10,7 +10,11 @@
  *      threads 1 and 2 (or T only): the first render runs both passes (the whole brume_render call);
  *      the second reuses the light pass the scene keeps between renders, so it is the
  *      view pass alone. The last line gives the two medians on 2 threads (issue 18's
- *      figures). --passes-only stops here.
+ *      figures). Interleaved with the 2-thread runs, the command a user runs, timed whole
+ *      process (start, scene, both passes, the PNG written, exit): `brume render SCENE -o
+ *      TMP.png` (with --threads 2 where the machine has another count of cores), and `brume
+ *      --version` (the process's start alone); the command's wall and CPU medians, and its
+ *      ratio to both passes through the API. --passes-only stops here.
  *   2. time to equal error: at W x W (default 200) a path-traced reference with --ref-spp
  *      spp (default 512); blasi's relative RMSE against it (both passes, 2 threads); then
  *      path at 1, 2, 4, ... spp with other seeds: the time at which path's relative RMSE
@@ -19,6 +23,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -88,6 +94,39 @@ static brume_image *render(brume_scene *s, double *secs)
 
 #define MAX_RUNS 15
 
+static double seconds(struct timeval t) { return (double)t.tv_sec + 1e-6 * (double)t.tv_usec; }
+
+/* Runs argv (stdout and stderr to /dev/null) and waits: its wall-clock seconds, from before
+ * the fork to its end, and in *cpu its user + system CPU seconds. Exits on failure. */
+static double run_process(char *const argv[], double *cpu)
+{
+    fflush(stdout); /* the child must not print this process's buffered lines again */
+    double t0 = progress_now();
+    pid_t pid = fork();
+    if (pid < 0) {
+        perror("bench_blasi: fork");
+        exit(1);
+    }
+    if (pid == 0) {
+        FILE *null = freopen("/dev/null", "w", stdout);
+        if (!null || dup2(fileno(stdout), 2) < 0)
+            _exit(127);
+        execv(argv[0], argv);
+        _exit(127);
+    }
+    int status = 0;
+    struct rusage before, after; /* the children's totals: this one's is the difference */
+    getrusage(RUSAGE_CHILDREN, &before);
+    if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        fprintf(stderr, "bench_blasi: %s %s failed (status %d)\n", argv[0], argv[1], status);
+        exit(1);
+    }
+    double wall = progress_now() - t0;
+    getrusage(RUSAGE_CHILDREN, &after);
+    *cpu = seconds(after.ru_utime) + seconds(after.ru_stime) - seconds(before.ru_utime) - seconds(before.ru_stime);
+    return wall;
+}
+
 int main(int argc, char **argv)
 {
     const char *scene = NULL, *ref_out = NULL;
@@ -132,10 +171,26 @@ int main(int argc, char **argv)
            "M view rays/s");
     double both2 = 0.0, view2 = 0.0;
     uint64_t inter = 0, nrays = 0, traced = 0;
+    /* the user's command: as typed on a 2-core machine; elsewhere with --threads 2 */
+    char out_dir[] = "/tmp/bench_blasi_XXXXXX", out_png[64], threads_arg[] = "2";
+    if (!mkdtemp(out_dir)) {
+        perror("bench_blasi: mkdtemp");
+        return 1;
+    }
+    snprintf(out_png, sizeof out_png, "%s/p.png", out_dir);
+    const bool two_cores = sysconf(_SC_NPROCESSORS_ONLN) == 2;
+    char *cli[] = {BRUME_EXE, "render", (char *)scene, "-o", out_png, two_cores ? NULL : "--threads", threads_arg, NULL};
+    char *version[] = {BRUME_EXE, "--version", NULL};
+    double cli_wall[MAX_RUNS], cli_cpu[MAX_RUNS], ver_wall[MAX_RUNS], ver_cpu[MAX_RUNS];
     for (int threads = only_threads ? only_threads : 1; threads <= (only_threads ? only_threads : 2); threads++) {
         double tb[MAX_RUNS], tv[MAX_RUNS], tl[MAX_RUNS], cb[MAX_RUNS], cv[MAX_RUNS];
         int w = 0, h = 0, spp = 0;
+        const bool with_cli = threads == 2;
         for (int r = 0; r < runs; r++) {
+            if (with_cli) { /* interleaved: the command, then the API's renders of the same round */
+                cli_wall[r] = run_process(cli, &cli_cpu[r]);
+                ver_wall[r] = run_process(version, &ver_cpu[r]);
+            }
             brume_scene *s = load(scene, "blasi", threads, 0, 0, 1, NULL, NULL);
             brume_image *img = render(s, &tb[r]);
             cb[r] = last_cpu;
@@ -172,6 +227,17 @@ int main(int argc, char **argv)
     printf("on %d threads, medians of %d: both passes %.3f s (issue 18: <= 0.25), view pass alone with the light "
            "pass kept %.3f s (<= 0.1)\n",
            only_threads ? only_threads : 2, runs, both2, view2);
+    if (only_threads == 0 || only_threads == 2) {
+        double cw = bench_median(cli_wall, runs), cc = bench_median(cli_cpu, runs);
+        printf("the user's command, whole process, medians of %d interleaved with the 2-thread runs:\n", runs);
+        printf("  %s render %s -o %s%s: %.3f s wall (issue 37: <= 0.3), %.3f CPU s; %.2f x both passes "
+               "through the API\n",
+               BRUME_EXE, scene, out_png, two_cores ? "" : " --threads 2", cw, cc, cw / both2);
+        printf("  %s --version (the process's start alone): %.1f ms wall, %.1f CPU ms\n", BRUME_EXE,
+               1e3 * bench_median(ver_wall, runs), 1e3 * bench_median(ver_cpu, runs));
+    }
+    unlink(out_png);
+    rmdir(out_dir);
     if (passes_only)
         return 0;
 
