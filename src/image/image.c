@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/bigmem.h"
 #include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
@@ -27,7 +28,7 @@ brume_image *image_new(int width, int height)
     brume_image *img = calloc(1, sizeof *img);
     if (!img)
         return NULL;
-    img->rgba = calloc(n * 4, sizeof(float));
+    img->rgba = bigmem_calloc(n * 4, sizeof(float)); /* huge pages when large: core/bigmem.h */
     if (!img->rgba) {
         free(img);
         return NULL;
@@ -72,7 +73,7 @@ float *image_add_layer(brume_image *img, const char *name, int channels, const c
         return NULL;
     image_layer *l = &img->layers[img->nlayers];
     memset(l, 0, sizeof *l);
-    l->px = calloc((size_t)img->width * (size_t)img->height * (size_t)channels, sizeof(float));
+    l->px = bigmem_calloc((size_t)img->width * (size_t)img->height * (size_t)channels, sizeof(float));
     if (!l->px)
         return NULL;
     snprintf(l->name, sizeof l->name, "%s", name);

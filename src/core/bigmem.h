@@ -1,0 +1,23 @@
+/* bigmem.h - large zeroed arrays (a render's film, an image's pixels) in 2 MiB pages where
+ * the kernel gives them.
+ *
+ * The first touch of each 4 KiB page of fresh memory is a page fault. On the project's EPYC
+ * VM a fault costs some 10 to 40 us (its page tables are shadowed by the hypervisor: 13 MB
+ * touched page by page took 136-181 ms, in 2 MiB pages 10-14 ms, docs/performance.md,
+ * "Start-up"), so a 400 x 400 render's film and image (13 MB) cost more than its view pass.
+ * Arrays of BIGMEM_MIN bytes or more are therefore aligned to 2 MiB and marked for Linux's
+ * transparent huge pages (MADV_HUGEPAGE: used when the system's setting is `madvise` or
+ * `always`, ignored under `never` or elsewhere); smaller ones are calloc's.
+ *
+ * Ownership: the caller frees the array with free(). Failure: NULL, nothing allocated. */
+#ifndef BRUME_CORE_BIGMEM_H
+#define BRUME_CORE_BIGMEM_H
+
+#include <stddef.h>
+
+#define BIGMEM_MIN ((size_t)2 << 20) /* bytes: one huge page */
+
+/* count x size zeroed bytes, as calloc; NULL on overflow or out of memory. */
+void *bigmem_calloc(size_t count, size_t size);
+
+#endif
