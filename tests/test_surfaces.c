@@ -295,6 +295,26 @@ TEST(assimp_opened_on_first_use)
     ASSERT_TRUE(!test_mapped("libassimp"));
 }
 
+/* Embree is opened when a scene with surfaces is built, not at the process's start, and
+ * not by a scene without surfaces (docs/performance.md, "Start-up"). */
+TEST(embree_opened_on_first_use)
+{
+    ASSERT_TRUE(!test_mapped("libembree"));
+    brume_image *img = test_render_json("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},"
+                                        " \"media\": [{\"sigma_a\": 0.5, \"sigma_s\": 0.5,"
+                                        " \"density\": {\"type\": \"constant\", \"bounds\": [[-1, -1, -1], [1, 1, 1]]}}],"
+                                        " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 1}}",
+                                        1);
+    brume_image_release(img);
+    ASSERT_TRUE(!test_mapped("libembree"));
+    img = test_render_json("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},"
+                           " \"surfaces\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1,"
+                           " \"material\": {\"albedo\": 0.5}}], \"render\": {\"width\": 4, \"height\": 4, \"spp\": 1}}",
+                           1);
+    brume_image_release(img);
+    ASSERT_TRUE(test_mapped("libembree"));
+}
+
 TEST_MAIN(lit_plane_through_fog, fog_shadow_matches_transmittance, furnace_inside_emitting_sphere,
           furnace_white_sphere_outside, furnace_white_ground_cloud, emitter_front_side, bad_meshes_are_errors,
-          large_mesh_renders, assimp_opened_on_first_use)
+          large_mesh_renders, assimp_opened_on_first_use, embree_opened_on_first_use)

@@ -1,10 +1,19 @@
 /* surfaces.c - solid objects: spheres and triangle meshes (fixed or motion-blurred), their
  * Embree 3 scene and queries on the CPU, their emitter table, and their copy for the GPU
- * with brume's own hierarchy (the queries themselves: surface_query.c). */
+ * with brume's own hierarchy (the queries themselves: surface_query.c).
+ *
+ * libembree3 is opened by its SONAME (BRUME_EMBREE_SONAME, read from the library CMake found)
+ * when the first scene with surfaces is built, not linked: its static constructors and those
+ * of TBB and libstdc++ that it brings took 7 ms of every brume process's start on the
+ * project's machine, and most scenes have no surface (docs/performance.md, "Start-up"). The
+ * functions keep the header's types (the table rtc). */
+#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "surface/surfaces.h"
 
+#include <dlfcn.h>
 #include <embree3/rtcore.h>
 #include <float.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +21,42 @@
 #include "core/arena.h"
 #include "core/error.h"
 #include "surface/surfaces_impl.h"
+
+#ifndef BRUME_EMBREE_SONAME
+#define BRUME_EMBREE_SONAME "libembree3.so.3"
+#endif
+
+#define EMBREE_FUNCTIONS(X)                                                                             \
+    X(rtcNewDevice) X(rtcSetDeviceErrorFunction) X(rtcReleaseDevice) X(rtcNewScene) X(rtcReleaseScene)  \
+    X(rtcSetSceneBuildQuality) X(rtcCommitScene) X(rtcNewGeometry) X(rtcSetGeometryTimeStepCount)       \
+    X(rtcSetNewGeometryBuffer) X(rtcCommitGeometry) X(rtcAttachGeometryByID) X(rtcReleaseGeometry)      \
+    X(rtcIntersect1) X(rtcOccluded1)
+
+static struct {
+#define EMBREE_POINTER(f) __typeof__(f) *f;
+    EMBREE_FUNCTIONS(EMBREE_POINTER)
+#undef EMBREE_POINTER
+    bool ok;
+} rtc;
+static char rtc_error[512];
+static pthread_once_t rtc_once = PTHREAD_ONCE_INIT;
+
+static void embree_open(void)
+{
+    void *h = dlopen(BRUME_EMBREE_SONAME, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        snprintf(rtc_error, sizeof rtc_error, "%s", dlerror());
+        return;
+    }
+    rtc.ok = true;
+#define EMBREE_LOOKUP(f)                                                                                \
+    if (rtc.ok && !(rtc.f = (__typeof__(f) *)dlsym(h, #f))) {                                            \
+        snprintf(rtc_error, sizeof rtc_error, "%s lacks %s", BRUME_EMBREE_SONAME, #f);                   \
+        rtc.ok = false;                                                                                  \
+    }
+    EMBREE_FUNCTIONS(EMBREE_LOOKUP)
+#undef EMBREE_LOOKUP
+}
 
 static void on_embree_error(void *user, enum RTCError code, const char *msg)
 {
@@ -26,13 +71,19 @@ surfaces *surfaces_new(void)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory");
         return NULL;
     }
-    s->device = rtcNewDevice("threads=1,set_affinity=0");
+    pthread_once(&rtc_once, embree_open);
+    if (!rtc.ok) {
+        free(s);
+        err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: cannot open Embree: %s", rtc_error);
+        return NULL;
+    }
+    s->device = rtc.rtcNewDevice("threads=1,set_affinity=0");
     if (!s->device) {
         free(s);
         err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: Embree could not start (rtcNewDevice failed)");
         return NULL;
     }
-    rtcSetDeviceErrorFunction(s->device, on_embree_error, NULL);
+    rtc.rtcSetDeviceErrorFunction(s->device, on_embree_error, NULL);
     return s;
 }
 
@@ -54,8 +105,8 @@ void surfaces_release(surfaces *s)
     bvh_free(&s->hier);
     free(s->ref);
     if (s->scene)
-        rtcReleaseScene(s->scene);
-    rtcReleaseDevice(s->device);
+        rtc.rtcReleaseScene(s->scene);
+    rtc.rtcReleaseDevice(s->device);
     free(s);
 }
 
@@ -242,10 +293,10 @@ brume_status surfaces_commit(surfaces *s)
     if (s->committed)
         return BRUME_OK;
     err_clear();
-    s->scene = rtcNewScene(s->device);
+    s->scene = rtc.rtcNewScene(s->device);
     if (!s->scene)
         return err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: Embree could not create a scene");
-    rtcSetSceneBuildQuality(s->scene, RTC_BUILD_QUALITY_HIGH);
+    rtc.rtcSetSceneBuildQuality(s->scene, RTC_BUILD_QUALITY_HIGH);
     for (int i = 0; i < s->n; i++) {
         surface_object *o = &s->obj[i];
         o->nsteps = 1;
@@ -254,15 +305,15 @@ brume_status surfaces_commit(surfaces *s)
             if (st)
                 return st;
         }
-        RTCGeometry g = rtcNewGeometry(s->device, o->is_sphere ? RTC_GEOMETRY_TYPE_SPHERE_POINT
+        RTCGeometry g = rtc.rtcNewGeometry(s->device, o->is_sphere ? RTC_GEOMETRY_TYPE_SPHERE_POINT
                                                                : RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetGeometryTimeStepCount(g, (unsigned)o->nsteps);
+        rtc.rtcSetGeometryTimeStepCount(g, (unsigned)o->nsteps);
         for (int k = 0; k < o->nsteps; k++) {
             if (o->is_sphere) {
-                float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT4,
+                float *v = rtc.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT4,
                                                    4 * sizeof(float), 1);
                 if (!v) {
-                    rtcReleaseGeometry(g);
+                    rtc.rtcReleaseGeometry(g);
                     return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
                 }
                 vec3 c;
@@ -273,10 +324,10 @@ brume_status surfaces_commit(surfaces *s)
                 v[2] = (float)c.z;
                 v[3] = (float)r;
             } else {
-                float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT3,
+                float *v = rtc.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, (unsigned)k, RTC_FORMAT_FLOAT3,
                                                    3 * sizeof(float), (size_t)o->nv);
                 if (!v) {
-                    rtcReleaseGeometry(g);
+                    rtc.rtcReleaseGeometry(g);
                     return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
                 }
                 const double *src = o->mo ? o->step + 3 * (size_t)k * (size_t)o->nv : o->pos;
@@ -285,20 +336,20 @@ brume_status surfaces_commit(surfaces *s)
             }
         }
         if (!o->is_sphere) {
-            unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+            unsigned *ix = rtc.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                    3 * sizeof(unsigned), (size_t)o->ntri);
             if (!ix) {
-                rtcReleaseGeometry(g);
+                rtc.rtcReleaseGeometry(g);
                 return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': Embree buffer allocation failed", o->name);
             }
             for (size_t j = 0; j < 3 * (size_t)o->ntri; j++)
                 ix[j] = (unsigned)o->idx[j];
         }
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(s->scene, g, (unsigned)i);
-        rtcReleaseGeometry(g);
+        rtc.rtcCommitGeometry(g);
+        rtc.rtcAttachGeometryByID(s->scene, g, (unsigned)i);
+        rtc.rtcReleaseGeometry(g);
     }
-    rtcCommitScene(s->scene);
+    rtc.rtcCommitScene(s->scene);
     if (err_status() != BRUME_OK)
         return err_status();
     brume_status st = build_emitters(s);
@@ -343,7 +394,7 @@ bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tma
     embree_ray(&rh.ray, r.o, r.d, tmin, tmax, u);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(s->scene, &ctx, &rh);
+    rtc.rtcIntersect1(s->scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return false;
     const surface_object *o = &s->obj[rh.hit.geomID];
@@ -384,7 +435,7 @@ bool surfaces_embree_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, do
     rtcInitIntersectContext(&ctx);
     struct RTCRay rr;
     embree_ray(&rr, o, d, tmin, tmax, shutter_time(s, time));
-    rtcOccluded1(s->scene, &ctx, &rr);
+    rtc.rtcOccluded1(s->scene, &ctx, &rr);
     return rr.tfar < 0.0f;
 }
 
