@@ -2,7 +2,7 @@
  * against the path tracer (docs/blasi.md).
  *
  *   build/bench/bench_blasi [SCENE.json] [--runs N] [--threads T] [--passes-only] [--cmp-size W] [--ref-spp N]
- *                           [--ref OUT.exr]
+ *                           [--ref OUT.exr] [--against OTHER_BRUME]
  *
  * SCENE defaults to scenes/blasi-picture1.json (the paper's configuration: 65 x 65 x 10
  * grid, 2^21 light rays, 400 x 400 x 10 view rays).
@@ -14,7 +14,8 @@
  *      process (start, scene, both passes, the PNG written, exit): `brume render SCENE -o
  *      TMP.png` (with --threads 2 where the machine has another count of cores), and `brume
  *      --version` (the process's start alone); the command's wall and CPU medians, and its
- *      ratio to both passes through the API. --passes-only stops here.
+ *      ratio to both passes through the API; with --against, another brume's command in the
+ *      same rounds too (an older build: before and after). --passes-only stops here.
  *   2. time to equal error: at W x W (default 200) a path-traced reference with --ref-spp
  *      spp (default 512); blasi's relative RMSE against it (both passes, 2 threads); then
  *      path at 1, 2, 4, ... spp with other seeds: the time at which path's relative RMSE
@@ -129,7 +130,7 @@ static double run_process(char *const argv[], double *cpu)
 
 int main(int argc, char **argv)
 {
-    const char *scene = NULL, *ref_out = NULL;
+    const char *scene = NULL, *ref_out = NULL, *against = NULL;
     int runs = 5, cmp_size = 200, ref_spp = 512, only_threads = 0;
     bool passes_only = false;
     for (int i = 1; i < argc; i++) {
@@ -138,6 +139,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--cmp-size") && i + 1 < argc) cmp_size = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--ref-spp") && i + 1 < argc) ref_spp = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--ref") && i + 1 < argc) ref_out = argv[++i];
+        else if (!strcmp(argv[i], "--against") && i + 1 < argc) against = argv[++i];
         else if (!strcmp(argv[i], "--passes-only")) passes_only = true;
         else if (argv[i][0] != '-') scene = argv[i];
         else {
@@ -181,7 +183,8 @@ int main(int argc, char **argv)
     const bool two_cores = sysconf(_SC_NPROCESSORS_ONLN) == 2;
     char *cli[] = {BRUME_EXE, "render", (char *)scene, "-o", out_png, two_cores ? NULL : "--threads", threads_arg, NULL};
     char *version[] = {BRUME_EXE, "--version", NULL};
-    double cli_wall[MAX_RUNS], cli_cpu[MAX_RUNS], ver_wall[MAX_RUNS], ver_cpu[MAX_RUNS];
+    char *other[] = {(char *)against, "render", (char *)scene, "-o", out_png, two_cores ? NULL : "--threads", threads_arg, NULL};
+    double cli_wall[MAX_RUNS], cli_cpu[MAX_RUNS], ver_wall[MAX_RUNS], ver_cpu[MAX_RUNS], oth_wall[MAX_RUNS], oth_cpu[MAX_RUNS];
     for (int threads = only_threads ? only_threads : 1; threads <= (only_threads ? only_threads : 2); threads++) {
         double tb[MAX_RUNS], tv[MAX_RUNS], tl[MAX_RUNS], cb[MAX_RUNS], cv[MAX_RUNS];
         int w = 0, h = 0, spp = 0;
@@ -190,6 +193,8 @@ int main(int argc, char **argv)
             if (with_cli) { /* interleaved: the command, then the API's renders of the same round */
                 cli_wall[r] = run_process(cli, &cli_cpu[r]);
                 ver_wall[r] = run_process(version, &ver_cpu[r]);
+                if (against)
+                    oth_wall[r] = run_process(other, &oth_cpu[r]);
             }
             brume_scene *s = load(scene, "blasi", threads, 0, 0, 1, NULL, NULL);
             brume_image *img = render(s, &tb[r]);
@@ -235,6 +240,11 @@ int main(int argc, char **argv)
                BRUME_EXE, scene, out_png, two_cores ? "" : " --threads 2", cw, cc, cw / both2);
         printf("  %s --version (the process's start alone): %.1f ms wall, %.1f CPU ms\n", BRUME_EXE,
                1e3 * bench_median(ver_wall, runs), 1e3 * bench_median(ver_cpu, runs));
+        if (against) {
+            double ow = bench_median(oth_wall, runs);
+            printf("  %s render %s -o %s: %.3f s wall, %.3f CPU s; this brume's / that one's: %.3f\n", against, scene,
+                   out_png, ow, bench_median(oth_cpu, runs), cw / ow);
+        }
     }
     unlink(out_png);
     rmdir(out_dir);

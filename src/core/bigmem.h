@@ -2,9 +2,10 @@
  * the kernel gives them.
  *
  * The first touch of each 4 KiB page of fresh memory is a page fault. On the project's EPYC
- * VM a fault costs some 10 to 40 us (its page tables are shadowed by the hypervisor: 13 MB
- * touched page by page took 136-181 ms, in 2 MiB pages 10-14 ms, docs/performance.md,
- * "Start-up"), so a 400 x 400 render's film and image (13 MB) cost more than its view pass.
+ * VM a fault costs some 10 to 40 us (a first touch traps to the hypervisor, even of a page
+ * that madvise(MADV_POPULATE_WRITE) populated: 13 MB touched page by page took 136-181 ms,
+ * 70 ms populated, 10-14 ms in 2 MiB pages, at load 6-9; docs/blasi.md, "Times"), so a
+ * 400 x 400 render's film and image (13 MB) cost tens of ms.
  * Arrays of BIGMEM_MIN bytes or more are therefore aligned to 2 MiB and marked for Linux's
  * transparent huge pages (MADV_HUGEPAGE: used when the system's setting is `madvise` or
  * `always`, ignored under `never` or elsewhere); smaller ones are calloc's.
