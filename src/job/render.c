@@ -29,7 +29,7 @@
                                       launch ends with its longest paths running alone, a cost
                                       that small passes pay again and again (docs/gpu.md), while
                                       a pass this size takes well under a second */
-#define PASS_SHORT_REST 0.5 /* seconds: a fixed count whose remaining samples the last pass's cost
+#define PASS_SHORT_REST 1.0 /* seconds: a fixed count whose remaining samples the last pass's cost
                                predicts to take less than this ends in one pass (job_next_pass) */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
@@ -536,7 +536,7 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
  * the passes). On a GPU, a pass after the first takes at least GPU_PASS_SAMPLES samples
  * (more than PASS_MAX a pixel on small images), budgets permitting. A watched render with a
  * fixed count whose first passes show the rest to be short (PASS_SHORT_REST) takes it in one
- * pass too: an interruption in that half second leaves tiles with different counts, which
+ * pass too: an interruption in that second leaves tiles with different counts, which
  * the partial image reports anyway. */
 static int job_next_pass(const brume_render_job *job, bool unwatched)
 {
