@@ -584,6 +584,13 @@ brume_status brume_density_load(brume_context *ctx, const char *path, const brum
  * given away on its own). opts.grid names the grid. */
 brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                     brume_density **out);
+/* The three components (out[0..2], an array of 3) of a velocity grid of a .vdb/.nvdb: opts.grid
+ * names a vec3 grid ("" = "vel"), or, when the file has no grid of that name, the three float
+ * grids NAME.x, NAME.y, NAME.z. Values may be negative, must be finite; opts.scale multiplies
+ * them (world units per second: brume_scene_set_medium_velocity). A grid of another type is
+ * refused, naming it. */
+brume_status brume_density_load_velocity(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                         brume_density **out);
 /* A fractal cloud grid (Blasi et al. 1993, 4.1; docs/grids.md), generated now. */
 typedef enum brume_fractal_method { BRUME_FRACTAL_MIDPOINT, BRUME_FRACTAL_SPECTRAL, BRUME_FRACTAL_PERLIN } brume_fractal_method;
 typedef enum brume_fractal_shape { BRUME_FRACTAL_SHAPE_NONE, BRUME_FRACTAL_SHAPE_ELLIPSOID, BRUME_FRACTAL_SHAPE_SLAB } brume_fractal_shape;
@@ -706,6 +713,16 @@ brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene 
  * sigma_a rho(x), besides its constant emission. */
 brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_scene *scene, int medium,
                                                    brume_density *const *fields, int n, const double color[3]);
+/* Velocity motion blur (docs/animation.md, "Velocity motion blur"): a velocity field v(x)
+ * (velocity: an array of 3, its x, y and z components, e.g. from brume_density_load_velocity)
+ * in world units per second, in the medium's own frame (before its keyframed motion). A ray
+ * at time t sees the density advected back from the frame time t_f (brume_scene_time):
+ * rho(x, t) = rho(x - v(x) (t - t_f)), and so its other fields; t - t_f lies within the
+ * camera's shutter. The majorants are widened at commit by max |v| times the shutter's
+ * reach from t_f, so the estimators stay unbiased. Rendered by path and single (and on the
+ * GPU); blasi and stam refuse such a medium. */
+brume_status brume_scene_set_medium_velocity(brume_context *ctx, brume_scene *scene, int medium,
+                                             brume_density *const *velocity);
 
 /* Keyframed motion of a medium or a surface: n in [1, 64] keys at strictly increasing times;
  * the object at time t is placed by translate(rotate(scale(p))) of the interpolated key

@@ -56,16 +56,18 @@ density *density_new_grid_affine(int nx, int ny, int nz, float *data, const affi
  * max_memory bounds the majorant tables built here (bytes; 0 = no limit). */
 density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const affine3 *extra, double scale,
                              size_t max_memory, const char *name);
-/* One field per component of a NanoVDB buffer: count = 1 needs a float grid (out[0]);
- * count = 3 gives the three components of a vec3f grid (or the float grid three times)
- * in out[0..2], sharing the buffer, which they own together on success (freed with the
- * last). Other arguments as density_new_nanovdb. */
 /* NanoVDB grids whose index box holds at most this many voxels (default 2^23) get a grid of
  * 4^3-voxel cells with exact bounds; larger ones the tree's nested majorants. Returns the
  * previous limit. For tests and benchmarks that compare the two; set it before loading. */
 uint64_t nanovdb_set_cell_grid_limit(uint64_t voxels);
+/* One field per component of a NanoVDB buffer: count = 1 needs a float grid (out[0]);
+ * count = 3 gives the three components of a vec3f grid (or the float grid three times)
+ * in out[0..2], sharing the buffer, which they own together on success (freed with the
+ * last). Other arguments as density_new_nanovdb. */
+/* any_sign: values may be negative (velocity components: medium.h); only finiteness is
+ * checked, and the majorants are then meaningless (such a field is only looked up). */
 bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
-                                double scale, size_t max_memory, const char *name, density **out);
+                                double scale, size_t max_memory, bool any_sign, const char *name, density **out);
 /* The mean density of a blob field (density/blobs.h), with a majorant grid of at most
  * majorant_cells cells along the longest axis of its bounds; "voxels" are those cells.
  * Takes ownership of f on success; on failure returns NULL with err_set() and frees nothing. */
@@ -215,6 +217,13 @@ static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *i
         seg->rho_ctl = fmax(seg->rho_min, fmin(seg->rho_maj, ctl_len / (seg->t1 - seg->t0)));
     return true;
 }
+
+/* Majorants of rho moved by any displacement of length <= radius (world units): a field
+ * whose majorant walk bounds rho(x - u) for every |u| <= radius (moved_majorant.c derives
+ * it), with no values (density_eval gives 0) and no lower bound or control (0). For velocity
+ * motion blur (medium.h). NULL with err_set() when out of memory or when the radius spans
+ * more than 1e6 voxels. */
+density *density_new_moved_majorant(const density *rho, double radius);
 
 /* Copies d with everything it points to into a (core/arena.h) for the GPU; returns the
  * copy's offset (ARENA_NULL on failure: a->failed). Blob fields are not copied (the GPU

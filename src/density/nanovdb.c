@@ -291,14 +291,15 @@ typedef struct walk {
     float bg;          /* the background value */
     int n[3];          /* the bounding box's voxels per axis */
     bool trilinear;    /* record the leaves' slabs (trilinear majorants) */
+    bool any_sign;     /* values may be negative (a velocity component): only finiteness is checked */
     size_t budget[3];  /* upper, lower, leaf nodes the buffer can hold */
 } walk;
 
 static bool value_ok(walk *w, float v, int x, int y, int z)
 {
-    if (!isfinite(v) || v < 0.0f) {
-        err_set(BRUME_ERROR_RANGE, "%s: voxel (%d, %d, %d) has density %g: need finite and >= 0", w->name, x, y, z,
-                (double)v);
+    if (!isfinite(v) || (v < 0.0f && !w->any_sign)) {
+        err_set(BRUME_ERROR_RANGE, "%s: voxel (%d, %d, %d) has %s %g: need finite%s", w->name, x, y, z,
+                w->any_sign ? "value" : "density", (double)v, w->any_sign ? "" : " and >= 0");
         return false;
     }
     w->vmin = fmin(w->vmin, (double)v);
@@ -821,8 +822,8 @@ static density *nano_density_new(const nano_header *h, int component, grid_filte
  * unless *small (a box small enough for a dense copy and a grid of cells,
  * nano_cell_grid_voxels), its blocks' majorants; the walk's tables must fit max_memory.
  * false with err_set. */
-static bool nano_walk_majorants(density *d, const nano_header *h, size_t size, size_t max_memory, const char *name,
-                                bool *small)
+static bool nano_walk_majorants(density *d, const nano_header *h, size_t size, size_t max_memory, bool any_sign,
+                                const char *name, bool *small)
 {
     nanovdb_state *s = d->nano;
     const pnanovdb_uint32_t type = h->type;
@@ -831,7 +832,7 @@ static bool nano_walk_majorants(density *d, const nano_header *h, size_t size, s
     w.name = name;
     w.s = s;
     w.vmin = INFINITY;
-    w.vmax = 0.0;
+    w.vmax = any_sign ? -(double)INFINITY : 0.0; /* the background's value is always seen */
     w.budget[0] = size / PNANOVDB_GRID_TYPE_GET(type, upper_size) + 1;
     w.budget[1] = size / PNANOVDB_GRID_TYPE_GET(type, lower_size) + 1;
     w.budget[2] = size / PNANOVDB_GRID_TYPE_GET(type, leaf_size) + 1;
@@ -839,6 +840,7 @@ static bool nano_walk_majorants(density *d, const nano_header *h, size_t size, s
         read_value(s, pnanovdb_address_offset(h->root.address, PNANOVDB_GRID_TYPE_GET(type, root_off_background)));
     w.bg = bg;
     w.trilinear = d->filter == GRID_TRILINEAR;
+    w.any_sign = any_sign;
     memcpy(w.n, d->n, sizeof w.n);
     bool ok = hash_init(&w.raw, 64) ? value_ok(&w, bg, h->lo.x, h->lo.y, h->lo.z) && walk_tree(&w, h->tiles, bg)
                                     : oom(&w);
@@ -903,7 +905,7 @@ static bool nano_small_box(density *d, size_t size, size_t max_memory, const cha
  * tree's block majorants. On failure NULL (err_set), and nothing of it is left: one release,
  * density_release, since shared is taken (a reference) only on success. */
 static density *nano_make(nano_buffer *shared, int component, grid_filter filter, const affine3 *extra, double scale,
-                          size_t max_memory, const char *name)
+                          size_t max_memory, bool any_sign, const char *name)
 {
     if (!(scale > 0.0) || !isfinite(scale)) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: density scale %g must be finite and > 0", name, scale);
@@ -917,7 +919,7 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
         return NULL;
     const size_t size = shared->size;
     bool small;
-    if (!nano_walk_majorants(d, &h, size, max_memory, name, &small)) {
+    if (!nano_walk_majorants(d, &h, size, max_memory, any_sign, name, &small)) {
         density_release(d);
         return NULL;
     }
@@ -943,11 +945,11 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
                              size_t max_memory, const char *name)
 {
     density *out[1];
-    return density_new_nanovdb_fields(buf, size, 1, filter, extra, scale, max_memory, name, out) ? out[0] : NULL;
+    return density_new_nanovdb_fields(buf, size, 1, filter, extra, scale, max_memory, false, name, out) ? out[0] : NULL;
 }
 
 bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
-                                double scale, size_t max_memory, const char *name, density **out)
+                                double scale, size_t max_memory, bool any_sign, const char *name, density **out)
 {
     nano_buffer *shared = calloc(1, sizeof *shared);
     if (!shared) {
@@ -957,7 +959,7 @@ bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter f
     shared->mem = buf;
     shared->size = size;
     for (int c = 0; c < count; c++) {
-        out[c] = nano_make(shared, count == 1 ? -1 : c, filter, extra, scale, max_memory, name);
+        out[c] = nano_make(shared, count == 1 ? -1 : c, filter, extra, scale, max_memory, any_sign, name);
         if (!out[c]) {
             /* undo: the buffer stays the caller's */
             shared->refs += 1;

@@ -77,6 +77,10 @@ size_t device_scene_put(const brume_scene *s, const void *state, dev_arena *a, s
                       put_density(md->emission[c], a, &pm));
         }
         arena_ptr(a, mat + offsetof(medium, temperature), put_density(md->temperature, a, &pm));
+        for (int c = 0; c < 3; c++)
+            arena_ptr(a, mat + offsetof(medium, velocity) + (size_t)c * sizeof(density *),
+                      put_density(md->velocity[c], a, &pm));
+        arena_ptr(a, mat + offsetof(medium, moved), put_density(md->moved, a, &pm));
         ARENA_PUT_MEMBER(a, mat, medium, motion, md->motion, sizeof(motion));
     }
     arena_ptr(a, at + offsetof(brume_scene, surf), surfaces_device_put(s->surf, a));

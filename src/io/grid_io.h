@@ -42,6 +42,8 @@ typedef struct density_load_options {
     grid_filter filter; /* GRID_NEAREST (Blasi: constant per voxel) or GRID_TRILINEAR */
     double scale;       /* multiplies every density, > 0 (0 is taken as 1) */
     size_t max_memory;  /* bytes the voxels may take; 0 = DENSITY_DEFAULT_MAX_MEMORY */
+    bool any_sign;      /* .vdb/.nvdb: values may be negative (velocity components, medium.h);
+                           only finiteness is checked */
     char grid[128];     /* .vdb/.nvdb: the grid's name; "" = the grid named "density", else the
                            only float grid (several float grids and none named density is an
                            error that lists them) */

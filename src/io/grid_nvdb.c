@@ -196,7 +196,8 @@ bool grid_nvdb_read(const unsigned char *b, size_t size, const char *name, const
         return false;
     }
     memcpy(buf, b + at, gbytes);
-    if (!density_new_nanovdb_fields(buf, gbytes, count, o->filter, NULL, o->scale, o->max_memory, name, out)) {
+    if (!density_new_nanovdb_fields(buf, gbytes, count, o->filter, NULL, o->scale, o->max_memory, o->any_sign, name,
+                                    out)) {
         free(buf);
         return false;
     }
@@ -225,15 +226,16 @@ brume_status grid_nvdb_list(const unsigned char *b, size_t n, const char *path, 
         }
         in[g].active = e[g].voxels;
         in[g].nano_bytes = e[g].size;
-        /* the value range: of the field brume would build (float and vec3s grids) */
+        /* the value range: of the field brume would build (float and vec3s grids), of any
+         * sign (a velocity's components are negative too) */
         if (e[g].type == 1 || e[g].type == 6) {
             int k = e[g].type == 1 ? 1 : 3;
             void *buf = aligned_alloc(32, ((size_t)e[g].size + 31) / 32 * 32 + 32);
             density *d[3];
             if (buf) {
                 memcpy(buf, b + e[g].at, (size_t)e[g].size);
-                if (density_new_nanovdb_fields(buf, (size_t)e[g].size, k, GRID_NEAREST, NULL, 1.0, max_memory, path,
-                                               d)) {
+                if (density_new_nanovdb_fields(buf, (size_t)e[g].size, k, GRID_NEAREST, NULL, 1.0, max_memory, true,
+                                               path, d)) {
                     in[g].vmin = INFINITY;
                     for (int c = 0; c < k; c++) {
                         density_info di;

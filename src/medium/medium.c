@@ -24,6 +24,16 @@ void medium_init(medium *m)
     m->sigma_t_min = m->albedo[0] ? 0.0 : col_min(col_add(m->sigma_a, m->sigma_s));
     if (m->temperature)
         blackbody_init();
+    /* |v| <= the norm of the components' bounds: a lookup (nearest, or trilinear: a convex
+     * combination of voxels) lies within each component's range of values */
+    m->velocity_max = 0.0;
+    for (int c = 0; m->velocity[0] && c < 3; c++) {
+        density_info in;
+        density_get_info(m->velocity[c], &in);
+        double b = fmax(fabs(in.rho_min), fabs(in.rho_max));
+        m->velocity_max += b * b;
+    }
+    m->velocity_max = sqrt(m->velocity_max);
 }
 
 brume_status medium_check_range(const medium *m, const char *source, int index)
@@ -61,8 +71,11 @@ void medium_release(medium *m)
     for (int c = 0; c < 3; c++) {
         density_release(m->albedo[c]);
         density_release(m->emission[c]);
-        m->albedo[c] = m->emission[c] = NULL;
+        density_release(m->velocity[c]);
+        m->albedo[c] = m->emission[c] = m->velocity[c] = NULL;
     }
+    density_release(m->moved);
+    m->moved = NULL;
     density_release(m->temperature);
     m->temperature = NULL;
     free(m->motion);

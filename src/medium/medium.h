@@ -40,13 +40,23 @@ typedef struct medium {
     density *emission[3];    /* NULL, or an emission field: [0] alone (float grid) or [0..2] */
     color emission_color;    /* multiplies the emission field (radiance units), >= 0 */
     double albedo_max[3];    /* max of each albedo field (set by medium_init; 1 without) */
+    density *velocity[3];    /* NULL, or the velocity's x, y, z components (owned): world units per
+                                second in the field's frame (before `motion`). A lookup at time t
+                                reads every field at x - v(x) (t - t_f), t_f the frame time and
+                                t - t_f clamped to the shutter (render/track.c, media_at) */
+    double velocity_max;     /* bound of |v| over the field, world units per second (medium_init;
+                                0 without velocity) */
+    density *moved;          /* owned: rho's majorants moved by up to velocity_max times the
+                                shutter's reach from t_f (density_new_moved_majorant, built at
+                                commit), walked instead of rho's; NULL: rho's own */
     char name[64];
     motion *motion;     /* owned; NULL = fixed. Else the field is placed in world space at
                            time t by motion_at(motion, t) applied after its own placement:
                            rays are moved into the field's frame at their own time */
 } medium;
 
-/* Whether the medium has any field besides rho (albedo, temperature, emission). */
+/* Whether the medium has any field besides rho (albedo, temperature, emission); a velocity
+ * moves them all and is not counted. */
 static inline bool medium_has_fields(const medium *m) { return m->albedo[0] || m->temperature || m->emission[0]; }
 /* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0). */
 bool medium_emits(const medium *m);

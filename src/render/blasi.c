@@ -369,6 +369,12 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     if (o->save_light[0] && io_output_check("blasi.save_light", o->save_light,
                                             s->source[0] != '<' ? s->source : NULL, &s->inputs) != BRUME_OK)
         return err_status();
+    for (int m = 0; m < s->nmedia; m++)
+        if (s->media[m].moved) /* a velocity and an open shutter (medium.h) */
+            return err_set(BRUME_ERROR_UNSUPPORTED,
+                           "%s: media[%d].velocity: method blasi does not blur by velocity (its light pass is at the "
+                           "frame time): use --method path or single, or a closed shutter",
+                           s->source, m);
     blasi_state *st = state_new(s);
     if (!st)
         return err_status();

@@ -184,9 +184,10 @@ brume_status path_prepare(const brume_scene *s, bool lobes, path_state **out)
             st.cull = false; /* a camera ray can end on it (nearest_area_light) */
     bool moving = false;
     for (int m = 0; m < s->nmedia; m++) {
-        box3 b = density_reach_bounds(s->media[m].rho);
+        const medium *md = &s->media[m];
+        box3 b = density_reach_bounds(md->moved ? md->moved : md->rho);
         st.reach = (box3){v3_min(st.reach.lo, b.lo), v3_max(st.reach.hi, b.hi)};
-        moving |= s->media[m].motion != NULL;
+        moving |= md->motion != NULL || md->moved != NULL;
     }
     st.cull &= !moving;
     /* box3_intersect takes an empty box for a full one: nothing to cull then (no medium) */

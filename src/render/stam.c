@@ -326,6 +326,11 @@ brume_status stam_prepare(const brume_scene *s, void **state)
                            "medium is a %s: render it with --method path or single",
                            s->source, m, s->media[m].name[0] ? " " : "", s->media[m].name,
                            kind_name(density_get_kind(s->media[m].rho)));
+        else if (s->media[m].moved) /* a velocity and an open shutter (medium.h) */
+            return err_set(BRUME_ERROR_UNSUPPORTED,
+                           "%s: media[%d].velocity: method stam does not blur by a velocity grid (blobs move by "
+                           "their own velocity): use --method path or single, or a closed shutter",
+                           s->source, m);
     stam_state *st = calloc(1, sizeof *st);
     if (!st)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: stam: out of memory", s->source);

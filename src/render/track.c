@@ -25,6 +25,21 @@ static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
     }
 }
 
+/* Velocity motion blur (medium.h; docs/animation.md, "Velocity motion blur"): the point
+ * whose frame-time fields a lookup at p and time t reads, p - v(p) (t - t_f), first-order
+ * Eulerian back-advection as in Cycles and Arnold. t - t_f is clamped to the shutter, the
+ * interval the moved majorants (md->moved) were built for. */
+static vec3 velocity_advect(const brume_scene *s, const medium *md, vec3 p, double time)
+{
+    double dt = time - s->time;
+    dt = dt < s->cam.shutter_open ? s->cam.shutter_open : (dt > s->cam.shutter_close ? s->cam.shutter_close : dt);
+    if (dt == 0.0 || !md->moved)
+        return p;
+    const vec3 v = v3(density_eval(md->velocity[0], p), density_eval(md->velocity[1], p),
+                      density_eval(md->velocity[2], p));
+    return v3_sub(p, v3_scale(v, dt));
+}
+
 void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
 {
     ms->sigma_a = col(0.0);
@@ -40,6 +55,8 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
                 continue;
             pm = affine3_apply(&to_local, p);
         }
+        if (md->velocity[0])
+            pm = velocity_advect(s, md, pm, time);
         double rho = density_eval(md->rho, pm);
         if (rho <= 0.0)
             continue;

@@ -22,7 +22,9 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
             rm.o = affine3_apply(&to_local, r.o);
             rm.d = affine3_apply_dir(&to_local, r.d);
         }
-        density_majorant_begin(s->media[m].rho, rm, 0.0, tmax, &st[m].it);
+        /* a medium blurred by its velocity: the majorants of its density moved (medium.h) */
+        const density *maj = s->media[m].moved ? s->media[m].moved : s->media[m].rho;
+        density_majorant_begin(maj, rm, 0.0, tmax, &st[m].it);
         st[m].it.by_ctl = residual;
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
         st[m].sigma_t_max = s->media[m].sigma_t_max;

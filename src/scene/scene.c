@@ -136,6 +136,21 @@ bool scene_flight_control(const brume_scene *s)
     return s->nmedia == 1 && !medium_has_fields(&s->media[0]) && s->media[0].sigma_t_min == s->media[0].sigma_t_max;
 }
 
+/* A medium blurred by its velocity: the majorants its lookups need over the shutter, rho's
+ * moved by up to max |v| times the shutter's reach from the frame time (medium.h). */
+static brume_status commit_velocity(brume_scene *s, int m)
+{
+    medium *md = &s->media[m];
+    density_release(md->moved);
+    md->moved = NULL;
+    const double reach = fmax(fabs(s->cam.shutter_open), fabs(s->cam.shutter_close));
+    const double radius = md->velocity_max * reach;
+    if (!md->velocity[0] || !(radius > 0.0))
+        return BRUME_OK;
+    md->moved = density_new_moved_majorant(md->rho, radius);
+    return md->moved ? BRUME_OK : err_prefix("%s: media[%d].velocity", s->source, m);
+}
+
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 {
     err_clear();
@@ -167,6 +182,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     for (int m = 0; m < s->nmedia; m++) {
         medium_init(&s->media[m]);
         if ((st = medium_check_range(&s->media[m], s->source, m)) != BRUME_OK)
+            return ctx_report(ctx, st);
+        if ((st = commit_velocity(s, m)) != BRUME_OK)
             return ctx_report(ctx, st);
         if (medium_emits(&s->media[m]))
             s->has_emission = true;

@@ -1,5 +1,7 @@
 /* scene_fields.c - the public builders of a medium's optional fields (brume.h): albedo,
- * temperature with blackbody emission, emission (medium/medium.h says how they act). */
+ * temperature with blackbody emission, emission, velocity (medium/medium.h says how they
+ * act). */
+#include <math.h>
 #include <stdlib.h>
 
 #include "core/context.h"
@@ -112,5 +114,29 @@ brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_sce
     for (int c = 0; c < n; c++)
         take(s, &m->emission[c], fields[c]);
     m->emission_color = col_e;
+    return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_scene_set_medium_velocity(brume_context *ctx, brume_scene *s, int index,
+                                             brume_density *const *velocity)
+{
+    static const char fn[] = "brume_scene_set_medium_velocity";
+    err_clear();
+    if (!velocity)
+        return ctx_report(ctx, build_null(fn, "velocity"));
+    brume_status st = check_medium(fn, s, index);
+    if (st)
+        return ctx_report(ctx, st);
+    for (int c = 0; c < 3; c++)
+        if (!velocity[c])
+            return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: velocity[%d]: NULL", fn, c));
+    for (int c = 0; c < 3; c++) {
+        density_info in;
+        density_get_info(velocity[c]->d, &in);
+        if (!isfinite(in.rho_min) || !isfinite(in.rho_max))
+            return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: velocity[%d]: values not finite", fn, c));
+    }
+    for (int c = 0; c < 3; c++)
+        take(s, &s->media[index].velocity[c], velocity[c]);
     return ctx_report(ctx, BRUME_OK);
 }

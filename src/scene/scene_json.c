@@ -611,13 +611,16 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
                    at.file, at.path, type);
 }
 
-/* A medium's field object ("albedo", "temperature", "emission_field"): a grid object whose
- * keys default to the medium's grid density's (same file, placement, filter), so that
- * {"grid": "temperature"} is the temperature grid of the density's file. Loads `count`
- * fields (1: a float grid; 3: a vec3 grid's components, or a float grid's thrice). */
+/* How a field's grid is read: brume_density_load (one field), _load_rgb or _load_velocity
+ * (three). */
+typedef brume_status (*field_loader)(brume_context *, const char *, const brume_grid_file_options *, brume_density **);
+
+/* A medium's field object ("albedo", "temperature", "emission_field", "velocity"): a grid
+ * object whose keys default to the medium's grid density's (same file, placement, filter),
+ * so that {"grid": "temperature"} is the temperature grid of the density's file. Loads the
+ * fields by `load`. */
 static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scene *s, const char *key,
-                                const char *const *extra,
-                                int count, brume_density **out)
+                                const char *const *extra, field_loader load, brume_density **out)
 {
     char kp[256];
     jloc fat = {at.file, json_key_path(kp, sizeof kp, at.path, key)};
@@ -646,20 +649,21 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scen
     brume_status st = parse_grid_options(merged, fat, extra, scene_frame_number(s), path, sizeof path, &o, &sequence);
     cJSON_Delete(merged);
     if (st) return st;
-    st = count == 3 ? brume_density_load_rgb(NULL, path, &o, out) : brume_density_load(NULL, path, &o, out);
+    st = load(NULL, path, &o, out);
     if (st == BRUME_OK && sequence)
         (*out)->evolves = true; /* the scene's builder marks the world moving (scene_build.c) */
     return st ? err_prefix("%s: %s", at.file, kp) : BRUME_OK;
 }
 
-/* "albedo", "temperature" + "blackbody", "emission_field": the medium's optional fields. */
+/* "albedo", "temperature" + "blackbody", "emission_field", "velocity": the medium's optional
+ * fields. */
 static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s, int index)
 {
     brume_status st;
     char kp[256];
     if (cJSON_HasObjectItem(j, "albedo")) {
         brume_density *rgb[3];
-        if ((st = parse_field(j, at, s, "albedo", NULL, 3, rgb))) return st;
+        if ((st = parse_field(j, at, s, "albedo", NULL, brume_density_load_rgb, rgb))) return st;
         if ((st = built(brume_scene_set_medium_albedo(NULL, s, index, rgb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "albedo")}))) {
             for (int c = 0; c < 3; c++)
@@ -683,7 +687,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
             if ((st = json_number(bbj, bat, "cutoff", 0, 0.0, 1e30, &bb.cutoff))) return st;
         }
         brume_density *t = NULL;
-        if ((st = parse_field(j, at, s, "temperature", NULL, 1, &t))) return st;
+        if ((st = parse_field(j, at, s, "temperature", NULL, brume_density_load, &t))) return st;
         if ((st = built(brume_scene_set_medium_temperature(NULL, s, index, t, &bb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "temperature")}))) {
             brume_density_release(t);
@@ -697,10 +701,22 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
         jloc eat = {at.file, json_key_path(kp, sizeof kp, at.path, "emission_field")};
         if (cJSON_IsObject(f) && (st = jcolor(f, eat, "color", 0, BIG, c))) return st;
         brume_density *e[3];
-        if ((st = parse_field(j, at, s, "emission_field", extra, 3, e))) return st;
+        if ((st = parse_field(j, at, s, "emission_field", extra, brume_density_load_rgb, e))) return st;
         if ((st = built(brume_scene_set_medium_emission_field(NULL, s, index, e, 3, c), eat))) {
             for (int k = 0; k < 3; k++)
                 brume_density_release(e[k]);
+            return st;
+        }
+    }
+    if (cJSON_HasObjectItem(j, "velocity")) {
+        /* "grid" names a vec3 grid or the stem of NAME.x/.y/.z ("" = "vel"); "scale" multiplies
+         * the values into world units per second */
+        brume_density *v[3];
+        if ((st = parse_field(j, at, s, "velocity", NULL, brume_density_load_velocity, v))) return st;
+        if ((st = built(brume_scene_set_medium_velocity(NULL, s, index, v),
+                        (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "velocity")}))) {
+            for (int k = 0; k < 3; k++)
+                brume_density_release(v[k]);
             return st;
         }
     }
@@ -710,7 +726,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
 static brume_status parse_medium(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "keyframes",
-                                       "albedo", "temperature", "blackbody", "emission_field", NULL};
+                                       "albedo", "temperature", "blackbody", "emission_field", "velocity", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_medium m = {0};

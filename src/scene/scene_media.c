@@ -173,7 +173,7 @@ static brume_status file_options(const char *fn, const brume_grid_file_options *
 /* The count (1 or 3) fields of a grid file as public densities, within what the memory
  * budget of a scene being read has left (core/budget.h). */
 static brume_status load_fields(brume_context *ctx, const char *fn, const char *path,
-                                const brume_grid_file_options *opts, int count, brume_density **out)
+                                const brume_grid_file_options *opts, int count, bool any_sign, brume_density **out)
 {
     err_clear();
     if (!out)
@@ -186,6 +186,7 @@ static brume_status load_fields(brume_context *ctx, const char *fn, const char *
     brume_status st = file_options(fn, opts, &o);
     if (st)
         return ctx_report(ctx, st);
+    o.any_sign = any_sign;
     size_t left = budget_left();
     if (left < o.max_memory)
         o.max_memory = left > 0 ? left : 1;
@@ -219,13 +220,82 @@ static brume_status load_fields(brume_context *ctx, const char *fn, const char *
 brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                 brume_density **out)
 {
-    return load_fields(ctx, "brume_density_load", path, opts, 1, out);
+    return load_fields(ctx, "brume_density_load", path, opts, 1, false, out);
 }
 
 brume_status brume_density_load_rgb(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                     brume_density **out)
 {
-    return load_fields(ctx, "brume_density_load_rgb", path, opts, 3, out);
+    return load_fields(ctx, "brume_density_load_rgb", path, opts, 3, false, out);
+}
+
+/* The grid named name in list[0..n), or NULL. */
+static const gridvdb_info *find_grid(const gridvdb_info *list, int n, const char *name)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(list[i].name, name) == 0)
+            return &list[i];
+    return NULL;
+}
+
+brume_status brume_density_load_velocity(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                         brume_density **out)
+{
+    static const char fn[] = "brume_density_load_velocity";
+    err_clear();
+    if (!out)
+        return ctx_report(ctx, build_null(fn, "out"));
+    for (int c = 0; c < 3; c++)
+        out[c] = NULL;
+    if (!path)
+        return ctx_report(ctx, build_null(fn, "path"));
+    brume_grid_file_options o;
+    brume_grid_file_options_default(&o);
+    if (opts)
+        o = *opts;
+    if (!memchr(o.grid, '\0', sizeof o.grid))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: opts.grid: not NUL-terminated within 128 bytes", fn));
+    char name[128];
+    snprintf(name, sizeof name, "%s", o.grid[0] ? o.grid : "vel");
+    /* the grids' types: a vec3 grid, or three float grids, never a float grid thrice */
+    gridvdb_info *list = NULL;
+    int n = 0;
+    brume_status st = grid_list_file(path, DENSITY_DEFAULT_MAX_MEMORY, &list, &n);
+    if (st)
+        return ctx_report(ctx, st); /* "PATH: reason" */
+    const gridvdb_info *g = find_grid(list, n, name);
+    char comp[3][128];
+    const gridvdb_info *gc[3];
+    for (int c = 0; c < 3; c++) {
+        snprintf(comp[c], sizeof comp[c], "%.125s.%c", name, "xyz"[c]);
+        gc[c] = find_grid(list, n, comp[c]);
+    }
+    if (g && strncmp(g->type, "vec3", 4) != 0)
+        st = err_set(BRUME_ERROR_UNSUPPORTED, "%s: grid \"%s\" is a %s grid: a velocity needs a vec3 grid (or three float "
+                     "grids %s.x, %s.y, %s.z)", path, name, g->type, name, name, name);
+    else if (!g && !(gc[0] && gc[1] && gc[2]))
+        st = err_set(BRUME_ERROR_PARSE, "%s: no velocity grid \"%s\" (a vec3 grid, or float grids %s.x, %s.y, %s.z) "
+                     "among its %d grids", path, name, name, name, name, n);
+    for (int c = 0; !st && !g && c < 3; c++)
+        if (strcmp(gc[c]->type, "float") != 0)
+            st = err_set(BRUME_ERROR_UNSUPPORTED, "%s: grid \"%s\" is a %s grid: a velocity component needs a float grid",
+                         path, comp[c], gc[c]->type);
+    free(list);
+    if (st)
+        return ctx_report(ctx, st);
+    if (g)
+        return load_fields(ctx, fn, path, &o, 3, true, out);
+    for (int c = 0; c < 3; c++) {
+        memcpy(o.grid, comp[c], sizeof o.grid);
+        if ((st = load_fields(ctx, fn, path, &o, 1, true, &out[c])) != BRUME_OK) {
+            for (int k = 0; k < c; k++) {
+                brume_density_release(out[k]);
+                out[k] = NULL;
+            }
+            return st;
+        }
+    }
+    return ctx_report(ctx, BRUME_OK);
 }
 
 static brume_status file_options(const char *fn, const brume_grid_file_options *opts, density_load_options *out)

@@ -1,0 +1,286 @@
+/* test_velocity.c - velocity motion blur (docs/animation.md, "Velocity motion blur"):
+ *   - a puff moved by a constant velocity grid renders, within the estimators' noise, as the
+ *     same puff moved by keyframes over the same shutter (per channel, per block), while the
+ *     unmoved puff does not (the comparison can fail);
+ *   - the moved majorants bound the advected density at random points and times of the
+ *     shutter, for a rotating velocity (three float grids vel.x/.y/.z), with the cell grid's
+ *     majorants and with the tree's, and the undilated majorants do not;
+ *   - bad velocity inputs are refused with one line naming the file and the field.
+ * The grids are written here with OpenVDB's writer as .nvdb (skipped without OpenVDB). */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "brume.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "density/density.h"
+#include "io/grid_io.h"
+#include "io/grid_vdb.h"
+#include "scene/scene.h"
+#include "test.h"
+
+static void need_openvdb(void)
+{
+    if (!grid_have_openvdb()) {
+        printf("skipped: no OpenVDB (writing .nvdb)\n");
+        exit(77);
+    }
+}
+
+/* A gaussian puff "density" (16^3 voxels of 0.1, centred on `centre`, peak 4) and a velocity:
+ * kind 0 a vec3 grid "vel" = (1, 0, 0) everywhere it is active (a box well around the puff),
+ * kind 1 three float grids vel.x/.y/.z of the rotation v = omega (-y, x, 0) about the z axis,
+ * kind 2 a vec3 grid "vel" (1 + 0.01 i, 0, 0) with one NaN voxel. Written to path as .nvdb. */
+static void write_puff(const char *path, const double centre[3], int kind)
+{
+    gridvdb_writer *w = gridvdb_writer_new();
+    ASSERT_TRUE(w != NULL);
+    const double h = 0.1, omega = 2.0;
+    const double origin[3] = {centre[0] - 0.75, centre[1] - 0.75, centre[2] - 0.75};
+    int gd = gridvdb_writer_add(w, "density", 0, h, origin);
+    ASSERT_TRUE(gd >= 0);
+    for (int k = 0; k < 16; k++)
+        for (int j = 0; j < 16; j++)
+            for (int i = 0; i < 16; i++) {
+                double x = h * (i - 7.5), y = h * (j - 7.5), z = h * (k - 7.5);
+                float v = (float)(4.0 * exp(-(x * x + y * y + z * z) / (2 * 0.25 * 0.25)));
+                if (v > 1e-3f)
+                    gridvdb_writer_set(w, gd, i, j, k, &v);
+            }
+    if (kind == 1) {
+        int g[3] = {gridvdb_writer_add(w, "vel.x", 0, h, origin), gridvdb_writer_add(w, "vel.y", 0, h, origin),
+                    gridvdb_writer_add(w, "vel.z", 0, h, origin)};
+        ASSERT_TRUE(g[0] >= 0 && g[1] >= 0 && g[2] >= 0);
+        for (int k = -8; k < 24; k++)
+            for (int j = -8; j < 24; j++)
+                for (int i = -8; i < 24; i++) {
+                    double x = origin[0] + h * i, y = origin[1] + h * j;
+                    float v[3] = {(float)(-omega * y), (float)(omega * x), 0.0f};
+                    for (int c = 0; c < 3; c++)
+                        gridvdb_writer_set(w, g[c], i, j, k, &v[c]);
+                }
+    } else {
+        int gv = gridvdb_writer_add(w, "vel", 1, h, origin);
+        ASSERT_TRUE(gv >= 0);
+        for (int k = -4; k < 20; k++)
+            for (int j = -4; j < 20; j++)
+                for (int i = -12; i < 28; i++) {
+                    float v[3] = {1.0f, 0.0f, 0.0f};
+                    if (kind == 2) { /* varying, so that pruning keeps the NaN's leaf */
+                        v[0] += 0.01f * (float)i;
+                        v[1] = i == 3 && j == 4 && k == 5 ? NAN : 0.0f;
+                    }
+                    gridvdb_writer_set(w, gv, i, j, k, v);
+                }
+    }
+    ASSERT_EQ_INT(gridvdb_writer_save(w, path, 1), BRUME_OK);
+    gridvdb_writer_free(w);
+}
+
+/* The puff scene: `medium_extra` adds keys to the medium (a velocity or keyframes). */
+static brume_image *render_puff(const char *path, const char *medium_extra, unsigned long long seed)
+{
+    char json[4096];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0.4, 0, 5], \"look_at\": [0.4, 0, 0], \"fov\": 30, \"shutter\": [0, 0.8]},"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.4], \"irradiance\": 3.0}],"
+             " \"background\": [0.1, 0.15, 0.25],"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"},"
+             "   \"sigma_a\": [1, 1.5, 2], \"sigma_s\": [3, 2.5, 2], \"emission\": [0.6, 0.3, 0.1]%s}],"
+             " \"render\": {\"width\": 32, \"height\": 24, \"spp\": 64, \"max_depth\": 4}}",
+             path, medium_extra);
+    return test_render_json(json, seed);
+}
+
+/* Blocks (of a 4 x 4 split) and channels where a and b differ by more than z standard
+ * errors; the largest ratio in *worst. Per block, the mean of the pixel differences
+ * d = a - b, whose standard error is the spread of d over the block's pixels / sqrt(n): the
+ * renders are independent (other seeds) and pixels independent, and under the hypothesis
+ * that both estimate the same image every d has mean 0, so the image's own variation across
+ * the block cancels and the spread is the estimators' noise alone. */
+static int blocks_differ(const brume_image *a, const brume_image *b, double z, double *worst)
+{
+    const int W = brume_image_width(a), H = brume_image_height(a), bw = W / 4, bh = H / 4;
+    ASSERT_TRUE(brume_image_width(b) == W && brume_image_height(b) == H);
+    const float *pa = brume_image_pixels(a), *pb = brume_image_pixels(b);
+    int bad = 0;
+    *worst = 0.0;
+    for (int by = 0; by < 4; by++)
+        for (int bx = 0; bx < 4; bx++)
+            for (int c = 0; c < 3; c++) {
+                double s1 = 0.0, s2 = 0.0, scale = 0.0;
+                int n = 0;
+                for (int y = by * bh; y < (by + 1) * bh; y++)
+                    for (int x = bx * bw; x < (bx + 1) * bw; x++, n++) {
+                        size_t i = 4 * ((size_t)y * (size_t)W + (size_t)x) + (size_t)c;
+                        double d = (double)pa[i] - (double)pb[i];
+                        s1 += d;
+                        s2 += d * d;
+                        scale = fmax(scale, fabs((double)pa[i]));
+                    }
+                double mean = s1 / n, var = fmax(0.0, (s2 - s1 * s1 / n) / (n - 1));
+                /* a block the medium never reaches has no noise: equal up to rounding there */
+                double se = sqrt(var / n) + 1e-6 * scale;
+                double r = se > 0.0 ? fabs(mean) / se : 0.0;
+                *worst = fmax(*worst, r);
+                bad += r > z;
+            }
+    return bad;
+}
+
+/* A constant velocity u over the shutter [0, 0.8] from frame time 0 moves the puff as the
+ * keyframed translation by u t does: back-advection x - u t is exact for a constant field.
+ * 48 block-channel comparisons at z = 4.5 standard errors: a false failure has probability
+ * below 48 x 6.8e-6 = 3.3e-4 for gaussian block means (48 pixels each; seeds fixed; the
+ * t distribution's heavier tail at 47 degrees of freedom makes it about 2e-3). */
+TEST(constant_velocity_matches_keyframed_translation)
+{
+    need_openvdb();
+    const char *path = test_tmp_path("velocity-puff.nvdb");
+    write_puff(path, (const double[3]){0, 0, 0}, 0);
+    brume_image *vel = render_puff(path, ", \"velocity\": {\"grid\": \"vel\", \"scale\": 1.0}", 11);
+    brume_image *key = render_puff(path,
+                                   ", \"keyframes\": [{\"time\": 0, \"transform\": {\"translate\": [0, 0, 0]}},"
+                                   " {\"time\": 0.8, \"transform\": {\"translate\": [0.8, 0, 0]}}]",
+                                   12);
+    brume_image *still = render_puff(path, "", 13);
+    double worst, worst_still;
+    int bad = blocks_differ(vel, key, 4.5, &worst);
+    int bad_still = blocks_differ(still, key, 4.5, &worst_still);
+    printf("velocity vs keyframes: %d of 48 beyond 4.5 se (worst %.2f); unmoved vs keyframes: %d (worst %.1f)\n", bad,
+           worst, bad_still, worst_still);
+    ASSERT_EQ_INT(bad, 0);
+    /* the comparison has the power to see the motion: the unmoved puff fails it */
+    ASSERT_TRUE(bad_still >= 6);
+    /* the velocity's scale is its units: twice the scale moves twice as far (differs too) */
+    brume_image *fast = render_puff(path, ", \"velocity\": {\"grid\": \"vel\", \"scale\": 2.0}", 14);
+    double worst_fast;
+    ASSERT_TRUE(blocks_differ(fast, key, 4.5, &worst_fast) >= 6);
+    brume_image_release(fast);
+    brume_image_release(vel);
+    brume_image_release(key);
+    brume_image_release(still);
+}
+
+/* The majorant at world point x of field d's walk: the segment of a short ray through x. */
+static double majorant_at(const density *d, vec3 x)
+{
+    const double eps = 1e-7;
+    const ray r = {v3_sub(x, v3(eps, 0, 0)), v3(1, 0, 0), 0.0};
+    majorant_iter it;
+    majorant_seg seg;
+    density_majorant_begin(d, r, 0.0, 2 * eps, &it);
+    while (majorant_next(&it, &seg))
+        if (seg.t0 <= eps && eps < seg.t1)
+            return seg.rho_maj;
+    return 0.0;
+}
+
+/* rho(x - v(x) dt) <= the moved majorant at x, at 200000 random points of the moved field's
+ * box and times dt of the shutter [-0.1, 0.3], for the rotation omega = 2 about the z axis
+ * (|v| up to 5.5 over the velocity grid: points move up to 16 voxels); and rho's own,
+ * undilated majorants fail (so the check can fail). Run with the cell grid's majorants and
+ * with the tree's (a large box's: the coarse uniform bound). */
+static void check_moved_majorant(bool tree)
+{
+    need_openvdb();
+    const char *path = test_tmp_path("velocity-swirl.nvdb");
+    write_puff(path, (const double[3]){0.6, 0.2, 0}, 1);
+    uint64_t old = nanovdb_set_cell_grid_limit(tree ? 0 : (uint64_t)1 << 23);
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"fov\": 40, \"shutter\": [-0.1, 0.3]},"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"}, \"sigma_a\": 1, \"sigma_s\": 1,"
+             "   \"velocity\": {\"grid\": \"vel\"}}]}",
+             path);
+    brume_scene *s = NULL;
+    brume_context *ctx = brume_context_new();
+    if (scene_parse_json(json, "<velocity test>", &s) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("scene: %s / %s", err_message(), brume_context_last_error(ctx));
+    nanovdb_set_cell_grid_limit(old);
+    const medium *md = &s->media[0];
+    ASSERT_TRUE(md->moved != NULL && md->velocity[2] != NULL);
+    /* the bound from the components' ranges over the voxel centres written: |v_x| = omega |y|
+     * <= 2 x 1.75, |v_y| = omega |x| <= 2 x 2.15 (x in [-0.95, 2.15], y in [-1.35, 1.75]) */
+    printf("max |v| bound %.4f\n", md->velocity_max);
+    ASSERT_NEAR(md->velocity_max, sqrt(3.5 * 3.5 + 4.3 * 4.3), 1e-5);
+    const box3 b = density_bounds(md->moved);
+    rng g = rng_make(5, 0, 0);
+    int above_own = 0, n = 200000, nonzero = 0;
+    for (int i = 0; i < n; i++) {
+        vec3 x = v3(b.lo.x + rng_next(&g) * (b.hi.x - b.lo.x), b.lo.y + rng_next(&g) * (b.hi.y - b.lo.y),
+                    b.lo.z + rng_next(&g) * (b.hi.z - b.lo.z));
+        double dt = -0.1 + 0.4 * rng_next(&g);
+        vec3 v = v3(density_eval(md->velocity[0], x), density_eval(md->velocity[1], x),
+                    density_eval(md->velocity[2], x));
+        double rho = density_eval(md->rho, v3_sub(x, v3_scale(v, dt)));
+        double maj = majorant_at(md->moved, x);
+        if (!(rho <= maj))
+            TEST_FAIL("rho(x - v dt) = %g above the moved majorant %g at (%g, %g, %g), dt %g", rho, maj, x.x, x.y, x.z,
+                      dt);
+        nonzero += rho > 0.0;
+        above_own += rho > majorant_at(md->rho, x);
+    }
+    printf("%d of %d points with density; %d above rho's own (undilated) majorant\n", nonzero, n, above_own);
+    ASSERT_TRUE(nonzero > n / 100);
+    ASSERT_TRUE(above_own > 0);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+TEST(moved_majorant_bounds_advected_density) { check_moved_majorant(false); }
+TEST(moved_majorant_bounds_advected_density_tree) { check_moved_majorant(true); }
+
+/* Each bad velocity input: one line naming the scene file, the field and the grid file. */
+static void refused(const char *grid_path, const char *velocity, const char *method, const char *want)
+{
+    const char *scene = test_tmp_path("velocity-bad.json");
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"shutter\": [0, 0.5]},"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"}, \"sigma_a\": 1, \"sigma_s\": 1,"
+             "   \"velocity\": %s}],"
+             " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"method\": \"%s\"}}",
+             grid_path, velocity, method);
+    test_write_file(scene, json);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_image *img = NULL;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = scene}, NULL, &s);
+    if (st == BRUME_OK) {
+        st = brume_scene_commit(ctx, s);
+        if (st == BRUME_OK)
+            st = brume_render(ctx, s, &img);
+    }
+    const char *msg = brume_context_last_error(ctx);
+    printf("%s\n", msg);
+    ASSERT_TRUE(st != BRUME_OK && img == NULL);
+    ASSERT_TRUE(strchr(msg, '\n') == NULL);
+    ASSERT_CONTAINS(msg, scene);
+    ASSERT_CONTAINS(msg, "velocity");
+    ASSERT_CONTAINS(msg, want);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+TEST(bad_velocity_inputs_refused)
+{
+    need_openvdb();
+    const char *good = test_tmp_path("velocity-good.nvdb"), *nan = test_tmp_path("velocity-nan.nvdb");
+    write_puff(good, (const double[3]){0, 0, 0}, 0);
+    write_puff(nan, (const double[3]){0, 0, 0}, 2);
+    char want[1024];
+    snprintf(want, sizeof want, "%s: no velocity grid \"v\"", good);
+    refused(good, "{\"grid\": \"v\"}", "path", want);
+    snprintf(want, sizeof want, "%s: grid \"density\" is a float grid", good);
+    refused(good, "{\"grid\": \"density\"}", "path", want);
+    snprintf(want, sizeof want, "%s: voxel (3, 4, 5) has value nan: need finite", nan);
+    refused(nan, "{\"grid\": \"vel\"}", "path", want);
+    refused(good, "{\"grid\": \"vel\", \"scale\": -1}", "path", "velocity.scale");
+    refused(good, "{\"grid\": \"vel\", \"speed\": 1}", "path", "speed");
+    refused(good, "{\"grid\": \"vel\"}", "blasi", "method blasi does not blur by velocity");
+}
+
+TEST_MAIN(constant_velocity_matches_keyframed_translation, moved_majorant_bounds_advected_density,
+          moved_majorant_bounds_advected_density_tree, bad_velocity_inputs_refused)
