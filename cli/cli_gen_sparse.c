@@ -1,5 +1,5 @@
 /* cli_gen_sparse.c - the command lines of `brume gen fire` (a procedural flame: density and
- * temperature grids, sparse) and `brume gen upres` (a cloud upsampled by an integer factor
+ * temperature grids, sparse, and its velocity) and `brume gen upres` (a cloud upsampled by an integer factor
  * with fractal detail, kept sparse); the grids are made and written through OpenVDB by
  * src/tool/gen_sparse.c (docs/grids.md). */
 #include "cli_gen_sparse.h"
@@ -18,7 +18,9 @@ static const char fire_usage[] =
     "  a procedural flame: grids \"density\" (smoke and soot) and \"temperature\" (kelvin)\n"
     "  --resolution N   voxels along the height (default 128; width and depth N/2), [16, 2048]\n"
     "  --seed N         noise seed (default 1)\n"
-    "  --height H       world height of the flame (default 2; the base is centred on the origin)\n";
+    "  --height H       world height of the flame (default 2; the base is centred on the origin)\n"
+    "  --velocity S     also a vec3 grid \"vel\": the updraft, S (0.5 + h) world units per second up at\n"
+    "                   height fraction h with a sway of 0.3 S, over the whole box (default 0: none)\n";
 
 static const char upres_usage[] =
     "usage: brume gen upres IN(.vdb|.nvdb) --factor F -o OUT(.vdb|.nvdb) [flags]\n"
@@ -53,7 +55,7 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
 int gen_fire(int argc, char **argv)
 {
     long n = 128, seed = 1;
-    double height = 2.0;
+    double height = 2.0, velocity = 0.0;
     const char *out = NULL;
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i];
@@ -75,6 +77,8 @@ int gen_fire(int argc, char **argv)
             ok = parse_int(v, 0, 2147483647L, &seed);
         else if (strcmp(f, "--height") == 0)
             ok = cli_parse_doubles(v, &height, 1) && height > 0.0 && height < 1e6;
+        else if (strcmp(f, "--velocity") == 0)
+            ok = cli_parse_doubles(v, &velocity, 1) && velocity >= 0.0 && velocity < 1e6;
         else {
             cli_error("gen fire: unknown flag %s (see brume gen fire --help)", f);
             return 2;
@@ -95,7 +99,7 @@ int gen_fire(int argc, char **argv)
     if (check_output(out))
         return 2;
     tool_gen_result res;
-    if (tool_gen_fire(out, (int)n, (uint64_t)seed, height, &res) != BRUME_OK) {
+    if (tool_gen_fire(out, (int)n, (uint64_t)seed, height, velocity, &res) != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;
     }

@@ -713,8 +713,10 @@ brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene 
  * sigma_a rho(x), besides its constant emission. */
 brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_scene *scene, int medium,
                                                    brume_density *const *fields, int n, const double color[3]);
-/* Velocity motion blur (docs/animation.md, "Velocity motion blur"): a velocity field v(x)
- * (velocity: an array of 3, its x, y and z components, e.g. from brume_density_load_velocity)
+/* Velocity motion blur (docs/animation.md, "Velocity motion blur"): a velocity field v(x) =
+ * M u(x), u the sampled vectors (velocity: an array of 3, their x, y and z components, e.g.
+ * from brume_density_load_velocity) and M the 3 x 3 row-major matrix `map` (NULL = identity:
+ * the linear part of the grid's placement transform turns and scales the vectors with it),
  * in world units per second, in the medium's own frame (before its keyframed motion). A ray
  * at time t sees the density advected back from the frame time t_f (brume_scene_time):
  * rho(x, t) = rho(x - v(x) (t - t_f)), and so its other fields; t - t_f lies within the
@@ -722,7 +724,7 @@ brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_sce
  * reach from t_f, so the estimators stay unbiased. Rendered by path and single (and on the
  * GPU); blasi and stam refuse such a medium. */
 brume_status brume_scene_set_medium_velocity(brume_context *ctx, brume_scene *scene, int medium,
-                                             brume_density *const *velocity);
+                                             brume_density *const *velocity, const double map[9]);
 
 /* Keyframed motion of a medium or a surface: n in [1, 64] keys at strictly increasing times;
  * the object at time t is placed by translate(rotate(scale(p))) of the interpolated key

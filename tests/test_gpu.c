@@ -5,8 +5,8 @@
  *     address of its own host buffer, the copy renders bit for bit the original's values
  *     on the CPU, for scenes that exercise every pointer the copy carries (dense and
  *     NanoVDB grids, several media, mixture and tabulated phase functions, a temperature
- *     field, an environment map, motion, the sun roulette's grid, solid objects with their
- *     hierarchy and emitters, a blob field);
+ *     field, an environment map, motion, a velocity and its moved majorants, the sun
+ *     roulette's grid, solid objects with their hierarchy and emitters, a blob field);
  *   - brume's own hierarchy of solid objects (core/bvh.h, what the GPU traverses) gives
  *     Embree's hits and occlusions on the CPU;
  *   - what the GPU refuses (the Blasi and Stam methods), with one line;
@@ -22,6 +22,7 @@
 #include "core/arena.h"
 #include "gpu/devmath.h"
 #include "gpu/device_scene.h"
+#include "io/grid_io.h"
 #include "render/integrator.h"
 #include "scene/scene.h"
 #include "surface/surfaces.h"
@@ -335,6 +336,31 @@ TEST(bvh_matches_embree)
     surfaces_release(sf[1]);
 }
 
+/* A medium blurred by its velocity (`brume gen fire --velocity`): the velocity's three
+ * component fields (one NanoVDB buffer) and the moved majorants, with a temperature field,
+ * over the shutter [0, 0.5] the rays' times span. */
+TEST(device_copy_velocity_blur)
+{
+    if (!grid_have_openvdb()) {
+        printf("skipped: no OpenVDB (writing .nvdb)\n");
+        exit(77);
+    }
+    const char *fire = test_tmp_path("gpu-fire.nvdb");
+    char cmd[1024], json[2048];
+    snprintf(cmd, sizeof cmd, "%s gen fire --resolution 32 --height 1 --velocity 2 -o %s >/dev/null", BRUME_EXE, fire);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 20, \"shutter\": [0, 0.5]},"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.2], \"irradiance\": 3.0}],"
+             " \"media\": [{\"sigma_a\": 2.0, \"sigma_s\": 6.0,"
+             "   \"density\": {\"type\": \"grid\", \"file\": \"%s\", \"transform\": {\"scale\": [4, 1.5, 4], \"translate\": [0, -0.75, 0]}},"
+             "   \"temperature\": {\"grid\": \"temperature\"}, \"blackbody\": {\"scale\": 0.5},"
+             "   \"velocity\": {\"grid\": \"vel\", \"scale\": 1.5}}],"
+             " \"render\": {\"max_depth\": 16}}",
+             fire);
+    copy_renders_the_same(json, 400);
+}
+
 /* What the GPU does not render yet is refused with one line naming it. */
 TEST(device_refuses_with_one_line)
 {
@@ -399,4 +425,4 @@ TEST(device_without_driver)
 
 TEST_MAIN(device_math_against_libm, device_copy_dense_media, device_copy_nanovdb_and_environment,
           device_copy_surfaces, device_copy_blobs, device_copy_blobs_kernel_table, bvh_matches_embree,
-          device_refuses_with_one_line, device_without_driver)
+          device_copy_velocity_blur, device_refuses_with_one_line, device_without_driver)

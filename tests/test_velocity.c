@@ -78,18 +78,20 @@ static void write_puff(const char *path, const double centre[3], int kind)
     gridvdb_writer_free(w);
 }
 
-/* The puff scene: `medium_extra` adds keys to the medium (a velocity or keyframes). */
-static brume_image *render_puff(const char *path, const char *medium_extra, unsigned long long seed)
+/* The puff scene: `density_extra` adds keys to the grid (a placement), `medium_extra` to the
+ * medium (a velocity or keyframes). */
+static brume_image *render_puff(const char *path, const char *density_extra, const char *medium_extra,
+                                unsigned long long seed)
 {
     char json[4096];
     snprintf(json, sizeof json,
              "{\"camera\": {\"position\": [0.4, 0, 5], \"look_at\": [0.4, 0, 0], \"fov\": 30, \"shutter\": [0, 0.8]},"
              " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.4], \"irradiance\": 3.0}],"
              " \"background\": [0.1, 0.15, 0.25],"
-             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"},"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"%s},"
              "   \"sigma_a\": [1, 1.5, 2], \"sigma_s\": [3, 2.5, 2], \"emission\": [0.6, 0.3, 0.1]%s}],"
              " \"render\": {\"width\": 32, \"height\": 24, \"spp\": 64, \"max_depth\": 4}}",
-             path, medium_extra);
+             path, density_extra, medium_extra);
     return test_render_json(json, seed);
 }
 
@@ -139,12 +141,12 @@ TEST(constant_velocity_matches_keyframed_translation)
     need_openvdb();
     const char *path = test_tmp_path("velocity-puff.nvdb");
     write_puff(path, (const double[3]){0, 0, 0}, 0);
-    brume_image *vel = render_puff(path, ", \"velocity\": {\"grid\": \"vel\", \"scale\": 1.0}", 11);
-    brume_image *key = render_puff(path,
+    brume_image *vel = render_puff(path, "", ", \"velocity\": {\"grid\": \"vel\", \"scale\": 1.0}", 11);
+    brume_image *key = render_puff(path, "",
                                    ", \"keyframes\": [{\"time\": 0, \"transform\": {\"translate\": [0, 0, 0]}},"
                                    " {\"time\": 0.8, \"transform\": {\"translate\": [0.8, 0, 0]}}]",
                                    12);
-    brume_image *still = render_puff(path, "", 13);
+    brume_image *still = render_puff(path, "", "", 13);
     double worst, worst_still;
     int bad = blocks_differ(vel, key, 4.5, &worst);
     int bad_still = blocks_differ(still, key, 4.5, &worst_still);
@@ -154,13 +156,40 @@ TEST(constant_velocity_matches_keyframed_translation)
     /* the comparison has the power to see the motion: the unmoved puff fails it */
     ASSERT_TRUE(bad_still >= 6);
     /* the velocity's scale is its units: twice the scale moves twice as far (differs too) */
-    brume_image *fast = render_puff(path, ", \"velocity\": {\"grid\": \"vel\", \"scale\": 2.0}", 14);
+    brume_image *fast = render_puff(path, "", ", \"velocity\": {\"grid\": \"vel\", \"scale\": 2.0}", 14);
     double worst_fast;
     ASSERT_TRUE(blocks_differ(fast, key, 4.5, &worst_fast) >= 6);
     brume_image_release(fast);
     brume_image_release(vel);
     brume_image_release(key);
     brume_image_release(still);
+}
+
+/* The grid's placement transform turns the vectors with the grid: the file's velocity
+ * (1, 0, 0) on a grid turned 90 degrees about z moves the puff (round, centred on the axis:
+ * turned into itself) along +y, as keyframes along +y do, and not as the unturned vectors
+ * would (along +x). Tolerance as above. */
+TEST(grid_transform_turns_the_velocity)
+{
+    need_openvdb();
+    const char *path = test_tmp_path("velocity-turned.nvdb");
+    write_puff(path, (const double[3]){0, 0, 0}, 0);
+    const char *turn = ", \"transform\": {\"rotate\": {\"axis\": [0, 0, 1], \"angle\": 90}}";
+    brume_image *vel = render_puff(path, turn, ", \"velocity\": {\"grid\": \"vel\"}", 21);
+    brume_image *key = render_puff(path, "",
+                                   ", \"keyframes\": [{\"time\": 0, \"transform\": {\"translate\": [0, 0, 0]}},"
+                                   " {\"time\": 0.8, \"transform\": {\"translate\": [0, 0.8, 0]}}]",
+                                   22);
+    brume_image *along_x = render_puff(path, "", ", \"velocity\": {\"grid\": \"vel\"}", 23);
+    double worst, worst_x;
+    int bad = blocks_differ(vel, key, 4.5, &worst), bad_x = blocks_differ(along_x, key, 4.5, &worst_x);
+    printf("turned velocity vs keyframes along y: %d of 48 (worst %.2f); unturned: %d (worst %.1f)\n", bad, worst,
+           bad_x, worst_x);
+    ASSERT_EQ_INT(bad, 0);
+    ASSERT_TRUE(bad_x >= 6);
+    brume_image_release(vel);
+    brume_image_release(key);
+    brume_image_release(along_x);
 }
 
 /* The majorant at world point x of field d's walk: the segment of a short ray through x. */
@@ -282,5 +311,6 @@ TEST(bad_velocity_inputs_refused)
     refused(good, "{\"grid\": \"vel\"}", "blasi", "method blasi does not blur by velocity");
 }
 
-TEST_MAIN(constant_velocity_matches_keyframed_translation, moved_majorant_bounds_advected_density,
+TEST_MAIN(constant_velocity_matches_keyframed_translation, grid_transform_turns_the_velocity,
+          moved_majorant_bounds_advected_density,
           moved_majorant_bounds_advected_density_tree, bad_velocity_inputs_refused)

@@ -40,10 +40,13 @@ typedef struct medium {
     density *emission[3];    /* NULL, or an emission field: [0] alone (float grid) or [0..2] */
     color emission_color;    /* multiplies the emission field (radiance units), >= 0 */
     double albedo_max[3];    /* max of each albedo field (set by medium_init; 1 without) */
-    density *velocity[3];    /* NULL, or the velocity's x, y, z components (owned): world units per
-                                second in the field's frame (before `motion`). A lookup at time t
+    density *velocity[3];    /* NULL, or the sampled vectors' x, y, z components u (owned); the
+                                velocity v = velocity_map u is in world units per second in the
+                                field's frame (before `motion`). A lookup at time t
                                 reads every field at x - v(x) (t - t_f), t_f the frame time and
                                 t - t_f clamped to the shutter (render/track.c, media_at) */
+    double velocity_map[9];  /* v = M u, u the components' values: 3 x 3, row-major (the linear
+                                part of the grid's placement; the identity by default) */
     double velocity_max;     /* bound of |v| over the field, world units per second (medium_init;
                                 0 without velocity) */
     density *moved;          /* owned: rho's majorants moved by up to velocity_max times the

@@ -35,8 +35,11 @@ static vec3 velocity_advect(const brume_scene *s, const medium *md, vec3 p, doub
     dt = dt < s->cam.shutter_open ? s->cam.shutter_open : (dt > s->cam.shutter_close ? s->cam.shutter_close : dt);
     if (dt == 0.0 || !md->moved)
         return p;
-    const vec3 v = v3(density_eval(md->velocity[0], p), density_eval(md->velocity[1], p),
+    const vec3 u = v3(density_eval(md->velocity[0], p), density_eval(md->velocity[1], p),
                       density_eval(md->velocity[2], p));
+    const double *M = md->velocity_map;
+    const vec3 v = v3(M[0] * u.x + M[1] * u.y + M[2] * u.z, M[3] * u.x + M[4] * u.y + M[5] * u.z,
+                      M[6] * u.x + M[7] * u.y + M[8] * u.z);
     return v3_sub(p, v3_scale(v, dt));
 }
 

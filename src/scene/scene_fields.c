@@ -3,6 +3,7 @@
  * act). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/context.h"
 #include "core/error.h"
@@ -118,7 +119,7 @@ brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_sce
 }
 
 brume_status brume_scene_set_medium_velocity(brume_context *ctx, brume_scene *s, int index,
-                                             brume_density *const *velocity)
+                                             brume_density *const *velocity, const double map[9])
 {
     static const char fn[] = "brume_scene_set_medium_velocity";
     err_clear();
@@ -136,7 +137,15 @@ brume_status brume_scene_set_medium_velocity(brume_context *ctx, brume_scene *s,
         if (!isfinite(in.rho_min) || !isfinite(in.rho_max))
             return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: velocity[%d]: values not finite", fn, c));
     }
+    const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (!map)
+        map = id;
+    for (int k = 0; k < 9; k++)
+        if (!isfinite(map[k]) || fabs(map[k]) > 1e30)
+            return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: map[%d]: %g is not a finite number", fn, k, map[k]));
+    medium *m = &s->media[index];
     for (int c = 0; c < 3; c++)
-        take(s, &s->media[index].velocity[c], velocity[c]);
+        take(s, &m->velocity[c], velocity[c]);
+    memcpy(m->velocity_map, map, sizeof m->velocity_map);
     return ctx_report(ctx, BRUME_OK);
 }

@@ -620,7 +620,8 @@ typedef brume_status (*field_loader)(brume_context *, const char *, const brume_
  * so that {"grid": "temperature"} is the temperature grid of the density's file. Loads the
  * fields by `load`. */
 static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scene *s, const char *key,
-                                const char *const *extra, field_loader load, brume_density **out)
+                                const char *const *extra, field_loader load, brume_density **out,
+                                brume_grid_file_options *used)
 {
     char kp[256];
     jloc fat = {at.file, json_key_path(kp, sizeof kp, at.path, key)};
@@ -650,6 +651,8 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scen
     cJSON_Delete(merged);
     if (st) return st;
     st = load(NULL, path, &o, out);
+    if (used)
+        *used = o;
     if (st == BRUME_OK && sequence)
         (*out)->evolves = true; /* the scene's builder marks the world moving (scene_build.c) */
     return st ? err_prefix("%s: %s", at.file, kp) : BRUME_OK;
@@ -663,7 +666,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
     char kp[256];
     if (cJSON_HasObjectItem(j, "albedo")) {
         brume_density *rgb[3];
-        if ((st = parse_field(j, at, s, "albedo", NULL, brume_density_load_rgb, rgb))) return st;
+        if ((st = parse_field(j, at, s, "albedo", NULL, brume_density_load_rgb, rgb, NULL))) return st;
         if ((st = built(brume_scene_set_medium_albedo(NULL, s, index, rgb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "albedo")}))) {
             for (int c = 0; c < 3; c++)
@@ -687,7 +690,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
             if ((st = json_number(bbj, bat, "cutoff", 0, 0.0, 1e30, &bb.cutoff))) return st;
         }
         brume_density *t = NULL;
-        if ((st = parse_field(j, at, s, "temperature", NULL, brume_density_load, &t))) return st;
+        if ((st = parse_field(j, at, s, "temperature", NULL, brume_density_load, &t, NULL))) return st;
         if ((st = built(brume_scene_set_medium_temperature(NULL, s, index, t, &bb),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "temperature")}))) {
             brume_density_release(t);
@@ -701,7 +704,7 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
         jloc eat = {at.file, json_key_path(kp, sizeof kp, at.path, "emission_field")};
         if (cJSON_IsObject(f) && (st = jcolor(f, eat, "color", 0, BIG, c))) return st;
         brume_density *e[3];
-        if ((st = parse_field(j, at, s, "emission_field", extra, brume_density_load_rgb, e))) return st;
+        if ((st = parse_field(j, at, s, "emission_field", extra, brume_density_load_rgb, e, NULL))) return st;
         if ((st = built(brume_scene_set_medium_emission_field(NULL, s, index, e, 3, c), eat))) {
             for (int k = 0; k < 3; k++)
                 brume_density_release(e[k]);
@@ -710,10 +713,16 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
     }
     if (cJSON_HasObjectItem(j, "velocity")) {
         /* "grid" names a vec3 grid or the stem of NAME.x/.y/.z ("" = "vel"); "scale" multiplies
-         * the values into world units per second */
+         * the values into world units per second; the grid's transform (its own or the
+         * density's) turns and scales the vectors as it places the grid */
         brume_density *v[3];
-        if ((st = parse_field(j, at, s, "velocity", NULL, brume_density_load_velocity, v))) return st;
-        if ((st = built(brume_scene_set_medium_velocity(NULL, s, index, v),
+        brume_grid_file_options o;
+        if ((st = parse_field(j, at, s, "velocity", NULL, brume_density_load_velocity, v, &o))) return st;
+        double lin[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        for (int r = 0; r < 3 && o.has_transform; r++)
+            for (int c = 0; c < 3; c++)
+                lin[3 * r + c] = o.transform[4 * r + c];
+        if ((st = built(brume_scene_set_medium_velocity(NULL, s, index, v, lin),
                         (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "velocity")}))) {
             for (int k = 0; k < 3; k++)
                 brume_density_release(v[k]);

@@ -1,5 +1,5 @@
 /* gen_sparse.c - `brume gen fire` (a procedural flame: density and temperature grids,
- * sparse) and `brume gen upres` (a cloud upsampled by an integer factor with fractal
+ * sparse, and optionally its updraft as a velocity grid) and `brume gen upres` (a cloud upsampled by an integer factor with fractal
  * detail, kept sparse), written through OpenVDB as .vdb or .nvdb (docs/grids.md; tool.h). */
 #include "tool/tool.h"
 
@@ -39,7 +39,8 @@ static double smoothstep(double a, double b, double x)
     return t * t * (3.0 - 2.0 * t);
 }
 
-brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, tool_gen_result *res)
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity,
+                           tool_gen_result *res)
 {
     perlin_table pt;
     perlin_init(&pt, seed);
@@ -52,7 +53,8 @@ brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height,
     int half = n / 4;
     const double origin[3] = {0.5 * vs, 0.5 * vs, 0.5 * vs}; /* index (I, J, K) centred at ((I + 1/2) vs, ...) */
     int gd = gridvdb_writer_add(w, "density", 0, vs, origin), gt = gridvdb_writer_add(w, "temperature", 0, vs, origin);
-    if (gd < 0 || gt < 0) {
+    int gv = velocity > 0.0 ? gridvdb_writer_add(w, "vel", 1, vs, origin) : -2;
+    if (gd < 0 || gt < 0 || gv == -1) {
         err_prefix("gen fire");
         brume_status st = failed();
         gridvdb_writer_free(w);
@@ -67,8 +69,10 @@ brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height,
                 double x = (i - half + 0.5) / (double)n, h = (j + 0.5) / (double)n, z = (k - half + 0.5) / (double)n;
                 vec3 q = v3(x, h, z);
                 double sway = 0.06 * h;
-                q.x += sway * perlin_noise(&pt, v3(3.0 * x, 2.5 * h - 0.0, 3.0 * z));
-                q.z += sway * perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * h, 3.0 * z - 5.0));
+                const double nx = perlin_noise(&pt, v3(3.0 * x, 2.5 * h - 0.0, 3.0 * z)),
+                             nz = perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * h, 3.0 * z - 5.0));
+                q.x += sway * nx;
+                q.z += sway * nz;
                 double d = sqrt(q.x * q.x + q.z * q.z);
                 double turb = perlin_turbulence(&pt, v3(9.0 * q.x, 5.0 * h, 9.0 * q.z), 4);
                 double rf = 0.11 * (1.0 - h) * (1.0 - h) + 0.015; /* flame radius */
@@ -77,6 +81,14 @@ brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height,
                 double rs = 0.04 + 0.16 * h; /* smoke radius */
                 double smoke = pow(fmax(0.0, 1.0 - d / rs), 1.5) * smoothstep(0.2, 0.6, h) * (0.2 + 1.6 * turb);
                 double rho = smoke + 0.6 * core * (0.5 + turb);
+                if (gv >= 0) {
+                    /* the updraft, over the whole box (a lookup moves density from where
+                     * there is none yet): rising faster with height, swaying with the noise
+                     * that bends the flame; world units per second */
+                    float v[3] = {(float)(velocity * 0.3 * nx), (float)(velocity * (0.5 + h)),
+                                  (float)(velocity * 0.3 * nz)};
+                    gridvdb_writer_set(w, gv, i - half, j, k - half, v);
+                }
                 if (rho < 2e-3)
                     continue;
                 float fv = (float)rho, ft = (float)T;

@@ -313,8 +313,10 @@ typedef struct tool_gen_result {
     double voxel;              /* voxel size, world units */
 } tool_gen_result;
 /* A procedural flame: grids "density" and "temperature" (kelvin), n voxels up its height
- * (world units), n/2 across. */
-brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, tool_gen_result *res);
+ * (world units), n/2 across; with velocity > 0 also a vec3 grid "vel", its updraft
+ * (velocity (0.5 + h) up at height fraction h, world units per second). */
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity,
+                           tool_gen_result *res);
 /* in's density grid upsampled factor times per axis (trilinear) with fractal detail of
  * amplitude detail in [0, 1], kept sparse. */
 brume_status tool_gen_upres(const char *in, const brume_grid_file_options *o, int factor, uint64_t seed, double detail,
