@@ -24,6 +24,8 @@ OPTIONAL = {
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},
     "brume_density_load_rgb": {"opts"},
+    "brume_density_load_velocity": {"opts"},
+    "brume_scene_set_medium_velocity": {"map"},  # NULL = the identity
     "brume_scene_set_medium_temperature": {"bb"},
     "brume_density_new_blobs": {"velocity"},
     "brume_scene_add_medium": {"phase"},
