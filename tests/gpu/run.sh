@@ -5,7 +5,8 @@
 #
 # BUNDLE is a brume build packed by scripts/gpu-bundle.sh (default .gpu/brume.tar.xz): the GPU
 # machine needs no Debian package. DATA (default .gpu/data) holds cloud64.raw and the 1/16
-# Disney cloud as wdas.nvdb (`brume convert wdas_cloud_sixteenth.vdb wdas.nvdb`).
+# Disney cloud as wdas.nvdb (`brume convert wdas_cloud_sixteenth.vdb wdas.nvdb`) and a flame
+# with its velocity as fire-vel.nvdb (`brume gen fire --resolution 64 --velocity 2 -o fire-vel.nvdb`).
 #
 # 1. The first GPU run, in which the driver compiles the PTX.
 # 2. For each check scene it renders on the CPU (all cores) and twice on the GPU with the
@@ -80,6 +81,7 @@ check wdas-dense 256 $wdas
 check chromatic-ground 256 tests/gpu/chromatic-emissive.json
 check default 128 scenes/default.json --width 240 --height 160 --set render.noise=0
 check blobs 256 scenes/stam-fig5-a.json --set render.method=path --width 160 --height 120
+check velocity-fire 256 tests/gpu/velocity-fire.json --set "media.0.density.file=$data/fire-vel.nvdb"
 
 # The job system on the GPU: an interrupted and resumed render is the uninterrupted one, byte
 # for byte; a sequence; the live view.
