@@ -221,9 +221,14 @@ static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *i
 /* Majorants of rho moved by any displacement of length <= radius (world units): a field
  * whose majorant walk bounds rho(x - u) for every |u| <= radius (moved_majorant.c derives
  * it), with no values (density_eval gives 0) and no lower bound or control (0). For velocity
- * motion blur (medium.h). NULL with err_set() when out of memory or when the radius spans
- * more than 1e6 voxels. */
-density *density_new_moved_majorant(const density *rho, double radius);
+ * motion blur (medium.h). local, when not NULL, bounds the displacement of the points of a
+ * world box (<= radius; user passed along): each cell is then dilated by its own bound.
+ * NULL with err_set() when out of memory or when the radius spans more than 1e6 voxels. */
+typedef double (*moved_radius_fn)(const void *user, box3 world_box);
+density *density_new_moved_majorant(const density *rho, double radius, moved_radius_fn local, const void *user);
+/* An upper bound of |density_eval(d, p)| for p in the world box (d's values of any sign):
+ * from its majorant cells when it has a cell grid, else its whole range (moved_majorant.c). */
+double density_abs_bound_in_box(const density *d, box3 world_box);
 
 /* Copies d with everything it points to into a (core/arena.h) for the GPU; returns the
  * copy's offset (ARENA_NULL on failure: a->failed). Blob fields are not copied (the GPU

@@ -10,6 +10,10 @@
  * (Cauchy-Schwarz on each row of the linear map), so a cell of rho's majorant lattice
  * bounds the moved field over the cells within ceil(P_a / cell) of it: the lattice's
  * majorants dilated by that many cells per axis, a separable max filter (three passes).
+ * The displacement is v(x) dt with v read at x itself, so a cell only needs the radius of
+ * its own points' motion: with a local bound (the caller's, from the velocity's cell bounds
+ * over the cell) each cell takes the filter of the smallest radius R 2^-l (or 0) at or above
+ * it, one separable filter per level used.
  * The result is a field of majorants only (no values: density_eval gives 0; no lower bound
  * and no control: 0), on the same lattice widened by the padding, or on cells of f^3 of
  * them when that lattice would exceed MOVED_MAX_CELLS. The tree majorants of a large
@@ -24,6 +28,8 @@
 #define MOVED_MAX_CELLS ((size_t)1 << 22)
 /* Voxels a field may move within the shutter, at most (per axis, in its voxel space). */
 #define MOVED_MAX_VOXELS 1e6
+/* Radii of the local dilation: radius 2^-l for l < MOVED_LEVELS - 1, and 0. */
+#define MOVED_LEVELS 8
 
 /* rho's majorant lattice: cells of mc voxels from voxel -moff, mn per axis; maj NULL: every
  * cell bounded by `uniform`. */
@@ -64,7 +70,34 @@ static void max_pass(const float *in, const int ni[3], float *out, const int no[
             }
 }
 
-density *density_new_moved_majorant(const density *rho, double radius)
+double density_abs_bound_in_box(const density *d, box3 world_box)
+{
+    const double all = fmax(fabs(d->rho_min), fabs(d->rho_max));
+    if (!d->maj || !d->mino || d->kind == DENSITY_BLOBS)
+        return all;
+    /* the cells the box touches, in cell space (the box's image's bounding box) */
+    const box3 c = affine3_apply_box(&d->w2c, world_box);
+    const double lo[3] = {c.lo.x, c.lo.y, c.lo.z}, hi[3] = {c.hi.x, c.hi.y, c.hi.z};
+    int a0[3], a1[3];
+    for (int a = 0; a < 3; a++) {
+        if (!(lo[a] < d->mn[a]) || !(hi[a] >= 0.0)) /* outside the voxel box: lookups give 0 */
+            return 0.0;
+        a0[a] = lo[a] <= 0.0 ? 0 : (int)lo[a];
+        a1[a] = hi[a] >= d->mn[a] - 1 ? d->mn[a] - 1 : (int)hi[a];
+    }
+    double m = 0.0;
+    for (int k = a0[2]; k <= a1[2]; k++)
+        for (int j = a0[1]; j <= a1[1]; j++)
+            for (int i = a0[0]; i <= a1[0]; i++) {
+                size_t q = (size_t)i + (size_t)d->mn[0] * ((size_t)j + (size_t)d->mn[1] * (size_t)k);
+                m = fmax(m, fmax(fabs((double)d->maj[q]), fabs((double)d->mino[q])));
+            }
+    /* the cell bounds are rounded outwards for values >= 0 only: one part in 10^6 covers a
+     * negative minimum's rounding */
+    return fmin(all, m * (1.0 + 1e-6));
+}
+
+density *density_new_moved_majorant(const density *rho, double radius, moved_radius_fn local, const void *user)
 {
     if (!(radius >= 0.0) || !isfinite(radius)) {
         err_set(BRUME_ERROR_RANGE, "moved majorant: radius %g must be finite and >= 0", radius);
@@ -88,15 +121,16 @@ density *density_new_moved_majorant(const density *rho, double radius)
     }
     /* padding: cells of the lattice a point can reach within the radius, per axis */
     int Q[3];
+    double P[3];
     for (int a = 0; a < 3; a++) {
         const double *w = rho->w2v.m + 4 * a;
-        double P = radius * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        if (!(P <= MOVED_MAX_VOXELS)) {
+        P[a] = radius * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (!(P[a] <= MOVED_MAX_VOXELS)) {
             err_set(BRUME_ERROR_RANGE, "the velocity moves the field by up to %g voxels along axis %d within the "
-                    "shutter: more than the %g brume tracks", P, a, MOVED_MAX_VOXELS);
+                    "shutter: more than the %g brume tracks", P[a], a, MOVED_MAX_VOXELS);
             return NULL;
         }
-        Q[a] = (int)ceil(P / l.mc);
+        Q[a] = (int)ceil(P[a] / l.mc);
     }
     /* the coarsening f: the moved grid's cells hold f^3 of the lattice's */
     int f = 1, M[3];
@@ -109,46 +143,78 @@ density *density_new_moved_majorant(const density *rho, double radius)
         if (cells <= MOVED_MAX_CELLS)
             break;
     }
+    const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
     density *d = calloc(1, sizeof *d);
     float *src = malloc((size_t)l.mn[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *src);
     float *p1 = malloc((size_t)M[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *p1);
     float *p2 = malloc((size_t)M[0] * (size_t)M[1] * (size_t)l.mn[2] * sizeof *p2);
-    float *maj = malloc((size_t)M[0] * (size_t)M[1] * (size_t)M[2] * sizeof *maj);
-    if (!d || !src || !p1 || !p2 || !maj) {
-        free(d), free(src), free(p1), free(p2), free(maj);
+    float *maj = malloc(nM * sizeof *maj), *lev = local ? malloc(nM * sizeof *lev) : NULL;
+    unsigned char *level = local ? malloc(nM) : NULL;
+    if (!d || !src || !p1 || !p2 || !maj || (local && (!lev || !level))) {
+        free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "moved majorant: out of memory for %d x %d x %d cells", M[0], M[1], M[2]);
         return NULL;
     }
-    for (int k = 0; k < l.mn[2]; k++)
-        for (int j = 0; j < l.mn[1]; j++)
-            for (int i = 0; i < l.mn[0]; i++)
-                src[(size_t)i + (size_t)l.mn[0] * ((size_t)j + (size_t)l.mn[1] * (size_t)k)] = lattice_at(&l, i, j, k);
-    /* moved cell o covers lattice cells [o f - Q, (o + 1) f - Q); a point there reaches Q more
-     * on each side: [o f - 2 Q, (o + 1) f) */
-    int n0[3] = {l.mn[0], l.mn[1], l.mn[2]}, n1[3] = {M[0], l.mn[1], l.mn[2]}, n2[3] = {M[0], M[1], l.mn[2]};
-    max_pass(src, n0, p1, n1, 0, f, 2 * Q[0], f + 2 * Q[0]);
-    max_pass(p1, n1, p2, n2, 1, f, 2 * Q[1], f + 2 * Q[1]);
-    max_pass(p2, n2, maj, M, 2, f, 2 * Q[2], f + 2 * Q[2]);
-    free(src), free(p1), free(p2);
     if ((int64_t)M[0] * f * l.mc > INT32_MAX || (int64_t)M[1] * f * l.mc > INT32_MAX ||
         (int64_t)M[2] * f * l.mc > INT32_MAX) {
-        free(d), free(maj);
+        free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
         err_set(BRUME_ERROR_RANGE, "moved majorant: %d x %d x %d cells of %d voxels exceed the voxel range", M[0], M[1],
                 M[2], f * l.mc);
         return NULL;
     }
     /* its voxel space: rho's shifted so that lattice cell -Q starts at 0; cells of f mc voxels */
+    const affine3 shift = affine3_translate(
+        v3(-(double)(Q[0] * l.mc + l.moff[0]), -(double)(Q[1] * l.mc + l.moff[1]), -(double)(Q[2] * l.mc + l.moff[2])));
+    const affine3 v2w = affine3_compose(&rho->v2w, &shift);
+    const int C = f * l.mc;
+    for (int k = 0; k < l.mn[2]; k++)
+        for (int j = 0; j < l.mn[1]; j++)
+            for (int i = 0; i < l.mn[0]; i++)
+                src[(size_t)i + (size_t)l.mn[0] * ((size_t)j + (size_t)l.mn[1] * (size_t)k)] = lattice_at(&l, i, j, k);
+    /* Each moved cell's radius, when local bounds are given: level lv has the radius
+     * radius 2^-lv (the last level, 0: no motion), and a cell takes the smallest level at or
+     * above its own bound. */
+    int used = local ? 0 : 1; /* bit l: level l's filter is needed */
+    for (size_t o = 0; local && o < nM; o++) {
+        const int oi = (int)(o % (size_t)M[0]), oj = (int)(o / (size_t)M[0] % (size_t)M[1]),
+                  ok = (int)(o / ((size_t)M[0] * (size_t)M[1]));
+        const box3 vb = {v3((double)oi * C, (double)oj * C, (double)ok * C),
+                         v3((double)(oi + 1) * C, (double)(oj + 1) * C, (double)(ok + 1) * C)};
+        const double r = local(user, affine3_apply_box(&v2w, vb));
+        int lv = 0; /* r above the radius (rounding): the whole radius is all there is */
+        while (r <= radius && lv < MOVED_LEVELS - 1 && !(r > radius * ldexp(1.0, -(lv + 1))))
+            lv++;
+        if (lv == MOVED_LEVELS - 1 && r > 0.0) /* the last level is no motion at all */
+            lv = MOVED_LEVELS - 2;
+        level[o] = (unsigned char)lv;
+        used |= 1 << lv;
+    }
+    /* moved cell o covers lattice cells [o f - Q, (o + 1) f - Q); a point there reaches q <= Q
+     * more on each side (q from its level): [o f - Q - q, (o + 1) f - Q + q) */
+    int n0[3] = {l.mn[0], l.mn[1], l.mn[2]}, n1[3] = {M[0], l.mn[1], l.mn[2]}, n2[3] = {M[0], M[1], l.mn[2]};
+    for (int lv = 0; lv < MOVED_LEVELS; lv++) {
+        if (!(used & (1 << lv)))
+            continue;
+        int q[3];
+        for (int a = 0; a < 3; a++)
+            q[a] = lv == MOVED_LEVELS - 1 ? 0 : (int)ceil(ldexp(P[a], -lv) / l.mc);
+        float *out = local ? lev : maj;
+        max_pass(src, n0, p1, n1, 0, f, Q[0] + q[0], f + 2 * q[0]);
+        max_pass(p1, n1, p2, n2, 1, f, Q[1] + q[1], f + 2 * q[1]);
+        max_pass(p2, n2, out, M, 2, f, Q[2] + q[2], f + 2 * q[2]);
+        for (size_t o = 0; local && o < nM; o++)
+            if (level[o] == lv)
+                maj[o] = lev[o];
+    }
+    free(src), free(p1), free(p2), free(lev), free(level);
     d->kind = DENSITY_GRID;
     d->filter = GRID_NEAREST;
-    d->mcell = f * l.mc;
+    d->mcell = C;
     for (int a = 0; a < 3; a++) {
         d->n[a] = M[a] * d->mcell;
         d->mn[a] = M[a];
         d->moff[a] = 0;
     }
-    const affine3 shift = affine3_translate(
-        v3(-(double)(Q[0] * l.mc + l.moff[0]), -(double)(Q[1] * l.mc + l.moff[1]), -(double)(Q[2] * l.mc + l.moff[2])));
-    const affine3 v2w = affine3_compose(&rho->v2w, &shift);
     d->maj = maj;
     if (!density_set_placement(d, &v2w, "moved majorant")) {
         density_release(d);

@@ -24,23 +24,17 @@ void medium_init(medium *m)
     m->sigma_t_min = m->albedo[0] ? 0.0 : col_min(col_add(m->sigma_a, m->sigma_s));
     if (m->temperature)
         blackbody_init();
-    /* |v| = |M u| <= |M|_2 |u| <= sqrt(|M|_1 |M|_inf) |u| (exact for the identity, axis
-     * scalings and axis swaps), and |u| <= the norm of the components' bounds: a lookup
-     * (nearest, or trilinear: a convex combination of voxels) lies within each component's
-     * range of values */
-    double u2 = 0.0, col_max = 0.0, row_max = 0.0;
+    /* |v| = |M u| <= medium_velocity_map_norm |u|, and |u| <= the norm of the components'
+     * bounds: a lookup (nearest, or trilinear: a convex combination of voxels) lies within
+     * each component's range of values */
+    double u2 = 0.0;
     for (int c = 0; m->velocity[0] && c < 3; c++) {
         density_info in;
         density_get_info(m->velocity[c], &in);
         double b = fmax(fabs(in.rho_min), fabs(in.rho_max));
         u2 += b * b;
     }
-    const double *M = m->velocity_map;
-    for (int k = 0; k < 3; k++) {
-        col_max = fmax(col_max, fabs(M[k]) + fabs(M[3 + k]) + fabs(M[6 + k]));
-        row_max = fmax(row_max, fabs(M[3 * k]) + fabs(M[3 * k + 1]) + fabs(M[3 * k + 2]));
-    }
-    m->velocity_max = m->velocity[0] ? sqrt(u2) * sqrt(col_max * row_max) : 0.0;
+    m->velocity_max = m->velocity[0] ? sqrt(u2) * medium_velocity_map_norm(m) : 0.0;
 }
 
 brume_status medium_check_range(const medium *m, const char *source, int index)

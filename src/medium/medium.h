@@ -61,6 +61,18 @@ typedef struct medium {
 /* Whether the medium has any field besides rho (albedo, temperature, emission); a velocity
  * moves them all and is not counted. */
 static inline bool medium_has_fields(const medium *m) { return m->albedo[0] || m->temperature || m->emission[0]; }
+/* A bound of the velocity map's norm |M|_2 <= sqrt(|M|_1 |M|_inf), exact for the identity,
+ * axis scalings and axis swaps: |v| = |M u| <= it times |u|. */
+static inline double medium_velocity_map_norm(const medium *m)
+{
+    const double *M = m->velocity_map;
+    double col_max = 0.0, row_max = 0.0;
+    for (int k = 0; k < 3; k++) {
+        col_max = fmax(col_max, fabs(M[k]) + fabs(M[3 + k]) + fabs(M[6 + k]));
+        row_max = fmax(row_max, fabs(M[3 * k]) + fabs(M[3 * k + 1]) + fabs(M[3 * k + 2]));
+    }
+    return sqrt(col_max * row_max);
+}
 /* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0). */
 bool medium_emits(const medium *m);
 /* Fills the derived fields; call after setting the others. */

@@ -136,8 +136,28 @@ bool scene_flight_control(const brume_scene *s)
     return s->nmedia == 1 && !medium_has_fields(&s->media[0]) && s->media[0].sigma_t_min == s->media[0].sigma_t_max;
 }
 
+/* How far the points of a world box move within the shutter, at most: the velocity's bound
+ * there times the shutter's reach (the same product as medium_init's velocity_max times
+ * the reach, with the box's own component bounds). */
+typedef struct moved_reach {
+    const medium *md;
+    double reach; /* seconds: max |t - t_f| */
+} moved_reach;
+
+static double moved_radius(const void *user, box3 world_box)
+{
+    const moved_reach *mr = (const moved_reach *)user;
+    double u2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double b = density_abs_bound_in_box(mr->md->velocity[c], world_box);
+        u2 += b * b;
+    }
+    return sqrt(u2) * medium_velocity_map_norm(mr->md) * mr->reach;
+}
+
 /* A medium blurred by its velocity: the majorants its lookups need over the shutter, rho's
- * moved by up to max |v| times the shutter's reach from the frame time (medium.h). */
+ * moved by up to |v| times the shutter's reach from the frame time, |v| bounded per cell
+ * (medium.h, density_new_moved_majorant). */
 static brume_status commit_velocity(brume_scene *s, int m)
 {
     medium *md = &s->media[m];
@@ -147,7 +167,8 @@ static brume_status commit_velocity(brume_scene *s, int m)
     const double radius = md->velocity_max * reach;
     if (!md->velocity[0] || !(radius > 0.0))
         return BRUME_OK;
-    md->moved = density_new_moved_majorant(md->rho, radius);
+    const moved_reach mr = {md, reach};
+    md->moved = density_new_moved_majorant(md->rho, radius, moved_radius, &mr);
     return md->moved ? BRUME_OK : err_prefix("%s: media[%d].velocity", s->source, m);
 }
 
