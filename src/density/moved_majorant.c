@@ -97,28 +97,62 @@ double density_abs_bound_in_box(const density *d, box3 world_box)
     return fmin(all, m * (1.0 + 1e-6));
 }
 
+/* rho's majorant lattice, or for a large NanoVDB box's tree (no lattice) a coarse one of 64
+ * cells along the longest axis, each bounded by the field's max. */
+static void lattice_of(const density *rho, lattice *l)
+{
+    *l = (lattice){.maj = rho->maj, .mc = rho->mcell};
+    for (int a = 0; a < 3; a++) {
+        l->mn[a] = rho->mn[a];
+        l->moff[a] = rho->moff[a];
+    }
+    if (rho->maj)
+        return;
+    int longest = rho->n[0] > rho->n[1] ? rho->n[0] : rho->n[1];
+    longest = longest > rho->n[2] ? longest : rho->n[2];
+    l->mc = (longest + 63) / 64;
+    for (int a = 0; a < 3; a++) {
+        l->mn[a] = (rho->n[a] + l->mc - 1) / l->mc;
+        l->moff[a] = 0;
+    }
+    float u = (float)rho->rho_max;
+    l->uniform = (double)u < rho->rho_max ? nextafterf(u, INFINITY) : u;
+}
+
+/* Each moved cell's radius from the local bound: level lv has the radius radius 2^-lv (the
+ * last level, 0: no motion), and a cell takes the smallest level at or above its own bound
+ * (level[o]). The moved grid has M cells of C voxels placed by v2w. Returns the levels used
+ * (bit lv). */
+static int assign_levels(const int M[3], int C, const affine3 *v2w, double radius, moved_radius_fn local,
+                         const void *user, unsigned char *level)
+{
+    int used = 0;
+    const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
+    for (size_t o = 0; o < nM; o++) {
+        const int oi = (int)(o % (size_t)M[0]), oj = (int)(o / (size_t)M[0] % (size_t)M[1]),
+                  ok = (int)(o / ((size_t)M[0] * (size_t)M[1]));
+        const box3 vb = {v3((double)oi * C, (double)oj * C, (double)ok * C),
+                         v3((double)(oi + 1) * C, (double)(oj + 1) * C, (double)(ok + 1) * C)};
+        const double r = local(user, affine3_apply_box(v2w, vb));
+        int lv = 0; /* r above the radius (rounding): the whole radius is all there is */
+        while (r <= radius && lv < MOVED_LEVELS - 1 && !(r > radius * ldexp(1.0, -(lv + 1))))
+            lv++;
+        if (lv == MOVED_LEVELS - 1 && r > 0.0) /* the last level is no motion at all */
+            lv = MOVED_LEVELS - 2;
+        level[o] = (unsigned char)lv;
+        used |= 1 << lv;
+    }
+    return used;
+}
+
 density *density_new_moved_majorant(const density *rho, double radius, moved_radius_fn local, const void *user)
 {
     if (!(radius >= 0.0) || !isfinite(radius)) {
         err_set(BRUME_ERROR_RANGE, "moved majorant: radius %g must be finite and >= 0", radius);
         return NULL;
     }
-    lattice l = {.maj = rho->maj, .mc = rho->mcell};
-    for (int a = 0; a < 3; a++) {
-        l.mn[a] = rho->mn[a];
-        l.moff[a] = rho->moff[a];
-    }
-    if (!rho->maj) { /* a large NanoVDB box's tree: a coarse lattice bounded by the max */
-        int longest = rho->n[0] > rho->n[1] ? rho->n[0] : rho->n[1];
-        longest = longest > rho->n[2] ? longest : rho->n[2];
-        l.mc = (longest + 63) / 64;
-        for (int a = 0; a < 3; a++) {
-            l.mn[a] = (rho->n[a] + l.mc - 1) / l.mc;
-            l.moff[a] = 0;
-        }
-        float u = (float)rho->rho_max;
-        l.uniform = (double)u < rho->rho_max ? nextafterf(u, INFINITY) : u;
-    }
+    lattice l;
+    lattice_of(rho, &l);
     /* padding: cells of the lattice a point can reach within the radius, per axis */
     int Q[3];
     double P[3];
@@ -171,24 +205,8 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
         for (int j = 0; j < l.mn[1]; j++)
             for (int i = 0; i < l.mn[0]; i++)
                 src[(size_t)i + (size_t)l.mn[0] * ((size_t)j + (size_t)l.mn[1] * (size_t)k)] = lattice_at(&l, i, j, k);
-    /* Each moved cell's radius, when local bounds are given: level lv has the radius
-     * radius 2^-lv (the last level, 0: no motion), and a cell takes the smallest level at or
-     * above its own bound. */
-    int used = local ? 0 : 1; /* bit l: level l's filter is needed */
-    for (size_t o = 0; local && o < nM; o++) {
-        const int oi = (int)(o % (size_t)M[0]), oj = (int)(o / (size_t)M[0] % (size_t)M[1]),
-                  ok = (int)(o / ((size_t)M[0] * (size_t)M[1]));
-        const box3 vb = {v3((double)oi * C, (double)oj * C, (double)ok * C),
-                         v3((double)(oi + 1) * C, (double)(oj + 1) * C, (double)(ok + 1) * C)};
-        const double r = local(user, affine3_apply_box(&v2w, vb));
-        int lv = 0; /* r above the radius (rounding): the whole radius is all there is */
-        while (r <= radius && lv < MOVED_LEVELS - 1 && !(r > radius * ldexp(1.0, -(lv + 1))))
-            lv++;
-        if (lv == MOVED_LEVELS - 1 && r > 0.0) /* the last level is no motion at all */
-            lv = MOVED_LEVELS - 2;
-        level[o] = (unsigned char)lv;
-        used |= 1 << lv;
-    }
+    /* bit l: level l's filter is needed (only the whole radius without local bounds) */
+    const int used = local ? assign_levels(M, C, &v2w, radius, local, user, level) : 1;
     /* moved cell o covers lattice cells [o f - Q, (o + 1) f - Q); a point there reaches q <= Q
      * more on each side (q from its level): [o f - Q - q, (o + 1) f - Q + q) */
     int n0[3] = {l.mn[0], l.mn[1], l.mn[2]}, n1[3] = {M[0], l.mn[1], l.mn[2]}, n2[3] = {M[0], M[1], l.mn[2]};
