@@ -556,6 +556,20 @@ static bool path_walk_begin(path_walk *w, const brume_scene *s, const void *stat
 {
     const path_state *st = (const path_state *)state;
     double t_in, t_out;
+    if (hit_surface)
+        *hit_surface = false;
+    if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
+        /* what the walk would come to for this ray, bit for bit: no flight, Tr = 1; only what
+         * path_walk_end reads is set (a culled ray is most rays of a sparse frame) */
+        if (Tr_cam)
+            *Tr_cam = col(1.0);
+        w->s = s;
+        w->Tr_cam = Tr_cam;
+        w->t_cam = INFINITY;
+        w->r_cam = r;
+        w->f.L = escaped_radiance(s, r.d, 0.0);
+        return false;
+    }
     *w = (path_walk){.s = s, .st = st, .max_depth = max_depth, .g = g, .dim0 = g->counter,
                      .gt = rng_make(g->key, 0x7472616b5f646d73ULL, 0), .g_cam = g, .r = r, .pdf_dir = 0.0,
                      .prev = {.ph = NULL}, .k_split = st ? st->split : 1, .pending = 0, .share = 1.0,
@@ -565,15 +579,6 @@ static bool path_walk_begin(path_walk *w, const brume_scene *s, const void *stat
     w->f.g = &w->gt;
     w->f.beta = col(1.0);
     w->f.L = col(0.0);
-    if (hit_surface)
-        *hit_surface = false;
-    if (st && st->cull && !box3_intersect(st->reach, r, 0.0, INFINITY, &t_in, &t_out)) {
-        /* what the walk would come to for this ray, bit for bit: no flight, Tr = 1 */
-        if (Tr_cam)
-            *Tr_cam = col(1.0);
-        w->f.L = escaped_radiance(s, r.d, 0.0);
-        return false;
-    }
     return true;
 }
 
