@@ -287,8 +287,15 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     } else if (st != BRUME_OK) {
         return job_failed(o, job, st);
     }
+    brume_render_job_progress(job, &res->progress);
     if (o->checkpoint) {
-        if (res->interrupted) {
+        /* a render its time budget ended before its samples or its noise target keeps its
+         * state too: `--resume FILE --time T` adds samples (docs/render-jobs.md) */
+        brume_render_settings rs;
+        brume_scene_settings(scene, &rs);
+        const brume_render_progress *p = &res->progress;
+        res->budget_spent = !res->interrupted && o->time_budget > 0.0 && p->converged < 1.0 && p->spp_min < rs.spp;
+        if (res->interrupted || res->budget_spent) {
             if ((st = brume_render_job_save(ctx, job, o->scene_key, o->checkpoint)) != BRUME_OK)
                 return job_failed(o, job, st);
             res->checkpoint_written = true;
@@ -298,7 +305,6 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
             tool_checkpoint_remove_own(job, o->scene_key, o->checkpoint);
         }
     }
-    brume_render_job_progress(job, &res->progress);
     if ((st = brume_render_job_image(ctx, job, out)) != BRUME_OK)
         return job_failed(o, job, st);
     /* the figures of a budgeted render (a fixed count is the command's own --spp) */

@@ -55,6 +55,8 @@ typedef struct cli_job_result {
     bool interrupted;        /* a signal stopped it: the image is partial */
     int signal;
     bool checkpoint_written;
+    bool budget_spent;       /* the time budget ended it with samples left to take (its
+                                checkpoint, if any, is kept to resume from) */
     brume_render_progress progress;
     double seconds;          /* this run's rendering: begin (or resume, with the integrator's
                                 preparation) and the passes; progress.elapsed counts the runs

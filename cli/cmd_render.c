@@ -983,6 +983,9 @@ static int write_frame(render_run *r, char *path, size_t n, int owner, const bru
             return render_failed(r);
         if (!o->quiet)
             report_frame(r, path, owner, rs, now_seconds() - t0);
+        if (!o->quiet && r->jr.budget_spent && r->jr.checkpoint_written)
+            fprintf(stderr, "brume: the time budget ended the render before its samples: its state is kept in %s "
+                            "(--resume %s with another --time adds samples)\n", o->checkpoint, o->checkpoint);
     }
     brume_image_release(r->image);
     r->image = NULL;

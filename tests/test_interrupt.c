@@ -405,6 +405,53 @@ TEST(resume_takes_another_budget)
     ASSERT_EQ_INT(temporaries(dir), 0);
 }
 
+/* A render its time budget ends before its samples keeps its checkpoint: a second run
+ * with --resume and another --time goes on from it (the state was removed as if the render
+ * had finished, and the second run started over). A render that finishes removes it. */
+TEST(budget_keeps_the_checkpoint)
+{
+    const char *dir = fresh_dir("budgetkeeps");
+    char scene[400], err[400], out[400], ck[400], args[8192];
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(out, sizeof out, "%s/out.exr", dir);
+    snprintf(ck, sizeof ck, "%s/render.ckpt", dir);
+    test_write_file(scene, scene_json);
+    snprintf(args, sizeof args, "render %s --spp 1000000 --time 0.3 -o %s --checkpoint %s", scene, out, ck);
+    ASSERT_EQ_INT(run(args, err), 0);
+    ASSERT_TRUE(test_exists(ck));
+    size_t n;
+    char *msg = test_slurp(err, &n);
+    ASSERT_CONTAINS(msg, "its state is kept in");
+    free(msg);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
+    int first_max = atoi(brume_image_attribute(img, "brume.spp_max"));
+    brume_image_release(img);
+    ASSERT_TRUE(first_max >= 1);
+    snprintf(args, sizeof args, "render %s --spp 1000000 --time 0.3 -o %s --checkpoint %s --resume %s", scene, out,
+             ck, ck);
+    ASSERT_EQ_INT(run(args, err), 0);
+    ASSERT_TRUE(test_exists(ck));
+    img = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
+    int second_min = atoi(brume_image_attribute(img, "brume.spp_min"));
+    brume_image_release(img);
+    if (second_min <= first_max)
+        TEST_FAIL("resumed: %d samples per pixel at least, the first run had at most %d", second_min, first_max);
+    /* a render that reaches its samples within its budget is finished: its checkpoint goes
+     * (one made by a render of those settings first, so that the file is its own) */
+    snprintf(args, sizeof args, "render %s --spp 256 --time 0.02 -o %s --checkpoint %s", scene, out, ck);
+    ASSERT_EQ_INT(run(args, err), 0);
+    ASSERT_TRUE(test_exists(ck));
+    snprintf(args, sizeof args, "render %s --spp 256 --time 60 -o %s --checkpoint %s --resume %s", scene, out, ck, ck);
+    ASSERT_EQ_INT(run(args, err), 0);
+    ASSERT_TRUE(!test_exists(ck));
+    brume_context_release(ctx);
+    ASSERT_EQ_INT(temporaries(dir), 0);
+}
+
 /* Outputs are checked before any rendering: a render that would take days fails at once
  * on a bad extension, a --aov layer with PNG, a folder that cannot be made; missing folders
  * of a good output are made. */
@@ -569,4 +616,5 @@ TEST(ctrl_c_on_a_terminal)
 
 TEST_MAIN(signal_writes_partial_image, second_sigint_ends_at_once, sequence_keeps_finished_frames,
           resume_is_byte_identical, bad_checkpoints_refused, outputs_checked_before_rendering,
-          budgets_on_the_command_line, ctrl_c_on_a_terminal, resume_takes_another_budget)
+          budgets_on_the_command_line, ctrl_c_on_a_terminal, resume_takes_another_budget,
+          budget_keeps_the_checkpoint)
