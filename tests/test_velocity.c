@@ -2,6 +2,7 @@
  *   - a puff moved by a constant velocity grid renders, within the estimators' noise, as the
  *     same puff moved by keyframes over the same shutter (per channel, per block), while the
  *     unmoved puff does not (the comparison can fail);
+ *   - a sequence of files, each with its own velocity, blurs each frame by its own file's;
  *   - the moved majorants bound the advected density at random points and times of the
  *     shutter, for a rotating velocity (three float grids vel.x/.y/.z), with the cell grid's
  *     majorants and with the tree's, and the undilated majorants do not;
@@ -32,7 +33,8 @@ static void need_openvdb(void)
  * block of 8^3 voxels of density 4 in the middle) and a velocity:
  * kind 0 a vec3 grid "vel" = (1, 0, 0) everywhere it is active (a box well around the puff),
  * kind 1 three float grids vel.x/.y/.z of the rotation v = omega (-y, x, 0) about the z axis,
- * kind 2 a vec3 grid "vel" (1 + 0.01 i, 0, 0) with one NaN voxel. Written to path as .nvdb. */
+ * kind 2 a vec3 grid "vel" (1 + 0.01 i, 0, 0) with one NaN voxel, kind 3 a vec3 grid "vel" =
+ * (0, 1, 0). Written to path as .nvdb. */
 static void write_puff(const char *path, const double centre[3], int kind)
 {
     gridvdb_writer *w = gridvdb_writer_new();
@@ -66,10 +68,13 @@ static void write_puff(const char *path, const double centre[3], int kind)
     } else {
         int gv = gridvdb_writer_add(w, "vel", 1, h, origin);
         ASSERT_TRUE(gv >= 0);
+        /* the box well around the puff and where the velocity carries it (along x, or y) */
+        const int jlo = kind == 3 ? -12 : -4, jhi = kind == 3 ? 28 : 20, ilo = kind == 3 ? -4 : -12,
+                  ihi = kind == 3 ? 20 : 28;
         for (int k = -4; k < 20; k++)
-            for (int j = -4; j < 20; j++)
-                for (int i = -12; i < 28; i++) {
-                    float v[3] = {1.0f, 0.0f, 0.0f};
+            for (int j = jlo; j < jhi; j++)
+                for (int i = ilo; i < ihi; i++) {
+                    float v[3] = {kind == 3 ? 0.0f : 1.0f, kind == 3 ? 1.0f : 0.0f, 0.0f};
                     if (kind == 2) { /* varying, so that pruning keeps the NaN's leaf */
                         v[0] += 0.01f * (float)i;
                         v[1] = i == 3 && j == 4 && k == 5 ? NAN : 0.0f;
@@ -166,6 +171,57 @@ TEST(constant_velocity_matches_keyframed_translation)
     brume_image_release(vel);
     brume_image_release(key);
     brume_image_release(still);
+}
+
+/* A sequence of files, each with its own velocity, as a simulation writes it: frame f reads
+ * file f's density and velocity. Files velseq_0001 (velocity +x) and velseq_0002 (+y),
+ * frames at f seconds (render.fps 1), the shutter [0, 0.8] from the frame's time: frame 2
+ * renders as the puff moved along +y by keyframes over [2, 2.8], and not as the one moved
+ * along +x (frame 1's velocity, or one velocity for the whole sequence). Tolerance as
+ * above. */
+TEST(sequence_frames_blur_by_their_own_velocity)
+{
+    need_openvdb();
+    char p1[512], p2[512], pattern[512];
+    snprintf(p1, sizeof p1, "%s", test_tmp_path("velseq_0001.nvdb"));
+    snprintf(p2, sizeof p2, "%s", test_tmp_path("velseq_0002.nvdb"));
+    snprintf(pattern, sizeof pattern, "%s", test_tmp_path("velseq_%04d.nvdb"));
+    write_puff(p1, (const double[3]){0, 0, 0}, 0);
+    write_puff(p2, (const double[3]){0, 0, 0}, 3);
+    brume_image *img[3];
+    const char *extra[3] = {", \"velocity\": {\"grid\": \"vel\"}",
+                             ", \"keyframes\": [{\"time\": 2, \"transform\": {\"translate\": [0, 0, 0]}},"
+                             " {\"time\": 2.8, \"transform\": {\"translate\": [0, 0.8, 0]}}]",
+                             ", \"keyframes\": [{\"time\": 2, \"transform\": {\"translate\": [0, 0, 0]}},"
+                             " {\"time\": 2.8, \"transform\": {\"translate\": [0.8, 0, 0]}}]"};
+    for (int m = 0; m < 3; m++) {
+        char json[4096];
+        snprintf(json, sizeof json,
+                 "{\"camera\": {\"position\": [0.4, 0.4, 5], \"look_at\": [0.4, 0.4, 0], \"fov\": 34,"
+                 " \"shutter\": [0, 0.8]},"
+                 " \"lights\": [{\"type\": \"distant\", \"direction\": [0.3, -1, -0.4], \"irradiance\": 3.0}],"
+                 " \"background\": [0.1, 0.15, 0.25],"
+                 " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"},"
+                 "   \"sigma_a\": [1, 1.5, 2], \"sigma_s\": [3, 2.5, 2], \"emission\": [0.6, 0.3, 0.1]%s}],"
+                 " \"render\": {\"width\": 32, \"height\": 24, \"spp\": 64, \"max_depth\": 4, \"fps\": 1}}",
+                 m == 0 ? pattern : p2, extra[m]);
+        brume_context *ctx = brume_context_new();
+        brume_scene *s = NULL;
+        brume_load_options lo = {.frame = 2};
+        if (brume_scene_load(ctx, &(brume_source){.path = "velseq.json", .text = json}, &lo, &s) != BRUME_OK)
+            TEST_FAIL("%s", brume_context_last_error(ctx));
+        img[m] = test_render_scene(s, -1, 31 + (unsigned long long)m);
+        brume_scene_release(s);
+        brume_context_release(ctx);
+    }
+    double worst_y, worst_x;
+    int bad_y = blocks_differ(img[0], img[1], 4.5, &worst_y), bad_x = blocks_differ(img[0], img[2], 4.5, &worst_x);
+    printf("frame 2 by its file's velocity vs keyframes along +y: %d of 48 beyond 4.5 se (worst %.2f); vs +x: %d "
+           "(worst %.1f)\n", bad_y, worst_y, bad_x, worst_x);
+    ASSERT_EQ_INT(bad_y, 0);
+    ASSERT_TRUE(bad_x >= 6);
+    for (int m = 0; m < 3; m++)
+        brume_image_release(img[m]);
 }
 
 /* The grid's placement transform turns the vectors with the grid: the file's velocity
@@ -327,5 +383,6 @@ TEST(bad_velocity_inputs_refused)
 }
 
 TEST_MAIN(constant_velocity_matches_keyframed_translation, grid_transform_turns_the_velocity,
+          sequence_frames_blur_by_their_own_velocity,
           moved_majorant_bounds_advected_density,
           moved_majorant_bounds_advected_density_tree, bad_velocity_inputs_refused)
