@@ -15,12 +15,17 @@
 
 static const char fire_usage[] =
     "usage: brume gen fire [flags] -o OUT(.vdb|.nvdb)\n"
+    "       brume gen fire [flags] --frames A-B [--fps F] -o OUT_%04d.nvdb   (a file per frame)\n"
     "  a procedural flame: grids \"density\" (smoke and soot) and \"temperature\" (kelvin)\n"
     "  --resolution N   voxels along the height (default 128; width and depth N/2), [16, 2048]\n"
     "  --seed N         noise seed (default 1)\n"
     "  --height H       world height of the flame (default 2; the base is centred on the origin)\n"
     "  --velocity S     also a vec3 grid \"vel\": the updraft, S (0.5 + h) world units per second up at\n"
-    "                   height fraction h with a sway of 0.3 S, over the whole box (default 0: none)\n";
+    "                   height fraction h with a sway of 0.3 S, over the whole box (default 0: none)\n"
+    "  --time T         seconds: the turbulence has risen by S T (by T without --velocity) (default 0)\n"
+    "  --frames A-B     frames A to B at times f / F, each to OUT with f in the frame pattern\n"
+    "                   (%04d, ####, $F4: docs/grids.md, \"Sequences\"), in [0, 100000]\n"
+    "  --fps F          frames per second, (0, 1000] (default 24, as render.fps)\n";
 
 static const char upres_usage[] =
     "usage: brume gen upres IN(.vdb|.nvdb) --factor F -o OUT(.vdb|.nvdb) [flags]\n"
@@ -54,8 +59,9 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
 
 int gen_fire(int argc, char **argv)
 {
-    long n = 128, seed = 1;
-    double height = 2.0, velocity = 0.0;
+    long n = 128, seed = 1, first = 0, last = -1;
+    double height = 2.0, velocity = 0.0, time = 0.0, fps = 24.0;
+    bool frames = false, timed = false;
     const char *out = NULL;
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i];
@@ -79,7 +85,16 @@ int gen_fire(int argc, char **argv)
             ok = cli_parse_doubles(v, &height, 1) && height > 0.0 && height < 1e6;
         else if (strcmp(f, "--velocity") == 0)
             ok = cli_parse_doubles(v, &velocity, 1) && velocity >= 0.0 && velocity < 1e6;
-        else {
+        else if (strcmp(f, "--time") == 0)
+            ok = (timed = cli_parse_doubles(v, &time, 1) && time >= -1e6 && time <= 1e6);
+        else if (strcmp(f, "--fps") == 0)
+            ok = cli_parse_doubles(v, &fps, 1) && fps > 0.0 && fps <= 1000.0;
+        else if (strcmp(f, "--frames") == 0) {
+            char *end;
+            first = strtol(v, &end, 10);
+            ok = end != v && *end == '-' && parse_int(end + 1, 0, 100000, &last) && first >= 0 && first <= last;
+            frames = ok;
+        } else {
             cli_error("gen fire: unknown flag %s (see brume gen fire --help)", f);
             return 2;
         }
@@ -98,13 +113,37 @@ int gen_fire(int argc, char **argv)
     }
     if (check_output(out))
         return 2;
-    tool_gen_result res;
-    if (tool_gen_fire(out, (int)n, (uint64_t)seed, height, velocity, &res) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
-        return 1;
+    int kind = tool_seq_is_pattern(out);
+    if (kind < 0 || (kind == 1) != frames) {
+        if (kind < 0)
+            cli_error("%.1000s", tool_last_error());
+        else
+            cli_error(frames ? "-o %s: --frames needs a frame pattern in the name (fire_%%04d.nvdb, fire_####.nvdb)"
+                             : "-o %s: a frame pattern needs --frames A-B",
+                      out);
+        return 2;
     }
-    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", out, res.active, res.box[0], res.box[1],
-           res.box[2], res.voxel);
+    if (frames && timed) {
+        cli_error("gen fire: --time and --frames: a frame's time is f / --fps");
+        return 2;
+    }
+    if (!frames)
+        first = last = 0;
+    for (long f = first; f <= last; f++) {
+        char name[4096];
+        if (frames)
+            tool_seq_name(out, f, name, sizeof name);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        tool_gen_result res;
+        if (tool_gen_fire(name, (int)n, (uint64_t)seed, height, velocity, frames ? (double)f / fps : time, &res) !=
+            BRUME_OK) {
+            cli_error("%.1000s", tool_last_error());
+            return 1;
+        }
+        printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", name, res.active, res.box[0],
+               res.box[1], res.box[2], res.voxel);
+    }
     return 0;
 }
 

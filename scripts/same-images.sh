@@ -20,7 +20,8 @@
 # What is rendered (cases() below): every scenes/*.json (the animated ones at frame 7), the
 # built-in default scene (no file; each binary's own compiled-in copy), a studio scene of
 # every .vdb in data/ and of a .nvdb converted from data/ (`brume render FILE`), scenes/
-# fire-vdb.json with the fire.vdb each version generates (`brume gen fire`), the methods
+# fire-vdb.json with the fire.vdb each version generates (`brume gen fire`), fire-velocity.json
+# at frame 2 of the two files `brume gen fire --frames` writes, the methods
 # no scene file uses on the comparison cloud (single, blasi), adaptive sampling, AOV
 # layers, the denoiser, the independent sampler, and through the Python package the
 # default scene and a dict with a numpy density. The scene files and data are HEAD's
@@ -228,13 +229,15 @@ scene_args() {
         *) echo "$SIZE" ;;
     esac
 }
-# cases: one line per case, "ID<TAB>KIND<TAB>ARGS" (KIND cli, cli-fire, cli-nvdb or python)
+# cases: one line per case, "ID<TAB>KIND<TAB>ARGS" (KIND cli, cli-fire, cli-fireseq, cli-nvdb or python)
 cases() {
     local f name
     for f in "$tmp"/head/scenes/*.json; do
         name=$(basename "$f" .json)
         if [ "$name" = fire-vdb ]; then
             printf '%s\tcli-fire\t%s\n' "$name" "scenes/$name.json $(scene_args "$name")"
+        elif [ "$name" = fire-velocity ]; then
+            printf '%s\tcli-fireseq\t%s\n' "$name" "scenes/$name.json $(scene_args "$name") --frame 2"
         else
             printf '%s\tcli\t%s\n' "$name" "scenes/$name.json $(scene_args "$name")"
         fi
@@ -283,6 +286,7 @@ render() {
         cd "$run" || exit 1
         case $kind in
             cli-fire) "$bin" gen fire -o scenes/fire.vdb || exit 1 ;;
+            cli-fireseq) "$bin" gen fire --resolution 32 --velocity 4 --frames 1-2 -o 'scenes/fire_%04d.nvdb' || exit 1 ;;
             cli-nvdb) "$bin" convert data/spiral.df3 spiral.nvdb || exit 1 ;;
         esac
         if [ "$kind" = python ]; then

@@ -1049,5 +1049,55 @@ TEST(gen_upres_and_fire)
     unlink(fire);
 }
 
-TEST_MAIN(gen_upres_and_fire, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense, sparse_trilinear_majorants_tight,
+/* brume gen fire --frames writes a file per frame at time f / fps through the reader's frame
+ * patterns: frame 0 is the still flame (the same bytes), frame 1 the flame at 1/24 s (the
+ * same bytes as --time 1/24), and the noise rises by S T: --velocity 2 --time 0.5 has the
+ * density of --velocity 1 --time 1. Without a pattern, or with --time, --frames is refused. */
+TEST(gen_fire_frames)
+{
+    if (!grid_have_openvdb())
+        return;
+    char pattern[600], f0[600], f1[600], still[600], at[600], a[600], b[600], cmd[4096];
+    snprintf(pattern, sizeof pattern, "%s", test_tmp_path("fireseq_####.nvdb"));
+    snprintf(f0, sizeof f0, "%s", test_tmp_path("fireseq_0000.nvdb"));
+    snprintf(f1, sizeof f1, "%s", test_tmp_path("fireseq_0001.nvdb"));
+    snprintf(still, sizeof still, "%s", test_tmp_path("firestill.nvdb"));
+    snprintf(at, sizeof at, "%s", test_tmp_path("fireat.nvdb"));
+    snprintf(a, sizeof a, "%s", test_tmp_path("firea.nvdb"));
+    snprintf(b, sizeof b, "%s", test_tmp_path("fireb.nvdb"));
+    const char *gen = "gen fire --resolution 24 --velocity 2";
+    snprintf(cmd, sizeof cmd, "%s %s --frames 0-2 -o '%s' > /dev/null && %s %s -o %s > /dev/null && "
+                              "%s %s --time 0.041666666666666664 -o %s > /dev/null && "
+                              "%s gen fire --resolution 24 --velocity 2 --time 0.5 -o %s > /dev/null && "
+                              "%s gen fire --resolution 24 --velocity 1 --time 1 -o %s > /dev/null",
+             BRUME_EXE, gen, pattern, BRUME_EXE, gen, still, BRUME_EXE, gen, at, BRUME_EXE, a, BRUME_EXE, b);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    ASSERT_TRUE(test_exists(test_tmp_path("fireseq_0002.nvdb")));
+    size_t n0, n1, ns, nt;
+    char *c0 = test_slurp(f0, &n0), *c1 = test_slurp(f1, &n1), *cs = test_slurp(still, &ns), *ct = test_slurp(at, &nt);
+    ASSERT_TRUE(n0 == ns && memcmp(c0, cs, n0) == 0);
+    ASSERT_TRUE(n1 == nt && memcmp(c1, ct, n1) == 0);
+    ASSERT_TRUE(n0 != n1 || memcmp(c0, c1, n0) != 0);
+    free(c0), free(c1), free(cs), free(ct);
+    /* the grid named "density" (the default) */
+    density *da = density_load_file(a, NULL), *db = density_load_file(b, NULL), *d0 = density_load_file(f0, NULL);
+    if (!da || !db || !d0)
+        TEST_FAIL("%s", err_message());
+    rng g = rng_make(4, 0, 0);
+    int moved = 0;
+    for (int n = 0; n < 4000; n++) {
+        vec3 p = v3(0.4 * (rng_next(&g) - 0.5), 2.0 * rng_next(&g), 0.4 * (rng_next(&g) - 0.5));
+        double va = density_eval(da, p);
+        ASSERT_NEAR(density_eval(db, p), va, 1e-6 * va + 1e-9);
+        moved += fabs(density_eval(d0, p) - va) > 1e-3;
+    }
+    ASSERT_TRUE(moved > 100); /* and the time moves it */
+    density_release(da), density_release(db), density_release(d0);
+    snprintf(cmd, sizeof cmd, "%s gen fire --frames 1-2 -o %s 2>/dev/null", BRUME_EXE, still);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    snprintf(cmd, sizeof cmd, "%s gen fire --frames 1-2 --time 1 -o '%s' 2>/dev/null", BRUME_EXE, pattern);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+}
+
+TEST_MAIN(gen_upres_and_fire, gen_fire_frames, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense, sparse_trilinear_majorants_tight,
           nanovdb_cached_lookups, sparse_majorants_bound, sparse_small_box_dense_copy, sparse_furnace, hostile_vdb_bit_flips, hostile_vdb_huge_counts)

@@ -39,7 +39,7 @@ static double smoothstep(double a, double b, double x)
     return t * t * (3.0 - 2.0 * t);
 }
 
-brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity,
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity, double time,
                            tool_gen_result *res)
 {
     perlin_table pt;
@@ -62,19 +62,22 @@ brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height,
     }
     /* Normalized coordinates: h in [0, 1) up the flame, (x, z) across, |x|, |z| < 1/4. The
      * flame core narrows and cools with height; smoke widens above it; turbulence, growing
-     * with height, displaces both and breaks them into licks and puffs. */
+     * with height, displaces both and breaks them into licks and puffs. In time the noise
+     * rises through the fixed envelope (hn: the height it is read at) at the updraft's speed
+     * at mid-height, in heights per second. */
+    const double rise = (velocity > 0.0 ? velocity : 1.0) * time / height;
     for (int j = 0; j < n; j++)
         for (int k = 0; k < 2 * half; k++)
             for (int i = 0; i < 2 * half; i++) {
                 double x = (i - half + 0.5) / (double)n, h = (j + 0.5) / (double)n, z = (k - half + 0.5) / (double)n;
                 vec3 q = v3(x, h, z);
-                double sway = 0.06 * h;
-                const double nx = perlin_noise(&pt, v3(3.0 * x, 2.5 * h - 0.0, 3.0 * z)),
-                             nz = perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * h, 3.0 * z - 5.0));
+                double sway = 0.06 * h, hn = h - rise;
+                const double nx = perlin_noise(&pt, v3(3.0 * x, 2.5 * hn, 3.0 * z)),
+                             nz = perlin_noise(&pt, v3(3.0 * x + 17.0, 2.5 * hn, 3.0 * z - 5.0));
                 q.x += sway * nx;
                 q.z += sway * nz;
                 double d = sqrt(q.x * q.x + q.z * q.z);
-                double turb = perlin_turbulence(&pt, v3(9.0 * q.x, 5.0 * h, 9.0 * q.z), 4);
+                double turb = perlin_turbulence(&pt, v3(9.0 * q.x, 5.0 * hn, 9.0 * q.z), 4);
                 double rf = 0.11 * (1.0 - h) * (1.0 - h) + 0.015; /* flame radius */
                 double core = fmax(0.0, 1.0 - d / rf) * (1.0 - smoothstep(0.35, 0.8, h));
                 double T = 300.0 + 1700.0 * core * (0.55 + 0.9 * turb);

@@ -314,8 +314,10 @@ typedef struct tool_gen_result {
 } tool_gen_result;
 /* A procedural flame: grids "density" and "temperature" (kelvin), n voxels up its height
  * (world units), n/2 across; with velocity > 0 also a vec3 grid "vel", its updraft
- * (velocity (0.5 + h) up at height fraction h, world units per second). */
-brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity,
+ * (velocity (0.5 + h) up at height fraction h, world units per second). At time t (seconds)
+ * its turbulence has risen by t times the updraft's speed at mid-height (velocity, or 1 world
+ * unit per second without one): frames at f / fps flicker and rise. */
+brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity, double time,
                            tool_gen_result *res);
 /* in's density grid upsampled factor times per axis (trilinear) with fractal detail of
  * amplitude detail in [0, 1], kept sparse. */
