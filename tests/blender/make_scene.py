@@ -1,7 +1,7 @@
 # make_scene.py - tests/blender_test.sh's scene: a .blend with a camera, a sun, a grey sky and
 # a VDB volume with a Principled Volume, saved, then rendered with Cycles to an EXR.
 #
-#   blender -b --factory-startup --python make_scene.py -- GRID.vdb OUT.blend CYCLES.exr SPP
+#   blender -b --factory-startup --python make_scene.py -- GRID.vdb OUT.blend CYCLES.exr SPP [WxH]
 import math
 import sys
 
@@ -9,7 +9,9 @@ import addon_utils
 import bpy
 from mathutils import Vector
 
-vdb, blend, exr, spp = sys.argv[sys.argv.index("--") + 1:][:4]
+args = sys.argv[sys.argv.index("--") + 1:]
+vdb, blend, exr, spp = args[:4]
+width, height = (int(v) for v in args[4].split("x")) if len(args) > 4 else (48, 36)
 addon_utils.enable("cycles", default_set=True)
 bpy.ops.wm.read_factory_settings(use_empty=True)
 scene = bpy.context.scene
@@ -23,7 +25,7 @@ cy.seed = 7
 cy.max_bounces = cy.volume_bounces = cy.transparent_max_bounces = cy.diffuse_bounces = 1024
 cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
 cy.filter_width = 1.0
-scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 48, 36, 100
+scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = width, height, 100
 scene.view_settings.view_transform = "Standard"
 scene.render.image_settings.file_format = "OPEN_EXR"
 scene.render.image_settings.color_depth = "32"
