@@ -81,7 +81,7 @@ bool density_build_cell_bounds(density *d, double (*fetch)(const density *, int,
                 /* rounded outwards to float */
                 float fm = (float)m, fmi = (float)mi;
                 d->maj[c] = (double)fm < m ? nextafterf(fm, INFINITY) : fm;
-                d->mino[c] = (double)fmi > mi ? nextafterf(fmi, 0.0f) : fmi;
+                d->mino[c] = (double)fmi > mi ? nextafterf(fmi, -INFINITY) : fmi;
                 /* between the two bounds (any value is unbiased; this one keeps the residual
                  * within the rate track_collisions derives from them) */
                 float fme = own ? (float)(sum / own) : d->mino[c];
