@@ -23,17 +23,49 @@ clang -fsanitize=fuzzer "$probe" -o "$out/probe" 2>/dev/null || { echo "fuzz: no
 
 upper=$(echo "$fmt" | tr a-z A-Z)
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
+
+# cached_objects NAME COMPILER "FLAGS" FILE...: compiles each FILE to an object once for
+# these flags and these sources (and every header of src/ and include/): the targets that
+# share them (raw, df3, vol, nvdb; scene and readers) build them once, not once each. The
+# folder is named by a hash of the flags and the sources, so a changed file or flag makes a
+# new one (the old ones are removed). Prints the objects. ctest runs the fuzz targets one at
+# a time (RESOURCE_LOCK fuzz_seeds); a folder is complete once its "done" file exists.
+cached_objects() {
+    name=$1 cc=$2 cflags=$3
+    shift 3
+    key=$({ echo "$cc $cflags"; cat "$@" $(find "$src/src" "$src/include" -name '*.h' | sort); } | sha1sum | cut -c1-16)
+    dir="$out/obj-$name-$key"
+    if [ ! -f "$dir/done" ]; then
+        rm -rf "$out/obj-$name-"*
+        mkdir -p "$dir"
+        i=0 pid=""
+        for f in "$@"; do # two at a time
+            $cc $cflags -c "$f" -o "$dir/$i-$(basename "$f" .c).o" &
+            if [ -n "$pid" ]; then
+                wait "$pid" || { wait; return 1; }
+                pid=$!
+            else
+                pid=$!
+            fi
+            i=$((i + 1))
+        done
+        [ -z "$pid" ] || wait "$pid" || return 1
+        touch "$dir/done"
+    fi
+    ls "$dir"/*.o
+}
 csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c $src/src/io/grid_raw.c $src/src/io/grid_df3.c $src/src/io/grid_vol.c $src/src/io/grid_nvdb.c $src/src/io/grid_openvdb.c $src/src/io/grid_sandbox.c $src/src/io/sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = scene ] || [ "$fmt" = readers ]; then
     # the whole library but OpenVDB (C++), and the default scene and build id CMake generated
-    flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z]*//') -I$build/generated"
+    flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z0-9]*//') -I$build/generated"
     # no GPU kernels: the fuzzers never ask for a GPU, and the PTX would only slow the build
     echo 'const char gpu_ptx[] = "";' > "$out/gpu_ptx_none.c"
-    csrc="$src/fuzz/fuzz_$fmt.c $(find "$src/src" -name '*.c' | sort) $build/default_scene.c $out/gpu_ptx_none.c"
+    lib="$(find "$src/src" -name '*.c' | sort) $build/default_scene.c $out/gpu_ptx_none.c"
     # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
-    clang -std=c11 $flags "-DBUDGET_DEFAULT_BYTES=((size_t)4<<20)" "-DBUDGET_MAX_BYTES=((size_t)4<<20)" -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp) \
-        $csrc -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3) -lOpenEXRCore -lembree3 -lpthread -ldl -lm
+    cflags="-std=c11 $flags -DBUDGET_DEFAULT_BYTES=((size_t)4<<20) -DBUDGET_MAX_BYTES=((size_t)4<<20) -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp)"
+    objs=$(cached_objects lib clang "$cflags" $lib) || exit 1
+    clang $cflags "$src/fuzz/fuzz_$fmt.c" $objs -o "$exe" $(pkg-config --libs libcjson libpng cairo fftw3) -lOpenEXRCore -lembree3 -lpthread -ldl -lm
 elif [ "$fmt" = vdb ]; then
     # OpenVDB's TBB headers trip UBSan in their own code (concurrent_hash_map); ASan only
     flags=$(echo "$flags" | sed 's/,undefined//')
@@ -52,7 +84,10 @@ elif [ "$fmt" = vdb ]; then
     clang++ -std=c++17 $flags -c "$src/src/io/grid_vdb.cpp" -o "$out/grid_vdb.o"
     clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -ldl -lm
 else
-    clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=0 $csrc -o "$exe" -lfftw3 -ldl -lm
+    # the readers' objects, shared by raw, df3, vol and nvdb (FUZZ_FORMAT is read by fuzz_grid.c alone)
+    cflags="-std=c11 $(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z0-9]*//') -DBRUME_HAVE_OPENVDB=0"
+    objs=$(cached_objects grid clang "$cflags" $(echo "$csrc" | sed "s|$src/fuzz/fuzz_grid.c||")) || exit 1
+    clang $cflags "-DFUZZ_FORMAT=GRID_FORMAT_$upper" "$src/fuzz/fuzz_grid.c" $objs -o "$exe" -lfftw3 -ldl -lm
 fi
 seeds="$build/fuzz/seeds/$fmt"
 mkdir -p "$seeds"
