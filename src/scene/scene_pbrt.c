@@ -1207,7 +1207,7 @@ static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
     }
     bool tri = strcmp(type, "trianglemesh") == 0;
     if (!tri && strcmp(type, "bilinearmesh") != 0)
-        return fail(L, "%s: not supported by brume's pbrt reader (sphere, trianglemesh, bilinearmesh, plymesh)", type);
+        return fail(L, "%s: not supported by brume's pbrt reader (sphere, trianglemesh, bilinearmesh, plymesh)", what);
     /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
        not used (brume shades by the geometric normal) */
     get(ps, "N");
