@@ -817,8 +817,9 @@ static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *
 
 /* "rgbgrid": RGB grids of sigma_a and sigma_s (each 1 where not given), times scale. brume's
  * medium is one density times one colour per coefficient, so the grid is taken when every
- * sample is d_i (c_a, c_s) for one pair of colours: d_i = the sample's largest coefficient;
- * any other grid is refused (docs/production.md). */
+ * sample is d_i (c_a, c_s) for one pair of colours: d_i = the sample's largest coefficient,
+ * each coefficient within 1e-5 of the grid's largest (values written with 6 digits); any
+ * other grid is refused (docs/production.md). */
 static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
 {
     lexer *L = &S->L;
@@ -865,11 +866,10 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
     for (int i = 0; i < count; i++)
         for (int c = 0; c < 3; c++) {
             double a = A ? A->v[3 * i + c] : 1.0, s = Sg ? Sg->v[3 * i + c] : 1.0;
-            if (fabs(a - d[i] * ca[c]) > 1e-6 * d[top] || fabs(s - d[i] * cs[c]) > 1e-6 * d[top]) {
+            if (fabs(a - d[i] * ca[c]) > 1e-5 * d[top] || fabs(s - d[i] * cs[c]) > 1e-5 * d[top]) {
                 free(d);
-                return fail(L, "%s: sample %d's colour differs from sample %d's: brume's media are one density "
-                               "times one colour per coefficient, so an rgbgrid whose sigma_a or sigma_s changes "
-                               "colour over the grid is not read", what, i, top);
+                return fail(L, "%s: sigma_a or sigma_s changes colour over the grid (sample %d against %d); "
+                               "brume's media are one density times one colour per coefficient", what, i, top);
             }
         }
     cJSON *m = medium_new(L, name, ca, cs, scale, g);
