@@ -520,6 +520,19 @@ typedef struct pbrt_state {
     bool have_background;
 } pbrt_state;
 
+/* A file a directive names, relative to the .pbrt's folder, as an absolute path in abs. */
+static brume_status resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX])
+{
+    char rel[PATH_MAX + 1100];
+    if (file[0] == '/')
+        copy(rel, sizeof rel, file);
+    else
+        snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
+    if (!realpath(rel, abs))
+        return err_set(BRUME_ERROR_IO, "%s:%d: %s: %s: %s", S->L.file, S->L.dir_line, what, rel, strerror(errno));
+    return BRUME_OK;
+}
+
 static brume_status camera_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -725,6 +738,21 @@ static cJSON *grid_density(pbrt_state *S, const char *name, const double *d, con
     return dj;
 }
 
+/* A medium of the coefficients and the grid d (grid_density) added to the named media. */
+static brume_status grid_medium_add(pbrt_state *S, const char *name, const double sa[3], const double ss[3],
+                                    double scale, double g, const double *d, const int n[3], const double p0[3],
+                                    const double p1[3])
+{
+    cJSON *m = medium_new(&S->L, name, sa, ss, scale, g);
+    cJSON *dj = m ? grid_density(S, name, d, n, p0, p1) : NULL;
+    if (!dj) {
+        cJSON_Delete(m);
+        return err_status();
+    }
+    cJSON_AddItemToObject(m, "density", dj);
+    return medium_add(S, name, m, false);
+}
+
 /* nx, ny, nz, p0 and p1 of a grid medium, checked against the count of its values. */
 static brume_status grid_shape(lexer *L, params *ps, const char *what, int count, int n[3], double p0[3], double p1[3])
 {
@@ -805,14 +833,7 @@ static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *
     for (int i = 0; i < d->n; i++)
         if (!(d->v[i] >= 0.0 && d->v[i] <= 1e30))
             return fail(L, "%s: density value %d: %g outside [0, 1e30]", what, i, d->v[i]);
-    cJSON *m = medium_new(L, name, sa, ss, scale, g);
-    cJSON *dj = m ? grid_density(S, name, d->v, n, p0, p1) : NULL;
-    if (!dj) {
-        cJSON_Delete(m);
-        return err_status();
-    }
-    cJSON_AddItemToObject(m, "density", dj);
-    return medium_add(S, name, m, false);
+    return grid_medium_add(S, name, sa, ss, scale, g, d->v, n, p0, p1);
 }
 
 /* "rgbgrid": RGB grids of sigma_a and sigma_s (each 1 where not given), times scale. brume's
@@ -872,15 +893,9 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
                                "brume's media are one density times one colour per coefficient", what, i, top);
             }
         }
-    cJSON *m = medium_new(L, name, ca, cs, scale, g);
-    cJSON *dj = m ? grid_density(S, name, d, n, p0, p1) : NULL;
+    st = grid_medium_add(S, name, ca, cs, scale, g, d, n, p0, p1);
     free(d);
-    if (!dj) {
-        cJSON_Delete(m);
-        return err_status();
-    }
-    cJSON_AddItemToObject(m, "density", dj);
-    return medium_add(S, name, m, false);
+    return st;
 }
 
 static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps);
@@ -921,14 +936,10 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
         return st;
     if (!file[0])
         return fail(L, "MakeNamedMedium \"%s\": no \"string filename\"", name);
-    char rel[PATH_MAX + 1100], abs[PATH_MAX];
-    if (file[0] == '/')
-        copy(rel, sizeof rel, file);
-    else
-        snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
-    if (!realpath(rel, abs))
-        return err_set(BRUME_ERROR_IO, "%s:%d: MakeNamedMedium \"%s\": %s: %s", L->file, L->dir_line, name, rel,
-                       strerror(errno));
+    char abs[PATH_MAX], what[200];
+    snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
+    if ((st = resolve_file(S, what, file, abs)))
+        return st;
     /* pbrt reads the file's "temperature" grid when it has one */
     bool has_temp = false;
     gridvdb_info *gi = NULL;
@@ -1157,6 +1168,21 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     return BRUME_OK;
 }
 
+/* A new brume surface of the type, placed by the current transform; NULL after a refusal
+ * (shear: brume's transform object is translate, rotate, scale). */
+static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
+{
+    cJSON *t = transform_json(S->a[S->depth].ctm);
+    if (!t) {
+        fail(&S->L, "%s: a transform with shear", what);
+        return NULL;
+    }
+    cJSON *s = cJSON_CreateObject();
+    cJSON_AddStringToObject(s, "type", type);
+    cJSON_AddItemToObject(s, "transform", t);
+    return s;
+}
+
 static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -1173,36 +1199,26 @@ static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
             return st;
         if (interface)
             return shape_interface(S, type, NULL);
-        cJSON *t = transform_json(a->ctm);
-        if (!t)
-            return fail(L, "%s: a transform with shear", what);
-        cJSON *s = cJSON_CreateObject();
-        cJSON_AddStringToObject(s, "type", "sphere");
+        cJSON *s = placed_surface(S, what, "sphere");
+        if (!s)
+            return err_status();
         cJSON_AddNumberToObject(s, "radius", radius);
-        cJSON_AddItemToObject(s, "transform", t);
         return shape_surface(S, s);
     }
     if (strcmp(type, "plymesh") == 0) {
-        char file[1024] = "", rel[PATH_MAX + 1100], abs[PATH_MAX];
+        char file[1024] = "", abs[PATH_MAX];
         if ((st = get_string(L, ps, "filename", file, sizeof file)) || (st = all_used(L, ps, what)))
             return st;
         if (!file[0])
             return fail(L, "%s: no \"string filename\"", what);
-        if (file[0] == '/')
-            copy(rel, sizeof rel, file);
-        else
-            snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
-        if (!realpath(rel, abs))
-            return err_set(BRUME_ERROR_IO, "%s:%d: %s: %s: %s", L->file, L->dir_line, what, rel, strerror(errno));
+        if ((st = resolve_file(S, what, file, abs)))
+            return st;
         if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
             return shape_interface(S, type, NULL);
-        cJSON *t = transform_json(a->ctm);
-        if (!t)
-            return fail(L, "%s: a transform with shear", what);
-        cJSON *s = cJSON_CreateObject();
-        cJSON_AddStringToObject(s, "type", "mesh");
+        cJSON *s = placed_surface(S, what, "mesh");
+        if (!s)
+            return err_status();
         cJSON_AddStringToObject(s, "file", abs);
-        cJSON_AddItemToObject(s, "transform", t);
         return shape_surface(S, s);
     }
     bool tri = strcmp(type, "trianglemesh") == 0;
