@@ -288,6 +288,8 @@ TEST(refusals_name_file_and_line)
                    "\"float edgelength\"");
 }
 
+static void expect_big_refused(const char *head, size_t n, const char *frag);
+
 /* Inline grids an attacker could write: counts that overflow int, counts that do not match,
  * NaN, negative densities, more samples than brume takes inline. */
 TEST(hostile_inline_grids_are_refused)
@@ -300,11 +302,16 @@ TEST(hostile_inline_grids_are_refused)
     expect_refusal(GRID "\"integer nx\" 0 \"float density\" [1]\n", 1, "\"nx\": 0 is not an integer");
     expect_refusal(GRID "\"float density\" [1] \"point3 p0\" [0 0 0] \"point3 p1\" [1 0 1]\n", 1, "p1 must exceed");
     /* 128^3 samples: within the parameter's limit, over the inline grid's with the zero layer */
-    size_t n = 128 * 128 * 128;
-    char *text = malloc(2 * n + 512);
+    expect_big_refused(GRID "\"integer nx\" 128 \"integer ny\" 128 \"integer nz\" 128 \"float density\" [",
+                       128 * 128 * 128, "over the 2097152 brume takes inline");
+}
+
+/* HEAD, head, n values "1" and "]": translated, it is refused with the line and frag. */
+static void expect_big_refused(const char *head, size_t n, const char *frag)
+{
+    char *text = malloc(2 * n + 1024);
     ASSERT_TRUE(text != NULL);
-    int k = snprintf(text, 512, "%s" GRID "\"integer nx\" 128 \"integer ny\" 128 \"integer nz\" 128 "
-                     "\"float density\" [", HEAD);
+    int k = snprintf(text, 1024, "%s%s", HEAD, head);
     for (size_t i = 0; i < n; i++) {
         text[k++] = '1';
         text[k++] = ' ';
@@ -315,8 +322,19 @@ TEST(hostile_inline_grids_are_refused)
     free(text);
     char *json = NULL;
     ASSERT_TRUE(scene_pbrt_json(path, &json) != BRUME_OK);
-    ASSERT_CONTAINS(err_message(), "over the 2097152 brume takes inline");
+    char want[1200];
+    snprintf(want, sizeof want, "%s:%d: ", path, HEAD_LINES + 1);
+    ASSERT_CONTAINS(err_message(), want);
+    ASSERT_CONTAINS(err_message(), frag);
     remove(path);
+}
+
+/* A triangle mesh of more coordinates than the scene format takes inline is refused by the
+ * reader with its line, not later by the scene reader. */
+TEST(oversized_mesh_is_refused)
+{
+    expect_big_refused("Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point3 P\" [", 3 * 700000,
+                       "more than the 2097152 coordinates");
 }
 
 #define CAM "\"camera\": {\"position\": [0, 0, 9], \"look_at\": [0, 0, 0]}, "
@@ -354,4 +372,4 @@ TEST(inline_json_arrays_are_checked)
 
 TEST_MAIN(homogeneous_medium_maps_units, uniformgrid_matches_pbrt_lookup, rgbgrid_one_colour_times_density,
           meshes_translate, homogeneous_box_transmittance, refusals_name_file_and_line,
-          hostile_inline_grids_are_refused, inline_json_arrays_are_checked)
+          hostile_inline_grids_are_refused, oversized_mesh_is_refused, inline_json_arrays_are_checked)

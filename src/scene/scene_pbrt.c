@@ -1053,6 +1053,9 @@ static brume_status mesh_params(pbrt_state *S, params *ps, const char *what, int
         return fail(L, "%s: no \"integer indices\" (allowed only for exactly %d points)", what, per);
     if (ni % per)
         return fail(L, "%s: %d indices, not a multiple of %d", what, ni, per);
+    if (P->n > SCENE_INLINE_MAX_VALUES || (double)ni / per * 3 * (per - 2) > SCENE_INLINE_MAX_VALUES)
+        return fail(L, "%s: more than the %d coordinates or triangle indices brume takes inline (a larger mesh "
+                       "belongs in a plymesh)", what, SCENE_INLINE_MAX_VALUES);
     int *idx = malloc((size_t)ni * sizeof *idx);
     t->P = malloc((size_t)P->n * sizeof *t->P);
     if (!idx || !t->P) {
