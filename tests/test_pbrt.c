@@ -274,10 +274,13 @@ TEST(refusals_name_file_and_line)
                    4, "faces facing out"); /* the first patch faces +z, into the cube */
     expect_refusal(GRID "\"float density\" [1] \"float temperature\" [900]\n", 1, "temperature");
     expect_refusal(GRID "\"float density\" [1] \"rgb Le\" [1 1 1]\n", 1, "Lescale grid");
-    expect_refusal("MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"rgb sigma_s\" [1 2 3 3 2 1]\n",
+    expect_refusal("MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"rgb sigma_s\" [1 2 3 3 2 1] "
+                   "\"rgb sigma_a\" [0 0 0 0 0 0]\n",
                    1, "changes colour");
     expect_refusal("MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"rgb sigma_s\" [1 1 1] \"rgb Le\" [1 0 0]\n", 1,
                    "\"Le\"");
+    expect_refusal("MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"rgb sigma_s\" [1 1 1]\n", 1,
+                   "no \"rgb sigma_a\" grid");
     expect_refusal("MakeNamedMedium \"c\" \"string type\" \"cloud\"\n", 1, "type \"cloud\"");
     expect_refusal("Shape \"bilinearmesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 1]\n", 1, "not planar");
     expect_refusal("Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0] \"integer indices\" [0 1 3]\n", 1,

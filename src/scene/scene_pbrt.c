@@ -836,7 +836,8 @@ static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *
     return grid_medium_add(S, name, sa, ss, scale, g, d->v, n, p0, p1);
 }
 
-/* "rgbgrid": RGB grids of sigma_a and sigma_s (each 1 where not given), times scale. brume's
+/* "rgbgrid": RGB grids of sigma_a and sigma_s (both: pbrt's default for a missing one is a
+ * constant 1, which does not fade at the faces as the grid given does), times scale. brume's
  * medium is one density times one colour per coefficient, so the grid is taken when every
  * sample is d_i (c_a, c_s) for one pair of colours: d_i = the sample's largest coefficient,
  * each coefficient within 1e-5 of the grid's largest (values written with 6 digits); any
@@ -855,9 +856,13 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
         return fail(L, "%s \"%s\": neither \"rgb sigma_a\" nor \"rgb sigma_s\" values", what, name);
     if (get(ps, "Le"))
         return fail(L, "%s: parameter \"Le\": an RGB emission grid; brume reads emission grids from files", what);
-    if ((A && A->n % 3) || (Sg && Sg->n % 3) || (A && Sg && A->n != Sg->n))
+    if (!A || !Sg)
+        return fail(L, "%s: no \"rgb %s\" grid: pbrt then takes %s as 1 up to the faces while the other grid fades "
+                       "to half its outer samples there, which one density cannot carry", what,
+                    A ? "sigma_s" : "sigma_a", A ? "sigma_s" : "sigma_a");
+    if (A->n % 3 || Sg->n % 3 || A->n != Sg->n)
         return fail(L, "%s: sigma_a and sigma_s must be RGB triples, as many of each", what);
-    int count = (A ? A->n : Sg->n) / 3;
+    int count = A->n / 3;
     if ((st = grid_shape(L, ps, what, count, n, p0, p1)) || (st = get_float(L, ps, "scale", &scale)) ||
         (st = get_float(L, ps, "g", &g)) || (st = get_float(L, ps, "Lescale", &Lescale)) ||
         (st = all_used(L, ps, what)))
@@ -869,7 +874,7 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
     for (int i = 0; i < count; i++) {
         d[i] = 0.0;
         for (int c = 0; c < 3; c++) {
-            double a = A ? A->v[3 * i + c] : 1.0, s = Sg ? Sg->v[3 * i + c] : 1.0;
+            double a = A->v[3 * i + c], s = Sg->v[3 * i + c];
             if (!(a >= 0.0 && s >= 0.0 && a <= 1e30 && s <= 1e30)) {
                 free(d);
                 return fail(L, "%s: sample %d: sigma_a or sigma_s outside [0, 1e30]", what, i);
@@ -881,12 +886,12 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
     }
     double ca[3] = {0, 0, 0}, cs[3] = {0, 0, 0};
     for (int c = 0; c < 3 && d[top] > 0.0; c++) {
-        ca[c] = (A ? A->v[3 * top + c] : 1.0) / d[top];
-        cs[c] = (Sg ? Sg->v[3 * top + c] : 1.0) / d[top];
+        ca[c] = A->v[3 * top + c] / d[top];
+        cs[c] = Sg->v[3 * top + c] / d[top];
     }
     for (int i = 0; i < count; i++)
         for (int c = 0; c < 3; c++) {
-            double a = A ? A->v[3 * i + c] : 1.0, s = Sg ? Sg->v[3 * i + c] : 1.0;
+            double a = A->v[3 * i + c], s = Sg->v[3 * i + c];
             if (fabs(a - d[i] * ca[c]) > 1e-5 * d[top] || fabs(s - d[i] * cs[c]) > 1e-5 * d[top]) {
                 free(d);
                 return fail(L, "%s: sigma_a or sigma_s changes colour over the grid (sample %d against %d); "
