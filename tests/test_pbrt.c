@@ -332,6 +332,37 @@ static void expect_big_refused(const char *head, size_t n, const char *frag)
     remove(path);
 }
 
+/* Grids each within the limit that together pass the scene's: four of 100^3 samples (102^3
+ * with the zero layer, 4.24e6 > 2^22) are refused at the fourth. */
+TEST(inline_data_bounded_per_scene)
+{
+    size_t n = 100 * 100 * 100, cap = strlen(HEAD) + 4 * (2 * n + 256);
+    char *text = malloc(cap);
+    ASSERT_TRUE(text != NULL);
+    size_t k = (size_t)snprintf(text, cap, "%s", HEAD);
+    for (int g = 0; g < 4; g++) {
+        k += (size_t)snprintf(text + k, cap - k, "MakeNamedMedium \"g%d\" \"string type\" \"uniformgrid\" \"integer nx\" "
+                              "100 \"integer ny\" 100 \"integer nz\" 100 \"float density\" [", g);
+        for (size_t i = 0; i < n; i++) {
+            text[k++] = '1';
+            text[k++] = ' ';
+        }
+        text[k++] = ']';
+        text[k++] = '\n';
+    }
+    text[k] = '\0';
+    const char *path = test_tmp_path("four.pbrt");
+    test_write_file(path, text);
+    free(text);
+    char *json = NULL;
+    ASSERT_TRUE(scene_pbrt_json(path, &json) != BRUME_OK);
+    char want[1200];
+    snprintf(want, sizeof want, "%s:%d: MakeNamedMedium \"g3\": the scene's inline grids and meshes", path,
+             HEAD_LINES + 4);
+    ASSERT_CONTAINS(err_message(), want);
+    remove(path);
+}
+
 /* A triangle mesh of more coordinates than the scene format takes inline is refused by the
  * reader with its line, not later by the scene reader. */
 TEST(oversized_mesh_is_refused)
@@ -375,4 +406,5 @@ TEST(inline_json_arrays_are_checked)
 
 TEST_MAIN(homogeneous_medium_maps_units, uniformgrid_matches_pbrt_lookup, rgbgrid_one_colour_times_density,
           meshes_translate, homogeneous_box_transmittance, refusals_name_file_and_line,
-          hostile_inline_grids_are_refused, oversized_mesh_is_refused, inline_json_arrays_are_checked)
+          hostile_inline_grids_are_refused, oversized_mesh_is_refused, inline_data_bounded_per_scene,
+          inline_json_arrays_are_checked)

@@ -20,8 +20,13 @@
 #include "scene/scene_pbrt.h"
 
 #define PBRT_MAX_BYTES (64L << 20)
-/* the values of one parameter: an inline grid's voxels or a mesh's points, 3 numbers each */
+/* the values of one parameter (an inline grid's samples or a mesh's points, 3 numbers each)
+ * and of one directive's parameters together (rgbgrid's two RGB grids): 100 MiB of doubles */
 #define PBRT_MAX_VALUES (3 * SCENE_INLINE_MAX_VALUES)
+#define PBRT_MAX_DIRECTIVE_VALUES (6 * SCENE_INLINE_MAX_VALUES)
+/* the numbers of every inline grid and mesh of one scene: the translation's JSON nodes then
+ * stay under about 300 MiB */
+#define PBRT_MAX_SCENE_INLINE (2 * SCENE_INLINE_MAX_VALUES)
 #define PBRT_MAX_PARAMS 32
 #define PBRT_MAX_MEDIA 16
 #define PBRT_MAX_DEPTH 64
@@ -152,6 +157,7 @@ typedef struct param {
 
 typedef struct params {
     int n;
+    long values; /* numbers over all n */
     param p[PBRT_MAX_PARAMS];
 } params;
 
@@ -161,11 +167,14 @@ static void params_clear(params *ps)
     for (int i = 0; i < ps->n; i++)
         free(ps->p[i].v);
     ps->n = 0;
+    ps->values = 0;
 }
 
-/* Room for one more value in q. */
-static brume_status grow(lexer *L, param *q)
+/* Room for one more value in q, one of ps. */
+static brume_status grow(lexer *L, params *ps, param *q)
 {
+    if (++ps->values > PBRT_MAX_DIRECTIVE_VALUES)
+        return fail(L, "more than the %d values brume reads inline in one directive", PBRT_MAX_DIRECTIVE_VALUES);
     if (q->n < q->cap)
         return BRUME_OK;
     if (q->n >= PBRT_MAX_VALUES)
@@ -201,7 +210,7 @@ static brume_status read_params(lexer *L, params *ps)
         if (bracket)
             next(L);
         do {
-            if ((st = grow(L, q)))
+            if ((st = grow(L, ps, q)))
                 return st;
             if (L->kind == TOK_STRING) {
                 if (q->n == 0)
@@ -518,7 +527,18 @@ typedef struct pbrt_state {
     cJSON *root, *lights, *media_j, *surfaces;
     double background[3];
     bool have_background;
+    double inline_numbers; /* numbers of the inline grids and meshes written so far */
 } pbrt_state;
+
+/* Counts n more inline numbers against the scene's limit. */
+static brume_status count_inline(pbrt_state *S, const char *what, double n)
+{
+    S->inline_numbers += n;
+    if (S->inline_numbers > PBRT_MAX_SCENE_INLINE)
+        return fail(&S->L, "%s: the scene's inline grids and meshes come to more than %d numbers (larger data "
+                           "belongs in nanovdb and ply files)", what, PBRT_MAX_SCENE_INLINE);
+    return BRUME_OK;
+}
 
 /* A file a directive names, relative to the .pbrt's folder, as an absolute path in abs. */
 static brume_status resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX])
@@ -710,6 +730,10 @@ static cJSON *grid_density(pbrt_state *S, const char *name, const double *d, con
                            const double p1[3])
 {
     int m[3] = {n[0] + 2, n[1] + 2, n[2] + 2};
+    char what[200];
+    snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
+    if (count_inline(S, what, (double)m[0] * m[1] * m[2]))
+        return NULL;
     double b[2][3];
     for (int k = 0; k < 3; k++) {
         double cell = (p1[k] - p0[k]) / n[k];
@@ -1251,6 +1275,10 @@ static brume_status shape_directive(pbrt_state *S, const char *type, params *ps)
     free(quad);
     if (interface) {
         st = shape_interface(S, type, &t);
+        tris_free(&t);
+        return st;
+    }
+    if ((st = count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
         tris_free(&t);
         return st;
     }
