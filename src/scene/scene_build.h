@@ -16,6 +16,11 @@ struct brume_density {
     bool evolves; /* generated at a time with a time-dependent recipe (the world is not static) */
 };
 
+/* The most numbers an inline array of a scene file may hold (a density's `data`, a mesh's
+ * `positions` or `indices`): 2^21 voxels is 128^3, 8 MiB as floats, and about 130 MiB of
+ * parsed JSON nodes; larger data belongs in a file (docs/scene-format.md, "Limits"). */
+#define SCENE_INLINE_MAX_VALUES (1 << 21)
+
 struct brume_phase {
     phase *p; /* owned */
 };

@@ -426,6 +426,66 @@ static brume_status parse_grid_density(const cJSON *j, jloc at, const brume_scen
     return st ? err_prefix("%s: %s.file", at.file, at.path) : BRUME_OK;
 }
 
+/* A voxel grid given inline: `dims` [nx, ny, nz], `data` nx ny nz numbers >= 0, x fastest
+ * (brume_density_new_array's layout), placed by `bounds` then `transform` as a grid file is. */
+static brume_status parse_array_density(const cJSON *j, jloc at, brume_density **out)
+{
+    static const char *const keys[] = {"type", "dims", "data", "bounds", "transform", "filter", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    double d[3] = {0, 0, 0}, b[6] = {-1, -1, -1, 1, 1, 1};
+    if ((st = jvec(j, at, "dims", 1, d))) return st;
+    for (int k = 0; k < 3; k++)
+        if (!(d[k] >= 1 && d[k] <= 65536) || d[k] != floor(d[k]))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.dims[%d]: %g is not an integer in [1, 65536]", at.file, at.path,
+                           k, d[k]);
+    double count = d[0] * d[1] * d[2];
+    if (count > SCENE_INLINE_MAX_VALUES)
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.dims: %g x %g x %g voxels, over the %d an inline grid may hold "
+                       "(a larger grid belongs in a file)", at.file, at.path, d[0], d[1], d[2], SCENE_INLINE_MAX_VALUES);
+    const cJSON *data = cJSON_GetObjectItemCaseSensitive(j, "data");
+    if (!cJSON_IsArray(data))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.data: expected an array of nx ny nz numbers", at.file, at.path);
+    int n = cJSON_GetArraySize(data);
+    if (n != (int)count)
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.data: %d values for dims %g x %g x %g (%g)", at.file, at.path, n,
+                       d[0], d[1], d[2], count);
+    if ((st = parse_box(j, at, "bounds", b))) return st;
+    brume_grid_filter filter = BRUME_GRID_TRILINEAR;
+    if ((st = parse_filter(j, at, &filter))) return st;
+    affine3 xf;
+    char kp[256];
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
+    if (tr && (st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
+        return st;
+    float *v = malloc((size_t)n * sizeof *v);
+    if (!v)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.data: out of memory", at.file, at.path);
+    int i = 0;
+    for (const cJSON *e = data->child; e; e = e->next, i++)
+        if (!cJSON_IsNumber(e) || !(e->valuedouble >= 0.0 && e->valuedouble <= 1e30)) {
+            free(v);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.data[%d]: expected a number in [0, 1e30]", at.file, at.path, i);
+        } else {
+            v[i] = (float)e->valuedouble;
+        }
+    st = brume_density_new_array(NULL, v, (int)d[0], (int)d[1], (int)d[2], b, filter, NULL, NULL, out);
+    free(v);
+    if (st)
+        return err_prefix("%s: %s", at.file, at.path);
+    if (tr) { /* after the bounds, as a grid file's `transform` */
+        density_info info;
+        density_get_info((*out)->d, &info);
+        affine3 v2w = affine3_compose(&xf, &info.voxel_to_world);
+        if (!density_place((*out)->d, &v2w)) {
+            brume_density_release(*out);
+            *out = NULL;
+            return err_prefix("%s: %s.transform", at.file, at.path);
+        }
+    }
+    return BRUME_OK;
+}
+
 /* A fractal cloud grid generated at load time (src/density/fractal.h, Blasi 4.1), at the
  * scene's frame time added to its own `time`: the threshold and the turbulence evolve. */
 static brume_status parse_fractal_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
@@ -511,10 +571,12 @@ static brume_status parse_density(const cJSON *j, jloc at, const brume_scene *s,
     }
     if (strcmp(type, "grid") == 0)
         return parse_grid_density(j, at, s, out);
+    if (strcmp(type, "array") == 0)
+        return parse_array_density(j, at, out);
     if (strcmp(type, "fractal_cloud") == 0)
         return parse_fractal_density(j, at, s, out);
     return err_set(BRUME_ERROR_PARSE,
-                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, fractal_cloud, blobs)",
+                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, array, fractal_cloud, blobs)",
                    at.file, at.path, type);
 }
 

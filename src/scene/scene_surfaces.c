@@ -1,5 +1,6 @@
 /* scene_surfaces.c - the "surfaces" array of a scene file: shapes, transforms, materials,
  * keyframes, each built with brume_scene_add_SHAPE. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +8,7 @@
 #include "core/error.h"
 #include "core/xform.h"
 #include "io/json.h"
+#include "scene/scene_build.h"
 #include "scene/scene_keys.h"
 #include "scene/scene_surfaces.h"
 
@@ -50,6 +52,65 @@ static brume_status parse_material(const cJSON *j, jloc at, brume_material *m)
     return BRUME_OK;
 }
 
+/* The numbers of the array j[key] (at most SCENE_INLINE_MAX_VALUES, a multiple of 3) into
+ * *out (malloc'd, the caller frees); *n their count. Integers in [0, imax) when imax > 0. */
+static brume_status inline_numbers(const cJSON *j, jloc at, const char *key, double imax, double **out, int *n)
+{
+    *out = NULL;
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(j, key);
+    int count = cJSON_IsArray(a) ? cJSON_GetArraySize(a) : -1;
+    if (count < 3 || count % 3 != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.%s: expected an array of triples (3 n numbers, n >= 1)", at.file,
+                       at.path, key);
+    if (count > SCENE_INLINE_MAX_VALUES)
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: %d numbers, over the %d an inline mesh may hold (a larger mesh "
+                       "belongs in a file)", at.file, at.path, key, count, SCENE_INLINE_MAX_VALUES);
+    double *v = malloc((size_t)count * sizeof *v);
+    if (!v)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.%s: out of memory", at.file, at.path, key);
+    int i = 0;
+    for (const cJSON *e = a->child; e; e = e->next, i++) {
+        double x = cJSON_IsNumber(e) ? e->valuedouble : (double)NAN;
+        bool ok = imax > 0 ? (x >= 0 && x < imax && x == floor(x)) : (x >= -BIG && x <= BIG);
+        if (!ok) {
+            free(v);
+            if (imax > 0)
+                return err_set(BRUME_ERROR_RANGE, "%s: %s.%s[%d]: expected a vertex index in [0, %g)", at.file,
+                               at.path, key, i, imax);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.%s[%d]: expected a finite number", at.file, at.path, key, i);
+        }
+        v[i] = x;
+    }
+    *out = v;
+    *n = count;
+    return BRUME_OK;
+}
+
+/* A mesh given inline: `positions` [x, y, z, ...] and `indices` [i, j, k, ...] (counter-
+ * clockwise seen from the front), built by brume_scene_add_mesh. */
+static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, const double *xf,
+                                      const brume_material *m, const char *name)
+{
+    double *p = NULL, *t = NULL;
+    int np = 0, nt = 0;
+    brume_status st = inline_numbers(j, at, "positions", 0, &p, &np);
+    if (st == BRUME_OK)
+        st = inline_numbers(j, at, "indices", np / 3, &t, &nt);
+    int *idx = st == BRUME_OK ? malloc((size_t)nt * sizeof *idx) : NULL;
+    if (st == BRUME_OK && !idx)
+        st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.indices: out of memory", at.file, at.path);
+    if (st == BRUME_OK) {
+        for (int i = 0; i < nt; i++)
+            idx[i] = (int)t[i];
+        if (brume_scene_add_mesh(NULL, s, p, np / 3, idx, nt / 3, xf, m, name))
+            st = err_prefix("%s: %s", at.file, at.path);
+    }
+    free(p);
+    free(t);
+    free(idx);
+    return st;
+}
+
 static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
 {
     char type[32], name[64] = "";
@@ -62,7 +123,8 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
                                             "edge_u", "edge_v", NULL};
     static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
                                              "normal", "size", NULL};
-    static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", NULL};
+    static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", "positions",
+                                            "indices", NULL};
     const char *const *keys = strcmp(type, "sphere") == 0  ? sphere_keys
                               : strcmp(type, "box") == 0   ? box_keys
                               : strcmp(type, "quad") == 0  ? quad_keys
@@ -114,6 +176,12 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
             return err_set(BRUME_ERROR_RANGE, "%s: %s.normal: must not be the zero vector", at.file, at.path);
         if ((st = json_number(j, at, "size", 0, 1e-9, BIG, &size))) return st;
         st = brume_scene_add_plane(NULL, s, p, n, size, xf.m, &m, name);
+    } else if (cJSON_HasObjectItem(j, "positions") || cJSON_HasObjectItem(j, "indices")) {
+        if (cJSON_HasObjectItem(j, "file"))
+            return err_set(BRUME_ERROR_PARSE, "%s: %s: give either file or positions and indices", at.file, at.path);
+        st = parse_inline_mesh(j, at, s, xf.m, &m, name);
+        if (st)
+            return st;
     } else {
         char file[1024], path[2048];
         if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
