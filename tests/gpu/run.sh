@@ -82,6 +82,7 @@ check chromatic-ground 256 tests/gpu/chromatic-emissive.json
 check default 128 scenes/default.json --width 240 --height 160 --set render.noise=0
 check blobs 256 scenes/stam-fig5-a.json --set render.method=path --width 160 --height 120
 check velocity-fire 256 tests/gpu/velocity-fire.json --set "media.0.density.file=$data/fire-vel.nvdb"
+check pbrt-media 128 scenes/pbrt-media.pbrt --width 160 --height 100
 
 # The job system on the GPU: an interrupted and resumed render is the uninterrupted one, byte
 # for byte; a sequence; the live view.
@@ -105,6 +106,13 @@ echo "== a sequence of three frames"
 timeout 100 "$br" render scenes/anim-blasi-cloud.json --set render.method=path --frames 0-2 --spp 16 --width 128 \
     --height 96 --device cuda -o "$out/seq_%d.png" 2>&1 | tail -1
 for f in 0 1 2; do [ -s "$out/seq_$f.png" ] || { echo "frame $f missing"; fail=1; }; done
+echo "== a sequence of grid files with velocity, the next frame read ahead"
+mkdir -p "$out/fireseq"
+cp scenes/fire-velocity.json "$out/fireseq/"
+"$br" gen fire --resolution 48 --velocity 4 --frames 1-3 -o "$out/fireseq/fire_%04d.nvdb" > /dev/null
+timeout 100 "$br" render "$out/fireseq/fire-velocity.json" --frames 1-3 --spp 16 --width 96 --height 120 \
+    --device cuda --stats -o "$out/fireseq/f_%d.png" 2>&1 | grep -E "read ahead|f_3" | head -3
+for f in 1 2 3; do [ -s "$out/fireseq/f_$f.png" ] || { echo "fire frame $f missing"; fail=1; }; done
 echo "== the live view"
 if command -v curl >/dev/null; then
     timeout 100 "$br" render $wdas --spp 512 --device cuda --serve 127.0.0.1:8765 --serve-exit -o "$out/serve.png" \
