@@ -404,7 +404,76 @@ TEST(inline_json_arrays_are_checked)
     brume_scene_release(s);
 }
 
-TEST_MAIN(homogeneous_medium_maps_units, uniformgrid_matches_pbrt_lookup, rgbgrid_one_colour_times_density,
+/* pbrt's LookAt without a mirror looks left-handed (image right = up x forward): most of
+ * pbrt-v4-scenes. brume translates the whole world mirrored in x, the camera too, so the
+ * picture is pbrt's. Worked by hand: looking from (0, 0, -5) at the origin, up +y, pbrt's
+ * image right is y x z = +x, so a sphere at x = +1 is on the right; the same picture is the
+ * right-handed view (Scale -1 1 1 before LookAt) of a sphere at x = -1. The two files must
+ * translate to the same scene (camera and sphere; -0 and 0 alike), and in the rendered
+ * picture the sphere is on the right. */
+TEST(left_handed_view_translates_mirrored)
+{
+#define LH_SCENE(PREFIX, X)                                                                     \
+    "Film \"rgb\" \"integer xresolution\" [32] \"integer yresolution\" [16]\n"                   \
+    "Sampler \"halton\" \"integer pixelsamples\" [4]\n" PREFIX "LookAt 0 0 -5  0 0 0  0 1 0\n"     \
+    "Camera \"perspective\" \"float fov\" [30]\n"                                                \
+    "WorldBegin\n"                                                                              \
+    "LightSource \"distant\" \"point3 from\" [0.5 1 -1] \"point3 to\" [0 0 0] \"rgb L\" [3 3 3]\n" \
+    "AttributeBegin\n"                                                                          \
+    "  Translate " X " 0 0\n"                                                                   \
+    "  Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"                                 \
+    "  Shape \"sphere\" \"float radius\" 0.6\n"                                                  \
+    "AttributeEnd\n"
+    const char *text[2] = {LH_SCENE("", "1"), LH_SCENE("Scale -1 1 1\n", "-1")};
+    cJSON *root[2];
+    for (int k = 0; k < 2; k++) {
+        const char *path = test_tmp_path(k ? "rh.pbrt" : "lh.pbrt");
+        test_write_file(path, text[k]);
+        char *json = NULL;
+        if (scene_pbrt_json(path, &json) != BRUME_OK)
+            TEST_FAIL("%s", err_message());
+        ASSERT_TRUE((root[k] = cJSON_Parse(json)) != NULL);
+        free(json);
+    }
+    const cJSON *cam[2] = {cJSON_GetObjectItemCaseSensitive(root[0], "camera"),
+                           cJSON_GetObjectItemCaseSensitive(root[1], "camera")};
+    const char *keys[] = {"position", "look_at", "up"};
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < 3; i++)
+            ASSERT_NEAR(num(cam[0], keys[k], i), num(cam[1], keys[k], i), 1e-12);
+    const cJSON *sf[2] = {cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root[0], "surfaces"), 0),
+                          cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root[1], "surfaces"), 0)};
+    ASSERT_TRUE(sf[0] && sf[1]);
+    /* the same sphere: centre and radius (the mirrored one carries the mirror x -> -x in its
+     * transform's scale, the same set of points) */
+    const cJSON *t[2] = {cJSON_GetObjectItemCaseSensitive(sf[0], "transform"),
+                         cJSON_GetObjectItemCaseSensitive(sf[1], "transform")};
+    for (int i = 0; i < 3; i++) {
+        ASSERT_NEAR(num(t[0], "translate", i), num(t[1], "translate", i), 1e-12);
+        ASSERT_NEAR(fabs(num(t[0], "scale", i)), fabs(num(t[1], "scale", i)), 1e-12);
+    }
+    ASSERT_NEAR(num(sf[0], "radius", -1), num(sf[1], "radius", -1), 1e-12);
+    ASSERT_NEAR(num(cam[0], "position", 0), 0.0, 1e-12);
+    cJSON_Delete(root[0]), cJSON_Delete(root[1]);
+    /* rendered: the sphere lights the right half */
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = test_tmp_path("lh.pbrt")}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_image *img = test_render_scene(s, -1, 5);
+    const float *px = brume_image_pixels(img);
+    double half[2] = {0, 0};
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 32; x++)
+            half[x >= 16] += px[4 * (y * 32 + x) + 1];
+    printf("left half %.3f, right half %.3f\n", half[0], half[1]);
+    ASSERT_TRUE(half[1] > 10.0 * half[0] + 1e-3);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+TEST_MAIN(homogeneous_medium_maps_units, left_handed_view_translates_mirrored, uniformgrid_matches_pbrt_lookup, rgbgrid_one_colour_times_density,
           meshes_translate, homogeneous_box_transmittance, refusals_name_file_and_line,
           hostile_inline_grids_are_refused, oversized_mesh_is_refused, inline_data_bounded_per_scene,
           inline_json_arrays_are_checked)

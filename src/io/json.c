@@ -231,13 +231,13 @@ void json_resolve_path(const char *scene_file, const char *name, char *out, size
 
 /* {"translate": [..], "rotate": {"axis": [..], "angle": deg}, "scale": s | [sx, sy, sz]},
  * applied as translate(rotate(scale(x))). */
-brume_status json_transform(const cJSON *j, jloc at, affine3 *out)
+brume_status json_transform(const cJSON *j, jloc at, bool mirror, affine3 *out)
 {
     *out = affine3_identity();
     if (!j)
         return BRUME_OK;
     json_transform_parts parts;
-    brume_status st = json_transform_split(j, at, &parts);
+    brume_status st = json_transform_split(j, at, mirror, &parts);
     if (st) return st;
     affine3 ts = affine3_translate(parts.translate), ss = affine3_scale(parts.scale);
     affine3 r = parts.angle != 0.0 ? affine3_rotate(parts.axis, parts.angle) : affine3_identity();
@@ -246,7 +246,7 @@ brume_status json_transform(const cJSON *j, jloc at, affine3 *out)
     return BRUME_OK;
 }
 
-brume_status json_transform_split(const cJSON *j, jloc at, json_transform_parts *out)
+brume_status json_transform_split(const cJSON *j, jloc at, bool mirror, json_transform_parts *out)
 {
     static const char *const keys[] = {"translate", "rotate", "scale", NULL};
     brume_status st = json_check_object(j, at, keys);
@@ -261,7 +261,9 @@ brume_status json_transform_split(const cJSON *j, jloc at, json_transform_parts 
         sc = v3(k, k, k);
     } else if (s) {
         if ((st = json_vec3(j, at, "scale", 1, &sc))) return st;
-        if (!(sc.x > 0 && sc.y > 0 && sc.z > 0))
+        if (mirror && !(fabs(sc.x) > 0 && fabs(sc.y) > 0 && fabs(sc.z) > 0))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.scale: every factor must be non-zero", at.file, at.path);
+        if (!mirror && !(sc.x > 0 && sc.y > 0 && sc.z > 0))
             return err_set(BRUME_ERROR_RANGE, "%s: %s.scale: every factor must be > 0", at.file, at.path);
     }
     const cJSON *rot = cJSON_GetObjectItemCaseSensitive(j, "rotate");

@@ -44,16 +44,18 @@ brume_status json_vec3(const cJSON *obj, jloc at, const char *key, int required,
 brume_status json_color(const cJSON *obj, jloc at, const char *key, int required, double lo, double hi, color *out);
 
 /* A transform object {"translate": [x, y, z], "rotate": {"axis": [..], "angle": degrees},
- * "scale": s | [sx, sy, sz]}, applied as translate(rotate(scale(p))); j NULL = identity. */
-brume_status json_transform(const cJSON *j, jloc at, affine3 *out);
+ * "scale": s | [sx, sy, sz]}, applied as translate(rotate(scale(p))); j NULL = identity.
+ * Scale factors > 0, or with mirror also < 0 (a grid's placement may mirror: a lookup
+ * inverts any affine map; a surface's may not, its winding would turn). */
+brume_status json_transform(const cJSON *j, jloc at, bool mirror, affine3 *out);
 /* The same object read into its parts (for keyframes, which interpolate each part). */
 typedef struct json_transform_parts {
     vec3 translate;
     vec3 axis;    /* rotation axis, not zero (default +z) */
     double angle; /* degrees (default 0) */
-    vec3 scale;   /* factors > 0 */
+    vec3 scale;   /* factors > 0 (or != 0 with mirror) */
 } json_transform_parts;
-brume_status json_transform_split(const cJSON *j, jloc at, json_transform_parts *out);
+brume_status json_transform_split(const cJSON *j, jloc at, bool mirror, json_transform_parts *out);
 
 /* A file named in a scene, relative to the scene file's folder unless absolute. */
 void json_resolve_path(const char *scene_file, const char *name, char *out, size_t n);

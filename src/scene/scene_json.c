@@ -401,7 +401,7 @@ static brume_status parse_grid_options(const cJSON *j, jloc at, const char *cons
     if (tr) {
         char kp[256];
         affine3 xf;
-        if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
+        if ((st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, true, &xf)))
             return st;
         memcpy(o->transform, xf.m, sizeof o->transform);
         o->has_transform = true;
@@ -456,7 +456,7 @@ static brume_status parse_array_density(const cJSON *j, jloc at, brume_density *
     affine3 xf;
     char kp[256];
     const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
-    if (tr && (st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
+    if (tr && (st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, true, &xf)))
         return st;
     float *v = malloc((size_t)n * sizeof *v);
     if (!v)

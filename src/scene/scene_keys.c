@@ -104,7 +104,7 @@ brume_status keys_parse_motion(const cJSON *keys, jloc at, brume_transform_key *
             return err_set(BRUME_ERROR_PARSE, "%s: %s.transform: required key missing", at.file, kp);
         snprintf(tp, sizeof tp, "%s.transform", kp);
         json_transform_parts parts;
-        if ((st = json_transform_split(tr, (jloc){at.file, tp}, &parts))) return st;
+        if ((st = json_transform_split(tr, (jloc){at.file, tp}, false, &parts))) return st;
         brume_transform_key *tk = &out[(*n)++];
         tk->time = cJSON_GetObjectItemCaseSensitive(k, "time")->valuedouble;
         v3_to_array(parts.translate, tk->translate);

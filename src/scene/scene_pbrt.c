@@ -519,6 +519,7 @@ typedef struct pbrt_state {
     attrs a[PBRT_MAX_DEPTH];
     int depth;
     bool have_camera, world;
+    bool mirror; /* pbrt's left-handed view: the world is translated mirrored in x (camera_directive) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;
     int xres, yres, spp, max_depth;
@@ -571,12 +572,15 @@ static brume_status camera_directive(pbrt_state *S, const char *type, params *ps
     if (!m4_inverse(S->a[S->depth].ctm, &wc))
         return fail(L, "Camera: the current transform is not invertible");
     /* pbrt images camera +x to the right, +y up, looking down +z; brume's camera has right =
-       forward x up. A frame where +x = up x forward (pbrt's own LookAt without a mirror) would
-       come out mirrored: refused rather than rendered flipped. */
+       forward x up. Where +x = up x forward instead (pbrt's own LookAt without a mirror: most
+       of pbrt-v4-scenes), the whole world is translated mirrored, x -> -x: the camera too, so
+       that the picture is pbrt's, pixel for pixel. The mirror M multiplies the camera's
+       world-from-camera on the left and starts the world block's transform (WorldBegin,
+       Identity, Transform). */
     vec3 R = m4_vector(wc, v3(1, 0, 0)), U = m4_vector(wc, v3(0, 1, 0)), F = m4_vector(wc, v3(0, 0, 1));
-    if (v3_dot(v3_cross(F, U), R) <= 0.0)
-        return fail(L, "Camera: the image would be mirrored in brume (pbrt's LookAt looks left-handed; scenes add "
-                       "\"Scale -1 1 1\" before LookAt for the usual right-handed view)");
+    S->mirror = v3_dot(v3_cross(F, U), R) <= 0.0;
+    if (S->mirror)
+        wc = m4_mul(m4_scale(-1.0, 1.0, 1.0), wc);
     S->world_from_camera = wc;
     S->have_camera = true;
     return BRUME_OK;
@@ -1204,7 +1208,18 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
  * (shear: brume's transform object is translate, rotate, scale). */
 static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
 {
-    cJSON *t = transform_json(S->a[S->depth].ctm);
+    m4 m = S->a[S->depth].ctm;
+    const double *c = m.m;
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    if (det < 0.0 && strcmp(type, "sphere") == 0) {
+        m = m4_mul(m, m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
+    } else if (det < 0.0) {
+        fail(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
+                    "without \"Scale -1 1 1\" mirrors the whole world, docs/production.md)", what);
+        return NULL;
+    }
+    cJSON *t = transform_json(m);
     if (!t) {
         fail(&S->L, "%s: a transform with shear", what);
         return NULL;
@@ -1369,6 +1384,13 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     return setting_directive(S, a, dir, type, what, ps);
 }
 
+/* The transform that stands for pbrt's identity: in the world block of a mirrored view
+ * (camera_directive) the mirror x -> -x, else the identity. */
+static m4 world_origin(const pbrt_state *S)
+{
+    return S->world && S->mirror ? m4_scale(-1.0, 1.0, 1.0) : m4_identity();
+}
+
 /* The transform directives: *handled false when dir is none of them. */
 static brume_status transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled)
 {
@@ -1377,7 +1399,7 @@ static brume_status transform_directive(pbrt_state *S, attrs *a, const char *dir
     brume_status st;
     *handled = true;
     if (strcmp(dir, "Identity") == 0) {
-        a->ctm = m4_identity();
+        a->ctm = world_origin(S);
         next(L);
     } else if (strcmp(dir, "Translate") == 0) {
         if ((st = numbers(L, dir, 3, v))) return st;
@@ -1400,7 +1422,7 @@ static brume_status transform_directive(pbrt_state *S, attrs *a, const char *dir
         for (int i = 0; i < 4; i++)
             for (int j = 0; j < 4; j++)
                 t.m[4 * i + j] = v[4 * j + i];
-        a->ctm = dir[0] == 'T' ? t : m4_mul(a->ctm, t);
+        a->ctm = dir[0] == 'T' ? m4_mul(world_origin(S), t) : m4_mul(a->ctm, t);
     } else {
         *handled = false;
     }
@@ -1426,7 +1448,7 @@ static brume_status directive(pbrt_state *S, params *ps)
         if (!S->have_camera)
             return fail(L, "%s before a Camera", dir);
         S->world = true;
-        a->ctm = m4_identity();
+        a->ctm = world_origin(S);
         next(L);
     } else if (strcmp(dir, "AttributeBegin") == 0) {
         if (S->depth + 1 == PBRT_MAX_DEPTH)

@@ -146,7 +146,7 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
         return st;
     affine3 xf;
     if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
-                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, &xf)))
+                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)))
         return st;
 
     if (strcmp(type, "sphere") == 0) {
