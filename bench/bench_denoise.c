@@ -11,8 +11,8 @@
  * (Rousselle et al. 2011) against the reference r, with the reference's own variance (its
  * variance layer) subtracted from each term, so a finite reference does not inflate it.
  * Bias, reported apart: the denoised image's mean over the image and over 32 x 32 blocks
- * against the reference's, relative, beside the same figure for the raw image (unbiased: its
- * block deviations are the noise floor of that figure).
+ * against the reference's, relative, beside the same figures for the raw image (unbiased: its
+ * deviations, mean and block, are the noise floor of those figures).
  *
  * With BENCH_SPP=N in the environment both images have N samples per pixel instead (equal
  * samples: the layers' and the denoiser's time are then printed, not compensated).
@@ -136,8 +136,8 @@ int main(int argc, char **argv)
     bench_machine();
     printf("equal time %.2f s; reference %d spp (seed 2); relMSE = mean (x - r)^2 / (r^2 + 0.01), the reference's "
            "variance removed\n", seconds, ref_spp);
-    printf("%-11s %8s %8s %9s %11s %11s %7s %10s %10s %10s\n", "scene", "raw spp", "den spp", "denoise s",
-           "relMSE raw", "relMSE den", "ratio", "bias mean", "bias block", "raw block");
+    printf("%-11s %8s %8s %9s %11s %11s %7s %10s %10s %10s %10s\n", "scene", "raw spp", "den spp", "denoise s",
+           "relMSE raw", "relMSE den", "ratio", "bias mean", "bias block", "raw mean", "raw block");
     const unsigned feats = BRUME_AOV_VARIANCE | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_DEPTH;
     for (int k = 0; k < 3; k++) {
         if (argc > 3 && !strstr(argv[3], names[k]))
@@ -183,8 +183,9 @@ int main(int argc, char **argv)
                 double e_raw = rel_mse(raw, ref), e_den = rel_mse(out, ref), b_whole, b_block, r_whole, r_block;
                 bias(out, ref, &b_whole, &b_block);
                 bias(raw, ref, &r_whole, &r_block);
-                printf("%-11s %8.1f %8.1f %9.3f %11.4g %11.4g %6.1fx %+9.2f%% %+9.2f%% %+9.2f%%\n", names[k], spp_raw,
-                       spp_den, t_dn, e_raw, e_den, e_raw / e_den, 100.0 * b_whole, 100.0 * b_block, 100.0 * r_block);
+                printf("%-11s %8.1f %8.1f %9.3f %11.4g %11.4g %6.1fx %+9.2f%% %+9.2f%% %+9.2f%% %+9.2f%%\n", names[k],
+                       spp_raw, spp_den, t_dn, e_raw, e_den, e_raw / e_den, 100.0 * b_whole, 100.0 * b_block,
+                       100.0 * r_whole, 100.0 * r_block);
                 printf("%-11s raw render %.2f s wall, denoised render %.2f s + denoise %.2f s = %.2f s\n", "", w_raw,
                        w_den, t_dn, w_den + t_dn);
                 fflush(stdout);

@@ -2,9 +2,12 @@
  * against the number of blobs (the paper claims O(n)), against the resolution N^3 of the
  * random field Q (the paper claims independence), with and without the blob hierarchy, on
  * 1 and 2 threads. Medians of `reps` runs (default 3). Built by `cmake --build build
- * --target bench`; run as build/bench/bench_stam [reps]. Results: docs/stam.md. */
+ * --target bench`; run as build/bench/bench_stam [reps]. Results: docs/stam.md.
+ * build/bench/bench_stam --scene N prints the frame's scene with N blobs (2 threads = every
+ * core here), which bench/cli_times.py renders as a user would. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "brume.h"
@@ -31,11 +34,11 @@ typedef struct timing {
 } timing;
 
 /* The Figure 5 cloud with n blobs: the total mass is kept (peak density 0.15 x 200 / n), so
- * the cloud's optical depth stays the same while the blobs per ray grow with n. */
-static timing time_frame(int n, int lattice, bool bvh, int threads, int reps)
+ * the cloud's optical depth stays the same while the blobs per ray grow with n. threads 0:
+ * one per core (as `brume render` runs it). */
+static void frame_json(char *json, size_t size, int n, int lattice, bool bvh, int threads)
 {
-    char json[2048];
-    snprintf(json, sizeof json,
+    snprintf(json, size,
              "{\"camera\": {\"position\": [0.0, 0.3, 6.0], \"look_at\": [0, 0, 0], \"fov\": 40},"
              " \"background\": [0.32, 0.48, 0.78],"
              " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.6, -0.55, -0.58], \"irradiance\": 3.0}],"
@@ -46,6 +49,12 @@ static timing time_frame(int n, int lattice, bool bvh, int threads, int reps)
              "   \"ambient\": [0.35, 0.4, 0.5]},"
              " \"render\": {\"width\": 640, \"height\": 480, \"spp\": 1, \"method\": \"stam\", \"threads\": %d}}",
              n, 0.15 * 200.0 / n, lattice, bvh ? "true" : "false", threads);
+}
+
+static timing time_frame(int n, int lattice, bool bvh, int threads, int reps)
+{
+    char json[2048];
+    frame_json(json, sizeof json, n, lattice, bvh, threads);
     double t[16], c[16];
     for (int r = 0; r < reps; r++) {
         brume_context *ctx = brume_context_new();
@@ -74,6 +83,12 @@ static timing time_frame(int n, int lattice, bool bvh, int threads, int reps)
 
 int main(int argc, char **argv)
 {
+    if (argc > 2 && strcmp(argv[1], "--scene") == 0) { /* the frame's scene, for the command's figure */
+        char json[2048];
+        frame_json(json, sizeof json, atoi(argv[2]), 32, true, 0);
+        printf("%s\n", json);
+        return 0;
+    }
     int reps = argc > 1 ? atoi(argv[1]) : 3;
     reps = reps < 1 ? 1 : (reps > 16 ? 16 : reps);
     printf("640 x 480, 1 spp, Figure 5 cloud (total mass fixed); median of %d; seconds per frame\n"

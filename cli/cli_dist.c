@@ -1,4 +1,14 @@
-/* cli_dist.c - MPI ranks for `brume render` (compiled against MPI when BRUME_HAVE_MPI). */
+/* cli_dist.c - MPI ranks for `brume render` (compiled against MPI when BRUME_HAVE_MPI).
+ *
+ * The MPI library is opened by its SONAME (BRUME_MPI_SONAME, read from the library CMake
+ * found) when a launcher starts brume with several processes, or when --help names it, and
+ * not linked: Open MPI's loading and relocation took about 6 ms of every brume process's
+ * start on the project's machine, for the few runs under mpirun (issue 37; the same way as
+ * Embree and libmicrohttpd). It is opened RTLD_GLOBAL: Open MPI's plugins (mca_*.so), which
+ * it opens in MPI_Init, resolve libmpi's symbols from the global scope. Open MPI's
+ * predefined handles (MPI_COMM_WORLD, MPI_FLOAT, MPI_SUM) are the addresses of objects in
+ * libmpi, so they are looked up too; MPICH's are integer constants. */
+#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "cli_dist.h"
 
 #include <limits.h>
@@ -8,7 +18,67 @@
 #include "commands.h"
 
 #if BRUME_HAVE_MPI
+#include <dlfcn.h>
 #include <mpi.h>
+
+#ifndef BRUME_MPI_SONAME
+#define BRUME_MPI_SONAME "libmpi.so.40"
+#endif
+
+#define MPI_FUNCTIONS(X)                                                                                \
+    X(MPI_Init) X(MPI_Comm_rank) X(MPI_Comm_size) X(MPI_Finalize) X(MPI_Abort) X(MPI_Reduce) X(MPI_Send) \
+    X(MPI_Recv) X(MPI_Get_library_version)
+
+static struct {
+#define MPI_POINTER(f) __typeof__(f) *f;
+    MPI_FUNCTIONS(MPI_POINTER)
+#undef MPI_POINTER
+    MPI_Comm world;
+    MPI_Datatype float_type;
+    MPI_Op sum;
+    bool tried, ok;
+    char error[512];
+} mpi;
+
+/* Opens the MPI library once (the tool's main thread calls this module). */
+static bool mpi_open(void)
+{
+    if (mpi.tried)
+        return mpi.ok;
+    mpi.tried = true;
+    void *h = dlopen(BRUME_MPI_SONAME, RTLD_NOW | RTLD_GLOBAL);
+    if (!h) {
+        snprintf(mpi.error, sizeof mpi.error, "%s", dlerror());
+        return false;
+    }
+    mpi.ok = true;
+#define MPI_LOOKUP(f)                                                                                   \
+    if (mpi.ok && !(mpi.f = (__typeof__(f) *)dlsym(h, #f))) {                                            \
+        snprintf(mpi.error, sizeof mpi.error, "%s lacks %s", BRUME_MPI_SONAME, #f);                      \
+        mpi.ok = false;                                                                                  \
+    }
+    MPI_FUNCTIONS(MPI_LOOKUP)
+#undef MPI_LOOKUP
+#ifdef OPEN_MPI
+    static const char *const handles[3] = {"ompi_mpi_comm_world", "ompi_mpi_float", "ompi_mpi_op_sum"};
+    void *at[3];
+    for (int i = 0; i < 3 && mpi.ok; i++)
+        if (!(at[i] = dlsym(h, handles[i]))) {
+            snprintf(mpi.error, sizeof mpi.error, "%s lacks %s", BRUME_MPI_SONAME, handles[i]);
+            mpi.ok = false;
+        }
+    if (mpi.ok) {
+        mpi.world = (MPI_Comm)at[0];
+        mpi.float_type = (MPI_Datatype)at[1];
+        mpi.sum = (MPI_Op)at[2];
+    }
+#else
+    mpi.world = MPI_COMM_WORLD;
+    mpi.float_type = MPI_FLOAT;
+    mpi.sum = MPI_SUM;
+#endif
+    return mpi.ok;
+}
 #endif
 
 /* The process count a launcher announces (Open MPI, MPICH/Hydra, PMIx), or 0. */
@@ -32,13 +102,17 @@ bool dist_begin(dist *d)
     if (n <= 1)
         return true;
 #if BRUME_HAVE_MPI
-    if (MPI_Init(NULL, NULL) != MPI_SUCCESS) {
+    if (!mpi_open()) {
+        cli_error("started by mpirun with %d processes, but the MPI library cannot be opened: %s", n, mpi.error);
+        return false;
+    }
+    if (mpi.MPI_Init(NULL, NULL) != MPI_SUCCESS) {
         cli_error("MPI_Init failed");
         return false;
     }
     d->mpi = true;
-    MPI_Comm_rank(MPI_COMM_WORLD, &d->rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &d->size);
+    mpi.MPI_Comm_rank(mpi.world, &d->rank);
+    mpi.MPI_Comm_size(mpi.world, &d->size);
     return true;
 #else
     cli_error("started by mpirun with %d processes, but this brume was built without MPI "
@@ -51,7 +125,7 @@ void dist_end(dist *d)
 {
 #if BRUME_HAVE_MPI
     if (d->mpi)
-        MPI_Finalize();
+        mpi.MPI_Finalize();
 #endif
     d->mpi = false;
 }
@@ -60,7 +134,7 @@ void dist_abort(const dist *d, int code)
 {
 #if BRUME_HAVE_MPI
     if (d->mpi && d->size > 1)
-        MPI_Abort(MPI_COMM_WORLD, code);
+        mpi.MPI_Abort(mpi.world, code);
 #else
     (void)d;
     (void)code;
@@ -80,7 +154,7 @@ bool dist_reduce_to_root(const dist *d, float *buf, size_t n)
         return false;
     /* every pixel has one nonzero contributor (brume_render_part), so the sum is exact */
     void *send = d->rank == 0 ? MPI_IN_PLACE : (void *)buf;
-    return MPI_Reduce(send, d->rank == 0 ? buf : NULL, (int)n, MPI_FLOAT, MPI_SUM, 0, MPI_COMM_WORLD) == MPI_SUCCESS;
+    return mpi.MPI_Reduce(send, d->rank == 0 ? buf : NULL, (int)n, mpi.float_type, mpi.sum, 0, mpi.world) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -94,7 +168,7 @@ bool dist_send_to_root(const dist *d, const float *buf, size_t n, int tag)
 #if BRUME_HAVE_MPI
     if (!d->mpi || !count_ok(n))
         return false;
-    return MPI_Send(buf, (int)n, MPI_FLOAT, 0, tag, MPI_COMM_WORLD) == MPI_SUCCESS;
+    return mpi.MPI_Send(buf, (int)n, mpi.float_type, 0, tag, mpi.world) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -109,7 +183,7 @@ bool dist_recv_at_root(const dist *d, float *buf, size_t n, int from, int tag)
 #if BRUME_HAVE_MPI
     if (!d->mpi || !count_ok(n))
         return false;
-    return MPI_Recv(buf, (int)n, MPI_FLOAT, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) == MPI_SUCCESS;
+    return mpi.MPI_Recv(buf, (int)n, mpi.float_type, from, tag, mpi.world, MPI_STATUS_IGNORE) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -123,10 +197,14 @@ bool dist_recv_at_root(const dist *d, float *buf, size_t n, int from, int tag)
 const char *dist_build_info(void)
 {
 #if BRUME_HAVE_MPI
-    static char info[128];
+    static char info[600];
+    if (!mpi_open()) {
+        snprintf(info, sizeof info, "MPI (but %s cannot be opened: %s)", BRUME_MPI_SONAME, mpi.error);
+        return info;
+    }
     char lib[MPI_MAX_LIBRARY_VERSION_STRING];
     int len = 0;
-    MPI_Get_library_version(lib, &len);
+    mpi.MPI_Get_library_version(lib, &len);
     int k = 0;
     while (k < len && k < 40 && lib[k] != ',' && lib[k] != '\n')
         k++;

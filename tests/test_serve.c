@@ -4,6 +4,7 @@
 #include "test.h"
 
 #include <arpa/inet.h>
+#include <math.h>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <signal.h>
@@ -100,6 +101,15 @@ static void response_free(response *r)
     free(r->body);
 }
 
+/* A number of /status.json's body by its key; NAN when absent. */
+static double status_field(const char *body, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *at = strstr(body, pat);
+    return at ? strtod(at + strlen(pat), NULL) : NAN;
+}
+
 /* The three endpoints and nothing else; the server keeps serving the final image after the
  * render until SIGINT (exit 0: the image was written), or exits with --serve-exit. */
 TEST(endpoints)
@@ -127,8 +137,9 @@ TEST(endpoints)
     ASSERT_CONTAINS(r.body, "exposure");
     ASSERT_CONTAINS(r.body, "/status.json");
     response_free(&r);
-    /* status until finished */
-    double t0 = test_now();
+    /* status until finished: the progress line's figures, sane (issue 37): elapsed never
+     * falls, done never exceeds total, and the end says so */
+    double t0 = test_now(), elapsed0 = -1.0, elapsed = -1.0;
     bool finished = false;
     while (!finished && test_now() - t0 < 120.0) {
         r = http(port, "GET", "/status.json");
@@ -137,9 +148,20 @@ TEST(endpoints)
         ASSERT_CONTAINS(r.body, "\"spp_mean\":");
         ASSERT_CONTAINS(r.body, "\"eta\":");
         ASSERT_CONTAINS(r.body, "\"noise\":");
+        double e = status_field(r.body, "elapsed");
+        ASSERT_TRUE(e >= elapsed);
+        elapsed = e;
+        elapsed0 = elapsed0 < 0.0 ? e : elapsed0;
+        ASSERT_TRUE(status_field(r.body, "done") <= status_field(r.body, "total"));
+        ASSERT_TRUE(status_field(r.body, "spp_min") <= status_field(r.body, "spp_mean") + 1e-3);
+        ASSERT_TRUE(status_field(r.body, "spp_mean") <= status_field(r.body, "spp_max") + 1e-3);
         finished = strstr(r.body, "\"finished\": true") != NULL;
-        if (finished)
+        if (finished) {
             fprintf(stderr, "status: %s", r.body);
+            ASSERT_TRUE(status_field(r.body, "eta") == 0.0 && status_field(r.body, "fraction") == 1.0);
+            ASSERT_TRUE(status_field(r.body, "done") == status_field(r.body, "total"));
+            ASSERT_TRUE(elapsed > 0.0 && elapsed >= elapsed0);
+        }
         response_free(&r);
         if (!finished)
             test_sleep(0.1);

@@ -29,20 +29,65 @@ notebook shows (_repr_png_, through libbrume's PNG encoder) and brume.write() sa
 .image holds the samples finished. The animation time of a scene is frame_time= (seconds);
 a render's time budget is the setting time_budget= (seconds): a bare time= is refused.
 """
+import inspect
 import json
 import os
 import sys
 import threading
-from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union
+import time
+from typing import Any, Callable, Dict, List, Mapping, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
 from ._lib import ffi, lib, has
 
-__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Scene", "render", "write", "version", "options", "AOVS"]
+__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Progress", "Scene", "render", "write", "version", "options",
+           "AOVS"]
 
 SceneSource = Union[None, str, bytes, "os.PathLike[str]", Mapping[str, Any]]
-ProgressFn = Callable[[int, int], Optional[bool]]
+ProgressFn = Callable[..., Optional[bool]]  # fn(progress: Progress) or fn(done: int, total: int)
+
+
+class Progress(NamedTuple):
+    """A render's figures as the progress line and the live view show them (the library's
+    brume_render_progress, docs/render-jobs.md "Progress")."""
+    done: int          # pixel samples taken
+    total: int         # pixel samples in all: exact for a fixed count, else an estimate >= done
+    spp_min: int       # samples per pixel over the pixels
+    spp_max: int
+    spp_mean: float
+    noise: float       # largest relative standard error over the pixels with signal (last pass)
+    converged: float   # fraction of pixels adaptive sampling has stopped
+    elapsed: float     # seconds spent rendering, a light pass included
+    eta: float         # seconds left, an estimate; negative: not known yet
+    finished: bool     # nothing left to do under the settings
+    fraction: float    # of the work done, [0, 1], 1 only when finished; negative: not known
+
+
+def _job_figures(job) -> Progress:
+    """The figures of a render job (brume_render_job_progress); safe during a pass."""
+    p = ffi.new("brume_render_progress *")
+    lib.brume_render_job_progress(job, p)
+    return Progress(*(getattr(p, name) for name in Progress._fields))
+
+
+def _takes_figures(fn) -> bool:
+    """Whether a progress callback takes one argument (a Progress) rather than the two of
+    earlier versions (done, total), which are still called so."""
+    try:
+        sig = inspect.signature(fn)
+    except (TypeError, ValueError):
+        return False
+    try:
+        sig.bind(None, None)
+        return False
+    except TypeError:
+        pass
+    try:
+        sig.bind(None)
+        return True
+    except TypeError:
+        return False
 
 # AOV name -> bit (brume_aov), when the library has them
 AOVS = {}
@@ -197,29 +242,39 @@ def _json_default(o):
 
 
 def _progress_bar(description="brume"):
-    """A progress callback drawing a bar: tqdm's (notebook-aware) when installed, else text."""
+    """A progress callback drawing a bar with the figures of the progress line (samples per
+    pixel, noise, elapsed, ETA): tqdm's (notebook-aware) when installed, else text."""
     try:
         from tqdm.auto import tqdm
     except ImportError:
         tqdm = None
     state = {}
 
-    def update(done, total):
+    def figures(p):
+        what = "%.1f spp" % p.spp_mean
+        if p.noise > 0:
+            what += ", noise %.2f%%" % (100 * p.noise)
+        eta = "done" if p.finished else "ETA not known yet" if p.eta < 0 else "ETA %.1f s" % p.eta
+        return "%s, %.1f s elapsed, %s" % (what, p.elapsed, eta)
+
+    def update(p):
         if tqdm is not None:
             bar = state.get("bar")
             if bar is None:
-                bar = state["bar"] = tqdm(total=total, desc=description, unit="samples")
-            bar.total = total
-            bar.n = done
-            bar.refresh()
-            if done >= total:
+                bar = state["bar"] = tqdm(total=1000, desc=description, bar_format="{l_bar}{bar}|{postfix}")
+            bar.n = 1000 if p.finished else int(1000 * max(p.fraction, 0.0))
+            bar.set_postfix_str(figures(p), refresh=True)
+            if p.finished:
                 bar.close()
+                state.pop("bar")
         else:
-            width = 40
-            filled = width * done // total if total else width
-            sys.stderr.write("\r%s [%s%s] %3d%%" % (description, "#" * filled, "." * (width - filled),
-                                                    100 * done // total if total else 100))
-            if done >= total:
+            width = 30
+            frac = 1.0 if p.finished else p.fraction
+            filled = int(width * max(frac, 0.0))
+            pct = "  ?%" if frac < 0 else "%3d%%" % int(100 * frac)
+            sys.stderr.write("\r%s [%s%s] %s  %s   " % (description, "#" * filled, "." * (width - filled), pct,
+                                                     figures(p)))
+            if p.finished:
                 sys.stderr.write("\n")
             sys.stderr.flush()
         return True
@@ -240,11 +295,20 @@ class _RunState:
     """What a scene's renders share with its progress callback: the user's callback and the
     stop flag that Ctrl-C sets. The callback refers to this object, not to the Scene."""
 
+    FIGURES_INTERVAL = 0.1  # seconds between two calls of a callback that takes figures
+
     def __init__(self):
         self.progress = None   # as given: a callable, True or None
         self.user_fn = None    # what is called: the callable, or the bar of progress=True
+        self.figures = False   # user_fn takes a Progress (else done, total)
+        self.job = None        # the render job whose figures it gets (None: none yet)
+        self.t_last = 0.0
         self.stop = threading.Event()
         self.error = None      # what the user's callback raised during a render (re-raised as itself)
+
+    def set_user_fn(self, fn):
+        self.user_fn = fn
+        self.figures = fn is not None and has("brume_render_progress") and _takes_figures(fn)
 
     def callback(self):
         state = self
@@ -263,10 +327,27 @@ class _RunState:
             fn = state.user_fn
             if fn is None:
                 return True
-            go_on = fn(int(done), int(total))
+            if not state.figures:
+                go_on = fn(int(done), int(total))
+            else:
+                # the figures cost a pass over the pixels: ten times a second at most, and
+                # always at the last tile of a fixed count (a light pass, before the job
+                # exists, has no figures yet)
+                now = time.monotonic()
+                job = state.job
+                if job is None or (now - state.t_last < state.FIGURES_INTERVAL and done < total):
+                    return True
+                state.t_last = now
+                go_on = fn(_job_figures(job))
             return go_on is None or bool(go_on)
 
         return cb
+
+    def final(self):
+        """After a call that rendered and succeeded: a callback that takes figures gets those
+        of the end (finished when nothing is left to do), so its last figures are the image's."""
+        if self.figures and self.job is not None:
+            self.user_fn(_job_figures(self.job))
 
     def call(self, c_call):
         """Runs c_call (a libbrume call that renders) so that Ctrl-C can stop it: from the main
@@ -403,7 +484,7 @@ class Scene:
             if value is not None and value is not False and not has("brume_progress_fn"):
                 raise Error("progress: this libbrume has no progress callback")
             self._run.progress = value if callable(value) or value is True else None
-            self._run.user_fn = _progress_bar() if value is True else self._run.progress
+            self._run.set_user_fn(_progress_bar() if value is True else self._run.progress)
         elif key in _SETTINGS:
             setattr(rs, key, value)
         else:
@@ -448,14 +529,43 @@ class Scene:
     def render(self, *, options: Optional[Mapping[str, Any]] = None, **settings: Any) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
         """Renders the scene: a brume.Image, float32 (height, width, 4) of linear RGBA. With
         aovs=[...] (names of AOVS) the result is (rgba, {name: array}). progress=True draws
-        a bar; progress=fn(done, total) is called as the render goes, returning False to
-        cancel (brume.Cancelled then carries the partial image). Ctrl-C raises
+        a bar with the figures; progress=fn(p) is called as the render goes with a
+        brume.Progress (samples per pixel, noise, elapsed, ETA ...), ten times a second at
+        most and once at the end, fn(done, total) of earlier versions after every tile,
+        either returning False to cancel (brume.Cancelled then carries the partial image). Ctrl-C raises
         brume.Interrupted (a KeyboardInterrupt) with the partial image."""
         aovs = "aovs" in settings and settings["aovs"]
         self._commit(options, settings)
         out = ffi.new("brume_image **")
-        st = self._run.call(lambda: lib.brume_render(self._ctx.ptr, self._ptr, out))
-        return self._finish(st, out[0], aovs)
+        if not (self._run.figures and has("brume_render_begin")):
+            st = self._run.call(lambda: lib.brume_render(self._ctx.ptr, self._ptr, out))
+            return self._finish(st, out[0], aovs)
+        # a callback that takes figures reads them from a job: brume_render's own steps
+        # (begin, run, the image), which give its image bit for bit
+        job = ffi.new("brume_render_job **")
+        progressive = self._run.job
+
+        def c_call():
+            st = lib.brume_render_begin(self._ctx.ptr, self._ptr, job)
+            if st == 0:
+                self._run.job = job[0]
+                st = lib.brume_render_job_run(self._ctx.ptr, job[0])
+            return st
+
+        try:
+            st = self._run.call(c_call)
+            msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
+            if job[0] != ffi.NULL and (st == 0 or st == _CANCELLED):
+                sti = lib.brume_render_job_image(self._ctx.ptr, job[0], out)
+                st = sti if sti != 0 else st
+                msg = msg if sti == 0 else None
+            if st == 0 and not self._run.stop.is_set():
+                self._run.final()
+            return self._finish(st, out[0], aovs, msg)
+        finally:
+            self._run.job = progressive
+            if job[0] != ffi.NULL:
+                lib.brume_render_job_release(job[0])
 
     def _raise_callback_error(self, st):
         """After a render that stopped: the exception the progress callback raised, if any."""
@@ -463,14 +573,17 @@ class Scene:
         if e is not None and _CANCELLED is not None and st == _CANCELLED:
             raise e
 
-    def _finish(self, st, img, aovs):
+    def _finish(self, st, img, aovs, msg=None):
+        """The result of a render: the image, or the exception its status says. msg: the
+        render's message when the context's last one is no longer it (None: read it)."""
         interrupted = self._run.stop.is_set()
         if st != 0 and img != ffi.NULL and self._run.error is not None:
             lib.brume_image_release(img)
             img = ffi.NULL
         self._raise_callback_error(st)
         if st != 0:
-            msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
+            if msg is None:
+                msg = ffi.string(lib.brume_context_last_error(self._ctx.ptr)).decode(errors="replace")
             if _CANCELLED is not None and st == _CANCELLED and img != ffi.NULL:
                 result = _image_arrays(img, aovs)
                 lib.brume_image_release(img)
@@ -501,7 +614,7 @@ class Scene:
         st = lib.brume_render_begin(self._ctx.ptr, self._ptr, out)
         self._raise_callback_error(st)
         self._ctx.check(st)
-        self._job = out[0]
+        self._job = self._run.job = out[0]
         return self
 
     def add(self, spp: int = 1) -> "Scene":
@@ -510,6 +623,7 @@ class Scene:
             raise Error("add: no render job (call begin() first)")
         st = self._run.call(lambda: lib.brume_render_job_add(self._ctx.ptr, self._job, int(spp)))
         self._job_status(st)
+        self._run.final()
         return self
 
     def _job_status(self, st):
@@ -530,16 +644,16 @@ class Scene:
             raise Error("run: this libbrume cannot run a job to its settings' end")
         st = self._run.call(lambda: lib.brume_render_job_run(self._ctx.ptr, self._job))
         self._job_status(st)
+        self._run.final()
         return self
 
     @property
     def progress(self) -> Dict[str, Any]:
-        """The job's figures (brume_render_progress) as a dict: done, total, spp_min, ..."""
+        """The job's figures (brume_render_progress) as a dict: done, total, spp_min, ...
+        (the fields of brume.Progress, which a progress callback fn(progress) receives)."""
         if self._job is None or not has("brume_render_job_progress"):
             return {}
-        p = ffi.new("brume_render_progress *")
-        lib.brume_render_job_progress(self._job, p)
-        return {name: getattr(p, name) for name, _ in ffi.typeof("brume_render_progress").fields}
+        return dict(_job_figures(self._job)._asdict())
 
     def image(self) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
         """The job's image so far (and its AOVs, as render returns them)."""
@@ -558,7 +672,7 @@ class Scene:
     def _release_job(self):
         if self._job is not None:
             lib.brume_render_job_release(self._job)
-            self._job = None
+            self._job = self._run.job = None
 
     def close(self) -> None:
         """Releases the scene now (also done when it is garbage-collected)."""
@@ -676,8 +790,8 @@ def render(scene: SceneSource = None, *, frame_time: float = 0.0, options: Optio
            **settings: Any) -> "Union[Image, Tuple[Image, Dict[str, np.ndarray]]]":
     """Renders scene (a path, a dict in the scene-file format, or None for the default scene)
     at frame_time seconds of its animation, with the given render settings (width, height,
-    spp, seed, method, time_budget, noise_target, ...; aovs=[...]; progress=True or
-    fn(done, total)) and method options ({"blasi.r": 0.5}). Returns a brume.Image (height,
+    spp, seed, method, time_budget, noise_target, ...; aovs=[...]; progress=True,
+    fn(progress) or fn(done, total)) and method options ({"blasi.r": 0.5}). Returns a brume.Image (height,
     width, 4) of linear RGBA, or (rgba, {aov: array}) with aovs. Ctrl-C raises
     brume.Interrupted (a KeyboardInterrupt) whose .image is the partial image."""
     _refuse_time(settings)

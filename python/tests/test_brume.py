@@ -193,6 +193,56 @@ class PackageTest(unittest.TestCase):
             with self.assertRaises(Mine):
                 s.render(progress=broken)
 
+    @unittest.skipUnless(has("brume_render_progress"), "this libbrume has no progress figures")
+    def test_progress_callback_gets_the_figures(self):
+        """issue 37: a callback fn(p) gets the progress line's figures (samples, noise,
+        elapsed, ETA), sane as the render goes and the image's at the end."""
+        scene = scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS})
+        scene["render"].update(width=48, height=40, spp=6)  # 3 x 3 tiles
+        seen = []
+        img, layers = brume.render(scene, aovs=["samples"], progress=lambda p: seen.append(p))
+        self.assertGreaterEqual(len(seen), 2)  # a tile's (the first is always shown) and the end's
+        self.assertTrue(all(isinstance(p, brume.Progress) for p in seen))
+        for a, b in zip(seen, seen[1:]):
+            self.assertLessEqual(a.elapsed, b.elapsed)
+            self.assertLessEqual(a.done, b.done)
+        self.assertLess(seen[0].elapsed, seen[-1].elapsed)
+        for p in seen[:-1]:  # during the render: a fixed count's exact total, below 100 %
+            self.assertFalse(p.finished)
+            self.assertEqual(p.total, 48 * 40 * 6)
+            self.assertTrue(0 <= p.fraction < 1 and p.eta >= 0, p)
+            self.assertTrue(0 <= p.spp_min <= p.spp_mean <= p.spp_max <= 6, p)
+        end = seen[-1]
+        self.assertTrue(end.finished)
+        self.assertEqual((end.done, end.total, end.eta, end.fraction), (48 * 40 * 6, 48 * 40 * 6, 0.0, 1.0))
+        # the samples per pixel are the image's own (its "samples" layer)
+        self.assertEqual((end.spp_min, end.spp_max), (int(layers["samples"].min()), int(layers["samples"].max())))
+        self.assertEqual(end.spp_mean, float(layers["samples"].mean()))
+        # a relative standard error of a mean of n >= 2 non-negative samples lies in [0, 1] (1:
+        # one sample of the n carries it all, as at the cloud's thin edge); something is noisy
+        self.assertTrue(0 < end.noise <= 1, end)
+        # the same render as without figures, bit for bit (they come from a render job)
+        self.assertEqual(img.tobytes(), brume.render(scene).tobytes())
+        # a progressive job's callback too: its last figures are the job's after each call
+        with brume.Scene(scene) as s:
+            seen.clear()
+            s.begin(spp=6, progress=lambda p: seen.append(p))
+            s.add(2)
+            self.assertEqual((seen[-1].spp_max, seen[-1].done), (2, 48 * 40 * 2))
+            s.run()
+            self.assertTrue(seen[-1].finished)
+            self.assertEqual(seen[-1]._asdict(), s.progress)
+            self.assertEqual(s.samples, seen[-1].spp_max)
+        # under a time budget the ETA never exceeds the time left
+        seen.clear()
+        brume.render(scene, spp=1 << 16, time_budget=0.5, progress=lambda p: seen.append(p))
+        self.assertTrue(all(p.eta <= 0.5 - p.elapsed + 0.05 for p in seen[:-1] if p.eta >= 0), seen)
+        self.assertTrue(seen[-1].finished)
+        # returning False cancels, as the two-argument form does
+        with self.assertRaises(brume.Cancelled) as e:
+            brume.render(scene, progress=lambda p: False)
+        self.assertEqual(e.exception.image.shape, (40, 48, 4))
+
     @unittest.skipUnless(has("brume_render_begin"), "this libbrume has no render jobs")
     def test_progressive_passes_equal_one_render(self):
         scene = scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS})

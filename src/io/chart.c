@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/vec.h"
 #include "io/atomic.h"
+#include "io/cairo_lib.h"
 
 #define PANEL_W 460
 #define PANEL_H 340
@@ -246,6 +247,9 @@ brume_status chart_png(const char *path, const char *title, int npanels, const c
 {
     if (npanels < 1)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: nothing to plot", path);
+    brume_status st = cairo_lib_open(path);
+    if (st != BRUME_OK)
+        return st;
     int w = npanels * PANEL_W, h = PANEL_H + TITLE_H;
     cairo_surface_t *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
     cairo_t *cr = cairo_create(s);

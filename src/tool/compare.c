@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "io/cairo_lib.h"
 #include "io/chart.h"
 #include "image/image.h"
 
@@ -269,6 +270,8 @@ brume_status image_diff_png(const brume_image *img, const brume_image *ref, cons
     image_diff_stats st;
     brume_status s = image_compare(img, ref, &st);
     if (s)
+        return s;
+    if ((s = cairo_lib_open(path)) != BRUME_OK)
         return s;
     int w = img->width, h = img->height, W = w > BAR_MIN_W ? w : BAR_MIN_W, H = h + BAR_H;
     cairo_surface_t *sf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "phase/phase.h"
+#include "io/cairo_lib.h"
 #include "io/chart.h"
 
 #define PLOT_WIDTH 900
@@ -233,6 +234,9 @@ brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows,
 {
     if (n < 1)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: nothing to plot", path);
+    brume_status opened = cairo_lib_open(path);
+    if (opened != BRUME_OK)
+        return opened;
     int height = n * (ROW_HEIGHT + TITLE_HEIGHT) + 6;
     cairo_surface_t *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, PLOT_WIDTH, height);
     cairo_t *cr = cairo_create(s);

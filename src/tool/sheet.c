@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "io/cairo_lib.h"
 #include "io/chart.h"
 #include "image/image.h"
 
@@ -19,6 +20,8 @@ brume_status sheet_png(const char *path, const char *title, int ncols, int nrows
 {
     if (ncols < 1 || nrows < 1 || ncols > 256 || nrows > 256)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: a sheet of %d x %d cells", path, ncols, nrows);
+    if (cairo_lib_open(path) != BRUME_OK)
+        return err_status();
     int cw[256] = {0}, rh[256] = {0};
     for (int r = 0; r < nrows; r++)
         for (int c = 0; c < ncols; c++) {
