@@ -21,6 +21,7 @@
  * field's max, stands in for it (valid, loose). */
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "density/density_impl.h"
 
@@ -178,6 +179,19 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
             break;
     }
     const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
+    /* the grid kept and the filter's passes count against the scene's memory limit
+     * (render.max_memory_mb, core/budget.h) like every other grid; the passes are given back */
+    const size_t kept = nM * sizeof(float);
+    const size_t passes = ((size_t)l.mn[0] * (size_t)l.mn[1] * (size_t)l.mn[2] +
+                           (size_t)M[0] * (size_t)l.mn[1] * (size_t)l.mn[2] + (size_t)M[0] * (size_t)M[1] * (size_t)l.mn[2]) *
+                              sizeof(float) +
+                          (local ? nM * (sizeof(float) + 1) : 0);
+    if (budget_take(kept, "moved majorant grid") != BRUME_OK)
+        return NULL;
+    if (budget_take(passes, "moved majorant grid (filter passes)") != BRUME_OK) {
+        budget_give(kept);
+        return NULL;
+    }
     density *d = calloc(1, sizeof *d);
     float *src = malloc((size_t)l.mn[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *src);
     float *p1 = malloc((size_t)M[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *p1);
@@ -186,12 +200,14 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
     unsigned char *level = local ? malloc(nM) : NULL;
     if (!d || !src || !p1 || !p2 || !maj || (local && (!lev || !level))) {
         free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
+        budget_give(kept + passes);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "moved majorant: out of memory for %d x %d x %d cells", M[0], M[1], M[2]);
         return NULL;
     }
     if ((int64_t)M[0] * f * l.mc > INT32_MAX || (int64_t)M[1] * f * l.mc > INT32_MAX ||
         (int64_t)M[2] * f * l.mc > INT32_MAX) {
         free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
+        budget_give(kept + passes);
         err_set(BRUME_ERROR_RANGE, "moved majorant: %d x %d x %d cells of %d voxels exceed the voxel range", M[0], M[1],
                 M[2], f * l.mc);
         return NULL;
@@ -225,6 +241,7 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
                 maj[o] = lev[o];
     }
     free(src), free(p1), free(p2), free(lev), free(level);
+    budget_give(passes);
     d->kind = DENSITY_GRID;
     d->filter = GRID_NEAREST;
     d->mcell = C;

@@ -42,6 +42,7 @@ struct brume_scene {
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
     size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
     size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
+    size_t memory_held; /* bytes another scene holds until commit (brume_load_options.memory_held) */
     io_inputs inputs;   /* the files the scene was read from (core/regular_file.h), owned */
     double max_work;    /* render.max_work: units of work a method may estimate before it starts
                            (a step of a ray, a voxel generated, a blob at a lattice point) */

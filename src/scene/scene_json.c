@@ -1100,7 +1100,7 @@ static brume_status scene_source_text(const brume_source *src, const brume_studi
 static brume_status load_options(const brume_source *src, const brume_load_options *opts, const char *fn,
                                  brume_load_options *o)
 {
-    *o = (brume_load_options){0.0, 0, NULL, 0, NULL};
+    *o = (brume_load_options){0.0, 0, NULL, 0, NULL, 0};
     if (opts)
         *o = *opts;
     if (o->noverrides < 0 || (o->noverrides > 0 && !o->overrides))
@@ -1125,10 +1125,14 @@ brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const
         return ctx_report(ctx, st);
     char *text = NULL;
     cancel_load_begin(ctx); /* brume_context_cancel_loads(ctx) ends it */
+    budget_hold(o.memory_held);
     if ((st = scene_source_text(src, o.studio, &text)) == BRUME_OK)
         st = scene_parse_json_with(text, scene_source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
                                    o.noverrides, out);
+    budget_hold(0);
     cancel_load_end();
+    if (st == BRUME_OK)
+        (*out)->memory_held = o.memory_held; /* commit counts them too */
     free(text);
     return ctx_report(ctx, st);
 }
