@@ -500,6 +500,10 @@ brume_status brume_scene_set_camera_keys(brume_context *ctx, brume_scene *scene,
  * are taken at rest (keyframed motion is not followed); a keyframed camera is refused at
  * commit. The camera's focus distance keeps its ratio to the look-at distance. */
 brume_status brume_scene_frame_camera(brume_context *ctx, brume_scene *scene, const char *media, double margin);
+/* The same framing on a given world box (x0, y0, z0, x1, y1, z1; lo <= hi, finite) instead of
+ * the media's: a sequence's studio scene frames the box over all its files, so that the
+ * camera is the same for every frame (docs/production.md). */
+brume_status brume_scene_frame_camera_box(brume_context *ctx, brume_scene *scene, const double box[6], double margin);
 
 /* Lights (at most 4096). Colors are linear RGB, each component finite and >= 0. */
 /* Sunlight-like: irradiance (W m^-2) on a surface facing the light, travelling along

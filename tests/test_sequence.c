@@ -12,6 +12,7 @@
 
 #include "brume.h"
 #include "io/grid_io.h"
+#include "scene/scene.h"
 #include "test.h"
 
 /* Frames 1..n of a cloud moving along x (file k spans x in [k, k + 1]) in a fresh folder,
@@ -181,4 +182,54 @@ TEST(bad_next_file_reported_in_one_line)
     test_system(cmd);
 }
 
-TEST_MAIN(read_ahead_gives_the_same_bytes, read_ahead_held_back_by_memory_limit, bad_next_file_reported_in_one_line)
+/* The camera of frame f of the studio scene of `pattern` (committed): position, look_at. */
+static void studio_camera(const char *pattern, long f, double pos[3], double at[3])
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_load_options lo = {0.0, f, NULL, 0, NULL, 0};
+    if (brume_scene_load(ctx, &(brume_source){.path = pattern}, &lo, &s) != BRUME_OK ||
+        brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    v3_to_array(s->cam.position, pos);
+    v3_to_array(s->cam.look_at, at);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* `brume render smoke_####.vdb --frames 1-3`: each frame its file, in the studio scene framed
+ * on the box over all the files (the camera does not jump); a "frame" box that is not two
+ * corners is refused in one line. */
+TEST(studio_scene_of_a_pattern)
+{
+    const char *dir = make_frames("seq-studio", 3, "16x16x16");
+    char pattern[2048], cmd[4096];
+    snprintf(pattern, sizeof pattern, "%s/smoke_####.vdb", dir);
+    double p1[3], a1[3], p3[3], a3[3];
+    studio_camera(pattern, 1, p1, a1);
+    studio_camera(pattern, 3, p3, a3);
+    for (int i = 0; i < 3; i++) {
+        ASSERT_NEAR(p1[i], p3[i], 0.0);
+        ASSERT_NEAR(a1[i], a3[i], 0.0);
+    }
+    /* files 1 to 3 span x in [1, 4]: the box over them is centred on x = 2.5 (each file's own
+     * box on k + 0.5) */
+    ASSERT_NEAR(a1[0], 2.5, 0.01);
+    ASSERT_NEAR(a1[1], 0.5, 0.01);
+    snprintf(cmd, sizeof cmd, "cd %s && %s render 'smoke_####.vdb' --frames 1-3 --spp 2 --width 24 --height 16 -q -o o_%%d.png",
+             dir, BRUME_EXE);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    ASSERT_TRUE(!same_file(dir, "o_1.png", "o_3.png"));
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    const char *bad = "{\"camera\": {\"frame\": [[0, 0, 0]]}, \"media\": [{\"density\": {\"type\": \"constant\"}, "
+                      "\"sigma_a\": 0, \"sigma_s\": 1}]}";
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "box.json", .text = bad}, NULL, &s), BRUME_ERROR_PARSE);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "box.json: camera.frame: a box is [[x0, y0, z0], [x1, y1, z1]]");
+    brume_context_release(ctx);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    test_system(cmd);
+}
+
+TEST_MAIN(read_ahead_gives_the_same_bytes, read_ahead_held_back_by_memory_limit, bad_next_file_reported_in_one_line,
+          studio_scene_of_a_pattern)

@@ -49,6 +49,8 @@ struct brume_scene {
     struct {
         bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
         char media[64]; /* "media" = all of them, else one medium's name */
+        bool box;       /* brume_scene_frame_camera_box: frame `bounds`, not the media */
+        box3 bounds;
         double margin;  /* fraction of the frame left around the box, [0, 0.9] */
     } frame;
 };
