@@ -8,6 +8,7 @@
  *   - a bad next file is reported in the one line a render without read-ahead gives.
  * The frames are .vdb files written by `brume gen` (read through the sandboxed OpenVDB
  * reader; skipped without OpenVDB). */
+#include <signal.h>
 #include <string.h>
 
 #include "brume.h"
@@ -231,5 +232,50 @@ TEST(studio_scene_of_a_pattern)
     test_system(cmd);
 }
 
+/* Ctrl-C while frame 0 renders and frame 1 (a larger file, read through the sandboxed
+ * reader) is read ahead: the partial frame 0 is written, the read is cancelled and its
+ * thread joined, brume exits 130 at once (5 s allowed on a loaded machine), frame 1 is not
+ * written. */
+TEST(ctrl_c_while_reading_ahead)
+{
+    const char *dir = make_frames("seq-sigint", 1, "16x16x16");
+    char cmd[4096], err[2048], args[4096], path[2048];
+    snprintf(cmd, sizeof cmd, "%s gen cloud --dims 96x96x96 --shape ellipsoid --bounds 2,0,0,3,1,1 -o %s/smoke_0002.vdb",
+             BRUME_EXE, dir);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(args, sizeof args, "render %s --frames 0-1 --spp 1000000 --progress-every 0.1 --stats -o %s/f_%%d.exr",
+             path, dir);
+    int pid = test_spawn(BRUME_EXE, args, err);
+    double t0 = test_now();
+    char *text = NULL;
+    size_t n = 0;
+    for (;;) { /* frame 0 renders once its first progress line is out; frame 1 is read by then */
+        free(text);
+        text = test_exists(err) ? test_slurp(err, &n) : NULL;
+        if ((text && strstr(text, " spp")) || test_now() - t0 > 60.0)
+            break;
+        test_sleep(0.02);
+    }
+    ASSERT_CONTAINS(text, " spp");
+    free(text);
+    kill(pid, SIGINT);
+    double t1 = test_now();
+    ASSERT_EQ_INT(test_wait_exit(pid, 30.0), 130);
+    printf("exited %.2f s after SIGINT\n", test_now() - t1);
+    ASSERT_TRUE(test_now() - t1 < 5.0);
+    text = test_slurp(err, &n);
+    printf("%s", text);
+    ASSERT_CONTAINS(text, "interrupted by SIGINT: wrote the partial image");
+    free(text);
+    snprintf(path, sizeof path, "%s/f_0.partial.exr", dir);
+    ASSERT_TRUE(test_exists(path));
+    snprintf(path, sizeof path, "%s/f_1.exr", dir);
+    ASSERT_TRUE(!test_exists(path));
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    test_system(cmd);
+}
+
 TEST_MAIN(read_ahead_gives_the_same_bytes, read_ahead_held_back_by_memory_limit, bad_next_file_reported_in_one_line,
-          studio_scene_of_a_pattern)
+          studio_scene_of_a_pattern, ctrl_c_while_reading_ahead)
