@@ -908,13 +908,14 @@ static void read_next(render_run *r, long k)
         j++;
     if (j == o->nframes)
         return;
-    r->ahead_why = "no (its read beside the frame before failed: read again after it)";
-    if (o->no_read_ahead)
+    if (o->no_read_ahead) {
         r->ahead_why = "no (--no-read-ahead)";
-    else if (!r->ra.load)
+        return;
+    }
+    if (!r->ra.load)
         r->ra = (cli_read_ahead){.load = load_ahead, .user = r};
-    if (!o->no_read_ahead)
-        cli_read_ahead_start(&r->ra, r->scene, o->first + j, &r->ahead_why);
+    r->ahead_why = "no (its read beside the frame before failed: read again after it)"; /* if it fails */
+    cli_read_ahead_start(&r->ra, r->scene, o->first + j, &r->ahead_why);
 }
 
 /* Loads frame f (or moves the camera of the scene it shares with the frame before), then
