@@ -68,7 +68,7 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
 {
     brume_scene *s = NULL;
     brume_image *img = NULL;
-    brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL};
+    brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL, 0};
     if (brume_scene_load(ctx, &(brume_source){.path = r->path}, &lo, &s) != BRUME_OK)
         return NULL;
     brume_render_settings rs;

@@ -152,7 +152,7 @@ static int run_render(const char *scenes, const figure *f, const char *path, boo
     int rc = 1;
     const char *ov[] = {"blasi.light_rays=" QUICK_LIGHT_RAYS};
     bool blasi = strncmp(f->arg, "blasi", 5) == 0;
-    brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0, NULL};
+    brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0, NULL, 0};
     if (!ctx || brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
         goto fail;
     brume_render_settings rs;
@@ -318,7 +318,7 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
     memset(r, 0, sizeof *r);
     for (int k = 0; k < 3 && ctx; k++) {
         brume_scene *s = NULL;
-        brume_load_options lo = {0.0, 0, ov[k], nov[k], NULL};
+        brume_load_options lo = {0.0, 0, ov[k], nov[k], NULL, 0};
         if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
             goto fail;
         brume_render_settings rs;

@@ -13,6 +13,7 @@
 #include "brume.h"
 #include "cli_dist.h"
 #include "cli_job.h"
+#include "cli_read_ahead.h"
 #include "commands.h"
 
 static void render_usage(FILE *out)
@@ -29,6 +30,8 @@ static void render_usage(FILE *out)
             "  --frame F           render frame F only\n"
             "  --video FILE.mp4    after the frames, assemble them with ffmpeg (PNG frames)\n"
             "  --shard I/N         render only the frames f with f %% N == I (render farms)\n"
+            "  --no-read-ahead     a sequence's next frame is read while this one renders, where\n"
+            "                      render.max_memory_mb holds both: read it after instead\n"
             "  --spp N             samples per pixel\n"
             "  --width W, --height H   image size in pixels\n"
             "  --seed S            random seed: the image depends on seed and spp, not on threads\n"
@@ -385,6 +388,7 @@ typedef struct render_opts {
     const char *light_key[MAX_SETS], *light_value[MAX_SETS];
     brume_studio_options studio; /* a grid file's studio scene (--up, --grid, --no-ground) */
     bool print_scene;            /* --print-scene */
+    bool no_read_ahead;          /* --no-read-ahead */
     /* what the command writes, and how */
     const char *out_path;        /* -o: one file, or a frame pattern (kind 1) */
     const char *video;           /* --video, or NULL */
@@ -436,13 +440,15 @@ static bool set_override(render_opts *o, const char *key, size_t keylen, const c
 }
 
 /* Loads frame `f` (or the plain scene when f < 0), applies the command-line settings and
- * commits. On failure returns NULL; the context has the message. */
-static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f, bool progress)
+ * commits, counting `held` bytes of another scene against the memory limit (the frame that
+ * renders while this one is read ahead). On failure returns NULL; the context has the
+ * message. */
+static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f, bool progress, size_t held)
 {
     brume_scene *scene = NULL;
     brume_status st;
     /* the built-in scene is static: it is loaded at time 0 and its camera moved below */
-    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio};
+    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio, held};
     st = brume_scene_load(ctx, &(brume_source){.path = o->scene_path}, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
@@ -526,7 +532,7 @@ static int print_scene(const render_opts *o)
         cli_error("out of memory");
         return 1;
     }
-    brume_load_options lo = {0.0, 0, NULL, 0, &o->studio};
+    brume_load_options lo = {0.0, 0, NULL, 0, &o->studio, 0};
     char *text = NULL;
     int rc = 0;
     if (brume_scene_text(ctx, &(brume_source){.path = o->scene_path}, &lo, &text) != BRUME_OK) {
@@ -645,6 +651,8 @@ static int parse_output_option(render_opts *o, int argc, char **argv, int *i)
         o->quiet = true;
     } else if (strcmp(a, "--print-scene") == 0) {
         o->print_scene = true;
+    } else if (strcmp(a, "--no-read-ahead") == 0) {
+        o->no_read_ahead = true;
     } else
         return 0;
     return 1;
@@ -753,6 +761,11 @@ typedef struct render_run {
     cli_serve *serve;               /* the live view, or NULL */
     brume_context *ctx;
     brume_scene *scene;             /* the last frame's, kept while the world is static */
+    bool load_progress;             /* the frames' scenes show the render's progress */
+    cli_read_ahead ra;              /* the next frame, read while this one renders */
+    const char *ahead_why;          /* why the next frame was not read ahead, or NULL */
+    const char *ahead;              /* --stats: the rendered frame's "yes" or why not; NULL: no line */
+    long ahead_frame;
     brume_image *image;
     brume_render_job *job;
     cli_job_result jr;
@@ -773,6 +786,8 @@ static int check_processes(render_run *r)
     r->split_frames = r->d.size > 1 && (o->nframes % r->d.size == 0 || o->nframes >= 4L * r->d.size);
     r->split_tiles = r->d.size > 1 && !r->split_frames;
     r->root = r->d.rank == 0;
+    r->load_progress = !o->quiet && r->root && !r->split_frames;
+    r->ahead_why = "no (the first frame)";
     if (r->d.size > 1 && (o->checkpoint || o->resume || o->serve_spec || o->time_budget > 0.0 || o->noise > 0.0)) {
         cli_error("%s: not under mpirun", o->checkpoint ? "--checkpoint" : o->resume ? "--resume" : o->serve_spec ? "--serve"
                                             : o->time_budget > 0.0 ? "--time" : "--noise");
@@ -828,7 +843,7 @@ static int begin_run(render_run *r)
         return 1;
     }
     if (o->sequence && o->scene_path) { /* grid sequences: every frame's file, before the first frame */
-        brume_load_options lo = {0.0, 0, o->sets, o->nsets, &o->studio};
+        brume_load_options lo = {0.0, 0, o->sets, o->nsets, &o->studio, 0};
         if (brume_scene_check_frames(r->ctx, &(brume_source){.path = o->scene_path}, &lo, o->first, o->last) != BRUME_OK) {
             cli_error("%.1000s", brume_context_last_error(r->ctx));
             brume_context_release(r->ctx);
@@ -851,7 +866,7 @@ static int render_failed(const render_run *r)
  * 0, or the exit status with a message. */
 static int receive_frame(render_run *r, long k, long f, int owner, brume_render_settings *rs)
 {
-    if (!r->scene && !(r->scene = load_scene(r->ctx, r->o, f, false)))
+    if (!r->scene && !(r->scene = load_scene(r->ctx, r->o, f, false, 0)))
         return render_failed(r);
     if (!r->plan.made && prepare_outputs(&r->plan, true) != 0)
         return 1;
@@ -864,12 +879,53 @@ static int receive_frame(render_run *r, long k, long f, int owner, brume_render_
     return 0;
 }
 
+/* The rank that renders frame index k, or -1 when this shard skips it. */
+static int frame_owner(const render_run *r, long k)
+{
+    const render_opts *o = r->o;
+    long f = o->sequence ? o->first + k : -1;
+    if (o->nshards > 1 && f % o->nshards != o->shard)
+        return -1;
+    return r->split_frames ? (int)(k % r->d.size) : r->d.rank;
+}
+
+/* The read-ahead thread's load (cli_read_ahead.h): what render_frame would load. */
+static brume_scene *load_ahead(brume_context *ctx, const void *user, long f, size_t held)
+{
+    const render_run *r = user;
+    return load_scene(ctx, r->o, f, r->load_progress, held);
+}
+
+/* Before frame index k renders: the next frame this process renders is read on a thread
+ * when the world moves (each frame a scene of its own) and the memory limit holds both. */
+static void read_next(render_run *r, long k)
+{
+    const render_opts *o = r->o;
+    if (!o->sequence || !o->scene_path || brume_scene_world_is_static(r->scene))
+        return;
+    long j = k + 1;
+    while (j < o->nframes && frame_owner(r, j) != r->d.rank)
+        j++;
+    if (j == o->nframes)
+        return;
+    if (o->no_read_ahead) {
+        r->ahead_why = "no (--no-read-ahead)";
+        return;
+    }
+    if (!r->ra.load)
+        r->ra = (cli_read_ahead){.load = load_ahead, .user = r};
+    r->ahead_why = "no (its read beside the frame before failed: read again after it)"; /* if it fails */
+    cli_read_ahead_start(&r->ra, r->scene, o->first + j, &r->ahead_why);
+}
+
 /* Loads frame f (or moves the camera of the scene it shares with the frame before), then
  * renders it here: the whole image, or this rank's tiles gathered on rank 0. 0; -1 when
  * the frame went to rank 0 (nothing more to do here); or the exit status with a message. */
 static int render_frame(render_run *r, long k, long f, const char *path, brume_render_settings *rs)
 {
     const render_opts *o = r->o;
+    r->ahead = NULL;
+    r->ahead_frame = f;
     /* frames that differ only by the camera share one scene (and its integrator state:
      * Blasi's first pass is done once) */
     if (r->scene && brume_scene_world_is_static(r->scene) && f >= 0) {
@@ -878,8 +934,12 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
             return render_failed(r);
     } else {
         brume_scene_release(r->scene);
-        if (!(r->scene = load_scene(r->ctx, o, f, !o->quiet && r->root && !r->split_frames)))
+        r->scene = cli_read_ahead_take(&r->ra, f); /* read while the frame before rendered */
+        r->ahead = r->scene ? "yes" : r->ahead_why;
+        if (!r->scene && !(r->scene = load_scene(r->ctx, o, f, r->load_progress, 0)))
             return render_failed(r);
+        if (!o->sequence || !o->scene_path || brume_scene_world_is_static(r->scene))
+            r->ahead = NULL; /* no grids of its own per frame: nothing to say */
         /* the scene's inputs are known now: none of them may be written over; the scene is
          * good, so the output folders are made */
         if (r->root && (cli_check_output("-o", path, o->scene_path, r->scene) != 0 ||
@@ -887,6 +947,7 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
                         (!r->plan.made && prepare_outputs(&r->plan, true) != 0)))
             return 1;
     }
+    read_next(r, k);
     brume_scene_settings(r->scene, rs);
     if (r->split_tiles) {
         if (brume_render_part(r->ctx, r->scene, r->d.rank, r->d.size, &r->image) != BRUME_OK)
@@ -955,6 +1016,8 @@ static int write_frame(render_run *r, char *path, size_t n, int owner, const bru
     const render_opts *o = r->o;
     if (o->stats && owner == r->d.rank)
         print_stats(r->ctx, r->scene, path);
+    if (o->stats && owner == r->d.rank && r->ahead)
+        fprintf(stderr, "stats: frame %ld grids read ahead: %s\n", r->ahead_frame, r->ahead);
     if (r->root && r->jr.interrupted && r->jr.progress.spp_max == 0) {
         fprintf(stderr, "brume: interrupted by %s before any sample of %s: nothing written\n",
                 cli_signal_name(r->jr.signal), path);
@@ -999,14 +1062,14 @@ static int render_frames(render_run *r)
     const render_opts *o = r->o;
     for (long k = 0; k < o->nframes; k++) {
         long f = o->sequence ? o->first + k : -1;
-        if (o->nshards > 1 && f % o->nshards != o->shard)
+        int owner = frame_owner(r, k);
+        if (owner < 0)
             continue;
         if (cli_signal()) { /* between frames: the finished ones stay */
             fprintf(stderr, "brume: interrupted by %s after %ld frame%s\n", cli_signal_name(cli_signal()), r->done,
                     r->done == 1 ? "" : "s");
             return 128 + cli_signal();
         }
-        int owner = r->split_frames ? (int)(k % r->d.size) : r->d.rank;
         if (owner != r->d.rank && !r->root)
             continue;
         char path[4096];
@@ -1057,6 +1120,7 @@ static void end_run(render_run *r, int rc)
 {
     if (rc != 0 && r->d.size > 1)
         dist_abort(&r->d, rc);
+    cli_read_ahead_end(&r->ra); /* a read under way is cancelled (a signal, a failure) */
     cli_serve_stop(r->serve);
     brume_render_job_release(r->job);
     brume_image_release(r->image);

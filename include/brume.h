@@ -324,6 +324,13 @@ typedef struct brume_load_options {
     const char *const *overrides;  /* "KEY=VALUE" strings, or NULL when noverrides is 0 */
     int noverrides;
     const brume_studio_options *studio; /* for a grid file; NULL = the defaults (all 0) */
+    /* Bytes of render.max_memory_mb that another scene holds while this one is read and
+     * committed (0: none): a sequence's frame being rendered while the next frame is read
+     * ahead (brume_scene_memory gives them). Reading and committing fail with
+     * BRUME_ERROR_OUT_OF_MEMORY where this scene's bytes and these would pass the limit;
+     * otherwise the scene is the one a load without them makes (the same choices, the same
+     * image). Rendering it counts only its own bytes. */
+    size_t memory_held;
 } brume_load_options;
 
 /* Loads a scene from src (NULL: the default scene) with opts (NULL: the defaults). On
@@ -351,6 +358,10 @@ brume_status brume_scene_check_frames(brume_context *ctx, const brume_source *sr
                                       long first, long last);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
+/* Bytes of render.max_memory_mb that reading and committing the scene took (its grids, the
+ * majorants and blobs commit builds; 0 for NULL); *limit (when not NULL) gets the limit in
+ * bytes. A render's film counts against the same limit when the render begins. */
+size_t brume_scene_memory(const brume_scene *scene, size_t *limit);
 /* True when nothing but the camera depends on time (no keyframed light, surface or medium,
  * no evolving density): then frames differ only by the camera, and one committed scene can
  * be moved from frame to frame with brume_scene_set_camera_time, keeping the work an
@@ -489,6 +500,10 @@ brume_status brume_scene_set_camera_keys(brume_context *ctx, brume_scene *scene,
  * are taken at rest (keyframed motion is not followed); a keyframed camera is refused at
  * commit. The camera's focus distance keeps its ratio to the look-at distance. */
 brume_status brume_scene_frame_camera(brume_context *ctx, brume_scene *scene, const char *media, double margin);
+/* The same framing on a given world box (x0, y0, z0, x1, y1, z1; lo <= hi, finite) instead of
+ * the media's: a sequence's studio scene frames the box over all its files, so that the
+ * camera is the same for every frame (docs/production.md). */
+brume_status brume_scene_frame_camera_box(brume_context *ctx, brume_scene *scene, const double box[6], double margin);
 
 /* Lights (at most 4096). Colors are linear RGB, each component finite and >= 0. */
 /* Sunlight-like: irradiance (W m^-2) on a surface facing the light, travelling along

@@ -382,7 +382,70 @@ TEST(bad_velocity_inputs_refused)
     refused(good, "{\"grid\": \"vel\"}", "blasi", "method blasi does not blur by velocity");
 }
 
+/* The puff with a fast velocity (`scale` world units per second, shutter [0, shutter])
+ * loaded and committed under render.max_memory_mb = mb (0: the default); the status, the
+ * scene's bytes (brume_scene_memory) and its moved majorant's in *bytes and *moved. */
+static brume_status load_fast_puff(const char *grid, double scale, double shutter, double mb, size_t *bytes,
+                                   size_t *moved, char *msg, size_t n)
+{
+    const char *scene = test_tmp_path("velocity-budget.json");
+    char json[2048], render[64] = "";
+    if (mb > 0.0)
+        snprintf(render, sizeof render, ", \"render\": {\"max_memory_mb\": %.6f}", mb);
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"shutter\": [0, %g]},"
+             " \"media\": [{\"density\": {\"type\": \"grid\", \"file\": \"%s\"}, \"sigma_a\": 1, \"sigma_s\": 1,"
+             "   \"velocity\": {\"grid\": \"vel\", \"scale\": %g}}]%s}",
+             shutter, grid, scale, render);
+    test_write_file(scene, json);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = scene}, NULL, &s);
+    if (st == BRUME_OK)
+        st = brume_scene_commit(ctx, s);
+    *bytes = brume_scene_memory(s, NULL);
+    *moved = 0;
+    if (st == BRUME_OK && s->media[0].moved) {
+        density_info info;
+        density_get_info(s->media[0].moved, &info);
+        *moved = info.memory_bytes;
+    }
+    snprintf(msg, n, "%s", brume_context_last_error(ctx));
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    return st;
+}
+
+/* The moved majorant grid (up to 16 MiB) counts against render.max_memory_mb like every
+ * grid: the scene's bytes grow by it, and a limit that holds the grids but not it refuses
+ * the scene in one line naming it and the key. */
+TEST(moved_majorant_counts_against_memory_limit)
+{
+    need_openvdb();
+    const char *grid = test_tmp_path("velocity-budget.nvdb");
+    write_puff(grid, (const double[3]){0, 0, 0}, 0);
+    size_t still = 0, blur = 0, moved = 0, none = 0;
+    char msg[1024];
+    /* scale 100: the puff moves 80 units (800 voxels) within the shutter: a large dilation */
+    ASSERT_EQ_INT(load_fast_puff(grid, 100.0, 0.0, 0.0, &still, &none, msg, sizeof msg), BRUME_OK);
+    ASSERT_EQ_INT((int)none, 0); /* a closed shutter moves nothing: no moved majorant */
+    ASSERT_EQ_INT(load_fast_puff(grid, 100.0, 0.8, 0.0, &blur, &moved, msg, sizeof msg), BRUME_OK);
+    printf("grids %zu bytes; with the moved majorant %zu (it alone %zu)\n", still, blur, moved);
+    ASSERT_TRUE(moved > ((size_t)1 << 20));
+    ASSERT_EQ_INT((long long)(blur - still), (long long)moved);
+    double mb = ((double)still + 0.5 * (double)moved) / 1048576.0; /* the grids fit, the moved majorant not */
+    ASSERT_TRUE(mb >= 1.0);
+    ASSERT_EQ_INT(load_fast_puff(grid, 100.0, 0.8, mb, &blur, &moved, msg, sizeof msg), BRUME_ERROR_OUT_OF_MEMORY);
+    printf("%s\n", msg);
+    ASSERT_TRUE(strchr(msg, '\n') == NULL);
+    ASSERT_CONTAINS(msg, "media[0].velocity");
+    ASSERT_CONTAINS(msg, "moved majorant grid");
+    ASSERT_CONTAINS(msg, "render.max_memory_mb");
+    remove(grid);
+}
+
 TEST_MAIN(constant_velocity_matches_keyframed_translation, grid_transform_turns_the_velocity,
           sequence_frames_blur_by_their_own_velocity,
           moved_majorant_bounds_advected_density,
-          moved_majorant_bounds_advected_density_tree, bad_velocity_inputs_refused)
+          moved_majorant_bounds_advected_density_tree, bad_velocity_inputs_refused,
+          moved_majorant_counts_against_memory_limit)

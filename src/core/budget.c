@@ -6,6 +6,7 @@
 static _Thread_local bool open_;
 static _Thread_local size_t limit_, used_;
 static _Thread_local double work_limit_;
+static _Thread_local size_t held_; /* budget_hold: another scene's bytes, kept across begin/end */
 
 void budget_begin(size_t limit)
 {
@@ -65,11 +66,20 @@ size_t budget_left(void)
     return used_ < limit_ ? limit_ - used_ : 0;
 }
 
+void budget_hold(size_t bytes) { held_ = bytes; }
+
 brume_status budget_take(size_t bytes, const char *who)
 {
     size_t left = budget_left();
+    if (open_ && held_ > 0) /* another scene's bytes count here, not in budget_left (budget.h) */
+        left = left > held_ ? left - held_ : 0;
     if (bytes > left) {
         double mib = 1.0 / 1048576.0;
+        if (open_ && held_ > 0)
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                           "%s: needs %.1f MiB, more than the %.1f MiB left of the memory limit of %.0f MiB "
+                           "(render.max_memory_mb) while another scene holds %.1f MiB of it",
+                           who, (double)bytes * mib, (double)left * mib, (double)limit_ * mib, (double)held_ * mib);
         if (open_)
             return err_set(BRUME_ERROR_OUT_OF_MEMORY,
                            "%s: needs %.1f MiB, more than the %.1f MiB left of the memory limit of %.0f MiB "

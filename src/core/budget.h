@@ -48,6 +48,13 @@ size_t budget_used(void);
 /* Takes `bytes` for `who` (e.g. "scene.json: media[0].phase.file"): BRUME_OK, or
  * BRUME_ERROR_OUT_OF_MEMORY with err_set() when they exceed what is left. */
 brume_status budget_take(size_t bytes, const char *who);
+/* Bytes of the same limit that another object holds while this thread loads (a sequence's
+ * frame being rendered while the next frame is read ahead, brume_load_options.memory_held);
+ * 0 ends it. budget_take refuses what would pass the limit with them; budget_left does not
+ * count them, so that what a reader chooses by the memory left (a small grid's dense copy)
+ * is what it chooses alone: a load under a hold makes the same scene as without it, or fails
+ * with BRUME_ERROR_OUT_OF_MEMORY. Per thread, kept across budget_begin and budget_end. */
+void budget_hold(size_t bytes);
 /* Gives back bytes taken for something freed while loading. */
 void budget_give(size_t bytes);
 /* Bytes left in the open budget, or the default limit when none is open. */

@@ -68,6 +68,11 @@ static _Thread_local cancel_poll *g_watch; /* a render's callback, asked too (ca
 
 void cancel_load_watch(cancel_poll *c) { g_watch = c; }
 
+bool cancel_load_requested(void)
+{
+    return g_load_cancels && atomic_load_explicit(g_load_cancels, memory_order_relaxed) != g_load_start;
+}
+
 brume_status cancel_load_check(const char *what)
 {
     if (g_watch && cancel_poll_stop(g_watch))

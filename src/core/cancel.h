@@ -41,6 +41,9 @@ void cancel_poll_finish(cancel_poll *c);
 void cancel_load_begin(brume_context *ctx);
 void cancel_load_end(void);
 brume_status cancel_load_check(const char *what);
+/* Whether this thread's load was cancelled, as cancel_load_check says, without setting an
+ * error (a reader waiting on its sandboxed child: io/sandbox.c). */
+bool cancel_load_requested(void);
 
 /* A render's phase that runs a generator's code (Stam's random field, made when a render
  * begins): while c is set on this thread, cancel_load_check also asks it (cancel_poll_stop),

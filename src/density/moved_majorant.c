@@ -21,6 +21,7 @@
  * field's max, stands in for it (valid, loose). */
 #include <stdlib.h>
 
+#include "core/budget.h"
 #include "core/error.h"
 #include "density/density_impl.h"
 
@@ -145,6 +146,32 @@ static int assign_levels(const int M[3], int C, const affine3 *v2w, double radiu
     return used;
 }
 
+/* Before the moved grid of M cells (f^3 lattice cells each) is allocated: its voxel range,
+ * and its bytes (*kept) and the filter passes' (*passes) taken from the scene's memory limit
+ * (render.max_memory_mb, core/budget.h) like every other grid's; the caller gives the passes
+ * back once freed. false with err_set, nothing taken. */
+static bool moved_check(const lattice *l, const int M[3], int f, bool local, size_t *kept, size_t *passes)
+{
+    if ((int64_t)M[0] * f * l->mc > INT32_MAX || (int64_t)M[1] * f * l->mc > INT32_MAX ||
+        (int64_t)M[2] * f * l->mc > INT32_MAX) {
+        err_set(BRUME_ERROR_RANGE, "moved majorant: %d x %d x %d cells of %d voxels exceed the voxel range", M[0], M[1],
+                M[2], f * l->mc);
+        return false;
+    }
+    const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
+    const size_t x = (size_t)M[0], y = (size_t)M[1];
+    *kept = nM * sizeof(float);
+    *passes = ((size_t)l->mn[0] * (size_t)l->mn[1] + x * (size_t)l->mn[1] + x * y) * (size_t)l->mn[2] * sizeof(float) +
+              (local ? nM * (sizeof(float) + 1) : 0); /* src, p1, p2; lev and level */
+    if (budget_take(*kept, "moved majorant grid") != BRUME_OK)
+        return false;
+    if (budget_take(*passes, "moved majorant grid (filter passes)") != BRUME_OK) {
+        budget_give(*kept);
+        return false;
+    }
+    return true;
+}
+
 density *density_new_moved_majorant(const density *rho, double radius, moved_radius_fn local, const void *user)
 {
     if (!(radius >= 0.0) || !isfinite(radius)) {
@@ -178,6 +205,9 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
             break;
     }
     const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
+    size_t kept, passes;
+    if (!moved_check(&l, M, f, local != NULL, &kept, &passes))
+        return NULL;
     density *d = calloc(1, sizeof *d);
     float *src = malloc((size_t)l.mn[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *src);
     float *p1 = malloc((size_t)M[0] * (size_t)l.mn[1] * (size_t)l.mn[2] * sizeof *p1);
@@ -186,14 +216,8 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
     unsigned char *level = local ? malloc(nM) : NULL;
     if (!d || !src || !p1 || !p2 || !maj || (local && (!lev || !level))) {
         free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
+        budget_give(kept + passes);
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "moved majorant: out of memory for %d x %d x %d cells", M[0], M[1], M[2]);
-        return NULL;
-    }
-    if ((int64_t)M[0] * f * l.mc > INT32_MAX || (int64_t)M[1] * f * l.mc > INT32_MAX ||
-        (int64_t)M[2] * f * l.mc > INT32_MAX) {
-        free(d), free(src), free(p1), free(p2), free(maj), free(lev), free(level);
-        err_set(BRUME_ERROR_RANGE, "moved majorant: %d x %d x %d cells of %d voxels exceed the voxel range", M[0], M[1],
-                M[2], f * l.mc);
         return NULL;
     }
     /* its voxel space: rho's shifted so that lattice cell -Q starts at 0; cells of f mc voxels */
@@ -225,6 +249,7 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
                 maj[o] = lev[o];
     }
     free(src), free(p1), free(p2), free(lev), free(level);
+    budget_give(passes);
     d->kind = DENSITY_GRID;
     d->filter = GRID_NEAREST;
     d->mcell = C;

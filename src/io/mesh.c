@@ -461,7 +461,7 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     int rr = 0;
     st = mesh_receive(path, fds[0], deadline, &pos, &nv, &idx, &ntri, &rr);
     close(fds[0]);
-    brume_status reaped = sandbox_reap(pid, st == BRUME_OK ? rr : (rr == -2 ? -2 : 0), path, "the mesh reader",
+    brume_status reaped = sandbox_reap(pid, st == BRUME_OK ? rr : (rr == -2 || rr == -3 ? rr : 0), path, "the mesh reader",
                                        "a malformed or hostile mesh file", cpu, wall);
     if (st == BRUME_OK)
         st = reaped;

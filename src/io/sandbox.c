@@ -12,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/cancel.h"
 #include "core/error.h"
 
 double sandbox_now(void)
@@ -64,8 +65,10 @@ int sandbox_read_all(int fd, void *p, size_t n, double deadline)
         double left = deadline - sandbox_now();
         if (left <= 0.0)
             return -2;
+        if (cancel_load_requested()) /* brume_context_cancel_loads: the child is killed */
+            return -3;
         struct pollfd pf = {fd, POLLIN, 0};
-        int pr = poll(&pf, 1, (int)(left * 1000.0) + 1);
+        int pr = poll(&pf, 1, left > 0.1 ? 100 : (int)(left * 1000.0) + 1); /* asks the cancel at 10 Hz */
         if (pr < 0 && errno == EINTR)
             continue;
         if (pr < 0)
@@ -118,13 +121,15 @@ int sandbox_read_error(int fd, double deadline)
 brume_status sandbox_reap(pid_t pid, int rr, const char *name, const char *what, const char *hint, double cpu_seconds,
                           double wall_seconds)
 {
-    if (rr == -2)
+    if (rr == -2 || rr == -3)
         kill(pid, SIGKILL);
     int wst = 0;
     while (waitpid(pid, &wst, 0) < 0 && errno == EINTR) {
     }
     if (rr == 0)
         return BRUME_OK;
+    if (rr == -3)
+        return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_context_cancel_loads)", name);
     if (rr == -2)
         return err_set(BRUME_ERROR_PARSE, "%s: %s gave no answer within %.0f s (%s?)", name, what, wall_seconds, hint);
     if (WIFSIGNALED(wst) && WTERMSIG(wst) == SIGXCPU)

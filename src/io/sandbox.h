@@ -34,14 +34,14 @@ void sandbox_child_limits(double cpu_seconds, size_t address_space);
 /* 0 when all n bytes were written; -1 otherwise. */
 int sandbox_write_all(int fd, const void *p, size_t n);
 /* Reads exactly n bytes before the deadline (sandbox_now() time): 0 ok, -1 closed or error,
- * -2 timeout. */
+ * -2 timeout, -3 this thread's load was cancelled (brume_context_cancel_loads, core/cancel.h). */
 int sandbox_read_all(int fd, void *p, size_t n, double deadline);
 /* In the child: the thread's last error (err_message, err_status) as an 'E' record. */
 void sandbox_child_error(int fd);
 /* In the parent, after an 'E' tag: reads the record and sets it as this thread's error
  * (one line). The read_all result. */
 int sandbox_read_error(int fd, double deadline);
-/* Reaps pid (killed first when rr is -2, a timeout) and, when rr is not 0, sets the one-line
+/* Reaps pid (killed first when rr is -2, a timeout, or -3, a cancel) and, when rr is not 0, sets the one-line
  * error of what happened: "NAME: WHAT gave no answer within N s", "... exceeded its CPU limit",
  * "... crashed (signal N)", "... failed (exit N)"; `what` names the reader ("the mesh reader"),
  * `hint` what the file may be ("malformed or hostile .vdb"). Returns err_status() or BRUME_OK. */

@@ -194,21 +194,22 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
     /* what commit generates counts against the scene's memory budget, after what reading took */
     budget_resume(s->max_memory, s->memory_used);
     budget_set_work_limit(s->max_work);
+    budget_hold(s->memory_held);
     st = stam_commit_media(s);
-    s->memory_used = budget_used();
-    budget_end();
-    if (st != BRUME_OK)
-        return ctx_report(ctx, st);
     s->has_emission = false;
-    for (int m = 0; m < s->nmedia; m++) {
+    for (int m = 0; m < s->nmedia && st == BRUME_OK; m++) { /* the moved majorants count too */
         medium_init(&s->media[m]);
-        if ((st = medium_check_range(&s->media[m], s->source, m)) != BRUME_OK)
-            return ctx_report(ctx, st);
-        if ((st = commit_velocity(s, m)) != BRUME_OK)
-            return ctx_report(ctx, st);
+        if ((st = medium_check_range(&s->media[m], s->source, m)) == BRUME_OK)
+            st = commit_velocity(s, m);
         if (medium_emits(&s->media[m]))
             s->has_emission = true;
     }
+    s->memory_used = budget_used();
+    budget_hold(0);
+    budget_end();
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    s->memory_held = 0; /* the other scene's bytes counted until now: rendering counts its own */
     for (int i = 0; i < s->nlights; i++)
         light_init(&s->lights[i]);
     if (!background_init(&s->bg))
@@ -226,6 +227,13 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 }
 
 double brume_scene_time(const brume_scene *s) { return s ? s->time : 0.0; }
+
+size_t brume_scene_memory(const brume_scene *s, size_t *limit)
+{
+    if (limit)
+        *limit = s ? s->max_memory : 0;
+    return s ? s->memory_used : 0;
+}
 
 static bool world_moves(const brume_scene *s)
 {

@@ -42,12 +42,15 @@ struct brume_scene {
     struct scene_prepared *prepared; /* owned: the integrator state kept across renders */
     size_t max_memory; /* bytes: render.max_memory_mb, the limit of what rendering allocates too */
     size_t memory_used; /* bytes of max_memory taken by reading and committing (core/budget.h) */
+    size_t memory_held; /* bytes another scene holds until commit (brume_load_options.memory_held) */
     io_inputs inputs;   /* the files the scene was read from (core/regular_file.h), owned */
     double max_work;    /* render.max_work: units of work a method may estimate before it starts
                            (a step of a ray, a voxel generated, a blob at a lattice point) */
     struct {
         bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
         char media[64]; /* "media" = all of them, else one medium's name */
+        bool box;       /* brume_scene_frame_camera_box: frame `bounds`, not the media */
+        box3 bounds;
         double margin;  /* fraction of the frame left around the box, [0, 0.9] */
     } frame;
 };

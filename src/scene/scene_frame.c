@@ -23,7 +23,31 @@ brume_status brume_scene_frame_camera(brume_context *ctx, brume_scene *scene, co
     if (st != BRUME_OK)
         return ctx_report(ctx, st);
     scene->frame.on = true;
+    scene->frame.box = false;
     snprintf(scene->frame.media, sizeof scene->frame.media, "%s", media && media[0] ? media : "media");
+    scene->frame.margin = margin;
+    return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_scene_frame_camera_box(brume_context *ctx, brume_scene *scene, const double box[6], double margin)
+{
+    static const char fn[] = "brume_scene_frame_camera_box";
+    err_clear();
+    brume_status st = build_check_scene(fn, scene);
+    if (st == BRUME_OK && !box)
+        st = err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: box: NULL", fn);
+    if (st == BRUME_OK)
+        st = build_number(fn, "margin", margin, 0.0, 0.9);
+    for (int a = 0; st == BRUME_OK && a < 3; a++)
+        if (!isfinite(box[a]) || !isfinite(box[a + 3]) || !(box[a] <= box[a + 3]))
+            st = err_set(BRUME_ERROR_RANGE, "%s: box: need finite lo <= hi on axis %d, got [%g, %g]", fn, a, box[a],
+                         box[a + 3]);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    scene->frame.on = true;
+    scene->frame.box = true;
+    scene->frame.bounds = (box3){v3(box[0], box[1], box[2]), v3(box[3], box[4], box[5])};
+    snprintf(scene->frame.media, sizeof scene->frame.media, "media");
     scene->frame.margin = margin;
     return ctx_report(ctx, BRUME_OK);
 }
@@ -50,7 +74,11 @@ brume_status scene_frame_resolve(brume_scene *s)
     bool all = strcmp(s->frame.media, "media") == 0;
     box3 b = box3_empty();
     int found = 0;
-    for (int i = 0; i < s->nmedia; i++) {
+    if (s->frame.box) {
+        b = s->frame.bounds;
+        found = 1;
+    }
+    for (int i = 0; i < s->nmedia && !s->frame.box; i++) {
         if (!all && strcmp(s->media[i].name, s->frame.media) != 0)
             continue;
         found++;

@@ -72,8 +72,19 @@ static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
     brume_camera c;
     brume_camera_default(&c);
     char framed[64] = "";
-    double margin = 0.1;
-    if ((st = json_string(j, at, "frame", 0, framed, sizeof framed))) return st;
+    double margin = 0.1, box[6];
+    const cJSON *fj = cJSON_GetObjectItemCaseSensitive(j, "frame");
+    bool framed_box = cJSON_IsArray(fj); /* [[x0, y0, z0], [x1, y1, z1]]: a box, not the media */
+    for (int k = 0; framed_box && k < 6; k++) {
+        const cJSON *corner = cJSON_GetArraySize(fj) == 2 ? cJSON_GetArrayItem(fj, k / 3) : NULL;
+        const cJSON *v = cJSON_IsArray(corner) && cJSON_GetArraySize(corner) == 3 ? cJSON_GetArrayItem(corner, k % 3) : NULL;
+        if (!cJSON_IsNumber(v))
+            return err_set(BRUME_ERROR_PARSE, "%s: camera.frame: a box is [[x0, y0, z0], [x1, y1, z1]]", at.file);
+        box[k] = v->valuedouble;
+        snprintf(framed, sizeof framed, "media");
+    }
+    if (!framed_box && (st = json_string(j, at, "frame", 0, framed, sizeof framed)))
+        return st;
     if ((st = json_number(j, at, "frame_margin", 0, 0.0, 0.9, &margin))) return st;
     if ((st = jvec(j, at, "up", 0, c.up))) return st;
     if (!(v3_length(v3(c.up[0], c.up[1], c.up[2])) > 0.0))
@@ -99,7 +110,8 @@ static brume_status parse_camera(const cJSON *j, jloc at, brume_scene *s)
                            c.shutter_open, c.shutter_close);
     }
     if ((st = built(brume_scene_set_camera(NULL, s, &c), at))) return st;
-    if (framed[0] && (st = built(brume_scene_frame_camera(NULL, s, framed, margin), at))) return st;
+    if (framed[0] && !framed_box && (st = built(brume_scene_frame_camera(NULL, s, framed, margin), at))) return st;
+    if (framed_box && (st = built(brume_scene_frame_camera_box(NULL, s, box, margin), at))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (!keys_j)
         return BRUME_OK;
@@ -1100,7 +1112,7 @@ static brume_status scene_source_text(const brume_source *src, const brume_studi
 static brume_status load_options(const brume_source *src, const brume_load_options *opts, const char *fn,
                                  brume_load_options *o)
 {
-    *o = (brume_load_options){0.0, 0, NULL, 0, NULL};
+    *o = (brume_load_options){0.0, 0, NULL, 0, NULL, 0};
     if (opts)
         *o = *opts;
     if (o->noverrides < 0 || (o->noverrides > 0 && !o->overrides))
@@ -1125,10 +1137,14 @@ brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const
         return ctx_report(ctx, st);
     char *text = NULL;
     cancel_load_begin(ctx); /* brume_context_cancel_loads(ctx) ends it */
+    budget_hold(o.memory_held);
     if ((st = scene_source_text(src, o.studio, &text)) == BRUME_OK)
         st = scene_parse_json_with(text, scene_source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
                                    o.noverrides, out);
+    budget_hold(0);
     cancel_load_end();
+    if (st == BRUME_OK)
+        (*out)->memory_held = o.memory_held; /* commit counts them too */
     free(text);
     return ctx_report(ctx, st);
 }

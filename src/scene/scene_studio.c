@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "io/grid_io.h"
+#include "io/grid_sequence.h"
 #include "io/json.h"
 #include "scene/scene_studio.h"
 #include "scene/scene.h"
@@ -180,6 +181,62 @@ static void studio_ground(cJSON *root, box3 b, vec3 up)
     cJSON_AddItemToArray(surf, pl);
 }
 
+/* The studio's files: `path`, or for a frame pattern (smoke_####.vdb) the range of its
+ * files present (*first to *last; both -1 for one file). *abs gets the absolute name the
+ * scene reads (the pattern kept: each frame reads its file), *one a file to list the grids
+ * of (the first). */
+static brume_status studio_files(const char *path, char *abs, char *one, size_t n, long *first, long *last)
+{
+    *first = *last = -1;
+    int pat = seq_is_pattern(path);
+    if (pat < 0)
+        return err_status();
+    if (pat == 0) {
+        snprintf(one, n, "%s", path);
+        if (!realpath(path, abs))
+            return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+        return BRUME_OK;
+    }
+    if (seq_range(path, first, last) != BRUME_OK)
+        return err_status();
+    seq_name(path, *first, one, n);
+    const char *slash = strrchr(path, '/');
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+    if (!realpath(dir, abs))
+        return err_set(BRUME_ERROR_IO, "%s: cannot open its folder: %s", path, strerror(errno));
+    size_t len = strlen(abs);
+    snprintf(abs + len, PATH_MAX - len, "/%s", slash ? slash + 1 : path);
+    return BRUME_OK;
+}
+
+/* The box of grid dname's non-zero voxels and its maximum, over files first to last of a
+ * sequence (one in memory at a time; first < 0: `one` alone): the box the camera frames is
+ * then the same for every frame, as `brume info` gives it for the pattern. */
+static brume_status studio_extent(const char *path, const char *one, long first, long last, const char *dname,
+                                  box3 *b, double *rho_max)
+{
+    density_load_options lo;
+    density_load_options_default(&lo);
+    snprintf(lo.grid, sizeof lo.grid, "%s", dname);
+    *b = box3_empty();
+    *rho_max = 0.0;
+    for (long k = first; k <= (first < 0 ? first : last); k++) {
+        char name[PATH_MAX];
+        if (first >= 0)
+            seq_name(path, k, name, sizeof name);
+        density *d = density_load_file(first >= 0 ? name : one, &lo);
+        if (!d)
+            return err_status();
+        box3 a = scene_density_box(d);
+        b->lo = v3_min(b->lo, a.lo);
+        b->hi = v3_max(b->hi, a.hi);
+        *rho_max = fmax(*rho_max, density_max(d));
+        density_release(d);
+    }
+    return BRUME_OK;
+}
+
 brume_status scene_studio_json(const char *path, const brume_studio_options *opts, char **json)
 {
     *json = NULL;
@@ -194,23 +251,16 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
     double depth = o.optical_depth > 0.0 ? o.optical_depth : STUDIO_OPTICAL_DEPTH;
     vec3 up = o.up == BRUME_AXIS_Z ? v3(0, 0, 1) : v3(0, 1, 0);
 
-    char abs[PATH_MAX];
-    if (!realpath(path, abs))
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char abs[PATH_MAX], one[PATH_MAX];
+    long first, last;
+    if (studio_files(path, abs, one, sizeof one, &first, &last) != BRUME_OK)
+        return err_status();
     char dname[128], tname[128];
-    double tmax = 0.0;
-    if (pick_grids(path, o.grid, dname, sizeof dname, tname, &tmax) != BRUME_OK)
+    double tmax = 0.0, rho_max;
+    box3 b;
+    if (pick_grids(one, o.grid, dname, sizeof dname, tname, &tmax) != BRUME_OK ||
+        studio_extent(path, one, first, last, dname, &b, &rho_max) != BRUME_OK)
         return err_status();
-    /* the density once, for the box of its non-zero voxels and its maximum */
-    density_load_options lo;
-    density_load_options_default(&lo);
-    snprintf(lo.grid, sizeof lo.grid, "%s", dname);
-    density *d = density_load_file(path, &lo);
-    if (!d)
-        return err_status();
-    box3 b = scene_density_box(d);
-    double rho_max = density_max(d);
-    density_release(d);
     if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z) || !(rho_max > 0.0))
         return err_set(BRUME_ERROR_RANGE, "%s: grid \"%s\" is empty (no voxel above 0)", path, dname);
     vec3 ext = v3_sub(b.hi, b.lo);
@@ -225,7 +275,13 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
              path, o.no_ground ? "" : ", a ground plane", depth);
     cJSON_AddStringToObject(root, "comment", note);
     cJSON *cam = cJSON_AddObjectToObject(root, "camera");
-    cJSON_AddStringToObject(cam, "frame", "media");
+    if (first < 0) {
+        cJSON_AddStringToObject(cam, "frame", "media");
+    } else { /* a sequence: the box over its files, the same camera for every frame */
+        cJSON *fb = cJSON_AddArrayToObject(cam, "frame");
+        cJSON_AddItemToArray(fb, vec_json(b.lo));
+        cJSON_AddItemToArray(fb, vec_json(b.hi));
+    }
     cJSON_AddItemToObject(cam, "up", vec_json(up));
     cJSON_AddNumberToObject(cam, "fov", 30);
     cJSON_AddItemToObject(root, "background", vec_json(v3(0.2, 0.33, 0.62)));
