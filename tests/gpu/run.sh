@@ -89,13 +89,19 @@ check pbrt-media 128 scenes/pbrt-media.pbrt --width 160 --height 100
 # for byte; a sequence; the live view.
 echo "== checkpoint, Ctrl-C, resume (wdas-dense, 256 spp, as checked above)"
 rm -f "$out/ck.brume"
-timeout 100 "$br" render $wdas --spp 256 --seed 12 --aov variance --device cuda --checkpoint "$out/ck.brume" \
-    -o "$out/ck.exr" 2>/dev/null &
-pid=$!
-sleep 3
-kill -INT $pid
-wait $pid
-echo "interrupted: exit status $? (130 expected), checkpoint $(stat -c %s "$out/ck.brume" 2>/dev/null || echo missing) bytes"
+# a signal during start-up (the device's context, the upload) leaves nothing to keep: then
+# again with twice the wait
+for wait_s in 3 6 12; do
+    timeout 100 "$br" render $wdas --spp 256 --seed 12 --aov variance --device cuda --checkpoint "$out/ck.brume" \
+        -o "$out/ck.exr" 2>"$out/ck.err" &
+    pid=$!
+    sleep $wait_s
+    kill -INT $pid
+    wait $pid
+    rc=$?
+    echo "interrupted after $wait_s s: exit status $rc (130 expected), checkpoint $(stat -c %s "$out/ck.brume" 2>/dev/null || echo missing) bytes; $(tail -1 "$out/ck.err")"
+    [ -s "$out/ck.brume" ] && break
+done
 timeout 100 "$br" render $wdas --spp 256 --seed 12 --aov variance --device cuda --resume "$out/ck.brume" \
     -o "$out/ck.exr" 2>&1 | tail -1
 if cmp -s "$out/ck.exr" "$out/wdas-dense-gpu.exr"; then
