@@ -39,6 +39,15 @@ for scene in "$copy"/scenes/*.json; do
             echo "clone: brume gen fire failed:"; cat "$out/$name.gen"; failed=1; continue
         }
     fi
+    if grep -q '"file": *"fire_%04d.nvdb"' "$scene"; then
+        # a flame's cache, a file per frame, made first as its comment says (here frames 0 and 1,
+        # small: the scene renders frame 0)
+        (cd "$copy" && "$exe" gen fire --resolution 32 --velocity 4 --frames 0-1 -o 'scenes/fire_%04d.nvdb' \
+            > "$out/$name.gen" 2>&1) || {
+            if grep -q -i 'openvdb' "$out/$name.gen"; then echo "clone: $name skipped (no OpenVDB)"; continue; fi
+            echo "clone: brume gen fire --frames failed:"; cat "$out/$name.gen"; failed=1; continue
+        }
+    fi
     if (cd "$copy" && "$exe" render "scenes/$name.json" --spp 1 --width 16 --height 16 --quiet \
             -o "$out/$name.exr") > "$out/$name.log" 2>&1 && test -s "$out/$name.exr"; then
         echo "clone: $name renders"
