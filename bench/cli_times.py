@@ -22,6 +22,12 @@ average before and after. The cases and the inner figure each stands beside:
                  a render
   wdas-dense     `brume render scenes/wdas-dense.json --width 256 --height 256 --spp 4`: a
                  sparse grid read from .vdb into NanoVDB (bench_sparse, bench_grid's lookups)
+  adaptive       `brume render --width 240 --height 160 --noise 0.1 --min-spp 4`: the default
+                 scene to a per-pixel noise target (bench_adaptive; samples/s not printed: the
+                 count is the target's)
+  denoise        `brume denoise IN.exr -o OUT.exr`: the denoiser as a command, on the default
+                 scene at 480 x 320, 8 spp with its layers (rendered once, before the rounds;
+                 bench_denoise's "denoise s" column)
 
 The default scene has the surfaces (Embree, bench_surfaces). With --against, every case
 runs with the other binary too, in the same rounds, and the ratios are printed. The
@@ -69,6 +75,12 @@ def cases(build, tmp):
     yield "cloud64-schlick", cloud + ["--set", 'media.0.phase={"type": "schlick", "g": %r}' % g], 256 * 256 * 16
     yield "wdas-dense", ["render", os.path.join(scenes, "wdas-dense.json"), "--width", "256", "--height", "256",
                          "--spp", "4", "--quiet", "-o", out], 256 * 256 * 4
+    yield "adaptive", ["render", "--width", "240", "--height", "160", "--noise", "0.1", "--min-spp", "4", "--quiet",
+                       "-o", out], 0
+    layers = os.path.join(tmp, "layers.exr")
+    subprocess.run([os.path.join(build, "brume"), "render", "--spp", "8", "--aov", "variance,albedo,normal,depth",
+                    "--quiet", "-o", layers], check=True)
+    yield "denoise", ["denoise", layers, "-o", os.path.join(tmp, "denoised.exr")], 0
 
 
 def main():
@@ -95,8 +107,8 @@ def main():
         for b, exe in bins:
             w = statistics.median(t[0] for t in times[(b, name)])
             c = statistics.median(t[1] for t in times[(b, name)])
-            print("  %-16s %-8s %8.3f s wall %8.3f s CPU  %7.3f M samples/s wall   %s" %
-                  (name, b, w, c, samples / w / 1e6, " ".join(["brume"] + args)))
+            rate = "%7.3f M samples/s wall" % (samples / w / 1e6) if samples else "%22s" % ""
+            print("  %-16s %-8s %8.3f s wall %8.3f s CPU  %s   %s" % (name, b, w, c, rate, " ".join(["brume"] + args)))
         if a.against:
             r = [x[0] / y[0] for x, y in zip(times[("brume", name)], times[("against", name)])]
             rc = [x[1] / y[1] for x, y in zip(times[("brume", name)], times[("against", name)])]
