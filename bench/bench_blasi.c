@@ -173,7 +173,9 @@ int main(int argc, char **argv)
            "M view rays/s");
     double both2 = 0.0, view2 = 0.0;
     uint64_t inter = 0, nrays = 0, traced = 0;
-    /* the user's command: as typed on a 2-core machine; elsewhere with --threads 2 */
+    /* the user's command: as typed on a 2-core machine (the argument list ends before
+     * --threads); elsewhere with --threads 2. Its PNG goes to a fresh folder, mkdtemp's
+     * (the template's six X's are mkdtemp's to fill) */
     char out_dir[] = "/tmp/bench_blasi_XXXXXX", out_png[64], threads_arg[] = "2";
     if (!mkdtemp(out_dir)) {
         perror("bench_blasi: mkdtemp");

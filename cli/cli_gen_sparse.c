@@ -4,6 +4,7 @@
  * src/tool/gen_sparse.c (docs/grids.md). */
 #include "cli_gen_sparse.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,6 +130,14 @@ int gen_fire(int argc, char **argv)
     }
     if (!frames)
         first = last = 0;
+    /* every frame's time checked before the first file is written */
+    double t_max = frames ? (double)last / fps : time;
+    if (!(fabs(tool_gen_fire_rise(height, velocity, t_max)) <= 1e6)) {
+        cli_error("gen fire: %s %g s: the turbulence would rise %g flame heights, beyond 1e6", frames ? "the last frame at"
+                                                                                                          : "--time",
+                  t_max, tool_gen_fire_rise(height, velocity, t_max));
+        return 2;
+    }
     for (long f = first; f <= last; f++) {
         char name[4096];
         if (frames)

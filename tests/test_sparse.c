@@ -1097,6 +1097,12 @@ TEST(gen_fire_frames)
     ASSERT_EQ_INT(test_system(cmd), 2);
     snprintf(cmd, sizeof cmd, "%s gen fire --frames 1-2 --time 1 -o '%s' 2>/dev/null", BRUME_EXE, pattern);
     ASSERT_EQ_INT(test_system(cmd), 2);
+    /* a rise beyond the noise's range, for one time or the last frame: refused before any file */
+    snprintf(cmd, sizeof cmd, "%s gen fire --time 1e6 --velocity 1e5 -o %s 2>/dev/null", BRUME_EXE, a);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    snprintf(cmd, sizeof cmd, "%s gen fire --frames 7-100000 --fps 0.001 -o '%s' 2>/dev/null", BRUME_EXE, pattern);
+    ASSERT_EQ_INT(test_system(cmd), 2);
+    ASSERT_TRUE(!test_exists(test_tmp_path("fireseq_0007.nvdb")));
 }
 
 TEST_MAIN(gen_upres_and_fire, gen_fire_frames, blackbody_chromaticity, medium_fields_from_scene_keys, blackbody_emission_closed_form, vdb_named_grids, vdb_ambiguous_float_grids, sparse_big_box_under_512mb, nanovdb_matches_dense, sparse_trilinear_majorants_tight,

@@ -39,9 +39,20 @@ static double smoothstep(double a, double b, double x)
     return t * t * (3.0 - 2.0 * t);
 }
 
+/* In time the noise rises through the flame's fixed envelope at the updraft's speed at
+ * mid-height: in flame heights, at time t (the loop of tool_gen_fire reads it at h - rise). */
+double tool_gen_fire_rise(double height, double velocity, double time)
+{
+    return (velocity > 0.0 ? velocity : 1.0) * time / height;
+}
+
 brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity, double time,
                            tool_gen_result *res)
 {
+    const double rise = tool_gen_fire_rise(height, velocity, time);
+    if (!(fabs(rise) <= 1e6)) /* the noise's lattice index is an int: keep it well inside */
+        return err_set(BRUME_ERROR_RANGE, "gen fire: at time %g s the turbulence would rise %g flame heights, beyond 1e6",
+                       time, rise);
     perlin_table pt;
     perlin_init(&pt, seed);
     gridvdb_writer *w = gridvdb_writer_new();
@@ -65,7 +76,7 @@ brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height,
      * with height, displaces both and breaks them into licks and puffs. In time the noise
      * rises through the fixed envelope (hn: the height it is read at) at the updraft's speed
      * at mid-height, in heights per second. */
-    const double rise = (velocity > 0.0 ? velocity : 1.0) * time / height;
+
     for (int j = 0; j < n; j++)
         for (int k = 0; k < 2 * half; k++)
             for (int i = 0; i < 2 * half; i++) {

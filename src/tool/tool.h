@@ -319,6 +319,9 @@ typedef struct tool_gen_result {
  * unit per second without one): frames at f / fps flicker and rise. */
 brume_status tool_gen_fire(const char *out, int n, uint64_t seed, double height, double velocity, double time,
                            tool_gen_result *res);
+/* How far tool_gen_fire's turbulence has risen at time t, in flame heights; it refuses
+ * |rise| > 1e6 (the noise's lattice index is an int). */
+double tool_gen_fire_rise(double height, double velocity, double time);
 /* in's density grid upsampled factor times per axis (trilinear) with fractal detail of
  * amplitude detail in [0, 1], kept sparse. */
 brume_status tool_gen_upres(const char *in, const brume_grid_file_options *o, int factor, uint64_t seed, double detail,
