@@ -1,0 +1,144 @@
+/* pbrt.h - what the files of the pbrt-v4 reader share (scene_pbrt.c and pbrt_*.c): the
+ * tokens, a directive's parameter list, 4 x 4 transforms and the translation's state. The
+ * reader's entry points are in scene/scene_pbrt.h. */
+#ifndef BRUME_SCENE_PBRT_H
+#define BRUME_SCENE_PBRT_H
+
+#include <limits.h>
+#include <stdbool.h>
+
+#include "brume.h"
+#include "core/vec.h"
+#include "io/json.h"
+#include "scene/scene_build.h"
+
+#define PBRT_MAX_BYTES (64L << 20)
+/* the values of one parameter (an inline grid's samples or a mesh's points, 3 numbers each)
+ * and of one directive's parameters together (rgbgrid's two RGB grids): 100 MiB of doubles */
+#define PBRT_MAX_VALUES (3 * SCENE_INLINE_MAX_VALUES)
+#define PBRT_MAX_DIRECTIVE_VALUES (6 * SCENE_INLINE_MAX_VALUES)
+/* the numbers of every inline grid and mesh of one scene: the translation's JSON nodes then
+ * stay under about 300 MiB */
+#define PBRT_MAX_SCENE_INLINE (2 * SCENE_INLINE_MAX_VALUES)
+#define PBRT_MAX_PARAMS 32
+#define PBRT_MAX_MEDIA 16
+#define PBRT_MAX_DEPTH 64
+
+/* ---- tokens ------------------------------------------------------------------------------ */
+
+typedef enum { TOK_END, TOK_WORD, TOK_STRING, TOK_OPEN, TOK_CLOSE } tok_kind;
+
+typedef struct lexer {
+    const char *file;
+    const char *p;
+    int line;
+    tok_kind kind; /* the current token */
+    char text[1024];
+    int tok_line;
+    int dir_line;  /* the line of the directive being read: what refusals name */
+} lexer;
+
+/* ---- parameter lists --------------------------------------------------------------------- */
+
+typedef struct param {
+    char type[16], name[64];
+    int n, cap;                      /* values; numbers allocated in v */
+    double *v;                       /* numbers (malloc'd; an array's values) */
+    char s[256];                     /* the first string value */
+    bool is_string, used;
+    int line;
+} param;
+
+typedef struct params {
+    int n;
+    long values; /* numbers over all n */
+    param p[PBRT_MAX_PARAMS];
+} params;
+
+/* ---- transforms: 4 x 4 row-major, p' = M p ------------------------------------------------- */
+
+typedef struct m4 {
+    double m[16];
+} m4;
+
+/* ---- the translation ------------------------------------------------------------------------ */
+
+typedef struct named_medium {
+    char name[128];
+    cJSON *json; /* the brume medium, emitted when a shape first uses it */
+    bool emitted;
+    bool homogeneous; /* json has no density: a box is made for each shape that bounds it */
+} named_medium;
+
+typedef struct attrs {
+    m4 ctm;
+    char material[32]; /* "diffuse" or "interface" */
+    double albedo[3];
+    char inside[128], outside[128];
+} attrs;
+
+typedef struct pbrt_state {
+    lexer L;
+    const char *path;
+    char dir[PATH_MAX];
+    attrs a[PBRT_MAX_DEPTH];
+    int depth;
+    bool have_camera, world;
+    bool mirror; /* pbrt's left-handed view: the world is translated mirrored in x (camera_directive) */
+    m4 world_from_camera;
+    double fov, lens_radius, focal_distance;
+    int xres, yres, spp, max_depth;
+    named_medium media[PBRT_MAX_MEDIA];
+    int nmedia;
+    cJSON *root, *lights, *media_j, *surfaces;
+    double background[3];
+    bool have_background;
+    double inline_numbers; /* numbers of the inline grids and meshes written so far */
+} pbrt_state;
+
+/* scene_pbrt.c */
+brume_status pbrt_count_inline(pbrt_state *S, const char *what, double n);
+brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX]);
+
+/* pbrt_tokens.c */
+void pbrt_next(lexer *L);
+brume_status pbrt_fail(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void pbrt_copy(char *dst, size_t cap, const char *src);
+brume_status pbrt_numbers(lexer *L, const char *dir, int n, double *out);
+void pbrt_params_clear(params *ps);
+brume_status pbrt_read_params(lexer *L, params *ps);
+param *pbrt_get(params *ps, const char *name);
+brume_status pbrt_get_float(lexer *L, params *ps, const char *name, double *out);
+brume_status pbrt_get_point(lexer *L, params *ps, const char *name, double out[3]);
+brume_status pbrt_get_color(lexer *L, params *ps, const char *name, double out[3]);
+brume_status pbrt_get_string(lexer *L, params *ps, const char *name, char *out, size_t n);
+brume_status pbrt_all_used(const lexer *L, const params *ps, const char *dir);
+brume_status pbrt_get_count(lexer *L, params *ps, const char *name, int *out);
+brume_status pbrt_get_array(lexer *L, params *ps, const char *name, const char *const *types, param **out);
+
+/* pbrt_transform.c */
+m4 pbrt_m4_identity(void);
+m4 pbrt_m4_mul(m4 a, m4 b);
+bool pbrt_m4_inverse(m4 a, m4 *out);
+vec3 pbrt_m4_point(m4 a, vec3 p);
+vec3 pbrt_m4_vector(m4 a, vec3 v);
+m4 pbrt_m4_scale(double x, double y, double z);
+cJSON *pbrt_transform_json(m4 a);
+m4 pbrt_world_origin(const pbrt_state *S);
+brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled);
+
+/* pbrt_camera.c */
+brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps);
+brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, const char *type, const char *what,
+                                    params *ps);
+
+/* pbrt_lights.c */
+brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps);
+
+/* pbrt_media.c */
+brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);
+
+/* pbrt_shapes.c */
+brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);
+
+#endif

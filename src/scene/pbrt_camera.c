@@ -1,0 +1,96 @@
+/* pbrt_camera.c - the pbrt directives that set the view and the render: Camera, and Film,
+ * Sampler, Integrator, ColorSpace and Material. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/vec.h"
+#include "io/grid_io.h"
+#include "io/json.h"
+#include "scene/scene_build.h"
+#include "scene/scene_pbrt.h"
+#include "scene/pbrt.h"
+
+brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    if (strcmp(type, "perspective") != 0)
+        return pbrt_fail(L, "Camera \"%s\": brume has a perspective camera only", type);
+    S->fov = 90.0;
+    S->lens_radius = 0.0;
+    S->focal_distance = 1e6;
+    if ((st = pbrt_get_float(L, ps, "fov", &S->fov)) || (st = pbrt_get_float(L, ps, "lensradius", &S->lens_radius)) ||
+        (st = pbrt_get_float(L, ps, "focaldistance", &S->focal_distance)))
+        return st;
+    if ((st = pbrt_all_used(L, ps, "Camera \"perspective\"")))
+        return st;
+    m4 wc;
+    if (!pbrt_m4_inverse(S->a[S->depth].ctm, &wc))
+        return pbrt_fail(L, "Camera: the current transform is not invertible");
+    /* pbrt images camera +x to the right, +y up, looking down +z; brume's camera has right =
+       forward x up. Where +x = up x forward instead (pbrt's own LookAt without a mirror: most
+       of pbrt-v4-scenes), the whole world is translated mirrored, x -> -x: the camera too, so
+       that the picture is pbrt's, pixel for pixel. The mirror M multiplies the camera's
+       world-from-camera on the left and starts the world block's transform (WorldBegin,
+       Identity, Transform). */
+    vec3 R = pbrt_m4_vector(wc, v3(1, 0, 0)), U = pbrt_m4_vector(wc, v3(0, 1, 0)), F = pbrt_m4_vector(wc, v3(0, 0, 1));
+    S->mirror = v3_dot(v3_cross(F, U), R) <= 0.0;
+    if (S->mirror)
+        wc = pbrt_m4_mul(pbrt_m4_scale(-1.0, 1.0, 1.0), wc);
+    S->world_from_camera = wc;
+    S->have_camera = true;
+    return BRUME_OK;
+}
+
+/* Film, Sampler, Integrator, ColorSpace, Material: what they set of the scene or of the
+ * current attributes a (their type and parameters read). */
+brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, const char *type, const char *what,
+                                    params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    if (strcmp(dir, "Film") == 0) {
+        double x = 1280, y = 720;
+        char fn[512];
+        if ((st = pbrt_get_float(L, ps, "xresolution", &x)) || (st = pbrt_get_float(L, ps, "yresolution", &y)) ||
+            (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)))
+            return st;
+        if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
+            return pbrt_fail(L, "%s: resolution outside [1, 65536]", what);
+        S->xres = (int)x;
+        S->yres = (int)y;
+    } else if (strcmp(dir, "Sampler") == 0) {
+        double n = 16;
+        if ((st = pbrt_get_float(L, ps, "pixelsamples", &n))) return st;
+        if (!(n >= 1 && n <= 1 << 24))
+            return pbrt_fail(L, "%s: pixelsamples outside [1, 2^24]", what);
+        S->spp = (int)n;
+    } else if (strcmp(dir, "Integrator") == 0) {
+        if (strcmp(type, "volpath") != 0 && strcmp(type, "path") != 0)
+            return pbrt_fail(L, "%s: brume's path tracer stands for volpath and path only", what);
+        double d = 5;
+        if ((st = pbrt_get_float(L, ps, "maxdepth", &d))) return st;
+        if (!(d >= 1 && d <= 100000))
+            return pbrt_fail(L, "%s: maxdepth outside [1, 100000]", what);
+        S->max_depth = (int)d;
+    } else if (strcmp(dir, "ColorSpace") == 0) {
+        if (strcmp(type, "srgb") != 0)
+            return pbrt_fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
+    } else { /* Material */
+        if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
+            return pbrt_fail(L, "%s: not supported by brume (diffuse, interface)", what);
+        pbrt_copy(a->material, sizeof a->material, type[0] ? type : "interface"); /* pbrt: "" is "interface" */
+        a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
+        if (strcmp(type, "diffuse") == 0 && (st = pbrt_get_color(L, ps, "reflectance", a->albedo)))
+            return st;
+    }
+    return pbrt_all_used(L, ps, what);
+}

@@ -1,0 +1,361 @@
+/* pbrt_media.c - pbrt's MakeNamedMedium (homogeneous, uniformgrid, rgbgrid, nanovdb) as
+ * brume's media; a medium is emitted when a shape first uses it (pbrt_shapes.c). */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/vec.h"
+#include "io/grid_io.h"
+#include "io/json.h"
+#include "scene/scene_build.h"
+#include "scene/scene_pbrt.h"
+#include "scene/pbrt.h"
+
+/* The coefficients every pbrt medium shares: brume's sigma per unit density is pbrt's sigma
+ * times `scale` (pbrt-v4: sigma_a(p) = scale sigma_a d(p), the same for sigma_s), HG g as is.
+ * A new medium object with name, sigma_a, sigma_s and phase; NULL after a refusal. */
+static cJSON *medium_new(lexer *L, const char *name, const double sa[3], const double ss[3], double scale, double g)
+{
+    if (!(g > -1.0 && g < 1.0)) {
+        pbrt_fail(L, "MakeNamedMedium \"%s\": parameter \"g\": %g outside (-1, 1)", name, g);
+        return NULL;
+    }
+    if (!(scale >= 0.0) || sa[0] < 0 || sa[1] < 0 || sa[2] < 0 || ss[0] < 0 || ss[1] < 0 || ss[2] < 0) {
+        pbrt_fail(L, "MakeNamedMedium \"%s\": negative sigma_a, sigma_s or scale", name);
+        return NULL;
+    }
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "name", name);
+    double a3[3] = {sa[0] * scale, sa[1] * scale, sa[2] * scale}, s3[3] = {ss[0] * scale, ss[1] * scale, ss[2] * scale};
+    cJSON_AddItemToObject(m, "sigma_a", cJSON_CreateDoubleArray(a3, 3));
+    cJSON_AddItemToObject(m, "sigma_s", cJSON_CreateDoubleArray(s3, 3));
+    cJSON *ph = cJSON_AddObjectToObject(m, "phase");
+    cJSON_AddStringToObject(ph, "type", "hg");
+    cJSON_AddNumberToObject(ph, "g", g);
+    return m;
+}
+
+/* The transform at MakeNamedMedium (pbrt's renderFromMedium) as the density's `transform`
+ * (none when it is the identity); false after a refusal (shear). */
+static bool medium_place(pbrt_state *S, cJSON *dj, const char *name)
+{
+    m4 ctm = S->a[S->depth].ctm;
+    m4 id = pbrt_m4_identity();
+    if (memcmp(&ctm, &id, sizeof id) == 0)
+        return true;
+    cJSON *t = pbrt_transform_json(ctm);
+    if (!t) {
+        pbrt_fail(&S->L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
+                         "translation)", name);
+        return false;
+    }
+    cJSON_AddItemToObject(dj, "transform", t);
+    return true;
+}
+
+/* Adds the medium m (owned from here) to the named media. */
+static brume_status medium_add(pbrt_state *S, const char *name, cJSON *m, bool homogeneous)
+{
+    if (S->nmedia == PBRT_MAX_MEDIA) {
+        cJSON_Delete(m);
+        return pbrt_fail(&S->L, "MakeNamedMedium \"%s\": more than %d media", name, PBRT_MAX_MEDIA);
+    }
+    named_medium *nm = &S->media[S->nmedia++];
+    pbrt_copy(nm->name, sizeof nm->name, name);
+    nm->json = m;
+    nm->emitted = false;
+    nm->homogeneous = homogeneous;
+    return BRUME_OK;
+}
+
+/* pbrt's grid media (uniformgrid, rgbgrid): n = nx ny nz samples d (x fastest) at the
+ * centres of the cells of [p0, p1], read trilinearly with samples beyond the grid taken as
+ * 0, so the field falls to d/2 at the faces. brume's trilinear grid holds its outermost
+ * samples to its faces instead: the grid is written with a layer of zero samples around it
+ * and bounds one cell wider, which gives pbrt's field exactly inside [p0, p1]; it adds the
+ * half cell beyond each face, where brume's field falls from d/2 to 0 and pbrt's is 0
+ * (none for a grid whose outer samples are 0). An `array` density, placed by the transform
+ * at MakeNamedMedium (docs/production.md). */
+static cJSON *grid_density(pbrt_state *S, const char *name, const double *d, const int n[3], const double p0[3],
+                           const double p1[3])
+{
+    int m[3] = {n[0] + 2, n[1] + 2, n[2] + 2};
+    char what[200];
+    snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
+    if (pbrt_count_inline(S, what, (double)m[0] * m[1] * m[2]))
+        return NULL;
+    double b[2][3];
+    for (int k = 0; k < 3; k++) {
+        double cell = (p1[k] - p0[k]) / n[k];
+        b[0][k] = p0[k] - cell;
+        b[1][k] = p1[k] + cell;
+    }
+    cJSON *dj = cJSON_CreateObject();
+    cJSON_AddStringToObject(dj, "type", "array");
+    cJSON_AddItemToObject(dj, "dims", cJSON_CreateIntArray(m, 3));
+    cJSON *data = cJSON_AddArrayToObject(dj, "data");
+    for (int z = 0; z < m[2]; z++)
+        for (int y = 0; y < m[1]; y++)
+            for (int x = 0; x < m[0]; x++) {
+                bool in = x > 0 && y > 0 && z > 0 && x <= n[0] && y <= n[1] && z <= n[2];
+                double v = in ? d[((size_t)(z - 1) * (size_t)n[1] + (size_t)(y - 1)) * (size_t)n[0] + (size_t)(x - 1)] : 0.0;
+                cJSON_AddItemToArray(data, cJSON_CreateNumber(v));
+            }
+    cJSON *bounds = cJSON_AddArrayToObject(dj, "bounds");
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b[0], 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b[1], 3));
+    cJSON_AddStringToObject(dj, "filter", "trilinear");
+    if (!medium_place(S, dj, name)) {
+        cJSON_Delete(dj);
+        return NULL;
+    }
+    return dj;
+}
+
+/* A medium of the coefficients and the grid d (grid_density) added to the named media. */
+static brume_status grid_medium_add(pbrt_state *S, const char *name, const double sa[3], const double ss[3],
+                                    double scale, double g, const double *d, const int n[3], const double p0[3],
+                                    const double p1[3])
+{
+    cJSON *m = medium_new(&S->L, name, sa, ss, scale, g);
+    cJSON *dj = m ? grid_density(S, name, d, n, p0, p1) : NULL;
+    if (!dj) {
+        cJSON_Delete(m);
+        return err_status();
+    }
+    cJSON_AddItemToObject(m, "density", dj);
+    return medium_add(S, name, m, false);
+}
+
+/* nx, ny, nz, p0 and p1 of a grid medium, checked against the count of its values. */
+static brume_status grid_shape(lexer *L, params *ps, const char *what, int count, int n[3], double p0[3], double p1[3])
+{
+    brume_status st;
+    if ((st = pbrt_get_count(L, ps, "nx", &n[0])) || (st = pbrt_get_count(L, ps, "ny", &n[1])) ||
+        (st = pbrt_get_count(L, ps, "nz", &n[2])) || (st = pbrt_get_point(L, ps, "p0", p0)) || (st = pbrt_get_point(L, ps, "p1", p1)))
+        return st;
+    double total = (double)n[0] * n[1] * n[2];
+    if ((double)count != total)
+        return pbrt_fail(L, "%s: %d values for nx ny nz = %d x %d x %d = %.0f", what, count, n[0], n[1], n[2], total);
+    if ((double)(n[0] + 2) * (n[1] + 2) * (n[2] + 2) > SCENE_INLINE_MAX_VALUES)
+        return pbrt_fail(L, "%s: %d x %d x %d samples, over the %d brume takes inline (a larger grid belongs in a "
+                            "nanovdb file)", what, n[0], n[1], n[2], SCENE_INLINE_MAX_VALUES);
+    for (int k = 0; k < 3; k++)
+        if (!(p1[k] > p0[k]))
+            return pbrt_fail(L, "%s: p1 must exceed p0 on every axis", what);
+    return BRUME_OK;
+}
+
+/* "homogeneous": the coefficients everywhere inside the shapes that bound it; the density is
+ * made at each such shape (shape_directive). */
+static brume_status medium_homogeneous(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, Le[3] = {0, 0, 0}, scale = 1.0, g = 0.0, Lescale = 1.0;
+    char preset[128] = "";
+    if ((st = pbrt_get_string(L, ps, "preset", preset, sizeof preset))) return st;
+    if (preset[0])
+        return pbrt_fail(L, "MakeNamedMedium \"%s\": parameter \"preset\": brume has no table of pbrt's measured media "
+                            "(give sigma_a and sigma_s)", name);
+    if ((st = pbrt_get_color(L, ps, "sigma_a", sa)) || (st = pbrt_get_color(L, ps, "sigma_s", ss)) ||
+        (st = pbrt_get_float(L, ps, "scale", &scale)) || (st = pbrt_get_float(L, ps, "g", &g)) ||
+        (st = pbrt_get_color(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_all_used(L, ps, "MakeNamedMedium \"homogeneous\"")))
+        return st;
+    cJSON *m = medium_new(L, name, sa, ss, scale, g);
+    if (!m)
+        return err_status();
+    if (Le[0] > 0 || Le[1] > 0 || Le[2] > 0) {
+        /* pbrt emits Lescale Le at the rate sigma_a: brume's `emission` */
+        if (!(Lescale >= 0) || Le[0] < 0 || Le[1] < 0 || Le[2] < 0) {
+            cJSON_Delete(m);
+            return pbrt_fail(L, "MakeNamedMedium \"%s\": negative Le or Lescale", name);
+        }
+        double e[3] = {Le[0] * Lescale, Le[1] * Lescale, Le[2] * Lescale};
+        cJSON_AddItemToObject(m, "emission", cJSON_CreateDoubleArray(e, 3));
+    }
+    return medium_add(S, name, m, true);
+}
+
+/* "uniformgrid": a density grid d given inline, sigma(p) = scale sigma d(p). */
+static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    static const char *const floats[] = {"float", NULL};
+    const char *what = "MakeNamedMedium \"uniformgrid\"";
+    double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, scale = 1.0, g = 0.0, p0[3] = {0, 0, 0}, p1[3] = {1, 1, 1}, t = 0;
+    int n[3];
+    param *d = NULL;
+    if ((st = pbrt_get_array(L, ps, "density", floats, &d))) return st;
+    if (!d)
+        return pbrt_fail(L, "%s \"%s\": no \"float density\" values", what, name);
+    if (pbrt_get(ps, "temperature"))
+        return pbrt_fail(L, "%s: parameter \"temperature\": brume reads temperature grids from files (nanovdb), not "
+                            "inline", what);
+    if (pbrt_get(ps, "Le") || pbrt_get(ps, "Lescale"))
+        return pbrt_fail(L, "%s: parameters \"Le\" and \"Lescale\": pbrt-v4 scales Le by a Lescale grid read "
+                            "trilinearly (without one, a 1 x 1 x 1 grid that fades toward the faces); brume's "
+                            "emission is one colour or a grid from a file", what);
+    if ((st = grid_shape(L, ps, what, d->n, n, p0, p1)) || (st = pbrt_get_color(L, ps, "sigma_a", sa)) ||
+        (st = pbrt_get_color(L, ps, "sigma_s", ss)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
+        (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "temperaturescale", &t)) ||
+        (st = pbrt_get_float(L, ps, "temperatureoffset", &t)) || (st = pbrt_get_float(L, ps, "temperaturecutoff", &t)) ||
+        (st = pbrt_all_used(L, ps, what)))
+        return st; /* the temperature mapping is read and unused: there is no temperature grid */
+    for (int i = 0; i < d->n; i++)
+        if (!(d->v[i] >= 0.0 && d->v[i] <= 1e30))
+            return pbrt_fail(L, "%s: density value %d: %g outside [0, 1e30]", what, i, d->v[i]);
+    return grid_medium_add(S, name, sa, ss, scale, g, d->v, n, p0, p1);
+}
+
+/* "rgbgrid": RGB grids of sigma_a and sigma_s (both: pbrt's default for a missing one is a
+ * constant 1, which does not fade at the faces as the grid given does), times scale. brume's
+ * medium is one density times one colour per coefficient, so the grid is taken when every
+ * sample is d_i (c_a, c_s) for one pair of colours: d_i = the sample's largest coefficient,
+ * each coefficient within 1e-5 of the grid's largest (values written with 6 digits); any
+ * other grid is refused (docs/production.md). */
+static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    static const char *const rgbs[] = {"rgb", NULL};
+    const char *what = "MakeNamedMedium \"rgbgrid\"";
+    double scale = 1.0, g = 0.0, p0[3] = {0, 0, 0}, p1[3] = {1, 1, 1}, Lescale = 1.0;
+    int n[3];
+    param *A = NULL, *Sg = NULL;
+    if ((st = pbrt_get_array(L, ps, "sigma_a", rgbs, &A)) || (st = pbrt_get_array(L, ps, "sigma_s", rgbs, &Sg))) return st;
+    if (!A && !Sg)
+        return pbrt_fail(L, "%s \"%s\": neither \"rgb sigma_a\" nor \"rgb sigma_s\" values", what, name);
+    if (pbrt_get(ps, "Le"))
+        return pbrt_fail(L, "%s: parameter \"Le\": an RGB emission grid; brume reads emission grids from files", what);
+    if (!A || !Sg)
+        return pbrt_fail(L, "%s: no \"rgb %s\" grid: pbrt then takes %s as 1 up to the faces while the other grid fades "
+                            "to half its outer samples there, which one density cannot carry", what,
+                         A ? "sigma_s" : "sigma_a", A ? "sigma_s" : "sigma_a");
+    if (A->n % 3 || Sg->n % 3 || A->n != Sg->n)
+        return pbrt_fail(L, "%s: sigma_a and sigma_s must be RGB triples, as many of each", what);
+    int count = A->n / 3;
+    if ((st = grid_shape(L, ps, what, count, n, p0, p1)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
+        (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_all_used(L, ps, what)))
+        return st; /* Lescale is read and unused: it scales Le only */
+    double *d = malloc((size_t)count * sizeof *d);
+    if (!d)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", L->file, L->dir_line, what);
+    int top = 0;
+    for (int i = 0; i < count; i++) {
+        d[i] = 0.0;
+        for (int c = 0; c < 3; c++) {
+            double a = A->v[3 * i + c], s = Sg->v[3 * i + c];
+            if (!(a >= 0.0 && s >= 0.0 && a <= 1e30 && s <= 1e30)) {
+                free(d);
+                return pbrt_fail(L, "%s: sample %d: sigma_a or sigma_s outside [0, 1e30]", what, i);
+            }
+            d[i] = fmax(d[i], fmax(a, s));
+        }
+        if (d[i] > d[top])
+            top = i;
+    }
+    double ca[3] = {0, 0, 0}, cs[3] = {0, 0, 0};
+    for (int c = 0; c < 3 && d[top] > 0.0; c++) {
+        ca[c] = A->v[3 * top + c] / d[top];
+        cs[c] = Sg->v[3 * top + c] / d[top];
+    }
+    for (int i = 0; i < count; i++)
+        for (int c = 0; c < 3; c++) {
+            double a = A->v[3 * i + c], s = Sg->v[3 * i + c];
+            if (fabs(a - d[i] * ca[c]) > 1e-5 * d[top] || fabs(s - d[i] * cs[c]) > 1e-5 * d[top]) {
+                free(d);
+                return pbrt_fail(L, "%s: sigma_a or sigma_s changes colour over the grid (sample %d against %d); "
+                                    "brume's media are one density times one colour per coefficient", what, i, top);
+            }
+        }
+    st = grid_medium_add(S, name, ca, cs, scale, g, d, n, p0, p1);
+    free(d);
+    return st;
+}
+
+static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps);
+
+brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps)
+{
+    char type[64] = "";
+    brume_status st = pbrt_get_string(&S->L, ps, "type", type, sizeof type);
+    if (st)
+        return st;
+    if (strcmp(type, "nanovdb") == 0)
+        return medium_nanovdb(S, name, ps);
+    if (strcmp(type, "homogeneous") == 0)
+        return medium_homogeneous(S, name, ps);
+    if (strcmp(type, "uniformgrid") == 0)
+        return medium_uniformgrid(S, name, ps);
+    if (strcmp(type, "rgbgrid") == 0)
+        return medium_rgbgrid(S, name, ps);
+    return pbrt_fail(&S->L, "MakeNamedMedium type \"%s\": not supported by brume (homogeneous, uniformgrid, rgbgrid, "
+                            "nanovdb)", type);
+}
+
+static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    char file[1024] = "";
+    double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, scale = 1.0, g = 0.0, Lescale = 1.0, tscale = 1.0, toff = 0.0,
+           tcut = 0.0;
+    if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_get_color(L, ps, "sigma_a", sa)) ||
+        (st = pbrt_get_color(L, ps, "sigma_s", ss)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
+        (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_get_float(L, ps, "temperaturescale", &tscale)) || (st = pbrt_get_float(L, ps, "temperaturecutoff", &tcut)))
+        return st;
+    toff = tcut; /* pbrt-v4: temperatureoffset defaults to temperaturecutoff */
+    if ((st = pbrt_get_float(L, ps, "temperatureoffset", &toff))) return st;
+    if ((st = pbrt_all_used(L, ps, "MakeNamedMedium \"nanovdb\"")))
+        return st;
+    if (!file[0])
+        return pbrt_fail(L, "MakeNamedMedium \"%s\": no \"string filename\"", name);
+    char abs[PATH_MAX], what[200];
+    snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
+    if ((st = pbrt_resolve_file(S, what, file, abs)))
+        return st;
+    /* pbrt reads the file's "temperature" grid when it has one */
+    bool has_temp = false;
+    gridvdb_info *gi = NULL;
+    int ng = 0;
+    if (grid_list_file(abs, 0, &gi, &ng) != BRUME_OK)
+        return err_prefix("%s:%d: MakeNamedMedium \"%s\"", L->file, L->dir_line, name);
+    for (int i = 0; i < ng; i++)
+        has_temp |= strcmp(gi[i].name, "temperature") == 0;
+    free(gi);
+    cJSON *m = medium_new(L, name, sa, ss, scale, g);
+    if (!m)
+        return err_status();
+    cJSON *d = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(d, "type", "grid");
+    cJSON_AddStringToObject(d, "file", abs);
+    cJSON_AddStringToObject(d, "grid", "density");
+    if (!medium_place(S, d, name)) {
+        cJSON_Delete(m);
+        return err_status();
+    }
+    if (has_temp) {
+        /* pbrt-v4: T' = (T - offset) scale; above 100 K, Le = Lescale B(T') with B the
+           peak-normalized blackbody, emitted at the rate sigma_a rho Le: brume's model */
+        cJSON *t = cJSON_AddObjectToObject(m, "temperature");
+        cJSON_AddStringToObject(t, "grid", "temperature");
+        cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
+        cJSON_AddNumberToObject(bb, "scale", Lescale);
+        cJSON_AddNumberToObject(bb, "temperature_scale", tscale);
+        cJSON_AddNumberToObject(bb, "temperature_offset", toff);
+        cJSON_AddNumberToObject(bb, "cutoff", 100);
+    }
+    return medium_add(S, name, m, false);
+}

@@ -1,0 +1,317 @@
+/* pbrt_shapes.c - pbrt's Shape directive (spheres, boxes, triangle and bilinear meshes, ply
+ * files) as brume's surfaces and the bounds of the media they enclose. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/vec.h"
+#include "io/grid_io.h"
+#include "io/json.h"
+#include "scene/scene_build.h"
+#include "scene/scene_pbrt.h"
+#include "scene/pbrt.h"
+
+/* A shape's triangles in world space (pbrt's trianglemesh and bilinearmesh, transformed by
+ * the current transform, which may then hold any affine map). */
+typedef struct tris {
+    double *P; /* 3 nv */
+    int *idx;  /* 3 nt */
+    int nv, nt;
+} tris;
+
+static void tris_free(tris *t)
+{
+    free(t->P);
+    free(t->idx);
+}
+
+/* Whether the triangles are exactly the surface of an axis-aligned box, which they give in
+ * b: every triangle lies in a face plane, faces out, and each face's triangles add up to its
+ * area (within 1e-9 of the box's size and 1e-6 of the area). pbrt puts a shape's inside
+ * medium behind its faces' normals, (p1 - p0) x (p2 - p0) reversed when the transform
+ * mirrors (flip); shading normals N are not consulted. */
+static bool tris_are_box(const tris *t, bool flip, double b[6])
+{
+    for (int k = 0; k < 3; k++) {
+        b[k] = INFINITY;
+        b[3 + k] = -INFINITY;
+    }
+    for (int i = 0; i < t->nv; i++)
+        for (int k = 0; k < 3; k++) {
+            b[k] = fmin(b[k], t->P[3 * i + k]);
+            b[3 + k] = fmax(b[3 + k], t->P[3 * i + k]);
+        }
+    double size = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2])), eps = 1e-9 * size, area[6] = {0};
+    for (int k = 0; k < 3; k++)
+        if (!(b[3 + k] - b[k] > eps))
+            return false;
+    for (int f = 0; f < t->nt; f++) {
+        const double *p[3] = {&t->P[3 * t->idx[3 * f]], &t->P[3 * t->idx[3 * f + 1]], &t->P[3 * t->idx[3 * f + 2]]};
+        int face = -1;
+        for (int s = 0; s < 6 && face < 0; s++) {
+            int k = s % 3;
+            if (fabs(p[0][k] - b[s]) <= eps && fabs(p[1][k] - b[s]) <= eps && fabs(p[2][k] - b[s]) <= eps)
+                face = s;
+        }
+        if (face < 0)
+            return false;
+        vec3 u = v3(p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]);
+        vec3 v = v3(p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]);
+        vec3 n = v3_cross(u, v);
+        double out = (face < 3 ? -1.0 : 1.0) * (flip ? -1.0 : 1.0) * (face % 3 == 0 ? n.x : face % 3 == 1 ? n.y : n.z);
+        if (!(out > 0.0))
+            return false;
+        area[face] += 0.5 * v3_length(n);
+    }
+    for (int s = 0; s < 6; s++) {
+        int k = s % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        double want = (b[3 + k1] - b[k1]) * (b[3 + k2] - b[k2]);
+        if (fabs(area[s] - want) > 1e-6 * want)
+            return false;
+    }
+    return true;
+}
+
+/* "point3 P" and "integer indices" (per = 3 for triangles, 4 for bilinear patches; without
+ * indices, the one primitive of exactly `per` points) into t, P transformed to world space. */
+static brume_status mesh_params(pbrt_state *S, params *ps, const char *what, int per, tris *t, int **quad)
+{
+    lexer *L = &S->L;
+    static const char *const points[] = {"point3", "point", NULL}, *const ints[] = {"integer", NULL};
+    param *P = NULL, *I = NULL;
+    brume_status st;
+    *quad = NULL;
+    if ((st = pbrt_get_array(L, ps, "P", points, &P)) || (st = pbrt_get_array(L, ps, "indices", ints, &I)))
+        return st;
+    if (!P || P->n % 3)
+        return pbrt_fail(L, "%s: \"point3 P\" must be given as x y z triples", what);
+    int nv = P->n / 3, ni = I ? I->n : per;
+    if (!I && nv != per)
+        return pbrt_fail(L, "%s: no \"integer indices\" (allowed only for exactly %d points)", what, per);
+    if (ni % per)
+        return pbrt_fail(L, "%s: %d indices, not a multiple of %d", what, ni, per);
+    if (P->n > SCENE_INLINE_MAX_VALUES || (double)ni / per * 3 * (per - 2) > SCENE_INLINE_MAX_VALUES)
+        return pbrt_fail(L, "%s: more than the %d coordinates or triangle indices brume takes inline (a larger mesh "
+                            "belongs in a plymesh)", what, SCENE_INLINE_MAX_VALUES);
+    int *idx = malloc((size_t)ni * sizeof *idx);
+    t->P = malloc((size_t)P->n * sizeof *t->P);
+    if (!idx || !t->P) {
+        free(idx);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", L->file, L->dir_line, what);
+    }
+    for (int i = 0; i < ni; i++) {
+        double x = I ? I->v[i] : i;
+        if (!(x >= 0 && x < nv) || x != floor(x)) {
+            free(idx);
+            return pbrt_fail(L, "%s: index %d: %g is not a point of P (0 to %d)", what, i, x, nv - 1);
+        }
+        idx[i] = (int)x;
+    }
+    m4 ctm = S->a[S->depth].ctm;
+    for (int i = 0; i < nv; i++) {
+        vec3 w = pbrt_m4_point(ctm, v3(P->v[3 * i], P->v[3 * i + 1], P->v[3 * i + 2]));
+        t->P[3 * i] = w.x;
+        t->P[3 * i + 1] = w.y;
+        t->P[3 * i + 2] = w.z;
+    }
+    t->nv = nv;
+    if (per == 3) {
+        t->idx = idx;
+        t->nt = ni / 3;
+    } else {
+        *quad = idx;
+        t->nt = ni / 4;
+    }
+    return BRUME_OK;
+}
+
+/* pbrt's bilinear patches (corners p00, p10, p01, p11) as two triangles each, (p00, p10,
+ * p11) and (p00, p11, p01), facing along (p10 - p00) x (p01 - p00) as pbrt's patch does:
+ * exact for a planar patch (its surface is then the quadrilateral). A non-planar patch is
+ * curved, and is refused rather than flattened. */
+static brume_status bilinear_tris(lexer *L, const int *quad, tris *t)
+{
+    int np = t->nt;
+    t->idx = malloc((size_t)np * 6 * sizeof *t->idx);
+    if (!t->idx)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: bilinearmesh: out of memory", L->file, L->dir_line);
+    for (int i = 0; i < np; i++) {
+        const int *q = &quad[4 * i];
+        vec3 p[4];
+        for (int c = 0; c < 4; c++)
+            p[c] = v3(t->P[3 * q[c]], t->P[3 * q[c] + 1], t->P[3 * q[c] + 2]);
+        vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+        double size = fmax(v3_length(v3_sub(p[3], p[0])), v3_length(v3_sub(p[2], p[1])));
+        if (!(v3_length(n) > 0.0) || fabs(v3_dot(v3_normalize(n), v3_sub(p[3], p[0]))) > 1e-9 * size)
+            return pbrt_fail(L, "Shape \"bilinearmesh\": patch %d is not planar (or is degenerate): brume renders "
+                                "triangles, exact only for planar patches", i);
+        int tri[6] = {q[0], q[1], q[3], q[0], q[3], q[2]};
+        memcpy(&t->idx[6 * i], tri, sizeof tri);
+    }
+    t->nt = 2 * np;
+    return BRUME_OK;
+}
+
+/* The medium inside a shape whose material is "interface": brume's media are fields in
+ * vacuum, so the shape is not drawn. A grid medium is the whole grid (exact when the shape
+ * bounds it, as pbrt-v4-scenes' bounding spheres do; not checked); a homogeneous one fills
+ * the shape, which must then be an axis-aligned box of triangles (a `constant` density). */
+static brume_status shape_interface(pbrt_state *S, const char *type, const tris *t)
+{
+    lexer *L = &S->L;
+    attrs *a = &S->a[S->depth];
+    if (!a->inside[0])
+        return pbrt_fail(L, "Shape: an \"interface\" material without a medium inside (MediumInterface)");
+    named_medium *nm = NULL;
+    for (int i = 0; i < S->nmedia; i++)
+        if (strcmp(S->media[i].name, a->inside) == 0)
+            nm = &S->media[i];
+    if (!nm)
+        return pbrt_fail(L, "MediumInterface: no medium named \"%s\"", a->inside);
+    if (!nm->homogeneous) {
+        if (!nm->emitted) {
+            cJSON_AddItemToArray(S->media_j, nm->json);
+            nm->emitted = true;
+        }
+        return BRUME_OK;
+    }
+    double b[6];
+    const double *c = a->ctm.m; /* a mirror reverses pbrt's normals */
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    if (!t || !tris_are_box(t, det < 0.0, b))
+        return pbrt_fail(L, "Shape \"%s\" bounding the homogeneous medium \"%s\": brume's homogeneous media fill "
+                            "axis-aligned boxes (a trianglemesh or bilinearmesh that is one, faces facing out)", type,
+                         nm->name);
+    cJSON *m = cJSON_Duplicate(nm->json, 1);
+    cJSON *d = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(d, "type", "constant");
+    cJSON_AddNumberToObject(d, "value", 1);
+    cJSON *bounds = cJSON_AddArrayToObject(d, "bounds");
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b, 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b + 3, 3));
+    cJSON_AddItemToArray(S->media_j, m);
+    return BRUME_OK;
+}
+
+/* A drawn shape: s (owned from here) with the current diffuse material. */
+static brume_status shape_surface(pbrt_state *S, cJSON *s)
+{
+    attrs *a = &S->a[S->depth];
+    if (a->inside[0]) {
+        cJSON_Delete(s);
+        return pbrt_fail(&S->L, "Shape: medium \"%s\" inside a shape whose material is not \"interface\"", a->inside);
+    }
+    cJSON *mat = cJSON_AddObjectToObject(s, "material");
+    cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
+    cJSON_AddItemToArray(S->surfaces, s);
+    return BRUME_OK;
+}
+
+/* A new brume surface of the type, placed by the current transform; NULL after a refusal
+ * (shear: brume's transform object is translate, rotate, scale). */
+static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
+{
+    m4 m = S->a[S->depth].ctm;
+    const double *c = m.m;
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    if (det < 0.0 && strcmp(type, "sphere") == 0) {
+        m = pbrt_m4_mul(m, pbrt_m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
+    } else if (det < 0.0) {
+        pbrt_fail(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
+                         "without \"Scale -1 1 1\" mirrors the whole world, docs/production.md)", what);
+        return NULL;
+    }
+    cJSON *t = pbrt_transform_json(m);
+    if (!t) {
+        pbrt_fail(&S->L, "%s: a transform with shear", what);
+        return NULL;
+    }
+    cJSON *s = cJSON_CreateObject();
+    cJSON_AddStringToObject(s, "type", type);
+    cJSON_AddItemToObject(s, "transform", t);
+    return s;
+}
+
+brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    attrs *a = &S->a[S->depth];
+    char what[160];
+    snprintf(what, sizeof what, "Shape \"%s\"", type);
+    if (a->outside[0])
+        return pbrt_fail(L, "MediumInterface: an outside medium \"%s\" (brume's media are fields in vacuum)", a->outside);
+    bool interface = strcmp(a->material, "interface") == 0;
+    if (strcmp(type, "sphere") == 0) {
+        double radius = 1.0;
+        if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
+            return st;
+        if (interface)
+            return shape_interface(S, type, NULL);
+        cJSON *s = placed_surface(S, what, "sphere");
+        if (!s)
+            return err_status();
+        cJSON_AddNumberToObject(s, "radius", radius);
+        return shape_surface(S, s);
+    }
+    if (strcmp(type, "plymesh") == 0) {
+        char file[1024] = "", abs[PATH_MAX];
+        if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
+            return st;
+        if (!file[0])
+            return pbrt_fail(L, "%s: no \"string filename\"", what);
+        if ((st = pbrt_resolve_file(S, what, file, abs)))
+            return st;
+        if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
+            return shape_interface(S, type, NULL);
+        cJSON *s = placed_surface(S, what, "mesh");
+        if (!s)
+            return err_status();
+        cJSON_AddStringToObject(s, "file", abs);
+        return shape_surface(S, s);
+    }
+    bool tri = strcmp(type, "trianglemesh") == 0;
+    if (!tri && strcmp(type, "bilinearmesh") != 0)
+        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, trianglemesh, bilinearmesh, plymesh)", what);
+    /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
+       not used (brume shades by the geometric normal) */
+    pbrt_get(ps, "N");
+    pbrt_get(ps, "uv");
+    if (tri) {
+        pbrt_get(ps, "S");
+        pbrt_get(ps, "faceIndices");
+    }
+    tris t = {0};
+    int *quad = NULL;
+    if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) || (st = pbrt_all_used(L, ps, what)) ||
+             (!tri && (st = bilinear_tris(L, quad, &t)))) {
+        free(quad);
+        tris_free(&t);
+        return st;
+    }
+    free(quad);
+    if (interface) {
+        st = shape_interface(S, type, &t);
+        tris_free(&t);
+        return st;
+    }
+    if ((st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
+        tris_free(&t);
+        return st;
+    }
+    cJSON *s = cJSON_CreateObject();
+    cJSON_AddStringToObject(s, "type", "mesh");
+    cJSON_AddItemToObject(s, "positions", cJSON_CreateDoubleArray(t.P, 3 * t.nv));
+    cJSON_AddItemToObject(s, "indices", cJSON_CreateIntArray(t.idx, 3 * t.nt));
+    tris_free(&t);
+    return shape_surface(S, s);
+}
