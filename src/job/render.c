@@ -20,6 +20,7 @@
 #include "render/job.h"
 #include "render/sample.h"
 #include "gpu/cuda.h"
+#include "job/render_impl.h"
 
 #define TILE JOB_TILE
 #define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
@@ -183,7 +184,7 @@ double job_pixel_error(const brume_render_job *job, size_t i)
     return sqrt(var / n) / fmax(mean, NOISE_FLOOR);
 }
 
-static bool in_part(const brume_render_job *job, size_t i)
+bool job_in_part(const brume_render_job *job, size_t i)
 {
     size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
     size_t tile = (y / TILE) * (size_t)job->tiles_x + x / TILE;
@@ -199,7 +200,7 @@ void job_refresh(brume_render_job *job)
     uint64_t done = 0, total = 0;
     double noise = 0.0;
     for (size_t i = 0; i < job->npix; i++) {
-        if (job->nparts > 1 && !in_part(job, i))
+        if (job->nparts > 1 && !job_in_part(job, i))
             continue;
         uint32_t n = job->n[i];
         done += n;
@@ -304,8 +305,6 @@ static bool job_time_is_up(brume_render_job *job)
     return true;
 }
 
-static int job_next_pass(const brume_render_job *job, bool unwatched);
-
 /* Under job->lock: the figures a progress report shows, in O(1) (called after every tile).
  * The ETA: under a noise target, the samples the pixels' own error trend says they still
  * need (job_refresh: n (e / target)^2 each, capped at spp) at the wall cost of a pixel
@@ -313,7 +312,7 @@ static int job_next_pass(const brume_render_job *job, bool unwatched);
  * whole render would promise too early an end); unknown before the first estimate. Under a
  * fixed count the same with the exact total; under a time budget at most the time left.
  * The fraction is elapsed / (elapsed + ETA), below 1 until the job is finished. */
-static void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
+void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
 {
     const brume_render_settings *rs = &job->rs;
     double used = job_spent(job);
@@ -538,7 +537,7 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
  * fixed count whose first passes show the rest to be short (PASS_SHORT_REST) takes it in one
  * pass too: an interruption in that second leaves tiles with different counts, which
  * the partial image reports anyway. */
-static int job_next_pass(const brume_render_job *job, bool unwatched)
+int job_next_pass(const brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
     const bool timed = rs->time_budget > 0.0;
@@ -550,7 +549,7 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
         return 0;
     size_t nactive = 0;
     for (size_t i = 0; i < job->npix; i++)
-        nactive += job->active[i] && (job->nparts == 1 || in_part(job, i));
+        nactive += job->active[i] && (job->nparts == 1 || job_in_part(job, i));
     if (nactive == 0)
         return 0;
     int k;
@@ -586,7 +585,7 @@ static int job_next_pass(const brume_render_job *job, bool unwatched)
     return k < rs->spp - job->spp_done ? k : rs->spp - job->spp_done;
 }
 
-static brume_status job_add(brume_render_job *job, int spp, bool unwatched)
+brume_status job_add(brume_render_job *job, int spp, bool unwatched)
 {
     pthread_mutex_lock(&job->lock);
     if (job->target <= job->spp_done) {
@@ -645,7 +644,7 @@ static void job_fill_stats(const brume_render_job *job)
     }
 }
 
-static brume_status job_run(brume_render_job *job, bool unwatched)
+brume_status job_run(brume_render_job *job, bool unwatched)
 {
     int k;
     while ((k = job_next_pass(job, unwatched)) > 0) {
@@ -669,206 +668,4 @@ static brume_status job_run(brume_render_job *job, bool unwatched)
     }
     job_fill_stats(job);
     return BRUME_OK;
-}
-
-/* ---- the image ----------------------------------------------------------------------------- */
-
-static brume_status job_image(const brume_render_job *job, brume_image **out)
-{
-    const brume_render_settings *rs = &job->rs;
-    *out = NULL;
-    brume_image *img = image_new(rs->width, rs->height);
-    if (!img)
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a %d x %d image", job->s->source, rs->width,
-                       rs->height);
-    static const char *const rgb[3] = {"R", "G", "B"}, *const xyz[3] = {"X", "Y", "Z"}, *const z[1] = {"Z"},
-                             *const yy[1] = {"Y"};
-    float *depth = NULL, *albedo = NULL, *normal = NULL, *var = NULL, *count = NULL;
-    bool ok = true;
-    if (rs->aovs & BRUME_AOV_DEPTH)
-        ok &= (depth = image_add_layer(img, "depth", 1, z)) != NULL;
-    if (rs->aovs & BRUME_AOV_ALBEDO)
-        ok &= (albedo = image_add_layer(img, "albedo", 3, rgb)) != NULL;
-    if (rs->aovs & BRUME_AOV_NORMAL)
-        ok &= (normal = image_add_layer(img, "normal", 3, xyz)) != NULL;
-    if (rs->aovs & BRUME_AOV_VARIANCE)
-        ok &= (var = image_add_layer(img, "variance", 3, rgb)) != NULL;
-    if (rs->aovs & BRUME_AOV_SAMPLES)
-        ok &= (count = image_add_layer(img, "samples", 1, yy)) != NULL;
-    if (!ok) {
-        brume_image_release(img);
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot allocate the image's layers", job->s->source);
-    }
-    brume_render_job *j = (brume_render_job *)job; /* the lock only */
-    pthread_mutex_lock(&j->lock);
-    for (size_t i = 0; i < job->npix; i++) {
-        uint32_t n = job->n[i];
-        if (n == 0)
-            continue; /* +0 everywhere: not rendered (yet, or by another part) */
-        const double *s = job->sum + JOB_SUMS * i;
-        float *px = img->rgba + 4 * i;
-        double inv = 1.0 / n;
-        for (int c = 0; c < 3; c++)
-            px[c] = (float)(s[c] * inv);
-        uint32_t na = n < JOB_ALPHA_SAMPLES ? n : JOB_ALPHA_SAMPLES;
-        px[3] = (float)fmin(1.0, fmax(0.0, s[3] / na));
-        const double *a = job->aov ? job->aov + JOB_AOVS * i : NULL;
-        if (depth)
-            depth[i] = a[1] > 0.0 ? (float)(a[0] / a[1]) : 0.0f;
-        for (size_t c = 0; c < 3; c++) {
-            if (albedo)
-                albedo[3 * i + c] = (float)(a[2 + c] * inv);
-            if (normal)
-                normal[3 * i + c] = (float)(a[5 + c] * inv);
-            if (var)
-                var[3 * i + c] = n < 2 ? 0.0f
-                                       : (float)fmax(0.0, (job->sq[JOB_SQS * i + c] - s[c] * s[c] * inv) /
-                                                              ((n - 1.0) * n));
-        }
-        if (count)
-            count[i] = (float)n;
-    }
-    pthread_mutex_unlock(&j->lock);
-    *out = img;
-    return BRUME_OK;
-}
-
-/* ---- public ---------------------------------------------------------------------------------- */
-
-brume_status brume_render_begin(brume_context *ctx, const brume_scene *s, brume_render_job **out)
-{
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!out || !s)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_begin: %s: NULL", !s ? "scene" : "out"));
-    const void *owner = atomic_owner(ctx); /* blasi.save_light's temporary file is ctx's (io/atomic.h) */
-    brume_status st = job_create(s, 0, 1, true, out);
-    atomic_owner(owner);
-    return ctx_report(ctx, st);
-}
-
-brume_status brume_render_job_add(brume_context *ctx, brume_render_job *job, int spp)
-{
-    err_clear();
-    if (!job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_add: job: NULL"));
-    if (spp < 1 || spp > (1 << 24))
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "brume_render_job_add: spp: %d outside [1, 16777216]", spp));
-    return ctx_report(ctx, job_add(job, spp, false));
-}
-
-brume_status brume_render_job_run(brume_context *ctx, brume_render_job *job)
-{
-    err_clear();
-    if (!job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_run: job: NULL"));
-    return ctx_report(ctx, job_run(job, false)); /* the caller holds the job: passes as scheduled */
-}
-
-brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *job, brume_image **out)
-{
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!out || !job)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_image: %s: NULL", !job ? "job" : "out"));
-    return ctx_report(ctx, job_image(job, out));
-}
-
-int brume_render_job_samples(const brume_render_job *job)
-{
-    if (!job)
-        return 0;
-    brume_render_job *j = (brume_render_job *)job;
-    pthread_mutex_lock(&j->lock);
-    uint32_t m = 0;
-    for (size_t i = 0; i < job->npix; i++)
-        m = job->n[i] > m ? job->n[i] : m;
-    pthread_mutex_unlock(&j->lock);
-    return (int)m;
-}
-
-void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out)
-{
-    if (!out)
-        return;
-    memset(out, 0, sizeof *out);
-    if (!job)
-        return;
-    brume_render_job *j = (brume_render_job *)job;
-    pthread_mutex_lock(&j->lock);
-    uint32_t nmin = UINT32_MAX, nmax = 0;
-    double ntotal = 0.0;
-    size_t npart = 0, stopped = 0;
-    for (size_t i = 0; i < job->npix; i++) {
-        if (job->nparts > 1 && !in_part(job, i))
-            continue;
-        uint32_t n = job->n[i];
-        nmin = n < nmin ? n : nmin;
-        nmax = n > nmax ? n : nmax;
-        ntotal += n;
-        npart++;
-        stopped += !job->active[i];
-    }
-    out->done = job->done;
-    out->total = job->total;
-    out->spp_min = npart ? (int)nmin : 0;
-    out->spp_max = (int)nmax;
-    out->spp_mean = npart ? ntotal / (double)npart : 0.0;
-    out->noise = job->noise;
-    out->converged = npart ? (double)stopped / (double)npart : 0.0;
-    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) <= 0;
-    progress_figures fig;
-    job_figures(job, out->finished, &fig);
-    out->elapsed = fig.elapsed;
-    out->eta = fig.eta;
-    out->fraction = fig.frac;
-    pthread_mutex_unlock(&j->lock);
-}
-
-brume_status brume_render(brume_context *ctx, const brume_scene *s, brume_image **out)
-{
-    return brume_render_part(ctx, s, 0, 1, out);
-}
-
-brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int part, int nparts, brume_image **out)
-{
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!out || !s)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render: %s: NULL", !s ? "scene" : "out"));
-    if (nparts < 1 || part < 0 || part >= nparts)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
-                                       s->source, part, nparts));
-    const brume_render_settings *rs = &s->settings;
-    const bool unwatched = !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
-    /* unwatched and without the variance layer, no one reads the squared samples: they are
-     * neither kept nor made (half the job's memory, whose zeroing touches a fresh page, a
-     * page fault, per 4 KiB) */
-    brume_render_job *job = NULL;
-    const void *owner = atomic_owner(ctx); /* blasi.save_light's temporary file is ctx's (io/atomic.h) */
-    brume_status st = job_create(s, part, nparts, !unwatched || (rs->aovs & BRUME_AOV_VARIANCE), &job);
-    atomic_owner(owner);
-    if (st != BRUME_OK)
-        return ctx_report(ctx, st);
-    st = job_run(job, unwatched);
-    if (st == BRUME_OK || st == BRUME_ERROR_CANCELLED) {
-        char msg[1024];
-        snprintf(msg, sizeof msg, "%s", err_message());
-        brume_status sti = job_image(job, out);
-        if (sti != BRUME_OK)
-            st = sti;
-        else if (st != BRUME_OK)
-            err_set(st, "%s", msg);
-    }
-    brume_render_job_release(job);
-    return ctx_report(ctx, st);
-}
-
-void brume_scene_stats(const brume_scene *scene, brume_stats *out)
-{
-    if (out)
-        *out = scene ? scene->prepared->stats : (brume_stats){0};
 }
