@@ -22,6 +22,50 @@ static double gauss(uint64_t seed, uint64_t stream, uint64_t index)
 
 /* ---- random midpoint displacement ---------------------------------------------------------- */
 
+/* The mean of the points already set around point (i, j, k) of substep `kind` at spacing h
+ * (oi, oj, ok: whether each coordinate sits at an odd multiple of h) in the N^3 lattice out. */
+static double neighbour_mean(const float *out, int N, int i, int j, int k, int h, int kind, int oi, int oj, int ok)
+{
+    const size_t sN = (size_t)N;
+#define AT(i, j, k) out[(size_t)(i) + sN * ((size_t)(j) + sN * (size_t)(k))]
+    double sum = 0.0;
+    int cnt = 0;
+    if (kind == 3) { /* the 8 corners of the cube */
+        for (int c = 0; c < 8; c++) {
+            sum += (double)AT(i + ((c & 1) ? h : -h), j + ((c & 2) ? h : -h), k + ((c & 4) ? h : -h));
+            cnt++;
+        }
+    } else {
+        /* axis neighbours at distance h already set: for a face centre the 2
+         * cube centres along its even axis; for an edge midpoint all 6 (its 2
+         * ends and 4 face centres) */
+        const int odd[3] = {oi, oj, ok};
+        for (int ax = 0; ax < 3; ax++) {
+            if (kind == 2 && odd[ax])
+                continue;
+            for (int sgn = -1; sgn <= 1; sgn += 2) {
+                int c[3] = {i, j, k};
+                c[ax] += sgn * h;
+                if (c[ax] < 0 || c[ax] >= N)
+                    continue;
+                sum += (double)AT(c[0], c[1], c[2]);
+                cnt++;
+            }
+        }
+        if (kind == 2) /* the 4 face corners, diagonal in the face's plane */
+            for (int q = 0; q < 4; q++) {
+                int c[3] = {i, j, k}, bit = 0;
+                for (int ax = 0; ax < 3; ax++)
+                    if (odd[ax])
+                        c[ax] += ((q >> bit++) & 1) ? h : -h;
+                sum += (double)AT(c[0], c[1], c[2]);
+                cnt++;
+            }
+    }
+#undef AT
+    return sum / cnt;
+}
+
 /* Peitgen and Saupe's MidPointFM2D (The Science of Fractal Images, 1988, sec. 2.3.3) in
  * three dimensions. Each level halves the lattice spacing in three substeps that fill, in
  * turn, the cube centres (from the 8 cube corners), the face centres (from the 4 face
@@ -74,42 +118,9 @@ brume_status fractal_midpoint(int level, double hurst, uint64_t seed, int planes
                         int oi = (i % s) == h, oj = (j % s) == h, ok = (k % s) == h;
                         if (oi + oj + ok != kind)
                             continue;
-                        double sum = 0.0;
-                        int cnt = 0;
-                        if (kind == 3) { /* the 8 corners of the cube */
-                            for (int c = 0; c < 8; c++) {
-                                sum += (double)AT(i + ((c & 1) ? h : -h), j + ((c & 2) ? h : -h), k + ((c & 4) ? h : -h));
-                                cnt++;
-                            }
-                        } else {
-                            /* axis neighbours at distance h already set: for a face centre the 2
-                             * cube centres along its even axis; for an edge midpoint all 6 (its 2
-                             * ends and 4 face centres) */
-                            const int odd[3] = {oi, oj, ok};
-                            for (int ax = 0; ax < 3; ax++) {
-                                if (kind == 2 && odd[ax])
-                                    continue;
-                                for (int sgn = -1; sgn <= 1; sgn += 2) {
-                                    int c[3] = {i, j, k};
-                                    c[ax] += sgn * h;
-                                    if (c[ax] < 0 || c[ax] >= N)
-                                        continue;
-                                    sum += (double)AT(c[0], c[1], c[2]);
-                                    cnt++;
-                                }
-                            }
-                            if (kind == 2) /* the 4 face corners, diagonal in the face's plane */
-                                for (int q = 0; q < 4; q++) {
-                                    int c[3] = {i, j, k}, bit = 0;
-                                    for (int ax = 0; ax < 3; ax++)
-                                        if (odd[ax])
-                                            c[ax] += ((q >> bit++) & 1) ? h : -h;
-                                    sum += (double)AT(c[0], c[1], c[2]);
-                                    cnt++;
-                                }
-                        }
+                        double mean = neighbour_mean(out, N, i, j, k, h, kind, oi, oj, ok);
                         uint64_t idx = (uint64_t)i + sN * ((uint64_t)j + sN * (uint64_t)k);
-                        AT(i, j, k) = (float)(sum / cnt + dev * gauss(seed, 0, idx));
+                        AT(i, j, k) = (float)(mean + dev * gauss(seed, 0, idx));
                     }
             }
         }

@@ -172,6 +172,66 @@ static bool moved_check(const lattice *l, const int M[3], int f, bool local, siz
     return true;
 }
 
+/* The padding: the voxels P[a] the radius spans along each axis of rho, and the cells Q[a]
+ * of the lattice a point can reach within it; false with err_set past MOVED_MAX_VOXELS. */
+static bool moved_padding(const density *rho, const lattice *l, double radius, double P[3], int Q[3])
+{
+    for (int a = 0; a < 3; a++) {
+        const double *w = rho->w2v.m + 4 * a;
+        P[a] = radius * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (!(P[a] <= MOVED_MAX_VOXELS)) {
+            err_set(BRUME_ERROR_RANGE, "the velocity moves the field by up to %g voxels along axis %d within the "
+                    "shutter: more than the %g brume tracks", P[a], a, MOVED_MAX_VOXELS);
+            return false;
+        }
+        Q[a] = (int)ceil(P[a] / l->mc);
+    }
+    return true;
+}
+
+/* The coarsening f (returned): the moved grid's cells hold f^3 of the lattice's, M[a] of
+ * them per axis, at most MOVED_MAX_CELLS in all. */
+static int moved_coarsening(const lattice *l, const int Q[3], int M[3])
+{
+    int f = 1;
+    for (;; f++) {
+        size_t cells = 1;
+        for (int a = 0; a < 3; a++) {
+            M[a] = (int)(((int64_t)l->mn[a] + 2 * (int64_t)Q[a] + f - 1) / f);
+            cells *= (size_t)M[a];
+        }
+        if (cells <= MOVED_MAX_CELLS)
+            break;
+    }
+    return f;
+}
+
+/* The filter passes of each level in `used` (bit lv) from the lattice's maxima src, through
+ * p1 and p2, into maj (or, with local bounds, into lev, then into maj where level says). */
+static void moved_filter(const lattice *l, const int M[3], int f, const int Q[3], const double P[3], int used,
+                         bool local, float *src, float *p1, float *p2, float *maj, float *lev,
+                         const unsigned char *level)
+{
+    const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
+    /* moved cell o covers lattice cells [o f - Q, (o + 1) f - Q); a point there reaches q <= Q
+     * more on each side (q from its level): [o f - Q - q, (o + 1) f - Q + q) */
+    int n0[3] = {l->mn[0], l->mn[1], l->mn[2]}, n1[3] = {M[0], l->mn[1], l->mn[2]}, n2[3] = {M[0], M[1], l->mn[2]};
+    for (int lv = 0; lv < MOVED_LEVELS; lv++) {
+        if (!(used & (1 << lv)))
+            continue;
+        int q[3];
+        for (int a = 0; a < 3; a++)
+            q[a] = lv == MOVED_LEVELS - 1 ? 0 : (int)ceil(ldexp(P[a], -lv) / l->mc);
+        float *out = local ? lev : maj;
+        max_pass(src, n0, p1, n1, 0, f, Q[0] + q[0], f + 2 * q[0]);
+        max_pass(p1, n1, p2, n2, 1, f, Q[1] + q[1], f + 2 * q[1]);
+        max_pass(p2, n2, out, M, 2, f, Q[2] + q[2], f + 2 * q[2]);
+        for (size_t o = 0; local && o < nM; o++)
+            if (level[o] == lv)
+                maj[o] = lev[o];
+    }
+}
+
 density *density_new_moved_majorant(const density *rho, double radius, moved_radius_fn local, const void *user)
 {
     if (!(radius >= 0.0) || !isfinite(radius)) {
@@ -180,30 +240,11 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
     }
     lattice l;
     lattice_of(rho, &l);
-    /* padding: cells of the lattice a point can reach within the radius, per axis */
-    int Q[3];
+    int Q[3], M[3];
     double P[3];
-    for (int a = 0; a < 3; a++) {
-        const double *w = rho->w2v.m + 4 * a;
-        P[a] = radius * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        if (!(P[a] <= MOVED_MAX_VOXELS)) {
-            err_set(BRUME_ERROR_RANGE, "the velocity moves the field by up to %g voxels along axis %d within the "
-                    "shutter: more than the %g brume tracks", P[a], a, MOVED_MAX_VOXELS);
-            return NULL;
-        }
-        Q[a] = (int)ceil(P[a] / l.mc);
-    }
-    /* the coarsening f: the moved grid's cells hold f^3 of the lattice's */
-    int f = 1, M[3];
-    for (;; f++) {
-        size_t cells = 1;
-        for (int a = 0; a < 3; a++) {
-            M[a] = (int)(((int64_t)l.mn[a] + 2 * (int64_t)Q[a] + f - 1) / f);
-            cells *= (size_t)M[a];
-        }
-        if (cells <= MOVED_MAX_CELLS)
-            break;
-    }
+    if (!moved_padding(rho, &l, radius, P, Q))
+        return NULL;
+    const int f = moved_coarsening(&l, Q, M);
     const size_t nM = (size_t)M[0] * (size_t)M[1] * (size_t)M[2];
     size_t kept, passes;
     if (!moved_check(&l, M, f, local != NULL, &kept, &passes))
@@ -231,23 +272,7 @@ density *density_new_moved_majorant(const density *rho, double radius, moved_rad
                 src[(size_t)i + (size_t)l.mn[0] * ((size_t)j + (size_t)l.mn[1] * (size_t)k)] = lattice_at(&l, i, j, k);
     /* bit l: level l's filter is needed (only the whole radius without local bounds) */
     const int used = local ? assign_levels(M, C, &v2w, radius, local, user, level) : 1;
-    /* moved cell o covers lattice cells [o f - Q, (o + 1) f - Q); a point there reaches q <= Q
-     * more on each side (q from its level): [o f - Q - q, (o + 1) f - Q + q) */
-    int n0[3] = {l.mn[0], l.mn[1], l.mn[2]}, n1[3] = {M[0], l.mn[1], l.mn[2]}, n2[3] = {M[0], M[1], l.mn[2]};
-    for (int lv = 0; lv < MOVED_LEVELS; lv++) {
-        if (!(used & (1 << lv)))
-            continue;
-        int q[3];
-        for (int a = 0; a < 3; a++)
-            q[a] = lv == MOVED_LEVELS - 1 ? 0 : (int)ceil(ldexp(P[a], -lv) / l.mc);
-        float *out = local ? lev : maj;
-        max_pass(src, n0, p1, n1, 0, f, Q[0] + q[0], f + 2 * q[0]);
-        max_pass(p1, n1, p2, n2, 1, f, Q[1] + q[1], f + 2 * q[1]);
-        max_pass(p2, n2, out, M, 2, f, Q[2] + q[2], f + 2 * q[2]);
-        for (size_t o = 0; local && o < nM; o++)
-            if (level[o] == lv)
-                maj[o] = lev[o];
-    }
+    moved_filter(&l, M, f, Q, P, used, local != NULL, src, p1, p2, maj, lev, level);
     free(src), free(p1), free(p2), free(lev), free(level);
     budget_give(passes);
     d->kind = DENSITY_GRID;

@@ -142,40 +142,12 @@ static brume_image *image_copy(const brume_image *in)
     return img;
 }
 
-brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out)
+/* The per-pixel variance v0 (w x h, 3 channels) made fit to weigh the first level: where it
+ * is missing, the spatial variance of the colour c0 around the pixel, then a 3 x 3 blur of
+ * it all; v1 is scratch. */
+static void steady_variance(int w, int h, const double *c0, double *v0, double *v1)
 {
-    err_clear();
-    if (out)
-        *out = NULL;
-    if (!in || !out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_denoise: %s: NULL", !in ? "image" : "out"));
-    const float *var = layer_of(in, "variance", 3);
-    if (!var)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
-                                       "brume_denoise: the image has no \"variance\" layer (render with --aov variance, "
-                                       "or --denoise, which asks for it)"));
-    if (layer_of(in, "raw", 3) || brume_image_attribute(in, "brume.denoised"))
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
-                                       "brume_denoise: the image is denoised already (it has a \"raw\" layer)"));
-    const int w = in->width, h = in->height;
     const size_t npix = (size_t)w * (size_t)h;
-    brume_image *img = image_copy(in);
-    double *buf = malloc(npix * 12 * sizeof *buf);
-    static const char *const rgb[3] = {"R", "G", "B"};
-    float *raw = img ? image_add_layer(img, "raw", 3, rgb) : NULL;
-    if (!img || !buf || !raw) {
-        brume_image_release(img);
-        free(buf);
-        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "brume_denoise: out of memory for a %d x %d image", w, h));
-    }
-    double *c0 = buf, *v0 = buf + 3 * npix, *c1 = buf + 6 * npix, *v1 = buf + 9 * npix;
-    for (size_t p = 0; p < npix; p++)
-        for (size_t c = 0; c < 3; c++) {
-            float x = in->rgba[4 * p + c], v = var[3 * p + c];
-            raw[3 * p + c] = x;
-            c0[3 * p + c] = isfinite(x) ? (double)x : 0.0;
-            v0[3 * p + c] = isfinite(v) && v > 0.0f ? (double)v : 0.0;
-        }
     /* a pixel of fewer than 2 samples has no variance estimate (the layer holds 0): it takes
      * the spatial variance of its 3 x 3 neighbourhood, what SVGF does before the temporal
      * history has samples; a flat region (the sky) gives 0 there as it should */
@@ -219,6 +191,43 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
                 v1[3 * ((size_t)y * (size_t)w + (size_t)x) + c] = s / sw;
             }
     memcpy(v0, v1, npix * 3 * sizeof *v0);
+}
+
+brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out)
+{
+    err_clear();
+    if (out)
+        *out = NULL;
+    if (!in || !out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_denoise: %s: NULL", !in ? "image" : "out"));
+    const float *var = layer_of(in, "variance", 3);
+    if (!var)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                                       "brume_denoise: the image has no \"variance\" layer (render with --aov variance, "
+                                       "or --denoise, which asks for it)"));
+    if (layer_of(in, "raw", 3) || brume_image_attribute(in, "brume.denoised"))
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                                       "brume_denoise: the image is denoised already (it has a \"raw\" layer)"));
+    const int w = in->width, h = in->height;
+    const size_t npix = (size_t)w * (size_t)h;
+    brume_image *img = image_copy(in);
+    double *buf = malloc(npix * 12 * sizeof *buf);
+    static const char *const rgb[3] = {"R", "G", "B"};
+    float *raw = img ? image_add_layer(img, "raw", 3, rgb) : NULL;
+    if (!img || !buf || !raw) {
+        brume_image_release(img);
+        free(buf);
+        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "brume_denoise: out of memory for a %d x %d image", w, h));
+    }
+    double *c0 = buf, *v0 = buf + 3 * npix, *c1 = buf + 6 * npix, *v1 = buf + 9 * npix;
+    for (size_t p = 0; p < npix; p++)
+        for (size_t c = 0; c < 3; c++) {
+            float x = in->rgba[4 * p + c], v = var[3 * p + c];
+            raw[3 * p + c] = x;
+            c0[3 * p + c] = isfinite(x) ? (double)x : 0.0;
+            v0[3 * p + c] = isfinite(v) && v > 0.0f ? (double)v : 0.0;
+        }
+    steady_variance(w, h, c0, v0, v1);
     denoise_job j = {w, h, 1, c0, v0, c1, v1, layer_of(in, "albedo", 3), layer_of(in, "normal", 3),
                      layer_of(in, "depth", 1), DENOISE_K * DENOISE_K, 1.0 / sq(DENOISE_SIGMA_ALBEDO),
                      1.0 / sq(DENOISE_SIGMA_NORMAL), 1.0 / sq(DENOISE_SIGMA_DEPTH)};

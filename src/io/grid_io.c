@@ -179,6 +179,35 @@ static density *finish_dense(dense_read *r, const char *name, const density_load
     return d;
 }
 
+/* The fields out[0 .. count) placed by the options' bounds or transform, when given; false
+ * with err_set, the fields released, when the placement is degenerate. */
+static bool place_fields(density **out, int count, const char *name, const density_load_options *o)
+{
+    if (!o->has_bounds && !o->has_transform)
+        return true;
+    if (o->has_bounds && !(o->bounds.hi.x > o->bounds.lo.x && o->bounds.hi.y > o->bounds.lo.y &&
+                           o->bounds.hi.z > o->bounds.lo.z)) {
+        for (int c = 0; c < count; c++)
+            density_release(out[c]);
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement bounds must have lo < hi", name);
+        return false;
+    }
+    for (int c = 0; c < count; c++) {
+        density_info info;
+        density_get_info(out[c], &info);
+        affine3 v2w = o->has_bounds ? grid_box_map(o->bounds, info.n) : info.voxel_to_world;
+        if (o->has_transform)
+            v2w = affine3_compose(&o->transform, &v2w);
+        if (!density_place(out[c], &v2w)) {
+            for (int k = 0; k < count; k++)
+                density_release(out[k]);
+            err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement transform is singular or not finite", name);
+            return false;
+        }
+    }
+    return true;
+}
+
 static bool load_fields(const unsigned char *b, size_t size, const char *name, const char *path,
                         const density_load_options *opts, int count, density **out)
 {
@@ -244,29 +273,7 @@ static bool load_fields(const unsigned char *b, size_t size, const char *name, c
     }
     if (!out[0])
         return false;
-    if (o.has_bounds || o.has_transform) {
-        if (o.has_bounds && !(o.bounds.hi.x > o.bounds.lo.x && o.bounds.hi.y > o.bounds.lo.y &&
-                              o.bounds.hi.z > o.bounds.lo.z)) {
-            for (int c = 0; c < count; c++)
-                density_release(out[c]);
-            err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement bounds must have lo < hi", name);
-            return false;
-        }
-        for (int c = 0; c < count; c++) {
-            density_info info;
-            density_get_info(out[c], &info);
-            affine3 v2w = o.has_bounds ? grid_box_map(o.bounds, info.n) : info.voxel_to_world;
-            if (o.has_transform)
-                v2w = affine3_compose(&o.transform, &v2w);
-            if (!density_place(out[c], &v2w)) {
-                for (int k = 0; k < count; k++)
-                    density_release(out[k]);
-                err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: placement transform is singular or not finite", name);
-                return false;
-            }
-        }
-    }
-    return true;
+    return place_fields(out, count, name, &o);
 }
 
 density *density_load_memory(const void *bytes, size_t size, const char *name, const density_load_options *opts)

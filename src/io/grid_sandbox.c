@@ -87,6 +87,52 @@ typedef struct sandbox_result {
     int count;
 } sandbox_result;
 
+/* The NanoVDB grid the child sends after its 'B' into res (within max_memory): the read's
+ * result (0, or < 0 when the pipe failed); a refusal of what was read in *st. */
+static int read_grid(int fd, const sandbox_job *j, size_t max_memory, double deadline, sandbox_result *res,
+                     brume_status *st)
+{
+    uint64_t n = 0;
+    int rr = sandbox_read_all(fd, &n, sizeof n, deadline);
+    if (rr == 0 && n > max_memory) {
+        *st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: grid of %llu bytes (NanoVDB) exceeds the memory limit of %zu",
+                      j->name, (unsigned long long)n, max_memory);
+    } else if (rr == 0 && n < 64) {
+        *st = err_set(BRUME_ERROR_PARSE, "%s: OpenVDB reader returned %llu bytes", j->name, (unsigned long long)n);
+    } else if (rr == 0) {
+        res->buf = aligned_alloc(32, ((size_t)n + 31) / 32 * 32);
+        if (!res->buf)
+            *st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a grid of %llu bytes", j->name,
+                          (unsigned long long)n);
+        else if ((rr = sandbox_read_all(fd, res->buf, (size_t)n, deadline)) == 0)
+            res->nbytes = (size_t)n;
+    }
+    return rr;
+}
+
+/* The grids the child lists after its 'L' into res: as read_grid. */
+static int read_list(int fd, const sandbox_job *j, double deadline, sandbox_result *res, brume_status *st)
+{
+    uint32_t c = 0;
+    int rr = sandbox_read_all(fd, &c, sizeof c, deadline);
+    if (rr == 0 && c > 4096) {
+        *st = err_set(BRUME_ERROR_PARSE, "%s: %u grids, more than brume lists", j->name, (unsigned)c);
+    } else if (rr == 0) {
+        res->infos = calloc((size_t)c + 1, sizeof *res->infos);
+        if (!res->infos)
+            *st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", j->name);
+        else if ((rr = sandbox_read_all(fd, res->infos, c * sizeof *res->infos, deadline)) == 0) {
+            res->count = (int)c;
+            for (uint32_t i = 0; i < c; i++) { /* strings from the child end inside their arrays */
+                res->infos[i].name[sizeof res->infos[i].name - 1] = '\0';
+                res->infos[i].type[sizeof res->infos[i].type - 1] = '\0';
+                res->infos[i].cls[sizeof res->infos[i].cls - 1] = '\0';
+            }
+        }
+    }
+    return rr;
+}
+
 static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox_result *res)
 {
     memset(res, 0, sizeof *res);
@@ -125,39 +171,9 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
         rr = sandbox_read_error(fd, deadline);
         st = rr == 0 ? err_status() : BRUME_OK;
     } else if (rr == 0 && tag == 'B' && j->kind == 0) {
-        uint64_t n = 0;
-        rr = sandbox_read_all(fd, &n, sizeof n, deadline);
-        if (rr == 0 && n > max_memory) {
-            st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: grid of %llu bytes (NanoVDB) exceeds the memory limit of %zu",
-                         j->name, (unsigned long long)n, max_memory);
-        } else if (rr == 0 && n < 64) {
-            st = err_set(BRUME_ERROR_PARSE, "%s: OpenVDB reader returned %llu bytes", j->name, (unsigned long long)n);
-        } else if (rr == 0) {
-            res->buf = aligned_alloc(32, ((size_t)n + 31) / 32 * 32);
-            if (!res->buf)
-                st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a grid of %llu bytes", j->name,
-                             (unsigned long long)n);
-            else if ((rr = sandbox_read_all(fd, res->buf, (size_t)n, deadline)) == 0)
-                res->nbytes = (size_t)n;
-        }
+        rr = read_grid(fd, j, max_memory, deadline, res, &st);
     } else if (rr == 0 && tag == 'L' && j->kind == 1) {
-        uint32_t c = 0;
-        rr = sandbox_read_all(fd, &c, sizeof c, deadline);
-        if (rr == 0 && c > 4096) {
-            st = err_set(BRUME_ERROR_PARSE, "%s: %u grids, more than brume lists", j->name, (unsigned)c);
-        } else if (rr == 0) {
-            res->infos = calloc((size_t)c + 1, sizeof *res->infos);
-            if (!res->infos)
-                st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", j->name);
-            else if ((rr = sandbox_read_all(fd, res->infos, c * sizeof *res->infos, deadline)) == 0) {
-                res->count = (int)c;
-                for (uint32_t i = 0; i < c; i++) { /* strings from the child end inside their arrays */
-                    res->infos[i].name[sizeof res->infos[i].name - 1] = '\0';
-                    res->infos[i].type[sizeof res->infos[i].type - 1] = '\0';
-                    res->infos[i].cls[sizeof res->infos[i].cls - 1] = '\0';
-                }
-            }
-        }
+        rr = read_list(fd, j, deadline, res, &st);
     } else if (rr == 0 && tag != 'K') {
         rr = -1;
     } else if (rr == 0 && j->kind != 2) {

@@ -324,44 +324,10 @@ static brume_status exr_read_layers(const char *path, exr_const_context_t ctxt, 
     return BRUME_OK;
 }
 
-static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, exr_io *io, brume_image **out)
+/* brume's own string attributes ("brume.*") of the file into img's metadata. */
+static void exr_read_meta(exr_const_context_t ctxt, brume_image *img)
 {
-    exr_result_t rv;
-    int parts = 0;
-    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
-    if ((rv = exr_get_count(ctxt, &parts)) != EXR_ERR_SUCCESS || parts < 1 ||
-        (rv = exr_get_storage(ctxt, 0, &storage)) != EXR_ERR_SUCCESS)
-        return exr_fail(path, "reading the header", rv, io);
-    if (storage != EXR_STORAGE_SCANLINE)
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: %s EXR files are not supported (only scanline images)",
-                       path, storage == EXR_STORAGE_TILED ? "tiled" : "deep");
-    brume_status st = exr_check_channels(path, ctxt);
-    if (st != BRUME_OK)
-        return st;
-    exr_attr_box2i_t dw;
-    int32_t lines = 0;
-    if ((rv = exr_get_data_window(ctxt, 0, &dw)) != EXR_ERR_SUCCESS ||
-        (rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines)) != EXR_ERR_SUCCESS)
-        return exr_fail(path, "reading the header", rv, io);
-    if (lines < 1)
-        return err_set(BRUME_ERROR_PARSE, "%s: header: invalid scanlines per chunk %d", path, lines);
-    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
-
-    /* Every chunk's offset and size must lie in the file: a cut file fails here, before
-     * the image is allocated. */
-    for (int64_t y = dw.min.y; y <= dw.max.y; y += lines) {
-        exr_chunk_info_t cinfo;
-        if ((rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &cinfo)) != EXR_ERR_SUCCESS)
-            return exr_fail(path, "reading the chunk table", rv, io);
-    }
-    brume_image *img = NULL;
-    if ((st = image_create(path, w, h, &img)) != BRUME_OK)
-        return st;
-    if ((st = exr_read_layers(path, ctxt, img)) != BRUME_OK) {
-        brume_image_release(img);
-        return st;
-    }
-    int32_t nattr = 0; /* brume's own string attributes come back (brume_image_attribute) */
+    int32_t nattr = 0; /* they come back through brume_image_attribute */
     if (exr_get_attribute_count(ctxt, 0, &nattr) == EXR_ERR_SUCCESS)
         for (int32_t i = 0; i < nattr; i++) {
             const exr_attribute_t *a = NULL;
@@ -373,7 +339,15 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
                 image_set_meta(img, a->name, v);
             }
         }
+}
 
+/* The scanline chunks of the data window dw (lines rows each) decoded into img's channels
+ * and layers (w x h pixels). */
+static brume_status exr_decode_pixels(const char *path, exr_const_context_t ctxt, exr_io *io, exr_attr_box2i_t dw,
+                                      int32_t lines, int64_t w, int64_t h, brume_image *img)
+{
+    exr_result_t rv;
+    brume_status st = BRUME_OK;
     exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
     int initialized = 0;
     for (int64_t y = dw.min.y; y <= dw.max.y && st == BRUME_OK; y += lines) {
@@ -411,6 +385,48 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
     }
     if (initialized)
         exr_decoding_destroy(ctxt, &dec);
+    return st;
+}
+
+static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, exr_io *io, brume_image **out)
+{
+    exr_result_t rv;
+    int parts = 0;
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    if ((rv = exr_get_count(ctxt, &parts)) != EXR_ERR_SUCCESS || parts < 1 ||
+        (rv = exr_get_storage(ctxt, 0, &storage)) != EXR_ERR_SUCCESS)
+        return exr_fail(path, "reading the header", rv, io);
+    if (storage != EXR_STORAGE_SCANLINE)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: %s EXR files are not supported (only scanline images)",
+                       path, storage == EXR_STORAGE_TILED ? "tiled" : "deep");
+    brume_status st = exr_check_channels(path, ctxt);
+    if (st != BRUME_OK)
+        return st;
+    exr_attr_box2i_t dw;
+    int32_t lines = 0;
+    if ((rv = exr_get_data_window(ctxt, 0, &dw)) != EXR_ERR_SUCCESS ||
+        (rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines)) != EXR_ERR_SUCCESS)
+        return exr_fail(path, "reading the header", rv, io);
+    if (lines < 1)
+        return err_set(BRUME_ERROR_PARSE, "%s: header: invalid scanlines per chunk %d", path, lines);
+    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
+
+    /* Every chunk's offset and size must lie in the file: a cut file fails here, before
+     * the image is allocated. */
+    for (int64_t y = dw.min.y; y <= dw.max.y; y += lines) {
+        exr_chunk_info_t cinfo;
+        if ((rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &cinfo)) != EXR_ERR_SUCCESS)
+            return exr_fail(path, "reading the chunk table", rv, io);
+    }
+    brume_image *img = NULL;
+    if ((st = image_create(path, w, h, &img)) != BRUME_OK)
+        return st;
+    if ((st = exr_read_layers(path, ctxt, img)) != BRUME_OK) {
+        brume_image_release(img);
+        return st;
+    }
+    exr_read_meta(ctxt, img);
+    st = exr_decode_pixels(path, ctxt, io, dw, lines, w, h, img);
     if (st != BRUME_OK) {
         brume_image_release(img);
         return st;

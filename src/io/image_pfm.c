@@ -111,84 +111,65 @@ static int64_t parse_dimension(const char *s)
     return v;
 }
 
-brume_status image_read_pfm(const char *path, brume_image **out)
+/* The header of the PFM file open in fp: its channels (3 for "PF", 1 for "Pf"), size and
+ * scale, checked (the size against the limits and the file's length) before any allocation;
+ * fp is left at the first row. */
+static brume_status pfm_header(FILE *fp, const char *path, int *channels, int64_t *w, int64_t *h, double *scale)
 {
-    *out = NULL;
-    FILE *fp = NULL;
-    brume_status ost = io_open_regular(path, &fp);
-    if (ost != BRUME_OK)
-        return ost;
-
-    brume_status st = BRUME_OK;
-    unsigned char *row = NULL;
-    brume_image *img = NULL;
     char magic[8], tw[32], th[32], ts[64];
-    int channels = 0;
     read_token(fp, magic, sizeof magic);
     if (strcmp(magic, "PF") == 0)
-        channels = 3;
+        *channels = 3;
     else if (strcmp(magic, "Pf") == 0)
-        channels = 1;
-    else {
-        st = err_set(BRUME_ERROR_PARSE, "%s: not a PFM file (magic is not \"PF\" or \"Pf\")", path);
-        goto done;
-    }
+        *channels = 1;
+    else
+        return err_set(BRUME_ERROR_PARSE, "%s: not a PFM file (magic is not \"PF\" or \"Pf\")", path);
     read_token(fp, tw, sizeof tw);
     read_token(fp, th, sizeof th);
     int after = read_token(fp, ts, sizeof ts);
-    int64_t w = parse_dimension(tw), h = parse_dimension(th);
-    if (w < 0 || h < 0) {
-        st = err_set(BRUME_ERROR_PARSE, "%s: header: width and height: expected two integers, got '%s' '%s'",
-                     path, tw, th);
-        goto done;
-    }
+    *w = parse_dimension(tw);
+    *h = parse_dimension(th);
+    if (*w < 0 || *h < 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: header: width and height: expected two integers, got '%s' '%s'",
+                       path, tw, th);
     char *end = NULL;
-    double scale = strtod(ts, &end);
-    if (!ts[0] || *end || !isfinite(scale) || scale == 0.0) {
-        st = err_set(BRUME_ERROR_PARSE, "%s: header: scale: expected a finite nonzero number, got '%s'",
-                     path, ts);
-        goto done;
-    }
-    if (after == EOF) {
-        st = err_set(BRUME_ERROR_PARSE, "%s: truncated after the header", path);
-        goto done;
-    }
+    *scale = strtod(ts, &end);
+    if (!ts[0] || *end || !isfinite(*scale) || *scale == 0.0)
+        return err_set(BRUME_ERROR_PARSE, "%s: header: scale: expected a finite nonzero number, got '%s'",
+                       path, ts);
+    if (after == EOF)
+        return err_set(BRUME_ERROR_PARSE, "%s: truncated after the header", path);
     /* Size checks before any allocation: dimensions in range, then a file long enough. */
-    if (w < 1 || w > IMAGE_MAX_SIDE || h < 1 || h > IMAGE_MAX_SIDE || w * h > IMAGE_MAX_PIXELS) {
-        st = err_set(BRUME_ERROR_PARSE,
-                     "%s: header: image size %s x %s: each side must be in [1, %d], at most %lld pixels",
-                     path, tw, th, IMAGE_MAX_SIDE, (long long)IMAGE_MAX_PIXELS);
-        goto done;
-    }
+    if (*w < 1 || *w > IMAGE_MAX_SIDE || *h < 1 || *h > IMAGE_MAX_SIDE || *w * *h > IMAGE_MAX_PIXELS)
+        return err_set(BRUME_ERROR_PARSE,
+                       "%s: header: image size %s x %s: each side must be in [1, %d], at most %lld pixels",
+                       path, tw, th, IMAGE_MAX_SIDE, (long long)IMAGE_MAX_PIXELS);
     long data_start = ftell(fp);
     struct stat sb;
-    if (data_start < 0 || fstat(fileno(fp), &sb) != 0) {
-        st = err_set(BRUME_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
-        goto done;
-    }
-    int64_t need = w * h * channels * 4;
+    if (data_start < 0 || fstat(fileno(fp), &sb) != 0)
+        return err_set(BRUME_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    int64_t need = *w * *h * *channels * 4;
     int64_t have = (int64_t)sb.st_size - data_start;
-    if (S_ISREG(sb.st_mode) && have != need) {
-        st = err_set(BRUME_ERROR_PARSE, "%s: %s: %lld x %lld x %d floats need %lld bytes, file has %lld",
-                     path, have < need ? "truncated" : "trailing bytes", (long long)w, (long long)h, channels,
-                     (long long)need, (long long)have);
-        goto done;
-    }
-    st = image_create(path, w, h, &img);
-    if (st != BRUME_OK)
-        goto done;
+    if (S_ISREG(sb.st_mode) && have != need)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: %lld x %lld x %d floats need %lld bytes, file has %lld",
+                       path, have < need ? "truncated" : "trailing bytes", (long long)*w, (long long)*h, *channels,
+                       (long long)need, (long long)have);
+    return BRUME_OK;
+}
+
+/* The h rows of w pixels from fp into img (the file is bottom first; one channel is grey). */
+static brume_status pfm_rows(FILE *fp, const char *path, brume_image *img, int64_t w, int64_t h, int channels,
+                             int little)
+{
     size_t row_bytes = (size_t)w * (size_t)channels * 4;
-    row = malloc(row_bytes);
-    if (!row) {
-        st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-        goto done;
-    }
-    int little = scale < 0.0;
+    unsigned char *row = malloc(row_bytes);
+    if (!row)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     for (int64_t r = 0; r < h; r++) {
         if (fread(row, 1, row_bytes, fp) != row_bytes) {
-            st = err_set(BRUME_ERROR_PARSE, "%s: truncated in row %lld of %lld", path, (long long)r,
-                         (long long)h);
-            goto done;
+            free(row);
+            return err_set(BRUME_ERROR_PARSE, "%s: truncated in row %lld of %lld", path, (long long)r,
+                           (long long)h);
         }
         float *dst = img->rgba + (size_t)(h - 1 - r) * (size_t)w * 4; /* file is bottom first */
         for (size_t x = 0; x < (size_t)w; x++) {
@@ -199,8 +180,26 @@ brume_status image_read_pfm(const char *path, brume_image **out)
             dst[4 * x + 3] = 1.0f;
         }
     }
-done:
     free(row);
+    return BRUME_OK;
+}
+
+brume_status image_read_pfm(const char *path, brume_image **out)
+{
+    *out = NULL;
+    FILE *fp = NULL;
+    brume_status ost = io_open_regular(path, &fp);
+    if (ost != BRUME_OK)
+        return ost;
+    brume_image *img = NULL;
+    int channels = 0;
+    int64_t w = 0, h = 0;
+    double scale = 0.0;
+    brume_status st = pfm_header(fp, path, &channels, &w, &h, &scale);
+    if (st == BRUME_OK)
+        st = image_create(path, w, h, &img);
+    if (st == BRUME_OK)
+        st = pfm_rows(fp, path, img, w, h, channels, scale < 0.0);
     fclose(fp);
     if (st != BRUME_OK) {
         brume_image_release(img);

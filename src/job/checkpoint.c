@@ -250,6 +250,61 @@ static size_t max_size(const brume_scene *s)
     return (size_t)(sizeof(ckpt_header) + np * pixel_bytes(true) + sizeof(uint64_t));
 }
 
+/* The header of the checkpoint data (size bytes) into *hd, checked: magic, format, build,
+ * size, checksum, scene and render part. Refusals are err_set's; data stays the caller's. */
+static brume_status check_header(const char *path, const unsigned char *data, size_t size, uint64_t scene_key,
+                                 ckpt_header *hd)
+{
+    if (size < sizeof *hd + sizeof(uint64_t) || memcmp(data, "BRUMECKP", 8) != 0) {
+        bool magic = size >= 8 && memcmp(data, "BRUMECKP", 8) == 0;
+        return err_set(BRUME_ERROR_PARSE, "%s: not a brume checkpoint%s", path, magic ? " (truncated)" : "");
+    }
+    memcpy(hd, data, sizeof *hd);
+    if (hd->order != CKPT_ORDER || hd->format != CKPT_FORMAT)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: checkpoint format %u (byte order 0x%08x): this brume reads format %u "
+                       "written on a machine of its byte order", path, hd->format, hd->order, CKPT_FORMAT);
+    hd->version[sizeof hd->version - 1] = '\0';
+    char build[32];
+    build_name(build);
+    if (strcmp(hd->version, build) != 0)
+        return err_set(BRUME_ERROR_UNSUPPORTED,
+                       "%s: checkpoint of brume %s, this is brume %s (another build may draw its samples "
+                       "differently): render again",
+                       path, hd->version, build);
+    uint64_t np = hd->pixels;
+    bool aovs = (hd->set.aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
+    uint64_t per = pixel_bytes(aovs);
+    if (np > ((uint64_t)1 << 28) || size != sizeof *hd + np * per + sizeof(uint64_t))
+        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint truncated or padded: %zu bytes, its header says %llu", path,
+                       size, np > ((uint64_t)1 << 28) ? 0ULL : (unsigned long long)(sizeof *hd + np * per + 8));
+    uint64_t hash;
+    memcpy(&hash, data + size - sizeof hash, sizeof hash);
+    if (fnv1a(FNV_START, data, size - sizeof hash) != hash)
+        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (its checksum does not match)", path);
+    if (hd->scene_key != scene_key)
+        return err_set(BRUME_ERROR_STATE, "%s: the checkpoint was made from another scene (or other scene options)",
+                       path);
+    if (hd->set.nparts < 1 || hd->set.part < 0 || hd->set.part >= hd->set.nparts)
+        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (render part)", path);
+    return BRUME_OK;
+}
+
+/* The pixels' counts, states and sums (and AOV sums when aovs) after the header of data. */
+static void restore_sums(brume_render_job *job, const unsigned char *data, uint64_t np, bool aovs)
+{
+    const unsigned char *p = data + sizeof(ckpt_header);
+    memcpy(job->n, p, np * sizeof *job->n);
+    p += np * sizeof *job->n;
+    memcpy(job->active, p, np);
+    p += np;
+    memcpy(job->sum, p, np * JOB_SUMS * sizeof *job->sum);
+    p += np * JOB_SUMS * sizeof *job->sum;
+    memcpy(job->sq, p, np * JOB_SQS * sizeof *job->sq);
+    p += np * JOB_SQS * sizeof *job->sq;
+    if (aovs)
+        memcpy(job->aov, p, np * JOB_AOVS * sizeof *job->aov);
+}
+
 static brume_status resume(const brume_scene *s, uint64_t scene_key, const char *path, brume_render_job **out)
 {
     unsigned char *data = NULL;
@@ -258,50 +313,12 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
     if (st != BRUME_OK)
         return st;
     ckpt_header hd;
-    if (size < sizeof hd + sizeof(uint64_t) || memcmp(data, "BRUMECKP", 8) != 0) {
-        bool magic = size >= 8 && memcmp(data, "BRUMECKP", 8) == 0; /* read before the free */
+    if ((st = check_header(path, data, size, scene_key, &hd)) != BRUME_OK) {
         free(data);
-        return err_set(BRUME_ERROR_PARSE, "%s: not a brume checkpoint%s", path, magic ? " (truncated)" : "");
-    }
-    memcpy(&hd, data, sizeof hd);
-    if (hd.order != CKPT_ORDER || hd.format != CKPT_FORMAT) {
-        free(data);
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: checkpoint format %u (byte order 0x%08x): this brume reads format %u "
-                       "written on a machine of its byte order", path, hd.format, hd.order, CKPT_FORMAT);
-    }
-    hd.version[sizeof hd.version - 1] = '\0';
-    char build[32];
-    build_name(build);
-    if (strcmp(hd.version, build) != 0) {
-        free(data);
-        return err_set(BRUME_ERROR_UNSUPPORTED,
-                       "%s: checkpoint of brume %s, this is brume %s (another build may draw its samples "
-                       "differently): render again",
-                       path, hd.version, build);
+        return st;
     }
     uint64_t np = hd.pixels;
     bool aovs = (hd.set.aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
-    uint64_t per = pixel_bytes(aovs);
-    if (np > ((uint64_t)1 << 28) || size != sizeof hd + np * per + sizeof(uint64_t)) {
-        free(data);
-        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint truncated or padded: %zu bytes, its header says %llu", path,
-                       size, np > ((uint64_t)1 << 28) ? 0ULL : (unsigned long long)(sizeof hd + np * per + 8));
-    }
-    uint64_t hash;
-    memcpy(&hash, data + size - sizeof hash, sizeof hash);
-    if (fnv1a(FNV_START, data, size - sizeof hash) != hash) {
-        free(data);
-        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (its checksum does not match)", path);
-    }
-    if (hd.scene_key != scene_key) {
-        free(data);
-        return err_set(BRUME_ERROR_STATE, "%s: the checkpoint was made from another scene (or other scene options)",
-                       path);
-    }
-    if (hd.set.nparts < 1 || hd.set.part < 0 || hd.set.part >= hd.set.nparts) {
-        free(data);
-        return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (render part)", path);
-    }
     brume_render_job *job = NULL;
     if ((st = job_create(s, hd.set.part, hd.set.nparts, true, &job)) != BRUME_OK) {
         free(data);
@@ -316,17 +333,7 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
         brume_render_job_release(job);
         return st;
     }
-    const unsigned char *p = data + sizeof hd;
-    memcpy(job->n, p, np * sizeof *job->n);
-    p += np * sizeof *job->n;
-    memcpy(job->active, p, np);
-    p += np;
-    memcpy(job->sum, p, np * JOB_SUMS * sizeof *job->sum);
-    p += np * JOB_SUMS * sizeof *job->sum;
-    memcpy(job->sq, p, np * JOB_SQS * sizeof *job->sq);
-    p += np * JOB_SQS * sizeof *job->sq;
-    if (aovs)
-        memcpy(job->aov, p, np * JOB_AOVS * sizeof *job->aov);
+    restore_sums(job, data, np, aovs);
     free(data);
     bool sane = hd.spp_done >= 0 && hd.target >= hd.spp_done && hd.target <= (1 << 30) && hd.elapsed >= 0.0;
     for (size_t i = 0; i < job->npix && sane; i++)

@@ -366,6 +366,70 @@ static void job_report_tile(brume_render_job *job)
 
 /* One tile: every active pixel of it from its sample count to job->target (or as far as
  * the time budget lets it go). */
+/* The samples pixel i (at x, y) still lacks up to target, added into its count n
+ * and its sums (sum, sq, aov): the samples taken. In batches: first the batch's camera rays
+ * (camera_samples), then their radiance. Under a time budget the clock is read before every
+ * sample (some tens of nanoseconds against microseconds a sample at least): the budget ends
+ * within one sample per thread, however slow a sample is; the pixel keeps the samples it took. */
+static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, int target, uint32_t qmc_dims,
+                              bool lens, bool shutter, size_t i, int x, int y, uint32_t *n, double *sum, double *sq,
+                              double *aov)
+{
+    const bool timed = job->rs.time_budget > 0.0;
+    uint64_t taken = 0;
+    bool cut = false;
+    for (uint32_t s0 = *n; s0 < (uint32_t)target && !cut; s0 += CAMERA_BATCH) {
+        uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
+        rng gb[CAMERA_BATCH];
+        ray rb[CAMERA_BATCH];
+        camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
+        for (uint32_t b = 0; b < nb; b++) {
+            const uint32_t sidx = s0 + b;
+            if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
+                cut = true;
+                break;
+            }
+            sample_value v;
+            sample_eval(job->s, job->state, sp, rb[b], gb[b], sidx, &v);
+            sample_add(sp, &v, sidx, sum, sq, aov);
+            taken++;
+            *n = sidx + 1;
+        }
+    }
+    return taken;
+}
+
+/* The active pixels of the tile [x0, x1) x [y0, y1) written back into the job (under its
+ * lock), with the taken samples counted and the time budget's total extrapolated. */
+static void tile_store(brume_render_job *job, int x0, int y0, int x1, int y1, const uint32_t *n,
+                       const double (*sum)[JOB_SUMS], const double (*sq)[JOB_SQS], const double (*aov)[JOB_AOVS],
+                       uint64_t taken)
+{
+    const brume_render_settings *rs = &job->rs;
+    pthread_mutex_lock(&job->lock);
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
+            int k = (y - y0) * TILE + (x - x0);
+            if (!job->active[i])
+                continue;
+            job->n[i] = n[k];
+            memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
+            if (job->sq != NULL)
+                memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
+            if (job->trace_aovs)
+                memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
+        }
+    job->done += taken;
+    double elapsed = job->elapsed + (progress_now() - job->t_pass);
+    if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
+        job->total = (uint64_t)fmax((double)job->done,
+                                    (double)job->done * (job->elapsed_saved + rs->time_budget) / elapsed);
+    if (job->total < job->done)
+        job->total = job->done;
+    pthread_mutex_unlock(&job->lock);
+}
+
 static void job_tile(size_t task, int thread, void *user)
 {
     brume_render_job *job = user;
@@ -401,55 +465,13 @@ static void job_tile(size_t task, int thread, void *user)
                 memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
             if (job->trace_aovs)
                 memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
-            if (!job->active[i])
-                continue;
-            /* in batches: first the batch's camera rays (camera_samples), then their radiance.
-             * Under a time budget the clock is read before every sample (some tens of
-             * nanoseconds against microseconds a sample at least): the budget ends within one
-             * sample per thread, however slow a sample is; the pixel keeps the samples it took */
-            bool cut = false;
-            for (uint32_t s0 = n[k]; s0 < (uint32_t)target && !cut; s0 += CAMERA_BATCH) {
-                uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
-                rng gb[CAMERA_BATCH];
-                ray rb[CAMERA_BATCH];
-                camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
-                for (uint32_t b = 0; b < nb; b++) {
-                    const uint32_t sidx = s0 + b;
-                    if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
-                        cut = true;
-                        break;
-                    }
-                    sample_value v;
-                    sample_eval(s, job->state, &sp, rb[b], gb[b], sidx, &v);
-                    sample_add(&sp, &v, sidx, sum[k], sq[k], aov[k]);
-                    taken++;
-                    n[k] = sidx + 1;
-                }
-            }
+            if (job->active[i])
+                taken += pixel_samples(job, &sp, target, qmc_dims, lens, shutter, i, x, y, &n[k], sum[k], sq[k],
+                                       aov[k]);
         }
     stats_tls = NULL;
-    pthread_mutex_lock(&job->lock);
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
-            int k = (y - y0) * TILE + (x - x0);
-            if (!job->active[i])
-                continue;
-            job->n[i] = n[k];
-            memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
-            if (squares)
-                memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
-            if (job->trace_aovs)
-                memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
-        }
-    job->done += taken;
-    double elapsed = job->elapsed + (progress_now() - job->t_pass);
-    if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
-        job->total = (uint64_t)fmax((double)job->done,
-                                    (double)job->done * (job->elapsed_saved + rs->time_budget) / elapsed);
-    if (job->total < job->done)
-        job->total = job->done;
-    pthread_mutex_unlock(&job->lock);
+    tile_store(job, x0, y0, x1, y1, n, (const double (*)[JOB_SUMS])sum, (const double (*)[JOB_SQS])sq,
+               (const double (*)[JOB_AOVS])aov, taken);
     job_report_tile(job);
 }
 

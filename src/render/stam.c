@@ -533,21 +533,13 @@ static int gather_lights(const stam_state *st, vec3 x, rng *g, light_in *out, in
  * surfaces with all of them but scatter only the first 64 inside the media). */
 #define STAM_MAX_LIGHTS_PER_POINT 64
 
-color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
+/* Eq. 13 along the camera ray up to b: the realized optical depth of all media, and the
+ * span [*umin, *umax] of their blobs; the first media's blob hits are kept in hits (nhits[m]
+ * is -1 when they did not fit) for the mean depths. */
+static color camera_depth(const stam_state *st, ray r, double b, blob_hit (*hits)[STAM_HIT_BUFFER], int *nhits,
+                          joint_hit *joint, double *umin, double *umax)
 {
-    const stam_state *st = state;
-    double b;
-    bool on_surface;
-    color Ib = behind(st, r, g, &b, &on_surface);
-    if (hit_surface)
-        *hit_surface = on_surface;
-
-    /* Eq. 13: the realized optical depth of each medium, and the span of all blobs */
     color depth = col(0.0);
-    double umin = INFINITY, umax = -INFINITY;
-    blob_hit hits[SCENE_MAX_MEDIA > 4 ? 4 : SCENE_MAX_MEDIA][STAM_HIT_BUFFER];
-    int nhits[SCENE_MAX_MEDIA];
-    joint_hit joint[STAM_JOINT_MAX]; /* untouched unless stam.overlap = joint */
     for (int m = 0; m < st->nmed; m++) {
         const stam_medium *sm = &st->med[m];
         tau_walk w = {st, sm, r.o, r.d, b, false, 0.0, INFINITY, -INFINITY, m < 4 ? hits[m] : NULL, 0,
@@ -558,18 +550,18 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
             stats_tls->stam_camera_blobs += (uint64_t)w.nhits;
         if (w.T > 0.0)
             depth = col_madd(depth, sm->kappa, w.T);
-        umin = fmin(umin, w.umin);
-        umax = fmax(umax, w.umax);
+        *umin = fmin(*umin, w.umin);
+        *umax = fmax(*umax, w.umax);
     }
-    color tau = col_exp(col_scale(depth, -1.0));
-    last_camera_ray = (tau_memo){st, r.o, r.d, tau, isinf(b)};
-    if (!(umax > umin))
-        return Ib;
+    return depth;
+}
 
-    /* Eq. 8 from the mean density: cumulative mean depths per medium at the step boundaries */
-    int n = st->steps;
+/* Eq. 8 from the mean density: each medium's cumulative mean depths C[m][k] at the n + 1
+ * step boundaries umin + k du. */
+static void mean_depths(const stam_state *st, ray r, double b, double umin, double umax, int n,
+                        blob_hit (*hits)[STAM_HIT_BUFFER], const int *nhits, double (*C)[STAM_MAX_STEPS + 1])
+{
     double du = (umax - umin) / n;
-    double C[SCENE_MAX_MEDIA][STAM_MAX_STEPS + 1];
     double D[STAM_MAX_STEPS + 2];
     for (int m = 0; m < st->nmed; m++) {
         for (int k = 0; k <= n + 1; k++)
@@ -588,7 +580,15 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
             C[m][k] += run;
         }
     }
-    color num = col(0.0), tau_mean = col(1.0);
+}
+
+/* The n steps from umin: the sum num of each step's source J times its share of the
+ * attenuation, tau_mean(u_k) (1 - exp(-dtau)), and the mean transmittance *tau_mean at the end. */
+static color march(const stam_state *st, ray r, rng *g, double umin, double du, int n,
+                   double (*C)[STAM_MAX_STEPS + 1], color *tau_mean)
+{
+    color num = col(0.0);
+    *tau_mean = col(1.0);
     light_in lin[STAM_MAX_LIGHTS_PER_POINT];
     for (int k = 0; k < n; k++) {
         color dtau = col(0.0), src = col(0.0);
@@ -615,14 +615,40 @@ color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
         }
         if (!any)
             continue;
-        /* this step's share of the attenuation, tau_mean(u_k) (1 - exp(-dtau)), times its J */
         for (int c = 0; c < BRUME_NSAMPLES; c++) {
             double a = 1.0 - exp(-dtau.c[c]);
             if (dtau.c[c] > 0.0)
-                num.c[c] += tau_mean.c[c] * a * src.c[c] / dtau.c[c];
-            tau_mean.c[c] *= 1.0 - a;
+                num.c[c] += tau_mean->c[c] * a * src.c[c] / dtau.c[c];
+            tau_mean->c[c] *= 1.0 - a;
         }
     }
+    return num;
+}
+
+color stam_Li(const void *state, ray r, rng *g, bool *hit_surface)
+{
+    const stam_state *st = state;
+    double b;
+    bool on_surface;
+    color Ib = behind(st, r, g, &b, &on_surface);
+    if (hit_surface)
+        *hit_surface = on_surface;
+
+    double umin = INFINITY, umax = -INFINITY;
+    blob_hit hits[SCENE_MAX_MEDIA > 4 ? 4 : SCENE_MAX_MEDIA][STAM_HIT_BUFFER];
+    int nhits[SCENE_MAX_MEDIA];
+    joint_hit joint[STAM_JOINT_MAX]; /* untouched unless stam.overlap = joint */
+    color depth = camera_depth(st, r, b, hits, nhits, joint, &umin, &umax);
+    color tau = col_exp(col_scale(depth, -1.0));
+    last_camera_ray = (tau_memo){st, r.o, r.d, tau, isinf(b)};
+    if (!(umax > umin))
+        return Ib;
+
+    int n = st->steps;
+    double C[SCENE_MAX_MEDIA][STAM_MAX_STEPS + 1];
+    mean_depths(st, r, b, umin, umax, n, hits, nhits, C);
+    color tau_mean;
+    color num = march(st, r, g, umin, (umax - umin) / n, n, C, &tau_mean);
     /* J_avg = num / (1 - tau_mean(b)); I = tau I_b + (1 - tau) J_avg */
     color I;
     for (int c = 0; c < BRUME_NSAMPLES; c++) {

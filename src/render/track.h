@@ -76,6 +76,49 @@ typedef struct track_stream {
     double sigma_t_min; /* the medium's: the controls' scale */
 } track_stream;
 
+/* Majorant and control on [t, *t_next): the sums over the media whose current segment covers
+ * t (the streams moved on to the segment at t), *t_next where the first of them changes;
+ * false when no medium is left. */
+static inline __attribute__((always_inline)) bool track_streams_at(track_stream *st, const int n, double t,
+                                                                   double *sigma_maj, double *sigma_c,
+                                                                   double *sigma_ctl, double *t_next)
+{
+    bool any = false;
+    for (int m = 0; m < n; m++) {
+        while (st[m].live && st[m].seg.t1 <= t)
+            st[m].live = majorant_next(&st[m].it, &st[m].seg);
+        if (!st[m].live)
+            continue;
+        any = true;
+        if (st[m].seg.t0 > t) {
+            *t_next = dda_min(*t_next, st[m].seg.t0);
+        } else {
+            *sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
+            *sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
+            *sigma_ctl += st[m].seg.rho_ctl * st[m].sigma_t_min;
+            *t_next = dda_min(*t_next, st[m].seg.t1);
+        }
+    }
+    return any;
+}
+
+/* The rate of tentative collisions on a segment of majorant sigma_maj and controls *sigma_c,
+ * sigma_ctl: sigma_maj, or for residual walks, which take the cells' means as their control
+ * (then *sigma_c), the bound on |sigma_t - sigma_ctl|, which lies in
+ * [sigma_c - sigma_ctl, sigma_maj - sigma_ctl]. */
+static inline __attribute__((always_inline)) double track_rate(bool residual, double sigma_maj, double *sigma_c,
+                                                               double sigma_ctl)
+{
+    *sigma_c = dda_min(*sigma_c, sigma_maj);
+    double sigma_n = sigma_maj;
+    if (residual) {
+        sigma_ctl = dda_max(*sigma_c, dda_min(sigma_ctl, sigma_maj));
+        sigma_n = dda_max(sigma_maj - sigma_ctl, sigma_ctl - *sigma_c);
+        *sigma_c = sigma_ctl;
+    }
+    return sigma_n;
+}
+
 #define TRACK_NAME track_collisions_1
 #define TRACK_NMAX 1
 #define TRACK_INLINE __attribute__((always_inline))

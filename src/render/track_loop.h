@@ -1,9 +1,15 @@
 /* track_loop.h - the body of the tracking loop (render/track.h), included once per bound on
  * the number of media: TRACK_NAME is the function's name, TRACK_NMAX the streams it keeps.
  * One body, so every instance is the same estimator; a small bound keeps the walk's state
- * (a majorant iterator per medium) small, which a GPU thread holds in local memory.
- * Long: the hot loop of every estimator, kept whole so that the compiler keeps its state in
- * registers across the majorant segments and the collisions (docs/performance.md). */
+ * (a majorant iterator per medium) small, which a GPU thread holds in local memory. Its
+ * helpers (track.h) are always inlined, so that the compiler keeps the walk's state in
+ * registers across the majorant segments and the collisions (docs/performance.md).
+ *
+ * Along a segment, distances are measured from the segment's start: u grows from 0, so a
+ * step of 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the origin),
+ * and it strictly increases (a step below its resolution moves it by one ulp), so the walk
+ * reaches the segment's end or stops in a finite number of steps. The range that keeps that
+ * number small is checked at commit (medium_check_range, docs/scene-format.md#limits). */
 static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ray r,
                                                                      double tmax, rng *g, bool residual, track_fn fn,
                                                                      void *user, double *tau_c_end)
@@ -40,37 +46,14 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
     for (;;) {
         /* Majorant and control on [t, t_next): media whose current segment covers t. */
         double sigma_maj = 0.0, sigma_c = 0.0, sigma_ctl = 0.0, t_next = INFINITY;
-        bool any = false;
-        for (int m = 0; m < n; m++) {
-            while (st[m].live && st[m].seg.t1 <= t)
-                st[m].live = majorant_next(&st[m].it, &st[m].seg);
-            if (!st[m].live)
-                continue;
-            any = true;
-            if (st[m].seg.t0 > t) {
-                t_next = dda_min(t_next, st[m].seg.t0);
-            } else {
-                sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
-                sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
-                sigma_ctl += st[m].seg.rho_ctl * st[m].sigma_t_min;
-                t_next = dda_min(t_next, st[m].seg.t1);
-            }
-        }
+        bool any = track_streams_at(st, n, t, &sigma_maj, &sigma_c, &sigma_ctl, &t_next);
         if (!any || t >= tmax) {
             if (tau_c_end)
                 *tau_c_end = e.tau_c;
             return true;
         }
         t_next = dda_min(t_next, tmax);
-        sigma_c = dda_min(sigma_c, sigma_maj);
-        /* the rate of tentative collisions: residual walks take the cells' means as their
-         * control, sigma_t - sigma_ctl then lies in [sigma_c - sigma_ctl, sigma_maj - sigma_ctl] */
-        double sigma_n = sigma_maj;
-        if (residual) {
-            sigma_ctl = dda_max(sigma_c, dda_min(sigma_ctl, sigma_maj));
-            sigma_n = dda_max(sigma_maj - sigma_ctl, sigma_ctl - sigma_c);
-            sigma_c = sigma_ctl;
-        }
+        const double sigma_n = track_rate(residual, sigma_maj, &sigma_c, sigma_ctl);
         e.sigma_maj = sigma_maj;
         e.sigma_c = sigma_c;
         e.sigma_r = sigma_n;
@@ -80,12 +63,6 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
         if (sigma_n > 0.0) {
             if (tau < 0.0)
                 tau = sample_exponential(rng_at(g, tau_dim), 1.0);
-            /* Distances are measured from the segment's start: u grows from 0, so a step of
-             * 1e-18 still advances it where t + 1e-18 == t (a dense medium far from the
-             * origin), and it strictly increases (a step below its resolution moves it by
-             * one ulp), so the walk reaches the segment's end or stops in a finite number
-             * of steps. The range that keeps that number small is checked at commit
-             * (medium_check_range, docs/scene-format.md#limits). */
             const double t0 = t, len = t_next - t, inv_n = 1.0 / sigma_n;
             double u = 0.0;
             for (;;) {

@@ -1,6 +1,5 @@
 /* pbrt_camera.c - the pbrt directives that set the view and the render: Camera, and Film,
  * Sampler, Integrator, ColorSpace and Material. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

@@ -1,5 +1,4 @@
 /* pbrt_lights.c - pbrt's LightSource directive as brume's lights. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

@@ -1,6 +1,5 @@
 /* pbrt_media.c - pbrt's MakeNamedMedium (homogeneous, uniformgrid, rgbgrid, nanovdb) as
  * brume's media; a medium is emitted when a shape first uses it (pbrt_shapes.c). */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

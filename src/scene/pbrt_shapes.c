@@ -1,6 +1,5 @@
 /* pbrt_shapes.c - pbrt's Shape directive (spheres, boxes, triangle and bilinear meshes, ply
  * files) as brume's surfaces and the bounds of the media they enclose. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

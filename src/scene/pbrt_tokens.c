@@ -1,6 +1,5 @@
 /* pbrt_tokens.c - the pbrt reader's tokens and a directive's parameter list ("type name"
  * [values]): reading them, the typed look-ups, and the refusal of a parameter left unused. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

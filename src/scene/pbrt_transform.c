@@ -1,7 +1,6 @@
 /* pbrt_transform.c - the pbrt reader's 4 x 4 transforms (row-major, p' = M p), as brume's
  * scale, rotation and translation, and the transform directives (Translate, Rotate, LookAt,
  * ...). */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>

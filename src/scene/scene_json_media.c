@@ -26,6 +26,46 @@
 
 #define PHASE_MAX_LOBES 16
 
+static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out);
+
+/* A "mixture" phase function j (Blasi Eq. 20): a normalized sum of lobes, each
+ * {"weight": w, "phase": {...}}. */
+static brume_status parse_mixture(const cJSON *j, jloc at, brume_phase **out)
+{
+    brume_status st;
+    static const char *const keys[] = {"type", "lobes", NULL};
+    static const char *const lobe_keys[] = {"weight", "phase", NULL};
+    if ((st = json_check_object(j, at, keys))) return st;
+    const cJSON *lobes = cJSON_GetObjectItemCaseSensitive(j, "lobes");
+    int n = cJSON_GetArraySize(lobes);
+    if (!cJSON_IsArray(lobes) || n < 1 || n > PHASE_MAX_LOBES)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.lobes: expected an array of 1 to %d lobes", at.file, at.path,
+                       PHASE_MAX_LOBES);
+    brume_phase *ph[PHASE_MAX_LOBES] = {0};
+    double w[PHASE_MAX_LOBES];
+    int i = 0;
+    for (const cJSON *l = lobes->child; l && st == BRUME_OK; l = l->next, i++) {
+        char kp[256], kp2[300];
+        snprintf(kp, sizeof kp, "%s.lobes[%d]", at.path, i);
+        jloc lat = {at.file, kp};
+        if ((st = json_check_object(l, lat, lobe_keys))) break;
+        if ((st = json_number(l, lat, "weight", 1, 0.0, 1e30, &w[i]))) break;
+        const cJSON *lp = cJSON_GetObjectItemCaseSensitive(l, "phase");
+        if (!lp) {
+            st = err_set(BRUME_ERROR_PARSE, "%s: %s.phase: required key missing", at.file, kp);
+            break;
+        }
+        snprintf(kp2, sizeof kp2, "%s.phase", kp);
+        st = parse_phase(lp, (jloc){at.file, kp2}, &ph[i]);
+    }
+    if (st == BRUME_OK)
+        st = scene_json_built(brume_phase_new_mixture(NULL, w, ph, n, out), at);
+    if (st)
+        for (int k = 0; k < n; k++)
+            brume_phase_release(ph[k]);
+    return st;
+}
+
 static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
 {
     char type[32];
@@ -77,40 +117,8 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
         json_resolve_path(at.file, name, path, sizeof path);
         return scene_json_built(brume_phase_load(NULL, path, out), at);
     }
-    if (strcmp(type, "mixture") == 0) {
-        /* Blasi Eq. 20: a normalized sum of lobes, each {"weight": w, "phase": {...}} */
-        static const char *const keys[] = {"type", "lobes", NULL};
-        static const char *const lobe_keys[] = {"weight", "phase", NULL};
-        if ((st = json_check_object(j, at, keys))) return st;
-        const cJSON *lobes = cJSON_GetObjectItemCaseSensitive(j, "lobes");
-        int n = cJSON_GetArraySize(lobes);
-        if (!cJSON_IsArray(lobes) || n < 1 || n > PHASE_MAX_LOBES)
-            return err_set(BRUME_ERROR_PARSE, "%s: %s.lobes: expected an array of 1 to %d lobes", at.file, at.path,
-                           PHASE_MAX_LOBES);
-        brume_phase *ph[PHASE_MAX_LOBES] = {0};
-        double w[PHASE_MAX_LOBES];
-        int i = 0;
-        for (const cJSON *l = lobes->child; l && st == BRUME_OK; l = l->next, i++) {
-            char kp[256], kp2[300];
-            snprintf(kp, sizeof kp, "%s.lobes[%d]", at.path, i);
-            jloc lat = {at.file, kp};
-            if ((st = json_check_object(l, lat, lobe_keys))) break;
-            if ((st = json_number(l, lat, "weight", 1, 0.0, 1e30, &w[i]))) break;
-            const cJSON *lp = cJSON_GetObjectItemCaseSensitive(l, "phase");
-            if (!lp) {
-                st = err_set(BRUME_ERROR_PARSE, "%s: %s.phase: required key missing", at.file, kp);
-                break;
-            }
-            snprintf(kp2, sizeof kp2, "%s.phase", kp);
-            st = parse_phase(lp, (jloc){at.file, kp2}, &ph[i]);
-        }
-        if (st == BRUME_OK)
-            st = scene_json_built(brume_phase_new_mixture(NULL, w, ph, n, out), at);
-        if (st)
-            for (int k = 0; k < n; k++)
-                brume_phase_release(ph[k]);
-        return st;
-    }
+    if (strcmp(type, "mixture") == 0)
+        return parse_mixture(j, at, out);
     return err_set(BRUME_ERROR_PARSE,
                    "%s: %s.type: unknown phase function '%s' (known: isotropic, rayleigh, hazy, murky, hg, "
                    "schlick, schlick_mix, mixture, tabulated)",

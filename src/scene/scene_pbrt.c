@@ -159,6 +159,48 @@ static brume_status read_all(const char *path, char **out)
     return BRUME_OK;
 }
 
+/* The translation read (S) as brume's scene description: the camera, the lights, media and
+ * surfaces collected, and the render settings, printed into *json. */
+static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
+{
+    char note[600];
+    snprintf(note, sizeof note, "translated by brume from the pbrt-v4 scene %s (docs/production.md)", path);
+    cJSON_AddStringToObject(S->root, "comment", note);
+    cJSON *cam = cJSON_AddObjectToObject(S->root, "camera");
+    vec3 P = pbrt_m4_point(S->world_from_camera, v3(0, 0, 0));
+    vec3 F = v3_normalize(pbrt_m4_vector(S->world_from_camera, v3(0, 0, 1)));
+    vec3 U = v3_normalize(pbrt_m4_vector(S->world_from_camera, v3(0, 1, 0)));
+    vec3 A = v3_add(P, F);
+    double pv[3] = {P.x, P.y, P.z}, av[3] = {A.x, A.y, A.z}, uv[3] = {U.x, U.y, U.z};
+    cJSON_AddItemToObject(cam, "position", cJSON_CreateDoubleArray(pv, 3));
+    cJSON_AddItemToObject(cam, "look_at", cJSON_CreateDoubleArray(av, 3));
+    cJSON_AddItemToObject(cam, "up", cJSON_CreateDoubleArray(uv, 3));
+    /* pbrt's fov spans the shorter image side; brume's is vertical */
+    double fov = S->fov;
+    if (S->yres > S->xres)
+        fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
+    cJSON_AddNumberToObject(cam, "fov", fov);
+    if (S->lens_radius > 0.0) {
+        cJSON_AddNumberToObject(cam, "aperture_radius", S->lens_radius);
+        cJSON_AddNumberToObject(cam, "focus_distance", S->focal_distance);
+    }
+    if (S->have_background)
+        cJSON_AddItemToObject(S->root, "background", cJSON_CreateDoubleArray(S->background, 3));
+    cJSON_AddItemToObject(S->root, "lights", S->lights);
+    cJSON_AddItemToObject(S->root, "media", S->media_j);
+    cJSON_AddItemToObject(S->root, "surfaces", S->surfaces);
+    S->lights = S->media_j = S->surfaces = NULL;
+    cJSON *r = cJSON_AddObjectToObject(S->root, "render");
+    cJSON_AddNumberToObject(r, "width", S->xres);
+    cJSON_AddNumberToObject(r, "height", S->yres);
+    cJSON_AddNumberToObject(r, "spp", S->spp);
+    cJSON_AddStringToObject(r, "method", "path");
+    cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
+    if (!(*json = cJSON_Print(S->root)))
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    return BRUME_OK;
+}
+
 brume_status scene_pbrt_json(const char *path, char **json)
 {
     *json = NULL;
@@ -198,43 +240,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
         st = pbrt_fail(&S->L, "syntax error near \"%.64s\"", S->L.text);
     if (st == BRUME_OK && !S->world)
         st = err_set(BRUME_ERROR_PARSE, "%s: no WorldBegin", path);
-    if (st == BRUME_OK) {
-        char note[600];
-        snprintf(note, sizeof note, "translated by brume from the pbrt-v4 scene %s (docs/production.md)", path);
-        cJSON_AddStringToObject(S->root, "comment", note);
-        cJSON *cam = cJSON_AddObjectToObject(S->root, "camera");
-        vec3 P = pbrt_m4_point(S->world_from_camera, v3(0, 0, 0));
-        vec3 F = v3_normalize(pbrt_m4_vector(S->world_from_camera, v3(0, 0, 1)));
-        vec3 U = v3_normalize(pbrt_m4_vector(S->world_from_camera, v3(0, 1, 0)));
-        vec3 A = v3_add(P, F);
-        double pv[3] = {P.x, P.y, P.z}, av[3] = {A.x, A.y, A.z}, uv[3] = {U.x, U.y, U.z};
-        cJSON_AddItemToObject(cam, "position", cJSON_CreateDoubleArray(pv, 3));
-        cJSON_AddItemToObject(cam, "look_at", cJSON_CreateDoubleArray(av, 3));
-        cJSON_AddItemToObject(cam, "up", cJSON_CreateDoubleArray(uv, 3));
-        /* pbrt's fov spans the shorter image side; brume's is vertical */
-        double fov = S->fov;
-        if (S->yres > S->xres)
-            fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
-        cJSON_AddNumberToObject(cam, "fov", fov);
-        if (S->lens_radius > 0.0) {
-            cJSON_AddNumberToObject(cam, "aperture_radius", S->lens_radius);
-            cJSON_AddNumberToObject(cam, "focus_distance", S->focal_distance);
-        }
-        if (S->have_background)
-            cJSON_AddItemToObject(S->root, "background", cJSON_CreateDoubleArray(S->background, 3));
-        cJSON_AddItemToObject(S->root, "lights", S->lights);
-        cJSON_AddItemToObject(S->root, "media", S->media_j);
-        cJSON_AddItemToObject(S->root, "surfaces", S->surfaces);
-        S->lights = S->media_j = S->surfaces = NULL;
-        cJSON *r = cJSON_AddObjectToObject(S->root, "render");
-        cJSON_AddNumberToObject(r, "width", S->xres);
-        cJSON_AddNumberToObject(r, "height", S->yres);
-        cJSON_AddNumberToObject(r, "spp", S->spp);
-        cJSON_AddStringToObject(r, "method", "path");
-        cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
-        if (!(*json = cJSON_Print(S->root)))
-            st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    }
+    if (st == BRUME_OK)
+        st = emit_scene(S, path, json);
     for (int i = 0; i < S->nmedia; i++)
         if (!S->media[i].emitted)
             cJSON_Delete(S->media[i].json);

@@ -111,11 +111,9 @@ static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, c
     return st;
 }
 
-static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
+/* The keys a surface of the given type may have; NULL for an unknown type. */
+static const char *const *surface_keys(const char *type)
 {
-    char type[32], name[64] = "";
-    brume_status st = json_object_type(j, at, type, sizeof type);
-    if (st) return st;
     static const char *const sphere_keys[] = {"type", "name", "material", "transform", "keyframes", "center",
                                               "radius", NULL};
     static const char *const box_keys[] = {"type", "name", "material", "transform", "keyframes", "min", "max", NULL};
@@ -125,12 +123,65 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
                                              "normal", "size", NULL};
     static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", "positions",
                                             "indices", NULL};
-    const char *const *keys = strcmp(type, "sphere") == 0  ? sphere_keys
-                              : strcmp(type, "box") == 0   ? box_keys
-                              : strcmp(type, "quad") == 0  ? quad_keys
-                              : strcmp(type, "plane") == 0 ? plane_keys
-                              : strcmp(type, "mesh") == 0  ? mesh_keys
-                                                           : NULL;
+    return strcmp(type, "sphere") == 0  ? sphere_keys
+           : strcmp(type, "box") == 0   ? box_keys
+           : strcmp(type, "quad") == 0  ? quad_keys
+           : strcmp(type, "plane") == 0 ? plane_keys
+           : strcmp(type, "mesh") == 0  ? mesh_keys
+                                        : NULL;
+}
+
+/* The shape of surface j (its type's keys) added to s with transform xf, material m and name. */
+static brume_status add_shape(const cJSON *j, jloc at, brume_scene *s, const char *type, const affine3 *xf,
+                              const brume_material *m, const char *name)
+{
+    brume_status st;
+    if (strcmp(type, "sphere") == 0) {
+        double c[3] = {0, 0, 0}, r = 1.0;
+        if ((st = jvec(j, at, "center", 0, c))) return st;
+        if ((st = json_number(j, at, "radius", 0, 1e-12, BIG, &r))) return st;
+        st = brume_scene_add_sphere(NULL, s, c, r, xf->m, m, name);
+    } else if (strcmp(type, "box") == 0) {
+        double lo[3], hi[3];
+        if ((st = jvec(j, at, "min", 1, lo))) return st;
+        if ((st = jvec(j, at, "max", 1, hi))) return st;
+        if (!(lo[0] < hi[0] && lo[1] < hi[1] && lo[2] < hi[2]))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s: need min < max on every axis", at.file, at.path);
+        st = brume_scene_add_box(NULL, s, lo, hi, xf->m, m, name);
+    } else if (strcmp(type, "quad") == 0) {
+        double c[3], u[3], v[3];
+        if ((st = jvec(j, at, "corner", 1, c))) return st;
+        if ((st = jvec(j, at, "edge_u", 1, u))) return st;
+        if ((st = jvec(j, at, "edge_v", 1, v))) return st;
+        st = brume_scene_add_quad(NULL, s, c, u, v, xf->m, m, name);
+    } else if (strcmp(type, "plane") == 0) {
+        /* a square of side `size` centred on `point`, front side along `normal` */
+        double p[3], n[3], size = 100.0;
+        if ((st = jvec(j, at, "point", 1, p))) return st;
+        if ((st = jvec(j, at, "normal", 1, n))) return st;
+        if (!(v3_length(v3(n[0], n[1], n[2])) > 0.0))
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.normal: must not be the zero vector", at.file, at.path);
+        if ((st = json_number(j, at, "size", 0, 1e-9, BIG, &size))) return st;
+        st = brume_scene_add_plane(NULL, s, p, n, size, xf->m, m, name);
+    } else if (cJSON_HasObjectItem(j, "positions") || cJSON_HasObjectItem(j, "indices")) {
+        if (cJSON_HasObjectItem(j, "file"))
+            return err_set(BRUME_ERROR_PARSE, "%s: %s: give either file or positions and indices", at.file, at.path);
+        return parse_inline_mesh(j, at, s, xf->m, m, name);
+    } else {
+        char file[1024], path[2048];
+        if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
+        json_resolve_path(at.file, file, path, sizeof path);
+        st = brume_scene_add_mesh_file(NULL, s, path, xf->m, m, name);
+    }
+    return st ? err_prefix("%s: %s", at.file, at.path) : BRUME_OK;
+}
+
+static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
+{
+    char type[32], name[64] = "";
+    brume_status st = json_object_type(j, at, type, sizeof type);
+    if (st) return st;
+    const char *const *keys = surface_keys(type);
     if (!keys)
         return err_set(BRUME_ERROR_PARSE,
                        "%s: %s.type: unknown surface type '%s' (known: sphere, box, quad, plane, mesh)", at.file,
@@ -148,48 +199,8 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
                               (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)))
         return st;
-
-    if (strcmp(type, "sphere") == 0) {
-        double c[3] = {0, 0, 0}, r = 1.0;
-        if ((st = jvec(j, at, "center", 0, c))) return st;
-        if ((st = json_number(j, at, "radius", 0, 1e-12, BIG, &r))) return st;
-        st = brume_scene_add_sphere(NULL, s, c, r, xf.m, &m, name);
-    } else if (strcmp(type, "box") == 0) {
-        double lo[3], hi[3];
-        if ((st = jvec(j, at, "min", 1, lo))) return st;
-        if ((st = jvec(j, at, "max", 1, hi))) return st;
-        if (!(lo[0] < hi[0] && lo[1] < hi[1] && lo[2] < hi[2]))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s: need min < max on every axis", at.file, at.path);
-        st = brume_scene_add_box(NULL, s, lo, hi, xf.m, &m, name);
-    } else if (strcmp(type, "quad") == 0) {
-        double c[3], u[3], v[3];
-        if ((st = jvec(j, at, "corner", 1, c))) return st;
-        if ((st = jvec(j, at, "edge_u", 1, u))) return st;
-        if ((st = jvec(j, at, "edge_v", 1, v))) return st;
-        st = brume_scene_add_quad(NULL, s, c, u, v, xf.m, &m, name);
-    } else if (strcmp(type, "plane") == 0) {
-        /* a square of side `size` centred on `point`, front side along `normal` */
-        double p[3], n[3], size = 100.0;
-        if ((st = jvec(j, at, "point", 1, p))) return st;
-        if ((st = jvec(j, at, "normal", 1, n))) return st;
-        if (!(v3_length(v3(n[0], n[1], n[2])) > 0.0))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s.normal: must not be the zero vector", at.file, at.path);
-        if ((st = json_number(j, at, "size", 0, 1e-9, BIG, &size))) return st;
-        st = brume_scene_add_plane(NULL, s, p, n, size, xf.m, &m, name);
-    } else if (cJSON_HasObjectItem(j, "positions") || cJSON_HasObjectItem(j, "indices")) {
-        if (cJSON_HasObjectItem(j, "file"))
-            return err_set(BRUME_ERROR_PARSE, "%s: %s: give either file or positions and indices", at.file, at.path);
-        st = parse_inline_mesh(j, at, s, xf.m, &m, name);
-        if (st)
-            return st;
-    } else {
-        char file[1024], path[2048];
-        if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
-        json_resolve_path(at.file, file, path, sizeof path);
-        st = brume_scene_add_mesh_file(NULL, s, path, xf.m, &m, name);
-    }
-    if (st)
-        return err_prefix("%s: %s", at.file, at.path);
+    if ((st = add_shape(j, at, s, type, &xf, &m, name)))
+        return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (keys_j) {
         /* the object moves: the keyed transform applies after its own `transform` */
