@@ -81,8 +81,11 @@ elif [ "$fmt" = vdb ]; then
         clang -std=c11 $flags -DBRUME_HAVE_OPENVDB=1 -c "$f" -o "$o"
         objs="$objs $o"
     done
-    clang++ -std=c++17 $flags -c "$src/src/io/grid_vdb.cpp" -o "$out/grid_vdb.o"
-    clang++ $flags $objs "$out/grid_vdb.o" -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -ldl -lm
+    for f in grid_vdb grid_vdb_nano grid_vdb_nano_vec3 grid_vdb_write grid_vdb_write_vec3; do
+        clang++ -std=c++17 $flags -c "$src/src/io/$f.cpp" -o "$out/$f.o"
+        objs="$objs $out/$f.o"
+    done
+    clang++ $flags $objs -o "$exe" -lopenvdb -ltbb -lImath-3_1 -lfftw3 -ldl -lm
 else
     # the readers' objects, shared by raw, df3, vol and nvdb (FUZZ_FORMAT is read by fuzz_grid.c alone)
     cflags="-std=c11 $(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z0-9]*//') -DBRUME_HAVE_OPENVDB=0"

@@ -1,16 +1,18 @@
-// grid_vdb.cpp - OpenVDB reading (straight to NanoVDB), listing and writing behind a C
-// interface (grid_vdb.h). The only C++ in brume: libopenvdb and NanoVDB's builders are C++
+// grid_vdb.cpp - OpenVDB reading (straight to NanoVDB) and listing, and the module's table,
+// behind a C interface (grid_vdb.h). The module's other files convert to NanoVDB
+// (grid_vdb_nano.cpp) and write (grid_vdb_write.cpp). The only C++ in brume: libopenvdb and NanoVDB's builders are C++
 // APIs. Built as the module libbrume-openvdb.so, which exports one symbol, its table
 // (brume_openvdb_module); grid_vdb_load.c opens it on first use. Every exception stops at
 // this file's boundary and becomes a one-line message through the host's error function.
 // grid_io.c runs the readers in a child process under resource limits (grid_sandbox.c).
-#include "io/grid_vdb.h"
+#include "io/grid_vdb_module.hpp"
 
 #include <cmath>
 #include <dlfcn.h>
 #include <link.h>
 #include <unistd.h>
 #include <mutex>
+#include <cstdarg>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -20,19 +22,12 @@
 #include <string>
 #include <vector>
 
-#include <openvdb/openvdb.h>
 #include <openvdb/io/Stream.h>
-#include <nanovdb/util/GridBuilder.h>
-#include <nanovdb/util/IO.h>
-#include <nanovdb/util/OpenToNanoVDB.h>
 
-namespace {
+namespace brume_vdb {
 
-gridvdb_err_fn host_err; // the host's err_vset, from brume_openvdb_module
+gridvdb_err_fn host_err;
 
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
 brume_status err_set(brume_status status, const char *fmt, ...)
 {
     va_list ap;
@@ -51,15 +46,10 @@ void init_once()
     }
 }
 
-// Grids of a file, trees loaded.
-struct source {
-    openvdb::GridPtrVecPtr grids;
-};
-
 // The whole file in memory, read through an istringstream that throws at a short read:
 // OpenVDB trusts the counts it reads, and at the end of the bytes a failed stream would
 // otherwise let it loop over billions of tiles (found by fuzzing); an exception ends it.
-void open_source(source &s, const char *path, const void *bytes, size_t size, const char *name)
+void open_source(source &s, const char *path, const void *bytes, size_t size)
 {
     std::string data;
     if (path) {
@@ -82,11 +72,7 @@ void open_source(source &s, const char *path, const void *bytes, size_t size, co
     }
     if (!s.grids)
         throw std::runtime_error("truncated OpenVDB file");
-    (void)name;
 }
-
-// The grid with its tree.
-openvdb::GridBase::Ptr load_grid(source &, const openvdb::GridBase::Ptr &g) { return g; }
 
 std::string names_of(const openvdb::GridPtrVecPtr &grids)
 {
@@ -102,7 +88,6 @@ std::string names_of(const openvdb::GridPtrVecPtr &grids)
 bool is_float(const openvdb::GridBase::Ptr &g) { return g->isType<openvdb::FloatGrid>(); }
 bool is_vec3(const openvdb::GridBase::Ptr &g) { return g->isType<openvdb::Vec3SGrid>(); }
 
-// The grid chosen by name, or by the default rule; throws with the message to report.
 openvdb::GridBase::Ptr pick(const openvdb::GridPtrVecPtr &grids, const char *grid, int vec3)
 {
     if (grid && grid[0]) {
@@ -134,26 +119,9 @@ openvdb::GridBase::Ptr pick(const openvdb::GridPtrVecPtr &grids, const char *gri
                              names_of(grids));
 }
 
-template <typename GridT> void check_transform(const GridT &g)
-{
-    if (!g.transform().isLinear())
-        throw std::runtime_error("grid \"" + g.getName() + "\" has a non-linear (frustum) transform");
-}
+} // namespace brume_vdb
 
-// The grid as NanoVDB: float and vec3s grids only (what brume reads; the converter's other
-// value types would instantiate a dozen more templates for nothing). Null handle otherwise.
-nanovdb::GridHandle<nanovdb::HostBuffer> to_nano(const openvdb::GridBase::Ptr &g)
-{
-    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
-        return nanovdb::openToNanoVDB(*f);
-    if (auto v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(g))
-        return nanovdb::openToNanoVDB(*v);
-    return nanovdb::GridHandle<nanovdb::HostBuffer>();
-}
-
-unsigned long long nano_size(const openvdb::GridBase::Ptr &g) { return (unsigned long long)to_nano(g).size(); }
-
-} // namespace
+using namespace brume_vdb;
 
 static brume_status mod_list(const char *path, const void *bytes, size_t size, const char *name,
                              gridvdb_info **out, int *count)
@@ -163,10 +131,10 @@ static brume_status mod_list(const char *path, const void *bytes, size_t size, c
     try {
         init_once();
         source s;
-        open_source(s, path, bytes, size, name);
+        open_source(s, path, bytes, size);
         std::vector<gridvdb_info> infos;
         for (const auto &meta : *s.grids) {
-            openvdb::GridBase::Ptr g = load_grid(s, meta);
+            openvdb::GridBase::Ptr g = meta;
             gridvdb_info in;
             std::memset(&in, 0, sizeof in);
             std::snprintf(in.name, sizeof in.name, "%s", g->getName().c_str());
@@ -195,7 +163,7 @@ static brume_status mod_list(const char *path, const void *bytes, size_t size, c
             }
             if (!(in.vmin <= in.vmax))
                 in.vmin = in.vmax = 0.0;
-            in.nano_bytes = g->transform().isLinear() ? nano_size(g) : 0;
+            in.nano_bytes = g->transform().isLinear() ? (unsigned long long)to_nano(g).size() : 0;
             infos.push_back(in);
         }
         *out = static_cast<gridvdb_info *>(std::malloc(infos.size() * sizeof(gridvdb_info) + 1));
@@ -220,10 +188,10 @@ static brume_status mod_to_nano(const char *path, const void *bytes, size_t size
     try {
         init_once();
         source s;
-        open_source(s, path, bytes, size, name);
+        open_source(s, path, bytes, size);
         openvdb::GridBase::Ptr g;
         try {
-            g = load_grid(s, pick(s.grids, grid, vec3));
+            g = pick(s.grids, grid, vec3);
         } catch (const std::runtime_error &e) {
             return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s", name, e.what());
         }
@@ -232,7 +200,7 @@ static brume_status mod_to_nano(const char *path, const void *bytes, size_t size
                            g->getName().c_str());
         if (g->activeVoxelCount() == 0)
             return err_set(BRUME_ERROR_PARSE, "%s: grid \"%s\" has no active voxels", name, g->getName().c_str());
-        nanovdb::GridHandle<nanovdb::HostBuffer> h = to_nano(g);
+        nano_handle h = to_nano(g);
         if (sink(user, h.data(), h.size()) != 0)
             return err_set(BRUME_ERROR_IO, "%s: could not hand the NanoVDB grid back", name);
         return BRUME_OK;
@@ -250,13 +218,13 @@ static brume_status mod_vdb_to_nvdb(const char *in, const char *out, const char 
     try {
         init_once();
         source s;
-        open_source(s, in, nullptr, 0, in);
-        std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
+        open_source(s, in, nullptr, 0);
+        std::vector<nano_handle> handles;
         if (grid && grid[0]) {
             openvdb::GridBase::Ptr g;
             for (const auto &m : *s.grids)
                 if (m->getName() == grid)
-                    g = load_grid(s, m);
+                    g = m;
             if (!g)
                 return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no grid named \"%s\"; grids: %s", in, grid,
                                names_of(s.grids).c_str());
@@ -266,7 +234,7 @@ static brume_status mod_vdb_to_nvdb(const char *in, const char *out, const char 
             handles.push_back(to_nano(g));
         } else {
             for (const auto &m : *s.grids) {
-                openvdb::GridBase::Ptr g = load_grid(s, m);
+                openvdb::GridBase::Ptr g = m;
                 if (g->transform().isLinear() && (is_float(g) || is_vec3(g)))
                     handles.push_back(to_nano(g));
             }
@@ -274,7 +242,7 @@ static brume_status mod_vdb_to_nvdb(const char *in, const char *out, const char 
                 return err_set(BRUME_ERROR_UNSUPPORTED, "%s: no float or vec3s grid to convert; grids: %s", in,
                                names_of(s.grids).c_str());
         }
-        nanovdb::io::writeGrids<nanovdb::HostBuffer, std::vector>(std::string(out), handles);
+        write_nano(out, handles);
         return BRUME_OK;
     } catch (const std::exception &e) {
         return err_set(BRUME_ERROR_PARSE, "%s: %s", in, e.what());
@@ -316,148 +284,6 @@ static void mod_before_fork(void)
             dlclose(h);
     });
 }
-
-static brume_status mod_write_dense(const char *path, int nanovdb, const int n[3], const float *data,
-                                    const double v2w[12])
-{
-    try {
-        init_once();
-        // index (i, j, k) has its centre at voxel-space (i + 1/2, ...): index -> world map
-        openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
-        for (int r = 0; r < 3; r++) {
-            for (int c = 0; c < 3; c++)
-                m(c, r) = v2w[4 * r + c];
-            m(3, r) = v2w[4 * r + 3] + 0.5 * (v2w[4 * r] + v2w[4 * r + 1] + v2w[4 * r + 2]);
-        }
-        auto keep = [&](int i, int j, int k, float v) {
-            return v != 0.0f || (i == 0 && j == 0 && k == 0) || (i == n[0] - 1 && j == n[1] - 1 && k == n[2] - 1);
-        };
-        if (!nanovdb) {
-            openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
-            g->setName("density");
-            g->setGridClass(openvdb::GRID_FOG_VOLUME);
-            g->setTransform(openvdb::math::Transform::createLinearTransform(m));
-            auto acc = g->getAccessor();
-            size_t o = 0;
-            for (int k = 0; k < n[2]; k++)
-                for (int j = 0; j < n[1]; j++)
-                    for (int i = 0; i < n[0]; i++, o++)
-                        if (keep(i, j, k, data[o]))
-                            acc.setValueOn(openvdb::Coord(i, j, k), data[o]);
-            openvdb::io::File f(path);
-            f.write({g});
-            f.close();
-            return BRUME_OK;
-        }
-        nanovdb::GridBuilder<float> builder(0.0f, nanovdb::GridClass::FogVolume);
-        auto acc = builder.getAccessor();
-        size_t o = 0;
-        for (int k = 0; k < n[2]; k++)
-            for (int j = 0; j < n[1]; j++)
-                for (int i = 0; i < n[0]; i++, o++)
-                    if (keep(i, j, k, data[o]))
-                        acc.setValue(nanovdb::Coord(i, j, k), data[o]);
-        double mat[3][3], inv[3][3];
-        openvdb::math::Mat3d m3 = m.getMat3(), i3 = m3.inverse();
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++) {
-                mat[r][c] = m3(r, c); // row-vector convention, as Map::set expects
-                inv[r][c] = i3(r, c);
-            }
-        nanovdb::Map map;
-        map.set(mat, inv, nanovdb::Vec3d(m(3, 0), m(3, 1), m(3, 2)), 1.0);
-        auto handle = builder.getHandle<>(map, "density");
-        nanovdb::io::writeGrid(std::string(path), handle);
-        return BRUME_OK;
-    } catch (const std::exception &e) {
-        return err_set(BRUME_ERROR_IO, "%s: %s", path, e.what());
-    }
-}
-
-// ---- the sparse writer ---------------------------------------------------------------------
-
-struct gridvdb_writer {
-    std::vector<openvdb::GridBase::Ptr> grids;
-    std::vector<std::unique_ptr<openvdb::FloatGrid::Accessor>> facc;
-    std::vector<std::unique_ptr<openvdb::Vec3SGrid::Accessor>> vacc;
-};
-
-static gridvdb_writer *mod_writer_new(void)
-{
-    try {
-        init_once();
-        return new gridvdb_writer;
-    } catch (...) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid writer: out of memory");
-        return nullptr;
-    }
-}
-
-static int mod_writer_add(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size,
-                          const double origin[3])
-{
-    try {
-        openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel_size);
-        xf->postTranslate(openvdb::Vec3d(origin[0], origin[1], origin[2]));
-        openvdb::GridBase::Ptr g;
-        if (vec3) {
-            auto v = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-            w->vacc.emplace_back(new openvdb::Vec3SGrid::Accessor(v->getAccessor()));
-            w->facc.emplace_back(nullptr);
-            g = v;
-        } else {
-            auto f = openvdb::FloatGrid::create(0.0f);
-            w->facc.emplace_back(new openvdb::FloatGrid::Accessor(f->getAccessor()));
-            w->vacc.emplace_back(nullptr);
-            g = f;
-        }
-        g->setName(grid_name);
-        g->setGridClass(openvdb::GRID_FOG_VOLUME);
-        g->setTransform(xf);
-        w->grids.push_back(g);
-        return (int)w->grids.size() - 1;
-    } catch (const std::exception &e) {
-        err_set(BRUME_ERROR_OUT_OF_MEMORY, "grid writer: %s", e.what());
-        return -1;
-    }
-}
-
-static void mod_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v)
-{
-    if (w->facc[(size_t)g])
-        w->facc[(size_t)g]->setValueOn(openvdb::Coord(i, j, k), v[0]);
-    else
-        w->vacc[(size_t)g]->setValueOn(openvdb::Coord(i, j, k), openvdb::Vec3s(v[0], v[1], v[2]));
-}
-
-static unsigned long long mod_writer_active(const gridvdb_writer *w, int g)
-{
-    return (unsigned long long)w->grids[(size_t)g]->activeVoxelCount();
-}
-
-static brume_status mod_writer_save(gridvdb_writer *w, const char *path, int nanovdb)
-{
-    try {
-        for (auto &g : w->grids)
-            g->pruneGrid(0.0f); // constant 8^3 blocks become tiles
-        if (!nanovdb) {
-            openvdb::GridPtrVec v(w->grids.begin(), w->grids.end());
-            openvdb::io::File f(path);
-            f.write(v);
-            f.close();
-            return BRUME_OK;
-        }
-        std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
-        for (auto &g : w->grids)
-            handles.push_back(to_nano(g));
-        nanovdb::io::writeGrids<nanovdb::HostBuffer, std::vector>(std::string(path), handles);
-        return BRUME_OK;
-    } catch (const std::exception &e) {
-        return err_set(BRUME_ERROR_IO, "%s: %s", path, e.what());
-    }
-}
-
-static void mod_writer_free(gridvdb_writer *w) { delete w; }
 
 extern "C" const gridvdb_api *brume_openvdb_module(gridvdb_err_fn err)
 {
