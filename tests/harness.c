@@ -97,6 +97,26 @@ void test_write_file(const char *path, const char *text)
     fclose(fp);
 }
 
+void test_write_bytes(const char *path, const void *data, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp)
+        TEST_FAIL("cannot write %s", path);
+    size_t put = fwrite(data, 1, n, fp);
+    if (fclose(fp) != 0 || put != n)
+        TEST_FAIL("short write of %s", path);
+}
+
+const char *test_fresh_dir(const char *name)
+{
+    const char *d = test_tmp_path(name);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", d, d);
+    if (test_system(cmd) != 0)
+        TEST_FAIL("cannot make the folder %s", d);
+    return d;
+}
+
 double test_now(void)
 {
     struct timespec ts;

@@ -45,6 +45,10 @@ struct brume_scene;
 struct brume_image *test_render_scene(struct brume_scene *s, int threads, unsigned long long seed);
 /* Writes text to path (the test fails if it cannot). */
 void test_write_file(const char *path, const char *text);
+/* Writes n bytes to path (the test fails if it cannot). */
+void test_write_bytes(const char *path, const void *data, size_t n);
+/* A fresh empty folder test_tmp_path(name), emptied if it was there. */
+const char *test_fresh_dir(const char *name);
 /* Monotonic seconds, and a sleep of s seconds. */
 double test_now(void);
 void test_sleep(double s);
