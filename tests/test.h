@@ -39,9 +39,12 @@ int test_mapped(const char *name);
  * brume_image_release. */
 struct brume_image;
 struct brume_image *test_render_json(const char *json, unsigned long long seed);
+/* The scene of a JSON text named "<test>", loaded through brume_scene_load (relative file
+ * names from the working folder); the test fails with the reader's message. */
+struct brume_scene;
+struct brume_scene *test_scene_json(const char *json);
 /* Commits and renders a scene with the given seed and thread count (< 0: the scene's own);
  * the test fails with the renderer's message. */
-struct brume_scene;
 struct brume_image *test_render_scene(struct brume_scene *s, int threads, unsigned long long seed);
 /* Writes text to path (the test fails if it cannot). */
 void test_write_file(const char *path, const char *text);

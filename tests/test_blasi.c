@@ -22,8 +22,8 @@ static brume_image *render_opts(const char *json, const char *method, int spp, i
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene does not parse");
+    if (brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     ASSERT_EQ_INT(brume_method_from_name(NULL, method, &rs.method), BRUME_OK);
@@ -177,7 +177,7 @@ static void light_file(const char *json, int threads, uint64_t seed, bool one_co
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.threads = threads;
@@ -248,7 +248,8 @@ TEST(light_pass_sums_respect_the_memory_limit)
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = CLOUD_SCENE(SUN, "")}, NULL, &s),
+                  BRUME_OK);
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.width = rs.height = 4;
@@ -283,7 +284,7 @@ TEST(light_pass_keeps_the_power)
         " \"blasi\": {\"light_rays\": 50000, \"r\": 1, \"variant\": \"paper\"}}";
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
@@ -309,8 +310,8 @@ TEST(light_rays_aim_at_the_non_empty_voxels)
     enum { N = 100000 };
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    if (scene_parse_json(CLOUD_SCENE(SUN, ""), "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene does not parse");
+    if (brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = CLOUD_SCENE(SUN, "")}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     if (brume_scene_set_option(ctx, s, "blasi.light_rays", "100000") != BRUME_OK)
         TEST_FAIL("option: %s", brume_context_last_error(ctx));
     brume_image *img = NULL;
@@ -379,7 +380,7 @@ TEST(save_and_load_light)
                         " \"render\": {\"width\": 8, \"height\": 8, \"spp\": 1, \"method\": \"blasi\"}}";
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(other, "<other>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<other>", .text = other}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.load_light", path), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_image *img = NULL;
@@ -393,7 +394,7 @@ TEST(save_and_load_light)
     ASSERT_TRUE(fp != NULL);
     fclose(fp);
     ASSERT_EQ_INT(truncate(path, 100), 0);
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.load_light", path), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_TRUE(brume_render(ctx, s, &img) != BRUME_OK);
@@ -401,7 +402,7 @@ TEST(save_and_load_light)
     ASSERT_CONTAINS(brume_context_last_error(ctx), "truncated");
     brume_scene_release(s);
     remove(path);
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.load_light", path), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_TRUE(brume_render(ctx, s, &img) != BRUME_OK);
@@ -464,10 +465,12 @@ TEST(uniform_steps_agree_with_voxel_walk)
 
 static void expect_scene_error(const char *json, const char *needle)
 {
+    brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_TRUE(scene_parse_json(json, "<bad>", &s) != BRUME_OK);
-    fprintf(stderr, "expected error: %s\n", err_message());
-    ASSERT_CONTAINS(err_message(), needle);
+    ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "<bad>", .text = json}, NULL, &s) != BRUME_OK);
+    fprintf(stderr, "expected error: %s\n", brume_context_last_error(ctx));
+    ASSERT_CONTAINS(brume_context_last_error(ctx), needle);
+    brume_context_release(ctx);
 }
 
 /* Bad options are refused with messages naming the key. */
@@ -483,10 +486,8 @@ TEST(bad_options_name_the_key)
 
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(CLOUD_SCENE(SUN, ", \"blasi\": {\"variant\": \"physical\", \"exit_deposit\": "
-                                                    "\"paper\"}"),
-                                   "<test>", &s),
-                  BRUME_OK);
+    const char *json = CLOUD_SCENE(SUN, ", \"blasi\": {\"variant\": \"physical\", \"exit_deposit\": \"paper\"}");
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     /* a key given beside the variant wins, whatever the order */
     ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->exit_deposit, BLASI_EXIT_PAPER);
     ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->view_attenuation, BLASI_VIEW_EXTINCTION);

@@ -45,8 +45,8 @@ static ray ray_into_cloud(rng *g, box3 bounds, double *t0, double *t1)
 static void check_transmittance(const char *json, const char *what)
 {
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
     density_info info;
     blasi_state *st = commit_and_prepare(ctx, s, &info);
@@ -123,8 +123,8 @@ static void check_view_radiance(const char *json, const char *variant, const cha
 {
     const char *path = test_tmp_path("view.bbl");
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "20000"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.variant", variant), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.threshold", "1e-12"), BRUME_OK);
@@ -229,8 +229,8 @@ TEST(printed_gather_is_two_thirds_along_an_axis)
     color L[2][12];
     for (int k = 0; k < 2; k++) {
         brume_scene *s = NULL;
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
         brume_context *ctx = brume_context_new();
+        ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
         ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "20000"), BRUME_OK);
         ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.gather", k ? "printed" : "path_length"), BRUME_OK);
         density_info info;

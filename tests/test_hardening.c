@@ -41,8 +41,8 @@ static brume_status load_commit(const char *path, char *msg, size_t n, brume_sce
 static double image_mean(const char *json)
 {
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
     brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
@@ -100,12 +100,14 @@ TEST(messages_stay_on_one_line)
     err_set(BRUME_ERROR_IO, "x: %.1000s", whole);
     ASSERT_TRUE(strlen(err_message()) == 3 + sizeof whole - 1);
     /* through the scene reader and the context */
+    brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    ASSERT_TRUE(scene_parse_json("{\"camera\": {\"position\": [0,0,1], \"look_at\": [0,0,0], \"f\\nov\\u001b[2J\": 1}}",
-                                 "<test>", &s) != BRUME_OK);
-    m = err_message();
+    const char *json = "{\"camera\": {\"position\": [0,0,1], \"look_at\": [0,0,0], \"f\\nov\\u001b[2J\": 1}}";
+    ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s) != BRUME_OK);
+    m = brume_context_last_error(ctx);
     ASSERT_TRUE(strchr(m, '\n') == NULL && strchr(m, '\x1b') == NULL);
     ASSERT_CONTAINS(m, "f\\nov\\x1b[2J");
+    brume_context_release(ctx);
 }
 
 static const char *scene_with_save(const char *save)
@@ -433,7 +435,7 @@ TEST(environment_image_values_checked)
     const float bad[3] = {-1.0f, NAN, INFINITY};
     for (int k = 0; k < 3; k++) {
         brume_scene *s = NULL;
-        ASSERT_EQ_INT(scene_parse_json(scene_default_json, "<test>", &s), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_load(NULL, NULL, NULL, &s), BRUME_OK); /* the default scene */
         brume_image *img = NULL;
         ASSERT_EQ_INT(brume_image_new(NULL, 3, 2, &img), BRUME_OK);
         float *px = brume_image_pixels(img);

@@ -25,7 +25,7 @@ TEST(film_counts_against_the_memory_limit)
     snprintf(json, sizeof json, FILM_FMT, 4096, 4096);
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(scene_parse_json(json, "<film>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<film>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_render_job *job = NULL;
     ASSERT_EQ_INT(brume_render_begin(ctx, s, &job), BRUME_ERROR_OUT_OF_MEMORY);
@@ -37,7 +37,7 @@ TEST(film_counts_against_the_memory_limit)
     brume_scene_release(s);
     snprintf(json, sizeof json, FILM_FMT, 64, 64);
 #undef FILM_FMT
-    ASSERT_EQ_INT(scene_parse_json(json, "<film>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<film>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
     brume_image_release(img);
@@ -60,7 +60,7 @@ TEST(blasi_work_is_bounded)
     snprintf(json, sizeof json, BLASI_FMT, "", "\"step\": 1e-6");
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<work>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_image *img = NULL;
     double t0 = test_now();
@@ -71,13 +71,13 @@ TEST(blasi_work_is_bounded)
     brume_scene_release(s);
     /* a lower limit refuses the default pass (2^21 rays x about 96 voxels) and a higher passes */
     snprintf(json, sizeof json, BLASI_FMT, ", \"max_work\": 1e6", "\"light_rays\": 100000");
-    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<work>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_ERROR_RANGE);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "render.max_work (1e+06)");
     brume_scene_release(s);
     snprintf(json, sizeof json, BLASI_FMT, ", \"max_work\": 1e9", "\"light_rays\": 100000");
-    ASSERT_EQ_INT(scene_parse_json(json, "<work>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<work>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(brume_render(ctx, s, &img), BRUME_OK);
     brume_image_release(img);
@@ -198,7 +198,7 @@ TEST(blasi_light_pass_cancels)
     snprintf(json, sizeof json, BLASI_FMT, "", "\"light_rays\": 1e8, \"step\": 0.001");
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(scene_parse_json(json, "<cancel>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<cancel>", .text = json}, NULL, &s), BRUME_OK);
     int calls = 0;
     brume_render_settings rs;
     brume_scene_settings(s, &rs);

@@ -91,11 +91,10 @@ TEST(medium_fields_from_scene_keys)
              "  \"emission_field\": {\"grid\": \"density\", \"color\": [0, 0, 4]}}]}",
              path);
     brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("%s", err_message());
     brume_context *ctx = brume_context_new();
+    if (brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
     ASSERT_TRUE(brume_scene_commit(ctx, s) == BRUME_OK);
-    brume_context_release(ctx);
     ASSERT_TRUE(s->has_emission);
     rng g = rng_make(3, 0, 0);
     for (int n = 0; n < 200; n++) {
@@ -137,12 +136,14 @@ TEST(medium_fields_from_scene_keys)
                  "  \"density\": {\"type\": \"grid\", \"file\": \"%s\"}, %s}]}",
                  path, bad[b].fields);
         s = NULL;
-        ASSERT_TRUE(scene_parse_json(json, "bad.json", &s) != BRUME_OK);
-        fprintf(stderr, "%s\n", err_message());
-        ASSERT_CONTAINS(err_message(), "bad.json");
-        ASSERT_CONTAINS(err_message(), bad[b].needle);
-        ASSERT_TRUE(!strchr(err_message(), '\n'));
+        ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "bad.json", .text = json}, NULL, &s) != BRUME_OK);
+        const char *msg = brume_context_last_error(ctx);
+        fprintf(stderr, "%s\n", msg);
+        ASSERT_CONTAINS(msg, "bad.json");
+        ASSERT_CONTAINS(msg, bad[b].needle);
+        ASSERT_TRUE(!strchr(msg, '\n'));
     }
+    brume_context_release(ctx);
     unlink(path);
 }
 
@@ -185,8 +186,8 @@ TEST(blackbody_emission_closed_form)
     char json2[2300];
     snprintf(json2, sizeof json2, "%.*s, \"method\": \"blasi\"}}", (int)(strlen(json) - 2), json);
     brume_scene *s = NULL;
-    ASSERT_TRUE(scene_parse_json(json2, "<test>", &s) == BRUME_OK);
     brume_context *ctx = brume_context_new();
+    ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json2}, NULL, &s) == BRUME_OK);
     brume_image *none = NULL;
     ASSERT_TRUE(brume_scene_commit(ctx, s) != BRUME_OK || brume_render(ctx, s, &none) != BRUME_OK);
     ASSERT_CONTAINS(brume_context_last_error(ctx), "path or single");

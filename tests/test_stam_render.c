@@ -9,17 +9,9 @@
 #include "scene/scene.h"
 #include "stam_profiles.h"
 
-static brume_scene *scene_from(const char *json)
-{
-    brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
-    return s;
-}
-
 static brume_image *render(const char *json, const char *method, int spp, int threads, uint64_t seed)
 {
-    brume_scene *s = scene_from(json);
+    brume_scene *s = test_scene_json(json);
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
@@ -137,7 +129,7 @@ TEST(grid_media_are_refused)
     const char *json = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]},"
                        " \"media\": [{\"name\": \"fog\", \"sigma_a\": 1, \"sigma_s\": 1, \"density\": {\"type\": \"constant\"}}],"
                        " \"render\": {\"width\": 8, \"height\": 8, \"method\": \"stam\"}}";
-    brume_scene *s = scene_from(json);
+    brume_scene *s = test_scene_json(json);
     brume_context *ctx = brume_context_new();
     brume_image *img = NULL;
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -179,8 +171,8 @@ TEST(bad_kernel_files_are_refused)
                  " \"stam\": {\"kernel\": \"table\", \"kernel_file\": \"%s\"}, \"render\": {\"width\": 8, \"height\": 8}}",
                  path);
         brume_scene *s = NULL;
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
         brume_context *ctx = brume_context_new();
+        ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
         ASSERT_TRUE(brume_scene_commit(ctx, s) != BRUME_OK);
         const char *msg = brume_context_last_error(ctx);
         printf("%s\n", msg);
@@ -206,8 +198,8 @@ TEST(bad_kernel_files_are_refused)
                  " \"stam\": {%s}, \"render\": {\"width\": 8, \"height\": 8}}",
                  bad[c][0]);
         brume_scene *s = NULL;
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
         brume_context *ctx = brume_context_new();
+        ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
         ASSERT_TRUE(brume_scene_commit(ctx, s) != BRUME_OK);
         printf("%s\n", brume_context_last_error(ctx));
         ASSERT_CONTAINS(brume_context_last_error(ctx), bad[c][1]);
