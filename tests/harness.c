@@ -2,8 +2,6 @@
 #include "test.h"
 
 #include "brume.h"
-#include "core/error.h"
-#include "scene/scene.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -97,6 +95,26 @@ void test_write_file(const char *path, const char *text)
     fclose(fp);
 }
 
+void test_write_bytes(const char *path, const void *data, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp)
+        TEST_FAIL("cannot write %s", path);
+    size_t put = fwrite(data, 1, n, fp);
+    if (fclose(fp) != 0 || put != n)
+        TEST_FAIL("short write of %s", path);
+}
+
+const char *test_fresh_dir(const char *name)
+{
+    const char *d = test_tmp_path(name);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", d, d);
+    if (test_system(cmd) != 0)
+        TEST_FAIL("cannot make the folder %s", d);
+    return d;
+}
+
 double test_now(void)
 {
     struct timespec ts;
@@ -183,11 +201,19 @@ brume_image *test_render_scene(brume_scene *s, int threads, unsigned long long s
     return img;
 }
 
+brume_scene *test_scene_json(const char *json)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    return s;
+}
+
 brume_image *test_render_json(const char *json, unsigned long long seed)
 {
-    brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
+    brume_scene *s = test_scene_json(json);
     brume_image *img = test_render_scene(s, -1, seed);
     brume_scene_release(s);
     return img;

@@ -39,12 +39,19 @@ int test_mapped(const char *name);
  * brume_image_release. */
 struct brume_image;
 struct brume_image *test_render_json(const char *json, unsigned long long seed);
+/* The scene of a JSON text named "<test>", loaded through brume_scene_load (relative file
+ * names from the working folder); the test fails with the reader's message. */
+struct brume_scene;
+struct brume_scene *test_scene_json(const char *json);
 /* Commits and renders a scene with the given seed and thread count (< 0: the scene's own);
  * the test fails with the renderer's message. */
-struct brume_scene;
 struct brume_image *test_render_scene(struct brume_scene *s, int threads, unsigned long long seed);
 /* Writes text to path (the test fails if it cannot). */
 void test_write_file(const char *path, const char *text);
+/* Writes n bytes to path (the test fails if it cannot). */
+void test_write_bytes(const char *path, const void *data, size_t n);
+/* A fresh empty folder test_tmp_path(name), emptied if it was there. */
+const char *test_fresh_dir(const char *name);
 /* Monotonic seconds, and a sleep of s seconds. */
 double test_now(void);
 void test_sleep(double s);

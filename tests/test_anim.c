@@ -12,7 +12,8 @@ static brume_scene *scene_at(const char *json, double time, long frame_no)
 {
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    if (scene_parse_json_at(json, "<anim test>", time, frame_no, &s) != BRUME_OK)
+    brume_load_options o = {.time = time, .frame = frame_no > 0 ? frame_no : 0};
+    if (brume_scene_load(ctx, &(brume_source){.path = "<anim test>", .text = json}, &o, &s) != BRUME_OK)
         TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     brume_context_release(ctx);
     return s;
@@ -245,8 +246,8 @@ TEST(keyframe_errors_and_moving_worlds)
     brume_scene *s = NULL;
     const char *bad = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0],"
                       " \"keyframes\": [{\"time\": 1, \"fov\": 30}, {\"time\": 1, \"fov\": 40}]}}";
-    ASSERT_EQ_INT(scene_parse_json(bad, "<bad>", &s), BRUME_ERROR_RANGE);
     brume_context *ctx = brume_context_new();
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<bad>", .text = bad}, NULL, &s), BRUME_ERROR_RANGE);
     const char *lit = "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0]},"
                       " \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": 1,"
                       "   \"keyframes\": [{\"time\": 0, \"intensity\": 1}, {\"time\": 2, \"intensity\": 3}]}]}";

@@ -118,11 +118,10 @@ static const char EVERY_FEATURE_JSON[] =
 
 static const char TRIANGLE_OBJ[] = "v 0.5 -1 0.5\nv 1.5 -1 0.5\nv 1 0 0.5\nf 1 2 3\n";
 
-/* The same scene through the builders, in the reader's order. */
-static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
+/* The settings (frame 3 at 10 fps: the time it returns), the camera and its keys, the
+ * background of the scene below, through the builders. */
+static double every_feature_settings(brume_context *ctx, brume_scene *s)
 {
-    brume_scene *s = NULL;
-    OK(brume_scene_new(ctx, "api", &s));
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.width = 40;
@@ -144,7 +143,12 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
          .aperture_radius = 0.02, .focus_distance = 6}};
     OK(brume_scene_set_camera_keys(ctx, s, keys, 2));
     OK(brume_scene_set_background_color(ctx, s, (double[3]){0.05, 0.1, 0.2}));
+    return t;
+}
 
+/* Its lights at time t. */
+static void every_feature_lights(brume_context *ctx, brume_scene *s, double t)
+{
     OK(brume_scene_add_distant_light(ctx, s, (double[3]){-1, -1, -0.5}, (double[3]){2, 2, 1.8}, 1.0));
     double I = 1.0 + (3.0 - 1.0) * ((t - 0.0) / (1.0 - 0.0)); /* the key's linear interpolation at t */
     OK(brume_scene_add_point_light(ctx, s, (double[3]){2, 2, 2}, (double[3]){I, I, I}));
@@ -154,7 +158,11 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
                                           (double[]){0, 20, 45}, (double[]){1, 0.5, 0}, 3));
     OK(brume_scene_add_sphere_light(ctx, s, (double[3]){0, 3, 3}, 0.3, (double[3]){2, 2, 2}));
     OK(brume_scene_add_disk_light(ctx, s, (double[3]){3, 0, 0}, (double[3]){-1, 0, 0}, 0.5, (double[3]){1, 0.5, 0.5}));
+}
 
+/* Its media at time t. */
+static void every_feature_media(brume_context *ctx, brume_scene *s, double t)
+{
     brume_density *d = NULL;
     brume_phase *p = NULL, *lobes[2] = {NULL, NULL};
     brume_medium fog = {.name = "fog", .sigma_a = {0.1, 0.1, 0.1}, .sigma_s = {0.5, 0.6, 0.7}};
@@ -195,7 +203,11 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
     OK(brume_phase_new_preset(ctx, BRUME_PHASE_MURKY, &p));
     brume_medium puff = {.sigma_a = {0.2, 0.2, 0.2}, .sigma_s = {2, 2, 2}};
     OK(brume_scene_add_medium(ctx, s, &puff, d, p));
+}
 
+/* Its surfaces and the option after them. */
+static void every_feature_surfaces(brume_context *ctx, brume_scene *s, const char *mesh_path)
+{
     brume_material m;
     brume_material_default(&m);
     memcpy(m.albedo, (double[3]){0.5, 0.5, 0.4}, sizeof m.albedo);
@@ -218,6 +230,17 @@ static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
                             "surfaces[3]"));
     OK(brume_scene_add_mesh_file(ctx, s, mesh_path, NULL, NULL, "surfaces[4]"));
     OK(brume_scene_set_option(ctx, s, "stam.time", "0.5"));
+}
+
+/* The same scene through the builders, in the reader's order. */
+static brume_scene *every_feature_api(brume_context *ctx, const char *mesh_path)
+{
+    brume_scene *s = NULL;
+    OK(brume_scene_new(ctx, "api", &s));
+    double t = every_feature_settings(ctx, s);
+    every_feature_lights(ctx, s, t);
+    every_feature_media(ctx, s, t);
+    every_feature_surfaces(ctx, s, mesh_path);
     return s;
 }
 

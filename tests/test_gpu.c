@@ -98,7 +98,7 @@ static void copy_renders_the_same(const char *json, int n)
 {
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_EQ_INT(device_scene_check(s, INTEGRATOR_PATH), BRUME_OK);
     void *state = NULL;
@@ -373,7 +373,8 @@ TEST(device_refuses_with_one_line)
     for (int k = 0; k < (int)(sizeof cases / sizeof cases[0]); k++) {
         brume_scene *s = NULL;
         brume_context *ctx = brume_context_new();
-        ASSERT_EQ_INT(scene_parse_json(cases[k][0], "<test>", &s), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = cases[k][0]}, NULL, &s),
+                      BRUME_OK);
         ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
         ASSERT_EQ_INT(device_scene_check(s, (int)s->settings.method), BRUME_ERROR_UNSUPPORTED);
         ASSERT_CONTAINS(err_message(), cases[k][1]);

@@ -134,14 +134,6 @@ static brume_image *render_scene(brume_scene *s, const char *method, int threads
     return img;
 }
 
-static brume_scene *scene_text(const char *json)
-{
-    brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
-    return s;
-}
-
 /* Three blobs on the left half of the picture, sky on the right; peaks 0.44-0.88 above eta. */
 #define BLOBS_JSON                                                                                                     \
     "{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"fov\": 40}, \"background\": 0.5,"                 \
@@ -155,7 +147,7 @@ static brume_image *stam_image(double eps, const char *variant)
 {
     char json[4096];
     snprintf(json, sizeof json, BLOBS_JSON, eps, variant, "");
-    brume_scene *s = scene_text(json);
+    brume_scene *s = test_scene_json(json);
     brume_image *img = render_scene(s, "stam", 2, false);
     brume_scene_release(s);
     return img;
@@ -281,7 +273,7 @@ TEST(blasi_on_blobs_refused_or_voxelized)
 {
     char json[4096];
     snprintf(json, sizeof json, BLOBS_JSON, 0.0, "corrected", "");
-    brume_scene *s = scene_text(json);
+    brume_scene *s = test_scene_json(json);
     brume_context *ctx = brume_context_new();
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
@@ -300,7 +292,7 @@ TEST(blasi_on_blobs_refused_or_voxelized)
     for (int k = 0; k < 2; k++) {
         snprintf(json, sizeof json, BLOBS_JSON, k ? 0.3 : 0.0, "corrected",
                  ", \"blasi\": {\"voxels\": 40, \"light_rays\": 20000}");
-        s = scene_text(json);
+        s = test_scene_json(json);
         ASSERT_EQ_INT(((const blasi_options *)scene_options(s, METHOD_OPTIONS_BLASI))->voxels, 40);
         im[k] = render_scene(s, "blasi", 2, true);
         brume_stats st;
@@ -332,7 +324,7 @@ TEST(stats_per_method)
     const char *methods[] = {"path", "stam", "blasi"};
     for (int m = 0; m < 3; m++) {
         for (int t = 0; t < 2; t++) {
-            brume_scene *s = scene_text(json);
+            brume_scene *s = test_scene_json(json);
             brume_image_release(render_scene(s, methods[m], t + 1, true));
             brume_context *ctx = brume_context_new();
             brume_scene_stats(s, &st[t]);
@@ -371,7 +363,7 @@ TEST(stats_per_method)
         }
     }
     /* off: the path counters stay zero */
-    brume_scene *s = scene_text(json);
+    brume_scene *s = test_scene_json(json);
     brume_image_release(render_scene(s, "path", 2, false));
     brume_context *ctx = brume_context_new();
     brume_scene_stats(s, &st[0]);

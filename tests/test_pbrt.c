@@ -382,22 +382,26 @@ TEST(inline_json_arrays_are_checked)
         {"{\"type\": \"array\", \"dims\": [2000, 2000, 1], \"data\": [1]}", "over the 2097152"},
         {"{\"type\": \"array\", \"dims\": [1.5, 1, 1], \"data\": [1]}", "dims[0]: 1.5 is not an integer"},
     };
+    brume_context *ctx = brume_context_new();
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char json[512];
         snprintf(json, sizeof json, "{" CAM "\"media\": [{\"density\": %s, \"sigma_a\": 0, \"sigma_s\": 1}]}", bad[i][0]);
         brume_scene *s = NULL;
-        ASSERT_TRUE(scene_parse_json(json, "<t>", &s) != BRUME_OK);
-        ASSERT_CONTAINS(err_message(), bad[i][1]);
+        ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "<t>", .text = json}, NULL, &s) != BRUME_OK);
+        ASSERT_CONTAINS(brume_context_last_error(ctx), bad[i][1]);
     }
     brume_scene *s = NULL;
-    ASSERT_TRUE(scene_parse_json("{" CAM "\"surfaces\": [{\"type\": \"mesh\", \"positions\": [0, 0, 0, 1, 0, 0, 0, 1, 0], "
-                                 "\"indices\": [0, 1, 3]}]}", "<t>", &s) != BRUME_OK);
-    ASSERT_CONTAINS(err_message(), "surfaces[0].indices[2]: expected a vertex index in [0, 3)");
+    const char *mesh = "{" CAM "\"surfaces\": [{\"type\": \"mesh\", \"positions\": [0, 0, 0, 1, 0, 0, 0, 1, 0], "
+                       "\"indices\": [0, 1, 3]}]}";
+    ASSERT_TRUE(brume_scene_load(ctx, &(brume_source){.path = "<t>", .text = mesh}, NULL, &s) != BRUME_OK);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), "surfaces[0].indices[2]: expected a vertex index in [0, 3)");
     /* placed by bounds then transform, as a grid file: [0, 2] x ... scaled by 3 and moved by 1 */
-    if (scene_parse_json("{" CAM "\"media\": [{\"density\": {\"type\": \"array\", \"dims\": [2, 1, 1], \"data\": [1, 3], "
+    const char *placed = "{" CAM "\"media\": [{\"density\": {\"type\": \"array\", \"dims\": [2, 1, 1], \"data\": [1, 3], "
                          "\"bounds\": [[0, 0, 0], [2, 1, 1]], \"transform\": {\"translate\": [1, 0, 0], "
-                         "\"scale\": 3}}, \"sigma_a\": 0, \"sigma_s\": 1}]}", "<t>", &s) != BRUME_OK)
-        TEST_FAIL("%s", err_message());
+                         "\"scale\": 3}}, \"sigma_a\": 0, \"sigma_s\": 1}]}";
+    if (brume_scene_load(ctx, &(brume_source){.path = "<t>", .text = placed}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_context_release(ctx);
     ASSERT_EQ_INT(brume_scene_commit(NULL, s), BRUME_OK);
     ASSERT_NEAR(density_bounds(s->media[0].rho).hi.x, 7.0, 1e-9);
     ASSERT_NEAR(density_eval(s->media[0].rho, v3(5.5, 1.5, 1.5)), 3.0, 1e-6); /* the second cell's centre */

@@ -426,7 +426,7 @@ static void same_image_for_threads(const char *json, int npix)
     brume_scene *s[2];
     brume_image *img[2];
     for (int k = 0; k < 2; k++) {
-        ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s[k]), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_load(NULL, &(brume_source){.path = "<test>", .text = json}, NULL, &s[k]), BRUME_OK);
         brume_render_settings rs;
         brume_scene_settings(s[k], &rs);
         rs.spp = 4;
@@ -583,8 +583,9 @@ static void *sun_state(brume_context *ctx, const char *sigma_s, const char *roul
              " \"path\": {\"sun_roulette\": %s}}",
              sigma_s, roulette);
     brume_scene *s = NULL;
-    if (scene_parse_json(json, "<test>", &s) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK)
-        TEST_FAIL("scene: %s", err_message());
+    if (brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s) != BRUME_OK ||
+        brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     void *state = NULL;
     if (integrator_prepare(INTEGRATOR_PATH, s, &state) != BRUME_OK)
         TEST_FAIL("prepare: %s", err_message());
@@ -658,7 +659,7 @@ TEST(sun_roulette_unbiased)
     brume_scene *s;
     char json[1024];
     snprintf(json, sizeof json, "%s0.03%s", head, tail);
-    ASSERT_EQ_INT(scene_parse_json(json, "<test>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     void *st = NULL;
     ASSERT_EQ_INT(integrator_prepare(INTEGRATOR_PATH, s, &st), BRUME_OK);

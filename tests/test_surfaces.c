@@ -7,8 +7,6 @@
 #include "io/mesh.h"
 #include "scene/scene.h"
 
-#define err_message_for_test() err_message()
-
 #define PI_D 3.14159265358979323846
 
 /* Mean and standard error of channel c over the pixels of img. */
@@ -196,11 +194,13 @@ static const char *write_file(const char *name, const char *text)
 
 static void expect_scene_error(const char *json, const char *frag)
 {
+    brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    brume_status st = scene_parse_json(json, "<mesh test>", &s);
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = "<mesh test>", .text = json}, NULL, &s);
     if (st == BRUME_OK)
         TEST_FAIL("scene loaded but should fail: %s", json);
-    ASSERT_CONTAINS(err_message_for_test(), frag);
+    ASSERT_CONTAINS(brume_context_last_error(ctx), frag);
+    brume_context_release(ctx);
 }
 
 TEST(bad_meshes_are_errors)
@@ -265,7 +265,7 @@ TEST(large_mesh_renders)
              " \"render\": {\"width\": 32, \"height\": 24, \"spp\": 2}}",
              path);
     brume_scene *s = NULL;
-    ASSERT_EQ_INT(scene_parse_json(json, "<mesh>", &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_load(NULL, &(brume_source){.path = "<mesh>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(surfaces_triangle_count(s->surf), 2 * N * N);
     brume_scene_release(s);
     brume_image *img = test_render_json(json, 5);

@@ -286,8 +286,9 @@ static void check_moved_majorant(bool tree)
              path);
     brume_scene *s = NULL;
     brume_context *ctx = brume_context_new();
-    if (scene_parse_json(json, "<velocity test>", &s) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK)
-        TEST_FAIL("scene: %s / %s", err_message(), brume_context_last_error(ctx));
+    if (brume_scene_load(ctx, &(brume_source){.path = "<velocity test>", .text = json}, NULL, &s) != BRUME_OK ||
+        brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("scene: %s", brume_context_last_error(ctx));
     nanovdb_set_cell_grid_limit(old);
     const medium *md = &s->media[0];
     ASSERT_TRUE(md->moved != NULL && md->velocity[2] != NULL);

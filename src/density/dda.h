@@ -14,7 +14,7 @@
  * ulps per cell crossed, about 1e-13 of the ray's length through a 1000-cell grid, and a
  * cell whose overlap is shorter than that can be exchanged for its neighbour. The steps
  * are contiguous (each t0 is the previous t1, bit for bit), so the lengths add up exactly
- * to the clipped interval. tests/test_grid.c checks each cell's overlap length against a
+ * to the clipped interval. tests/test_grid_dda.c checks each cell's overlap length against a
  * brute-force slab intersection of every cell to 1e-9 of the ray's length in the grid
  * (docs/grids.md, "Traversal"). Cells the ray only touches (zero-length overlap: grazing
  * an edge or a corner) are skipped; a ray lying in a cell face belongs to the cell on the

@@ -99,18 +99,12 @@ static void rm_tree(const char *dir)
         fprintf(stderr, "run_bad: could not remove %s\n", dir);
 }
 
-/* Runs one case; returns 1 when it passed. */
-static int run_case(const char *brume, const char *corpus, const char *name, int want, const char *pattern,
-                    char *args, int as_limit)
+/* Runs `brume ARGS` ({D} and {T} replaced, escapes undone) in the case's folder tdir, stdout
+ * discarded, stderr to errpath, within the time and address-space limits; returns its wait
+ * status, *timed_out set when the limits killed it, and the seconds it took in *secs. */
+static int run_brume(const char *brume, const char *corpus, const char *tdir, const char *args, int as_limit,
+                     const char *errpath, int *timed_out, double *secs)
 {
-    char tdir[4096];
-    const char *tmp = getenv("TMPDIR");
-    snprintf(tdir, sizeof tdir, "%s/brume-bad-%d-%s", tmp && *tmp ? tmp : "/tmp", (int)getpid(), name);
-    rm_tree(tdir);
-    if (mkdir(tdir, 0700) != 0) {
-        printf("FAIL %s: cannot create %s: %s\n", name, tdir, strerror(errno));
-        return 0;
-    }
     char line[8192];
     snprintf(line, sizeof line, "%s", args);
     subst(line, sizeof line, "{D}", corpus);
@@ -123,8 +117,6 @@ static int run_case(const char *brume, const char *corpus, const char *name, int
         argv[argc++] = tok;
     }
     argv[argc] = NULL;
-    char errpath[4200];
-    snprintf(errpath, sizeof errpath, "%s/stderr.txt", tdir);
     double t0 = now();
     pid_t pid = fork();
     if (pid == 0) {
@@ -142,7 +134,8 @@ static int run_case(const char *brume, const char *corpus, const char *name, int
         execv(brume, argv);
         _exit(127);
     }
-    int status = 0, timed_out = 0;
+    int status = 0;
+    *timed_out = 0;
     for (;;) {
         pid_t r = waitpid(pid, &status, WNOHANG);
         if (r == pid)
@@ -150,13 +143,66 @@ static int run_case(const char *brume, const char *corpus, const char *name, int
         if (cpu_seconds(pid) > TIME_LIMIT_S || now() - t0 > WALL_LIMIT_S) {
             kill(pid, SIGKILL);
             waitpid(pid, &status, 0);
-            timed_out = 1;
+            *timed_out = 1;
             break;
         }
         struct timespec ts = {0, 5000000};
         nanosleep(&ts, NULL);
     }
-    double secs = now() - t0;
+    *secs = now() - t0;
+    return status;
+}
+
+/* Whether the n bytes of a failed case's stderr are one line, free of control characters,
+ * matching pattern; 0 with the reason in why when not. */
+static int message_ok(const char *err, size_t n, const char *pattern, char *why, size_t cap)
+{
+    size_t lines = 0;
+    int ctrl = 0, ok = 1;
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)err[i];
+        if (c == '\n')
+            lines++;
+        else if (c < 0x20 || c == 0x7f)
+            ctrl = 1;
+    }
+    regex_t re;
+    int rc = regcomp(&re, pattern, REG_EXTENDED | REG_NOSUB);
+    if (rc != 0) {
+        snprintf(why, cap, "bad pattern '%.400s'", pattern);
+        return 0;
+    }
+    if (lines != 1 || n == 0 || err[n - 1] != '\n') {
+        snprintf(why, cap, "message is %zu lines, not one", lines);
+        ok = 0;
+    } else if (ctrl) {
+        snprintf(why, cap, "message holds a control character");
+        ok = 0;
+    } else if (regexec(&re, err, 0, NULL, 0) != 0) {
+        snprintf(why, cap, "message does not match /%.400s/", pattern);
+        ok = 0;
+    }
+    regfree(&re);
+    return ok;
+}
+
+/* Runs one case; returns 1 when it passed. */
+static int run_case(const char *brume, const char *corpus, const char *name, int want, const char *pattern,
+                    char *args, int as_limit)
+{
+    char tdir[4096];
+    const char *tmp = getenv("TMPDIR");
+    snprintf(tdir, sizeof tdir, "%s/brume-bad-%d-%s", tmp && *tmp ? tmp : "/tmp", (int)getpid(), name);
+    rm_tree(tdir);
+    if (mkdir(tdir, 0700) != 0) {
+        printf("FAIL %s: cannot create %s: %s\n", name, tdir, strerror(errno));
+        return 0;
+    }
+    char errpath[4200];
+    snprintf(errpath, sizeof errpath, "%s/stderr.txt", tdir);
+    int timed_out;
+    double secs;
+    int status = run_brume(brume, corpus, tdir, args, as_limit, errpath, &timed_out, &secs);
     char err[4096] = "";
     FILE *f = fopen(errpath, "rb");
     size_t n = f ? fread(err, 1, sizeof err - 1, f) : 0;
@@ -175,33 +221,7 @@ static int run_case(const char *brume, const char *corpus, const char *name, int
         snprintf(why, sizeof why, "exit %d, expected %d", WEXITSTATUS(status), want);
         ok = 0;
     } else if (want != 0) {
-        size_t lines = 0;
-        int ctrl = 0;
-        for (size_t i = 0; i < n; i++) {
-            unsigned char c = (unsigned char)err[i];
-            if (c == '\n')
-                lines++;
-            else if (c < 0x20 || c == 0x7f)
-                ctrl = 1;
-        }
-        regex_t re;
-        int rc = regcomp(&re, pattern, REG_EXTENDED | REG_NOSUB);
-        if (rc != 0) {
-            snprintf(why, sizeof why, "bad pattern '%.400s'", pattern);
-            ok = 0;
-        } else {
-            if (lines != 1 || n == 0 || err[n - 1] != '\n') {
-                snprintf(why, sizeof why, "message is %zu lines, not one", lines);
-                ok = 0;
-            } else if (ctrl) {
-                snprintf(why, sizeof why, "message holds a control character");
-                ok = 0;
-            } else if (regexec(&re, err, 0, NULL, 0) != 0) {
-                snprintf(why, sizeof why, "message does not match /%.400s/", pattern);
-                ok = 0;
-            }
-            regfree(&re);
-        }
+        ok = message_ok(err, n, pattern, why, sizeof why);
     }
     if (ok)
         printf("ok   %-40s exit %d  %.2f s\n", name, want, secs);
