@@ -1,4 +1,5 @@
 /* brume.c - the brume tool: dispatches subcommands (cli/commands.h) over libbrume. */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -6,6 +7,17 @@
 #include "brume.h"
 #include "cli_flags.h"
 #include "commands.h"
+
+/* Standard output written whole, or the exit status 1 with a message (a full disk, a closed
+ * pipe, /dev/full): a command's output that did not arrive is a failure. */
+static int stdout_written(int rc)
+{
+    int err = fflush(stdout) == 0 ? 0 : errno;
+    if (!err && !ferror(stdout))
+        return rc;
+    cli_error("cannot write to standard output: %s", err ? strerror(err) : "a write failed");
+    return rc ? rc : 1;
+}
 
 static int run(int argc, char **argv)
 {
@@ -32,5 +44,5 @@ int main(int argc, char **argv)
         return 2;
     }
     args_split_equals(&argc, &argv); /* --key=value as --key value, for every command */
-    return run(argc, argv);
+    return stdout_written(run(argc, argv));
 }

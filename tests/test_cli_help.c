@@ -1,5 +1,6 @@
 /* test_cli_help.c - the commands' flag tables (cli/cli_flags.h) against what is made from
- * them: README's usage block, `brume help` and `brume help COMMAND`, the parser. */
+ * them: README's usage block, `brume help` and `brume help COMMAND`, the parser; and the
+ * tool's exit status when its standard output cannot be written. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -198,4 +199,24 @@ TEST(parser_reads_the_table)
     ASSERT_EQ_INT(render_parse_options(&o, 3, two), 2);
 }
 
-TEST_MAIN(readme_usage_is_generated, command_list_is_complete, help_is_the_table, parser_reads_the_table)
+/* A command whose standard output cannot be written exits non-zero with one line. */
+TEST(stdout_write_error_fails)
+{
+    static const char *const cmds[] = {"help", "help render", "--version", "options", "options --markdown",
+                                       "help --usage"};
+    const char *err = test_tmp_path("full.err");
+    for (size_t k = 0; k < sizeof cmds / sizeof *cmds; k++) {
+        char cmd[4096];
+        snprintf(cmd, sizeof cmd, "%s %s > /dev/full 2> %s", BRUME_EXE, cmds[k], err);
+        int st = test_system(cmd);
+        if (st == 0)
+            TEST_FAIL("`brume %s > /dev/full` exited 0", cmds[k]);
+        size_t n;
+        char *msg = test_slurp(err, &n);
+        ASSERT_CONTAINS(msg, "brume: cannot write to standard output");
+        free(msg);
+    }
+}
+
+TEST_MAIN(readme_usage_is_generated, command_list_is_complete, help_is_the_table, parser_reads_the_table,
+          stdout_write_error_fails)
