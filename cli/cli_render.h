@@ -53,6 +53,7 @@ typedef struct render_opts {
     bool sequence;               /* --frames or --frame given */
     long nframes;
     int kind;                    /* pattern_kind of out_path */
+    bool grid_defaults;          /* a bare grid file without a sample budget: --time and --denoise */
 } render_opts;
 
 /* The files a render writes: every frame's output (a pattern or one path) and the checkpoint. */
@@ -95,6 +96,11 @@ int render_parse_options(render_opts *o, int argc, char **argv);
  * the video, the checkpoint. Sets sequence, nframes and kind. 0, or the exit status with a
  * message. */
 int render_check_request(render_opts *o);
+
+/* A grid file (.vdb, .nvdb) without --spp, --time, --noise (nor their render.* overrides)
+ * renders as `make render` renders the default scene: a time budget (render.spp a cap), then
+ * the denoiser. True when these defaults were set. */
+bool render_grid_defaults(render_opts *o);
 
 /* cli_render_output.c */
 double render_now_seconds(void);

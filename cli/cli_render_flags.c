@@ -292,7 +292,8 @@ const cli_command cli_render_command = {
     "[SCENE] [options]",
     "Renders SCENE (or the built-in default scene) and writes an image, or a sequence of frames.\n"
     "SCENE is a brume scene (.json), or a grid file (.vdb, .nvdb) rendered in a studio scene\n"
-    "(docs/production.md).\n",
+    "(docs/production.md); a grid file without --spp, --time or --noise renders as `make render`\n"
+    "does: a 15 s time budget, then the denoiser (--spp N: N samples per pixel, deterministic).\n",
     render_flags, CLI_NFLAGS(render_flags),
     "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
     "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
@@ -375,3 +376,25 @@ int render_check_request(render_opts *o)
     return 0;
 }
 
+/* A bare grid file's defaults, as `make render` renders the default scene: a time budget
+ * and the denoiser, unless the command line or the overrides give a sample budget. */
+#define GRID_SECONDS "15"
+#define GRID_SPP_CAP "1024"
+
+bool render_grid_defaults(render_opts *o)
+{
+    const char *dot = o->scene_path ? strrchr(o->scene_path, '.') : NULL;
+    if (!dot || (strcmp(dot, ".vdb") != 0 && strcmp(dot, ".nvdb") != 0) || o->sequence || o->resume || o->spp ||
+        o->time_budget > 0.0 || o->noise > 0.0)
+        return false;
+    for (int k = 0; k < o->nsets; k++)
+        if (strncmp(o->sets[k], "render.spp=", 11) == 0 || strncmp(o->sets[k], "render.time=", 12) == 0 ||
+            strncmp(o->sets[k], "render.noise=", 13) == 0)
+            return false;
+    if (!set_override(o, "render.spp", 10, GRID_SPP_CAP) || !set_override(o, "render.time", 11, GRID_SECONDS))
+        return false;
+    o->time_budget = atof(GRID_SECONDS);
+    o->denoise = true;
+    o->grid_defaults = true;
+    return true;
+}

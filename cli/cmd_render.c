@@ -360,6 +360,10 @@ int cmd_render(int argc, char **argv)
     render_run r = {.o = &o};
     if ((rc = begin_run(&r)) != 0)
         return rc;
+    /* one process: under mpirun a time budget is refused, so a bare grid keeps its spp */
+    if (r.d.size == 1 && render_grid_defaults(&o) && !o.quiet)
+        fprintf(stderr, "brume: %s: a grid file without --spp, --time or --noise: %g s of rendering, then the "
+                        "denoiser (--spp N: N samples per pixel, deterministic)\n", o.scene_path, o.time_budget);
     double t_all = render_now_seconds();
     rc = render_frames(&r);
     if (rc == 0)
