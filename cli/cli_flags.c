@@ -211,7 +211,7 @@ void cli_usage(FILE *out)
 #define X(name, summary) fprintf(out, "  %-10s %s\n", #name, summary);
     BRUME_COMMANDS(X)
 #undef X
-    fprintf(out, "  %-10s %s\n", "help", "this text, or `brume help COMMAND` for one command");
+    fprintf(out, "  %-10s %s\n", "help", "this text, `brume help COMMAND` (its flags) or `brume help --usage`");
     fprintf(out, "\noptions:\n  --version  print the version\n"
                  "\nenvironment:\n  BRUME_MODULE_PATH  the folder of libbrume-openvdb.so (.vdb files), when not beside\n"
                  "                     libbrume or in the install's library folder\n"

@@ -203,7 +203,8 @@ TEST(parser_reads_the_table)
 TEST(stdout_write_error_fails)
 {
     static const char *const cmds[] = {"help", "help render", "--version", "options", "options --markdown",
-                                       "help --usage"};
+                                       "help --usage", "slab --albedo 0.5 --tau 1 --phase isotropic --samples 100",
+                                       "info " BRUME_DATA_DIR "/spiral.df3"};
     const char *err = test_tmp_path("full.err");
     for (size_t k = 0; k < sizeof cmds / sizeof *cmds; k++) {
         char cmd[4096];
