@@ -108,14 +108,12 @@ static int check_processes(render_run *r)
     return 0;
 }
 
-/* Everything before the first frame: processes, outputs, signals, the live view, the
- * context, a grid sequence's files. 0, or the exit status with a message and nothing left
- * open. */
+/* Everything before the first frame, after dist_begin: processes, outputs, signals, the
+ * live view, the context, a grid sequence's files. 0, or the exit status with a message and
+ * nothing left open. */
 static int begin_run(render_run *r)
 {
     const render_opts *o = r->o;
-    if (!dist_begin(&r->d))
-        return 1;
     int rc = check_processes(r);
     if (rc != 0) {
         dist_end(&r->d);
@@ -358,12 +356,14 @@ int cmd_render(int argc, char **argv)
     if ((rc = render_check_request(&o)) != 0)
         return rc;
     render_run r = {.o = &o};
-    if ((rc = begin_run(&r)) != 0)
-        return rc;
+    if (!dist_begin(&r.d))
+        return 1;
     /* one process: under mpirun a time budget is refused, so a bare grid keeps its spp */
     if (r.d.size == 1 && render_grid_defaults(&o) && !o.quiet)
         fprintf(stderr, "brume: %s: a grid file without --spp, --time or --noise: %g s of rendering, then the "
                         "denoiser (--spp N: N samples per pixel, deterministic)\n", o.scene_path, o.time_budget);
+    if ((rc = begin_run(&r)) != 0)
+        return rc;
     double t_all = render_now_seconds();
     rc = render_frames(&r);
     if (rc == 0)
