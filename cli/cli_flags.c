@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "args.h"
-#include "brume.h"
 #include "commands.h"
 
 #define WIDTH 100 /* columns of README's block */
