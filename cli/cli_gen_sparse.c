@@ -4,38 +4,19 @@
  * src/tool/gen_sparse.c (docs/grids.md). */
 #include "cli_gen_sparse.h"
 
+#include <float.h>
 #include <math.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
-
-static const char fire_usage[] =
-    "usage: brume gen fire [flags] -o OUT(.vdb|.nvdb)\n"
-    "       brume gen fire [flags] --frames A-B [--fps F] -o OUT_%04d.nvdb   (a file per frame)\n"
-    "  a procedural flame: grids \"density\" (smoke and soot) and \"temperature\" (kelvin)\n"
-    "  --resolution N   voxels along the height (default 128; width and depth N/2), [16, 2048]\n"
-    "  --seed N         noise seed (default 1)\n"
-    "  --height H       world height of the flame (default 2; the base is centred on the origin)\n"
-    "  --velocity S     also a vec3 grid \"vel\": the updraft, S (0.5 + h) world units per second up at\n"
-    "                   height fraction h with a sway of 0.3 S, over the whole box (default 0: none)\n"
-    "  --time T         seconds: the turbulence has risen by S T (by T without --velocity) (default 0)\n"
-    "  --frames A-B     frames A to B at times f / F, each to OUT with f in the frame pattern\n"
-    "                   (%04d, ####, $F4: docs/grids.md, \"Sequences\"), in [0, 100000]\n"
-    "  --fps F          frames per second, (0, 1000] (default 24, as render.fps)\n";
-
-static const char upres_usage[] =
-    "usage: brume gen upres IN(.vdb|.nvdb) --factor F -o OUT(.vdb|.nvdb) [flags]\n"
-    "  IN's density grid upsampled F times per axis (trilinear) with fractal detail, kept sparse\n"
-    "  --factor F       integer in [1, 16]\n"
-    "  --detail A       detail amplitude in [0, 1] (default 0.5): density times 1 + A (2 n - 1), n turbulence\n"
-    "  --seed N         noise seed (default 1)\n"
-    "  --grid NAME      the grid of IN (default: \"density\", else the only float grid)\n"
-    "  --max-memory B   for IN (default 4G)\n";
 
 /* OUT must be .vdb or .nvdb: 0, or 2 with a message. */
 static int check_output(const char *out)
@@ -58,53 +39,90 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
     return true;
 }
 
-int gen_fire(int argc, char **argv)
+/* The command line of `gen fire`. */
+typedef struct fire_opts {
+    const char *out;
+    int n, seed;
+    double height, velocity, time, fps;
+    long first, last;
+    bool frames, timed;
+} fire_opts;
+
+static bool bad_value(const char *cmd, const cli_flag *f, const char *v)
 {
-    long n = 128, seed = 1, first = 0, last = -1;
-    double height = 2.0, velocity = 0.0, time = 0.0, fps = 24.0;
-    bool frames = false, timed = false;
-    const char *out = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *f = argv[i];
-        if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
-            fputs(fire_usage, stdout);
-            return 0;
-        }
-        if (i + 1 >= argc) {
-            cli_error("gen fire: %s needs a value (see brume gen fire --help)", f);
-            return 2;
-        }
-        const char *v = argv[++i];
-        bool ok = true;
-        if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
-            out = v;
-        else if (strcmp(f, "--resolution") == 0)
-            ok = parse_int(v, 16, 2048, &n);
-        else if (strcmp(f, "--seed") == 0)
-            ok = parse_int(v, 0, 2147483647L, &seed);
-        else if (strcmp(f, "--height") == 0)
-            ok = cli_parse_doubles(v, &height, 1) && height > 0.0 && height < 1e6;
-        else if (strcmp(f, "--velocity") == 0)
-            ok = cli_parse_doubles(v, &velocity, 1) && velocity >= 0.0 && velocity < 1e6;
-        else if (strcmp(f, "--time") == 0)
-            ok = (timed = cli_parse_doubles(v, &time, 1) && time >= -1e6 && time <= 1e6);
-        else if (strcmp(f, "--fps") == 0)
-            ok = cli_parse_doubles(v, &fps, 1) && fps > 0.0 && fps <= 1000.0;
-        else if (strcmp(f, "--frames") == 0) {
-            char *end;
-            first = strtol(v, &end, 10);
-            ok = end != v && *end == '-' && parse_int(end + 1, 0, 100000, &last) && first >= 0 && first <= last;
-            frames = ok;
-        } else {
-            cli_error("gen fire: unknown flag %s (see brume gen fire --help)", f);
-            return 2;
-        }
-        if (!ok) {
-            cli_error("gen fire: bad value for %s: %s", f, v);
-            return 2;
-        }
-    }
-    if (!out) {
+    cli_error("%s: bad value for %s: %s", cmd, f->name, v);
+    return false;
+}
+
+/* A number in the flag's [lo, hi] (an open bound is the double next to it) into the double
+ * at its offset. */
+static bool fire_num(void *opts, const cli_flag *f, const char *v)
+{
+    fire_opts *o = opts;
+    double x = 0.0;
+    if (!cli_parse_doubles(v, &x, 1) || !(x >= f->lo && x <= f->hi))
+        return bad_value("gen fire", f, v);
+    *(double *)(void *)((char *)opts + f->off) = x;
+    o->timed |= f->off == offsetof(fire_opts, time);
+    return true;
+}
+
+/* An integer in the flag's [lo, hi] into the int at its offset. */
+static bool sparse_int(void *opts, const cli_flag *f, const char *v, const char *cmd)
+{
+    long x = 0;
+    if (!parse_int(v, (long)f->lo, (long)f->hi, &x))
+        return bad_value(cmd, f, v);
+    *(int *)(void *)((char *)opts + f->off) = (int)x;
+    return true;
+}
+
+static bool fire_int(void *opts, const cli_flag *f, const char *v) { return sparse_int(opts, f, v, "gen fire"); }
+
+static bool fire_frames(void *opts, const cli_flag *f, const char *v)
+{
+    fire_opts *o = opts;
+    char *end;
+    o->first = strtol(v, &end, 10);
+    o->frames = end != v && *end == '-' && parse_int(end + 1, 0, 100000, &o->last) && o->first >= 0 &&
+                o->first <= o->last;
+    return o->frames || bad_value("gen fire", f, v);
+}
+
+#define FOFF(field) offsetof(fire_opts, field)
+#define BELOW_1E6 0x1.e847fffffffffp+19 /* the double below 1e6: the bound is open */
+
+static const cli_flag fire_flags[] = {
+    {"--output", "-o", "OUT", "the grids: .vdb or .nvdb (required); with --frames a frame pattern", NULL,
+     CLI_FLAG_STRING, FOFF(out), 0, 0, NULL},
+    {"--resolution", NULL, "N", "voxels along the height (default 128; width and depth N/2), [16, 2048]", NULL,
+     CLI_FLAG_CALL, FOFF(n), 16, 2048, fire_int},
+    {"--seed", NULL, "N", "noise seed (default 1)", NULL, CLI_FLAG_CALL, FOFF(seed), 0, 2147483647.0, fire_int},
+    {"--height", NULL, "H", "world height of the flame (default 2; the base is centred on the origin)", NULL,
+     CLI_FLAG_CALL, FOFF(height), DBL_TRUE_MIN, BELOW_1E6, fire_num},
+    {"--velocity", NULL, "S", "also a vec3 grid \"vel\": the updraft, S (0.5 + h) world units per second up at\n"
+     "height fraction h with a sway of 0.3 S, over the whole box (default 0: none)", NULL, CLI_FLAG_CALL,
+     FOFF(velocity), 0.0, BELOW_1E6, fire_num},
+    {"--time", NULL, "T", "seconds: the turbulence has risen by S T (by T without --velocity) (default 0)", NULL,
+     CLI_FLAG_CALL, FOFF(time), -1e6, 1e6, fire_num},
+    {"--frames", NULL, "A-B", "frames A to B at times f / F, each to OUT with f in the frame pattern\n"
+     "(%04d, ####, $F4: docs/grids.md, \"Sequences\"), in [0, 100000]", NULL, CLI_FLAG_CALL, 0, 0, 0, fire_frames},
+    {"--fps", NULL, "F", "frames per second, (0, 1000] (default 24, as render.fps)", NULL, CLI_FLAG_CALL, FOFF(fps),
+     DBL_TRUE_MIN, 1000.0, fire_num},
+};
+
+const cli_command cli_gen_fire_command = {
+    "gen fire", "a procedural flame: sparse density and temperature grids, and its velocity",
+    "[options] -o OUT(.vdb|.nvdb)\n[options] --frames A-B [--fps F] -o OUT_%04d.nvdb",
+    "A procedural flame: grids \"density\" (smoke and soot) and \"temperature\" (kelvin), a file\n"
+    "per frame with --frames.\n",
+    fire_flags, CLI_NFLAGS(fire_flags), NULL, NULL};
+
+/* The request checked before the first file is written: 0, or the exit status after the
+ * message. */
+static int fire_check(fire_opts *o)
+{
+    if (!o->out) {
         cli_error("gen fire: no output file (-o OUT.vdb)");
         return 2;
     }
@@ -112,40 +130,59 @@ int gen_fire(int argc, char **argv)
         cli_error("gen fire: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
-    if (check_output(out))
+    if (check_output(o->out))
         return 2;
-    int kind = tool_seq_is_pattern(out);
-    if (kind < 0 || (kind == 1) != frames) {
+    int kind = tool_seq_is_pattern(o->out);
+    if (kind < 0 || (kind == 1) != o->frames) {
         if (kind < 0)
             cli_error("%.1000s", tool_last_error());
         else
-            cli_error(frames ? "-o %s: --frames needs a frame pattern in the name (fire_%%04d.nvdb, fire_####.nvdb)"
-                             : "-o %s: a frame pattern needs --frames A-B",
-                      out);
+            cli_error(o->frames ? "-o %s: --frames needs a frame pattern in the name (fire_%%04d.nvdb, fire_####.nvdb)"
+                                : "-o %s: a frame pattern needs --frames A-B",
+                      o->out);
         return 2;
     }
-    if (frames && timed) {
+    if (o->frames && o->timed) {
         cli_error("gen fire: --time and --frames: a frame's time is f / --fps");
         return 2;
     }
-    if (!frames)
-        first = last = 0;
-    /* every frame's time checked before the first file is written */
-    double t_max = frames ? (double)last / fps : time;
-    if (!(fabs(tool_gen_fire_rise(height, velocity, t_max)) <= 1e6)) {
-        cli_error("gen fire: %s %g s: the turbulence would rise %g flame heights, beyond 1e6", frames ? "the last frame at"
-                                                                                                          : "--time",
-                  t_max, tool_gen_fire_rise(height, velocity, t_max));
+    if (!o->frames)
+        o->first = o->last = 0;
+    double t_max = o->frames ? (double)o->last / o->fps : o->time; /* every frame's time */
+    if (!(fabs(tool_gen_fire_rise(o->height, o->velocity, t_max)) <= 1e6)) {
+        cli_error("gen fire: %s %g s: the turbulence would rise %g flame heights, beyond 1e6",
+                  o->frames ? "the last frame at" : "--time", t_max, tool_gen_fire_rise(o->height, o->velocity, t_max));
         return 2;
     }
-    for (long f = first; f <= last; f++) {
+    return 0;
+}
+
+/* Operands are refused by every `gen` subcommand but upres's IN: -1 to go on, or the exit
+ * status. */
+static int parse_sparse(const cli_command *c, void *opts, int argc, char **argv, int max_operands,
+                        const char **operand)
+{
+    const char *ops[1] = {NULL};
+    int n = 0, rc = cli_flags_parse(c, opts, argc, argv, ops, max_operands, &n);
+    if (operand)
+        *operand = ops[0];
+    return rc;
+}
+
+int gen_fire(int argc, char **argv)
+{
+    fire_opts o = {.n = 128, .seed = 1, .height = 2.0, .fps = 24.0, .first = 0, .last = -1};
+    int rc = parse_sparse(&cli_gen_fire_command, &o, argc, argv, 0, NULL);
+    if (rc >= 0 || (rc = fire_check(&o)) != 0)
+        return rc;
+    for (long f = o.first; f <= o.last; f++) {
         char name[4096];
-        if (frames)
-            tool_seq_name(out, f, name, sizeof name);
+        if (o.frames)
+            tool_seq_name(o.out, f, name, sizeof name);
         else
-            snprintf(name, sizeof name, "%s", out);
+            snprintf(name, sizeof name, "%s", o.out);
         tool_gen_result res;
-        if (tool_gen_fire(name, (int)n, (uint64_t)seed, height, velocity, frames ? (double)f / fps : time, &res) !=
+        if (tool_gen_fire(name, o.n, (uint64_t)o.seed, o.height, o.velocity, o.frames ? (double)f / o.fps : o.time, &res) !=
             BRUME_OK) {
             cli_error("%.1000s", tool_last_error());
             return 1;
@@ -156,57 +193,50 @@ int gen_fire(int argc, char **argv)
     return 0;
 }
 
+/* The command line of `gen upres`. */
+typedef struct upres_opts {
+    brume_grid_file_options grid; /* first: the loading flags' (--grid, --max-memory) */
+    const char *out;
+    int factor, seed;
+    double detail;
+} upres_opts;
+
+static bool upres_int(void *opts, const cli_flag *f, const char *v) { return sparse_int(opts, f, v, "gen upres"); }
+
+static bool upres_detail(void *opts, const cli_flag *f, const char *v)
+{
+    double *d = &((upres_opts *)opts)->detail;
+    return (cli_parse_doubles(v, d, 1) && *d >= 0.0 && *d <= 1.0) || bad_value("gen upres", f, v);
+}
+
+#define UOFF(field) offsetof(upres_opts, field)
+
+static const cli_flag upres_flags[] = {
+    {"--output", "-o", "OUT", "the grid: .vdb or .nvdb (required)", NULL, CLI_FLAG_STRING, UOFF(out), 0, 0, NULL},
+    {"--factor", NULL, "F", "integer in [1, 16] (required)", NULL, CLI_FLAG_CALL, UOFF(factor), 1, 16, upres_int},
+    {"--detail", NULL, "A", "detail amplitude in [0, 1] (default 0.5): density times 1 + A (2 n - 1), n turbulence",
+     NULL, CLI_FLAG_CALL, 0, 0, 0, upres_detail},
+    {"--seed", NULL, "N", "noise seed (default 1)", NULL, CLI_FLAG_CALL, UOFF(seed), 0, 2147483647.0, upres_int},
+    CLI_LOAD_FLAG("--grid", "NAME", "the grid of IN (default: \"density\", else the only float grid)", "grid",
+                  cli_grid_name),
+    CLI_LOAD_FLAG("--max-memory", "B", "for IN (default 4G)", "max_memory_mb", cli_grid_max_memory),
+};
+
+const cli_command cli_gen_upres_command = {
+    "gen upres", "a cloud upsampled by an integer factor with fractal detail, kept sparse",
+    "IN(.vdb|.nvdb) --factor F -o OUT(.vdb|.nvdb) [options]",
+    "IN's density grid upsampled F times per axis (trilinear) with fractal detail, kept sparse.\n",
+    upres_flags, CLI_NFLAGS(upres_flags), NULL, NULL};
+
 int gen_upres(int argc, char **argv)
 {
-    long factor = 0, seed = 1;
-    double detail = 0.5;
-    const char *in = NULL, *out = NULL;
-    brume_grid_file_options o;
-    brume_grid_file_options_default(&o); /* trilinear */
-    for (int i = 1; i < argc; i++) {
-        const char *f = argv[i];
-        if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
-            fputs(upres_usage, stdout);
-            return 0;
-        }
-        if (f[0] != '-') {
-            if (in) {
-                cli_error("gen upres: unexpected argument %s", f);
-                return 2;
-            }
-            in = f;
-            continue;
-        }
-        if (strcmp(f, "--grid") == 0 || strcmp(f, "--max-memory") == 0) {
-            int r = cli_load_flag("gen upres", argc, argv, &i, &o);
-            if (r < 0)
-                return 2;
-            continue;
-        }
-        if (i + 1 >= argc) {
-            cli_error("gen upres: %s needs a value (see brume gen upres --help)", f);
-            return 2;
-        }
-        const char *v = argv[++i];
-        bool ok = true;
-        if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
-            out = v;
-        else if (strcmp(f, "--factor") == 0)
-            ok = parse_int(v, 1, 16, &factor);
-        else if (strcmp(f, "--seed") == 0)
-            ok = parse_int(v, 0, 2147483647L, &seed);
-        else if (strcmp(f, "--detail") == 0)
-            ok = cli_parse_doubles(v, &detail, 1) && detail >= 0.0 && detail <= 1.0;
-        else {
-            cli_error("gen upres: unknown flag %s (see brume gen upres --help)", f);
-            return 2;
-        }
-        if (!ok) {
-            cli_error("gen upres: bad value for %s: %s", f, v);
-            return 2;
-        }
-    }
-    if (!in || !out || !factor) {
+    upres_opts o = {.out = NULL, .factor = 0, .seed = 1, .detail = 0.5};
+    brume_grid_file_options_default(&o.grid); /* trilinear */
+    const char *in = NULL;
+    int rc = parse_sparse(&cli_gen_upres_command, &o, argc, argv, 1, &in);
+    if (rc >= 0)
+        return rc;
+    if (!in || !o.out || !o.factor) {
         cli_error("gen upres: need IN, --factor F and -o OUT (see brume gen upres --help)");
         return 2;
     }
@@ -214,14 +244,14 @@ int gen_upres(int argc, char **argv)
         cli_error("gen upres: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
-    if (check_output(out))
+    if (check_output(o.out))
         return 2;
     tool_gen_result res;
-    if (tool_gen_upres(in, &o, (int)factor, (uint64_t)seed, detail, out, &res) != BRUME_OK) {
+    if (tool_gen_upres(in, &o.grid, o.factor, (uint64_t)o.seed, o.detail, o.out, &res) != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());
         return 1;
     }
-    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", out, res.active, res.box[0], res.box[1],
+    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", o.out, res.active, res.box[0], res.box[1],
            res.box[2], res.voxel);
     return 0;
 }

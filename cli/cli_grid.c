@@ -74,50 +74,68 @@ bool cli_parse_bytes(const char *s, size_t *out)
     return true;
 }
 
-int cli_load_flag(const char *cmd, int argc, char **argv, int *i, brume_grid_file_options *o)
+/* The grid loading flags' values into the brume_grid_file_options that begins the command's
+ * options (cli_grid.h); each false after the message. */
+static bool bad_value(const cli_flag *f, const char *v)
 {
-    const char *f = argv[*i];
-    static const char *const with_value[] = {"--format", "--dims", "--bounds", "--transform",
-                                             "--filter", "--scale", "--max-memory", "--grid"};
-    int known = 0;
-    for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
-        known |= strcmp(f, with_value[k]) == 0;
-    if (!known)
-        return 0;
-    if (*i + 1 >= argc) {
-        cli_error("%s: %s needs a value", cmd, f);
-        return -1;
-    }
-    const char *v = argv[++*i];
-    bool ok = true;
-    if (strcmp(f, "--format") == 0) {
-        ok = tool_grid_format_known(v);
-        o->format = tool_grid_format_parse(ok ? v : NULL);
-    } else if (strcmp(f, "--dims") == 0) {
-        ok = cli_parse_dims(v, o->dims);
-    } else if (strcmp(f, "--bounds") == 0) {
-        ok = cli_parse_doubles(v, o->bounds, 6) && o->bounds[3] > o->bounds[0] && o->bounds[4] > o->bounds[1] &&
-             o->bounds[5] > o->bounds[2];
-        o->has_bounds = ok;
-    } else if (strcmp(f, "--transform") == 0) {
-        ok = cli_parse_doubles(v, o->transform, 12);
-        o->has_transform = ok;
-    } else if (strcmp(f, "--filter") == 0) {
-        ok = strcmp(v, "nearest") == 0 || strcmp(v, "trilinear") == 0;
-        o->filter = strcmp(v, "nearest") == 0 ? BRUME_GRID_NEAREST : BRUME_GRID_TRILINEAR;
-    } else if (strcmp(f, "--scale") == 0) {
-        ok = cli_parse_doubles(v, &o->scale, 1) && o->scale > 0.0;
-    } else if (strcmp(f, "--grid") == 0) {
-        ok = v[0] != '\0' && strlen(v) < sizeof o->grid;
-        snprintf(o->grid, sizeof o->grid, "%s", v);
-    } else {
-        size_t bytes = 0;
-        ok = cli_parse_bytes(v, &bytes);
-        o->max_memory_mb = (double)bytes / 1048576.0; /* exact below 2^53 bytes: the reader multiplies back */
-    }
-    if (!ok) {
-        cli_error("%s: bad value for %s: %s", cmd, f, v);
-        return -1;
-    }
-    return 1;
+    cli_error("%s: bad value '%s'", f->name, v);
+    return false;
+}
+
+bool cli_grid_format(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    bool ok = tool_grid_format_known(v);
+    o->format = tool_grid_format_parse(ok ? v : NULL);
+    return ok || bad_value(f, v);
+}
+
+bool cli_grid_dims(void *opts, const cli_flag *f, const char *v)
+{
+    return cli_parse_dims(v, ((brume_grid_file_options *)opts)->dims) || bad_value(f, v);
+}
+
+bool cli_grid_bounds(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    double *b = o->bounds;
+    o->has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
+    return o->has_bounds || bad_value(f, v);
+}
+
+bool cli_grid_transform(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    o->has_transform = cli_parse_doubles(v, o->transform, 12);
+    return o->has_transform || bad_value(f, v);
+}
+
+bool cli_grid_filter(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    bool nearest = strcmp(v, "nearest") == 0;
+    o->filter = nearest ? BRUME_GRID_NEAREST : BRUME_GRID_TRILINEAR;
+    return nearest || strcmp(v, "trilinear") == 0 || bad_value(f, v);
+}
+
+bool cli_grid_scale(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    return (cli_parse_doubles(v, &o->scale, 1) && o->scale > 0.0) || bad_value(f, v);
+}
+
+bool cli_grid_name(void *opts, const cli_flag *f, const char *v)
+{
+    brume_grid_file_options *o = opts;
+    snprintf(o->grid, sizeof o->grid, "%s", v);
+    return (v[0] != '\0' && strlen(v) < sizeof o->grid) || bad_value(f, v);
+}
+
+bool cli_grid_max_memory(void *opts, const cli_flag *f, const char *v)
+{
+    size_t bytes = 0;
+    bool ok = cli_parse_bytes(v, &bytes);
+    /* exact below 2^53 bytes: the reader multiplies back */
+    ((brume_grid_file_options *)opts)->max_memory_mb = (double)bytes / 1048576.0;
+    return ok || bad_value(f, v);
 }

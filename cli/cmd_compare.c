@@ -2,44 +2,19 @@
  * region (the cloud), with bootstrap intervals, and a signed difference picture; with
  * --scene and --seeds, the figures of K renders of a scene at independent seeds, mean +- s.e. */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "args.h"
+#include "cli_flags.h"
 #include "brume.h"
 #include "commands.h"
 #include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_SEEDS 256
-
-static const char compare_usage[] =
-    "usage: brume compare IMAGE REFERENCE [options]\n"
-    "       brume compare --scene SCENE.json --seeds K REFERENCE [render options] [options]\n"
-    "Prints the error figures of IMAGE against REFERENCE, one per line:\n"
-    "  rmse, rel_rmse (rmse / mean reference), mean_rel, max_rel (relative luminance differences\n"
-    "  over pixels brighter than 1%% of the mean), mean, mean_ref (the old figures, whole frame);\n"
-    "  then for the frame, and for the region when --alpha or --mask gives one:\n"
-    "  REGION pixels N tiles T\n"
-    "  REGION ratio X [LO, HI]        mean(IMAGE) / mean(REFERENCE)\n"
-    "  REGION rel_rmse X [LO, HI]     rms difference / mean(REFERENCE)\n"
-    "  REGION signed_rel X [LO, HI]   mean signed relative luminance difference (< 0: darker)\n"
-    "  [LO, HI] is a 95%% block-bootstrap interval (8 x 8-pixel tiles, fixed seed).\n\n"
-    "  --alpha T        region: the pixels where REFERENCE's alpha (1 - the media's transmittance,\n"
-    "                   an EXR written by brume render) exceeds T, e.g. 0.05 for the cloud\n"
-    "  --mask FILE      region: the pixels where FILE (same size) is brighter than 0.5\n"
-    "  --boot N         bootstrap draws (default 1000; 0: no interval)\n"
-    "  -o DIFF.png      signed difference picture: blue darker, red brighter than the reference,\n"
-    "                   white equal, dark at +-S or beyond, a scale bar in percent under it; the\n"
-    "                   pixels outside the region greyed (.exr/.pfm: the colours alone, linear)\n"
-    "  --scale S        the difference where the colours saturate (default 0.5 = 50 %%)\n"
-    "  --scene FILE     render FILE instead of reading IMAGE, --seeds K times (seeds S0 .. S0+K-1),\n"
-    "                   and print each render's figures and their mean +- standard error over K\n"
-    "  --seeds K        with --scene: the number of independent renders (2 .. 256)\n"
-    "  --seed S0        the first seed (default 1); -o then pictures the last render\n"
-    "  --set KEY=VALUE, --method M, --spp N, --width W, --height H, --threads N\n"
-    "                   as for brume render, for --scene\n";
 
 static const char *const fig_names[IMAGE_NFIGS] = {"ratio", "rel_rmse", "signed_rel"};
 
@@ -102,57 +77,74 @@ typedef struct compare_opts {
     scene_run sr;                 /* --scene and its render options */
 } compare_opts;
 
+static bool flag_set(void *opts, const cli_flag *f, const char *v)
+{
+    (void)f;
+    scene_run *sr = &((compare_opts *)opts)->sr;
+    if (sr->nsets == MAX_SETS) {
+        cli_error("compare: more than %d --set options", MAX_SETS);
+        return false;
+    }
+    sr->sets[sr->nsets++] = v;
+    return true;
+}
+
+#define OFF(field) offsetof(compare_opts, field)
+
+static const cli_flag compare_flags[] = {
+    {"--alpha", NULL, "T", "region: the pixels where REFERENCE's alpha (1 - the media's transmittance,\n"
+     "an EXR written by brume render) exceeds T, e.g. 0.05 for the cloud", NULL, CLI_FLAG_DOUBLE, OFF(alpha), 0.0,
+     0.999999, NULL},
+    {"--mask", NULL, "FILE", "region: the pixels where FILE (same size) is brighter than 0.5", NULL, CLI_FLAG_STRING,
+     OFF(mask_path), 0, 0, NULL},
+    {"--boot", NULL, "N", "bootstrap draws (default 1000; 0: no interval)", NULL, CLI_FLAG_INT, OFF(boot), 0, 100000,
+     NULL},
+    {"--output", "-o", "DIFF.png", "signed difference picture: blue darker, red brighter than the reference,\n"
+     "white equal, dark at +-S or beyond, a scale bar in percent under it; the\n"
+     "pixels outside the region greyed (.exr/.pfm: the colours alone, linear)", NULL, CLI_FLAG_STRING, OFF(diff), 0, 0,
+     NULL},
+    {"--scale", NULL, "S", "the difference where the colours saturate (default 0.5 = 50 %)", NULL, CLI_FLAG_DOUBLE,
+     OFF(scale), 1e-6, 1e6, NULL},
+    {"--scene", NULL, "FILE", "render FILE instead of reading IMAGE, --seeds K times (seeds S0 .. S0+K-1),\n"
+     "and print each render's figures and their mean +- standard error over K", NULL, CLI_FLAG_STRING, OFF(sr.path), 0,
+     0, NULL},
+    {"--seeds", NULL, "K", "with --scene: the number of independent renders (2 .. 256)", NULL, CLI_FLAG_INT,
+     OFF(sr.seeds), 2, MAX_SEEDS, NULL},
+    {"--seed", NULL, "S0", "the first seed (default 1); -o then pictures the last render", "render.seed",
+     CLI_FLAG_U64, OFF(sr.seed0), 0, 0, NULL},
+    {"--set", NULL, "KEY=VALUE", "as for brume render, for --scene", NULL, CLI_FLAG_CALL, 0, 0, 0, flag_set},
+    {"--method", NULL, "M", "as for brume render, for --scene", "render.method", CLI_FLAG_STRING, OFF(sr.method), 0, 0,
+     NULL},
+    {"--spp", NULL, "N", "as for brume render, for --scene", "render.spp", CLI_FLAG_INT, OFF(sr.spp), 1, 1 << 24,
+     NULL},
+    {"--width", NULL, "W", "as for brume render, for --scene", "render.width", CLI_FLAG_INT, OFF(sr.width), 1, 65536,
+     NULL},
+    {"--height", NULL, "H", "as for brume render, for --scene", "render.height", CLI_FLAG_INT, OFF(sr.height), 1,
+     65536, NULL},
+    {"--threads", NULL, "N", "as for brume render, for --scene", "render.threads", CLI_FLAG_INT, OFF(sr.threads), 0,
+     1024, NULL},
+};
+
+const cli_command cli_compare_command = {
+    "compare", "error figures over the frame and the cloud, with bootstrap intervals, and a difference picture",
+    "IMAGE REFERENCE [options]\n--scene SCENE.json --seeds K REFERENCE [options]",
+    "Prints the error figures of IMAGE against REFERENCE, one per line:\n"
+    "  rmse, rel_rmse (rmse / mean reference), mean_rel, max_rel (relative luminance differences\n"
+    "  over pixels brighter than 1% of the mean), mean, mean_ref (the old figures, whole frame);\n"
+    "  then for the frame, and for the region when --alpha or --mask gives one:\n"
+    "  REGION pixels N tiles T\n"
+    "  REGION ratio X [LO, HI]        mean(IMAGE) / mean(REFERENCE)\n"
+    "  REGION rel_rmse X [LO, HI]     rms difference / mean(REFERENCE)\n"
+    "  REGION signed_rel X [LO, HI]   mean signed relative luminance difference (< 0: darker)\n"
+    "  [LO, HI] is a 95% block-bootstrap interval (8 x 8-pixel tiles, fixed seed).\n"
+    "With --scene, the figures of K renders of a scene at independent seeds, mean +- s.e.\n",
+    compare_flags, CLI_NFLAGS(compare_flags), NULL, NULL};
+
 /* The command line into *o. -1: go on; otherwise the exit status (0 after --help, 2 with a
  * message). */
 static int parse_compare(compare_opts *o, int argc, char **argv)
 {
-    scene_run *sr = &o->sr;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(compare_usage, stdout);
-            return 0;
-        } else if (strcmp(a, "-o") == 0) {
-            if (!(o->diff = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--scale") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 1e-6, 1e6, &o->scale)) return 2;
-        } else if (strcmp(a, "--alpha") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, 0.0, 0.999999, &o->alpha)) return 2;
-        } else if (strcmp(a, "--mask") == 0) {
-            if (!(o->mask_path = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--boot") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 100000, &o->boot)) return 2;
-        } else if (strcmp(a, "--scene") == 0) {
-            if (!(sr->path = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--seeds") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 2, MAX_SEEDS, &sr->seeds)) return 2;
-        } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &sr->seed0)) return 2;
-        } else if (strcmp(a, "--set") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (sr->nsets == MAX_SETS) {
-                cli_error("compare: more than %d --set options", MAX_SETS);
-                return 2;
-            }
-            sr->sets[sr->nsets++] = v;
-        } else if (strcmp(a, "--method") == 0) {
-            if (!(sr->method = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &sr->spp)) return 2;
-        } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr->width)) return 2;
-        } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 65536, &sr->height)) return 2;
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &sr->threads)) return 2;
-        } else if (o->np < 2 && (a[0] != '-' || a[1] == '\0')) {
-            o->paths[o->np++] = a;
-        } else {
-            cli_error("compare: unexpected argument '%s'", a);
-            return 2;
-        }
-    }
-    return -1;
+    return cli_flags_parse(&cli_compare_command, o, argc, argv, o->paths, 2, &o->np);
 }
 
 /* The options that go together: 0, or 2 with a message. */

@@ -1,66 +1,75 @@
 /* cmd_convert.c - `brume convert IN OUT`: between raw, df3, .vol, .nvdb and .vdb; formats
  * by extension (or --format for IN, --to for OUT). .vdb to .nvdb keeps the sparse tree. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
 
-static const char usage[] =
-    "usage: brume convert [flags] IN OUT\n"
-    "  --to raw|df3|vol|nvdb|vdb       output format (default: OUT's extension)\n" CLI_LOAD_FLAGS_HELP;
+typedef struct convert_opts {
+    brume_grid_file_options grid; /* first: the loading flags' */
+    const char *to;
+} convert_opts;
+
+static bool flag_to(void *opts, const cli_flag *f, const char *v)
+{
+    (void)f;
+    if (!tool_grid_format_known(v)) {
+        cli_error("convert: --to needs one of raw, df3, vol, nvdb, vdb");
+        return false;
+    }
+    ((convert_opts *)opts)->to = v;
+    return true;
+}
+
+static const cli_flag convert_flags[] = {
+    {"--to", NULL, "raw|df3|vol|nvdb|vdb", "output format (default: OUT's extension)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_to},
+    CLI_LOAD_FLAGS};
+
+const cli_command cli_convert_command = {
+    "convert", "convert a grid file between raw, df3, vol, nvdb and vdb",
+    "[options] IN OUT",
+    "Formats by extension (or --format for IN, --to for OUT). .vdb to .nvdb keeps the sparse tree.\n",
+    convert_flags, CLI_NFLAGS(convert_flags), NULL, NULL};
+
+/* Whether a flag that places the voxels was given (the sparse tree cannot keep it). */
+static bool placed(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++) {
+        const cli_flag *f = cli_flags_find(&cli_convert_command, argv[i]);
+        if (f && f->call != flag_to && f->call != cli_grid_format && f->call != cli_grid_max_memory)
+            return true;
+        i += f && f->arg; /* its value */
+    }
+    return false;
+}
 
 int cmd_convert(int argc, char **argv)
 {
-    brume_grid_file_options o;
-    brume_grid_file_options_default(&o);
-    const char *in = NULL, *out = NULL, *to = NULL;
-    bool placed = false;
-    for (int i = 1; i < argc; i++) {
-        int r = cli_load_flag("convert", argc, argv, &i, &o);
-        if (r < 0)
-            return 2;
-        if (r > 0) {
-            placed |= strcmp(argv[i - 1], "--format") != 0 && strcmp(argv[i - 1], "--max-memory") != 0;
-            continue;
-        }
-        if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
-            fputs(usage, stdout);
-            return 0;
-        }
-        if (strcmp(argv[i], "--to") == 0) {
-            if (i + 1 >= argc || !tool_grid_format_known(to = argv[i + 1])) {
-                cli_error("convert: --to needs one of raw, df3, vol, nvdb, vdb");
-                return 2;
-            }
-            i++;
-            continue;
-        }
-        if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            cli_error("convert: unknown flag %s (see brume convert --help)", argv[i]);
-            return 2;
-        }
-        if (!in)
-            in = argv[i];
-        else if (!out)
-            out = argv[i];
-        else {
-            cli_error("convert: unexpected argument %s", argv[i]);
-            return 2;
-        }
-    }
+    convert_opts co = {.to = NULL};
+    brume_grid_file_options_default(&co.grid);
+    const char *files[2] = {NULL, NULL};
+    int n = 0, rc = cli_flags_parse(&cli_convert_command, &co, argc, argv, files, 2, &n);
+    if (rc >= 0)
+        return rc;
+    const char *in = files[0], *out = files[1];
     if (!in || !out) {
         cli_error("convert: need IN and OUT (see brume convert --help)");
         return 2;
     }
+    brume_grid_file_options o = co.grid;
+    const char *to = co.to;
     const char *fin = tool_grid_format_of(in, o.format, NULL, 0), *fout = tool_grid_format_of(out, tool_grid_format_parse(to), NULL, 0);
     if (!fout) {
         cli_error("%s: unknown output format (use .raw, .df3, .vol, .nvdb, .vdb or --to)", out);
         return 2;
     }
     /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
-    if (fin && strcmp(fin, "vdb") == 0 && strcmp(fout, "nvdb") == 0 && !placed) {
+    if (fin && strcmp(fin, "vdb") == 0 && strcmp(fout, "nvdb") == 0 && !placed(argc, argv)) {
         if (tool_grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
             cli_error("%.1000s", tool_last_error());
             return 1;

@@ -1,43 +1,60 @@
 /* cmd_denoise.c - `brume denoise IN.exr -o OUT.exr`: the library's denoiser (brume_denoise,
  * docs/denoise.md) on an image that `brume render --aov variance,...` wrote. */
+#include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "args.h"
+#include "cli_flags.h"
 #include "brume.h"
 #include "cli_job.h"
 #include "commands.h"
 
+typedef struct denoise_opts {
+    const char *out;
+    int threads;
+    brume_write_options wopts;
+} denoise_opts;
+
+static bool flag_filmic(void *opts, const cli_flag *f, const char *v)
+{
+    (void)f, (void)v;
+    ((denoise_opts *)opts)->wopts.tonemap = BRUME_TONEMAP_FILMIC;
+    return true;
+}
+
+static const cli_flag denoise_flags[] = {
+    {"--output", "-o", "OUT", "the denoised image: .exr (every layer kept) or .png", NULL, CLI_FLAG_STRING,
+     offsetof(denoise_opts, out), 0, 0, NULL},
+    {"--threads", NULL, "N", "worker threads (default: one per core); the result does not depend on it",
+     "settings.threads", CLI_FLAG_INT, offsetof(denoise_opts, threads), 0, 1024, NULL},
+    {"--exposure", NULL, "STOPS", "PNG only: scale by 2^STOPS before tone mapping", NULL, CLI_FLAG_DOUBLE,
+     offsetof(denoise_opts, wopts.exposure), -64.0, 64.0, NULL},
+    {"--filmic", NULL, NULL, "PNG only: ACES filmic tone curve instead of clamping", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_filmic},
+};
+
+const cli_command cli_denoise_command = {
+    "denoise", "filter a rendered EXR with its variance and feature layers (docs/denoise.md)",
+    "IN.exr -o OUT.exr|OUT.png [options]",
+    "Filters IN (an EXR from `brume render --aov variance[,albedo,normal,depth]` or --denoise\n"
+    "without denoising) with brume's variance-guided a-trous filter (docs/denoise.md). OUT.exr\n"
+    "keeps every layer, the unfiltered image in the layer \"raw\", and is marked by the\n"
+    "attribute brume.denoised. The result does not depend on --threads. A denoised image is\n"
+    "biased: never a validation result.\n",
+    denoise_flags, CLI_NFLAGS(denoise_flags), NULL, NULL};
+
 int cmd_denoise(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL;
-    int threads = 0;
-    brume_write_options wopts = {0.0, BRUME_TONEMAP_CLAMP};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            printf("usage: brume denoise IN.exr -o OUT.exr|OUT.png [--threads N] [--exposure STOPS] [--filmic]\n"
-                   "Filters IN (an EXR from `brume render --aov variance[,albedo,normal,depth]` or --denoise\n"
-                   "without denoising) with brume's variance-guided a-trous filter (docs/denoise.md). OUT.exr\n"
-                   "keeps every layer, the unfiltered image in the layer \"raw\", and is marked by the\n"
-                   "attribute brume.denoised. The result does not depend on --threads. A denoised image is\n"
-                   "biased: never a validation result.\n");
-            return 0;
-        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (!(out = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &threads)) return 2;
-        } else if (strcmp(a, "--exposure") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &wopts.exposure)) return 2;
-        } else if (strcmp(a, "--filmic") == 0) {
-            wopts.tonemap = BRUME_TONEMAP_FILMIC;
-        } else if (!in && (a[0] != '-' || a[1] == '\0')) {
-            in = a;
-        } else {
-            cli_error("denoise: unexpected argument '%s' (try `brume help denoise`)", a);
-            return 2;
-        }
-    }
+    denoise_opts o = {NULL, 0, {0.0, BRUME_TONEMAP_CLAMP}};
+    const char *in = NULL;
+    int n = 0, rc = cli_flags_parse(&cli_denoise_command, &o, argc, argv, &in, 1, &n);
+    if (rc >= 0)
+        return rc;
+    const char *out = o.out;
+    int threads = o.threads;
+    brume_write_options wopts = o.wopts;
     if (!in || !out) {
         cli_error("denoise: need IN.exr and -o OUT (try `brume help denoise`)");
         return 2;
@@ -54,7 +71,7 @@ int cmd_denoise(int argc, char **argv)
         return 1;
     }
     brume_image *img = NULL, *den = NULL;
-    int rc = 1;
+    rc = 1;
     if (brume_image_read(ctx, in, &img) != BRUME_OK)
         goto fail;
     if (brume_denoise(ctx, img, threads, &den) != BRUME_OK) {

@@ -4,22 +4,21 @@
 #include <string.h>
 
 #include "brume.h"
+#include "cli_flags.h"
 #include "commands.h"
+
+const cli_command cli_devices_command = {
+    "devices", "the GPUs brume can render on (docs/gpu.md), or why there are none", "",
+    "Lists the NVIDIA GPUs that `brume render --device cuda:N` can use: name, memory,\n"
+    "compute capability. Says why there are none (no driver, a build without GPU kernels).\n",
+    NULL, 0, NULL, NULL};
 
 int cmd_devices(int argc, char **argv)
 {
-    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("usage: brume devices\n"
-               "Lists the NVIDIA GPUs that `brume render --device cuda:N` can use: name, memory,\n"
-               "compute capability. Says why there are none (no driver, a build without GPU kernels).\n");
-        return 0;
-    }
-    if (argc > 1) {
-        cli_error("devices: unexpected argument '%s' (usage: brume devices)", argv[1]);
-        return 2;
-    }
+    int n = 0, rc = cli_flags_parse(&cli_devices_command, NULL, argc, argv, NULL, 0, &n);
+    if (rc >= 0)
+        return rc;
     brume_device_info d[16];
-    int n = 0;
     brume_context *ctx = brume_context_new();
     if (!ctx) {
         cli_error("devices: out of memory");

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "brume.h"
+#include "cli_flags.h"
 #include "commands.h"
 #include "figures_table.h"
 #include "tool/tool.h"
@@ -119,22 +120,6 @@ const char *figures_caption(const char *name, const char **scene)
 /* Quick mode: small images, one sample, few light rays, few realizations. */
 #define QUICK_WIDTH 64
 #define QUICK_LIGHT_RAYS "20000"
-
-static const char figures_usage[] =
-    "usage: brume figures -o DIR [--quick] [--only NAME] [--scenes DIR] [--into-docs] [--compare]\n"
-    "Renders every figure of Blasi et al. 1993 (Figures 2-7, pictures 1-3 of Section 5) and\n"
-    "Stam 1994 (Figures 1, 4-8) into DIR (created if missing), with DIR/index.md and\n"
-    "DIR/index.html: each figure beside its caption, the command that makes it alone and the\n"
-    "time it took.\n\n"
-    "  --quick        small images (64 pixels wide, 1 sample, 20000 light rays, fewer\n"
-    "                 realizations): every file in seconds, for tests\n"
-    "  --only NAME    one figure (its file only, no index); NAME as in the index\n"
-    "  --scenes DIR   the paper scenes (default: ./scenes if present, else the source tree's)\n"
-    "  --into-docs    allow DIR inside the source tree's docs/ (refused otherwise)\n"
-    "  --compare      instead: each rendered figure of a method with variants (Blasi's pictures,\n"
-    "                 Stam's Figures 5-8) as printed, as corrected and by `path` (the truth; for\n"
-    "                 Stam on the explicit realization of the same Q), side by side with each\n"
-    "                 method's error over the cloud under it: DIR/NAME-compare.png, no index\n";
 
 static double now(void)
 {
@@ -301,6 +286,42 @@ done:
  * the explicit realization of the same Q (stam.voxelize). */
 #define COMPARE_SPP 64
 #define COMPARE_VOXELS "192"
+/* Column k of a --compare sheet: the scene with overrides ov, path at COMPARE_SPP for the
+ * truth (k 2). 0; 1 on a failure the context explains; -1 after a message. */
+static int render_variant(brume_context *ctx, const char *scene, const figure *f, const char *const *ov, int nov, int k,
+                          bool quick, brume_image **img)
+{
+    brume_scene *s = NULL;
+    brume_load_options lo = {0.0, 0, ov, nov, NULL, 0};
+    if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
+        return 1;
+    brume_render_settings rs;
+    brume_scene_settings(s, &rs);
+    if (k == 0 && rs.method != BRUME_METHOD_BLASI && rs.method != BRUME_METHOD_STAM) {
+        brume_scene_release(s);
+        cli_error("figures: --compare: %s is rendered by %s, which has no printed and corrected variants", f->name,
+                  brume_method_name(rs.method));
+        return -1;
+    }
+    if (quick) {
+        rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
+        rs.width = QUICK_WIDTH;
+        rs.spp = 1;
+    }
+    if (k == 2) {
+        rs.method = BRUME_METHOD_PATH;
+        rs.spp = quick ? 2 : COMPARE_SPP;
+    }
+    rs.progress = false;
+    brume_status st = brume_scene_set_settings(ctx, s, &rs);
+    if (st == BRUME_OK)
+        st = brume_scene_commit(ctx, s);
+    if (st == BRUME_OK)
+        st = brume_render(ctx, s, img);
+    brume_scene_release(s);
+    return st != BRUME_OK;
+}
+
 static int run_compare(const char *scenes, const figure *f, const char *dir, bool quick, fig_run *r)
 {
     char scene[PATH_MAX], path[PATH_MAX];
@@ -325,35 +346,10 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
     double t0 = now();
     memset(r, 0, sizeof *r);
     for (int k = 0; k < 3 && ctx; k++) {
-        brume_scene *s = NULL;
-        brume_load_options lo = {0.0, 0, ov[k], nov[k], NULL, 0};
-        if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
-            goto fail;
-        brume_render_settings rs;
-        brume_scene_settings(s, &rs);
-        if (k == 0 && rs.method != BRUME_METHOD_BLASI && rs.method != BRUME_METHOD_STAM) {
-            brume_scene_release(s);
-            cli_error("figures: --compare: %s is rendered by %s, which has no printed and corrected variants", f->name,
-                      brume_method_name(rs.method));
+        int st = render_variant(ctx, scene, f, ov[k], nov[k], k, quick, &img[k]);
+        if (st < 0)
             goto done;
-        }
-        if (quick) {
-            rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
-            rs.width = QUICK_WIDTH;
-            rs.spp = 1;
-        }
-        if (k == 2) {
-            rs.method = BRUME_METHOD_PATH;
-            rs.spp = quick ? 2 : COMPARE_SPP;
-        }
-        rs.progress = false;
-        brume_status st = brume_scene_set_settings(ctx, s, &rs);
-        if (st == BRUME_OK)
-            st = brume_scene_commit(ctx, s);
-        if (st == BRUME_OK)
-            st = brume_render(ctx, s, &img[k]);
-        brume_scene_release(s);
-        if (st != BRUME_OK)
+        if (st > 0)
             goto fail;
     }
     if (!ctx || image_mask_alpha(img[2], 0.05, &mask, &count) != BRUME_OK)
@@ -592,69 +588,60 @@ static bool inside_docs(const char *scenes, const char *dir)
     return strncmp(d, rdocs, n) == 0 && d[n] == '/';
 }
 
-int cmd_figures(int argc, char **argv)
+typedef struct figures_opts {
+    const char *dir, *only, *scenes;
+    bool quick, into_docs, compare;
+} figures_opts;
+
+#define OFF(field) offsetof(figures_opts, field)
+
+static const cli_flag figures_flags[] = {
+    {"--output", "-o", "DIR", "the folder of the figures and their index (required)", NULL, CLI_FLAG_STRING, OFF(dir),
+     0, 0, NULL},
+    {"--quick", NULL, NULL, "small images (64 pixels wide, 1 sample, 20000 light rays, fewer\n"
+     "realizations): every file in seconds, for tests", NULL, CLI_FLAG_TRUE, OFF(quick), 0, 0, NULL},
+    {"--only", NULL, "NAME", "one figure (its file only, no index); NAME as in the index", NULL, CLI_FLAG_STRING,
+     OFF(only), 0, 0, NULL},
+    {"--scenes", NULL, "DIR", "the paper scenes (default: ./scenes if present, else the source tree's)", NULL,
+     CLI_FLAG_STRING, OFF(scenes), 0, 0, NULL},
+    {"--into-docs", NULL, NULL, "allow DIR inside the source tree's docs/ (refused otherwise)", NULL, CLI_FLAG_TRUE,
+     OFF(into_docs), 0, 0, NULL},
+    {"--compare", NULL, NULL, "instead: each rendered figure of a method with variants (Blasi's pictures,\n"
+     "Stam's Figures 5-8) as printed, as corrected and by `path` (the truth; for\n"
+     "Stam on the explicit realization of the same Q), side by side with each\n"
+     "method's error over the cloud under it: DIR/NAME-compare.png, no index", NULL, CLI_FLAG_TRUE, OFF(compare), 0,
+     0, NULL},
+};
+
+const cli_command cli_figures_command = {
+    "figures", "every figure of both papers into a folder, with index.md and index.html (docs/gallery.md)",
+    "-o DIR [options]",
+    "Renders every figure of Blasi et al. 1993 (Figures 2-7, pictures 1-3 of Section 5) and\n"
+    "Stam 1994 (Figures 1, 4-8) into DIR (created if missing), with DIR/index.md and\n"
+    "DIR/index.html: each figure beside its caption, the command that makes it alone and the\n"
+    "time it took.\n",
+    figures_flags, CLI_NFLAGS(figures_flags), NULL, NULL};
+
+/* The figure --only names (-1: every one), or -2 after the message. */
+static int figure_named(const char *only)
 {
-    const char *dir = NULL, *only = NULL, *scenes = NULL;
-    bool quick = false, into_docs = false, compare = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(figures_usage, stdout);
-            return 0;
-        } else if ((strcmp(a, "-o") == 0 || strcmp(a, "--only") == 0 || strcmp(a, "--scenes") == 0) && i + 1 < argc) {
-            const char **dst = a[1] == 'o' ? &dir : a[2] == 'o' ? &only : &scenes;
-            *dst = argv[++i];
-        } else if (strcmp(a, "--quick") == 0) {
-            quick = true;
-        } else if (strcmp(a, "--compare") == 0) {
-            compare = true;
-        } else if (strcmp(a, "--into-docs") == 0) {
-            into_docs = true;
-        } else {
-            cli_error("figures: unknown or incomplete option '%s' (try `brume figures --help`)", a);
-            return 2;
-        }
-    }
-    if (!dir) {
-        cli_error("figures: -o DIR is required (try `brume figures --help`)");
-        return 2;
-    }
-    int which = -1;
-    if (only) {
-        for (int i = 0; i < NFIG; i++)
-            if (strcmp(figures[i].name, only) == 0)
-                which = i;
-        if (which < 0) {
-            char list[1024] = "";
-            for (int i = 0; i < NFIG; i++)
-                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", figures[i].name);
-            cli_error("figures: --only: unknown figure '%s' (known: %s)", only, list);
-            return 2;
-        }
-    }
-    struct stat sb;
-    if (!scenes)
-        scenes = stat("scenes/blasi-picture1.json", &sb) == 0 ? "scenes" : BRUME_SCENES_DIR;
-    char probe[PATH_MAX];
-    snprintf(probe, sizeof probe, "%s/blasi-picture1.json", scenes);
-    if (stat(probe, &sb) != 0) {
-        cli_error("figures: %s: no paper scenes there (give --scenes DIR)", scenes);
-        return 1;
-    }
-    if (!into_docs && inside_docs(scenes, dir)) {
-        cli_error("figures: %s is inside the source tree's docs/: give --into-docs to write there", dir);
-        return 2;
-    }
-    if (!make_dirs(dir)) {
-        cli_error("figures: %s: cannot create: %s", dir, strerror(errno));
-        return 1;
-    }
-    /* before any work: mkdir's EEXIST also means a file there (issue 36: -o FILE rendered every
-     * figure, then failed on each) */
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK | X_OK) != 0) {
-        cli_error("figures: -o %s: %s", dir, stat(dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a folder" : "cannot write there");
-        return 1;
-    }
+    if (!only)
+        return -1;
+    for (int i = 0; i < NFIG; i++)
+        if (strcmp(figures[i].name, only) == 0)
+            return i;
+    char list[1024] = "";
+    for (int i = 0; i < NFIG; i++)
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", figures[i].name);
+    cli_error("figures: --only: unknown figure '%s' (known: %s)", only, list);
+    return -2;
+}
+
+/* Renders the figures (every one, or `which`) into dir. The exit status. */
+static int render_figures(const figures_opts *o, const char *scenes, int which)
+{
+    const char *dir = o->dir;
+    bool quick = o->quick, compare = o->compare;
     static fig_run runs[NFIG];
     double t0 = now();
     int failed = 0;
@@ -686,4 +673,44 @@ int cmd_figures(int argc, char **argv)
     if (which >= 0 || compare)
         return 0;
     return write_indexes(dir, runs, quick, now() - t0);
+}
+
+int cmd_figures(int argc, char **argv)
+{
+    figures_opts o = {NULL, NULL, NULL, false, false, false};
+    int n = 0, rc = cli_flags_parse(&cli_figures_command, &o, argc, argv, NULL, 0, &n);
+    if (rc >= 0)
+        return rc;
+    const char *dir = o.dir, *scenes = o.scenes;
+    if (!dir) {
+        cli_error("figures: -o DIR is required (try `brume figures --help`)");
+        return 2;
+    }
+    int which = figure_named(o.only);
+    if (which == -2)
+        return 2;
+    struct stat sb;
+    if (!scenes)
+        scenes = stat("scenes/blasi-picture1.json", &sb) == 0 ? "scenes" : BRUME_SCENES_DIR;
+    char probe[PATH_MAX];
+    snprintf(probe, sizeof probe, "%s/blasi-picture1.json", scenes);
+    if (stat(probe, &sb) != 0) {
+        cli_error("figures: %s: no paper scenes there (give --scenes DIR)", scenes);
+        return 1;
+    }
+    if (!o.into_docs && inside_docs(scenes, dir)) {
+        cli_error("figures: %s is inside the source tree's docs/: give --into-docs to write there", dir);
+        return 2;
+    }
+    if (!make_dirs(dir)) {
+        cli_error("figures: %s: cannot create: %s", dir, strerror(errno));
+        return 1;
+    }
+    /* before any work: mkdir's EEXIST also means a file there (issue 36: -o FILE rendered every
+     * figure, then failed on each) */
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK | X_OK) != 0) {
+        cli_error("figures: -o %s: %s", dir, stat(dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a folder" : "cannot write there");
+        return 1;
+    }
+    return render_figures(&o, scenes, which);
 }

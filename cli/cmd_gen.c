@@ -7,136 +7,138 @@
 #include <string.h>
 
 #include "args.h"
+#include "cli_flags.h"
 #include "cli_gen_sparse.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
 
-static const char usage[] =
-    "usage: brume gen cloud [flags] -o OUT(.vol|.raw|.df3|.nvdb|.vdb)\n"
-    "       brume gen fire|upres ... (see brume gen fire --help, brume gen upres --help)\n"
-    "  --dims NXxNYxNZ          voxels (default 65x65x10, the paper's grid)\n"
-    "  --seed N                 random seed (default 1)\n"
-    "  --method midpoint|spectral|perlin   fBm base (default midpoint)\n"
-    "  --hurst H                Hurst exponent in (0, 1) (default 0.5)\n"
-    "  --octaves N              Perlin octaves, base and turbulence (default 6)\n"
-    "  --frequency F            Perlin base cycles across the grid (default 2)\n"
-    "  --shape ellipsoid|slab|none   solid texture (default slab)\n"
-    "  --falloff F              soft edge of the shape, in (0, 1] (default 0.6)\n"
-    "  --threshold T            density threshold at time 0, in [0, 1) (default 0.4)\n"
-    "  --threshold-rate R       threshold change per unit time (default 0)\n"
-    "  --turbulence A           turbulence amplitude (default 0)\n"
-    "  --turbulence-frequency F turbulence cycles across the grid (default 4)\n"
-    "  --wind X,Y,Z             turbulence drift per unit time (default 0,0,0)\n"
-    "  --time T                 time (default 0)\n"
-    "  --density D              largest density (default 1)\n"
-    "  --bounds X0,Y0,Z0,X1,Y1,Z1   world box (default: centred, cubic voxels, longest axis 1)\n";
+/* The command line of `gen cloud`: the generator's parameters, the output. */
+typedef struct cloud_opts {
+    brume_fractal p;
+    const char *out;
+    bool has_bounds;
+} cloud_opts;
 
 static bool parse_num(const char *s, double *v) { return cli_parse_doubles(s, v, 1); }
 
-/* One flag of `gen cloud` with its value v into *p (or *out, *has_bounds). 1: taken; 0: a
- * bad value; -1: the message printed. */
-static int parse_cloud_flag(const char *f, const char *v, brume_fractal *p, const char **out, bool *has_bounds)
+static bool bad_value(const cli_flag *f, const char *v)
 {
-    double x = 0.0;
-    bool ok = true;
-    if (strcmp(f, "-o") == 0 || strcmp(f, "--output") == 0)
-        *out = v;
-    else if (strcmp(f, "--dims") == 0)
-        ok = cli_parse_dims(v, p->dims);
-    else if (strcmp(f, "--seed") == 0) {
-        if (!arg_u64(f, v, &p->seed)) /* digits only: "-1" is refused, not wrapped */
-            return -1;
-    } else if (strcmp(f, "--method") == 0) {
-        ok = true;
-        if (strcmp(v, "midpoint") == 0)
-            p->method = BRUME_FRACTAL_MIDPOINT;
-        else if (strcmp(v, "spectral") == 0)
-            p->method = BRUME_FRACTAL_SPECTRAL;
-        else if (strcmp(v, "perlin") == 0)
-            p->method = BRUME_FRACTAL_PERLIN;
-        else
-            ok = false;
-    } else if (strcmp(f, "--shape") == 0) {
-        if (strcmp(v, "ellipsoid") == 0)
-            p->shape = BRUME_FRACTAL_SHAPE_ELLIPSOID;
-        else if (strcmp(v, "slab") == 0)
-            p->shape = BRUME_FRACTAL_SHAPE_SLAB;
-        else if (strcmp(v, "none") == 0)
-            p->shape = BRUME_FRACTAL_SHAPE_NONE;
-        else
-            ok = false;
-    } else if (strcmp(f, "--octaves") == 0) {
-        ok = parse_num(v, &x) && x >= 1 && x <= 16 && x == (int)x;
-        p->octaves = (int)x;
-    } else if (strcmp(f, "--wind") == 0) {
-        ok = cli_parse_doubles(v, p->wind, 3);
-    } else if (strcmp(f, "--bounds") == 0) {
-        double *b = p->bounds;
-        ok = *has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
-    } else {
-        static const struct {
-            const char *flag;
-            size_t off;
-        } nums[] = {{"--hurst", offsetof(brume_fractal, hurst)},
-                    {"--frequency", offsetof(brume_fractal, frequency)},
-                    {"--falloff", offsetof(brume_fractal, falloff)},
-                    {"--threshold", offsetof(brume_fractal, threshold)},
-                    {"--threshold-rate", offsetof(brume_fractal, threshold_rate)},
-                    {"--turbulence", offsetof(brume_fractal, turbulence)},
-                    {"--turbulence-frequency", offsetof(brume_fractal, turbulence_frequency)},
-                    {"--time", offsetof(brume_fractal, time)},
-                    {"--density", offsetof(brume_fractal, density)}};
-        size_t k = 0;
-        while (k < sizeof nums / sizeof *nums && strcmp(f, nums[k].flag) != 0)
-            k++;
-        if (k == sizeof nums / sizeof *nums) {
-            cli_error("gen: unknown flag %s (see brume gen --help)", f);
-            return -1;
-        }
-        ok = parse_num(v, (double *)((char *)p + nums[k].off));
-    }
-    return ok ? 1 : 0;
+    cli_error("gen: bad value for %s: %s", f->name, v);
+    return false;
 }
 
-int cmd_gen(int argc, char **argv)
+/* A number into the double at the flag's offset. */
+static bool flag_num(void *opts, const cli_flag *f, const char *v)
 {
-    if (argc >= 2 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
-        fputs(usage, stdout);
-        return 0;
-    }
-    if (argc >= 2 && strcmp(argv[1], "fire") == 0)
-        return gen_fire(argc - 1, argv + 1);
-    if (argc >= 2 && strcmp(argv[1], "upres") == 0)
-        return gen_upres(argc - 1, argv + 1);
-    if (argc < 2 || strcmp(argv[1], "cloud") != 0) {
-        cli_error("gen: expected `brume gen cloud|fire|upres` (see brume gen --help)");
-        return 2;
-    }
-    brume_fractal p;
-    brume_fractal_default(&p);
-    const char *out = NULL;
-    bool has_bounds = false;
+    return parse_num(v, (double *)(void *)((char *)opts + f->off)) || bad_value(f, v);
+}
 
-    for (int i = 2; i < argc; i++) {
-        const char *f = argv[i];
-        if (strcmp(f, "-h") == 0 || strcmp(f, "--help") == 0) {
-            fputs(usage, stdout);
-            return 0;
-        }
-        if (i + 1 >= argc) {
-            cli_error("gen: %s needs a value (see brume gen --help)", f);
-            return 2;
-        }
-        const char *v = argv[++i];
-        int ok = parse_cloud_flag(f, v, &p, &out, &has_bounds);
-        if (ok < 0)
-            return 2;
-        if (!ok) {
-            cli_error("gen: bad value for %s: %s", f, v);
-            return 2;
-        }
-    }
+static bool flag_dims(void *opts, const cli_flag *f, const char *v)
+{
+    return cli_parse_dims(v, ((cloud_opts *)opts)->p.dims) || bad_value(f, v);
+}
+
+/* The index of v in names (NULL-terminated), or -1 after the message. */
+static int pick(const cli_flag *f, const char *v, const char *const *names)
+{
+    for (int k = 0; names[k]; k++)
+        if (strcmp(v, names[k]) == 0)
+            return k;
+    bad_value(f, v);
+    return -1;
+}
+
+static bool flag_method(void *opts, const cli_flag *f, const char *v)
+{
+    static const char *const names[] = {"midpoint", "spectral", "perlin", NULL};
+    static const brume_fractal_method values[] = {BRUME_FRACTAL_MIDPOINT, BRUME_FRACTAL_SPECTRAL, BRUME_FRACTAL_PERLIN};
+    int k = pick(f, v, names);
+    if (k >= 0)
+        ((cloud_opts *)opts)->p.method = values[k];
+    return k >= 0;
+}
+
+static bool flag_shape(void *opts, const cli_flag *f, const char *v)
+{
+    static const char *const names[] = {"ellipsoid", "slab", "none", NULL};
+    static const brume_fractal_shape values[] = {BRUME_FRACTAL_SHAPE_ELLIPSOID, BRUME_FRACTAL_SHAPE_SLAB,
+                                                 BRUME_FRACTAL_SHAPE_NONE};
+    int k = pick(f, v, names);
+    if (k >= 0)
+        ((cloud_opts *)opts)->p.shape = values[k];
+    return k >= 0;
+}
+
+static bool flag_octaves(void *opts, const cli_flag *f, const char *v)
+{
+    double x = 0.0;
+    if (!parse_num(v, &x) || !(x >= 1 && x <= 16 && x == (int)x))
+        return bad_value(f, v);
+    ((cloud_opts *)opts)->p.octaves = (int)x;
+    return true;
+}
+
+static bool flag_wind(void *opts, const cli_flag *f, const char *v)
+{
+    return cli_parse_doubles(v, ((cloud_opts *)opts)->p.wind, 3) || bad_value(f, v);
+}
+
+static bool flag_bounds(void *opts, const cli_flag *f, const char *v)
+{
+    cloud_opts *o = opts;
+    double *b = o->p.bounds;
+    o->has_bounds = cli_parse_doubles(v, b, 6) && b[3] > b[0] && b[4] > b[1] && b[5] > b[2];
+    return o->has_bounds || bad_value(f, v);
+}
+
+#define OFF(field) offsetof(cloud_opts, field)
+#define NUM(name, arg, help, field) {name, NULL, arg, help, NULL, CLI_FLAG_CALL, OFF(p.field), 0, 0, flag_num}
+
+static const cli_flag cloud_flags[] = {
+    {"--output", "-o", "OUT", "the grid: .vol, .raw, .df3, .nvdb or .vdb (required)", NULL, CLI_FLAG_STRING, OFF(out),
+     0, 0, NULL},
+    {"--dims", NULL, "NXxNYxNZ", "voxels (default 65x65x10, the paper's grid)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_dims},
+    {"--seed", NULL, "N", "random seed (default 1)", NULL, CLI_FLAG_U64, OFF(p.seed), 0, 0, NULL},
+    {"--method", NULL, "midpoint|spectral|perlin", "fBm base (default midpoint)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_method},
+    NUM("--hurst", "H", "Hurst exponent in (0, 1) (default 0.5)", hurst),
+    {"--octaves", NULL, "N", "Perlin octaves, base and turbulence (default 6)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_octaves},
+    NUM("--frequency", "F", "Perlin base cycles across the grid (default 2)", frequency),
+    {"--shape", NULL, "ellipsoid|slab|none", "solid texture (default slab)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_shape},
+    NUM("--falloff", "F", "soft edge of the shape, in (0, 1] (default 0.6)", falloff),
+    NUM("--threshold", "T", "density threshold at time 0, in [0, 1) (default 0.4)", threshold),
+    NUM("--threshold-rate", "R", "threshold change per unit time (default 0)", threshold_rate),
+    NUM("--turbulence", "A", "turbulence amplitude (default 0)", turbulence),
+    NUM("--turbulence-frequency", "F", "turbulence cycles across the grid (default 4)", turbulence_frequency),
+    {"--wind", NULL, "X,Y,Z", "turbulence drift per unit time (default 0,0,0)", NULL, CLI_FLAG_CALL, 0, 0, 0,
+     flag_wind},
+    NUM("--time", "T", "time (default 0)", time),
+    NUM("--density", "D", "largest density (default 1)", density),
+    {"--bounds", NULL, "X0,Y0,Z0,X1,Y1,Z1", "world box (default: centred, cubic voxels, longest axis 1)", NULL,
+     CLI_FLAG_CALL, 0, 0, 0, flag_bounds},
+};
+
+const cli_command cli_gen_cloud_command = {
+    "gen cloud", "a fractal cloud grid (Blasi et al. 1993, sec. 4.1)",
+    "[options] -o OUT(.vol|.raw|.df3|.nvdb|.vdb)",
+    "A fractal cloud grid (Blasi et al. 1993, sec. 4.1; src/density/fractal.c): `brume gen cloud\n"
+    "--dims 65x65x10 --seed 1 -o cloud.vol` makes the paper's grid.\n",
+    cloud_flags, CLI_NFLAGS(cloud_flags), NULL, NULL};
+
+static int gen_cloud(int argc, char **argv)
+{
+    cloud_opts o = {.out = NULL, .has_bounds = false};
+    brume_fractal_default(&o.p);
+    int n = 0, rc = cli_flags_parse(&cli_gen_cloud_command, &o, argc, argv, NULL, 0, &n);
+    if (rc >= 0)
+        return rc;
+    brume_fractal p = o.p;
+    const char *out = o.out;
+    bool has_bounds = o.has_bounds;
     if (!out) {
         cli_error("gen: no output file (-o OUT)");
         return 2;
@@ -162,4 +164,20 @@ int cmd_gen(int argc, char **argv)
         return 1;
     }
     return 0;
+}
+
+int cmd_gen(int argc, char **argv)
+{
+    if (argc >= 2 && (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0)) {
+        char *help[] = {"help", "gen", NULL};
+        return cli_help(2, help);
+    }
+    if (argc >= 2 && strcmp(argv[1], "cloud") == 0)
+        return gen_cloud(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "fire") == 0)
+        return gen_fire(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "upres") == 0)
+        return gen_upres(argc - 1, argv + 1);
+    cli_error("gen: expected `brume gen cloud|fire|upres` (see brume gen --help)");
+    return 2;
 }

@@ -6,13 +6,25 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
 #include "tool/tool.h"
 
-static const char usage[] = "usage: brume info [flags] FILE\n"
-                            "  FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the range and the bounds over it\n"
-                            CLI_LOAD_FLAGS_HELP;
+typedef struct info_opts {
+    brume_grid_file_options grid; /* first: the loading flags' */
+} info_opts;
+
+static const cli_flag info_flags[] = {CLI_LOAD_FLAGS};
+
+const cli_command cli_info_command = {
+    "info", "a grid file's format, dimensions, bounds, values and memory",
+    "[options] FILE",
+    "Prints every grid of a .vdb/.nvdb (name, value type, class, index box, active voxels, value\n"
+    "range, NanoVDB memory), then the grid brume reads: format, dimensions, world bounds, values,\n"
+    "memory and active voxels. FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the\n"
+    "range and the bounds over it.\n",
+    info_flags, CLI_NFLAGS(info_flags), NULL, NULL};
 
 /* A frame pattern: the range of files present and the world box over all of them (each
  * file loaded in turn, one in memory at a time). */
@@ -38,29 +50,17 @@ static int info_sequence(const char *pattern, const brume_grid_file_options *o)
 
 int cmd_info(int argc, char **argv)
 {
-    brume_grid_file_options o;
-    brume_grid_file_options_default(&o);
+    info_opts io;
+    brume_grid_file_options_default(&io.grid);
     const char *path = NULL;
-    for (int i = 1; i < argc; i++) {
-        int r = cli_load_flag("info", argc, argv, &i, &o);
-        if (r < 0)
-            return 2;
-        if (r > 0)
-            continue;
-        if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
-            fputs(usage, stdout);
-            return 0;
-        }
-        if (argv[i][0] == '-' || path) {
-            cli_error("info: unexpected argument %s (see brume info --help)", argv[i]);
-            return 2;
-        }
-        path = argv[i];
-    }
+    int n = 0, rc = cli_flags_parse(&cli_info_command, &io, argc, argv, &path, 1, &n);
+    if (rc >= 0)
+        return rc;
     if (!path) {
         cli_error("info: no FILE given (see brume info --help)");
         return 2;
     }
+    brume_grid_file_options o = io.grid;
     int pat = tool_seq_is_pattern(path);
     if (pat < 0) {
         cli_error("%.1000s", tool_last_error());

@@ -3,19 +3,15 @@
  * (brume_option_get): their values, defaults and meanings. --markdown writes the tables of
  * docs/scene-format.md, "Method options" (ctest options.doc_is_generated compares them). */
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "brume.h"
+#include "cli_flags.h"
 #include "commands.h"
 
 #define WIDTH 100 /* columns of the plain list */
-
-static const char usage[] =
-    "usage: brume options [--markdown]\n"
-    "Lists the options of the rendering methods: a scene file's \"path\", \"blasi\" and \"stam\" objects,\n"
-    "`brume render --set METHOD.KEY=VALUE`, brume_scene_set_option (docs/scene-format.md, \"Method options\").\n"
-    "  --markdown   the tables of docs/scene-format.md's \"Method options\" instead\n\n";
 
 /* text from column `indent`, wrapped at WIDTH on spaces. */
 static void wrap(FILE *out, const char *text, int indent)
@@ -106,23 +102,35 @@ static void list(FILE *out)
     }
 }
 
+typedef struct options_opts {
+    bool markdown;
+} options_opts;
+
+static void options_epilogue(FILE *out)
+{
+    fputc('\n', out);
+    list(out);
+}
+
+static const cli_flag options_flags[] = {
+    {"--markdown", NULL, NULL, "the tables of docs/scene-format.md's \"Method options\" instead", NULL, CLI_FLAG_TRUE,
+     offsetof(options_opts, markdown), 0, 0, NULL},
+};
+
+const cli_command cli_options_command = {
+    "options", "the rendering methods' options (METHOD.KEY for --set): values, defaults, meanings",
+    "[options]",
+    "Lists the options of the rendering methods: a scene file's \"path\", \"blasi\" and \"stam\" objects,\n"
+    "`brume render --set METHOD.KEY=VALUE`, brume_scene_set_option (docs/scene-format.md, \"Method options\").\n",
+    options_flags, CLI_NFLAGS(options_flags), NULL, options_epilogue};
+
 int cmd_options(int argc, char **argv)
 {
-    bool markdown = false;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--markdown") == 0) {
-            markdown = true;
-        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(usage, stdout);
-            list(stdout);
-            return 0;
-        } else {
-            cli_error("options: unknown argument '%s'", argv[i]);
-            fputs(usage, stderr);
-            return 2;
-        }
-    }
-    if (markdown)
+    options_opts o = {false};
+    int n = 0, rc = cli_flags_parse(&cli_options_command, &o, argc, argv, NULL, 0, &n);
+    if (rc >= 0)
+        return rc;
+    if (o.markdown)
         cli_options_markdown(stdout);
     else
         list(stdout);

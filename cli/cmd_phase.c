@@ -1,31 +1,14 @@
 /* cmd_phase.c - `brume phase`: fit Blasi's two-lobe Schlick mixture, plot phase functions. */
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_flags.h"
 #include "commands.h"
 #include "tool/tool.h"
-
-static const char phase_usage[] =
-    "usage: brume phase fit NAME [--norm angle|cos|log] [--given r,k,kprime]\n"
-    "       brume phase plot NAME... -o FILE.png [--log] [--norm angle|cos|log] [--given r,k,kprime]\n"
-    "       brume phase plot NAME... -o FILE.png --overlay [--log]\n"
-    "       brume phase help\n"
-    "\n"
-    "NAME is isotropic, rayleigh, hazy, murky, hg:G, schlick:K, or a file of lines\n"
-    "\"angle_in_degrees value\" ('#' starts a comment).\n"
-    "\n"
-    "fit   fits r phi_k + (1 - r) phi_k' (Blasi Eq. 22, k <= k') to NAME and prints\n"
-    "      the lines: r VALUE, k VALUE, kprime VALUE, error VALUE. The error is the\n"
-    "      relative L2 norm of the difference (default over the angle; see\n"
-    "      docs/phase-functions.md). With --given r,k,kprime nothing is fitted: the\n"
-    "      error of that mixture (e.g. a table's published fit) in the same norm.\n"
-    "plot  draws, for each NAME, a polar and a cartesian plot of the function (solid)\n"
-    "      and of its fitted mixture (dashed) into one PNG; --log plots log10 phi;\n"
-    "      --given draws that mixture instead of the fit (Blasi's Figures 2-4 with Figure 7's\n"
-    "      values); --overlay draws every NAME on one pair of axes, no fit (Figures 5 and 6).\n";
 
 static int phase_usage_error(const char *what)
 {
@@ -41,31 +24,94 @@ static bool parse_given(const char *text, phase_fit_result *fit)
            fit->r <= 1.0 && fabs(fit->k) < 1.0 && fabs(fit->kprime) < 1.0;
 }
 
-static int phase_fit_cmd(int argc, char **argv)
+/* The options of `phase fit` and `phase plot`. */
+typedef struct phase_opts {
+    const char *out;
+    bool log_scale, overlay;
+    const char *given; /* r,k,kprime, or NULL */
+    phase_fit_norm norm;
+} phase_opts;
+
+static bool flag_norm(void *opts, const cli_flag *f, const char *v)
 {
-    const char *name = NULL;
-    phase_fit_norm norm = PHASE_FIT_NORM_ANGLE;
-    const char *given = NULL;
-    for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "--norm") == 0) {
-            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &norm))
-                return phase_usage_error("--norm needs angle, cos or log");
-            i++;
-        } else if (strcmp(argv[i], "--given") == 0) {
-            if (i + 1 >= argc)
-                return phase_usage_error("--given needs r,k,kprime");
-            given = argv[++i];
-        } else if (argv[i][0] == '-' && argv[i][1] == '-') {
-            cli_error("phase fit: unknown option %s", argv[i]);
+    (void)f;
+    if (!phase_fit_norm_from_name(v, &((phase_opts *)opts)->norm)) {
+        phase_usage_error("--norm needs angle, cos or log");
+        return false;
+    }
+    return true;
+}
+
+#define OFF(field) offsetof(phase_opts, field)
+#define NORM_FLAG {"--norm", NULL, "angle|cos|log", "the norm of the error (default angle;\n" \
+                   "docs/phase-functions.md)", NULL, CLI_FLAG_CALL, 0, 0, 0, flag_norm}
+#define GIVEN_FLAG(what) {"--given", NULL, "r,k,kprime", "Blasi Eq. 22's parameters as given: " what, NULL, \
+                          CLI_FLAG_STRING, OFF(given), 0, 0, NULL}
+
+static const cli_flag fit_flags[] = {
+    NORM_FLAG,
+    GIVEN_FLAG("nothing is fitted, the error of\nthat mixture (e.g. a table's published fit) in the same norm"),
+};
+
+static const char names_help[] = "NAME is isotropic, rayleigh, hazy, murky, hg:G, schlick:K, or a file of lines\n"
+                                 "\"angle_in_degrees value\" ('#' starts a comment).\n";
+
+const cli_command cli_phase_fit_command = {
+    "phase fit", "fit Blasi's two-lobe Schlick mixture (Eq. 22) to a phase function, or score a given one",
+    "NAME [options]",
+    "Fits r phi_k + (1 - r) phi_k' (Blasi Eq. 22, k <= k') to NAME and prints the lines:\n"
+    "r VALUE, k VALUE, kprime VALUE, error VALUE. The error is the relative L2 norm of the\n"
+    "difference (default over the angle; see docs/phase-functions.md).\n",
+    fit_flags, CLI_NFLAGS(fit_flags), names_help, NULL};
+
+static const cli_flag plot_flags[] = {
+    {"--output", "-o", "FILE.png", "the plots (required)", NULL, CLI_FLAG_STRING, OFF(out), 0, 0, NULL},
+    {"--log", NULL, NULL, "plot log10 phi", NULL, CLI_FLAG_TRUE, OFF(log_scale), 0, 0, NULL},
+    {"--overlay", NULL, NULL, "every NAME on one pair of axes, no fit (Figures 5 and 6)", NULL, CLI_FLAG_TRUE,
+     OFF(overlay), 0, 0, NULL},
+    NORM_FLAG,
+    GIVEN_FLAG("draw that mixture instead of the fit\n(Blasi's Figures 2-4 with Figure 7's values)"),
+};
+
+const cli_command cli_phase_plot_command = {
+    "phase plot", "polar and cartesian plots of phase functions and their fits, as Figures 2-6",
+    "NAME... -o FILE.png [options]",
+    "Draws, for each NAME, a polar and a cartesian plot of the function (solid) and of its\n"
+    "fitted mixture (dashed) into one PNG.\n",
+    plot_flags, CLI_NFLAGS(plot_flags), names_help, NULL};
+
+/* `phase fit` or `phase plot` (argv[0]) into *o and names (room for argc): -1 to go on, or
+ * the exit status. */
+static int parse_phase(const cli_command *c, phase_opts *o, int argc, char **argv, const char **names, int max,
+                       int *n)
+{
+    int rc = cli_flags_parse(c, o, argc, argv, names, max, n);
+    if (rc < 0 && o->given) {
+        phase_fit_result fit;
+        if (!parse_given(o->given, &fit)) {
+            cli_error("%s: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", c->name,
+                      o->given);
             return 2;
-        } else if (name) {
-            return phase_usage_error("fit takes one NAME");
-        } else {
-            name = argv[i];
         }
     }
+    return rc;
+}
+
+static int phase_fit_cmd(int argc, char **argv)
+{
+    phase_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    const char **names = malloc((size_t)argc * sizeof *names);
+    int n = 0, rc = names ? parse_phase(&cli_phase_fit_command, &o, argc, argv, names, argc, &n) : 2;
+    const char *name = n > 0 ? names[0] : NULL;
+    free(names);
+    if (rc >= 0)
+        return rc;
+    if (n > 1)
+        return phase_usage_error("fit takes one NAME");
     if (!name)
         return phase_usage_error("fit needs a NAME");
+    phase_fit_norm norm = o.norm;
+    const char *given = o.given;
     phase *p = tool_phase_named(name);
     if (!p) {
         cli_error("%.1000s", tool_last_error());
@@ -93,61 +139,15 @@ static int phase_fit_cmd(int argc, char **argv)
     return 0;
 }
 
-typedef struct plot_opts {
-    const char *out;
-    bool log_scale, overlay, have_given;
-    phase_fit_result given;
-    phase_fit_norm norm;
-    int n; /* NAMEs */
-} plot_opts;
-
-/* The options of `phase plot` into *o. -1: go on; otherwise the exit status (2 with a
- * message). */
-static int parse_plot(int argc, char **argv, plot_opts *o)
+/* The plots of names[0..n) that o asks for. The exit status. */
+static int plot_names(const phase_opts *o, const char *const *names, int n)
 {
-    for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0) {
-            if (i + 1 >= argc)
-                return phase_usage_error("-o needs a file name");
-            o->out = argv[++i];
-        } else if (strcmp(argv[i], "--log") == 0) {
-            o->log_scale = true;
-        } else if (strcmp(argv[i], "--overlay") == 0) {
-            o->overlay = true;
-        } else if (strcmp(argv[i], "--given") == 0) {
-            if (i + 1 >= argc || !parse_given(argv[i + 1], &o->given))
-                return phase_usage_error("--given needs r,k,kprime with r in [0, 1] and |k|, |kprime| < 1");
-            o->have_given = true;
-            i++;
-        } else if (strcmp(argv[i], "--norm") == 0) {
-            if (i + 1 >= argc || !phase_fit_norm_from_name(argv[i + 1], &o->norm))
-                return phase_usage_error("--norm needs angle, cos or log");
-            i++;
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            cli_error("phase plot: unknown option %s", argv[i]);
-            return 2;
-        } else {
-            o->n++;
-        }
-    }
-    if (o->n == 0)
-        return phase_usage_error("plot needs at least one NAME");
-    if (!o->out)
-        return phase_usage_error("plot needs -o FILE.png");
-    return -1;
-}
-
-static int phase_plot_cmd(int argc, char **argv)
-{
-    plot_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
-    int rc = parse_plot(argc, argv, &o);
-    if (rc >= 0)
-        return rc;
-    const char *out = o.out;
-    bool log_scale = o.log_scale, overlay = o.overlay, have_given = o.have_given;
-    phase_fit_result given = o.given;
-    phase_fit_norm norm = o.norm;
-    int n = o.n;
+    const char *out = o->out;
+    bool log_scale = o->log_scale, overlay = o->overlay, have_given = o->given != NULL;
+    phase_fit_result given = {0};
+    if (have_given)
+        parse_given(o->given, &given);
+    phase_fit_norm norm = o->norm;
 
     /* rows borrow the phases that truth[] and approx[] own. */
     phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
@@ -159,16 +159,10 @@ static int phase_plot_cmd(int argc, char **argv)
         cli_error("phase plot: out of memory");
         goto done;
     }
-    for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--norm") == 0 || strcmp(argv[i], "--given") == 0) {
-            i++;
-            continue;
-        }
-        if (strcmp(argv[i], "--log") == 0 || strcmp(argv[i], "--overlay") == 0)
-            continue;
+    for (int i = 0; i < n; i++) {
         phase_fit_result fit = given;
-        truth[m] = tool_phase_named(argv[i]);
-        labels[m] = argv[i];
+        truth[m] = tool_phase_named(names[i]);
+        labels[m] = names[i];
         if (overlay) {
             if (!truth[m]) {
                 cli_error("%.1000s", tool_last_error());
@@ -189,7 +183,7 @@ static int phase_plot_cmd(int argc, char **argv)
         rows[m].approx = approx[m];
         snprintf(titles[m], sizeof titles[m],
                  "%s: true (solid), Schlick mixture r %.2f, k %.2f, k' %.2f (dashed, %s), error %.3g",
-                 argv[i], fit.r, fit.k, fit.kprime, have_given ? "given" : "fitted", fit.error);
+                 names[i], fit.r, fit.k, fit.kprime, have_given ? "given" : "fitted", fit.error);
         rows[m].title = titles[m];
         m++;
     }
@@ -216,18 +210,33 @@ done:
     return status;
 }
 
+static int phase_plot_cmd(int argc, char **argv)
+{
+    phase_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    const char **names = malloc((size_t)argc * sizeof *names);
+    int n = 0, rc = names ? parse_phase(&cli_phase_plot_command, &o, argc, argv, names, argc, &n) : 2;
+    if (rc < 0 && n == 0)
+        rc = phase_usage_error("plot needs at least one NAME");
+    if (rc < 0 && !o.out)
+        rc = phase_usage_error("plot needs -o FILE.png");
+    if (rc < 0)
+        rc = plot_names(&o, names, n);
+    free(names);
+    return rc;
+}
+
 int cmd_phase(int argc, char **argv)
 {
     if (argc < 2)
         return phase_usage_error("missing subcommand fit, plot or help");
     if (strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-        fputs(phase_usage, stdout);
-        return 0;
+        char *help[] = {"help", "phase", NULL};
+        return cli_help(2, help);
     }
     if (strcmp(argv[1], "fit") == 0)
-        return phase_fit_cmd(argc, argv);
+        return phase_fit_cmd(argc - 1, argv + 1);
     if (strcmp(argv[1], "plot") == 0)
-        return phase_plot_cmd(argc, argv);
+        return phase_plot_cmd(argc - 1, argv + 1);
     cli_error("phase: unknown subcommand %s (try: brume phase help)", argv[1]);
     return 2;
 }

@@ -1,11 +1,13 @@
 /* cmd_sweep.c - `brume sweep SCENE --set KEY=A,B,C [--set KEY2=X,Y] -o sheet.png`: renders
  * the scene over every combination of one or two swept keys and writes a labelled contact
  * sheet (columns: the first swept key, rows: the second). */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "args.h"
+#include "cli_flags.h"
 #include "brume.h"
 #include "commands.h"
 #include "tool/tool.h"
@@ -14,20 +16,6 @@
 #define MAX_VALUES 16
 #define MAX_CELLS 64
 #define TEXT_MAX 512
-
-static const char sweep_usage[] =
-    "usage: brume sweep SCENE.json --set KEY=A,B,C [--set KEY2=X,Y] -o SHEET.png [options]\n"
-    "Renders SCENE once for every combination of the values of the swept keys and writes a\n"
-    "contact sheet: the first key with several values runs along the columns, the second\n"
-    "along the rows, each labelled KEY=VALUE. A --set with one value is a fixed override, as\n"
-    "for brume render. Values are JSON or text as for --set; commas inside [...], {...} or\n"
-    "quotes do not split (--set media.0.sigma_s=[1,1,1],[4,4,4] sweeps two colours).\n"
-    "At most 2 swept keys, 16 values each, 64 renders.\n\n"
-    "  -o FILE            the sheet (.png), required\n"
-    "  --width W, --height H, --spp N, --method M, --seed S, --threads N\n"
-    "                     render settings for every cell (default: the scene's)\n"
-    "  --exposure STOPS   exposure of the sheet's cells, as for PNG renders\n"
-    "  --title TEXT       the sheet's title (default: the scene's file name)\n";
 
 typedef struct sweep_key {
     char key[TEXT_MAX];
@@ -84,49 +72,59 @@ typedef struct sweep_opts {
     int ncols, nrows;
 } sweep_opts;
 
+static bool flag_set(void *opts, const cli_flag *f, const char *v)
+{
+    (void)f;
+    sweep_opts *o = opts;
+    if (o->nkeys == MAX_SETS) {
+        cli_error("sweep: more than %d --set options", MAX_SETS);
+        return false;
+    }
+    return parse_set(v, &o->keys[o->nkeys++]);
+}
+
+static bool flag_seed(void *opts, const cli_flag *f, const char *v)
+{
+    sweep_opts *o = opts;
+    return (o->seed_given = arg_u64(f->name, v, &o->seed));
+}
+
+#define OFF(field) offsetof(sweep_opts, field)
+#define CELLS "render settings for every cell (default: the scene's)"
+
+static const cli_flag sweep_flags[] = {
+    {"--output", "-o", "FILE", "the sheet (.png), required", NULL, CLI_FLAG_STRING, OFF(out), 0, 0, NULL},
+    {"--set", NULL, "KEY=A,B,C", "a swept key and its values, or a fixed override (one value)", NULL, CLI_FLAG_CALL,
+     0, 0, 0, flag_set},
+    {"--width", NULL, "W", CELLS, "render.width", CLI_FLAG_INT, OFF(width), 1, 4096, NULL},
+    {"--height", NULL, "H", CELLS, "render.height", CLI_FLAG_INT, OFF(height), 1, 4096, NULL},
+    {"--spp", NULL, "N", CELLS, "render.spp", CLI_FLAG_INT, OFF(spp), 1, 1 << 24, NULL},
+    {"--method", NULL, "M", CELLS, "render.method", CLI_FLAG_STRING, OFF(method), 0, 0, NULL},
+    {"--seed", NULL, "S", CELLS, "render.seed", CLI_FLAG_CALL, 0, 0, 0, flag_seed},
+    {"--threads", NULL, "N", CELLS, "render.threads", CLI_FLAG_INT, OFF(threads), 0, 1024, NULL},
+    {"--exposure", NULL, "STOPS", "exposure of the sheet's cells, as for PNG renders", NULL, CLI_FLAG_DOUBLE,
+     OFF(exposure), -64.0, 64.0, NULL},
+    {"--title", NULL, "TEXT", "the sheet's title (default: the scene's file name)", NULL, CLI_FLAG_STRING, OFF(title),
+     0, 0, NULL},
+};
+
+const cli_command cli_sweep_command = {
+    "sweep", "render a scene over one or two keys into a labelled contact sheet",
+    "SCENE.json --set KEY=A,B,C [--set KEY2=X,Y] -o SHEET.png [options]",
+    "Renders SCENE once for every combination of the values of the swept keys and writes a\n"
+    "contact sheet: the first key with several values runs along the columns, the second\n"
+    "along the rows, each labelled KEY=VALUE. A --set with one value is a fixed override, as\n"
+    "for brume render. Values are JSON or text as for --set; commas inside [...], {...} or\n"
+    "quotes do not split (--set media.0.sigma_s=[1,1,1],[4,4,4] sweeps two colours).\n"
+    "At most 2 swept keys, 16 values each, 64 renders.\n",
+    sweep_flags, CLI_NFLAGS(sweep_flags), NULL, NULL};
+
 /* The command line into *o. -1: go on; otherwise the exit status (0 after --help, 2 with a
  * message). */
 static int parse_sweep(sweep_opts *o, int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(sweep_usage, stdout);
-            return 0;
-        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (!(o->out = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--set") == 0) {
-            if (!(v = arg_value(argc, argv, &i))) return 2;
-            if (o->nkeys == MAX_SETS) {
-                cli_error("sweep: more than %d --set options", MAX_SETS);
-                return 2;
-            }
-            if (!parse_set(v, &o->keys[o->nkeys++])) return 2;
-        } else if (strcmp(a, "--width") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &o->width)) return 2;
-        } else if (strcmp(a, "--height") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 4096, &o->height)) return 2;
-        } else if (strcmp(a, "--spp") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 1, 1 << 24, &o->spp)) return 2;
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_int(a, v, 0, 1024, &o->threads)) return 2;
-        } else if (strcmp(a, "--seed") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_u64(a, v, &o->seed)) return 2;
-            o->seed_given = true;
-        } else if (strcmp(a, "--method") == 0) {
-            if (!(o->method = arg_value(argc, argv, &i))) return 2;
-        } else if (strcmp(a, "--exposure") == 0) {
-            if (!(v = arg_value(argc, argv, &i)) || !arg_double(a, v, -64.0, 64.0, &o->exposure)) return 2;
-        } else if (strcmp(a, "--title") == 0) {
-            if (!(o->title = arg_value(argc, argv, &i))) return 2;
-        } else if (!o->scene && a[0] != '-') {
-            o->scene = a;
-        } else {
-            cli_error("sweep: unexpected argument '%s'", a);
-            return 2;
-        }
-    }
-    return -1;
+    int n = 0;
+    return cli_flags_parse(&cli_sweep_command, o, argc, argv, &o->scene, 1, &n);
 }
 
 /* The sheet's plan: the output's name, the swept keys (one or two), the number of renders.

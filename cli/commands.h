@@ -14,7 +14,7 @@
     X(denoise, "filter a rendered EXR with its variance and feature layers") \
     X(info, "print a grid file's format, dimensions, bounds, values and memory") \
     X(convert, "convert a grid file between raw, df3, vol, nvdb and vdb")       \
-    X(gen, "generate a fractal cloud grid (brume gen cloud)")                   \
+    X(gen, "generate grids: a fractal cloud, a flame, an upsampled cloud (gen cloud|fire|upres)") \
     X(devices, "list the GPUs brume can render on (or say why there are none)") \
     X(figures, "render every figure of both papers into a folder, with an index") \
     X(sweep, "render a scene over one or two parameters into a labelled contact sheet") \

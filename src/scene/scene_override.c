@@ -2,8 +2,10 @@
  * a dotted path into the scene's JSON document set before the reader builds the scene.
  *
  * KEY is a path of object keys and array indices, "camera.fov", "media.0.sigma_s",
- * "media[0].density.seed", "stam.eps"; VALUE is read as JSON (5, [1, 2, 3], true, "text"),
- * and text that is not JSON is taken as a string (stam.variant=paper). Missing objects on
+ * "media[0].density.seed", "stam.eps"; VALUE is read as one whole JSON value (5, [1, 2, 3],
+ * true, "text"), and a bare word that is not JSON is taken as a string (stam.variant=paper);
+ * text that starts as a number, array, object or quoted string must be whole ("1,024" is
+ * refused, never read as its prefix 1). Missing objects on
  * the way are created, so "stam.eps=0.1" works on a scene without a "stam" object. The
  * document then goes through the one scene reader: every key and value is validated there,
  * and an unknown key fails there with the keys known at that place. What the reader cannot
@@ -93,7 +95,11 @@ static brume_status apply_one(cJSON *root, const char *source, const char *text)
     if (n <= 0)
         return err_set(BRUME_ERROR_PARSE, "%s: override '%s': bad key path (use a.b.0.c or a.b[0].c)", source, text);
     const char *vtext = eq + 1;
-    cJSON *value = cJSON_Parse(vtext);
+    cJSON *value = cJSON_ParseWithOpts(vtext, NULL, true); /* the whole text, not a prefix of it */
+    size_t lead = strspn(vtext, " \t\r\n");
+    if (!value && vtext[lead] && strchr("-+.0123456789[{\"", vtext[lead]))
+        return err_set(BRUME_ERROR_PARSE, "%s: override %.*s: '%s' is not one whole JSON value (a number, array, "
+                       "object or quoted string; a bare word is a string)", source, (int)(eq - text), text, vtext);
     if (!value)
         value = cJSON_CreateString(vtext);
     if (!value)
