@@ -9,8 +9,10 @@
 #   TIME=0 sh bench/first_picture.sh            # the fixed spp only
 #   REF=/tmp/first-picture-ref.exr              # the reference (default); made when missing:
 #                                                # 1024 spp, seed 1001, no noise target, with the
-#                                                # variance and depth layers (about 9 CPU minutes
-#                                                # on 2 quiet cores); keep it out of the repository
+#                                                # variance and depth layers (about 1.6 CPU s per
+#                                                # spp: 27 CPU minutes); keep it out of the repository
+#   REF_SPP=256                                  # a shorter reference (its variance is removed from
+#                                                # the figures, so it is unbiased, only noisier)
 #
 # Figures (bench_first_picture, built by `cmake --build BUILD_DIR --target bench_first_picture`):
 # the relative RMS error of luminance over the pixels that are not sky, per pixel and over
@@ -23,6 +25,7 @@ REF=${REF:-/tmp/first-picture-ref.exr}
 OUT=${OUT:-/tmp/first-picture}
 SPP=${SPP:-17 28}
 TIME=${TIME:-15}
+REF_SPP=${REF_SPP:-1024}
 BRUME=$BUILD/brume
 CMP=$BUILD/bench/bench_first_picture
 [ -x "$BRUME" ] || { echo "first_picture.sh: $BRUME: not built"; exit 2; }
@@ -31,8 +34,8 @@ mkdir -p "$OUT"
 echo "commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown); scene: the built-in default scene (scenes/default.json)"
 echo "load: $(cat /proc/loadavg)"
 if [ ! -f "$REF" ]; then
-    echo "making the reference $REF (1024 spp)"
-    "$BRUME" render --spp 1024 --seed 1001 --set render.noise=0 --aov variance,depth --quiet -o "$REF"
+    echo "making the reference $REF ($REF_SPP spp)"
+    "$BRUME" render --spp "$REF_SPP" --seed 1001 --set render.noise=0 --aov variance,depth --quiet -o "$REF"
 fi
 IMAGES=""
 if [ "$TIME" != 0 ]; then
