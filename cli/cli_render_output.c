@@ -244,6 +244,8 @@ static void print_stats(brume_context *ctx, const brume_scene *scene, const char
     } else {
         fprintf(e, "stats: %s %.3f vertices per path, %.3f collisions and %.3f null collisions per camera path\n",
                 method, st.path.vertices, st.path.collisions, st.path.null_collisions);
+        fprintf(e, "stats: %s %.3f majorant cells walked and %.3f density lookups per camera path\n", method,
+                st.path.majorant_cells, st.path.density_lookups);
         fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", method,
                 st.path.tracking_cpu_seconds, st.path.nee_cpu_seconds, st.path.shading_cpu_seconds);
     }

@@ -806,6 +806,9 @@ typedef struct brume_path_stats {     /* path and single (the reference) */
     double nee_cpu_seconds;      /* CPU seconds in next-event estimation (shadow rays included) */
     double shading_cpu_seconds;  /* the rest of the estimator: intersection, emission, phase and
                                     BSDF sampling */
+    double majorant_cells;       /* majorant cells walked per camera path, by all its walks (flights
+                                    and shadow rays; both levels of a two-level walk) */
+    double density_lookups;      /* lookups of the media at a point per camera path, all walks */
 } brume_path_stats;
 typedef struct brume_blasi_stats {    /* Blasi et al. 1993: the light pass that made the radiance grid in use */
     double light_seconds;        /* wall time of the light (first) pass, or of loading it */

@@ -342,6 +342,9 @@ TEST(stats_per_method)
         ASSERT_EQ_INT(st[0].camera_rays, 48 * 32);
         ASSERT_NEAR(st[0].path.vertices, st[1].path.vertices, 0.0);
         ASSERT_NEAR(st[0].path.null_collisions, st[1].path.null_collisions, 0.0);
+        ASSERT_NEAR(st[0].path.majorant_cells, st[1].path.majorant_cells, 0.0);
+        ASSERT_NEAR(st[0].path.density_lookups, st[1].path.density_lookups, 0.0);
+        ASSERT_TRUE(m == 0 || (st[0].path.majorant_cells == 0.0 && st[0].path.density_lookups == 0.0));
         ASSERT_NEAR(st[0].stam.blobs_per_ray, st[1].stam.blobs_per_ray, 0.0);
         ASSERT_EQ_INT(st[0].blasi.deposits, st[1].blasi.deposits);
         /* each method fills its own struct only */
@@ -350,6 +353,10 @@ TEST(stats_per_method)
         ASSERT_TRUE(m == 2 || (st[0].blasi.deposits == 0 && st[0].blasi.power_emitted == 0.0));
         if (m == 0) {
             ASSERT_TRUE(st[0].path.collisions > 0.0 && st[0].path.null_collisions > 0.0);
+            /* every walk crosses at least one cell to reach a collision, and every collision of
+             * a flight through the blobs looks them up (they have no control density) */
+            ASSERT_TRUE(st[0].path.majorant_cells >= st[0].path.collisions);
+            ASSERT_TRUE(st[0].path.density_lookups >= st[0].path.collisions + st[0].path.null_collisions);
             ASSERT_TRUE(st[0].path.vertices >= st[0].path.collisions); /* no surfaces: equal */
             ASSERT_NEAR(st[0].path.vertices, st[0].path.collisions, 0.0);
             ASSERT_TRUE(st[0].path.tracking_cpu_seconds > 0.0 && st[0].path.nee_cpu_seconds > 0.0);

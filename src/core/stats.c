@@ -9,6 +9,8 @@ void stats_merge(stats_counters *a, const stats_counters *b)
     a->path_vertices += b->path_vertices;
     a->path_tentative += b->path_tentative;
     a->path_scatterings += b->path_scatterings;
+    a->majorant_cells += b->majorant_cells;
+    a->density_lookups += b->density_lookups;
     a->blob_queries += b->blob_queries;
     a->blob_nodes += b->blob_nodes;
     a->blob_visits += b->blob_visits;

@@ -17,6 +17,9 @@ typedef struct stats_counters {
     uint64_t path_vertices;   /* path/single: scattering vertices (media and surfaces) */
     uint64_t path_tentative;  /* path/single: tentative collisions of the camera-path flights */
     uint64_t path_scatterings; /* path/single: flights that ended in a medium scattering event */
+    uint64_t majorant_cells;  /* path/single: majorant cells walked by every walk (flights, shadow
+                                 rays), each level's steps of a two-level walk counted */
+    uint64_t density_lookups; /* path/single: lookups of the media at a point (media_at) */
     uint64_t blob_queries;    /* stam: ray queries of the blob hierarchy (camera, shadow, cache) */
     uint64_t blob_nodes;      /* stam: hierarchy nodes visited by those queries */
     uint64_t blob_visits;     /* stam: blobs whose truncation sphere a query met */

@@ -231,6 +231,7 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
     it->mino = d->mino;
     it->mean = d->mean;
     it->has_next = false;
+    it->cells = 0;
     it->by_ctl = false;
     it->nano = NULL;
     for (int a = 0; a < 3; a++)

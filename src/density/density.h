@@ -149,6 +149,7 @@ typedef struct majorant_iter {
     int mn[3];           /* majorant cells per axis */
     majorant_seg next;   /* looked-ahead segment not returned yet */
     bool has_next;
+    uint32_t cells;      /* majorant cells walked so far (--stats; not counted on the GPU) */
     bool by_ctl;         /* the one field a caller sets (after density_majorant_begin; false
                             there): a merged segment's rho_ctl is the length-weighted mean of its
                             cells' (walks that use the control), not the first cell's */
@@ -173,11 +174,19 @@ bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
 
 static inline __attribute__((always_inline)) bool majorant_cell_next(majorant_iter *it, majorant_seg *seg)
 {
-    if (it->nano)
-        return nanovdb_majorant_cell(it, seg);
+    if (it->nano) {
+        bool more = nanovdb_majorant_cell(it, seg);
+#if !defined(__CUDA_ARCH__)
+        it->cells += more ? 1u : 0u;
+#endif
+        return more;
+    }
     grid_dda_step st;
     if (!grid_dda_next(&it->dda, &st))
         return false;
+#if !defined(__CUDA_ARCH__)
+    it->cells++;
+#endif
     seg->t0 = st.t0;
     seg->t1 = st.t1;
     size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);

@@ -659,6 +659,8 @@ static void job_fill_stats(const brume_render_job *job)
         out->path.vertices = per((double)c->path_vertices, c->camera_rays);
         out->path.collisions = per((double)c->path_scatterings, c->camera_rays);
         out->path.null_collisions = per((double)(c->path_tentative - c->path_scatterings), c->camera_rays);
+        out->path.majorant_cells = per((double)c->majorant_cells, c->camera_rays);
+        out->path.density_lookups = per((double)c->density_lookups, c->camera_rays);
         out->path.tracking_cpu_seconds = c->t_tracking;
         out->path.nee_cpu_seconds = c->t_nee;
         out->path.shading_cpu_seconds = fmax(0.0, c->t_li - c->t_tracking - c->t_nee);

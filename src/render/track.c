@@ -2,6 +2,7 @@
 #include "render/track.h"
 
 #include "core/sampling.h"
+#include "core/stats.h"
 #include "medium/blackbody.h"
 
 /* The optional fields of a medium at its local point p: albedo scales sigma_s per
@@ -49,6 +50,8 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
     ms->sigma_s = col(0.0);
     ms->emission = col(0.0);
     ms->n = 0;
+    if (stats_tls)
+        stats_tls->density_lookups++;
     for (int m = 0; m < s->nmedia; m++) {
         const medium *md = &s->media[m];
         vec3 pm = p;

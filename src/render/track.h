@@ -14,6 +14,7 @@
 #include "core/color.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "core/stats.h"
 #include "scene/scene.h"
 
 /* A tentative collision at ray parameter t [world units], on a piece of the ray where
@@ -117,6 +118,15 @@ static inline __attribute__((always_inline)) double track_rate(bool residual, do
         *sigma_c = sigma_ctl;
     }
     return sigma_n;
+}
+
+/* --stats: the cells the walk's iterators crossed, added once per walk */
+static inline void track_count_cells(const track_stream *st, int n)
+{
+    if (!stats_tls)
+        return;
+    for (int m = 0; m < n; m++)
+        stats_tls->majorant_cells += st[m].it.cells;
 }
 
 #define TRACK_NAME track_collisions_1

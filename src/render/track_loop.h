@@ -23,6 +23,7 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
             affine3 to_world = motion_at(s->media[m].motion, r.time), to_local;
             if (!affine3_invert(&to_world, &to_local)) {
                 st[m].live = false;
+                st[m].it.cells = 0;
                 continue;
             }
             rm.o = affine3_apply(&to_local, r.o);
@@ -50,6 +51,7 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
         if (!any || t >= tmax) {
             if (tau_c_end)
                 *tau_c_end = e.tau_c;
+            track_count_cells(st, n);
             return true;
         }
         t_next = dda_min(t_next, tmax);
@@ -76,8 +78,10 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
                 e.t = t0 + u;
                 if (residual)
                     e.tau_c = tau_c0 + sigma_c * u;
-                if (!fn(&e, user))
+                if (!fn(&e, user)) {
+                    track_count_cells(st, n);
                     return false;
+                }
                 tau = sample_exponential(rng_next(g), 1.0);
             }
         }
