@@ -98,6 +98,7 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 #include "density/blobs.c"
 #include "medium/blackbody.c"
 #include "medium/medium.c"
+#include "medium/medium_eval.c"
 #include "phase/phase.c"
 #include "surface/material.c"
 #include "surface/surface_query.c"
