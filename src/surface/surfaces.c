@@ -496,7 +496,7 @@ static brume_status build_hierarchy(const surfaces *s, bvh *h, surface_ref **ref
             boxes[k] = prim_box(o, p);
         }
     }
-    brume_status st = bvh_build(h, boxes, (int)count);
+    brume_status st = bvh_build(h, boxes, NULL, (int)count);
     free(boxes);
     if (st) {
         free(*ref);
