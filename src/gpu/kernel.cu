@@ -93,6 +93,7 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 #include "core/distrib.c"
 #include "density/dda.c"
 #include "density/density.c"
+#include "density/density_kinds.c"
 #include "density/dense_grid.c"
 #include "density/nanovdb.c"
 #include "density/blobs.c"
