@@ -37,9 +37,9 @@ def layer_order(root):
 
 def read_objects(build, root):
     """{'core/bvh.c': (defined set, used set)} for the library's objects (those of sources
-    that still exist: a renamed file's old object may linger in the build)."""
+    that still exist: a renamed file's old object may linger in the build), from one nm run."""
     top = os.path.join(build, "CMakeFiles", "brume_objects.dir")
-    objs = {}
+    names = {}
     for d, _, files in os.walk(top):
         for f in files:
             if not f.endswith(".o"):
@@ -51,18 +51,21 @@ def read_objects(build, root):
                     continue
             else:
                 rel = os.path.basename(rel)
-            out = subprocess.run(["nm", "-P", os.path.join(d, f)], capture_output=True, text=True, check=True).stdout
-            defined, used = set(), set()
-            for line in out.splitlines():
-                parts = line.split()
-                if len(parts) < 2:
-                    continue
-                name, kind = parts[0], parts[1]
-                if kind == "U":
-                    used.add(name)
-                elif kind in "TDBRCVWGS":
-                    defined.add(name)
-            objs[rel] = (defined, used)
+            names[os.path.join(d, f)] = rel
+    objs = {rel: (set(), set()) for rel in names.values()}
+    if not names:
+        return objs
+    out = subprocess.run(["nm", "-P", "-A"] + sorted(names), capture_output=True, text=True, check=True).stdout
+    for line in out.splitlines():
+        path, _, rest = line.partition(": ")
+        parts = rest.split()
+        if path not in names or len(parts) < 2:
+            continue
+        defined, used = objs[names[path]]
+        if parts[1] == "U":
+            used.add(parts[0])
+        elif parts[1] in "TDBRCVWGS":
+            defined.add(parts[0])
     return objs
 
 
