@@ -8,7 +8,6 @@
  * it opens in MPI_Init, resolve libmpi's symbols from the global scope. Open MPI's
  * predefined handles (MPI_COMM_WORLD, MPI_FLOAT, MPI_SUM) are the addresses of objects in
  * libmpi, so they are looked up too; MPICH's are integer constants. */
-#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "cli_dist.h"
 
 #include <limits.h>
@@ -18,8 +17,9 @@
 #include "commands.h"
 
 #if BRUME_HAVE_MPI
-#include <dlfcn.h>
 #include <mpi.h>
+
+#include "core/lazylib.h"
 
 #ifndef BRUME_MPI_SONAME
 #define BRUME_MPI_SONAME "libmpi.so.40"
@@ -30,54 +30,38 @@
     X(MPI_Recv) X(MPI_Get_library_version)
 
 static struct {
-#define MPI_POINTER(f) __typeof__(f) *f;
-    MPI_FUNCTIONS(MPI_POINTER)
-#undef MPI_POINTER
+    MPI_FUNCTIONS(LAZYLIB_POINTER)
+} mpi;
+static const char *const mpi_names[] = {MPI_FUNCTIONS(LAZYLIB_NAME) NULL};
+static const char *const mpi_sonames[] = {BRUME_MPI_SONAME, NULL};
+/* RTLD_GLOBAL: Open MPI's plug-ins (mca_*.so), which it opens in MPI_Init, resolve libmpi's
+ * symbols from the global scope */
+static lazylib mpi_so = LAZYLIB_GLOBAL("the MPI library", mpi_sonames, mpi_names, &mpi, sizeof mpi);
+static struct {
     MPI_Comm world;
     MPI_Datatype float_type;
     MPI_Op sum;
-    bool tried, ok;
-    char error[512];
-} mpi;
+} mpi_handles;
 
-/* Opens the MPI library once (the tool's main thread calls this module). */
+/* Opens the MPI library once and finds its predefined handles. */
 static bool mpi_open(void)
 {
-    if (mpi.tried)
-        return mpi.ok;
-    mpi.tried = true;
-    void *h = dlopen(BRUME_MPI_SONAME, RTLD_NOW | RTLD_GLOBAL);
-    if (!h) {
-        snprintf(mpi.error, sizeof mpi.error, "%s", dlerror());
+    if (!lazylib_open(&mpi_so))
         return false;
-    }
-    mpi.ok = true;
-#define MPI_LOOKUP(f)                                                                                   \
-    if (mpi.ok && !(mpi.f = (__typeof__(f) *)dlsym(h, #f))) {                                            \
-        snprintf(mpi.error, sizeof mpi.error, "%s lacks %s", BRUME_MPI_SONAME, #f);                      \
-        mpi.ok = false;                                                                                  \
-    }
-    MPI_FUNCTIONS(MPI_LOOKUP)
-#undef MPI_LOOKUP
 #ifdef OPEN_MPI
-    static const char *const handles[3] = {"ompi_mpi_comm_world", "ompi_mpi_float", "ompi_mpi_op_sum"};
-    void *at[3];
-    for (int i = 0; i < 3 && mpi.ok; i++)
-        if (!(at[i] = dlsym(h, handles[i]))) {
-            snprintf(mpi.error, sizeof mpi.error, "%s lacks %s", BRUME_MPI_SONAME, handles[i]);
-            mpi.ok = false;
-        }
-    if (mpi.ok) {
-        mpi.world = (MPI_Comm)at[0];
-        mpi.float_type = (MPI_Datatype)at[1];
-        mpi.sum = (MPI_Op)at[2];
-    }
+    void *at[3] = {lazylib_symbol(&mpi_so, "ompi_mpi_comm_world"), lazylib_symbol(&mpi_so, "ompi_mpi_float"),
+                   lazylib_symbol(&mpi_so, "ompi_mpi_op_sum")};
+    if (!at[0] || !at[1] || !at[2])
+        return false;
+    mpi_handles.world = (MPI_Comm)at[0];
+    mpi_handles.float_type = (MPI_Datatype)at[1];
+    mpi_handles.sum = (MPI_Op)at[2];
 #else
-    mpi.world = MPI_COMM_WORLD;
-    mpi.float_type = MPI_FLOAT;
-    mpi.sum = MPI_SUM;
+    mpi_handles.world = MPI_COMM_WORLD;
+    mpi_handles.float_type = MPI_FLOAT;
+    mpi_handles.sum = MPI_SUM;
 #endif
-    return mpi.ok;
+    return true;
 }
 #endif
 
@@ -103,7 +87,7 @@ bool dist_begin(dist *d)
         return true;
 #if BRUME_HAVE_MPI
     if (!mpi_open()) {
-        cli_error("started by mpirun with %d processes, but the MPI library cannot be opened: %s", n, mpi.error);
+        cli_error("started by mpirun with %d processes, but %s", n, mpi_so.error);
         return false;
     }
     if (mpi.MPI_Init(NULL, NULL) != MPI_SUCCESS) {
@@ -111,8 +95,8 @@ bool dist_begin(dist *d)
         return false;
     }
     d->mpi = true;
-    mpi.MPI_Comm_rank(mpi.world, &d->rank);
-    mpi.MPI_Comm_size(mpi.world, &d->size);
+    mpi.MPI_Comm_rank(mpi_handles.world, &d->rank);
+    mpi.MPI_Comm_size(mpi_handles.world, &d->size);
     return true;
 #else
     cli_error("started by mpirun with %d processes, but this brume was built without MPI "
@@ -134,7 +118,7 @@ void dist_abort(const dist *d, int code)
 {
 #if BRUME_HAVE_MPI
     if (d->mpi && d->size > 1)
-        mpi.MPI_Abort(mpi.world, code);
+        mpi.MPI_Abort(mpi_handles.world, code);
 #else
     (void)d;
     (void)code;
@@ -154,7 +138,7 @@ bool dist_reduce_to_root(const dist *d, float *buf, size_t n)
         return false;
     /* every pixel has one nonzero contributor (brume_render_part), so the sum is exact */
     void *send = d->rank == 0 ? MPI_IN_PLACE : (void *)buf;
-    return mpi.MPI_Reduce(send, d->rank == 0 ? buf : NULL, (int)n, mpi.float_type, mpi.sum, 0, mpi.world) == MPI_SUCCESS;
+    return mpi.MPI_Reduce(send, d->rank == 0 ? buf : NULL, (int)n, mpi_handles.float_type, mpi_handles.sum, 0, mpi_handles.world) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -168,7 +152,7 @@ bool dist_send_to_root(const dist *d, const float *buf, size_t n, int tag)
 #if BRUME_HAVE_MPI
     if (!d->mpi || !count_ok(n))
         return false;
-    return mpi.MPI_Send(buf, (int)n, mpi.float_type, 0, tag, mpi.world) == MPI_SUCCESS;
+    return mpi.MPI_Send(buf, (int)n, mpi_handles.float_type, 0, tag, mpi_handles.world) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -183,7 +167,7 @@ bool dist_recv_at_root(const dist *d, float *buf, size_t n, int from, int tag)
 #if BRUME_HAVE_MPI
     if (!d->mpi || !count_ok(n))
         return false;
-    return mpi.MPI_Recv(buf, (int)n, mpi.float_type, from, tag, mpi.world, MPI_STATUS_IGNORE) == MPI_SUCCESS;
+    return mpi.MPI_Recv(buf, (int)n, mpi_handles.float_type, from, tag, mpi_handles.world, MPI_STATUS_IGNORE) == MPI_SUCCESS;
 #else
     (void)d;
     (void)buf;
@@ -199,7 +183,7 @@ const char *dist_build_info(void)
 #if BRUME_HAVE_MPI
     static char info[600];
     if (!mpi_open()) {
-        snprintf(info, sizeof info, "MPI (but %s cannot be opened: %s)", BRUME_MPI_SONAME, mpi.error);
+        snprintf(info, sizeof info, "MPI (but %s)", mpi_so.error);
         return info;
     }
     char lib[MPI_MAX_LIBRARY_VERSION_STRING];

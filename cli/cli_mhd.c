@@ -10,14 +10,12 @@
  * called on a daemon, so they run with the library open. MHD_start_daemon forwards its
  * options through MHD_start_daemon_va; MHD_get_daemon_info forwards none, which is right for
  * the one query the view makes (MHD_DAEMON_INFO_CURRENT_CONNECTIONS takes no argument). */
-#define _GNU_SOURCE /* dlopen flags in C11 */
-#include <dlfcn.h>
 #include <microhttpd.h>
-#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 
 #include "commands.h"
+#include "core/lazylib.h"
 
 #ifndef BRUME_MHD_SONAME
 #define BRUME_MHD_SONAME "libmicrohttpd.so.12"
@@ -29,36 +27,19 @@
     X(MHD_destroy_response)
 
 static struct {
-#define MHD_POINTER(f) __typeof__(f) *f;
-    MHD_FUNCTIONS(MHD_POINTER)
-#undef MHD_POINTER
-    int ok;
+    MHD_FUNCTIONS(LAZYLIB_POINTER)
 } mhd;
-static pthread_once_t mhd_once = PTHREAD_ONCE_INIT;
-
-static void mhd_open(void)
-{
-    void *h = dlopen(BRUME_MHD_SONAME, RTLD_NOW | RTLD_LOCAL);
-    if (!h) {
-        cli_error("--serve: cannot open libmicrohttpd: %s", dlerror());
-        return;
-    }
-    mhd.ok = 1;
-#define MHD_LOOKUP(f)                                                                                   \
-    if (mhd.ok && !(mhd.f = (__typeof__(f) *)dlsym(h, #f))) {                                            \
-        cli_error("--serve: %s lacks %s", BRUME_MHD_SONAME, #f);                                         \
-        mhd.ok = 0;                                                                                      \
-    }
-    MHD_FUNCTIONS(MHD_LOOKUP)
-#undef MHD_LOOKUP
-}
+static const char *const mhd_names[] = {MHD_FUNCTIONS(LAZYLIB_NAME) NULL};
+static const char *const mhd_sonames[] = {BRUME_MHD_SONAME, NULL};
+static lazylib mhd_so = LAZYLIB("libmicrohttpd", mhd_sonames, mhd_names, &mhd, sizeof mhd);
 
 struct MHD_Daemon *MHD_start_daemon(unsigned int flags, uint16_t port, MHD_AcceptPolicyCallback apc, void *apc_cls,
                                     MHD_AccessHandlerCallback dh, void *dh_cls, ...)
 {
-    pthread_once(&mhd_once, mhd_open);
-    if (!mhd.ok)
+    if (!lazylib_open(&mhd_so)) {
+        cli_error("--serve: %s", mhd_so.error);
         return NULL;
+    }
     va_list ap;
     va_start(ap, dh_cls);
     struct MHD_Daemon *d = mhd.MHD_start_daemon_va(flags, port, apc, apc_cls, dh, dh_cls, ap);

@@ -54,7 +54,7 @@ cached_objects() {
     fi
     ls "$dir"/*.o
 }
-csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c $src/src/io/grid_raw.c $src/src/io/grid_df3.c $src/src/io/grid_vol.c $src/src/io/grid_nvdb.c $src/src/io/grid_openvdb.c $src/src/io/grid_sandbox.c $src/src/io/sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
+csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c $src/src/io/grid_formats.c $src/src/io/grid_raw.c $src/src/io/grid_df3.c $src/src/io/grid_vol.c $src/src/io/grid_nvdb.c $src/src/io/grid_openvdb.c $src/src/io/grid_sandbox.c $src/src/io/sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = scene ] || [ "$fmt" = readers ]; then
     # the whole library but OpenVDB (C++), and the default scene and build id CMake generated

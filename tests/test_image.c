@@ -11,7 +11,7 @@
 
 #include "brume.h"
 #include "io/atomic.h"
-#include "io/image_file.h"
+#include "io/image_formats.h"
 
 /* ---- helpers ------------------------------------------------------------------------------ */
 

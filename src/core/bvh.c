@@ -2,47 +2,41 @@
 #include "core/bvh.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 
 typedef struct bvh_build_ctx {
     const box3 *boxes;
-    vec3 *c; /* centroids */
+    const vec3 *c; /* centroids */
+    int *tmp;      /* the sort's scratch, nitems ints */
     bvh *b;
 } bvh_build_ctx;
 
-static box3 box_union(box3 a, box3 b) { return (box3){v3_min(a.lo, b.lo), v3_max(a.hi, b.hi)}; }
-
-/* Puts the items of item[lo, hi) whose centroid along axis is below the k-th smallest
- * first (quickselect, Hoare partition): item[k] is then the k-th, those before it are not
- * larger, those after not smaller. Deterministic: no random pivot. */
-static void select_kth(int *item, const vec3 *c, int axis, int lo, int hi, int k)
+/* Sorts item[0, n) by centroid along axis, stably (items with equal centroids keep their
+ * order, so the hierarchy is a function of the items' order alone), through tmp (n ints):
+ * a bottom-up merge sort, with no state outside its arguments. */
+static void sort_stable(int *item, int *tmp, const vec3 *c, int axis, int n)
 {
-    while (hi - lo > 1) {
-        int mid = lo + (hi - lo) / 2;
-        double pivot = v3_get(c[item[mid]], axis);
-        int i = lo, j = hi - 1;
-        while (i <= j) {
-            while (v3_get(c[item[i]], axis) < pivot)
-                i++;
-            while (v3_get(c[item[j]], axis) > pivot)
-                j--;
-            if (i <= j) {
-                int t = item[i];
-                item[i] = item[j];
-                item[j] = t;
-                i++;
-                j--;
-            }
+    int *src = item, *dst = tmp;
+    for (size_t w = 1; w < (size_t)n; w *= 2) {
+        for (size_t lo = 0; lo < (size_t)n; lo += 2 * w) {
+            size_t mid = lo + w < (size_t)n ? lo + w : (size_t)n;
+            size_t hi = lo + 2 * w < (size_t)n ? lo + 2 * w : (size_t)n;
+            size_t i = lo, j = mid, k = lo;
+            while (i < mid && j < hi)
+                dst[k++] = v3_get(c[src[j]], axis) < v3_get(c[src[i]], axis) ? src[j++] : src[i++];
+            while (i < mid)
+                dst[k++] = src[i++];
+            while (j < hi)
+                dst[k++] = src[j++];
         }
-        /* [lo, j] <= pivot <= [i, hi) and (j, i) == pivot */
-        if (k <= j)
-            hi = j + 1;
-        else if (k >= i)
-            lo = i;
-        else
-            return;
+        int *t = src;
+        src = dst;
+        dst = t;
     }
+    if (src != item)
+        memcpy(item, src, sizeof *item * (size_t)n);
 }
 
 static int build_node(bvh_build_ctx *x, int start, int count)
@@ -52,7 +46,7 @@ static int build_node(bvh_build_ctx *x, int start, int count)
     box3 box = box3_empty(), cb = box3_empty();
     for (int i = start; i < start + count; i++) {
         int it = b->item[i];
-        box = box_union(box, x->boxes[it]);
+        box = box3_union(box, x->boxes[it]);
         cb.lo = v3_min(cb.lo, x->c[it]);
         cb.hi = v3_max(cb.hi, x->c[it]);
     }
@@ -65,7 +59,7 @@ static int build_node(bvh_build_ctx *x, int start, int count)
     }
     int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     int half = count / 2;
-    select_kth(b->item, x->c, axis, start, start + count, start + half);
+    sort_stable(b->item + start, x->tmp, x->c, axis, count);
     build_node(x, start, half);
     int right = build_node(x, start + half, count - half);
     b->nodes[id].start = right;
@@ -73,26 +67,30 @@ static int build_node(bvh_build_ctx *x, int start, int count)
     return id;
 }
 
-brume_status bvh_build(bvh *b, const box3 *boxes, int n)
+brume_status bvh_build(bvh *b, const box3 *boxes, const vec3 *centroids, int n)
 {
     *b = (bvh){0};
     if (n < 1)
         return BRUME_OK;
     b->nodes = malloc(sizeof *b->nodes * (size_t)(2 * (size_t)n));
     b->item = malloc(sizeof *b->item * (size_t)n);
-    vec3 *c = malloc(sizeof *c * (size_t)n);
-    if (!b->nodes || !b->item || !c) {
+    int *tmp = malloc(sizeof *tmp * (size_t)n);
+    vec3 *c = centroids ? NULL : malloc(sizeof *c * (size_t)n);
+    if (!b->nodes || !b->item || !tmp || (!centroids && !c)) {
+        free(tmp);
         free(c);
         bvh_free(b);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "bvh: out of memory for the hierarchy of %d objects", n);
     }
     for (int i = 0; i < n; i++) {
         b->item[i] = i;
-        c[i] = v3_scale(v3_add(boxes[i].lo, boxes[i].hi), 0.5);
+        if (c)
+            c[i] = v3_scale(v3_add(boxes[i].lo, boxes[i].hi), 0.5);
     }
     b->nitems = n;
-    bvh_build_ctx x = {boxes, c, b};
+    bvh_build_ctx x = {boxes, centroids ? centroids : c, tmp, b};
     build_node(&x, 0, n);
+    free(tmp);
     free(c);
     return BRUME_OK;
 }

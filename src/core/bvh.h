@@ -3,8 +3,10 @@
  * when Embree is not there: on the device, and in the device copy's tests).
  *
  * Build: the items' boxes are split at the median of their centroids along the centroids'
- * longest axis, until a node holds at most BVH_LEAF_SIZE items (or its centroids
- * coincide). Nodes are stored depth first: an inner node's left child follows it, its right
+ * longest axis (a stable sort: the hierarchy depends on the items' order alone, and the
+ * builder has no state outside its arguments, so threads may build at once), until a node
+ * holds at most BVH_LEAF_SIZE items (or its centroids coincide). The solid objects and the
+ * blob fields (density/blobs.c) are built with it. Nodes are stored depth first: an inner node's left child follows it, its right
  * child is at `start`; a leaf holds items item[start .. start + count). The depth is at most
  * log2(n) + 1, so BVH_STACK entries suffice for any int count of items.
  *
@@ -32,8 +34,9 @@ typedef struct bvh {
     int nnodes, nitems;
 } bvh;
 
-/* The hierarchy of n >= 1 boxes (box i is item i). */
-brume_status bvh_build(bvh *b, const box3 *boxes, int n);
+/* The hierarchy of n >= 1 boxes (box i is item i), split by the items' centroids: centroids
+ * (n points, e.g. a sphere's centre) or, when NULL, the boxes' centres. */
+brume_status bvh_build(bvh *b, const box3 *boxes, const vec3 *centroids, int n);
 void bvh_free(bvh *b);
 
 /* Whether o + t d, t in [tmin, tmax], meets box bx (inv = 1 / d componentwise); *t_in is

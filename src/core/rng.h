@@ -16,6 +16,7 @@
 
 #include <stdint.h>
 
+#include "core/hash.h"
 #include "core/sobol.h"
 
 typedef struct rng {
@@ -28,19 +29,12 @@ typedef struct rng {
     uint32_t odd_dim;  /* 0 (even, never asked for) until a pair has been made */
 } rng;
 
-static inline uint64_t rng_mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 /* The sequence for one (seed, stream, sample). Distinct triples give independent sequences. */
 static inline rng rng_make(uint64_t seed, uint64_t stream, uint64_t sample)
 {
-    uint64_t k = rng_mix64(seed + 0x9e3779b97f4a7c15ULL);
-    k = rng_mix64(k ^ (stream + 0x632be59bd9b4e019ULL));
-    k = rng_mix64(k ^ (sample + 0x85157af5a3f4b8d1ULL));
+    uint64_t k = hash_mix64(seed + 0x9e3779b97f4a7c15ULL);
+    k = hash_mix64(k ^ (stream + 0x632be59bd9b4e019ULL));
+    k = hash_mix64(k ^ (sample + 0x85157af5a3f4b8d1ULL));
     return (rng){k, 0, 0, 0, 0, 0, 0};
 }
 
@@ -49,8 +43,8 @@ static inline rng rng_make(uint64_t seed, uint64_t stream, uint64_t sample)
 static inline rng rng_make_qmc(uint64_t seed, uint64_t stream, uint32_t sample, uint32_t dims)
 {
     rng r = rng_make(seed, stream, sample);
-    uint64_t q = rng_mix64(seed ^ 0x5851f42d4c957f2dULL);
-    r.qmc_key = rng_mix64(q ^ (stream + 0x14057b7ef767814fULL));
+    uint64_t q = hash_mix64(seed ^ 0x5851f42d4c957f2dULL);
+    r.qmc_key = hash_mix64(q ^ (stream + 0x14057b7ef767814fULL));
     r.index = sample;
     r.qmc_dims = dims;
     return r;
@@ -59,7 +53,7 @@ static inline rng rng_make_qmc(uint64_t seed, uint64_t stream, uint32_t sample, 
 static inline uint64_t rng_next_u64(rng *r)
 {
     uint64_t c = r->counter++;
-    return rng_mix64(rng_mix64(r->key ^ (c * 0x9e3779b97f4a7c15ULL)) + c);
+    return hash_mix64(hash_mix64(r->key ^ (c * 0x9e3779b97f4a7c15ULL)) + c);
 }
 
 /* Uniform in [0, 1), 53 bits. In a Sobol dimension the 32 bits of the point come first and

@@ -1,7 +1,7 @@
 /* sobol.c - padded, Owen-scrambled Sobol points (sobol.h; derivation in docs/sampling.md). */
 #include "core/sobol.h"
 
-#include "core/rng.h"
+#include "core/hash.h"
 
 /* The bits of x in reverse order: bits reversed within each byte, then the bytes. */
 static inline uint32_t reverse_bits32(uint32_t x)
@@ -57,7 +57,7 @@ void sobol_padded_pair(uint64_t key, uint32_t index, uint32_t pair, uint32_t x[2
 {
     /* the pair's index shuffle (low half of the hash), the first coordinate's scramble
      * (high half) and the second's (both halves mixed by an odd multiplier) */
-    uint64_t h = rng_mix64(key ^ (((uint64_t)pair + 1u) * 0xd1342543de82ef95ULL));
+    uint64_t h = hash_mix64(key ^ (((uint64_t)pair + 1u) * 0xd1342543de82ef95ULL));
     uint32_t seed0 = (uint32_t)(h >> 32), seed1 = (seed0 ^ (uint32_t)h) * 0x2c1b3c6du + 0x297a2d39u;
     uint32_t j = reverse_bits32(laine_karras(reverse_bits32(index), (uint32_t)h));
     x[0] = reverse_bits32(laine_karras(j, seed0));

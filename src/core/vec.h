@@ -87,6 +87,7 @@ static inline vec3 frame_to_local(const frame *f, vec3 w)
 }
 
 static inline box3 box3_empty(void) { return (box3){v3(INFINITY, INFINITY, INFINITY), v3(-INFINITY, -INFINITY, -INFINITY)}; }
+static inline box3 box3_union(box3 a, box3 b) { return (box3){v3_min(a.lo, b.lo), v3_max(a.hi, b.hi)}; }
 static inline bool box3_contains(box3 b, vec3 p)
 {
     return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z;

@@ -13,90 +13,55 @@
 #include "core/stats.h"
 #include "density/density_impl.h"
 
-#define BVH_LEAF_SIZE 4
-#define BVH_STACK 64
 /* (2 pi)^(3/2) */
 #define TWO_PI_3_2 15.749609945722419
 
-struct blob_node {
-    box3 box;
-    int start, count; /* leaf: blobs [start, start + count); inner: count = 0, start = right child */
-};
-
 /* ---- building ---------------------------------------------------------------------------- */
-
-typedef struct build_item {
-    blob b;
-    vec3 c; /* centroid (the centre) */
-} build_item;
-
-static int sort_axis;
-static int cmp_item(const void *a, const void *b)
-{
-    double x = v3_get(((const build_item *)a)->c, sort_axis), y = v3_get(((const build_item *)b)->c, sort_axis);
-    return x < y ? -1 : (x > y ? 1 : 0);
-}
 
 static box3 sphere_box(vec3 c, double r)
 {
     return (box3){v3(c.x - r, c.y - r, c.z - r), v3(c.x + r, c.y + r, c.z + r)};
 }
 
-static box3 box_union(box3 a, box3 b) { return (box3){v3_min(a.lo, b.lo), v3_max(a.hi, b.hi)}; }
-
-/* Median split on the longest axis of the centroids; nodes in depth-first order. Not
- * thread-safe (qsort's comparator reads sort_axis): fields are built while loading. */
-static int build_node(blob_field *f, build_item *it, int start, int count, double cutoff)
-{
-    int id = f->nnodes++;
-    box3 box = box3_empty(), cb = box3_empty();
-    for (int i = start; i < start + count; i++) {
-        box = box_union(box, sphere_box(it[i].b.x, cutoff * it[i].b.h));
-        cb.lo = v3_min(cb.lo, it[i].c);
-        cb.hi = v3_max(cb.hi, it[i].c);
-    }
-    f->nodes[id].box = box;
-    vec3 ext = v3_sub(cb.hi, cb.lo);
-    if (count <= BVH_LEAF_SIZE || (ext.x <= 0.0 && ext.y <= 0.0 && ext.z <= 0.0)) {
-        f->nodes[id].start = start;
-        f->nodes[id].count = count;
-        return id;
-    }
-    sort_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    qsort(it + start, (size_t)count, sizeof *it, cmp_item);
-    int half = count / 2;
-    build_node(f, it, start, half, cutoff);
-    int right = build_node(f, it, start + half, count - half, cutoff);
-    f->nodes[id].start = right;
-    f->nodes[id].count = 0;
-    return id;
-}
-
+/* The hierarchy over the truncation spheres (core/bvh.h, split by the centres), and the
+ * blobs and their derived arrays put in its leaf order, so that a leaf's blobs are
+ * f->b[start, start + count). */
 static brume_status build_bvh(blob_field *f)
 {
-    build_item *it = malloc((size_t)f->n * sizeof *it);
-    blob_node *nodes = malloc((size_t)(2 * f->n) * sizeof *nodes);
-    if (!it || !nodes) {
-        free(it);
-        free(nodes);
+    double cutoff = blob_field_cutoff(f);
+    box3 *boxes = malloc((size_t)f->n * sizeof *boxes);
+    vec3 *centres = malloc((size_t)f->n * sizeof *centres);
+    blob *sorted = malloc((size_t)f->n * sizeof *sorted);
+    bvh h = {0};
+    brume_status st = boxes && centres && sorted ? BRUME_OK : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st == BRUME_OK) {
+        for (int i = 0; i < f->n; i++) {
+            boxes[i] = sphere_box(f->b[i].x, cutoff * f->b[i].h);
+            centres[i] = f->b[i].x;
+        }
+        st = bvh_build(&h, boxes, centres, f->n);
+    }
+    free(boxes);
+    free(centres);
+    if (st != BRUME_OK) {
+        free(sorted);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "blobs: out of memory for the hierarchy of %d blobs", f->n);
     }
     for (int i = 0; i < f->n; i++)
-        it[i] = (build_item){f->b[i], f->b[i].x};
+        sorted[i] = f->b[h.item[i]];
+    free(h.item);
+    free(f->b);
+    f->b = sorted;
     free(f->nodes);
-    f->nodes = nodes;
-    f->nnodes = 0;
-    double cutoff = blob_field_cutoff(f);
-    build_node(f, it, 0, f->n, cutoff);
+    f->nodes = h.nodes;
+    f->nnodes = h.nnodes;
     for (int i = 0; i < f->n; i++) {
-        blob b = it[i].b;
-        f->b[i] = b;
+        blob b = f->b[i];
         f->peak[i] = f->kernel ? b.m * f->kernel->w0 / (b.h * b.h * b.h) : b.m / (TWO_PI_3_2 * b.h * b.h * b.h);
         f->inv2h2[i] = 1.0 / (2.0 * b.h * b.h);
         f->R2[i] = cutoff * cutoff * b.h * b.h;
     }
     f->bounds = f->nodes[0].box;
-    free(it);
     return BRUME_OK;
 }
 
@@ -179,7 +144,7 @@ double blob_field_mean(const blob_field *f, vec3 p)
     }
     int stack[BVH_STACK], sp = 0, node = 0;
     for (;;) {
-        const blob_node *nd = &f->nodes[node];
+        const bvh_node *nd = &f->nodes[node];
         if (box3_contains(nd->box, p)) {
             if (nd->count > 0) {
                 for (int i = nd->start; i < nd->start + nd->count; i++)
@@ -249,7 +214,7 @@ void blob_field_query_ray(const blob_field *f, vec3 o, vec3 d, double tmin, doub
     if (sc)
         sc->blob_queries++;
     for (;;) {
-        const blob_node *nd = &f->nodes[node];
+        const bvh_node *nd = &f->nodes[node];
         if (sc)
             sc->blob_nodes++;
         if (hit_box(&nd->box, o, inv, tmin, tmax)) {
@@ -396,7 +361,7 @@ double blob_majorant_pairs(const blob *b, int n, double cutoff, int majorant_cel
 {
     box3 bounds = box3_empty();
     for (int i = 0; i < n; i++)
-        bounds = box_union(bounds, sphere_box(b[i].x, cutoff * b[i].h));
+        bounds = box3_union(bounds, sphere_box(b[i].x, cutoff * b[i].h));
     int mn[3];
     majorant_dims(bounds, majorant_cells, mn);
     vec3 cs = v3((bounds.hi.x - bounds.lo.x) / mn[0], (bounds.hi.y - bounds.lo.y) / mn[1],
@@ -452,7 +417,7 @@ density *density_new_blobs(blob_field *f, int majorant_cells)
     density_set_active_box(d);
     d->rho_min = 0.0;
     d->active = (uint64_t)f->n;
-    d->memory = (size_t)f->n * (sizeof(blob) + 3 * sizeof(double)) + (size_t)f->nnodes * sizeof(blob_node) +
+    d->memory = (size_t)f->n * (sizeof(blob) + 3 * sizeof(double)) + (size_t)f->nnodes * sizeof(bvh_node) +
                 (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2] * sizeof(float);
     return d;
 }

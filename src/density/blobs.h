@@ -22,6 +22,7 @@
 #include <stddef.h>
 
 #include "brume.h"
+#include "core/bvh.h"
 #include "core/vec.h"
 #include "density/blob_kernel.h"
 #include "density/density.h"
@@ -43,8 +44,6 @@ typedef struct blob {
     double m, h;
 } blob;
 
-typedef struct blob_node blob_node;
-
 typedef struct blob_field {
     blob *b;          /* n blobs, owned, in BVH leaf order */
     double *peak;     /* m_i / ((2 pi)^(3/2) h_i^3), or m_i W(0) / h_i^3 with a kernel table: the
@@ -58,7 +57,7 @@ typedef struct blob_field {
     vec3 velocity;    /* world units per unit time */
     double time;      /* centres are at x_i(0) + velocity time */
     box3 bounds;      /* union of the truncation spheres */
-    blob_node *nodes; /* BVH, root at 0 */
+    bvh_node *nodes;  /* the hierarchy's nodes (core/bvh.h), root at 0; leaves index b */
     int nnodes;
     bool use_bvh;     /* false: every query scans all blobs (for benchmarks) */
 } blob_field;

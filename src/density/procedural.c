@@ -13,9 +13,9 @@
 /* Lattice value in [-1, 1] at integer point (i, j, k). */
 static double lattice(int64_t i, int64_t j, int64_t k, uint64_t seed)
 {
-    uint64_t h = rng_mix64(seed ^ rng_mix64((uint64_t)i * 0x9e3779b97f4a7c15ULL ^
-                                            rng_mix64((uint64_t)j * 0xc2b2ae3d27d4eb4fULL ^
-                                                      (uint64_t)k * 0x165667b19e3779f9ULL)));
+    uint64_t h = hash_mix64(seed ^ hash_mix64((uint64_t)i * 0x9e3779b97f4a7c15ULL ^
+                                              hash_mix64((uint64_t)j * 0xc2b2ae3d27d4eb4fULL ^
+                                                         (uint64_t)k * 0x165667b19e3779f9ULL)));
     return (double)(h >> 11) * 0x1.0p-52 - 1.0;
 }
 

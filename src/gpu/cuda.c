@@ -1,7 +1,6 @@
 /* cuda.c - NVIDIA GPUs through the CUDA driver API, opened at run time (gpu/cuda.h). */
 #include "gpu/cuda.h"
 
-#include <dlfcn.h>
 #include <stdio.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -10,6 +9,7 @@
 
 #include "core/context.h"
 #include "core/error.h"
+#include "core/lazylib.h"
 #include "gpu/device_scene.h"
 #include "medium/blackbody.h"
 #include "render/sample.h"
@@ -30,32 +30,41 @@ enum {
     CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES = 6,
 };
 
+/* The driver functions brume calls: (return type, member, the driver's name, parameters);
+ * the _v2 names take 64-bit sizes. */
+#define CU_FUNCTIONS(X) \
+    X(CUresult, Init, "cuInit", (unsigned)) \
+    X(CUresult, DeviceGetCount, "cuDeviceGetCount", (int *)) \
+    X(CUresult, DeviceGet, "cuDeviceGet", (CUdevice *, int)) \
+    X(CUresult, DeviceGetName, "cuDeviceGetName", (char *, int, CUdevice)) \
+    X(CUresult, DeviceTotalMem, "cuDeviceTotalMem_v2", (size_t *, CUdevice)) \
+    X(CUresult, DeviceGetAttribute, "cuDeviceGetAttribute", (int *, int, CUdevice)) \
+    X(CUresult, CtxCreate, "cuCtxCreate_v2", (CUcontext *, unsigned, CUdevice)) \
+    X(CUresult, CtxSetCurrent, "cuCtxSetCurrent", (CUcontext)) \
+    X(CUresult, CtxSetLimit, "cuCtxSetLimit", (int, size_t)) \
+    X(CUresult, CtxSynchronize, "cuCtxSynchronize", (void)) \
+    X(CUresult, ModuleLoadDataEx, "cuModuleLoadDataEx", (CUmodule *, const void *, unsigned, int *, void **)) \
+    X(CUresult, ModuleGetFunction, "cuModuleGetFunction", (CUfunction *, CUmodule, const char *)) \
+    X(CUresult, ModuleGetGlobal, "cuModuleGetGlobal_v2", (CUdeviceptr *, size_t *, CUmodule, const char *)) \
+    X(CUresult, MemAlloc, "cuMemAlloc_v2", (CUdeviceptr *, size_t)) \
+    X(CUresult, MemFree, "cuMemFree_v2", (CUdeviceptr)) \
+    X(CUresult, MemGetInfo, "cuMemGetInfo_v2", (size_t *, size_t *)) \
+    X(CUresult, MemcpyHtoD, "cuMemcpyHtoD_v2", (CUdeviceptr, const void *, size_t)) \
+    X(CUresult, MemcpyDtoH, "cuMemcpyDtoH_v2", (void *, CUdeviceptr, size_t)) \
+    X(CUresult, LaunchKernel, "cuLaunchKernel", (CUfunction, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, void *,   \
+                                             void **, void **))                                           \
+    X(CUresult, GetErrorString, "cuGetErrorString", (CUresult, const char **))
+
+#define CU_POINTER(ret, f, name, params) ret(*f) params;
+#define CU_NAME(ret, f, name, params) name,
 static struct {
-    CUresult (*Init)(unsigned);
-    CUresult (*DeviceGetCount)(int *);
-    CUresult (*DeviceGet)(CUdevice *, int);
-    CUresult (*DeviceGetName)(char *, int, CUdevice);
-    CUresult (*DeviceTotalMem)(size_t *, CUdevice);
-    CUresult (*DeviceGetAttribute)(int *, int, CUdevice);
-    CUresult (*CtxCreate)(CUcontext *, unsigned, CUdevice);
-    CUresult (*CtxSetCurrent)(CUcontext);
-    CUresult (*CtxSetLimit)(int, size_t);
-    CUresult (*CtxSynchronize)(void);
-    CUresult (*ModuleLoadDataEx)(CUmodule *, const void *, unsigned, int *, void **);
-    CUresult (*ModuleGetFunction)(CUfunction *, CUmodule, const char *);
-    CUresult (*ModuleGetGlobal)(CUdeviceptr *, size_t *, CUmodule, const char *);
-    CUresult (*MemAlloc)(CUdeviceptr *, size_t);
-    CUresult (*MemFree)(CUdeviceptr);
-    CUresult (*MemGetInfo)(size_t *, size_t *);
-    CUresult (*MemcpyHtoD)(CUdeviceptr, const void *, size_t);
-    CUresult (*MemcpyDtoH)(void *, CUdeviceptr, size_t);
-    CUresult (*LaunchKernel)(CUfunction, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, void *,
-                             void **, void **);
-    CUresult (*GetErrorString)(CUresult, const char **);
+    CU_FUNCTIONS(CU_POINTER)
 } cu;
+static const char *const cu_names[] = {CU_FUNCTIONS(CU_NAME) NULL};
+static const char *const cu_sonames[] = {"libcuda.so.1", NULL};
+static lazylib cu_so = LAZYLIB("the NVIDIA driver", cu_sonames, cu_names, &cu, sizeof cu);
 
 static pthread_mutex_t cu_lock = PTHREAD_MUTEX_INITIALIZER;
-static void *cu_lib;
 static bool cu_ready;
 static char cu_why[256]; /* why the driver could not be used, once it failed */
 
@@ -78,39 +87,13 @@ static bool cu_open(void)
         snprintf(cu_why, sizeof cu_why, "this brume was built without GPU support (no clang to compile its CUDA kernels)");
         return false;
     }
-    cu_lib = dlopen("libcuda.so.1", RTLD_NOW | RTLD_LOCAL);
-    if (!cu_lib) {
-        snprintf(cu_why, sizeof cu_why, "no NVIDIA driver (libcuda.so.1 cannot be opened)");
+    if (!lazylib_open(&cu_so)) {
+        if (!cu_so.handle)
+            snprintf(cu_why, sizeof cu_why, "no NVIDIA driver (libcuda.so.1 cannot be opened)");
+        else
+            snprintf(cu_why, sizeof cu_why, "the NVIDIA driver lacks %s (too old)", cu_so.missing);
         return false;
     }
-    struct {
-        void **fn;
-        const char *name;
-    } syms[] = {{(void **)&cu.Init, "cuInit"},
-                {(void **)&cu.DeviceGetCount, "cuDeviceGetCount"},
-                {(void **)&cu.DeviceGet, "cuDeviceGet"},
-                {(void **)&cu.DeviceGetName, "cuDeviceGetName"},
-                {(void **)&cu.DeviceTotalMem, "cuDeviceTotalMem_v2"},
-                {(void **)&cu.DeviceGetAttribute, "cuDeviceGetAttribute"},
-                {(void **)&cu.CtxCreate, "cuCtxCreate_v2"},
-                {(void **)&cu.CtxSetCurrent, "cuCtxSetCurrent"},
-                {(void **)&cu.CtxSetLimit, "cuCtxSetLimit"},
-                {(void **)&cu.CtxSynchronize, "cuCtxSynchronize"},
-                {(void **)&cu.ModuleLoadDataEx, "cuModuleLoadDataEx"},
-                {(void **)&cu.ModuleGetFunction, "cuModuleGetFunction"},
-                {(void **)&cu.ModuleGetGlobal, "cuModuleGetGlobal_v2"},
-                {(void **)&cu.MemAlloc, "cuMemAlloc_v2"},
-                {(void **)&cu.MemFree, "cuMemFree_v2"},
-                {(void **)&cu.MemGetInfo, "cuMemGetInfo_v2"},
-                {(void **)&cu.MemcpyHtoD, "cuMemcpyHtoD_v2"},
-                {(void **)&cu.MemcpyDtoH, "cuMemcpyDtoH_v2"},
-                {(void **)&cu.LaunchKernel, "cuLaunchKernel"},
-                {(void **)&cu.GetErrorString, "cuGetErrorString"}};
-    for (size_t i = 0; i < sizeof syms / sizeof syms[0]; i++)
-        if (!(*syms[i].fn = dlsym(cu_lib, syms[i].name))) {
-            snprintf(cu_why, sizeof cu_why, "the NVIDIA driver lacks %s (too old)", syms[i].name);
-            return false;
-        }
     CUresult r = cu.Init(0);
     if (r != 0) {
         snprintf(cu_why, sizeof cu_why, "the NVIDIA driver does not start (cuInit: %s)", cu_error(r));
@@ -416,27 +399,3 @@ brume_status gpu_job_pass(brume_render_job *job)
     return BRUME_OK;
 }
 
-brume_status brume_device_from_name(brume_context *ctx, const char *name, int *device)
-{
-    err_clear();
-    if (!name || !device)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_device_from_name: %s: NULL",
-                                       !name ? "name" : "device"));
-    if (strcmp(name, "cpu") == 0) {
-        *device = -1;
-        return BRUME_OK;
-    }
-    if (strcmp(name, "cuda") == 0) {
-        *device = 0;
-        return BRUME_OK;
-    }
-    if (strncmp(name, "cuda:", 5) == 0 && name[5] >= '0' && name[5] <= '9' && strlen(name) <= 7) {
-        char *end;
-        long v = strtol(name + 5, &end, 10);
-        if (*end == '\0' && v < 64) {
-            *device = (int)v;
-            return BRUME_OK;
-        }
-    }
-    return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "unknown device '%s' (known: cpu, cuda, cuda:N)", name));
-}

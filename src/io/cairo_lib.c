@@ -3,23 +3,20 @@
  * linked: libcairo brings pixman, fontconfig, FreeType, libX11 and xcb, whose loading and
  * relocation took about 6 ms of every brume process's start on the project's machine, for
  * the few commands that draw (figures, charts, sheets, phase plots, compare; issue 37,
- * docs/performance.md "Start-up"). The same way as Embree (src/surface/surfaces.c) and
- * libmicrohttpd (cli/cli_mhd.c).
+ * docs/performance.md "Start-up"), through core/lazylib.h as every optional library.
  *
  * Each forwarder keeps cairo.h's declaration, so the drawing code reads as cairo's
  * documentation. A drawing function calls cairo_lib_open first and reports its failure;
  * a cairo call without it is a bug in brume, which stops with a message rather than call
  * through a null pointer. */
-#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "io/cairo_lib.h"
 
 #include <cairo.h>
-#include <dlfcn.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "core/lazylib.h"
 
 #ifndef BRUME_CAIRO_SONAME
 #define BRUME_CAIRO_SONAME "libcairo.so.2"
@@ -69,46 +66,27 @@
       (cairo_surface_t * surface, cairo_write_func_t write_func, void *closure), (surface, write_func, closure)) \
     V(void, cairo_text_extents, (cairo_t * cr, const char *utf8, cairo_text_extents_t *extents), (cr, utf8, extents))
 
+#define CAIRO_POINTER(ret, f, params, args) LAZYLIB_POINTER(f)
+#define CAIRO_NAME(ret, f, params, args) LAZYLIB_NAME(f)
 static struct {
-#define CAIRO_POINTER(ret, f, params, args) __typeof__(f) *f;
     CAIRO_FUNCTIONS(CAIRO_POINTER, CAIRO_POINTER)
-#undef CAIRO_POINTER
-    int ok;
 } lib;
-static char lib_error[512];
-static pthread_once_t lib_once = PTHREAD_ONCE_INIT;
-
-static void lib_load(void)
-{
-    void *h = dlopen(BRUME_CAIRO_SONAME, RTLD_NOW | RTLD_LOCAL);
-    if (!h) {
-        snprintf(lib_error, sizeof lib_error, "%s", dlerror());
-        return;
-    }
-    lib.ok = 1;
-#define CAIRO_LOOKUP(ret, f, params, args)                                                                    \
-    if (lib.ok && !(lib.f = (__typeof__(f) *)dlsym(h, #f))) {                                                  \
-        snprintf(lib_error, sizeof lib_error, "%s lacks %s", BRUME_CAIRO_SONAME, #f);                          \
-        lib.ok = 0;                                                                                           \
-    }
-    CAIRO_FUNCTIONS(CAIRO_LOOKUP, CAIRO_LOOKUP)
-#undef CAIRO_LOOKUP
-}
+static const char *const lib_names[] = {CAIRO_FUNCTIONS(CAIRO_NAME, CAIRO_NAME) NULL};
+static const char *const lib_sonames[] = {BRUME_CAIRO_SONAME, NULL};
+static lazylib lib_so = LAZYLIB("cairo", lib_sonames, lib_names, &lib, sizeof lib);
 
 brume_status cairo_lib_open(const char *path)
 {
-    pthread_once(&lib_once, lib_load);
-    if (!lib.ok)
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: cannot open cairo: %s", path, lib_error);
+    if (!lazylib_open(&lib_so))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: %s", path, lib_so.error);
     return BRUME_OK;
 }
 
 /* Before a forwarded call: the library is open, or brume has a bug (see the file's comment). */
 static void lib_need(const char *f)
 {
-    pthread_once(&lib_once, lib_load);
-    if (!lib.ok) {
-        fprintf(stderr, "brume: internal error: %s called without cairo (%s)\n", f, lib_error);
+    if (!lazylib_open(&lib_so)) {
+        fprintf(stderr, "brume: internal error: %s called without cairo (%s)\n", f, lib_so.error);
         abort();
     }
 }

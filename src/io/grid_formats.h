@@ -10,7 +10,8 @@
 #include <string.h>
 
 #include "io/atomic.h"
-#include "io/grid_io.h"
+#include "io/grid_options.h"
+#include "io/grid_vdb.h"
 
 /* ---- little-endian numbers ---- */
 static inline uint32_t rd_le32(const unsigned char *p)

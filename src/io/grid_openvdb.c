@@ -63,24 +63,3 @@ brume_status grid_openvdb_write(const density *d, const density_info *in, const 
     return atomic_commit(&af);
 }
 #endif
-
-brume_status grid_convert_vdb_to_nvdb(const char *in, const char *out, const char *grid)
-{
-#if BRUME_HAVE_OPENVDB
-    atomic_file af;
-    if (!grid_open_tmp(&af, out))
-        return err_status();
-    fclose(af.fp); /* the converter writes the temporary file by name */
-    af.fp = NULL;
-    if (grid_sandbox_vdb_to_nvdb(in, af.tmp_path, grid, DENSITY_DEFAULT_MAX_MEMORY) != BRUME_OK) {
-        brume_status st = err_status();
-        atomic_abort(&af);
-        return st;
-    }
-    return atomic_commit(&af);
-#else
-    (void)out;
-    (void)grid;
-    return err_set(BRUME_ERROR_UNSUPPORTED, "%s: .vdb needs OpenVDB, and brume was built without OpenVDB", in);
-#endif
-}

@@ -32,6 +32,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/lazylib.h"
 
 #define MODULE_FILE "libbrume-openvdb.so"
 
@@ -49,6 +50,16 @@
 #pragma weak brume_openvdb_module
 
 static const gridvdb_api *api;
+#if BRUME_HAVE_OPENVDB
+/* the module, once found (load()), opened as every optional library (core/lazylib.h) */
+static char module_path[PATH_MAX + sizeof MODULE_FILE + 1];
+static const char *const module_sonames[] = {module_path, NULL};
+static const char *const module_names[] = {GRIDVDB_MODULE_SYMBOL, NULL};
+static struct {
+    const gridvdb_api *(*get_api)(gridvdb_err_fn); /* GRIDVDB_MODULE_SYMBOL */
+} entry;
+static lazylib module = LAZYLIB("the OpenVDB module", module_sonames, module_names, &entry, sizeof entry);
+#endif
 static char load_error[PATH_MAX * 4 + 256];
 static pthread_once_t load_once = PTHREAD_ONCE_INIT;
 
@@ -128,18 +139,12 @@ static void load(void)
             snprintf(looked + at, sizeof looked - at, "%s%.*s", at ? ", " : "", PATH_MAX / 4, cand[c]);
             continue;
         }
-        void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-        if (!h) {
-            snprintf(load_error, sizeof load_error, "cannot open the OpenVDB module: %.*s", PATH_MAX * 2, dlerror());
+        snprintf(module_path, sizeof module_path, "%s", path);
+        if (!lazylib_open(&module)) {
+            snprintf(load_error, sizeof load_error, "%s", module.error);
             return;
         }
-        const gridvdb_api *(*entry)(gridvdb_err_fn) = (const gridvdb_api *(*)(gridvdb_err_fn))dlsym(
-            h, GRIDVDB_MODULE_SYMBOL);
-        if (!entry) {
-            snprintf(load_error, sizeof load_error, "%.*s has no " GRIDVDB_MODULE_SYMBOL, PATH_MAX, path);
-            return;
-        }
-        api = check(entry(err_vset), path);
+        api = check(entry.get_api(err_vset), path);
         return;
     }
     snprintf(load_error, sizeof load_error,

@@ -28,7 +28,7 @@
 #include "core/error.h"
 #include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image_file.h"
+#include "io/image_formats.h"
 
 /* Passed to OpenEXR as user data: the file being written and the library's last message. */
 typedef struct exr_io {

@@ -1,6 +1,6 @@
 /* image_file.c - brume_image files: dispatch by extension to the OpenEXR, PNG and PFM
  * readers and writers (io/image_exr.c, image_png.c, image_pfm.c). */
-#include "io/image_file.h"
+#include "io/image_formats.h"
 
 #include <math.h>
 #include <stdint.h>

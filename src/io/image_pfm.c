@@ -16,7 +16,7 @@
 #include "core/error.h"
 #include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image_file.h"
+#include "io/image_formats.h"
 
 static void put_f32le(unsigned char *p, float v)
 {

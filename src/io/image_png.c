@@ -24,7 +24,7 @@
 #include "core/error.h"
 #include "core/regular_file.h"
 #include "io/atomic.h"
-#include "io/image_file.h"
+#include "io/image_formats.h"
 
 /* libpng's messages for this call, reported with the path. */
 typedef struct png_msg {

@@ -5,7 +5,7 @@
  *   8 bytes "BRUMEBL1", u32 version (1), u32 number of media, u64 scene hash,
  *   per medium: u32 nx, ny, nz, u32 0; then per medium nx ny nz x 3 float32: the source
  *   S (RGB radiance per unit length, world units), x fastest.
- * The hash is the caller's key for what the grid was made from (render/blasi.c's
+ * The hash is the caller's key for what the grid was made from (render/blasi_setup.c's
  * blasi_scene_hash): a file made for another scene or other options is refused. */
 #ifndef BRUME_IO_LIGHT_FILE_H
 #define BRUME_IO_LIGHT_FILE_H

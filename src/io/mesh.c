@@ -18,7 +18,6 @@
  * when the first mesh is read, not linked: with its draco and minizip it made the dynamic
  * loader bind some 44,000 symbols at every brume process's start, for the few scenes with
  * mesh files (docs/performance.md, "Start-up"). The functions keep the header's types. */
-#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "io/mesh.h"
 
 #include <assimp/cimport.h>
@@ -26,16 +25,15 @@
 #include <unistd.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "core/lazylib.h"
 #include "io/json.h"
 #include "core/regular_file.h"
 #include "io/sandbox.h"
@@ -47,30 +45,14 @@
 #define BRUME_ASSIMP_SONAME "libassimp.so.5"
 #endif
 
-static struct {
-    __typeof__(aiImportFile) *import_file;
-    __typeof__(aiGetErrorString) *error_string;
-    __typeof__(aiReleaseImport) *release;
-} ai;
-static char ai_error[512];
-static pthread_once_t ai_once = PTHREAD_ONCE_INIT;
+#define ASSIMP_FUNCTIONS(X) X(aiImportFile) X(aiGetErrorString) X(aiReleaseImport)
 
-static void ai_open(void)
-{
-    void *h = dlopen(BRUME_ASSIMP_SONAME, RTLD_NOW | RTLD_LOCAL);
-    if (!h) {
-        snprintf(ai_error, sizeof ai_error, "%s", dlerror());
-        return;
-    }
-    ai.import_file = (__typeof__(aiImportFile) *)dlsym(h, "aiImportFile");
-    ai.error_string = (__typeof__(aiGetErrorString) *)dlsym(h, "aiGetErrorString");
-    ai.release = (__typeof__(aiReleaseImport) *)dlsym(h, "aiReleaseImport");
-    if (!ai.import_file || !ai.error_string || !ai.release) {
-        snprintf(ai_error, sizeof ai_error, "%s lacks aiImportFile, aiGetErrorString or aiReleaseImport",
-                 BRUME_ASSIMP_SONAME);
-        ai.import_file = NULL;
-    }
-}
+static struct {
+    ASSIMP_FUNCTIONS(LAZYLIB_POINTER)
+} ai;
+static const char *const ai_names[] = {ASSIMP_FUNCTIONS(LAZYLIB_NAME) NULL};
+static const char *const ai_sonames[] = {BRUME_ASSIMP_SONAME, NULL};
+static lazylib ai_lib = LAZYLIB("assimp", ai_sonames, ai_names, &ai, sizeof ai);
 
 static int ply_type_size(const char *t)
 {
@@ -285,16 +267,15 @@ static brume_status gltf_check(FILE *f, const char *path, long file_size)
 static brume_status mesh_import(const char *path, long file_size, double **pos_out, long *nv_out, int **idx_out,
                                 long *ntri_out)
 {
-    pthread_once(&ai_once, ai_open);
-    if (!ai.import_file)
-        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: mesh files need assimp: %s", path, ai_error);
+    if (!lazylib_open(&ai_lib))
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: mesh files need assimp: %s", path, ai_lib.error);
     size_t import_bytes = file_size > 0 ? 2 * (size_t)file_size : 0;
     if (budget_take(import_bytes, path) != BRUME_OK)
         return err_status();
-    const struct aiScene *sc = ai.import_file(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
+    const struct aiScene *sc = ai.aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                                       aiProcess_SortByPType);
     if (!sc)
-        return err_set(BRUME_ERROR_PARSE, "%s: not a readable mesh: %s", path, ai.error_string());
+        return err_set(BRUME_ERROR_PARSE, "%s: not a readable mesh: %s", path, ai.aiGetErrorString());
     long nv = 0, ntri = 0;
     for (unsigned m = 0; m < sc->mNumMeshes; m++) {
         const struct aiMesh *me = sc->mMeshes[m];
@@ -303,11 +284,11 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
             ntri += me->mFaces[f].mNumIndices == 3;
     }
     if (ntri == 0) {
-        ai.release(sc);
+        ai.aiReleaseImport(sc);
         return err_set(BRUME_ERROR_PARSE, "%s: no triangles in the file", path);
     }
     if (ntri > MESH_MAX_TRIANGLES || nv > 3 * MESH_MAX_TRIANGLES) {
-        ai.release(sc);
+        ai.aiReleaseImport(sc);
         budget_give(import_bytes);
         return err_set(BRUME_ERROR_RANGE, "%s: %ld triangles exceed the limit of %ld", path, ntri, MESH_MAX_TRIANGLES);
     }
@@ -316,7 +297,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
     if (!pos || !idx) {
         free(pos);
         free(idx);
-        ai.release(sc);
+        ai.aiReleaseImport(sc);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld triangles", path, ntri);
     }
     long vbase = 0, t = 0;
@@ -328,7 +309,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
             if (!isfinite(x) || !isfinite(y) || !isfinite(z)) {
                 free(pos);
                 free(idx);
-                ai.release(sc);
+                ai.aiReleaseImport(sc);
                 return err_set(BRUME_ERROR_RANGE, "%s: vertex %ld has a non-finite coordinate", path, vbase + v);
             }
             pos[3 * (vbase + v)] = x;
@@ -343,7 +324,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
                 if (fc->mIndices[k] >= me->mNumVertices) {
                     free(pos);
                     free(idx);
-                    ai.release(sc);
+                    ai.aiReleaseImport(sc);
                     return err_set(BRUME_ERROR_PARSE, "%s: face %u names a missing vertex", path, f);
                 }
                 idx[3 * t + k] = (int)(vbase + (long)fc->mIndices[k]);
@@ -352,7 +333,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
         }
         vbase += me->mNumVertices;
     }
-    ai.release(sc);
+    ai.aiReleaseImport(sc);
     *pos_out = pos;
     *idx_out = idx;
     *nv_out = nv;

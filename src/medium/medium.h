@@ -44,7 +44,7 @@ typedef struct medium {
                                 velocity v = velocity_map u is in world units per second in the
                                 field's frame (before `motion`). A lookup at time t
                                 reads every field at x - v(x) (t - t_f), t_f the frame time and
-                                t - t_f clamped to the shutter (render/track.c, media_at) */
+                                t - t_f clamped to the shutter (medium_coeffs_at) */
     double velocity_map[9];  /* v = M u, u the components' values: 3 x 3, row-major (the linear
                                 part of the grid's placement; the identity by default) */
     double velocity_max;     /* bound of |v| over the field, world units per second (medium_init;
@@ -86,5 +86,22 @@ void medium_init(medium *m);
 #define MEDIUM_TAU_SPREAD_MAX 1e5
 brume_status medium_check_range(const medium *m, const char *source, int index);
 void medium_release(medium *m);
+
+/* ---- one medium at a point and along a ray (medium_eval.c), what the trackers call ---- */
+
+/* The medium's coefficients at a point [1 / world unit] and its emitted radiance there. */
+typedef struct medium_coeffs {
+    color sigma_a, sigma_s; /* sigma_t = sigma_a + sigma_s */
+    color Le;               /* added along a ray at the rate sigma_a Le */
+} medium_coeffs;
+
+/* At the world point p at time `time` (seconds; a moving medium is taken where it is
+ * then), its fields read dt seconds back along the velocity (dt: time minus the frame's,
+ * clamped to the shutter). false: rho <= 0 there, or the motion is singular (mc unset). */
+bool medium_coeffs_at(const medium *md, vec3 p, double time, double dt, medium_coeffs *mc);
+/* Begins the walk of the medium's majorant cells along r (unit direction) over [0, tmax]
+ * at the ray's time, the moved majorants for a velocity-blurred medium. false: its motion
+ * is singular then, and there is nothing to walk. */
+bool medium_majorant_begin(const medium *md, ray r, double tmax, majorant_iter *it);
 
 #endif

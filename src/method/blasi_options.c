@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "method/method_options.h"
+#include "method/option_table.h"
 
 static void exit_given(void *opts, int choice)
 {

@@ -1,7 +1,7 @@
 /* path_options.c - the table of the path integrator's options (`path` and `single`). */
 #include "method/path_options.h"
 
-#include "method/method_options.h"
+#include "method/option_table.h"
 
 static const method_option options[] = {
     {.key = "path.sun_lobe", .kind = OPTION_NUMBER, .lo = 0.0, .hi = 100.0, .what = "a number in [0, 100]",

@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "method/method_options.h"
+#include "method/option_table.h"
 
 static const method_option options[] = {
     {.key = "stam.eps", .kind = OPTION_NUMBER, .lo = 0.0, .hi = OPTION_BIG, .what = "a number >= 0",

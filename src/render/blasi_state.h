@@ -1,5 +1,5 @@
 /* blasi_state.h - what the files of Blasi's method share (private to src/render/blasi*.c):
- * the state blasi_prepare builds (blasi.c) and both passes read (blasi_light.c, the first;
+ * the state blasi_prepare builds (blasi_setup.c) and both passes read (blasi_light.c, the first;
  * blasi_view.c, the second), its limits, and the voxel integral both passes use. */
 #ifndef BRUME_RENDER_BLASI_STATE_H
 #define BRUME_RENDER_BLASI_STATE_H

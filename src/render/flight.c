@@ -7,7 +7,7 @@
  * of Kutz et al. 2017); the kept one is where the path scatters, and beta Tr at the
  * flight's end weighs what lies past it. The path tracer (path.c) and brume slab (slab.c)
  * run on it. */
-#include "render/integrator.h"
+#include "render/flight.h"
 
 #include "core/stats.h"
 

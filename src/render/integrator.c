@@ -1,6 +1,6 @@
 /* integrator.c - the estimators by kind (integrator_kind): what each prepares once per
  * scene, releases, and estimates along a camera ray. The estimators themselves live in
- * path.c (path and single), blasi.c and stam.c. */
+ * path.c (path and single), blasi_setup.c (blasi_view.c for the gather) and stam.c. */
 #include "render/integrator.h"
 
 #include <stdlib.h>

@@ -3,7 +3,7 @@
 #ifndef BRUME_RENDER_PATH_IMPL_H
 #define BRUME_RENDER_PATH_IMPL_H
 
-#include "render/integrator.h"
+#include "render/path.h"
 
 /* Power heuristic with exponent 2. */
 static inline double mis_weight(double pdf_this, double pdf_other)

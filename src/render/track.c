@@ -1,48 +1,8 @@
-/* track.c - merged majorants of all media, tentative collisions, ratio tracking. */
+/* track.c - the scene's media at a point, tentative collisions, ratio tracking. */
 #include "render/track.h"
 
 #include "core/sampling.h"
 #include "core/stats.h"
-#include "medium/blackbody.h"
-
-/* The optional fields of a medium at its local point p: albedo scales sigma_s per
- * channel; temperature and emission fields add to Le (medium.h). */
-static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
-{
-    if (md->albedo[0])
-        for (int c = 0; c < BRUME_NSAMPLES; c++)
-            ss->c[c] *= density_eval(md->albedo[c], p);
-    if (md->temperature) {
-        double T = (density_eval(md->temperature, p) - md->bb_offset) * md->bb_tscale;
-        if (T > md->bb_cutoff)
-            *Le = col_madd(*Le, blackbody_rgb(T), md->bb_scale);
-    }
-    if (md->emission[0]) {
-        if (md->emission[1])
-            for (int c = 0; c < BRUME_NSAMPLES; c++)
-                Le->c[c] += md->emission_color.c[c] * density_eval(md->emission[c], p);
-        else
-            *Le = col_madd(*Le, md->emission_color, density_eval(md->emission[0], p));
-    }
-}
-
-/* Velocity motion blur (medium.h; docs/animation.md, "Velocity motion blur"): the point
- * whose frame-time fields a lookup at p and time t reads, p - v(p) (t - t_f), first-order
- * Eulerian back-advection as in Cycles and Arnold. t - t_f is clamped to the shutter, the
- * interval the moved majorants (md->moved) were built for. */
-static vec3 velocity_advect(const brume_scene *s, const medium *md, vec3 p, double time)
-{
-    double dt = time - s->time;
-    dt = dt < s->cam.shutter_open ? s->cam.shutter_open : (dt > s->cam.shutter_close ? s->cam.shutter_close : dt);
-    if (dt == 0.0 || !md->moved)
-        return p;
-    const vec3 u = v3(density_eval(md->velocity[0], p), density_eval(md->velocity[1], p),
-                      density_eval(md->velocity[2], p));
-    const double *M = md->velocity_map;
-    const vec3 v = v3(M[0] * u.x + M[1] * u.y + M[2] * u.z, M[3] * u.x + M[4] * u.y + M[5] * u.z,
-                      M[6] * u.x + M[7] * u.y + M[8] * u.z);
-    return v3_sub(p, v3_scale(v, dt));
-}
 
 void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
 {
@@ -52,30 +12,20 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
     ms->n = 0;
     if (stats_tls)
         stats_tls->density_lookups++;
+    /* Velocity motion blur (medium.h): fields are read back along the velocity over the
+     * time since the frame's, clamped to the shutter, the interval the moved majorants
+     * (md->moved) were built for. */
+    double dt = time - s->time;
+    dt = dt < s->cam.shutter_open ? s->cam.shutter_open : (dt > s->cam.shutter_close ? s->cam.shutter_close : dt);
     for (int m = 0; m < s->nmedia; m++) {
-        const medium *md = &s->media[m];
-        vec3 pm = p;
-        if (md->motion) {
-            affine3 to_world = motion_at(md->motion, time), to_local;
-            if (!affine3_invert(&to_world, &to_local))
-                continue;
-            pm = affine3_apply(&to_local, p);
-        }
-        if (md->velocity[0])
-            pm = velocity_advect(s, md, pm, time);
-        double rho = density_eval(md->rho, pm);
-        if (rho <= 0.0)
+        medium_coeffs mc;
+        if (!medium_coeffs_at(&s->media[m], p, time, dt, &mc))
             continue;
-        color sa = col_scale(md->sigma_a, rho), ss = col_scale(md->sigma_s, rho);
-        color Le = md->Le;
-        if (medium_has_fields(md)) {
-            medium_fields_at(md, pm, &ss, &Le);
-        }
-        ms->sigma_a = col_add(ms->sigma_a, sa);
-        ms->sigma_s = col_add(ms->sigma_s, ss);
-        ms->emission = col_add(ms->emission, col_mul(sa, Le));
+        ms->sigma_a = col_add(ms->sigma_a, mc.sigma_a);
+        ms->sigma_s = col_add(ms->sigma_s, mc.sigma_s);
+        ms->emission = col_add(ms->emission, col_mul(mc.sigma_a, mc.Le));
         ms->index[ms->n] = m;
-        ms->weight[ms->n] = col_avg(ss);
+        ms->weight[ms->n] = col_avg(mc.sigma_s);
         ms->n++;
     }
 }

@@ -16,22 +16,11 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
 {
     track_stream st[TRACK_NMAX];
     for (int m = 0; m < n; m++) {
-        /* A moving medium: the ray in the field's frame at the ray's instant. An affine map
-         * keeps the ray parameter t, so segments need no conversion back. */
-        ray rm = r;
-        if (s->media[m].motion) {
-            affine3 to_world = motion_at(s->media[m].motion, r.time), to_local;
-            if (!affine3_invert(&to_world, &to_local)) {
-                st[m].live = false;
-                st[m].it.cells = 0;
-                continue;
-            }
-            rm.o = affine3_apply(&to_local, r.o);
-            rm.d = affine3_apply_dir(&to_local, r.d);
+        if (!medium_majorant_begin(&s->media[m], r, tmax, &st[m].it)) {
+            st[m].live = false;
+            st[m].it.cells = 0;
+            continue;
         }
-        /* a medium blurred by its velocity: the majorants of its density moved (medium.h) */
-        const density *maj = s->media[m].moved ? s->media[m].moved : s->media[m].rho;
-        density_majorant_begin(maj, rm, 0.0, tmax, &st[m].it);
         st[m].it.by_ctl = residual;
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
         st[m].sigma_t_max = s->media[m].sigma_t_max;

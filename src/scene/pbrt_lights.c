@@ -13,7 +13,6 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
-#include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)

@@ -14,7 +14,6 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
-#include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
 /* The coefficients every pbrt medium shares: brume's sigma per unit density is pbrt's sigma

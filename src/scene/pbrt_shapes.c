@@ -14,7 +14,6 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
-#include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
 /* A shape's triangles in world space (pbrt's trianglemesh and bilinearmesh, transformed by

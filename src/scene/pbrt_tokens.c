@@ -1,5 +1,8 @@
 /* pbrt_tokens.c - the pbrt reader's tokens and a directive's parameter list ("type name"
- * [values]): reading them, the typed look-ups, and the refusal of a parameter left unused. */
+ * [values]): reading them, the typed look-ups, the refusal of a parameter left unused; and
+ * what every directive family shares: the scene's count of inline numbers, the files a
+ * directive names. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -14,7 +17,6 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
-#include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
 void pbrt_next(lexer *L)
@@ -304,5 +306,28 @@ brume_status pbrt_get_array(lexer *L, params *ps, const char *name, const char *
         return pbrt_fail(&at, "parameter \"%s %s\": expected %s values", q->type, name, types[0]);
     }
     *out = q;
+    return BRUME_OK;
+}
+
+/* Counts n more inline numbers against the scene's limit. */
+brume_status pbrt_count_inline(pbrt_state *S, const char *what, double n)
+{
+    S->inline_numbers += n;
+    if (S->inline_numbers > PBRT_MAX_SCENE_INLINE)
+        return pbrt_fail(&S->L, "%s: the scene's inline grids and meshes come to more than %d numbers (larger data "
+                                "belongs in nanovdb and ply files)", what, PBRT_MAX_SCENE_INLINE);
+    return BRUME_OK;
+}
+
+/* A file a directive names, relative to the .pbrt's folder, as an absolute path in abs. */
+brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX])
+{
+    char rel[PATH_MAX + 1100];
+    if (file[0] == '/')
+        pbrt_copy(rel, sizeof rel, file);
+    else
+        snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
+    if (!realpath(rel, abs))
+        return err_set(BRUME_ERROR_IO, "%s:%d: %s: %s: %s", S->L.file, S->L.dir_line, what, rel, strerror(errno));
     return BRUME_OK;
 }

@@ -15,7 +15,6 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
-#include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
 m4 pbrt_m4_identity(void)

@@ -22,7 +22,7 @@
 #include "scene/scene_surfaces.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
-#include "scene/scene_json.h"
+#include "scene/scene_json_common.h"
 
 static brume_status parse_box(const cJSON *j, jloc at, const char *key, double out[6])
 {

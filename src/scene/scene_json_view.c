@@ -22,7 +22,7 @@
 #include "scene/scene_surfaces.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
-#include "scene/scene_json.h"
+#include "scene/scene_json_common.h"
 
 brume_status scene_parse_camera(const cJSON *j, jloc at, brume_scene *s)
 {

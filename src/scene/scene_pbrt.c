@@ -20,29 +20,6 @@
 #include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
 
-/* Counts n more inline numbers against the scene's limit. */
-brume_status pbrt_count_inline(pbrt_state *S, const char *what, double n)
-{
-    S->inline_numbers += n;
-    if (S->inline_numbers > PBRT_MAX_SCENE_INLINE)
-        return pbrt_fail(&S->L, "%s: the scene's inline grids and meshes come to more than %d numbers (larger data "
-                                "belongs in nanovdb and ply files)", what, PBRT_MAX_SCENE_INLINE);
-    return BRUME_OK;
-}
-
-/* A file a directive names, relative to the .pbrt's folder, as an absolute path in abs. */
-brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX])
-{
-    char rel[PATH_MAX + 1100];
-    if (file[0] == '/')
-        pbrt_copy(rel, sizeof rel, file);
-    else
-        snprintf(rel, sizeof rel, "%s/%s", S->dir, file);
-    if (!realpath(rel, abs))
-        return err_set(BRUME_ERROR_IO, "%s:%d: %s: %s: %s", S->L.file, S->L.dir_line, what, rel, strerror(errno));
-    return BRUME_OK;
-}
-
 static bool is_typed_directive(const char *dir)
 {
     static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material",

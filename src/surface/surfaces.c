@@ -7,19 +7,17 @@
  * of TBB and libstdc++ that it brings took 7 ms of every brume process's start on the
  * project's machine, and most scenes have no surface (docs/performance.md, "Start-up"). The
  * functions keep the header's types (the table rtc). */
-#define _GNU_SOURCE /* dlopen flags in C11 */
 #include "surface/surfaces.h"
 
-#include <dlfcn.h>
 #include <embree3/rtcore.h>
 #include <float.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/arena.h"
 #include "core/error.h"
+#include "core/lazylib.h"
 #include "surface/surfaces_impl.h"
 
 #ifndef BRUME_EMBREE_SONAME
@@ -33,30 +31,11 @@
     X(rtcIntersect1) X(rtcOccluded1)
 
 static struct {
-#define EMBREE_POINTER(f) __typeof__(f) *f;
-    EMBREE_FUNCTIONS(EMBREE_POINTER)
-#undef EMBREE_POINTER
-    bool ok;
+    EMBREE_FUNCTIONS(LAZYLIB_POINTER)
 } rtc;
-static char rtc_error[512];
-static pthread_once_t rtc_once = PTHREAD_ONCE_INIT;
-
-static void embree_open(void)
-{
-    void *h = dlopen(BRUME_EMBREE_SONAME, RTLD_NOW | RTLD_LOCAL);
-    if (!h) {
-        snprintf(rtc_error, sizeof rtc_error, "%s", dlerror());
-        return;
-    }
-    rtc.ok = true;
-#define EMBREE_LOOKUP(f)                                                                                \
-    if (rtc.ok && !(rtc.f = (__typeof__(f) *)dlsym(h, #f))) {                                            \
-        snprintf(rtc_error, sizeof rtc_error, "%s lacks %s", BRUME_EMBREE_SONAME, #f);                   \
-        rtc.ok = false;                                                                                  \
-    }
-    EMBREE_FUNCTIONS(EMBREE_LOOKUP)
-#undef EMBREE_LOOKUP
-}
+static const char *const rtc_names[] = {EMBREE_FUNCTIONS(LAZYLIB_NAME) NULL};
+static const char *const rtc_sonames[] = {BRUME_EMBREE_SONAME, NULL};
+static lazylib rtc_lib = LAZYLIB("Embree", rtc_sonames, rtc_names, &rtc, sizeof rtc);
 
 static void on_embree_error(void *user, enum RTCError code, const char *msg)
 {
@@ -71,10 +50,9 @@ surfaces *surfaces_new(void)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "surfaces: out of memory");
         return NULL;
     }
-    pthread_once(&rtc_once, embree_open);
-    if (!rtc.ok) {
+    if (!lazylib_open(&rtc_lib)) {
         free(s);
-        err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: cannot open Embree: %s", rtc_error);
+        err_set(BRUME_ERROR_UNSUPPORTED, "surfaces: %s", rtc_lib.error);
         return NULL;
     }
     s->device = rtc.rtcNewDevice("threads=1,set_affinity=0");
@@ -496,7 +474,7 @@ static brume_status build_hierarchy(const surfaces *s, bvh *h, surface_ref **ref
             boxes[k] = prim_box(o, p);
         }
     }
-    brume_status st = bvh_build(h, boxes, (int)count);
+    brume_status st = bvh_build(h, boxes, NULL, (int)count);
     free(boxes);
     if (st) {
         free(*ref);

@@ -150,7 +150,7 @@ brume_status image_compare_region(const brume_image *img, const brume_image *ref
     for (int b = 0; b < boot; b++) {
         tile_sums s = {0};
         for (long k = 0; k < nt; k++) {
-            uint64_t u = rng_mix64(rng_mix64(seed + UINT64_C(0x9e3779b97f4a7c15) * (uint64_t)(b + 1)) ^ (uint64_t)k);
+            uint64_t u = hash_mix64(hash_mix64(seed + UINT64_C(0x9e3779b97f4a7c15) * (uint64_t)(b + 1)) ^ (uint64_t)k);
             long j = (long)((double)(u >> 11) * 0x1p-53 * (double)nt);
             const tile_sums *q = &t[j < nt ? j : nt - 1];
             s.n += q->n, s.sa += q->sa, s.sr += q->sr, s.se += q->se, s.srel += q->srel, s.nrel += q->nrel;

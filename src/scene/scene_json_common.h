@@ -1,15 +1,17 @@
-/* scene_json.h - what the sections of the scene file reader share (scene_json.c: the
- * top level and "render"; scene_json_view.c: camera, lights, background; scene_json_density.c:
- * densities; scene_json_media.c: media; scene_json_load.c: sources and brume_scene_load). */
-#ifndef BRUME_SCENE_SCENE_JSON_H
-#define BRUME_SCENE_SCENE_JSON_H
+/* scene_json_common.h - what the sections of the scene file reader share: helpers
+ * (scene_json_common.c) and each section's entry (scene_json.c: the top level and "render";
+ * scene_json_view.c: camera, lights, background; scene_json_density.c: densities;
+ * scene_json_media.c: media; scene_json_load.c: sources and brume_scene_load). The top level
+ * calls the sections, which call only the helpers: the reader is built in one direction. */
+#ifndef BRUME_SCENE_SCENE_JSON_COMMON_H
+#define BRUME_SCENE_SCENE_JSON_COMMON_H
 
 #include "brume.h"
 #include "io/json.h"
 
 static const double BIG = 1e30;
 
-/* scene_json.c */
+/* scene_json_common.c */
 brume_status scene_json_vec(const cJSON *j, jloc at, const char *key, int required, double out[3]);
 brume_status scene_json_color(const cJSON *j, jloc at, const char *key, int required, double hi, double out[3]);
 brume_status scene_json_built(brume_status st, jloc at);

@@ -1,6 +1,7 @@
-/* image_file.h - brume_image's file formats: OpenEXR (C core API), PNG (libpng), PFM. */
-#ifndef BRUME_IO_IMAGE_FILE_H
-#define BRUME_IO_IMAGE_FILE_H
+/* image_formats.h - brume_image's file formats, one file each: OpenEXR (image_exr.c, C core API),
+ * PNG (image_png.c, libpng), PFM (image_pfm.c); image_file.c chooses among them. */
+#ifndef BRUME_IO_IMAGE_FORMATS_H
+#define BRUME_IO_IMAGE_FORMATS_H
 
 #include "image/image.h"
 

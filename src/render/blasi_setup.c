@@ -1,4 +1,4 @@
-/* blasi.c - Blasi, Le Saec and Schlick's two-pass Monte-Carlo renderer (1993, Section 4):
+/* blasi_setup.c - Blasi, Le Saec and Schlick's two-pass Monte-Carlo renderer (1993, Section 4):
  * setting up (blasi_prepare: the media as voxels, their occupancy, the first pass run or
  * loaded, and saved) and releasing. The passes: blasi_light.c (first) and blasi_view.c
  * (second); the walk they share: blasi_walk.h; light files: io/light_file.c. */

@@ -1,0 +1,52 @@
+/* flight.h - one free flight of the path tracer through the media (render/flight.c), a
+ * building block exposed so that other estimators (brume slab) run on exactly the code the
+ * renderer runs. */
+#ifndef BRUME_RENDER_FLIGHT_H
+#define BRUME_RENDER_FLIGHT_H
+
+#include "core/rng.h"
+#include "render/track.h"
+#include "scene/scene.h"
+
+/* One free flight along r over [0, tmax] (docs/path-tracer.md, "Free flights"). The
+ * flight walks every tentative collision against sigma_maj with a ratio-tracking
+ * transmittance Tr, adds the emission term at each, and keeps one collision i among them
+ * with probability a_i / A, where
+ *   a_i = avg(beta Tr(t_i) sigma_s(t_i)) / sigma_maj   and   A = sum_i a_i
+ * (a one-element reservoir): beta_s = A (beta Tr sigma_s)(t_i) / (sigma_maj a_i) is then
+ * an unbiased weight for scattering there, and beta Tr(tmax) for what lies past tmax. Both
+ * branches are estimated from one walk; a path never ends merely because it escaped. */
+typedef struct flight {
+    const brume_scene *s;
+    ray r;
+    rng *g;
+    color beta;       /* in: path throughput before the flight */
+    color L;          /* in/out: emission gathered along the flight, weighted by beta */
+    color Tr;         /* out: ratio-tracked transmittance over [0, tmax] (0 once roulette stopped it) */
+    double A;         /* out: sum of the collisions' scattering weights a_i (0: none) */
+    color beta_s;     /* out: throughput of the scattering branch at the kept collision */
+    double t;         /* out: where the kept collision is */
+    medium_sample ms; /* out: the media there (n, index and weight, what media_choose_phase reads) */
+    medium_sample cur; /* scratch: the media at the current collision */
+    double tail_Tr;   /* in: once max Tr is below it, the flight's delta tail (flight_run); 0: none */
+    double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
+    rng *ug;          /* scratch: the sequence and dimension u is drawn from, at the first */
+    uint64_t udim;    /*          collision (a flight that meets none never computes it) */
+} flight;
+
+/* Where a flight's delta tail starts (f->tail_Tr) after the first scattering event: measured
+ * in docs/performance.md, "The flight's delta tail". */
+#define FLIGHT_TAIL_TR 0.6
+
+/* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta, f->L and
+ * f->tail_Tr carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. In a medium whose
+ * extinction is gray (s->flight_control), once the largest channel of Tr falls below
+ * f->tail_Tr each tentative collision is real with probability p = sigma_t / sigma_maj (of
+ * the residual), and then the flight's last, its weight divided by p, and otherwise leaves
+ * Tr as it is: the delta tail (docs/path-tracer.md), unbiased as the ratio steps are. The
+ * next number of ug (its dimension is taken now, the value computed only if the flight
+ * meets a collision) makes the reservoir's choices: one number for the whole flight, so a
+ * sampler can stratify where flights scatter. The tracking draws from f->g. */
+bool flight_run(flight *f, ray r, double tmax, rng *ug);
+
+#endif
