@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/regular_file.h"
 #include "io/atomic.h"
 
 #define LIGHT_FILE_MAGIC "BRUMEBL1"
@@ -83,10 +84,14 @@ brume_status light_file_read(const char *path, const light_file_layout *l, float
 {
     if (!host_is_little_endian())
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.load_light: light files are little-endian", path);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: blasi.load_light: cannot open: %s", path, strerror(errno));
-    brume_status rc = read_header(fp, path, l);
+    FILE *fp = NULL;
+    if (io_open_regular(path, &fp) != BRUME_OK)
+        return err_prefix("blasi.load_light");
+    /* the size the layout gives: magic, version and count, hash, 16 bytes a medium, RGB floats */
+    long long size = 24 + 16LL * l->nmedia + 12LL * (long long)l->nvox;
+    brume_status rc = io_check_size(fp, path, "blasi.load_light", size);
+    if (rc == BRUME_OK)
+        rc = read_header(fp, path, l);
     if (rc == BRUME_OK && l->nvox > 0 && fread(S, sizeof(float) * 3, l->nvox, fp) != l->nvox)
         rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: truncated data", path);
     if (rc == BRUME_OK && fgetc(fp) != EOF)

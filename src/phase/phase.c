@@ -9,9 +9,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "core/regular_file.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
@@ -429,18 +431,26 @@ phase *phase_new_tabulated(int n, const double *angle_deg, const double *value)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "tabulated phase: out of memory");
         return NULL;
     }
+    /* the table's scale is arbitrary: divided by its largest value first, the trapezoids' sum
+     * is within [tiny, 2] even for values near DBL_MAX (whose sum would be infinite and the
+     * normalised table 0: a black medium) or near the smallest doubles */
+    double vmax = 0.0;
+    for (int i = 0; i < n; i++)
+        vmax = fmax(vmax, value[i]);
+    if (!(vmax > 0.0))
+        vmax = 1.0; /* every value 0: refused below */
     int j = 0;
     if (extra_lo) {
         p->t[j] = -1.0;
-        p->pt[j++] = value[n - 1];
+        p->pt[j++] = value[n - 1] / vmax;
     }
     for (int i = n - 1; i >= 0; i--) {
         p->t[j] = angle_deg[i] == 180.0 ? -1.0 : (angle_deg[i] == 0.0 ? 1.0 : cos(angle_deg[i] * PI / 180.0));
-        p->pt[j++] = value[i];
+        p->pt[j++] = value[i] / vmax;
     }
     if (extra_hi) {
         p->t[j] = 1.0;
-        p->pt[j++] = value[0];
+        p->pt[j++] = value[0] / vmax;
     }
     p->n = m;
     /* Trapezoids are exact for a function linear in t. */
@@ -485,13 +495,13 @@ static int table_row(const char *path, int lineno, const char *line, double prev
     if (!s)
         return 0;
     char *end;
-    double a = strtod(s, &end);
+    double a = num_strtod(s, &end);
     if (end == s) {
         err_set(BRUME_ERROR_PARSE, "%s:%d: expected an angle in degrees, got \"%.32s\"", path, lineno, s);
         return -1;
     }
     s = next_field(end);
-    double v = s ? strtod(s, &end) : 0.0;
+    double v = s ? num_strtod(s, &end) : 0.0;
     if (!s || end == s) {
         err_set(BRUME_ERROR_PARSE, "%s:%d: expected a value after the angle %g", path, lineno, a);
         return -1;
@@ -602,7 +612,7 @@ static int parse_param(const char *name, const char *prefix, double *out)
         return 0;
     char *end;
     errno = 0;
-    *out = strtod(name + len, &end);
+    *out = num_strtod(name + len, &end);
     if (end == name + len || *end != '\0')
         *out = (double)NAN;
     return 1;
@@ -633,15 +643,14 @@ phase *phase_new_from_name(const char *name)
         }
         return phase_new_schlick(v);
     }
-    FILE *f = fopen(name, "r");
-    if (!f) {
+    struct stat sb; /* not fopen: opening a FIFO would wait for a writer */
+    if (stat(name, &sb) != 0) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT,
                 "phase \"%s\": neither isotropic, rayleigh, hazy, murky, hg:G, schlick:K "
                 "nor a readable file",
                 name);
         return NULL;
     }
-    fclose(f);
     return phase_load_tabulated(name);
 }
 

@@ -84,15 +84,15 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     if (rs->max_depth < 1 || rs->max_depth > 100000)
         return err_set(BRUME_ERROR_RANGE, "%s: render.max_depth: %d outside [1, 100000]", source, rs->max_depth);
     if (!(rs->filter_width > 0.0 && rs->filter_width <= 16.0))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %g outside (0, 16]", source, rs->filter_width);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %.17g outside (0, 16]", source, rs->filter_width);
     if (rs->filter != BRUME_FILTER_BOX && rs->filter != BRUME_FILTER_GAUSSIAN)
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
     if (!(rs->fps > 0.0 && rs->fps <= 1e6))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %g outside (0, 1e6]", source, rs->fps);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %.17g outside (0, 1e6]", source, rs->fps);
     if (!(rs->time_budget >= 0.0 && rs->time_budget <= 1e9))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.time: %g outside [0, 1e9] seconds", source, rs->time_budget);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.time: %.17g outside [0, 1e9] seconds", source, rs->time_budget);
     if (!(rs->noise_target >= 0.0 && rs->noise_target <= 1.0))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %g outside [0, 1]", source, rs->noise_target);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %.17g outside [0, 1]", source, rs->noise_target);
     if (rs->device < -1 || rs->device >= 64)
         return err_set(BRUME_ERROR_RANGE, "%s: render.device: %d is not -1 (the CPU) or a GPU 0 .. 63", source, rs->device);
     if (!(rs->progress_interval <= 1e9))
@@ -172,6 +172,29 @@ static brume_status commit_velocity(brume_scene *s, int m)
     return md->moved ? BRUME_OK : err_prefix("%s: media[%d].velocity", s->source, m);
 }
 
+/* The camera's rays start within aperture_radius of its position, every key's included:
+ * each coordinate of that stays within SURFACES_COORD_MAX, what ray tracing accepts. */
+static brume_status check_camera_reach(const brume_scene *s)
+{
+    const camera *c = &s->cam;
+    for (int i = -1; i < c->nkeys; i++) {
+        vec3 p = i < 0 ? c->position : c->keys[i].position;
+        double ap = i < 0 ? c->aperture_radius : c->keys[i].aperture_radius;
+        double reach = fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z))) + ap;
+        if (!(reach <= SURFACES_COORD_MAX)) {
+            char where[48] = "camera";
+            if (i >= 0)
+                snprintf(where, sizeof where, "camera.keyframes[%d]", i);
+            return err_set(BRUME_ERROR_RANGE,
+                           "%s: %s: position (%.17g, %.17g, %.17g) and aperture_radius (.pbrt: lensradius) %.17g "
+                           "put ray origins %.3g from the world's origin, beyond the %.17g ray tracing accepts "
+                           "(docs/scene-format.md#limits)",
+                           s->source, where, p.x, p.y, p.z, ap, reach, SURFACES_COORD_MAX);
+        }
+    }
+    return BRUME_OK;
+}
+
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 {
     err_clear();
@@ -190,6 +213,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position", s->source));
     c->time = s->time;
     camera_init(c, s->settings.width, s->settings.height);
+    if ((st = check_camera_reach(s)) != BRUME_OK)
+        return ctx_report(ctx, st);
     s->world_moves = world_moves(s); /* before voxelization turns moving blobs into grids */
     /* what commit generates counts against the scene's memory budget, after what reading took */
     budget_resume(s->max_memory, s->memory_used);
