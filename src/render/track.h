@@ -14,6 +14,7 @@
 #include "core/color.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "render/watch.h"
 #include "scene/scene.h"
 
 /* A tentative collision at ray parameter t [world units], on a piece of the ray where

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/number.h"
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
@@ -86,7 +87,7 @@ static bool number(const char *s, double *out)
 {
     char *end;
     errno = 0;
-    double v = strtod(s, &end);
+    double v = num_strtod(s, &end);
     if (end == s || *end || errno || !isfinite(v))
         return false;
     *out = v;
