@@ -392,6 +392,33 @@ phase *phase_new_schlick_mix(double r, double k, double kprime)
     return p;
 }
 
+/* The tabulated phase's nodes in increasing t = cos: reversed angles, plus t = -1 and t = 1
+ * when the table stops short of 180 or 0 degrees (the end value is held there). The table's
+ * scale is arbitrary: divided by its largest value first, the trapezoids' sum is within
+ * [tiny, 2] even for values near DBL_MAX (whose sum would be infinite and the normalised
+ * table 0: a black medium) or near the smallest doubles. */
+static void table_nodes(phase *p, int n, const double *angle_deg, const double *value, int extra_lo, int extra_hi)
+{
+    double vmax = 0.0;
+    for (int i = 0; i < n; i++)
+        vmax = fmax(vmax, value[i]);
+    if (!(vmax > 0.0))
+        vmax = 1.0; /* every value 0: refused by the caller */
+    int j = 0;
+    if (extra_lo) {
+        p->t[j] = -1.0;
+        p->pt[j++] = value[n - 1] / vmax;
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        p->t[j] = angle_deg[i] == 180.0 ? -1.0 : (angle_deg[i] == 0.0 ? 1.0 : cos(angle_deg[i] * PI / 180.0));
+        p->pt[j++] = value[i] / vmax;
+    }
+    if (extra_hi) {
+        p->t[j] = 1.0;
+        p->pt[j++] = value[0] / vmax;
+    }
+}
+
 phase *phase_new_tabulated(int n, const double *angle_deg, const double *value)
 {
     if (n < 2) {
@@ -431,27 +458,7 @@ phase *phase_new_tabulated(int n, const double *angle_deg, const double *value)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "tabulated phase: out of memory");
         return NULL;
     }
-    /* the table's scale is arbitrary: divided by its largest value first, the trapezoids' sum
-     * is within [tiny, 2] even for values near DBL_MAX (whose sum would be infinite and the
-     * normalised table 0: a black medium) or near the smallest doubles */
-    double vmax = 0.0;
-    for (int i = 0; i < n; i++)
-        vmax = fmax(vmax, value[i]);
-    if (!(vmax > 0.0))
-        vmax = 1.0; /* every value 0: refused below */
-    int j = 0;
-    if (extra_lo) {
-        p->t[j] = -1.0;
-        p->pt[j++] = value[n - 1] / vmax;
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        p->t[j] = angle_deg[i] == 180.0 ? -1.0 : (angle_deg[i] == 0.0 ? 1.0 : cos(angle_deg[i] * PI / 180.0));
-        p->pt[j++] = value[i] / vmax;
-    }
-    if (extra_hi) {
-        p->t[j] = 1.0;
-        p->pt[j++] = value[0] / vmax;
-    }
+    table_nodes(p, n, angle_deg, value, extra_lo, extra_hi);
     p->n = m;
     /* Trapezoids are exact for a function linear in t. */
     double total = 0.0;
