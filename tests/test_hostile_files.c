@@ -9,9 +9,10 @@
 #include <unistd.h>
 
 /* The special files, made fresh in a folder of this process. */
+static char dir[512];
+
 static const char *special_dir(void)
 {
-    static char dir[512];
     if (!dir[0]) {
         snprintf(dir, sizeof dir, "%s", test_tmp_path("special"));
         char cmd[2048];
@@ -57,6 +58,7 @@ static void special_dir_remove(void)
     char cmd[1100];
     snprintf(cmd, sizeof cmd, "rm -rf %s", special_dir());
     ASSERT_EQ_INT(test_system(cmd), 0);
+    dir[0] = '\0';
 }
 
 /* A scene whose keys are `before` path `after` (a JSON fragment), written beside the special
