@@ -4,10 +4,15 @@
 #include "test.h"
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "brume.h"
+#include "io/grid_vdb.h"
 #include "render/watch.h"
+#include "core/error.h"
 #include "scene/scene.h"
 
 /* A chromatic medium within the tracker's limits whose samples are slow (some 60 ms each:
@@ -134,5 +139,44 @@ TEST(time_budget_spent_before_the_first_sample_is_an_error)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(sigterm_stops_a_slow_tile, watch_cuts_at_the_bound_and_polls, bound_is_reported_and_not_reached,
+/* The sparse grid writer of `gen fire` and `gen upres` under an address-space limit: OpenVDB's
+ * std::bad_alloc reached C code and aborted the process; now the save fails in one line. */
+TEST(grid_writer_out_of_memory_is_one_line)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    exit(77); /* ASan reserves terabytes of address space: no RLIMIT_AS under it */
+#endif
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) {
+        gridvdb_writer *w = gridvdb_writer_new();
+        if (!w)
+            _exit(77); /* no OpenVDB in this build */
+        const double origin[3] = {0, 0, 0};
+        int g = gridvdb_writer_add(w, "density", 0, 1.0, origin);
+        /* what the process has mapped now, and 256 MiB more */
+        long pages = 0;
+        FILE *f = fopen("/proc/self/statm", "r");
+        if (!f || fscanf(f, "%ld", &pages) != 1)
+            _exit(77);
+        fclose(f);
+        struct rlimit r;
+        r.rlim_cur = r.rlim_max = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + ((rlim_t)256 << 20);
+        setrlimit(RLIMIT_AS, &r);
+        const float v = 1.0f;
+        for (int i = 0; i < (1 << 30); i += 8) /* one voxel a leaf: 2 KiB each */
+            gridvdb_writer_set(w, g, i % 65536, (i / 65536) * 8, 0, &v);
+        brume_status st = gridvdb_writer_save(w, test_tmp_path("never.vdb"), 0);
+        _exit(st == BRUME_ERROR_OUT_OF_MEMORY && strstr(err_message(), "out of memory") ? 0 : 1);
+    }
+    int wst = 0;
+    ASSERT_TRUE(waitpid(pid, &wst, 0) == pid);
+    if (WIFEXITED(wst) && WEXITSTATUS(wst) == 77)
+        exit(77);
+    if (WIFSIGNALED(wst))
+        TEST_FAIL("the writer died of signal %d", WTERMSIG(wst));
+    ASSERT_EQ_INT(WEXITSTATUS(wst), 0);
+}
+
+TEST_MAIN(grid_writer_out_of_memory_is_one_line, sigterm_stops_a_slow_tile, watch_cuts_at_the_bound_and_polls, bound_is_reported_and_not_reached,
           time_budget_spent_before_the_first_sample_is_an_error)

@@ -113,9 +113,13 @@ static void fmt_parse(const char *p, fmt_spec *f)
 }
 
 /* v in the fewest significant digits (at most 17) that read back as v: a limit or a value
- * quoted exactly, an integer as an integer ("16777217", not "1.67772e+07"). */
+ * quoted exactly, an integer below 1e9 as an integer ("16777217", not "1.67772e+07"). */
 static void fmt_exact(double v, char *tmp, size_t ntmp)
 {
+    if (v == floor(v) && fabs(v) < 1e9) { /* 1000000, not 1e+06 */
+        snprintf(tmp, ntmp, "%.0f", v);
+        return;
+    }
     for (int p = 6; p <= 17; p++) {
         snprintf(tmp, ntmp, "%.*g", p, v);
         if (!isfinite(v) || num_strtod(tmp, NULL) == v)
