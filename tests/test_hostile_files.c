@@ -85,6 +85,8 @@ TEST(special_scene_files_are_refused)
         special(specials[i], path, sizeof path);
         snprintf(args, sizeof args, "render %s -o %s/out.png --quiet", path, special_dir());
         refused("the scene", args, path);
+        snprintf(args, sizeof args, "info %s", path);
+        refused("brume info's file", args, path);
     }
     /* a .pbrt name: the pbrt reader opens it */
     char cmd[1400];

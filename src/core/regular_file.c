@@ -162,3 +162,15 @@ brume_status io_check_size(FILE *fp, const char *path, const char *what, long lo
                        (long long)sb.st_size, max_bytes);
     return BRUME_OK;
 }
+
+brume_status io_open_input(const char *path, const char *what, FILE **out)
+{
+    brume_status st = io_open_regular(path, out);
+    if (st == BRUME_OK)
+        return st;
+    char reason[1024];
+    size_t n = strlen(path);
+    const char *m = err_message();
+    snprintf(reason, sizeof reason, "%s", strncmp(m, path, n) == 0 && m[n] == ':' && m[n + 1] == ' ' ? m + n + 2 : m);
+    return err_set(st, "%s: %s: %.900s", path, what, reason);
+}

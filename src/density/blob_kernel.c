@@ -112,10 +112,8 @@ static bool parse_pair(const char *line, double *s, double *w)
 blob_kernel *blob_kernel_read(const char *path, const char *field)
 {
     FILE *fp = NULL;
-    if (io_open_regular(path, &fp) != BRUME_OK) {
-        err_prefix("%s", field);
+    if (io_open_input(path, field, &fp) != BRUME_OK)
         return NULL;
-    }
     /* every line a point or a comment: the points' lines and as many again of comments */
     if (io_check_size(fp, path, field, 2LL * (BLOB_KERNEL_MAX_POINTS + 1) * 512) != BRUME_OK) {
         fclose(fp);

@@ -85,13 +85,10 @@ brume_status light_file_read(const char *path, const light_file_layout *l, float
     if (!host_is_little_endian())
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.load_light: light files are little-endian", path);
     FILE *fp = NULL;
-    if (io_open_regular(path, &fp) != BRUME_OK)
-        return err_prefix("blasi.load_light");
-    /* the size the layout gives: magic, version and count, hash, 16 bytes a medium, RGB floats */
-    long long size = 24 + 16LL * l->nmedia + 12LL * (long long)l->nvox;
-    brume_status rc = io_check_size(fp, path, "blasi.load_light", size);
-    if (rc == BRUME_OK)
-        rc = read_header(fp, path, l);
+    if (io_open_input(path, "blasi.load_light", &fp) != BRUME_OK)
+        return err_status();
+    /* no size check: what is read is the layout's size, and one byte more says "trailing" */
+    brume_status rc = read_header(fp, path, l);
     if (rc == BRUME_OK && l->nvox > 0 && fread(S, sizeof(float) * 3, l->nvox, fp) != l->nvox)
         rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: truncated data", path);
     if (rc == BRUME_OK && fgetc(fp) != EOF)
