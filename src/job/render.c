@@ -371,20 +371,33 @@ static void job_report_tile(brume_render_job *job)
 }
 
 /* Asked by a tile's sample watch every WATCH_POLL collisions (render/watch.h): whether the
- * job must stop now. A long tile calls the progress callback itself, at most every
- * CANCEL_POLL_SECONDS over all threads, so that SIGINT stops a sample of minutes. */
+ * job must stop now. A tile running longer than TILE_SLOW_SECONDS calls the progress
+ * callback itself, at most every CANCEL_POLL_SECONDS over all threads, so that SIGINT stops
+ * a sample of minutes within a second. */
+#define TILE_SLOW_SECONDS 0.5
+static _Thread_local long long tile_start_ns; /* when this thread's tile began */
+
+static long long job_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
 static bool job_poll(void *user)
 {
     brume_render_job *job = user;
-    if (atomic_load(&job->stop))
-        return true;
     if (job->rs.time_budget > 0.0 && job_time_is_up(job))
+        return true;
+    /* a tile of usual length ends whole: a stop takes effect between tiles, as the pixels of
+     * a cancelled pass have all or none of its samples; only a slow tile is cut */
+    long long now = job_now_ns(), due = atomic_load(&job->next_poll_ns);
+    if (now - tile_start_ns < (long long)(TILE_SLOW_SECONDS * 1e9))
+        return false;
+    if (atomic_load(&job->stop))
         return true;
     if (!job->rs.progress_fn)
         return false;
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    long long now = (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec, due = atomic_load(&job->next_poll_ns);
     if (now < due || !atomic_compare_exchange_strong(&job->next_poll_ns, &due,
                                                      now + (long long)(CANCEL_POLL_SECONDS * 1e9)))
         return false;
@@ -411,7 +424,7 @@ static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, in
         camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
         for (uint32_t b = 0; b < nb; b++) {
             const uint32_t sidx = s0 + b;
-            if (atomic_load_explicit(&job->stop, memory_order_relaxed) || (timed && job_time_is_up(job))) {
+            if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
                 cut = true;
                 break;
             }
@@ -490,6 +503,7 @@ static void job_tile(size_t task, int thread, void *user)
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
     uint64_t taken = 0;
     sample_watch watch = {.bound = job->collision_bound, .next_poll = WATCH_POLL, .poll = job_poll, .user = job};
+    tile_start_ns = job_now_ns();
     watch_tls = &watch; /* pixel_samples' samples are watched (render/watch.h) */
     /* this task alone writes these pixels: read them without the lock */
     for (int y = y0; y < y1; y++)
