@@ -249,6 +249,8 @@ static void print_stats(brume_context *ctx, const brume_scene *scene, const char
         fprintf(e, "stats: %s CPU s: tracking %.3f, next-event estimation %.3f, shading %.3f\n", method,
                 st.path.tracking_cpu_seconds, st.path.nee_cpu_seconds, st.path.shading_cpu_seconds);
     }
+    fprintf(e, "stats: %llu samples reached the bound of %llu tentative collisions a sample\n",
+            (unsigned long long)st.samples_cut, (unsigned long long)st.collision_bound);
 }
 
 /* --print-scene: the scene description the loader reads, on stdout. */
@@ -368,6 +370,12 @@ int render_write_frame(render_run *r, char *path, size_t n, int owner, const bru
             return render_write_failed(r);
         if (!o->quiet)
             report_frame(r, path, owner, rs, render_now_seconds() - t0);
+        brume_stats bs;
+        brume_scene_stats(r->scene, &bs);
+        if (!o->quiet && bs.samples_cut > 0 && owner == r->d.rank) /* a bias: said even without --stats */
+            fprintf(stderr, "brume: %s: %llu samples reached the bound of %llu tentative collisions a sample and were "
+                            "ended there (docs/stats.md)\n",
+                    path, (unsigned long long)bs.samples_cut, (unsigned long long)bs.collision_bound);
         if (!o->quiet && r->jr.budget_spent && r->jr.checkpoint_written)
             fprintf(stderr, "brume: the time budget ended the render before its samples: its state is kept in %s "
                             "(--resume %s with another --time adds samples)\n", o->checkpoint, o->checkpoint);

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli_flags.h"
 #include "cli_grid.h"
@@ -70,7 +71,8 @@ int cmd_info(int argc, char **argv)
         return info_sequence(path, &o);
     unsigned char head[16] = {0};
     size_t nhead = 0;
-    FILE *f = fopen(path, "rb");
+    struct stat sb; /* only a regular file is read: opening a FIFO waits for a writer (the load refuses it) */
+    FILE *f = stat(path, &sb) == 0 && S_ISREG(sb.st_mode) ? fopen(path, "rb") : NULL;
     if (f) {
         nhead = fread(head, 1, sizeof head, f);
         fclose(f);

@@ -835,6 +835,12 @@ typedef struct brume_stats {
     brume_path_stats path;       /* method path or single */
     brume_blasi_stats blasi;     /* method blasi */
     brume_stam_stats stam;       /* method stam */
+    /* Every method's camera samples: the bound on one sample's tentative collisions, derived
+     * from the scene (docs/stats.md), and the samples that reached it and were ended there
+     * (a bias: 0 for every valid scene brume was tested with). Counted with or without
+     * render.stats. */
+    uint64_t collision_bound;
+    uint64_t samples_cut;
 } brume_stats;
 /* Copies the statistics of the last render of scene into *out (zeros before any render). */
 void brume_scene_stats(const brume_scene *scene, brume_stats *out);

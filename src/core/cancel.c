@@ -19,6 +19,8 @@ void cancel_poll_init(cancel_poll *c, const brume_render_settings *rs)
     c->user = rs ? rs->progress_user : NULL;
     atomic_init(&c->stop, false);
     atomic_init(&c->next_ns, now_ns() + (long long)(CANCEL_POLL_SECONDS * 1e9));
+    atomic_init(&c->out_of_time, false);
+    c->deadline_ns = rs && rs->time_budget > 0.0 ? now_ns() + (long long)(rs->time_budget * 1e9) : 0;
     pthread_mutex_init(&c->lock, NULL);
 }
 
@@ -26,9 +28,16 @@ bool cancel_poll_stop(cancel_poll *c)
 {
     if (atomic_load_explicit(&c->stop, memory_order_relaxed))
         return true;
-    if (!c->fn)
+    if (!c->fn && !c->deadline_ns)
         return false;
     long long t = now_ns();
+    if (c->deadline_ns && t >= c->deadline_ns) {
+        atomic_store(&c->out_of_time, true);
+        atomic_store(&c->stop, true);
+        return true;
+    }
+    if (!c->fn)
+        return false;
     if (t < atomic_load_explicit(&c->next_ns, memory_order_relaxed))
         return false;
     if (pthread_mutex_trylock(&c->lock) != 0)
@@ -43,6 +52,8 @@ bool cancel_poll_stop(cancel_poll *c)
 }
 
 bool cancel_poll_cancelled(const cancel_poll *c) { return atomic_load((atomic_bool *)&c->stop); }
+
+bool cancel_poll_out_of_time(const cancel_poll *c) { return atomic_load((atomic_bool *)&c->out_of_time); }
 
 void cancel_poll_finish(cancel_poll *c) { pthread_mutex_destroy(&c->lock); }
 
@@ -76,7 +87,9 @@ bool cancel_load_requested(void)
 brume_status cancel_load_check(const char *what)
 {
     if (g_watch && cancel_poll_stop(g_watch))
-        return err_set(BRUME_ERROR_CANCELLED, "%s: cancelled by the render's progress callback", what);
+        return cancel_poll_out_of_time(g_watch)
+                   ? err_set(BRUME_ERROR_RANGE, "%s: render.time: the time budget was spent before the first sample", what)
+                   : err_set(BRUME_ERROR_CANCELLED, "%s: cancelled by the render's progress callback", what);
     if (!g_load_cancels || atomic_load_explicit(g_load_cancels, memory_order_relaxed) == g_load_start)
         return BRUME_OK;
     return err_set(BRUME_ERROR_CANCELLED, "%s: loading cancelled (brume_context_cancel_loads)", what);

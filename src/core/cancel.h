@@ -22,14 +22,20 @@ typedef struct cancel_poll {
     void *user;
     atomic_bool stop;
     atomic_llong next_ns; /* CLOCK_MONOTONIC time of the next call to fn */
+    long long deadline_ns; /* the render's time budget ends here (0: none): the phase stops too */
+    atomic_bool out_of_time; /* it stopped because the budget was spent */
     pthread_mutex_t lock; /* fn is never called twice at once */
 } cancel_poll;
 
+/* rs->time_budget > 0: the phase is a render's first and its budget starts now; a phase
+ * past it stops as if cancelled, and cancel_poll_out_of_time says so. */
 void cancel_poll_init(cancel_poll *c, const brume_render_settings *rs);
 /* true when the phase must stop: the callback said so, now or before. Thread-safe. */
 bool cancel_poll_stop(cancel_poll *c);
 /* true when a call to cancel_poll_stop returned true; asks nothing. */
 bool cancel_poll_cancelled(const cancel_poll *c);
+/* true when it stopped because the time budget was spent. */
+bool cancel_poll_out_of_time(const cancel_poll *c);
 void cancel_poll_finish(cancel_poll *c);
 
 /* Loading a scene (issue 36): brume_context_cancel_loads(ctx) (async-signal-safe) ends every

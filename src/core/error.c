@@ -7,11 +7,14 @@
  * cannot write to the terminal. */
 #include "core/error.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+
+#include "core/number.h"
 
 static _Thread_local char err_buf[1024];
 static _Thread_local brume_status err_code = BRUME_OK;
@@ -109,7 +112,23 @@ static void fmt_parse(const char *p, fmt_spec *f)
     f->next = *q ? q + 1 : q;
 }
 
-/* A numeric (or %p, %%) conversion of f into tmp, its arguments taken from *ap. */
+/* v in the fewest significant digits (at most 17) that read back as v: a limit or a value
+ * quoted exactly, an integer below 1e9 as an integer ("16777217", not "1.67772e+07"). */
+static void fmt_exact(double v, char *tmp, size_t ntmp)
+{
+    if (v == floor(v) && fabs(v) < 1e9) { /* 1000000, not 1e+06 */
+        snprintf(tmp, ntmp, "%.0f", v);
+        return;
+    }
+    for (int p = 6; p <= 17; p++) {
+        snprintf(tmp, ntmp, "%.*g", p, v);
+        if (!isfinite(v) || num_strtod(tmp, NULL) == v)
+            return;
+    }
+}
+
+/* A numeric (or %p, %%) conversion of f into tmp, its arguments taken from *ap. A plain
+ * "%.17g" prints the shortest exact form (fmt_exact). */
 static void fmt_number(const fmt_spec *f, int w, int pr, va_list *ap, char *tmp, size_t ntmp)
 {
     const char *spec = f->spec, *len = f->len;
@@ -157,6 +176,11 @@ static void fmt_number(const fmt_spec *f, int w, int pr, va_list *ap, char *tmp,
     case 'e':
     case 'E':
     case 'g':
+        if (f->prec == 17 && !have_w && !have_p && !strcmp(spec, "%.17g")) {
+            fmt_exact(va_arg(*ap, double), tmp, ntmp);
+            break;
+        }
+        /* fall through */
     case 'G':
     case 'a':
     case 'A':
@@ -178,6 +202,7 @@ void err_vformat(char *out, size_t n, const char *fmt, va_list ap_in)
         return;
     va_list ap;
     va_copy(ap, ap_in);
+    locale_t old = num_c_begin(); /* "0.5" in every locale */
     size_t k = 0;
     out[0] = '\0';
     for (const char *p = fmt; *p && k + 1 < n;) {
@@ -211,6 +236,7 @@ void err_vformat(char *out, size_t n, const char *fmt, va_list ap_in)
         out[k] = '\0';
     }
     out[k] = '\0';
+    num_c_end(old);
     va_end(ap);
 }
 

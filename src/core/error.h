@@ -26,7 +26,10 @@
  * (%s, %c) have control characters escaped (\n, \t, \x1b, ...) and a plain %s is cut after
  * ERR_ARG_MAX bytes (keys, names and values quoted from input); a %s with an explicit
  * precision ("%.1000s") is cut at that precision instead: the form for passing on a whole
- * message formatted before. Control characters in fmt itself become spaces. One line. */
+ * message formatted before. Control characters in fmt itself become spaces. One line.
+ * Numbers are printed in the "C" locale, and a plain "%.17g" prints the fewest digits that
+ * read back as the same double: the form for a value checked against a limit and for the
+ * limit itself ("render.spp: 16777217 outside [1, 16777216]"). */
 void err_vformat(char *out, size_t n, const char *fmt, va_list ap);
 void err_format(char *out, size_t n, const char *fmt, ...) BRUME_PRINTF(3, 4);
 

@@ -151,3 +151,26 @@ brume_status io_open_regular(const char *path, FILE **out)
     note_stat(path, &sb);
     return BRUME_OK;
 }
+
+brume_status io_check_size(FILE *fp, const char *path, const char *what, long long max_bytes)
+{
+    struct stat sb;
+    if (fstat(fileno(fp), &sb) != 0)
+        return err_set(BRUME_ERROR_IO, "%s: %s: cannot read its size: %s", path, what, strerror(errno));
+    if ((long long)sb.st_size > max_bytes)
+        return err_set(BRUME_ERROR_RANGE, "%s: %s: %lld bytes, more than the %lld such a file can hold", path, what,
+                       (long long)sb.st_size, max_bytes);
+    return BRUME_OK;
+}
+
+brume_status io_open_input(const char *path, const char *what, FILE **out)
+{
+    brume_status st = io_open_regular(path, out);
+    if (st == BRUME_OK)
+        return st;
+    char reason[1024];
+    size_t n = strlen(path);
+    const char *m = err_message();
+    snprintf(reason, sizeof reason, "%s", strncmp(m, path, n) == 0 && m[n] == ':' && m[n + 1] == ' ' ? m + n + 2 : m);
+    return err_set(st, "%s: %s: %.900s", path, what, reason);
+}

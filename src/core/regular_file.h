@@ -25,6 +25,14 @@
  * opened or is not a regular file. */
 brume_status io_open_regular(const char *path, FILE **out);
 
+/* io_open_regular for the input a key names: the message reads "PATH: WHAT: reason". */
+brume_status io_open_input(const char *path, const char *what, FILE **out);
+
+/* Whether the file opened as fp (named path) holds at most max_bytes: a reader's plausible
+ * size, checked before it reads (a sparse file of a terabyte is a regular file too). One line
+ * naming what (the key or the kind of file), BRUME_ERROR_RANGE, when it holds more. */
+brume_status io_check_size(FILE *fp, const char *path, const char *what, long long max_bytes);
+
 typedef struct io_input {
     char *path; /* owned: as the scene named it (resolved against the scene's folder) */
     dev_t dev;

@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/number.h"
+#include "core/regular_file.h"
 
 #define FOUR_PI 12.566370614359172
 
@@ -95,11 +97,11 @@ static bool parse_pair(const char *line, double *s, double *w)
 {
     char *end;
     errno = 0;
-    *s = strtod(line, &end);
+    *s = num_strtod(line, &end);
     if (end == line)
         return false;
     const char *p = end;
-    *w = strtod(p, &end);
+    *w = num_strtod(p, &end);
     if (end == p || errno == ERANGE)
         return false;
     while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
@@ -109,9 +111,12 @@ static bool parse_pair(const char *line, double *s, double *w)
 
 blob_kernel *blob_kernel_read(const char *path, const char *field)
 {
-    FILE *fp = fopen(path, "r");
-    if (!fp) {
-        err_set(BRUME_ERROR_IO, "%s: %s: cannot open: %s", path, field, strerror(errno));
+    FILE *fp = NULL;
+    if (io_open_input(path, field, &fp) != BRUME_OK)
+        return NULL;
+    /* every line a point or a comment: the points' lines and as many again of comments */
+    if (io_check_size(fp, path, field, 2LL * (BLOB_KERNEL_MAX_POINTS + 1) * 512) != BRUME_OK) {
+        fclose(fp);
         return NULL;
     }
     double *w = malloc((size_t)(BLOB_KERNEL_MAX_POINTS + 1) * sizeof *w), ds = 0.0;

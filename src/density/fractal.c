@@ -83,7 +83,7 @@ static double neighbour_mean(const float *out, int N, int i, int j, int k, int h
 brume_status fractal_midpoint(int level, double hurst, uint64_t seed, int planes, float *out)
 {
     if (level < 1 || level > 10 || !(hurst > 0.0 && hurst < 1.0))
-        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "midpoint: level %d outside [1, 10] or H %g outside (0, 1)",
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "midpoint: level %d outside [1, 10] or H %.17g outside (0, 1)",
                        level, hurst);
     const int N = (1 << level) + 1;
     const size_t sN = (size_t)N;
@@ -138,7 +138,7 @@ brume_status fractal_midpoint(int level, double hurst, uint64_t seed, int planes
 brume_status fractal_spectral(const int n[3], double hurst, uint64_t seed, float *out)
 {
     if (n[0] < 1 || n[1] < 1 || n[2] < 1 || !(hurst > 0.0 && hurst < 1.0))
-        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "spectral: bad dimensions or H %g outside (0, 1)", hurst);
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "spectral: bad dimensions or H %.17g outside (0, 1)", hurst);
     int hx = n[0] / 2 + 1;
     size_t ncoef = (size_t)hx * (size_t)n[1] * (size_t)n[2], nreal = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
     fftw_complex *c = fftw_malloc(ncoef * sizeof *c);
@@ -395,6 +395,23 @@ static brume_status fractal_check_work(const fractal_params *p, size_t count)
     return budget_work(base + turbulence + n, "fractal cloud", how);
 }
 
+/* Perlin's lattice index is an int: the largest coordinate of the finest octave, the
+ * turbulence moved by wind x time included, stays within 1e9 (2^31 is the int's end). */
+static brume_status fractal_check_lattice(const fractal_params *p)
+{
+    double octave = ldexp(1.0, p->octaves - 1), wind_t;
+    wind_t = fmax(fabs(p->wind.x * p->time), fmax(fabs(p->wind.y * p->time), fabs(p->wind.z * p->time)));
+    double reach = octave * (p->turbulence > 0.0 ? p->turbulence_frequency + wind_t : 0.0);
+    if (!(octave * p->frequency <= 1e9) || !(reach <= 1e9))
+        return err_set(BRUME_ERROR_RANGE,
+                       "fractal: at time %.17g s the noise reaches lattice coordinate %.3g (frequency %.17g, "
+                       "turbulence frequency %.17g, wind x time %.3g, %d octaves), beyond 1e9: brume's noise "
+                       "lattice is indexed by an int",
+                       p->time, fmax(octave * p->frequency, reach), p->frequency, p->turbulence_frequency, wind_t,
+                       p->octaves);
+    return BRUME_OK;
+}
+
 float *fractal_cloud_voxels(const fractal_params *p)
 {
     for (int a = 0; a < 3; a++)
@@ -411,6 +428,8 @@ float *fractal_cloud_voxels(const fractal_params *p)
                 "turbulence >= 0, frequencies and density > 0, finite time and rates");
         return NULL;
     }
+    if (fractal_check_lattice(p) != BRUME_OK)
+        return NULL;
     /* the memory budget, before anything is allocated: the grid stays, the lattice or the
      * Fourier coefficients are given back when the base is made */
     size_t count = (size_t)p->n[0] * (size_t)p->n[1] * (size_t)p->n[2], temp = 0;

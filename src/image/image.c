@@ -100,9 +100,12 @@ void image_set_meta(brume_image *img, const char *key, const char *value)
 brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, const char *key, const char *value)
 {
     err_clear();
-    if (!image || !key || !*key || !value)
+    if (!image || !key || !value)
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: %s: NULL",
-                                       !image ? "image" : !key || !*key ? "key" : "value"));
+                                       !image ? "image" : !key ? "key" : "value"));
+    if (!*key) /* an EXR attribute needs a name */
+        return ctx_report(ctx,
+                          err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_set_attribute: key: empty (a name is needed)"));
     int i = 0;
     while (i < image->nmeta && strcmp(image->meta[i].key, key) != 0)
         i++;

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
+#include "core/number.h"
 #include "core/regular_file.h"
 
 /* Centred on the origin, cubic voxels, the longest axis spanning [-0.5, 0.5]. */
@@ -17,10 +18,8 @@ static box3 centred_box(const int n[3])
     return (box3){v3_neg(h), h};
 }
 
-/* Reads the optional sidecar PATH.hdr: "dims NX NY NZ", "bounds X0 Y0 Z0 X1 Y1 Z1" or
- * "voxel_to_world" and 12 numbers; '#' starts a comment. Returns 1 if read, 0 if absent,
- * -1 on error (err_set). */
-int grid_raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
+/* grid_raw_sidecar in the "C" locale (its sscanf calls read "0.5" in every locale). */
+static int sidecar_read(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
 {
     char hdr[4096];
     if (snprintf(hdr, sizeof hdr, "%s.hdr", path) >= (int)sizeof hdr)
@@ -83,6 +82,17 @@ int grid_raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
         return -1;
     }
     return 1;
+}
+
+/* Reads the optional sidecar PATH.hdr: "dims NX NY NZ", "bounds X0 Y0 Z0 X1 Y1 Z1" or
+ * "voxel_to_world" and 12 numbers; '#' starts a comment. Returns 1 if read, 0 if absent,
+ * -1 on error (err_set). */
+int grid_raw_sidecar(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
+{
+    locale_t old = num_c_begin();
+    int r = sidecar_read(path, n, has_v2w, v2w);
+    num_c_end(old);
+    return r;
 }
 
 bool grid_raw_read(const unsigned char *b, size_t size, const char *name, const int dims[3], bool has_v2w,

@@ -75,7 +75,9 @@ typedef struct gridvdb_writer gridvdb_writer;
 gridvdb_writer *gridvdb_writer_new(void);
 /* Adds a fog-volume grid; returns its index, or -1 (err_set) on failure. */
 int gridvdb_writer_add(gridvdb_writer *w, const char *grid_name, int vec3, double voxel_size, const double origin[3]);
-/* Sets voxel (i, j, k) of grid g active with value v[0] (float) or v[0..2] (vec3). */
+/* Sets voxel (i, j, k) of grid g active with value v[0] (float) or v[0..2] (vec3). When an
+ * allocation fails, the writer stops taking voxels and gridvdb_writer_save fails with
+ * BRUME_ERROR_OUT_OF_MEMORY and one line. */
 void gridvdb_writer_set(gridvdb_writer *w, int g, int i, int j, int k, const float *v);
 /* Active voxels of grid g so far. */
 unsigned long long gridvdb_writer_active(const gridvdb_writer *w, int g);

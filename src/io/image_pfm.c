@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "core/error.h"
+#include "core/number.h"
 #include "core/regular_file.h"
 #include "io/atomic.h"
 #include "io/image_formats.h"
@@ -133,7 +134,7 @@ static brume_status pfm_header(FILE *fp, const char *path, int *channels, int64_
         return err_set(BRUME_ERROR_PARSE, "%s: header: width and height: expected two integers, got '%s' '%s'",
                        path, tw, th);
     char *end = NULL;
-    *scale = strtod(ts, &end);
+    *scale = num_strtod(ts, &end);
     if (!ts[0] || *end || !isfinite(*scale) || *scale == 0.0)
         return err_set(BRUME_ERROR_PARSE, "%s: header: scale: expected a finite nonzero number, got '%s'",
                        path, ts);

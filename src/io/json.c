@@ -98,7 +98,7 @@ brume_status json_number(const cJSON *obj, jloc at, const char *key, int require
         return err_set(BRUME_ERROR_PARSE, "%s: %s: expected a number", at.file, kp);
     double v = it->valuedouble;
     if (!isfinite(v) || v < lo || v > hi)
-        return err_set(BRUME_ERROR_RANGE, "%s: %s: %g outside [%g, %g]", at.file, kp, v, lo, hi);
+        return err_set(BRUME_ERROR_RANGE, "%s: %s: %.17g outside [%.17g, %.17g]", at.file, kp, v, lo, hi);
     *out = v;
     return BRUME_OK;
 }
@@ -182,7 +182,7 @@ static brume_status json_triple(const cJSON *it, jloc at, const char *key, doubl
             return err_set(BRUME_ERROR_PARSE, "%s: %s[%d]: expected a number", at.file, kp, i);
         v[i] = e->valuedouble;
         if (!isfinite(v[i]) || v[i] < lo || v[i] > hi)
-            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: %g outside [%g, %g]", at.file, kp, i, v[i], lo, hi);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: %.17g outside [%.17g, %.17g]", at.file, kp, i, v[i], lo, hi);
     }
     return BRUME_OK;
 }

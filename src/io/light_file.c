@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/regular_file.h"
 #include "io/atomic.h"
 
 #define LIGHT_FILE_MAGIC "BRUMEBL1"
@@ -83,9 +84,10 @@ brume_status light_file_read(const char *path, const light_file_layout *l, float
 {
     if (!host_is_little_endian())
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.load_light: light files are little-endian", path);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: blasi.load_light: cannot open: %s", path, strerror(errno));
+    FILE *fp = NULL;
+    if (io_open_input(path, "blasi.load_light", &fp) != BRUME_OK)
+        return err_status();
+    /* no size check: what is read is the layout's size, and one byte more says "trailing" */
     brume_status rc = read_header(fp, path, l);
     if (rc == BRUME_OK && l->nvox > 0 && fread(S, sizeof(float) * 3, l->nvox, fp) != l->nvox)
         rc = err_set(BRUME_ERROR_PARSE, "%s: blasi.load_light: truncated data", path);

@@ -135,6 +135,13 @@ brume_status sandbox_reap(pid_t pid, int rr, const char *name, const char *what,
     if (WIFSIGNALED(wst) && WTERMSIG(wst) == SIGXCPU)
         return err_set(BRUME_ERROR_PARSE, "%s: %s exceeded its CPU limit of %.0f s (%s?)", name, what, cpu_seconds,
                        hint);
+    /* brume sends SIGKILL only past the deadline (rr -2, above): another one is the system's
+     * out-of-memory killer ending a child that asked for more memory than the machine had */
+    if (WIFSIGNALED(wst) && WTERMSIG(wst) == SIGKILL)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s: %s was refused memory: the system ended it (SIGKILL) when the machine ran out of memory "
+                       "(lower render.max_memory_mb, or a smaller file)",
+                       name, what);
     if (WIFSIGNALED(wst))
         return err_set(BRUME_ERROR_PARSE, "%s: %s crashed (signal %d): %s", name, what, WTERMSIG(wst), hint);
     return err_set(BRUME_ERROR_PARSE, "%s: %s failed (exit %d): %s, or over its memory limit", name, what,

@@ -412,9 +412,10 @@ brume_status checkpoint_target_check(const char *path)
     struct stat sb;
     if (!path || stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
         return BRUME_OK; /* absent; anything else is io_output_check's */
-    FILE *fp = fopen(path, "rb");
+    FILE *fp = NULL; /* replaced by a FIFO since the stat: io_open_regular does not wait */
     char magic[8] = {0};
-    bool ours = fp && fread(magic, 1, sizeof magic, fp) == sizeof magic && memcmp(magic, "BRUMECKP", 8) == 0;
+    bool ours = io_open_regular(path, &fp) == BRUME_OK && fread(magic, 1, sizeof magic, fp) == sizeof magic &&
+                memcmp(magic, "BRUMECKP", 8) == 0;
     if (fp)
         fclose(fp);
     if (ours)

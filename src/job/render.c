@@ -7,8 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "core/bigmem.h"
+#include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "core/pool.h"
@@ -19,6 +21,7 @@
 #include "render/film.h"
 #include "render/job.h"
 #include "render/sample.h"
+#include "render/watch.h"
 #include "gpu/cuda.h"
 #include "job/render_impl.h"
 
@@ -122,6 +125,9 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     pthread_mutex_init(&job->lock, NULL);
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
+    atomic_init(&job->samples_cut, 0);
+    atomic_init(&job->next_poll_ns, 0);
+    job->collision_bound = watch_bound(s, rs->max_depth);
     if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
         int w = rs->width, h = rs->height; /* rs points into the job, freed below */
         brume_render_job_release(job);
@@ -364,8 +370,41 @@ static void job_report_tile(brume_render_job *job)
     pthread_mutex_unlock(&job->cb_lock);
 }
 
-/* One tile: every active pixel of it from its sample count to job->target (or as far as
- * the time budget lets it go). */
+/* Asked by a tile's sample watch every WATCH_POLL collisions (render/watch.h): whether the
+ * job must stop now. A tile running longer than TILE_SLOW_SECONDS calls the progress
+ * callback itself, at most every CANCEL_POLL_SECONDS over all threads, so that SIGINT stops
+ * a sample of minutes within a second. */
+#define TILE_SLOW_SECONDS 0.5
+static _Thread_local long long tile_start_ns; /* when this thread's tile began */
+
+static long long job_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static bool job_poll(void *user)
+{
+    brume_render_job *job = user;
+    if (job->rs.time_budget > 0.0 && job_time_is_up(job))
+        return true;
+    /* a tile of usual length ends whole: a stop takes effect between tiles, as the pixels of
+     * a cancelled pass have all or none of its samples; only a slow tile is cut */
+    long long now = job_now_ns(), due = atomic_load(&job->next_poll_ns);
+    if (now - tile_start_ns < (long long)(TILE_SLOW_SECONDS * 1e9))
+        return false;
+    if (atomic_load(&job->stop))
+        return true;
+    if (!job->rs.progress_fn)
+        return false;
+    if (now < due || !atomic_compare_exchange_strong(&job->next_poll_ns, &due,
+                                                     now + (long long)(CANCEL_POLL_SECONDS * 1e9)))
+        return false;
+    job_report_tile(job);
+    return atomic_load(&job->stop);
+}
+
 /* The samples pixel i (at x, y) still lacks up to target, added into its count n
  * and its sums (sum, sq, aov): the samples taken. In batches: first the batch's camera rays
  * (camera_samples), then their radiance. Under a time budget the clock is read before every
@@ -390,7 +429,14 @@ static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, in
                 break;
             }
             sample_value v;
+            sample_watch *w = watch_tls;
+            watch_sample(w);
             sample_eval(job->s, job->state, sp, rb[b], gb[b], sidx, &v);
+            if (w->stopped) { /* stopped within the sample: it is not kept */
+                cut = true;
+                break;
+            }
+            w->ncut += w->cut;
             sample_add(sp, &v, sidx, sum, sq, aov);
             taken++;
             *n = sidx + 1;
@@ -430,6 +476,8 @@ static void tile_store(brume_render_job *job, int x0, int y0, int x1, int y1, co
     pthread_mutex_unlock(&job->lock);
 }
 
+/* One tile: every active pixel of it from its sample count to job->target (or as far as
+ * the time budget lets it go). */
 static void job_tile(size_t task, int thread, void *user)
 {
     brume_render_job *job = user;
@@ -454,6 +502,9 @@ static void job_tile(size_t task, int thread, void *user)
     uint32_t n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
     uint64_t taken = 0;
+    sample_watch watch = {.bound = job->collision_bound, .next_poll = WATCH_POLL, .poll = job_poll, .user = job};
+    tile_start_ns = job_now_ns();
+    watch_tls = &watch; /* pixel_samples' samples are watched (render/watch.h) */
     /* this task alone writes these pixels: read them without the lock */
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
@@ -470,6 +521,9 @@ static void job_tile(size_t task, int thread, void *user)
                                        aov[k]);
         }
     stats_tls = NULL;
+    watch_tls = NULL;
+    if (watch.ncut)
+        atomic_fetch_add(&job->samples_cut, watch.ncut);
     tile_store(job, x0, y0, x1, y1, n, (const double (*)[JOB_SUMS])sum, (const double (*)[JOB_SQS])sq,
                (const double (*)[JOB_AOVS])aov, taken);
     job_report_tile(job);
@@ -635,6 +689,8 @@ static void job_fill_stats(const brume_render_job *job)
     out->seconds = stats_now() - job->t_start;
     out->camera_rays = c->camera_rays;
     out->li_cpu_seconds = c->t_li;
+    out->samples_cut = atomic_load(&job->samples_cut);
+    out->collision_bound = job->collision_bound;
     switch (job->kind) {
     case INTEGRATOR_BLASI: {
         blasi_stats b;
@@ -670,6 +726,7 @@ static void job_fill_stats(const brume_render_job *job)
 
 brume_status job_run(brume_render_job *job, bool unwatched)
 {
+    brume_status st_empty = BRUME_OK;
     int k;
     while ((k = job_next_pass(job, unwatched)) > 0) {
         brume_status st = job_add(job, k, unwatched);
@@ -681,6 +738,11 @@ brume_status job_run(brume_render_job *job, bool unwatched)
         job->out_of_time = true;
         pthread_mutex_unlock(&job->lock);
     }
+    if (job->out_of_time && job->done == 0) /* an image of no sample is no render */
+        st_empty = err_set(BRUME_ERROR_RANGE,
+                           "%s: render.time: the time budget of %.17g s was spent before the first sample (%.3g s in "
+                           "the method's preparation): raise it",
+                           job->s->source, job->rs.time_budget, job->prep_seconds);
     if (job->bar_started) {
         progress_figures fig;
         pthread_mutex_lock(&job->lock);
@@ -691,5 +753,5 @@ brume_status job_run(brume_render_job *job, bool unwatched)
         job->bar_started = false;
     }
     job_fill_stats(job);
-    return BRUME_OK;
+    return st_empty;
 }

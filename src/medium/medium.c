@@ -62,6 +62,21 @@ brume_status medium_check_range(const medium *m, const char *source, int index)
                        "by an optical depth of %.3g, more than the %.0f brume can track "
                        "(docs/scene-format.md#limits)",
                        source, index, m->sigma_t_max, in.rho_min, in.rho_max, cell, spread, MEDIUM_TAU_SPREAD_MAX);
+    /* Channels of unequal extinction: tentative collisions come at the largest channel's rate,
+     * and the flight's ratio tracking goes on while the smallest channel's transmittance
+     * stays up, about sigma_t_max / sigma_t_min collisions for each e-fold of it (some 10 of
+     * them before the roulette ends it), unless the ray leaves the field first (its optical
+     * depth at the largest rate across the field). The smaller of the two is the flight's
+     * cost: at most the same optical depth brume tracks in a cell. */
+    double diag = v3_length(v3_sub(in.bounds.hi, in.bounds.lo));
+    double tau_across = sigma_hi * diag, ratio = m->sigma_t_max / m->sigma_t_min; /* inf for a clear channel */
+    if (m->sigma_t_min < m->sigma_t_max && !(fmin(tau_across, 10.0 * ratio) <= MEDIUM_TAU_SPREAD_MAX))
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: media[%d]: sigma_t from %.17g to %.17g across the colour channels, times density up to "
+                       "%.17g over a field %.3g wide: a free flight would take some %.3g tentative collisions, more than "
+                       "the %.0f brume can track (docs/scene-format.md#limits)",
+                       source, index, m->sigma_t_min, m->sigma_t_max, in.rho_max, diag, fmin(tau_across, 10.0 * ratio),
+                       MEDIUM_TAU_SPREAD_MAX);
     return BRUME_OK;
 }
 

@@ -12,6 +12,7 @@
 #include "core/color.h"
 #include "core/context.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "method/blasi_options.h"
 #include "method/path_options.h"
 #include "method/stam_params.h"
@@ -50,7 +51,7 @@ bool method_option_number(const char *text, double lo, double hi, double *out)
 {
     char *end = NULL;
     errno = 0;
-    double v = strtod(text, &end);
+    double v = num_strtod(text, &end);
     if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
         return false;
     *out = v;

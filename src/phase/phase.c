@@ -9,9 +9,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/budget.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "core/regular_file.h"
 #include "core/sampling.h"
 #include "phase/quadrature.h"
@@ -390,6 +392,33 @@ phase *phase_new_schlick_mix(double r, double k, double kprime)
     return p;
 }
 
+/* The tabulated phase's nodes in increasing t = cos: reversed angles, plus t = -1 and t = 1
+ * when the table stops short of 180 or 0 degrees (the end value is held there). The table's
+ * scale is arbitrary: divided by its largest value first, the trapezoids' sum is within
+ * [tiny, 2] even for values near DBL_MAX (whose sum would be infinite and the normalised
+ * table 0: a black medium) or near the smallest doubles. */
+static void table_nodes(phase *p, int n, const double *angle_deg, const double *value, int extra_lo, int extra_hi)
+{
+    double vmax = 0.0;
+    for (int i = 0; i < n; i++)
+        vmax = fmax(vmax, value[i]);
+    if (!(vmax > 0.0))
+        vmax = 1.0; /* every value 0: refused by the caller */
+    int j = 0;
+    if (extra_lo) {
+        p->t[j] = -1.0;
+        p->pt[j++] = value[n - 1] / vmax;
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        p->t[j] = angle_deg[i] == 180.0 ? -1.0 : (angle_deg[i] == 0.0 ? 1.0 : cos(angle_deg[i] * PI / 180.0));
+        p->pt[j++] = value[i] / vmax;
+    }
+    if (extra_hi) {
+        p->t[j] = 1.0;
+        p->pt[j++] = value[0] / vmax;
+    }
+}
+
 phase *phase_new_tabulated(int n, const double *angle_deg, const double *value)
 {
     if (n < 2) {
@@ -429,19 +458,7 @@ phase *phase_new_tabulated(int n, const double *angle_deg, const double *value)
         err_set(BRUME_ERROR_OUT_OF_MEMORY, "tabulated phase: out of memory");
         return NULL;
     }
-    int j = 0;
-    if (extra_lo) {
-        p->t[j] = -1.0;
-        p->pt[j++] = value[n - 1];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        p->t[j] = angle_deg[i] == 180.0 ? -1.0 : (angle_deg[i] == 0.0 ? 1.0 : cos(angle_deg[i] * PI / 180.0));
-        p->pt[j++] = value[i];
-    }
-    if (extra_hi) {
-        p->t[j] = 1.0;
-        p->pt[j++] = value[0];
-    }
+    table_nodes(p, n, angle_deg, value, extra_lo, extra_hi);
     p->n = m;
     /* Trapezoids are exact for a function linear in t. */
     double total = 0.0;
@@ -485,13 +502,13 @@ static int table_row(const char *path, int lineno, const char *line, double prev
     if (!s)
         return 0;
     char *end;
-    double a = strtod(s, &end);
+    double a = num_strtod(s, &end);
     if (end == s) {
         err_set(BRUME_ERROR_PARSE, "%s:%d: expected an angle in degrees, got \"%.32s\"", path, lineno, s);
         return -1;
     }
     s = next_field(end);
-    double v = s ? strtod(s, &end) : 0.0;
+    double v = s ? num_strtod(s, &end) : 0.0;
     if (!s || end == s) {
         err_set(BRUME_ERROR_PARSE, "%s:%d: expected a value after the angle %g", path, lineno, a);
         return -1;
@@ -602,7 +619,7 @@ static int parse_param(const char *name, const char *prefix, double *out)
         return 0;
     char *end;
     errno = 0;
-    *out = strtod(name + len, &end);
+    *out = num_strtod(name + len, &end);
     if (end == name + len || *end != '\0')
         *out = (double)NAN;
     return 1;
@@ -633,15 +650,14 @@ phase *phase_new_from_name(const char *name)
         }
         return phase_new_schlick(v);
     }
-    FILE *f = fopen(name, "r");
-    if (!f) {
+    struct stat sb; /* not fopen: opening a FIFO would wait for a writer */
+    if (stat(name, &sb) != 0) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT,
                 "phase \"%s\": neither isotropic, rayleigh, hazy, murky, hg:G, schlick:K "
                 "nor a readable file",
                 name);
         return NULL;
     }
-    fclose(f);
     return phase_load_tabulated(name);
 }
 

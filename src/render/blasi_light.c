@@ -544,8 +544,13 @@ static brume_status run_batches(const brume_scene *s, pass1_job *job, size_t thr
     progress_begin(&job->prog, "light pass", (size_t)job->nbatch, s->settings.progress, s->settings.progress_interval);
     pool_run((int)threads, (size_t)job->nbatch, pass1_batch, job);
     progress_end(&job->prog, !cancel_poll_cancelled(&job->cancel));
-    const bool cancelled = cancel_poll_cancelled(&job->cancel);
+    const bool cancelled = cancel_poll_cancelled(&job->cancel), late = cancel_poll_out_of_time(&job->cancel);
     cancel_poll_finish(&job->cancel);
+    if (late)
+        return err_set(BRUME_ERROR_RANGE,
+                       "%s: render.time: the time budget of %.17g s was spent in blasi's light pass, before the first "
+                       "sample: raise it, or lower blasi.light_rays",
+                       s->source, s->settings.time_budget);
     if (cancelled)
         return err_set(BRUME_ERROR_CANCELLED, "%s: blasi: the light pass was cancelled", s->source);
     return BRUME_OK;

@@ -74,6 +74,9 @@ struct brume_render_job {
     double t_start;          /* stats_now() at job_create: the statistics' seconds */
     int nthreads;            /* threads the pool runs */
     struct stats_counters *counters; /* one per thread when rs.stats, else NULL */
+    uint64_t collision_bound;        /* a sample's tentative collisions at most (render/watch.h) */
+    atomic_ullong samples_cut;       /* samples that reached it */
+    atomic_llong next_poll_ns;       /* CLOCK_MONOTONIC time of the next progress call within a tile */
 };
 
 /* Allocates a job for tiles part, part + nparts, ... of the scene's image, with the

@@ -65,9 +65,9 @@ static void slab_batch(size_t batch, int thread, void *user)
 brume_status slab_run(const slab_params *p, slab_result *out)
 {
     if (!(p->albedo >= 0.0 && p->albedo <= 1.0))
-        return err_set(BRUME_ERROR_RANGE, "slab: albedo %g outside [0, 1]", p->albedo);
+        return err_set(BRUME_ERROR_RANGE, "slab: albedo %.17g outside [0, 1]", p->albedo);
     if (!(p->tau >= 0.0 && p->tau < 1e6))
-        return err_set(BRUME_ERROR_RANGE, "slab: tau %g outside [0, 1e6) (0 = semi-infinite)", p->tau);
+        return err_set(BRUME_ERROR_RANGE, "slab: tau %.17g outside [0, 1e6) (0 = semi-infinite)", p->tau);
     if (p->tau == 0.0 && p->albedo >= 1.0 && p->max_depth > 1000)
         return err_set(BRUME_ERROR_RANGE, "slab: a semi-infinite medium of albedo 1 never absorbs; give tau > 0");
     if (p->samples < 1 || p->samples > (1ULL << 40))

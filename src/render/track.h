@@ -15,6 +15,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "core/stats.h"
+#include "render/watch.h"
 #include "scene/scene.h"
 
 /* A tentative collision at ray parameter t [world units], on a piece of the ray where

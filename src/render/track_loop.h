@@ -67,7 +67,7 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ra
                 e.t = t0 + u;
                 if (residual)
                     e.tau_c = tau_c0 + sigma_c * u;
-                if (!fn(&e, user)) {
+                if (watch_collision() || !fn(&e, user)) { /* the sample's bound or a stop (watch.h) */
                     track_count_cells(st, n);
                     return false;
                 }

@@ -94,9 +94,13 @@ typedef struct pbrt_state {
     double background[3];
     bool have_background;
     double inline_numbers; /* numbers of the inline grids and meshes written so far */
+    size_t text_bytes;     /* the file's */
+    long objects;          /* typed directives read so far (count_translation) */
 } pbrt_state;
 
 /* scene_pbrt.c */
+/* Keeps the translation's estimated memory within the memory limit (pbrt_tokens.c). */
+brume_status pbrt_count_translation(pbrt_state *S);
 brume_status pbrt_count_inline(pbrt_state *S, const char *what, double n);
 brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file, char abs[PATH_MAX]);
 
@@ -123,7 +127,7 @@ bool pbrt_m4_inverse(m4 a, m4 *out);
 vec3 pbrt_m4_point(m4 a, vec3 p);
 vec3 pbrt_m4_vector(m4 a, vec3 v);
 m4 pbrt_m4_scale(double x, double y, double z);
-cJSON *pbrt_transform_json(m4 a);
+cJSON *pbrt_transform_json(m4 a, bool *oom);
 m4 pbrt_world_origin(const pbrt_state *S);
 brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled);
 

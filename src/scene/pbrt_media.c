@@ -48,10 +48,14 @@ static bool medium_place(pbrt_state *S, cJSON *dj, const char *name)
     m4 id = pbrt_m4_identity();
     if (memcmp(&ctm, &id, sizeof id) == 0)
         return true;
-    cJSON *t = pbrt_transform_json(ctm);
+    bool oom;
+    cJSON *t = pbrt_transform_json(ctm, &oom);
     if (!t) {
-        pbrt_fail(&S->L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
-                         "translation)", name);
+        if (oom)
+            pbrt_fail(&S->L, "MakeNamedMedium \"%s\": out of memory", name);
+        else
+            pbrt_fail(&S->L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
+                             "translation)", name);
         return false;
     }
     cJSON_AddItemToObject(dj, "transform", t);

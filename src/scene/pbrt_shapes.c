@@ -228,9 +228,10 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
                          "without \"Scale -1 1 1\" mirrors the whole world, docs/production.md)", what);
         return NULL;
     }
-    cJSON *t = pbrt_transform_json(m);
+    bool oom;
+    cJSON *t = pbrt_transform_json(m, &oom);
     if (!t) {
-        pbrt_fail(&S->L, "%s: a transform with shear", what);
+        pbrt_fail(&S->L, oom ? "%s: out of memory" : "%s: a transform with shear", what);
         return NULL;
     }
     cJSON *s = cJSON_CreateObject();

@@ -13,10 +13,12 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/number.h"
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
+#include "core/budget.h"
 #include "scene/pbrt.h"
 
 void pbrt_next(lexer *L)
@@ -88,7 +90,7 @@ static bool number(const char *s, double *out)
 {
     char *end;
     errno = 0;
-    double v = strtod(s, &end);
+    double v = num_strtod(s, &end);
     if (end == s || *end || errno || !isfinite(v))
         return false;
     *out = v;
@@ -310,13 +312,34 @@ brume_status pbrt_get_array(lexer *L, params *ps, const char *name, const char *
 }
 
 /* Counts n more inline numbers against the scene's limit. */
+/* The translation's memory so far, estimated from what it holds: the text, a JSON object of
+ * at most PBRT_OBJECT_BYTES for each typed directive (a shape, a light, a medium, with its
+ * transform) and PBRT_NUMBER_BYTES for each inline number (a node and its printed form),
+ * the printed JSON as large again. Kept within the memory limit (render.max_memory_mb's
+ * default: the scene's own setting is read from the translation), so that a file of a
+ * million spheres is refused instead of exhausting the machine. */
+#define PBRT_OBJECT_BYTES 2048.0
+#define PBRT_NUMBER_BYTES 100.0
+brume_status pbrt_count_translation(pbrt_state *S)
+{
+    double bytes = (double)S->text_bytes + 2.0 * (PBRT_OBJECT_BYTES * (double)S->objects +
+                                                   PBRT_NUMBER_BYTES * S->inline_numbers);
+    if (bytes > (double)budget_left())
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY,
+                       "%s:%d: translating the pbrt scene needs about %.0f MiB (%ld directives that make objects, "
+                       "%.0f inline numbers), more than the %.0f MiB memory limit (render.max_memory_mb)",
+                       S->L.file, S->L.dir_line, bytes / 1048576.0, S->objects, S->inline_numbers,
+                       (double)budget_left() / 1048576.0);
+    return BRUME_OK;
+}
+
 brume_status pbrt_count_inline(pbrt_state *S, const char *what, double n)
 {
     S->inline_numbers += n;
     if (S->inline_numbers > PBRT_MAX_SCENE_INLINE)
         return pbrt_fail(&S->L, "%s: the scene's inline grids and meshes come to more than %d numbers (larger data "
                                 "belongs in nanovdb and ply files)", what, PBRT_MAX_SCENE_INLINE);
-    return BRUME_OK;
+    return pbrt_count_translation(S);
 }
 
 /* A file a directive names, relative to the .pbrt's folder, as an absolute path in abs. */

@@ -141,9 +141,10 @@ static bool m4_look_at(vec3 eye, vec3 look, vec3 up, m4 *out)
 
 /* brume's transform object {"translate", "rotate", "scale"} = T R S for an affine map
  * without shear (columns of the linear part orthogonal, rotation proper); NULL (a refusal by
- * the caller) otherwise. */
-cJSON *pbrt_transform_json(m4 a)
+ * the caller) otherwise, or with *oom set when memory ran out. */
+cJSON *pbrt_transform_json(m4 a, bool *oom)
 {
+    *oom = false;
     vec3 col[3];
     double s[3];
     for (int j = 0; j < 3; j++) {
@@ -179,11 +180,20 @@ cJSON *pbrt_transform_json(m4 a)
     axis = v3_normalize(axis);
     cJSON *t = cJSON_CreateObject();
     double tv[3] = {a.m[3], a.m[7], a.m[11]}, av[3] = {axis.x, axis.y, axis.z};
-    cJSON_AddItemToObject(t, "translate", cJSON_CreateDoubleArray(tv, 3));
-    cJSON *r = cJSON_AddObjectToObject(t, "rotate");
-    cJSON_AddItemToObject(r, "axis", cJSON_CreateDoubleArray(av, 3));
-    cJSON_AddNumberToObject(r, "angle", angle * 180.0 / PI);
-    cJSON_AddItemToObject(t, "scale", cJSON_CreateDoubleArray(s, 3));
+    cJSON *tr_j = cJSON_CreateDoubleArray(tv, 3), *axis_j = cJSON_CreateDoubleArray(av, 3),
+          *scale_j = cJSON_CreateDoubleArray(s, 3);
+    cJSON *r = t ? cJSON_AddObjectToObject(t, "rotate") : NULL;
+    if (!t || !r || !tr_j || !axis_j || !scale_j || !cJSON_AddNumberToObject(r, "angle", angle * 180.0 / PI)) {
+        cJSON_Delete(t); /* out of memory: not a transform brume cannot place */
+        cJSON_Delete(tr_j);
+        cJSON_Delete(axis_j);
+        cJSON_Delete(scale_j);
+        *oom = true;
+        return NULL;
+    }
+    cJSON_AddItemToObject(t, "translate", tr_j);
+    cJSON_AddItemToObject(r, "axis", axis_j);
+    cJSON_AddItemToObject(t, "scale", scale_j);
     return t;
 }
 

@@ -81,15 +81,15 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     if (rs->max_depth < 1 || rs->max_depth > 100000)
         return err_set(BRUME_ERROR_RANGE, "%s: render.max_depth: %d outside [1, 100000]", source, rs->max_depth);
     if (!(rs->filter_width > 0.0 && rs->filter_width <= 16.0))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %g outside (0, 16]", source, rs->filter_width);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %.17g outside (0, 16]", source, rs->filter_width);
     if (rs->filter != BRUME_FILTER_BOX && rs->filter != BRUME_FILTER_GAUSSIAN)
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
     if (!(rs->fps > 0.0 && rs->fps <= 1e6))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %g outside (0, 1e6]", source, rs->fps);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %.17g outside (0, 1e6]", source, rs->fps);
     if (!(rs->time_budget >= 0.0 && rs->time_budget <= 1e9))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.time: %g outside [0, 1e9] seconds", source, rs->time_budget);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.time: %.17g outside [0, 1e9] seconds", source, rs->time_budget);
     if (!(rs->noise_target >= 0.0 && rs->noise_target <= 1.0))
-        return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %g outside [0, 1]", source, rs->noise_target);
+        return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %.17g outside [0, 1]", source, rs->noise_target);
     if (rs->device < -1 || rs->device >= 64)
         return err_set(BRUME_ERROR_RANGE, "%s: render.device: %d is not -1 (the CPU) or a GPU 0 .. 63", source, rs->device);
     if (!(rs->progress_interval <= 1e9))

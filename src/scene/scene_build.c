@@ -49,7 +49,7 @@ brume_status build_need(const char *fn, int n, ...)
 brume_status build_number(const char *fn, const char *arg, double v, double lo, double hi)
 {
     if (!(v >= lo && v <= hi))
-        return err_set(BRUME_ERROR_RANGE, "%s: %s: %g outside [%g, %g]", fn, arg, v, lo, hi);
+        return err_set(BRUME_ERROR_RANGE, "%s: %s: %.17g outside [%.17g, %.17g]", fn, arg, v, lo, hi);
     return BRUME_OK;
 }
 
@@ -80,7 +80,7 @@ brume_status build_color(const char *fn, const char *arg, const double *c, doubl
         return build_null(fn, arg);
     for (int i = 0; i < 3; i++)
         if (!(c[i] >= 0.0 && c[i] <= hi))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: %g outside [0, %g]", fn, arg, i, c[i], hi);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: %.17g outside [0, %.17g]", fn, arg, i, c[i], hi);
     *out = col_rgb(c[0], c[1], c[2]);
     return BRUME_OK;
 }
@@ -192,7 +192,7 @@ brume_status brume_scene_set_camera(brume_context *ctx, brume_scene *s, const br
     if (c->focus_distance != 0.0 && (st = build_number(fn, "focus_distance", c->focus_distance, 1e-9, 1e30)))
         return ctx_report(ctx, st);
     if (!isfinite(c->shutter_open) || !isfinite(c->shutter_close) || c->shutter_close < c->shutter_open)
-        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: shutter: need finite open <= close, got [%g, %g]", fn,
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: shutter: need finite open <= close, got [%.17g, %.17g]", fn,
                                        c->shutter_open, c->shutter_close));
     n.fov = c->fov;
     n.aperture_radius = c->aperture_radius;
@@ -236,7 +236,7 @@ brume_status brume_scene_set_camera_keys(brume_context *ctx, brume_scene *s, con
         k[i].aperture_radius = in->aperture_radius;
         k[i].focus_distance = in->focus_distance;
         if (!(in->fov >= 1e-3 && in->fov <= 179.0))
-            st = err_set(BRUME_ERROR_RANGE, "%s: keys[%d]: fov %g outside [0.001, 179]", fn, i, in->fov);
+            st = err_set(BRUME_ERROR_RANGE, "%s: keys[%d]: fov %.17g outside [0.001, 179]", fn, i, in->fov);
         else if (!(in->aperture_radius >= 0.0 && in->aperture_radius <= 1e30) ||
                  !(in->focus_distance > 0.0 && in->focus_distance <= 1e30))
             st = err_set(BRUME_ERROR_RANGE, "%s: keys[%d]: need aperture_radius >= 0 and focus_distance > 0", fn, i);

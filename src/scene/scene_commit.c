@@ -53,6 +53,29 @@ static brume_status commit_velocity(brume_scene *s, int m)
     return md->moved ? BRUME_OK : err_prefix("%s: media[%d].velocity", s->source, m);
 }
 
+/* The camera's rays start within aperture_radius of its position, every key's included:
+ * each coordinate of that stays within SURFACES_COORD_MAX, what ray tracing accepts. */
+static brume_status check_camera_reach(const brume_scene *s)
+{
+    const camera *c = &s->cam;
+    for (int i = -1; i < c->nkeys; i++) {
+        vec3 p = i < 0 ? c->position : c->keys[i].position;
+        double ap = i < 0 ? c->aperture_radius : c->keys[i].aperture_radius;
+        double reach = fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z))) + ap;
+        if (!(reach <= SURFACES_COORD_MAX)) {
+            char where[48] = "camera";
+            if (i >= 0)
+                snprintf(where, sizeof where, "camera.keyframes[%d]", i);
+            return err_set(BRUME_ERROR_RANGE,
+                           "%s: %s: position (%.17g, %.17g, %.17g) and aperture_radius (.pbrt: lensradius) %.17g "
+                           "put ray origins %.3g from the world's origin, beyond the %.17g ray tracing accepts "
+                           "(docs/scene-format.md#limits)",
+                           s->source, where, p.x, p.y, p.z, ap, reach, SURFACES_COORD_MAX);
+        }
+    }
+    return BRUME_OK;
+}
+
 brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
 {
     err_clear();
@@ -71,6 +94,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: camera.look_at: equals camera.position", s->source));
     c->time = s->time;
     camera_init(c, s->settings.width, s->settings.height);
+    if ((st = check_camera_reach(s)) != BRUME_OK)
+        return ctx_report(ctx, st);
     s->world_moves = world_moves(s); /* before voxelization turns moving blobs into grids */
     /* what commit generates counts against the scene's memory budget, after what reading took */
     budget_resume(s->max_memory, s->memory_used);

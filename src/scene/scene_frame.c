@@ -40,7 +40,7 @@ brume_status brume_scene_frame_camera_box(brume_context *ctx, brume_scene *scene
         st = build_number(fn, "margin", margin, 0.0, 0.9);
     for (int a = 0; st == BRUME_OK && a < 3; a++)
         if (!isfinite(box[a]) || !isfinite(box[a + 3]) || !(box[a] <= box[a + 3]))
-            st = err_set(BRUME_ERROR_RANGE, "%s: box: need finite lo <= hi on axis %d, got [%g, %g]", fn, a, box[a],
+            st = err_set(BRUME_ERROR_RANGE, "%s: box: need finite lo <= hi on axis %d, got [%.17g, %.17g]", fn, a, box[a],
                          box[a + 3]);
     if (st != BRUME_OK)
         return ctx_report(ctx, st);

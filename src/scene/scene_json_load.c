@@ -9,6 +9,7 @@
 #include "core/cancel.h"
 #include "core/context.h"
 #include "core/error.h"
+#include "core/regular_file.h"
 #include "io/grid_io.h"
 #include "io/grid_sequence.h"
 #include "io/json.h"
@@ -29,9 +30,13 @@
 static brume_status read_text_file(const char *path, char **out)
 {
     *out = NULL;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp = NULL; /* a regular file: a FIFO would block, /dev/zero never end */
+    if (io_open_regular(path, &fp) != BRUME_OK)
+        return err_status();
+    if (io_check_size(fp, path, "a scene file", SCENE_FILE_MAX_BYTES) != BRUME_OK) {
+        fclose(fp);
+        return err_status();
+    }
     char *buf = NULL;
     size_t len = 0, cap = 0;
     for (;;) {

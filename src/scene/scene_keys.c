@@ -167,7 +167,7 @@ brume_status keys_parse_camera(const cJSON *keys, jloc at, camera *c, bool focus
         ck->aperture_radius = ap;
         ck->focus_distance = focus_given || focus_keyed ? focus : v3_length(v3_sub(ck->look_at, ck->position));
         if (!(fov >= 1e-3 && fov <= 179.0))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: fov %g outside [0.001, 179]", at.file, at.path, i, fov);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: fov %.17g outside [0.001, 179]", at.file, at.path, i, fov);
         if (!(ap >= 0.0) || !(ck->focus_distance > 0.0))
             return err_set(BRUME_ERROR_RANGE, "%s: %s[%d]: need aperture_radius >= 0 and focus_distance > 0",
                            at.file, at.path, i);

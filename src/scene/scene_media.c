@@ -471,7 +471,7 @@ static brume_status generate(const char *fn, int i, const brume_blob_generator *
         blob_cloud_params p = {.count = g->count, .h_min = g->h[0], .h_max = g->h[1], .density = g->density,
                                .falloff = g->falloff, .seed = g->seed};
         if (!(g->h[0] >= 1e-9 && g->h[1] <= BIG && g->h[0] <= g->h[1]))
-            return err_set(BRUME_ERROR_RANGE, "%s: %s: need 1e-09 <= min <= max, got [%g, %g]", fn, a[1], g->h[0],
+            return err_set(BRUME_ERROR_RANGE, "%s: %s: need 1e-09 <= min <= max, got [%.17g, %.17g]", fn, a[1], g->h[0],
                            g->h[1]);
         if ((st = build_number(fn, a[3], g->falloff, 0.0, 100.0)))
             return st;
@@ -507,7 +507,7 @@ static brume_status generate(const char *fn, int i, const brume_blob_generator *
             (st = build_number(fn, b4, g->fire_h, 1e-9, BIG)))
             return st;
         if (!(g->band[0] >= 0.0 && g->band[1] <= 1.0 && g->band[0] <= g->band[1]))
-            return err_set(BRUME_ERROR_RANGE, "%s: gens[%d].band: need 0 <= min <= max <= 1, got [%g, %g]", fn, i,
+            return err_set(BRUME_ERROR_RANGE, "%s: gens[%d].band: need 0 <= min <= max <= 1, got [%.17g, %.17g]", fn, i,
                            g->band[0], g->band[1]);
         p.band_lo = g->band[0];
         p.band_hi = g->band[1] >= 1.0 ? 1.0 + 1e-9 : g->band[1];

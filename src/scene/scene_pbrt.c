@@ -11,8 +11,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "core/budget.h"
 #include "core/error.h"
+#include "core/regular_file.h"
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
@@ -43,6 +46,8 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     pbrt_next(L);
     if ((st = pbrt_read_params(L, ps))) return st;
+    S->objects++;
+    if ((st = pbrt_count_translation(S))) return st;
     if (strcmp(dir, "Camera") == 0)
         return pbrt_camera_directive(S, type, ps);
     if (strcmp(dir, "LightSource") == 0)
@@ -111,22 +116,30 @@ bool scene_pbrt_is_pbrt(const char *path)
     return dot && strcmp(dot, ".pbrt") == 0;
 }
 
-static brume_status read_all(const char *path, char **out)
+static brume_status read_all(const char *path, char **out, size_t *len)
 {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return err_set(BRUME_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    char *buf = malloc((size_t)PBRT_MAX_BYTES + 1);
-    size_t n = buf ? fread(buf, 1, (size_t)PBRT_MAX_BYTES + 1, f) : 0;
+    FILE *f = NULL;
+    if (io_open_regular(path, &f) != BRUME_OK)
+        return err_status();
+    if (io_check_size(f, path, "a pbrt scene", PBRT_MAX_BYTES) != BRUME_OK) {
+        fclose(f);
+        return err_status();
+    }
+    struct stat sb;
+    size_t size = fstat(fileno(f), &sb) == 0 ? (size_t)sb.st_size : 0;
+    char *buf = malloc(size + 1);
+    /* one byte more than the size: a file that grew since is refused, not cut */
+    size_t n = buf ? fread(buf, 1, size + 1, f) : 0;
     int bad = ferror(f);
     fclose(f);
     if (!buf)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    if (bad || n > (size_t)PBRT_MAX_BYTES) {
+    if (bad || n > size) {
         free(buf);
-        return err_set(bad ? BRUME_ERROR_IO : BRUME_ERROR_RANGE, "%s: %s", path, bad ? "read error" : "larger than 64 MiB");
+        return err_set(BRUME_ERROR_IO, "%s: %s", path, bad ? "read error" : "changed while it was read");
     }
+    *len = n;
     buf[n] = '\0';
     if (strlen(buf) != n) {
         free(buf);
@@ -182,7 +195,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
 {
     *json = NULL;
     char *text = NULL;
-    if (read_all(path, &text) != BRUME_OK)
+    size_t text_bytes = 0;
+    if (read_all(path, &text, &text_bytes) != BRUME_OK)
         return err_status();
     pbrt_state *S = calloc(1, sizeof *S);
     params *ps = calloc(1, sizeof *ps);
@@ -194,6 +208,7 @@ brume_status scene_pbrt_json(const char *path, char **json)
     }
     S->L = (lexer){path, text, 1, TOK_END, "", 1, 1};
     S->path = path;
+    S->text_bytes = text_bytes;
     char tmp[PATH_MAX];
     pbrt_copy(tmp, sizeof tmp, path);
     char *slash = strrchr(tmp, '/');

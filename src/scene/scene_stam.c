@@ -20,7 +20,7 @@ static brume_status parse_pair(const cJSON *j, jloc at, const char *key, double 
         return err_set(BRUME_ERROR_PARSE, "%s: %s.%s: expected [min, max]", at.file, at.path, key);
     double x = a->valuedouble, y = b->valuedouble;
     if (!(x >= lo && y <= hi && x <= y))
-        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: need %g <= min <= max <= %g, got [%g, %g]", at.file, at.path,
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.%s: need %.17g <= min <= max <= %.17g, got [%.17g, %.17g]", at.file, at.path,
                        key, lo, hi, x, y);
     out[0] = x;
     out[1] = y;

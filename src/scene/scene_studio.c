@@ -247,7 +247,7 @@ brume_status scene_studio_json(const char *path, const brume_studio_options *opt
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: studio up axis %d: BRUME_AXIS_Y or BRUME_AXIS_Z", path,
                        (int)o.up);
     if (!(o.optical_depth >= 0.0 && o.optical_depth <= 1e6))
-        return err_set(BRUME_ERROR_RANGE, "%s: studio optical depth %g outside [0, 1e6]", path, o.optical_depth);
+        return err_set(BRUME_ERROR_RANGE, "%s: studio optical depth %.17g outside [0, 1e6]", path, o.optical_depth);
     double depth = o.optical_depth > 0.0 ? o.optical_depth : STUDIO_OPTICAL_DEPTH;
     vec3 up = o.up == BRUME_AXIS_Z ? v3(0, 0, 1) : v3(0, 1, 0);
 

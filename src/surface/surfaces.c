@@ -347,6 +347,17 @@ long surfaces_triangle_count(const surfaces *s)
     return n;
 }
 
+/* Embree asserts (aborts the process) on a ray whose origin or direction has a coordinate
+ * beyond its FLT_LARGE, 1.844e18: the camera is kept within SURFACES_COORD_MAX at commit
+ * (scene.c), and a ray that starts farther out (scattered in a medium whose bounds reach
+ * beyond it) is not given to Embree and meets no surface: a float origin there is off by
+ * 1e11 units anyway. */
+static bool embree_accepts(vec3 o, vec3 d)
+{
+    return fabs(o.x) <= SURFACES_COORD_MAX && fabs(o.y) <= SURFACES_COORD_MAX && fabs(o.z) <= SURFACES_COORD_MAX &&
+           fabs(d.x) <= SURFACES_COORD_MAX && fabs(d.y) <= SURFACES_COORD_MAX && fabs(d.z) <= SURFACES_COORD_MAX;
+}
+
 static void embree_ray(struct RTCRay *rr, vec3 o, vec3 d, double tmin, double tmax, double time)
 {
     rr->org_x = (float)o.x;
@@ -368,6 +379,8 @@ bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tma
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
+    if (!embree_accepts(r.o, r.d))
+        return false;
     double u = shutter_time(s, r.time);
     embree_ray(&rh.ray, r.o, r.d, tmin, tmax, u);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -412,6 +425,8 @@ bool surfaces_embree_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, do
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay rr;
+    if (!embree_accepts(o, d))
+        return false;
     embree_ray(&rr, o, d, tmin, tmax, shutter_time(s, time));
     rtc.rtcOccluded1(s->scene, &ctx, &rr);
     return rr.tfar < 0.0f;

@@ -25,6 +25,11 @@
 
 typedef struct surfaces surfaces;
 
+/* The largest coordinate of a ray origin or direction the queries trace: Embree aborts the
+ * process on a ray beyond its FLT_LARGE (1.844e18), so the camera's rays stay within this
+ * (checked at commit) and a ray starting farther out meets no surface. */
+#define SURFACES_COORD_MAX 1e18
+
 /* NULL when out of memory or Embree cannot start (err_set says which). */
 surfaces *surfaces_new(void);
 void surfaces_release(surfaces *s);

@@ -154,7 +154,8 @@ static inline bool sphere_hit(const surface_object *o, double u, ray r, double t
 }
 
 /* Embree's queries (surfaces.c, host only): what surfaces_intersect and surfaces_occluded
- * use on the CPU when no hierarchy of brume's own was built. */
+ * use on the CPU when no hierarchy of brume's own was built. A ray whose origin has a
+ * coordinate beyond SURFACES_COORD_MAX meets no surface there (Embree accepts up to 1.844e18). */
 bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h);
 bool surfaces_embree_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tmax, double time);
 

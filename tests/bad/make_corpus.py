@@ -582,6 +582,29 @@ cli('stam_random_field_over_max_work', 1, r'stam-compare\.json: stam: stam\.latt
     'render {D}/../../scenes/stam-compare.json -o {T}/o.png --quiet --width 8 --height 8 --spp 1 --set stam.lattice=64 --set render.max_work=1e6')
 cli('checkpoint_is_a_device', 1, r'--checkpoint: /dev/null: not a regular file', 'render ' + S + ' --checkpoint /dev/null')
 
+# ---- extreme but finite numbers: refused in one line with the limit exact (tests/test_hostile_numbers.c) ----
+scene('camera_aperture_beyond_ray_tracing', 1, r'camera: position \(0, 0, 4\) and aperture_radius .* 1e\+30 put ray origins .* beyond the 1e\+18',
+      setp(['camera', 'aperture_radius'], 1e30))
+scene('camera_position_beyond_ray_tracing', 1, r'camera: position \(2e\+18, 0, 4\) .* beyond the 1e\+18',
+      setp(['camera', 'position'], [2e18, 0, 4]))
+scene('camera_key_aperture_beyond_ray_tracing', 1, r'camera\.keyframes\[1\]: .* beyond the 1e\+18',
+      setp(['camera', 'keyframes'], [{'time': 0, 'aperture_radius': 0}, {'time': 1, 'aperture_radius': 5e18}]))
+scene('render_spp_one_over', 1, r'render\.spp: 16777217 outside \[1, 16777216\]', setp(['render', 'spp'], 16777217))
+scene('chromatic_channels_beyond_tracking', 1, r'media\[0\]: sigma_t from .* across the colour channels',
+      lambda s: (dens({'type': 'constant', 'value': 1, 'bounds': [[-1, -1, -1], [1, 1, 1]]})(s),
+                 med('sigma_a', [1e12, 1e-3, 1e-3])(s), med('sigma_s', [1e12, 1, 1])(s)))
+scene('chromatic_clear_channel_beyond_tracking', 1, r'media\[0\]: sigma_t from 0 to 300000 across the colour channels',
+      lambda s: (dens({'type': 'constant', 'value': 1, 'bounds': [[-1, -1, -1], [1, 1, 1]]})(s),
+                 med('sigma_a', 0)(s), med('sigma_s', [3e5, 3e5, 0])(s)))
+scene('fractal_wind_times_time_beyond_lattice', 1, r'fractal: at time 1000000 s the noise reaches lattice coordinate .* beyond 1e9',
+      dens({'type': 'fractal_cloud', 'dims': [4, 4, 4], 'turbulence': 0.5, 'wind': [1e6, 0, 0], 'time': 1e6}))
+write('scenes/pbrt_lensradius_beyond_ray_tracing.pbrt',
+      'LookAt 0 0 4  0 0 0  0 1 0\nCamera "perspective" "float fov" [40] "float lensradius" [1e30]\n'
+      'Film "rgb" "integer xresolution" [8] "integer yresolution" [8]\nWorldBegin\n'
+      'LightSource "distant" "point3 from" [0 1 0] "point3 to" [0 0 0]\nShape "sphere" "float radius" [1]\n')
+case('scene', 'pbrt_lensradius_beyond_ray_tracing', 1, r'pbrt_lensradius_beyond_ray_tracing\.pbrt: camera: .*lensradius.* beyond the 1e\+18',
+     'render {D}/scenes/pbrt_lensradius_beyond_ray_tracing.pbrt ' + RENDER)
+
 with open(os.path.join(HERE, 'cases.txt'), 'w') as f:
     f.write('# cases.txt - the bad-input corpus, written by make_corpus.py (edit that, then rerun it).\n')
     f.write('# GROUP|NAME|EXIT|ARGS|PATTERN; run by run_bad.c (see its header).\n')
