@@ -117,9 +117,20 @@ const char *figures_caption(const char *name, const char **scene)
     return NULL;
 }
 
-/* Quick mode: small images, one sample, few light rays, few realizations. */
-#define QUICK_WIDTH 64
+/* Quick mode: one sample, few light rays, few realizations, at a size still worth looking
+ * at: QUICK_WIDTH wide, or the scene's own width when it is narrower. */
+#define QUICK_WIDTH 256
 #define QUICK_LIGHT_RAYS "20000"
+
+/* rs at the quick size and one sample. */
+static void quick_settings(brume_render_settings *rs)
+{
+    if (rs->width > QUICK_WIDTH) {
+        rs->height = rs->height * QUICK_WIDTH / rs->width > 0 ? rs->height * QUICK_WIDTH / rs->width : 1;
+        rs->width = QUICK_WIDTH;
+    }
+    rs->spp = 1;
+}
 
 static double now(void)
 {
@@ -134,7 +145,7 @@ typedef struct fig_run {
     char extra[2048]; /* more text for the index (Figure 7's table) */
 } fig_run;
 
-/* Renders a scene file into path; quick: QUICK_WIDTH wide, one sample, few light rays. */
+/* Renders a scene file into path; quick: quick_settings, few light rays. */
 static int run_render(const char *scenes, const figure *f, const char *path, bool quick, fig_run *r)
 {
     char scene[PATH_MAX];
@@ -152,9 +163,7 @@ static int run_render(const char *scenes, const figure *f, const char *path, boo
     brume_scene_settings(s, &rs);
     char size[160] = "";
     if (quick) {
-        rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
-        rs.width = QUICK_WIDTH;
-        rs.spp = 1;
+        quick_settings(&rs);
         snprintf(size, sizeof size, " --width %d --height %d --spp 1%s", rs.width, rs.height,
                  blasi ? " --set blasi.light_rays=" QUICK_LIGHT_RAYS : "");
     }
@@ -303,11 +312,8 @@ static int render_variant(brume_context *ctx, const char *scene, const figure *f
                   brume_method_name(rs.method));
         return -1;
     }
-    if (quick) {
-        rs.height = rs.height * QUICK_WIDTH / rs.width > 0 ? rs.height * QUICK_WIDTH / rs.width : 1;
-        rs.width = QUICK_WIDTH;
-        rs.spp = 1;
-    }
+    if (quick)
+        quick_settings(&rs);
     if (k == 2) {
         rs.method = BRUME_METHOD_PATH;
         rs.spp = quick ? 2 : COMPARE_SPP;
@@ -598,8 +604,8 @@ typedef struct figures_opts {
 static const cli_flag figures_flags[] = {
     {"--output", "-o", "DIR", "the folder of the figures and their index (required)", NULL, CLI_FLAG_STRING, OFF(dir),
      0, 0, NULL},
-    {"--quick", NULL, NULL, "small images (64 pixels wide, 1 sample, 20000 light rays, fewer\n"
-     "realizations): every file in seconds, for tests", NULL, CLI_FLAG_TRUE, OFF(quick), 0, 0, NULL},
+    {"--quick", NULL, NULL, "quick images (256 pixels wide, or the scene's width if narrower;\n"
+     "1 sample, 20000 light rays, fewer realizations), for tests", NULL, CLI_FLAG_TRUE, OFF(quick), 0, 0, NULL},
     {"--only", NULL, "NAME", "one figure (its file only, no index); NAME as in the index", NULL, CLI_FLAG_STRING,
      OFF(only), 0, 0, NULL},
     {"--scenes", NULL, "DIR", "the paper scenes (default: ./scenes if present, else the source tree's)", NULL,

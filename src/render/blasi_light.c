@@ -104,6 +104,17 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
     return sb;
 }
 
+/* A voxel of the piece that holds density, where a deposit may land (the piece's first
+ * medium's voxel may be empty where another medium's is not); the piece holds one: its
+ * coefficients are not all 0. */
+static inline size_t piece_occupied(const blasi_state *st, const piece *pc)
+{
+    int i = 0;
+    while (i < pc->n - 1 && st->rho[pc->v[i]] == 0.0f)
+        i++;
+    return pc->v[i];
+}
+
 /* exp(-x) per channel, once when the channels are equal (a grey medium), and by
  * voxel_exp's series for 0 <= x < 1/16, where most of a light ray's decays are (a
  * chromatic medium's may be negative: exp). */
@@ -236,9 +247,13 @@ static bool intercept(const blasi_state *st, const piece *pc, double sb, color k
     int pick = 0;
     if (pc->n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
         double x = rng_next(g) * sb;
-        for (pick = 0; pick < pc->n - 1; pick++) {
+        int nonzero = 0; /* the last medium that can scatter here: where rounding in x leaves it */
+        for (int i = 0; i < pc->n; i++)
+            if (st->m[pc->m[i]].sigma_bar * (double)st->rho[pc->v[i]] > 0.0)
+                nonzero = i;
+        for (pick = 0; pick < nonzero; pick++) {
             double wi = st->m[pc->m[pick]].sigma_bar * (double)st->rho[pc->v[pick]];
-            if (x < wi)
+            if (x < wi && wi > 0.0)
                 break;
             x -= wi;
         }
@@ -403,7 +418,7 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
         if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
             continue; /* empty voxel */
         *have_last = true;
-        *last = pc.v[0];
+        *last = piece_occupied(st, &pc);
         if (flight_cross(f, sb, kx, dl, *w, w_stop))
             return FLIGHT_STOPPED;
     }
