@@ -16,6 +16,7 @@
 #include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
+#include "cli_job.h"
 #include "tool/tool.h"
 
 /* OUT must be .vdb or .nvdb: 0, or 2 with a message. */
@@ -27,6 +28,18 @@ static int check_output(const char *out)
         return 2;
     }
     return 0;
+}
+
+/* 1 when name holds a frame pattern, 0 when none, -1 with a message when a malformed one. */
+static int pattern_kind(const char *name)
+{
+    bool pattern = false;
+    brume_context *ctx = brume_context_new();
+    brume_status st = ctx ? brume_sequence_pattern(ctx, name, &pattern) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    return st != BRUME_OK ? -1 : pattern ? 1 : 0;
 }
 
 static bool parse_int(const char *s, long lo, long hi, long *out)
@@ -132,10 +145,10 @@ static int fire_check(fire_opts *o)
     }
     if (check_output(o->out))
         return 2;
-    int kind = tool_seq_is_pattern(o->out);
+    int kind = pattern_kind(o->out);
     if (kind < 0 || (kind == 1) != o->frames) {
         if (kind < 0)
-            cli_error("%.1000s", tool_last_error());
+            return 2;
         else
             cli_error(o->frames ? "-o %s: --frames needs a frame pattern in the name (fire_%%04d.nvdb, fire_####.nvdb)"
                                 : "-o %s: a frame pattern needs --frames A-B",
@@ -178,7 +191,7 @@ int gen_fire(int argc, char **argv)
     for (long f = o.first; f <= o.last; f++) {
         char name[4096];
         if (o.frames)
-            tool_seq_name(o.out, f, name, sizeof name);
+            (void)brume_sequence_name(NULL, o.out, f, name, sizeof name); /* a pattern, checked above */
         else
             snprintf(name, sizeof name, "%s", o.out);
         tool_gen_result res;
@@ -246,6 +259,8 @@ int gen_upres(int argc, char **argv)
     }
     if (check_output(o.out))
         return 2;
+    if (cli_check_output("-o", o.out, BRUME_FILE_GRID, NULL, NULL, &in, 1) != 0)
+        return 1;
     tool_gen_result res;
     if (tool_gen_upres(in, &o.grid, o.factor, (uint64_t)o.seed, o.detail, o.out, &res) != BRUME_OK) {
         cli_error("%.1000s", tool_last_error());

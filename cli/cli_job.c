@@ -202,17 +202,30 @@ void cli_job_callback(brume_progress_fn *fn, void **user)
     *user = &g_job;
 }
 
-int cli_check_output(const char *flag, const char *path, const char *scene_path, const brume_scene *scene)
+int cli_check_output(const char *flag, const char *path, brume_file_kind kind, const char *scene_path,
+                     const brume_scene *scene, const char *const *others, int nothers)
 {
-    brume_status st = tool_output_check(flag, path, scene_path, scene);
-    if (st == BRUME_OK && strcmp(flag, "--checkpoint") == 0 && tool_checkpoint_target_check(path) != BRUME_OK) {
-        cli_error("%s: %s", flag, tool_last_error());
+    const char *files[80];
+    int n = 0;
+    files[n++] = scene_path;
+    for (int i = 0; i < nothers && n < (int)(sizeof files / sizeof files[0]); i++)
+        files[n++] = others[i];
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("out of memory");
         return 1;
     }
-    if (st == BRUME_OK)
-        return 0;
-    cli_error("%s", tool_last_error());
-    return 1;
+    int rc = 0;
+    if (scene_path && brume_output_check(ctx, flag, path, BRUME_FILE_ANY, NULL, &scene_path, 1) != BRUME_OK &&
+        strstr(brume_context_last_error(ctx), "another file of this command")) {
+        cli_error("%s: %s: is the scene file: brume does not write over its inputs", flag, path);
+        rc = 1;
+    } else if (brume_output_check(ctx, flag, path, kind, scene, files, n) != BRUME_OK) {
+        cli_error("%s", brume_context_last_error(ctx));
+        rc = 1;
+    }
+    brume_context_release(ctx);
+    return rc;
 }
 
 uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nsets, const char *const *sets,
@@ -242,7 +255,7 @@ uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nse
             FOLD(sets[i], strlen(sets[i]) + 1)
     FOLD(&frame, sizeof frame)
 #undef FOLD
-    return tool_checkpoint_inputs_key(scene, h);
+    return brume_scene_inputs_key(scene, h);
 }
 
 /* Releases a job that failed: the live view stops showing it first (its server thread reads
@@ -302,7 +315,8 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
         } else {
             /* finished: the image is the result. Removed only when the file there is this
              * render's checkpoint (its header says so): never a file brume did not write */
-            tool_checkpoint_remove_own(job, o->scene_key, o->checkpoint);
+            bool removed;
+            (void)brume_render_job_remove_checkpoint(ctx, job, o->scene_key, o->checkpoint, &removed);
         }
     }
     if ((st = brume_render_job_image(ctx, job, out)) != BRUME_OK)

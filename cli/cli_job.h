@@ -35,10 +35,13 @@ void cli_job_callback(brume_progress_fn *fn, void **user);
  * (--set KEY=VALUE) but the time budget and the thread count, and the frame. */
 uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nsets, const char *const *sets,
                        long frame);
-/* Before any work: brume writes path (named by flag) only when it is absent or a regular
- * file that is not the scene file nor, when scene is given, one of its inputs. 0, or 1 with
- * a message. */
-int cli_check_output(const char *flag, const char *path, const char *scene_path, const brume_scene *scene);
+/* Before any work: brume writes path (named by flag) as a file of kind only when
+ * brume_output_check allows it: absent, or a regular file holding nothing or that kind, which
+ * is not scene_path (may be NULL), not one of the scene's inputs (scene may be NULL) and not
+ * one of others[0..nothers-1] (the command's other inputs and outputs, NULL entries skipped).
+ * 0, or 1 with a message. */
+int cli_check_output(const char *flag, const char *path, brume_file_kind kind, const char *scene_path,
+                     const brume_scene *scene, const char *const *others, int nothers);
 
 typedef struct cli_job_opts {
     const char *checkpoint;  /* --checkpoint FILE, or NULL */

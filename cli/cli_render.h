@@ -66,6 +66,9 @@ typedef struct output_plan {
     const char *checkpoint, *video; /* or NULL */
     const char *scene_path;
     bool made; /* the folders exist */
+    bool denoise; /* a PNG or PFM output has its raw companion (render_raw_companion) */
+    const char *files[72]; /* the run's other inputs and outputs, none of which an output may be */
+    int nfiles, nbase;     /* files[nbase..] are -o (one image) and its raw companion */
 } output_plan;
 
 /* One run of the command: the processes, the files, and what is alive between frames. */
@@ -111,6 +114,14 @@ int render_pattern_kind(const char *p);
 void render_frame_path(const char *p, long f, char *out, size_t n);
 /* Before any work: --video names a file brume may write, and ffmpeg is there. 0 or 1/2. */
 int render_check_video(const char *video, const char *scene_path);
+/* The name of --denoise's raw image beside a PNG or PFM path (NAME-raw.EXT); false for an EXR,
+ * which keeps it as a layer. */
+bool render_raw_companion(const char *path, char *raw, size_t cap);
+/* The files the run names, none of which an output may be: --resume first (the one file
+ * --checkpoint may be), --checkpoint, --video, the light files, then -o (one image) and its
+ * raw companion. Each output is compared with all of them but itself (the images' frames with
+ * files[0..nbase)). */
+void render_plan_files(const render_opts *o, output_plan *p);
 /* ffmpeg assembles the PNG frames of pattern into video. 0, or 1 with a message. */
 int render_make_video(const char *pattern, long first, double fps, const char *video);
 /* Checks every output of the plan (make false: nothing is created) or makes their missing

@@ -104,7 +104,10 @@ int render_check_video(const char *video, const char *scene_path)
         cli_error("--video: ffmpeg not found in PATH (install Debian's ffmpeg: apt-get install ffmpeg)");
         return 1;
     }
-    return cli_check_output("--video", video, scene_path, NULL) || cli_prepare_folder("--video", video, false) ? 1 : 0;
+    return cli_check_output("--video", video, BRUME_FILE_ANY, scene_path, NULL, NULL, 0) ||
+                   cli_prepare_folder("--video", video, false)
+               ? 1
+               : 0;
 }
 
 /* ffmpeg -framerate FPS -start_number FIRST -i PATTERN ... VIDEO (H.264, yuv420p). ffmpeg's
@@ -158,6 +161,32 @@ int render_make_video(const char *pattern, long first, double fps, const char *v
     return 0;
 }
 
+bool render_raw_companion(const char *path, char *raw, size_t cap)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot || strcmp(dot, ".exr") == 0)
+        return false;
+    snprintf(raw, cap, "%.*s-raw%s", (int)(dot - path), path, dot);
+    return true;
+}
+
+void render_plan_files(const render_opts *o, output_plan *p)
+{
+    static char raw[4200];
+    p->nfiles = 0;
+    p->files[p->nfiles++] = o->resume; /* NULL entries are skipped */
+    p->files[p->nfiles++] = o->checkpoint;
+    p->files[p->nfiles++] = o->video;
+    for (int k = 0; k < o->nlight && p->nfiles < (int)(sizeof p->files / sizeof p->files[0]) - 2; k++)
+        p->files[p->nfiles++] = o->light_value[k];
+    p->nbase = p->nfiles;
+    if (o->kind != 1) {
+        p->files[p->nfiles++] = o->out_path;
+        if (o->denoise && render_raw_companion(o->out_path, raw, sizeof raw))
+            p->files[p->nfiles++] = raw;
+    }
+}
+
 /* Writes the render's image to path; with --denoise the denoised image (brume_denoise),
  * the raw one kept: in the EXR's layer "raw", else beside it as NAME-raw.EXT. */
 static brume_status write_image(brume_context *ctx, brume_image *image, const char *path,
@@ -169,11 +198,8 @@ static brume_status write_image(brume_context *ctx, brume_image *image, const ch
     brume_status st = brume_denoise(ctx, image, threads, &den);
     if (st != BRUME_OK)
         return st;
-    const char *dot = strrchr(path, '.');
-    bool exr = dot && strcmp(dot, ".exr") == 0;
-    if (!exr) {
-        char raw[4200];
-        snprintf(raw, sizeof raw, "%.*s-raw%s", (int)(dot - path), path, dot);
+    char raw[4200];
+    if (render_raw_companion(path, raw, sizeof raw)) {
         if ((st = brume_image_write(ctx, image, raw, wopts)) != BRUME_OK) {
             brume_image_release(den);
             return st;
@@ -199,7 +225,10 @@ int render_prepare_outputs(output_plan *p, bool make)
             render_frame_path(p->out_path, f, path, sizeof path);
         else
             snprintf(path, sizeof path, "%s", p->out_path);
-        if (!make && cli_check_output("-o", path, p->scene_path, NULL) != 0)
+        char raw[4200];
+        if (!make && (cli_check_output("-o", path, BRUME_FILE_IMAGE, p->scene_path, NULL, p->files, p->nbase) != 0 ||
+                      (p->denoise && render_raw_companion(path, raw, sizeof raw) &&
+                       cli_check_output("--denoise", raw, BRUME_FILE_IMAGE, p->scene_path, NULL, p->files, p->nbase))))
             return 1;
         const char *slash = strrchr(path, '/');
         size_t dl = slash ? (size_t)(slash - path) : 0;

@@ -10,18 +10,18 @@
 #include "args.h"
 #include "cli_flags.h"
 #include "brume.h"
+#include "cli_job.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_SEEDS 256
 
-static const char *const fig_names[IMAGE_NFIGS] = {"ratio", "rel_rmse", "signed_rel"};
+static const char *const fig_names[BRUME_NFIGS] = {"ratio", "rel_rmse", "signed_rel"};
 
-static void print_region(const char *name, const image_region_stats *st, int boot)
+static void print_region(const char *name, const brume_region_stats *st, int boot)
 {
     printf("%s pixels %ld tiles %ld\n", name, st->pixels, st->tiles);
-    for (int f = 0; f < IMAGE_NFIGS; f++) {
+    for (int f = 0; f < BRUME_NFIGS; f++) {
         if (boot > 0)
             printf("%s %s %.6g [%.6g, %.6g]\n", name, fig_names[f], st->fig[f], st->lo[f], st->hi[f]);
         else
@@ -36,6 +36,7 @@ typedef struct scene_run {
     const char *method;
     int spp, width, height, threads, seeds;
     uint64_t seed0;
+    const char *diff; /* -o, or NULL: never one of the scene's inputs */
 } scene_run;
 
 /* Renders the scene at seed; *out is new. */
@@ -46,6 +47,10 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
     brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL, 0};
     if (brume_scene_load(ctx, &(brume_source){.path = r->path}, &lo, &s) != BRUME_OK)
         return NULL;
+    if (r->diff && brume_output_check(ctx, "-o", r->diff, BRUME_FILE_IMAGE, s, NULL, 0) != BRUME_OK) {
+        brume_scene_release(s);
+        return NULL;
+    }
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.seed = seed;
@@ -172,14 +177,15 @@ static int check_compare(const compare_opts *o)
 
 /* IMAGE against REFERENCE: the whole-frame figures, then the frame's and the region's (rname
  * not NULL) with their intervals. 0, or 1 with a message. */
-static int compare_two(const compare_opts *o, const brume_image *img, const brume_image *ref,
+static int compare_two(brume_context *ctx, const compare_opts *o, const brume_image *img, const brume_image *ref,
                        const unsigned char *mask, const char *rname)
 {
-    image_diff_stats st;
-    image_region_stats fr, rg;
-    if (image_compare(img, ref, &st) != BRUME_OK || image_compare_region(img, ref, NULL, o->boot, 1, &fr) != BRUME_OK ||
-        (rname && image_compare_region(img, ref, mask, o->boot, 1, &rg) != BRUME_OK)) {
-        cli_error("%s: %.1000s", o->paths[0], tool_last_error());
+    brume_image_diff st;
+    brume_region_stats fr, rg;
+    if (brume_image_compare(ctx, img, ref, &st) != BRUME_OK ||
+        brume_image_compare_region(ctx, img, ref, NULL, o->boot, 1, &fr) != BRUME_OK ||
+        (rname && brume_image_compare_region(ctx, img, ref, mask, o->boot, 1, &rg) != BRUME_OK)) {
+        cli_error("%s: %.1000s", o->paths[0], brume_context_last_error(ctx));
         return 1;
     }
     printf("rmse %.6g\nrel_rmse %.6g\nmean_rel %.6g\nmax_rel %.6g\nmean %.6g\nmean_ref %.6g\n", st.rmse,
@@ -195,7 +201,7 @@ static int compare_two(const compare_opts *o, const brume_image *img, const brum
 static int compare_seeds(brume_context *ctx, const scene_run *sr, const brume_image *ref, const unsigned char *mask,
                          const char *rname, brume_image **img)
 {
-    double sum[2][IMAGE_NFIGS] = {{0}}, sum2[2][IMAGE_NFIGS] = {{0}};
+    double sum[2][BRUME_NFIGS] = {{0}}, sum2[2][BRUME_NFIGS] = {{0}};
     int nreg = rname ? 2 : 1;
     for (int k = 0; k < sr->seeds; k++) {
         uint64_t seed = sr->seed0 + (uint64_t)k;
@@ -205,13 +211,13 @@ static int compare_seeds(brume_context *ctx, const scene_run *sr, const brume_im
             return 1;
         }
         for (int g = 0; g < nreg; g++) {
-            image_region_stats st;
-            if (image_compare_region(*img, ref, g ? mask : NULL, 0, 1, &st) != BRUME_OK) {
-                cli_error("%s: %.1000s", sr->path, tool_last_error());
+            brume_region_stats st;
+            if (brume_image_compare_region(ctx, *img, ref, g ? mask : NULL, 0, 1, &st) != BRUME_OK) {
+                cli_error("%s: %.1000s", sr->path, brume_context_last_error(ctx));
                 return 1;
             }
             printf("seed %llu %s", (unsigned long long)seed, g ? rname : "frame");
-            for (int f = 0; f < IMAGE_NFIGS; f++) {
+            for (int f = 0; f < BRUME_NFIGS; f++) {
                 printf(" %s %.6g", fig_names[f], st.fig[f]);
                 sum[g][f] += st.fig[f];
                 sum2[g][f] += st.fig[f] * st.fig[f];
@@ -221,7 +227,7 @@ static int compare_seeds(brume_context *ctx, const scene_run *sr, const brume_im
     }
     double K = sr->seeds;
     for (int g = 0; g < nreg; g++)
-        for (int f = 0; f < IMAGE_NFIGS; f++) {
+        for (int f = 0; f < BRUME_NFIGS; f++) {
             double m = sum[g][f] / K, var = fmax(0.0, (sum2[g][f] - K * m * m) / (K - 1.0));
             printf("%s %s %.6g +- %.2g (%d seeds)\n", g ? rname : "frame", fig_names[f], m, sqrt(var / K), sr->seeds);
         }
@@ -236,9 +242,9 @@ static int write_diff(brume_context *ctx, const compare_opts *o, const brume_ima
     size_t n = strlen(o->diff);
     bool png = n >= 4 && strcmp(o->diff + n - 4, ".png") == 0;
     brume_image *pic = NULL;
-    if (png ? image_diff_png(img, ref, mask, o->scale, o->diff) != BRUME_OK
-            : image_diff_picture(img, ref, o->scale, &pic) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    if (png ? brume_image_diff_png(ctx, img, ref, mask, o->scale, o->diff) != BRUME_OK
+            : brume_image_diff_picture(ctx, img, ref, o->scale, &pic) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(ctx));
         return 1;
     }
     if (pic && brume_image_write(ctx, pic, o->diff, NULL) != BRUME_OK) {
@@ -260,6 +266,12 @@ int cmd_compare(int argc, char **argv)
         return rc;
     const scene_run *sr = &o.sr;
     const char *ref_path = sr->path ? o.paths[0] : o.paths[1], *mask_path = o.mask_path;
+    /* before any work: the picture is none of the inputs (nor, with --scene, the files the
+     * scene reads: checked as soon as it is loaded, render_seed) */
+    const char *inputs[3] = {sr->path ? NULL : o.paths[0], ref_path, mask_path};
+    if (o.diff && cli_check_output("-o", o.diff, BRUME_FILE_IMAGE, sr->path, NULL, inputs, 3) != 0)
+        return 1;
+    o.sr.diff = o.diff;
     brume_context *ctx = brume_context_new();
     brume_image *img = NULL, *ref = NULL, *mpic = NULL;
     unsigned char *mask = NULL;
@@ -271,10 +283,17 @@ int cmd_compare(int argc, char **argv)
         cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
         goto done;
     }
+    /* light is finite and >= 0: a NaN or a negative value would make every figure meaningless */
+    if ((img && brume_image_check_values(ctx, img, o.paths[0], false) != BRUME_OK) ||
+        brume_image_check_values(ctx, ref, ref_path, false) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(ctx));
+        goto done;
+    }
     const char *rname = o.alpha >= 0.0 || mask_path ? "region" : NULL;
-    if ((o.alpha >= 0.0 && image_mask_alpha(ref, o.alpha, &mask, &mcount) != BRUME_OK) ||
-        (mpic && image_mask_picture(mpic, brume_image_width(ref), brume_image_height(ref), &mask, &mcount) != BRUME_OK)) {
-        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, tool_last_error());
+    if ((o.alpha >= 0.0 && brume_image_mask_alpha(ctx, ref, o.alpha, &mask, &mcount) != BRUME_OK) ||
+        (mpic && brume_image_mask_picture(ctx, mpic, brume_image_width(ref), brume_image_height(ref), &mask, &mcount) !=
+                     BRUME_OK)) {
+        cli_error("%s: %.1000s", mask_path ? mask_path : ref_path, brume_context_last_error(ctx));
         goto done;
     }
     if (rname && mcount == 0) {
@@ -282,7 +301,7 @@ int cmd_compare(int argc, char **argv)
                   mask_path ? "no pixel brighter than 0.5" : "no pixel of the reference's alpha above --alpha");
         goto done;
     }
-    if (sr->path ? compare_seeds(ctx, sr, ref, mask, rname, &img) != 0 : compare_two(&o, img, ref, mask, rname) != 0)
+    if (sr->path ? compare_seeds(ctx, sr, ref, mask, rname, &img) != 0 : compare_two(ctx, &o, img, ref, mask, rname) != 0)
         goto done;
     if (o.diff && write_diff(ctx, &o, img, ref, mask) != 0)
         goto done;

@@ -7,6 +7,7 @@
 #include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
+#include "cli_job.h"
 #include "tool/tool.h"
 
 typedef struct convert_opts {
@@ -68,6 +69,10 @@ int cmd_convert(int argc, char **argv)
         cli_error("%s: unknown output format (use .raw, .df3, .vol, .nvdb, .vdb or --to)", out);
         return 2;
     }
+    /* before any work: never over the source (a converted grid over its source would drop
+     * its other grids), and only over a grid file */
+    if (cli_check_output("OUT", out, BRUME_FILE_GRID, NULL, NULL, &in, 1) != 0)
+        return 1;
     /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
     if (fin && strcmp(fin, "vdb") == 0 && strcmp(fout, "nvdb") == 0 && !placed(argc, argv)) {
         if (tool_grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {

@@ -63,7 +63,7 @@ int cmd_denoise(int argc, char **argv)
     if (bad)
         return bad;
     /* the output never replaces the input image, a device or a folder */
-    if (cli_check_output("-o", out, in, NULL) != 0 || cli_prepare_folder("-o", out, true) != 0)
+    if (cli_check_output("-o", out, BRUME_FILE_IMAGE, NULL, NULL, &in, 1) != 0 || cli_prepare_folder("-o", out, true) != 0)
         return 1;
     brume_context *ctx = brume_context_new();
     if (!ctx) {

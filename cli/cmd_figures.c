@@ -16,7 +16,6 @@
 #include "cli_flags.h"
 #include "commands.h"
 #include "figures_table.h"
-#include "tool/tool.h"
 
 #ifndef BRUME_SCENES_DIR
 #define BRUME_SCENES_DIR "scenes"
@@ -188,25 +187,25 @@ static int run_blasi7(const char *path, fig_run *r)
 {
     static const char *const names[3] = {"rayleigh", "hazy", "murky"};
     static const double given[3][3] = {{0.50, -0.46, 0.46}, {0.12, -0.50, 0.70}, {0.19, -0.65, 0.91}};
-    phase *ph[3][3] = {{0}};
+    brume_phase *ph[3][3] = {{0}};
+    brume_context *ctx = brume_context_new();
     static char titles[3][160];
     static const char *labels[3][3];
     static const bool dashed[3] = {false, true, true};
-    phase_plot_row rows[3];
+    brume_phase_plot_row rows[3];
     int rc = 1;
     size_t used = 0;
     used += (size_t)snprintf(r->extra, sizeof r->extra,
                              "| function | Figure 7: r, k, k' | its error | brume's fit: r, k, k' | its error |\n"
                              "| --- | --- | --- | --- | --- |\n");
     for (int i = 0; i < 3; i++) {
-        phase_fit_result fit;
-        ph[i][0] = tool_phase_named(names[i]);
-        if (!ph[i][0] || phase_fit_schlick_mix(ph[i][0], PHASE_FIT_NORM_ANGLE, &fit) != BRUME_OK)
+        brume_phase_fit fit;
+        if (!ctx || brume_phase_new_named(ctx, names[i], &ph[i][0]) != BRUME_OK ||
+            brume_phase_fit_schlick_mix(ctx, ph[i][0], BRUME_PHASE_FIT_ANGLE, &fit) != BRUME_OK)
             goto fail;
-        double e7 = phase_fit_error(ph[i][0], PHASE_FIT_NORM_ANGLE, given[i][0], given[i][1], given[i][2]);
-        ph[i][1] = tool_phase_schlick_mix(given[i][0], given[i][1], given[i][2]);
-        ph[i][2] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime);
-        if (!ph[i][1] || !ph[i][2])
+        double e7 = brume_phase_fit_error(ph[i][0], BRUME_PHASE_FIT_ANGLE, given[i][0], given[i][1], given[i][2]);
+        if (brume_phase_new_schlick_mix(ctx, given[i][0], given[i][1], given[i][2], &ph[i][1]) != BRUME_OK ||
+            brume_phase_new_schlick_mix(ctx, fit.r, fit.k, fit.kprime, &ph[i][2]) != BRUME_OK)
             goto fail;
         labels[i][0] = names[i];
         labels[i][1] = "Figure 7";
@@ -214,7 +213,7 @@ static int run_blasi7(const char *path, fig_run *r)
         snprintf(titles[i], sizeof titles[i], "%s: Figure 7 r %.2f k %.2f k' %.2f (error %.4f); ours r %.4f k %.4f "
                  "k' %.4f (error %.4f)", names[i], given[i][0], given[i][1], given[i][2], e7, fit.r, fit.k, fit.kprime,
                  fit.error);
-        rows[i] = (phase_plot_row){titles[i], NULL, NULL, 3, (const phase *const *)ph[i], labels[i], dashed};
+        rows[i] = (brume_phase_plot_row){titles[i], NULL, NULL, 3, (const brume_phase *const *)ph[i], labels[i], dashed};
         if (used < sizeof r->extra)
             used += (size_t)snprintf(r->extra + used, sizeof r->extra - used,
                                      "| %s | %.2f, %.2f, %.2f | %.5f | %.4f, %.4f, %.4f | %.5f |\n", names[i], given[i][0],
@@ -224,16 +223,17 @@ static int run_blasi7(const char *path, fig_run *r)
         snprintf(r->extra + used, sizeof r->extra - used,
                  "\nErrors: the relative L2 norm over the angle (`brume phase fit NAME --given r,k,kprime`, "
                  "docs/phase-functions.md).\n");
-    if (phase_plot_png(path, 3, rows, true) != BRUME_OK)
+    if (brume_phase_plot_png(ctx, path, 3, rows, true) != BRUME_OK)
         goto fail;
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: blasi-fig7: %s", tool_last_error());
+    cli_error("figures: blasi-fig7: %s", ctx ? brume_context_last_error(ctx) : "out of memory");
 done:
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
-            tool_phase_release(ph[i][k]);
+            brume_phase_release(ph[i][k]);
+    brume_context_release(ctx);
     return rc;
 }
 
@@ -241,50 +241,55 @@ static int run_phase(const figure *f, const char *path, fig_run *r)
 {
     char names[256];
     snprintf(names, sizeof names, "%s", f->arg);
-    phase *ph[8] = {0};
+    brume_phase *ph[8] = {0};
     const char *labels[8];
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("figures: %s: out of memory", f->name);
+        return 1;
+    }
     int n = 0, rc = 1;
-    phase_plot_row row = {0};
+    brume_phase_plot_row row = {0};
     static char title[1024];
     if (f->kind == FIG_PHASE_FIT) {
         char *sp = strchr(names, ' ');
         *sp = '\0';
         double g[3];
         sscanf(sp + 1, "%lf,%lf,%lf", &g[0], &g[1], &g[2]);
-        ph[0] = tool_phase_named(names);
-        ph[1] = tool_phase_schlick_mix(g[0], g[1], g[2]);
         n = 2;
-        if (!ph[0] || !ph[1])
+        if (brume_phase_new_named(ctx, names, &ph[0]) != BRUME_OK ||
+            brume_phase_new_schlick_mix(ctx, g[0], g[1], g[2], &ph[1]) != BRUME_OK)
             goto fail;
         snprintf(title, sizeof title, "%s: true (solid), Figure 7's Schlick mixture r %.2f, k %.2f, k' %.2f (dashed), "
-                 "error %.4f", names, g[0], g[1], g[2], phase_fit_error(ph[0], PHASE_FIT_NORM_ANGLE, g[0], g[1], g[2]));
-        row = (phase_plot_row){title, ph[0], ph[1], 0, NULL, NULL, NULL};
+                 "error %.4f", names, g[0], g[1], g[2], brume_phase_fit_error(ph[0], BRUME_PHASE_FIT_ANGLE, g[0], g[1], g[2]));
+        row = (brume_phase_plot_row){title, ph[0], ph[1], 0, NULL, NULL, NULL};
         snprintf(r->command, sizeof r->command, "brume phase plot %s --given %s%s -o %s.png", names, sp + 1,
                  strcmp(names, "rayleigh") == 0 ? "" : " --log", f->name);
-        if (phase_plot_png(path, 1, &row, strcmp(names, "rayleigh") != 0) != BRUME_OK)
+        if (brume_phase_plot_png(ctx, path, 1, &row, strcmp(names, "rayleigh") != 0) != BRUME_OK)
             goto fail;
     } else {
         for (char *tok = strtok(names, " "); tok && n < 8; tok = strtok(NULL, " ")) {
             labels[n] = tok;
-            if (!(ph[n++] = tool_phase_named(tok)))
+            if (brume_phase_new_named(ctx, tok, &ph[n++]) != BRUME_OK)
                 goto fail;
         }
         snprintf(title, sizeof title, "%s", f->caption);
         char *dot = strchr(title, ';'); /* the caption up to its first remark */
         if (dot)
             *dot = '\0';
-        row = (phase_plot_row){title, NULL, NULL, n, (const phase *const *)ph, labels, NULL};
+        row = (brume_phase_plot_row){title, NULL, NULL, n, (const brume_phase *const *)ph, labels, NULL};
         snprintf(r->command, sizeof r->command, "brume phase plot %s --overlay --log -o %s.png", f->arg, f->name);
-        if (phase_plot_png(path, 1, &row, true) != BRUME_OK)
+        if (brume_phase_plot_png(ctx, path, 1, &row, true) != BRUME_OK)
             goto fail;
     }
     rc = 0;
     goto done;
 fail:
-    cli_error("figures: %s: %s", f->name, tool_last_error());
+    cli_error("figures: %s: %s", f->name, brume_context_last_error(ctx));
 done:
     for (int i = 0; i < n; i++)
-        tool_phase_release(ph[i]);
+        brume_phase_release(ph[i]);
+    brume_context_release(ctx);
     return rc;
 }
 
@@ -358,27 +363,25 @@ static int run_compare(const char *scenes, const figure *f, const char *dir, boo
         if (st > 0)
             goto fail;
     }
-    if (!ctx || image_mask_alpha(img[2], 0.05, &mask, &count) != BRUME_OK)
-        goto fail_err;
+    if (!ctx || brume_image_mask_alpha(ctx, img[2], 0.05, &mask, &count) != BRUME_OK)
+        goto fail;
     for (int k = 0; k < 2; k++) {
-        image_region_stats st;
-        if (count == 0 || image_compare_region(img[k], img[2], mask, 0, 1, &st) != BRUME_OK)
+        brume_region_stats st;
+        if (count == 0 || brume_image_compare_region(ctx, img[k], img[2], mask, 0, 1, &st) != BRUME_OK)
             snprintf(caption[k], sizeof caption[k], "no cloud pixel in the truth");
         else
-            snprintf(caption[k], sizeof caption[k], "cloud: ratio %.3f, rel RMSE %.3f", st.fig[IMAGE_FIG_RATIO],
-                     st.fig[IMAGE_FIG_REL_RMSE]);
+            snprintf(caption[k], sizeof caption[k], "cloud: ratio %.3f, rel RMSE %.3f", st.fig[BRUME_FIG_RATIO],
+                     st.fig[BRUME_FIG_REL_RMSE]);
     }
     snprintf(caption[2], sizeof caption[2], "%d spp%s", quick ? 2 : COMPARE_SPP,
              blasi ? "" : ", explicit realization of Q");
-    if (sheet_png(path, f->title, 3, 1, (const brume_image *const *)img, cols, NULL, captions, NULL) != BRUME_OK)
-        goto fail_err;
+    if (brume_image_sheet_png(ctx, path, f->title, 3, 1, (const brume_image *const *)img, cols, NULL, captions, NULL) !=
+        BRUME_OK)
+        goto fail;
     snprintf(r->command, sizeof r->command, "brume figures --compare --only %s%s -o DIR", f->name,
              quick ? " --quick" : "");
     r->seconds = now() - t0;
     rc = 0;
-    goto done;
-fail_err:
-    cli_error("figures: %s: %s", f->name, tool_last_error());
     goto done;
 fail:
     cli_error("figures: %s: %s", f->name, ctx ? brume_context_last_error(ctx) : "out of memory");
@@ -399,17 +402,21 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
     double t0 = now();
     int rc = 1;
     double z = 0.0;
-    tool_clear_error();
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("figures: %s: out of memory", f->name);
+        return 1;
+    }
     switch (f->kind) {
     case FIG_RENDER: rc = run_render(scenes, f, path, quick, r); break;
     case FIG_PHASE_FIT:
     case FIG_OVERLAY: rc = run_phase(f, path, r); break;
     case FIG_BLASI7: rc = run_blasi7(path, r); break;
     case FIG_STAM1:
-        rc = stam_figure1_png(path, quick) == BRUME_OK ? 0 : 1;
+        rc = brume_stam_figure_png(ctx, 1, path, quick, NULL) == BRUME_OK ? 0 : 1;
         break;
     case FIG_STAM4:
-        rc = stam_figure4_png(path, quick, &z) == BRUME_OK ? 0 : 1;
+        rc = brume_stam_figure_png(ctx, 4, path, quick, &z) == BRUME_OK ? 0 : 1;
         if (rc == 0)
             snprintf(r->extra, sizeof r->extra,
                      "Largest distance between a sample variance and the closed form: %.2f standard errors of the "
@@ -418,7 +425,8 @@ static int run_figure(const char *scenes, const char *dir, const figure *f, bool
         break;
     }
     if (rc != 0 && (f->kind == FIG_STAM1 || f->kind == FIG_STAM4))
-        cli_error("figures: %s: %s", f->name, tool_last_error());
+        cli_error("figures: %s: %s", f->name, brume_context_last_error(ctx));
+    brume_context_release(ctx);
     r->seconds = now() - t0;
     return rc;
 }
@@ -475,20 +483,16 @@ static void html_table(FILE *fp, const char *md)
 
 static int write_indexes(const char *dir, const fig_run *runs, bool quick, double total)
 {
-    char path[PATH_MAX];
-    tool_file *md, *html;
-    snprintf(path, sizeof path, "%s/index.md", dir);
-    if (!(md = tool_file_open(path))) {
-        cli_error("figures: %s", tool_last_error());
+    char *text[2] = {NULL, NULL};
+    size_t size[2] = {0, 0};
+    FILE *m = open_memstream(&text[0], &size[0]), *h = open_memstream(&text[1], &size[1]);
+    if (!m || !h) {
+        if (m)
+            fclose(m);
+        free(text[0]);
+        cli_error("figures: out of memory");
         return 1;
     }
-    snprintf(path, sizeof path, "%s/index.html", dir);
-    if (!(html = tool_file_open(path))) {
-        tool_file_abort(md);
-        cli_error("figures: %s", tool_last_error());
-        return 1;
-    }
-    FILE *m = tool_file_stream(md), *h = tool_file_stream(html);
     fprintf(m, "# The figures of both papers%s\n\nMade by `brume figures -o DIR%s` (brume %s) in %.1f s. Each figure "
                "is followed by its caption, the command that makes it alone, and the time it took. The papers: "
                "Blasi, Le Saec and Schlick, *A Rendering Algorithm for Discrete Volume Density Objects* "
@@ -535,12 +539,22 @@ static int write_indexes(const char *dir, const fig_run *runs, bool quick, doubl
         fprintf(h, "</code> <span class=\"time\">(%.2f s)</span></p></figcaption></figure>\n", runs[i].seconds);
     }
     fputs("</body></html>\n", h);
-    brume_status a = tool_file_commit(md), b = tool_file_commit(html);
-    if (a != BRUME_OK || b != BRUME_OK) {
-        cli_error("figures: %s", tool_last_error());
-        return 1;
+    bool closed_m = fclose(m) == 0, closed_h = fclose(h) == 0, written = closed_m && closed_h;
+    int rc = 0;
+    brume_context *ctx = brume_context_new();
+    static const char *const names[2] = {"index.md", "index.html"};
+    for (int k = 0; k < 2 && rc == 0; k++) {
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        if (!written || !ctx || brume_file_write(ctx, path, BRUME_FILE_TEXT, text[k], size[k]) != BRUME_OK) {
+            cli_error("figures: %s", ctx && written ? brume_context_last_error(ctx) : "out of memory");
+            rc = 1;
+        }
     }
-    return 0;
+    brume_context_release(ctx);
+    free(text[0]);
+    free(text[1]);
+    return rc;
 }
 
 /* mkdir -p */

@@ -11,6 +11,7 @@
 #include "cli_gen_sparse.h"
 #include "cli_grid.h"
 #include "commands.h"
+#include "cli_job.h"
 #include "tool/tool.h"
 
 /* The command line of `gen cloud`: the generator's parameters, the output. */
@@ -152,6 +153,8 @@ static int gen_cloud(int argc, char **argv)
         }
     }
     p.filter = BRUME_GRID_NEAREST;
+    if (cli_check_output("-o", out, BRUME_FILE_GRID, NULL, NULL, NULL, 0) != 0)
+        return 1;
     density *d = tool_gen_cloud(&p);
     if (!d) {
         cli_error("gen: %.1000s", tool_last_error());

@@ -32,10 +32,13 @@ const cli_command cli_info_command = {
 static int info_sequence(const char *pattern, const brume_grid_file_options *o)
 {
     long first, last;
-    if (tool_seq_range(pattern, &first, &last) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    brume_context *ctx = brume_context_new();
+    brume_status st = ctx ? brume_sequence_range(ctx, pattern, &first, &last) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    if (st != BRUME_OK)
         return 1;
-    }
     printf("sequence:       %s\n", pattern);
     printf("frames:         files %ld to %ld (%ld files)\n", first, last, last - first + 1);
     double b[6], rho_max;
@@ -62,11 +65,14 @@ int cmd_info(int argc, char **argv)
         return 2;
     }
     brume_grid_file_options o = io.grid;
-    int pat = tool_seq_is_pattern(path);
-    if (pat < 0) {
-        cli_error("%.1000s", tool_last_error());
+    bool pat = false;
+    brume_context *ctx = brume_context_new();
+    brume_status st = ctx ? brume_sequence_pattern(ctx, path, &pat) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    if (st != BRUME_OK)
         return 1;
-    }
     if (pat)
         return info_sequence(path, &o);
     unsigned char head[16] = {0};

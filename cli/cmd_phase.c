@@ -6,9 +6,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brume.h"
 #include "cli_flags.h"
+#include "cli_job.h"
 #include "commands.h"
-#include "tool/tool.h"
+
+/* The context of the command's calls (cmd_phase makes it). */
+static brume_context *g_ctx;
 
 static int phase_usage_error(const char *what)
 {
@@ -17,7 +21,7 @@ static int phase_usage_error(const char *what)
 }
 
 /* "r,k,kprime" of Blasi Eq. 22, each in its domain. */
-static bool parse_given(const char *text, phase_fit_result *fit)
+static bool parse_given(const char *text, brume_phase_fit *fit)
 {
     char tail;
     return sscanf(text, "%lf,%lf,%lf%c", &fit->r, &fit->k, &fit->kprime, &tail) == 3 && fit->r >= 0.0 &&
@@ -29,13 +33,13 @@ typedef struct phase_opts {
     const char *out;
     bool log_scale, overlay;
     const char *given; /* r,k,kprime, or NULL */
-    phase_fit_norm norm;
+    brume_phase_fit_norm norm;
 } phase_opts;
 
 static bool flag_norm(void *opts, const cli_flag *f, const char *v)
 {
     (void)f;
-    if (!phase_fit_norm_from_name(v, &((phase_opts *)opts)->norm)) {
+    if (brume_phase_fit_norm_from_name(g_ctx, v, &((phase_opts *)opts)->norm) != BRUME_OK) {
         phase_usage_error("--norm needs angle, cos or log");
         return false;
     }
@@ -87,7 +91,7 @@ static int parse_phase(const cli_command *c, phase_opts *o, int argc, char **arg
 {
     int rc = cli_flags_parse(c, o, argc, argv, names, max, n);
     if (rc < 0 && o->given) {
-        phase_fit_result fit;
+        brume_phase_fit fit;
         if (!parse_given(o->given, &fit)) {
             cli_error("%s: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", c->name,
                       o->given);
@@ -99,7 +103,7 @@ static int parse_phase(const cli_command *c, phase_opts *o, int argc, char **arg
 
 static int phase_fit_cmd(int argc, char **argv)
 {
-    phase_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    phase_opts o = {.norm = BRUME_PHASE_FIT_ANGLE};
     const char **names = malloc((size_t)argc * sizeof *names);
     int n = 0, rc = names ? parse_phase(&cli_phase_fit_command, &o, argc, argv, names, argc, &n) : 2;
     const char *name = n > 0 ? names[0] : NULL;
@@ -110,29 +114,29 @@ static int phase_fit_cmd(int argc, char **argv)
         return phase_usage_error("fit takes one NAME");
     if (!name)
         return phase_usage_error("fit needs a NAME");
-    phase_fit_norm norm = o.norm;
+    brume_phase_fit_norm norm = o.norm;
     const char *given = o.given;
-    phase *p = tool_phase_named(name);
-    if (!p) {
-        cli_error("%.1000s", tool_last_error());
+    brume_phase *p = NULL;
+    if (brume_phase_new_named(g_ctx, name, &p) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(g_ctx));
         return 1;
     }
-    phase_fit_result fit;
+    brume_phase_fit fit;
     brume_status st = BRUME_OK;
     if (given) {
         /* Blasi Eq. 22's parameters as given (e.g. Figure 7's table), scored, not fitted */
         if (!parse_given(given, &fit)) {
-            tool_phase_release(p);
+            brume_phase_release(p);
             cli_error("phase fit: --given: expected r,k,kprime with r in [0, 1] and |k|, |kprime| < 1, got '%s'", given);
             return 2;
         }
-        fit.error = phase_fit_error(p, norm, fit.r, fit.k, fit.kprime);
+        fit.error = brume_phase_fit_error(p, norm, fit.r, fit.k, fit.kprime);
     } else {
-        st = phase_fit_schlick_mix(p, norm, &fit);
+        st = brume_phase_fit_schlick_mix(g_ctx, p, norm, &fit);
     }
-    tool_phase_release(p);
+    brume_phase_release(p);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+        cli_error("%.1000s", brume_context_last_error(g_ctx));
         return 1;
     }
     printf("r %.4f\nk %.4f\nkprime %.4f\nerror %.6g\n", fit.r, fit.k, fit.kprime, fit.error);
@@ -144,14 +148,14 @@ static int plot_names(const phase_opts *o, const char *const *names, int n)
 {
     const char *out = o->out;
     bool log_scale = o->log_scale, overlay = o->overlay, have_given = o->given != NULL;
-    phase_fit_result given = {0};
+    brume_phase_fit given = {0};
     if (have_given)
         parse_given(o->given, &given);
-    phase_fit_norm norm = o->norm;
+    brume_phase_fit_norm norm = o->norm;
 
     /* rows borrow the phases that truth[] and approx[] own. */
-    phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
-    phase **truth = calloc((size_t)n, sizeof *truth), **approx = calloc((size_t)n, sizeof *approx);
+    brume_phase_plot_row *rows = calloc((size_t)n, sizeof *rows);
+    brume_phase **truth = calloc((size_t)n, sizeof *truth), **approx = calloc((size_t)n, sizeof *approx);
     char(*titles)[256] = calloc((size_t)n, sizeof *titles);
     const char **labels = calloc((size_t)n, sizeof *labels);
     int status = 1, m = 0;
@@ -160,22 +164,23 @@ static int plot_names(const phase_opts *o, const char *const *names, int n)
         goto done;
     }
     for (int i = 0; i < n; i++) {
-        phase_fit_result fit = given;
-        truth[m] = tool_phase_named(names[i]);
+        brume_phase_fit fit = given;
+        bool made = brume_phase_new_named(g_ctx, names[i], &truth[m]) == BRUME_OK;
         labels[m] = names[i];
         if (overlay) {
-            if (!truth[m]) {
-                cli_error("%.1000s", tool_last_error());
+            if (!made) {
+                cli_error("%.1000s", brume_context_last_error(g_ctx));
                 m++;
                 goto done;
             }
             m++;
             continue;
         }
-        if (!truth[m] || (have_given ? (fit.error = phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
-                                     : phase_fit_schlick_mix(truth[m], norm, &fit) != BRUME_OK) ||
-            !(approx[m] = tool_phase_schlick_mix(fit.r, fit.k, fit.kprime))) {
-            cli_error("%.1000s", tool_last_error());
+        if (!made ||
+            (have_given ? (fit.error = brume_phase_fit_error(truth[m], norm, fit.r, fit.k, fit.kprime), 0)
+                        : brume_phase_fit_schlick_mix(g_ctx, truth[m], norm, &fit) != BRUME_OK) ||
+            brume_phase_new_schlick_mix(g_ctx, fit.r, fit.k, fit.kprime, &approx[m]) != BRUME_OK) {
+            cli_error("%.1000s", brume_context_last_error(g_ctx));
             m++;
             goto done;
         }
@@ -190,17 +195,17 @@ static int plot_names(const phase_opts *o, const char *const *names, int n)
     if (overlay) {
         /* one row: every function on the same axes */
         snprintf(titles[0], sizeof titles[0], "%d phase functions, phi(theta) (the integral of phi over cos is 2)", m);
-        rows[0] = (phase_plot_row){titles[0], NULL, NULL, m, (const phase *const *)truth, labels, NULL};
+        rows[0] = (brume_phase_plot_row){titles[0], NULL, NULL, m, (const brume_phase *const *)truth, labels, NULL};
     }
-    if (phase_plot_png(out, overlay ? 1 : m, rows, log_scale) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    if (brume_phase_plot_png(g_ctx, out, overlay ? 1 : m, rows, log_scale) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(g_ctx));
         goto done;
     }
     status = 0;
 done:
     for (int i = 0; i < m; i++) {
-        tool_phase_release(truth[i]);
-        tool_phase_release(approx[i]);
+        brume_phase_release(truth[i]);
+        brume_phase_release(approx[i]);
     }
     free(labels);
     free(rows);
@@ -212,13 +217,15 @@ done:
 
 static int phase_plot_cmd(int argc, char **argv)
 {
-    phase_opts o = {.norm = PHASE_FIT_NORM_ANGLE};
+    phase_opts o = {.norm = BRUME_PHASE_FIT_ANGLE};
     const char **names = malloc((size_t)argc * sizeof *names);
     int n = 0, rc = names ? parse_phase(&cli_phase_plot_command, &o, argc, argv, names, argc, &n) : 2;
     if (rc < 0 && n == 0)
         rc = phase_usage_error("plot needs at least one NAME");
     if (rc < 0 && !o.out)
         rc = phase_usage_error("plot needs -o FILE.png");
+    if (rc < 0 && cli_check_output("-o", o.out, BRUME_FILE_IMAGE, NULL, NULL, names, n) != 0)
+        rc = 1; /* never over a table it reads */
     if (rc < 0)
         rc = plot_names(&o, names, n);
     free(names);
@@ -233,10 +240,17 @@ int cmd_phase(int argc, char **argv)
         char *help[] = {"help", "phase", NULL};
         return cli_help(2, help);
     }
-    if (strcmp(argv[1], "fit") == 0)
-        return phase_fit_cmd(argc - 1, argv + 1);
-    if (strcmp(argv[1], "plot") == 0)
-        return phase_plot_cmd(argc - 1, argv + 1);
+    bool fit = strcmp(argv[1], "fit") == 0, plot = strcmp(argv[1], "plot") == 0;
+    if (fit || plot) {
+        if (!(g_ctx = brume_context_new())) {
+            cli_error("out of memory");
+            return 1;
+        }
+        int rc = fit ? phase_fit_cmd(argc - 1, argv + 1) : phase_plot_cmd(argc - 1, argv + 1);
+        brume_context_release(g_ctx);
+        g_ctx = NULL;
+        return rc;
+    }
     cli_error("phase: unknown subcommand %s (try: brume phase help)", argv[1]);
     return 2;
 }

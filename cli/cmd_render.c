@@ -90,15 +90,21 @@ static int check_processes(render_run *r)
      * are made once the first scene has been read and checked (prepare_outputs), so that a bad
      * scene leaves none behind */
     r->plan = (output_plan){o->out_path, o->kind, o->sequence, o->first, o->nframes, o->nshards, o->shard,
-                            o->checkpoint, o->video, o->scene_path, false};
+                            o->checkpoint, o->video, o->scene_path, false, o->denoise, {NULL}, 0, 0};
     if (!r->root)
         return 0;
+    render_plan_files(o, &r->plan);
     if (render_prepare_outputs(&r->plan, false) != 0)
         return 1;
+    output_plan *p = &r->plan;
     for (int k = 0; k < o->nlight; k++)
-        if (o->light_key[k][6] == 's' && cli_check_output("--save-light", o->light_value[k], o->scene_path, NULL) != 0)
+        /* what the file holds is blasi_prepare's to check, after the scene's inputs */
+        if (o->light_key[k][6] == 's' && cli_check_output("--save-light", o->light_value[k], BRUME_FILE_ANY,
+                                                          o->scene_path, NULL, p->files, p->nfiles) != 0)
             return 1;
-    if (o->checkpoint && (cli_check_output("--checkpoint", o->checkpoint, o->scene_path, NULL) != 0 ||
+    /* the checkpoint may be the file the render resumes from: the files but that one */
+    if (o->checkpoint && (cli_check_output("--checkpoint", o->checkpoint, BRUME_FILE_CHECKPOINT, o->scene_path, NULL,
+                                           p->files + 1, p->nfiles - 1) != 0 ||
                           cli_prepare_folder("--checkpoint", o->checkpoint, false) != 0))
         return 1;
     if (o->resume && access(o->resume, R_OK) != 0) {
@@ -209,6 +215,23 @@ static void read_next(render_run *r, long k)
     cli_read_ahead_start(&r->ra, r->scene, o->first + j, &r->ahead_why);
 }
 
+/* On rank 0, once frame path's scene is loaded: its inputs are known now, and none of them may
+ * be written over (the image, its raw companion, the checkpoint); the scene is good, so the
+ * output folders are made. 0, or 1 with a message. */
+static int check_frame_outputs(render_run *r, const char *path)
+{
+    const render_opts *o = r->o;
+    const output_plan *p = &r->plan;
+    char raw[4200];
+    if (cli_check_output("-o", path, BRUME_FILE_IMAGE, o->scene_path, r->scene, p->files, p->nbase) != 0 ||
+        (o->denoise && render_raw_companion(path, raw, sizeof raw) &&
+         cli_check_output("--denoise", raw, BRUME_FILE_IMAGE, o->scene_path, r->scene, p->files, p->nbase) != 0) ||
+        (o->checkpoint && cli_check_output("--checkpoint", o->checkpoint, BRUME_FILE_CHECKPOINT, o->scene_path,
+                                           r->scene, p->files + 1, p->nfiles - 1) != 0))
+        return 1;
+    return !r->plan.made && render_prepare_outputs(&r->plan, true) != 0 ? 1 : 0;
+}
+
 /* Loads frame f (or moves the camera of the scene it shares with the frame before), then
  * renders it here: the whole image, or this rank's tiles gathered on rank 0. 0; -1 when
  * the frame went to rank 0 (nothing more to do here); or the exit status with a message. */
@@ -231,11 +254,7 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
             return render_failed(r);
         if (!o->sequence || !o->scene_path || brume_scene_world_is_static(r->scene))
             r->ahead = NULL; /* no grids of its own per frame: nothing to say */
-        /* the scene's inputs are known now: none of them may be written over; the scene is
-         * good, so the output folders are made */
-        if (r->root && (cli_check_output("-o", path, o->scene_path, r->scene) != 0 ||
-                        (o->checkpoint && cli_check_output("--checkpoint", o->checkpoint, o->scene_path, r->scene) != 0) ||
-                        (!r->plan.made && render_prepare_outputs(&r->plan, true) != 0)))
+        if (r->root && check_frame_outputs(r, path) != 0)
             return 1;
     }
     read_next(r, k);

@@ -5,13 +5,13 @@
 #include <string.h>
 
 #include "args.h"
+#include "brume.h"
 #include "cli_flags.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 /* The command line: the slab, the phase function and the walk. */
 typedef struct slab_opts {
-    tool_slab_params p;
+    brume_slab_params p;
     const char *phase_name;
     double g, k;
     bool have_g, have_k;
@@ -58,35 +58,37 @@ const cli_command cli_slab_command = {
     "renderer's own random walk. Prints `Rd VALUE STDERR` and `Tt VALUE STDERR`.\n",
     slab_flags, CLI_NFLAGS(slab_flags), NULL, NULL};
 
-/* The phase function the flags name: its own, or NULL with a message (*rc the exit status). */
-static phase *slab_phase(const slab_opts *o, int *rc)
+/* The phase function the flags name, then the slab: 0 with *r, else the exit status with a
+ * message. */
+static int run_slab(const slab_opts *o, brume_slab_params *p, brume_slab_result *r)
 {
-    *rc = 2;
-    phase *ph = NULL;
-    if (strcmp(o->phase_name, "hg") == 0) {
-        if (!o->have_g) {
-            cli_error("slab: --phase hg needs --g");
-            return NULL;
-        }
-        ph = tool_phase_hg(o->g);
-    } else if (strcmp(o->phase_name, "schlick") == 0) {
-        if (!o->have_g && !o->have_k) {
-            cli_error("slab: --phase schlick needs --k (or --g)");
-            return NULL;
-        }
-        ph = tool_phase_schlick(o->have_k ? o->k : tool_schlick_k_from_g(o->g));
-    } else {
-        if (o->have_g || o->have_k) {
-            cli_error("slab: --g and --k apply to hg and schlick only, not '%s'", o->phase_name);
-            return NULL;
-        }
-        ph = tool_phase_named(o->phase_name);
+    const char *phase_name = o->phase_name;
+    bool hg = strcmp(phase_name, "hg") == 0, schlick = strcmp(phase_name, "schlick") == 0;
+    if ((hg && !o->have_g) || (schlick && !o->have_g && !o->have_k)) {
+        cli_error(hg ? "slab: --phase hg needs --g" : "slab: --phase schlick needs --k (or --g)");
+        return 2;
     }
-    if (!ph) {
-        cli_error("slab: --phase: %.1000s", tool_last_error());
-        *rc = 1;
+    if (!hg && !schlick && (o->have_g || o->have_k)) {
+        cli_error("slab: --g and --k apply to hg and schlick only, not '%s'", phase_name);
+        return 2;
     }
-    return ph;
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("out of memory");
+        return 1;
+    }
+    brume_phase *ph = NULL;
+    brume_status st = hg        ? brume_phase_new_hg(ctx, o->g, &ph)
+                      : schlick ? brume_phase_new_schlick(ctx, o->have_k ? o->k : brume_schlick_k_from_g(o->g), &ph)
+                                : brume_phase_new_named(ctx, phase_name, &ph);
+    if (st != BRUME_OK)
+        cli_error("slab: --phase: %.1000s", brume_context_last_error(ctx));
+    p->phase = ph;
+    if (st == BRUME_OK && (st = brume_slab_run(ctx, p, r)) != BRUME_OK)
+        cli_error("%.1000s", brume_context_last_error(ctx));
+    brume_phase_release(ph);
+    brume_context_release(ctx);
+    return st == BRUME_OK ? 0 : 1;
 }
 
 int cmd_slab(int argc, char **argv)
@@ -96,7 +98,7 @@ int cmd_slab(int argc, char **argv)
     int n = 0, rc = cli_flags_parse(&cli_slab_command, &o, argc, argv, NULL, 0, &n);
     if (rc >= 0)
         return rc;
-    tool_slab_params p = o.p;
+    brume_slab_params p = o.p;
     if (o.max_depth)
         p.max_depth = o.max_depth;
     if (p.albedo < 0.0 || p.tau < 0.0 || !o.phase_name) {
@@ -107,17 +109,9 @@ int cmd_slab(int argc, char **argv)
         cli_error("slab: give --g or --k, not both");
         return 2;
     }
-    phase *ph = slab_phase(&o, &rc);
-    if (!ph)
+    brume_slab_result r;
+    if ((rc = run_slab(&o, &p, &r)) != 0)
         return rc;
-    p.ph = ph;
-    tool_slab_result r;
-    brume_status st = tool_slab_run(&p, &r);
-    tool_phase_release(ph);
-    if (st != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
-        return 1;
-    }
     printf("Rd %.6f %.6f\n", r.Rd, r.Rd_stderr);
     printf("Tt %.6f %.6f\n", r.Tt, r.Tt_stderr);
     return 0;

@@ -9,8 +9,8 @@
 #include "args.h"
 #include "cli_flags.h"
 #include "brume.h"
+#include "cli_job.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 #define MAX_SETS 32
 #define MAX_VALUES 16
@@ -180,6 +180,11 @@ static brume_status render_cell(brume_context *ctx, const sweep_opts *o, int c, 
     brume_status st = brume_scene_load(ctx, &(brume_source){.path = o->scene}, &lo, &s);
     if (st != BRUME_OK)
         return st;
+    /* the sheet is none of the files the scene read (its sky image, its grids) */
+    if ((st = brume_output_check(ctx, "-o", o->out, BRUME_FILE_IMAGE, s, NULL, 0)) != BRUME_OK) {
+        brume_scene_release(s);
+        return st;
+    }
     brume_scene_settings(s, &rs);
     if (o->width)
         rs.width = o->width;
@@ -211,6 +216,8 @@ int cmd_sweep(int argc, char **argv)
         return rc;
     if ((rc = plan_sweep(&o)) != 0)
         return rc;
+    if (cli_check_output("-o", o.out, BRUME_FILE_IMAGE, o.scene, NULL, NULL, 0) != 0)
+        return 1;
     int ncols = o.ncols, nrows = o.nrows;
     const sweep_key *kc = &keys[o.swept[0]], *kr = o.nswept == 2 ? &keys[o.swept[1]] : NULL;
     static char col_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2], row_text[MAX_VALUES][TEXT_MAX + TEXT_MAX + 2];
@@ -240,9 +247,9 @@ int cmd_sweep(int argc, char **argv)
                     kr ? ", " : "", kr ? row_labels[r] : "");
         }
     brume_write_options wo = {o.exposure, BRUME_TONEMAP_CLAMP};
-    if (sheet_png(o.out, o.title ? o.title : o.scene, ncols, nrows, (const brume_image *const *)cells, col_labels,
-                  kr ? row_labels : NULL, NULL, &wo) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    if (brume_image_sheet_png(ctx, o.out, o.title ? o.title : o.scene, ncols, nrows, (const brume_image *const *)cells,
+                              col_labels, kr ? row_labels : NULL, NULL, &wo) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(ctx));
         goto done;
     }
     rc = 0;

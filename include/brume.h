@@ -684,6 +684,78 @@ brume_status brume_phase_load(brume_context *ctx, const char *path, brume_phase 
 brume_status brume_phase_new_mixture(brume_context *ctx, const double *weights, brume_phase *const *lobes, int n,
                                      brume_phase **out);
 void brume_phase_release(brume_phase *phase);
+/* By name, as `brume phase` and `brume slab --phase` take it: "isotropic", "rayleigh",
+ * "hazy", "murky", "hg:G", "schlick:K", or else the path of a tabulated file (brume_phase_load). */
+brume_status brume_phase_new_named(brume_context *ctx, const char *name, brume_phase **out);
+/* Schlick's k for Henyey-Greenstein's g (Blasi et al. 1993): k = 1.55 g - 0.55 g^3, clamped to
+ * |k| <= 0.999999; 0 for a NaN. */
+double brume_schlick_k_from_g(double g);
+
+/* Fitting Blasi's two-lobe Schlick mixture (Eq. 22) to any phase function: phi(t) =
+ * r phi_k(t) + (1 - r) phi_k'(t), r in [0, 1], |k|, |k'| < 1, reported with k <= k' (k the
+ * backward or less forward lobe, r its weight, as in the paper's Figure 7). The error norms
+ * (docs/phase-functions.md) compare phi = 4 pi p of the model and of the target; each is
+ * relative (no unit): 0.01 is a 1 % root-mean-square difference. */
+typedef enum brume_phase_fit_norm {
+    BRUME_PHASE_FIT_COS,   /* "cos": sqrt(int (phi_fit - phi)^2 dt / int phi^2 dt), t = cos in [-1, 1] */
+    BRUME_PHASE_FIT_ANGLE, /* "angle": the same over theta in [0, pi] (weights back and side
+                              scattering more); the default */
+    BRUME_PHASE_FIT_LOG    /* "log": sqrt(int (ln phi_fit - ln phi)^2 dt / 2); a target without zeros */
+} brume_phase_fit_norm;
+typedef struct brume_phase_fit {
+    double r, k, kprime; /* Blasi Eq. 22, k <= kprime */
+    double error;        /* the norm at (r, k, kprime) */
+} brume_phase_fit;
+/* "cos", "angle", "log" (BRUME_ERROR_INVALID_ARGUMENT for any other name). */
+brume_status brume_phase_fit_norm_from_name(brume_context *ctx, const char *name, brume_phase_fit_norm *out);
+const char *brume_phase_fit_norm_name(brume_phase_fit_norm norm); /* "?" for a value not in the enum */
+/* The error of the mixture (r, k, kprime) against target in norm, by composite Gauss-Legendre
+ * quadrature over the angle; NAN for parameters outside Eq. 22's domain or a NULL target. */
+double brume_phase_fit_error(const brume_phase *target, brume_phase_fit_norm norm, double r, double k, double kprime);
+/* The mixture that minimizes brume_phase_fit_error: a grid search over the domain, then
+ * Nelder-Mead from the best points. Deterministic. The log norm refuses a target that is 0
+ * somewhere. */
+brume_status brume_phase_fit_schlick_mix(brume_context *ctx, const brume_phase *target, brume_phase_fit_norm norm,
+                                         brume_phase_fit *out);
+
+/* Polar and cartesian plots of phase functions (Blasi's Figures 2 to 6), one row per function:
+ * the polar plot of phi(theta) on the left (light arrives from the left), phi against the angle
+ * in degrees on the right; the function solid, an approximation dashed; or an overlay of
+ * ncurves > 0 functions on the same axes, each in its colour, named in a legend. Every pointer
+ * is borrowed. */
+typedef struct brume_phase_plot_row {
+    const char *title;                 /* printed above the row */
+    const brume_phase *truth;          /* drawn solid */
+    const brume_phase *approx;         /* drawn dashed, or NULL */
+    int ncurves;                       /* an overlay instead, when > 0 (at most 16) */
+    const brume_phase *const *curves;
+    const char *const *labels;         /* NULL entries: no legend line */
+    const bool *dashed;                /* may be NULL */
+} brume_phase_plot_row;
+/* An 8-bit RGB PNG of n in [1, 64] rows at path (a BRUME_FILE_IMAGE, brume_output_check). The
+ * polar panel is linear, phi / max phi; log_scale plots log10(phi) on the cartesian one. */
+brume_status brume_phase_plot_png(brume_context *ctx, const char *path, int n, const brume_phase_plot_row *rows,
+                                  bool log_scale);
+
+/* Total diffuse reflectance and transmittance of a homogeneous plane-parallel slab (index 1
+ * both sides) lit by a collimated beam at normal incidence, estimated by the renderer's own
+ * walk (`brume slab`, docs/validation.md); deterministic for a seed and a sample count,
+ * whatever the thread count. */
+typedef struct brume_slab_params {
+    double albedo;            /* in [0, 1] */
+    double tau;               /* optical thickness (sigma_t = 1 per unit length), > 0; 0 = semi-infinite */
+    const brume_phase *phase; /* borrowed */
+    uint64_t samples;         /* photons, >= 1 */
+    uint64_t seed;
+    int threads;              /* 0 = one per core */
+    int max_depth;            /* scattering events counted, >= 1 (1 = single scattering) */
+} brume_slab_params;
+typedef struct brume_slab_result {
+    double Rd, Rd_stderr; /* total diffuse reflectance (fraction of the beam's power) and its standard error */
+    double Tt, Tt_stderr; /* total transmittance, with the unscattered part exp(-tau) */
+} brume_slab_result;
+brume_status brume_slab_run(brume_context *ctx, const brume_slab_params *params, brume_slab_result *out);
+
 
 /* A participating medium: sigma_t(x) = (sigma_a + sigma_s) rho(x) per world unit. At most 16. */
 typedef struct brume_medium {
@@ -949,6 +1021,14 @@ brume_status brume_image_set_attribute(brume_context *ctx, brume_image *image, c
 /* The value of an attribute, or NULL. Owned by the image. */
 const char *brume_image_attribute(const brume_image *image, const char *key);
 
+/* Whether an image holds light: every R, G, B and alpha value, and with `layers` every layer's,
+ * finite and >= 0, but the "normal" layer's, a signed unit vector, finite only. Otherwise
+ * BRUME_ERROR_RANGE, one line naming `name` (a file, say; NULL: "image"), the layer, the pixel
+ * and the channel. brume_image_compare and its kin check their images this way, and
+ * brume_scene_set_background_image its environment map; brume_denoise checks every layer so,
+ * but takes signed R, G, B (finite: its filter is linear in them). */
+brume_status brume_image_check_values(brume_context *ctx, const brume_image *image, const char *name, bool layers);
+
 /* DENOISING (docs/denoise.md). Filters a rendered image with an edge-avoiding a-trous
  * filter (Dammertz et al. 2010) whose colour weights are normalised by the per-pixel
  * variance (Rousselle et al. 2012), guided by the "albedo", "normal" and "depth" layers
@@ -956,8 +1036,9 @@ const char *brume_image_attribute(const brume_image *image, const char *key);
  * *out is a new image owned by the caller: RGB denoised, alpha and every layer as in `in`,
  * the unfiltered RGB in a layer "raw", and the attribute "brume.denoised" set; an image
  * that has them already is refused. threads: 0 = one per core; the result does not depend
- * on it. A denoised image is biased (docs/denoise.md measures by how much): never a
- * validation result. */
+ * on it. A NaN or an infinity anywhere, or a negative value in a layer but "normal", is
+ * BRUME_ERROR_RANGE naming the layer and the pixel. A denoised image is biased
+ * (docs/denoise.md measures by how much): never a validation result. */
 brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out);
 
 typedef enum brume_tonemap {
@@ -986,6 +1067,143 @@ brume_status brume_image_read(brume_context *ctx, const char *path, brume_image 
  * buffer of *size bytes that the caller frees with free(). */
 brume_status brume_image_encode_png(brume_context *ctx, const brume_image *image, const brume_write_options *opts,
                                     unsigned char **data, size_t *size);
+
+/* ---- frame sequences of grid files (docs/grids.md, "Sequences") ---------------------------- */
+
+/* A file name with a frame pattern (smoke_%04d.vdb, smoke_####.vdb, smoke_$F4.vdb) names one
+ * file per frame. *is_pattern: whether the name's last component holds one pattern; a
+ * malformed one, or more than one, is BRUME_ERROR_INVALID_ARGUMENT. */
+brume_status brume_sequence_pattern(brume_context *ctx, const char *name, bool *is_pattern);
+/* The file of number n: the pattern's name with n in its place, zero-padded to its width, in
+ * out[cap] (BRUME_ERROR_INVALID_ARGUMENT when it does not fit or name holds no pattern). */
+brume_status brume_sequence_name(brume_context *ctx, const char *pattern, long n, char *out, size_t cap);
+/* The smallest and largest number of the files present; a gap, or no file, is an error naming
+ * the first missing number and its file. */
+brume_status brume_sequence_range(brume_context *ctx, const char *pattern, long *first, long *last);
+
+/* Stam (1994)'s plots that are not renderings, as PNG at path (a BRUME_FILE_IMAGE): figure 1,
+ * a random blob along a line through its centre (mean, mean +- sigma, a realization, with and
+ * without clamping); figure 4, Var T_i against the distance d_i of a ray from the blob's
+ * centre for several eta, closed form (lines) against the sample variance over explicit
+ * realizations (points; 120 when quick, else 1200), *max_z (may be NULL) receiving the largest
+ * |sample - closed form| in standard errors of the sample variance. docs/stam.md explains
+ * both. One figure at a time: a second call waits for the first. */
+brume_status brume_stam_figure_png(brume_context *ctx, int figure, const char *path, bool quick, double *max_z);
+
+/* ---- outputs: written whole, never over what they must not replace ---------------------- */
+
+/* What a file brume writes holds. A file of one kind replaces only a file of the same kind, or
+ * an empty one: an image replaces an image, a checkpoint a brume checkpoint, a light file a
+ * brume light file (each known by its first bytes). */
+typedef enum brume_file_kind {
+    BRUME_FILE_ANY,        /* no check of what the target holds */
+    BRUME_FILE_IMAGE,      /* EXR, PNG, PFM */
+    BRUME_FILE_CHECKPOINT, /* brume_render_job_save's */
+    BRUME_FILE_LIGHT,      /* Blasi's light pass (blasi.save_light) */
+    BRUME_FILE_GRID,       /* .vol, NanoVDB, OpenVDB; .raw and .df3 (no magic number) by name */
+    BRUME_FILE_TEXT        /* Markdown, HTML, JSON: no NUL byte in its first 512 bytes */
+} brume_file_kind;
+
+/* Before any work: whether brume may write path as a file of kind (`what` names it in the
+ * message: "-o", "--checkpoint"). It may when path is absent, or a regular file that is not the
+ * scene's file nor one the scene read (scene may be NULL), not one of
+ * others[0..nothers-1] (the caller's other inputs and outputs; NULL entries skipped; compared
+ * as files: the same device and inode, or for names not yet written the same name in the same
+ * folder), and that holds nothing or content of kind. Else BRUME_ERROR_INVALID_ARGUMENT, one
+ * line naming path and what it is.
+ * Every writer of the library (brume_image_write, brume_render_job_save, a render's
+ * blasi.save_light, brume_file_write and the writers below) checks the kind again when it
+ * opens the file, and writes a temporary file beside path that it renames over path once
+ * whole: a full disk, a quota or a read-only folder end in one line (BRUME_ERROR_IO) with path
+ * as it was and no temporary file left. */
+brume_status brume_output_check(brume_context *ctx, const char *what, const char *path, brume_file_kind kind,
+                                const brume_scene *scene, const char *const *others, int nothers);
+/* Writes size bytes of data to path that way, as a file of kind. */
+brume_status brume_file_write(brume_context *ctx, const char *path, brume_file_kind kind, const void *data,
+                              size_t size);
+
+/* A key for brume_render_job_save and _resume that changes when any file scene was read from
+ * changes: h with the bytes of each folded in (FNV-1a 64), in the order they were read. */
+uint64_t brume_scene_inputs_key(const brume_scene *scene, uint64_t h);
+/* Removes path when, and only when, it is a regular file whose header says it is a checkpoint
+ * of this job (this build of brume, scene_key, the job's settings): *removed says whether it
+ * did. A file brume did not write is never removed. */
+brume_status brume_render_job_remove_checkpoint(brume_context *ctx, const brume_render_job *job, uint64_t scene_key,
+                                                const char *path, bool *removed);
+
+/* ---- comparing images (docs/validation.md, "Comparing images"; `brume compare`) -------- */
+
+/* How far an image is from a reference over the whole frame: the figures brume's docs report.
+ * Only R, G, B are compared; both images must be the same size and hold finite values >= 0 in
+ * R, G, B and alpha (BRUME_ERROR_RANGE naming the image, pixel and channel otherwise). Values
+ * are the images' linear radiance; the relative figures have no unit. */
+typedef struct brume_image_diff {
+    double rmse;      /* sqrt(mean over pixels and channels of (image - ref)^2) */
+    double rel_rmse;  /* rmse / mean(ref) */
+    double mean_ref, mean_img;
+    double mean_rel;  /* mean over pixels with ref luminance > floor of |image - ref| / ref (luminance) */
+    double max_rel;   /* the largest such relative difference */
+    double floor;     /* luminance floor: 1 % of the mean reference luminance */
+    long pixels;
+} brume_image_diff;
+brume_status brume_image_compare(brume_context *ctx, const brume_image *image, const brume_image *ref,
+                                 brume_image_diff *out);
+
+/* The figures over a region R of pixels; means are over R's pixels and the channels R, G, B.
+ *   ratio      = mean(image) / mean(ref)                 (1: unbiased on average)
+ *   rel_rmse   = sqrt(mean (image - ref)^2) / mean(ref)  (bias and noise of both images)
+ *   signed_rel = mean over R's pixels whose reference luminance exceeds `floor` of
+ *                (lum image - lum ref) / lum ref         (< 0: darker than the reference)
+ * floor is 1 % of the mean reference luminance over R. Each figure comes with a 95 % interval
+ * [lo, hi] from a block bootstrap: R is cut into 8 x 8-pixel tiles, drawn with replacement
+ * `boot` times from `seed` (the interval is a function of the images and the seed), and lo,
+ * hi are the 2.5 and 97.5 percentiles of the figure over the draws. */
+enum { BRUME_FIG_RATIO, BRUME_FIG_REL_RMSE, BRUME_FIG_SIGNED_REL, BRUME_NFIGS };
+typedef struct brume_region_stats {
+    long pixels;               /* pixels in R */
+    long tiles;                /* 8 x 8 tiles holding at least one pixel of R */
+    double mean_img, mean_ref; /* over R, channels R, G, B */
+    double floor;              /* luminance floor of signed_rel */
+    double fig[BRUME_NFIGS];   /* ratio, rel_rmse, signed_rel */
+    double lo[BRUME_NFIGS], hi[BRUME_NFIGS]; /* the 95 % bootstrap interval of each; = fig when boot is 0 */
+} brume_region_stats;
+/* mask: width * height bytes, non-zero for pixels in R (rows top first), or NULL for the whole
+ * frame. boot: bootstrap draws in [0, 100000]. An empty region, a reference whose mean over R
+ * is 0 or a size mismatch is BRUME_ERROR_INVALID_ARGUMENT. */
+brume_status brume_image_compare_region(brume_context *ctx, const brume_image *image, const brume_image *ref,
+                                        const unsigned char *mask, int boot, uint64_t seed, brume_region_stats *out);
+/* A mask (width * height bytes, the caller frees it with free()) of the pixels where ref's alpha
+ * exceeds threshold; *count: the pixels in it. */
+brume_status brume_image_mask_alpha(brume_context *ctx, const brume_image *ref, double threshold,
+                                    unsigned char **mask, long *count);
+/* A mask from a picture: the pixels whose luminance exceeds 0.5 (white in a black-and-white
+ * PNG); its size must be width x height. */
+brume_status brume_image_mask_picture(brume_context *ctx, const brume_image *picture, int width, int height,
+                                      unsigned char **mask, long *count);
+/* The signed colour map of difference pictures, sRGB in [0, 1]: relative difference r against
+ * scale s > 0. White at 0, through light to dark blue at r <= -s (darker than the reference),
+ * through light to dark red at r >= s (brighter). */
+void brume_diff_color(double r, double s, float rgb[3]);
+/* A picture of the signed relative difference of luminance (against max(lum ref, floor of
+ * brume_image_compare)) in brume_diff_color's map, as linear colours; *out is new. */
+brume_status brume_image_diff_picture(brume_context *ctx, const brume_image *image, const brume_image *ref,
+                                      double scale, brume_image **out);
+/* The same picture written as a PNG at path with a scale bar under it (-scale to scale in
+ * percent) and, when mask is not NULL, the pixels outside the region dimmed to grey; written as
+ * a BRUME_FILE_IMAGE (brume_output_check). */
+brume_status brume_image_diff_png(brume_context *ctx, const brume_image *image, const brume_image *ref,
+                                  const unsigned char *mask, double scale, const char *path);
+
+/* A contact sheet written as a PNG at path (a BRUME_FILE_IMAGE): cells[r * ncols + c] drawn at
+ * column c, row r (ncols, nrows in [1, 256]), tone mapped as a PNG of it would be (opts may be
+ * NULL); a NULL cell is left blank. Each column is as wide as its widest cell, each row as
+ * tall as its tallest, at most 16384 pixels a side. col_labels[ncols] above the columns,
+ * row_labels[nrows] left of the rows, captions[ncols * nrows] under the cells (each array,
+ * and each entry, may be NULL), title (may be NULL) on top. */
+brume_status brume_image_sheet_png(brume_context *ctx, const char *path, const char *title, int ncols, int nrows,
+                                   const brume_image *const *cells, const char *const *col_labels,
+                                   const char *const *row_labels, const char *const *captions,
+                                   const brume_write_options *opts);
 
 #ifdef __cplusplus
 }

@@ -35,6 +35,12 @@ OPTIONAL = {
     "brume_scene_add_plane": {"transform", "material", "name"},
     "brume_scene_add_mesh": {"transform", "material", "name"},
     "brume_scene_add_mesh_file": {"transform", "material", "name"},
+    "brume_output_check": {"scene"},
+    "brume_image_compare_region": {"mask"},  # NULL: the whole frame
+    "brume_image_diff_png": {"mask"},
+    "brume_image_sheet_png": {"title", "col_labels", "row_labels", "captions", "opts"},
+    "brume_image_check_values": {"name"},
+    "brume_stam_figure_png": {"max_z"},
 }
 # functions whose result is not an operation's status or a new object: they must only not
 # crash (a string that is never NULL, the context's own last status)

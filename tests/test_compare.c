@@ -1,9 +1,9 @@
-/* test_compare.c - the error figures of image_compare on images with known differences. */
+/* test_compare.c - the error figures of brume_image_compare and its kin (brume.h, "comparing
+ * images") on images with known differences, through the public API. */
 #include "test.h"
 
 #include "brume.h"
 #include "core/rng.h"
-#include "tool/tool.h"
 
 static brume_image *ramp(int w, int h, double scale)
 {
@@ -19,8 +19,8 @@ static brume_image *ramp(int w, int h, double scale)
 TEST(identical_images_have_zero_error)
 {
     brume_image *a = ramp(9, 5, 1.0), *b = ramp(9, 5, 1.0);
-    image_diff_stats st;
-    ASSERT_EQ_INT(image_compare(a, b, &st), BRUME_OK);
+    brume_image_diff st;
+    ASSERT_EQ_INT(brume_image_compare(NULL, a, b, &st), BRUME_OK);
     ASSERT_NEAR(st.rmse, 0.0, 0.0);
     ASSERT_NEAR(st.max_rel, 0.0, 0.0);
     brume_image_release(a);
@@ -32,8 +32,8 @@ TEST(identical_images_have_zero_error)
 TEST(scaled_image_figures)
 {
     brume_image *a = ramp(9, 5, 1.1), *b = ramp(9, 5, 1.0);
-    image_diff_stats st;
-    ASSERT_EQ_INT(image_compare(a, b, &st), BRUME_OK);
+    brume_image_diff st;
+    ASSERT_EQ_INT(brume_image_compare(NULL, a, b, &st), BRUME_OK);
     ASSERT_NEAR(st.mean_rel, 0.1, 1e-6);
     ASSERT_NEAR(st.max_rel, 0.1, 1e-6);
     double ss = 0.0, s = 0.0;
@@ -52,8 +52,8 @@ TEST(scaled_image_figures)
 TEST(size_mismatch_is_an_error)
 {
     brume_image *a = ramp(9, 5, 1.0), *b = ramp(5, 9, 1.0);
-    image_diff_stats st;
-    ASSERT_EQ_INT(image_compare(a, b, &st), BRUME_ERROR_INVALID_ARGUMENT);
+    brume_image_diff st;
+    ASSERT_EQ_INT(brume_image_compare(NULL, a, b, &st), BRUME_ERROR_INVALID_ARGUMENT);
     brume_image_release(a);
     brume_image_release(b);
 }
@@ -63,14 +63,14 @@ TEST(size_mismatch_is_an_error)
 TEST(region_figures_of_a_scaled_image)
 {
     brume_image *a = ramp(20, 12, 1.1), *b = ramp(20, 12, 1.0);
-    image_region_stats st;
-    ASSERT_EQ_INT(image_compare_region(a, b, NULL, 200, 7, &st), BRUME_OK);
+    brume_region_stats st;
+    ASSERT_EQ_INT(brume_image_compare_region(NULL, a, b, NULL, 200, 7, &st), BRUME_OK);
     ASSERT_EQ_INT((int)st.pixels, 240);
     ASSERT_EQ_INT((int)st.tiles, 6);
-    ASSERT_NEAR(st.fig[IMAGE_FIG_RATIO], 1.1, 1e-6);
-    ASSERT_NEAR(st.fig[IMAGE_FIG_SIGNED_REL], 0.1, 1e-6);
-    ASSERT_NEAR(st.lo[IMAGE_FIG_RATIO], 1.1, 1e-6);
-    ASSERT_NEAR(st.hi[IMAGE_FIG_SIGNED_REL], 0.1, 1e-6);
+    ASSERT_NEAR(st.fig[BRUME_FIG_RATIO], 1.1, 1e-6);
+    ASSERT_NEAR(st.fig[BRUME_FIG_SIGNED_REL], 0.1, 1e-6);
+    ASSERT_NEAR(st.lo[BRUME_FIG_RATIO], 1.1, 1e-6);
+    ASSERT_NEAR(st.hi[BRUME_FIG_SIGNED_REL], 0.1, 1e-6);
     brume_image_release(a);
     brume_image_release(b);
 }
@@ -93,22 +93,22 @@ TEST(alpha_mask_selects_the_cloud)
     }
     unsigned char *mask = NULL;
     long count = 0;
-    ASSERT_EQ_INT(image_mask_alpha(b, 0.05, &mask, &count), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_mask_alpha(NULL, b, 0.05, &mask, &count), BRUME_OK);
     ASSERT_EQ_INT((int)count, (int)in);
-    image_region_stats fr, rg;
-    ASSERT_EQ_INT(image_compare_region(a, b, mask, 100, 1, &rg), BRUME_OK);
-    ASSERT_EQ_INT(image_compare_region(a, b, NULL, 100, 1, &fr), BRUME_OK);
+    brume_region_stats fr, rg;
+    ASSERT_EQ_INT(brume_image_compare_region(NULL, a, b, mask, 100, 1, &rg), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_compare_region(NULL, a, b, NULL, 100, 1, &fr), BRUME_OK);
     ASSERT_EQ_INT((int)rg.pixels, (int)in);
-    ASSERT_NEAR(rg.fig[IMAGE_FIG_RATIO], 1.0, 1e-9);
-    ASSERT_NEAR(rg.fig[IMAGE_FIG_REL_RMSE], 0.0, 1e-9);
-    ASSERT_TRUE(fr.fig[IMAGE_FIG_RATIO] > 1.5);
+    ASSERT_NEAR(rg.fig[BRUME_FIG_RATIO], 1.0, 1e-9);
+    ASSERT_NEAR(rg.fig[BRUME_FIG_REL_RMSE], 0.0, 1e-9);
+    ASSERT_TRUE(fr.fig[BRUME_FIG_RATIO] > 1.5);
     free(mask);
-    ASSERT_EQ_INT(image_mask_alpha(b, 0.95, &mask, &count), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_mask_alpha(NULL, b, 0.95, &mask, &count), BRUME_OK);
     ASSERT_EQ_INT((int)count, 0);
-    ASSERT_EQ_INT(image_compare_region(a, b, mask, 100, 1, &rg), BRUME_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(brume_image_compare_region(NULL, a, b, mask, 100, 1, &rg), BRUME_ERROR_INVALID_ARGUMENT);
     free(mask);
     brume_image *small = ramp(4, 4, 1.0);
-    ASSERT_EQ_INT(image_mask_picture(small, 16, 16, &mask, &count), BRUME_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(brume_image_mask_picture(NULL, small, 16, 16, &mask, &count), BRUME_ERROR_INVALID_ARGUMENT);
     ASSERT_TRUE(mask == NULL);
     brume_image_release(small);
     brume_image_release(a);
@@ -136,16 +136,16 @@ TEST(bootstrap_interval_has_the_width_of_the_noise)
             pa[4 * i + c] = (float)(1.0 + s * g);
         }
     }
-    image_region_stats st;
-    ASSERT_EQ_INT(image_compare_region(a, b, NULL, 2000, 3, &st), BRUME_OK);
-    double width = st.hi[IMAGE_FIG_SIGNED_REL] - st.lo[IMAGE_FIG_SIGNED_REL];
+    brume_region_stats st;
+    ASSERT_EQ_INT(brume_image_compare_region(NULL, a, b, NULL, 2000, 3, &st), BRUME_OK);
+    double width = st.hi[BRUME_FIG_SIGNED_REL] - st.lo[BRUME_FIG_SIGNED_REL];
     double expect = 2.0 * 1.96 * s / sqrt((double)n);
-    printf("signed_rel %.5f [%.5f, %.5f], width %.5f, expected %.5f\n", st.fig[IMAGE_FIG_SIGNED_REL],
-           st.lo[IMAGE_FIG_SIGNED_REL], st.hi[IMAGE_FIG_SIGNED_REL], width, expect);
+    printf("signed_rel %.5f [%.5f, %.5f], width %.5f, expected %.5f\n", st.fig[BRUME_FIG_SIGNED_REL],
+           st.lo[BRUME_FIG_SIGNED_REL], st.hi[BRUME_FIG_SIGNED_REL], width, expect);
     ASSERT_NEAR(width / expect, 1.0, 3.0 / sqrt(128.0));
-    ASSERT_NEAR(st.fig[IMAGE_FIG_SIGNED_REL], 0.0, 5.0 * s / sqrt((double)n));
-    ASSERT_TRUE(st.lo[IMAGE_FIG_SIGNED_REL] < st.fig[IMAGE_FIG_SIGNED_REL]);
-    ASSERT_TRUE(st.hi[IMAGE_FIG_SIGNED_REL] > st.fig[IMAGE_FIG_SIGNED_REL]);
+    ASSERT_NEAR(st.fig[BRUME_FIG_SIGNED_REL], 0.0, 5.0 * s / sqrt((double)n));
+    ASSERT_TRUE(st.lo[BRUME_FIG_SIGNED_REL] < st.fig[BRUME_FIG_SIGNED_REL]);
+    ASSERT_TRUE(st.hi[BRUME_FIG_SIGNED_REL] > st.fig[BRUME_FIG_SIGNED_REL]);
     brume_image_release(a);
     brume_image_release(b);
 }
@@ -155,12 +155,12 @@ TEST(bootstrap_interval_has_the_width_of_the_noise)
 TEST(difference_colours_keep_the_sign)
 {
     float z[3], lo[3], hi[3], lo2[3], hi2[3], half[3];
-    image_diff_color(0.0, 0.5, z);
-    image_diff_color(-0.5, 0.5, lo);
-    image_diff_color(0.5, 0.5, hi);
-    image_diff_color(-3.0, 0.5, lo2);
-    image_diff_color(3.0, 0.5, hi2);
-    image_diff_color(0.25, 0.5, half);
+    brume_diff_color(0.0, 0.5, z);
+    brume_diff_color(-0.5, 0.5, lo);
+    brume_diff_color(0.5, 0.5, hi);
+    brume_diff_color(-3.0, 0.5, lo2);
+    brume_diff_color(3.0, 0.5, hi2);
+    brume_diff_color(0.25, 0.5, half);
     for (int c = 0; c < 3; c++) {
         ASSERT_NEAR(z[c], 1.0, 1e-6);
         ASSERT_NEAR(lo2[c], lo[c], 1e-6);
@@ -176,12 +176,12 @@ TEST(difference_colours_keep_the_sign)
         pa[c] *= 0.5f;
         pa[4 + c] *= 1.5f;
     }
-    ASSERT_EQ_INT(image_diff_picture(a, b, 0.5, &d), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_diff_picture(NULL, a, b, 0.5, &d), BRUME_OK);
     const float *pd = brume_image_pixels(d);
     ASSERT_TRUE(pd[2] > pd[0]);
     ASSERT_TRUE(pd[4] > pd[6]);
     const char *png = test_tmp_path("diff.png");
-    ASSERT_EQ_INT(image_diff_png(a, b, NULL, 0.5, png), BRUME_OK);
+    ASSERT_EQ_INT(brume_image_diff_png(NULL, a, b, NULL, 0.5, png), BRUME_OK);
     brume_image *back = NULL;
     brume_context *ctx = brume_context_new();
     ASSERT_EQ_INT(brume_image_read(ctx, png, &back), BRUME_OK);

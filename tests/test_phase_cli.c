@@ -8,7 +8,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "phase/phase.h"
-#include "tool/tool.h"
+#include "brume.h"
 
 /* fontconfig (under cairo's text) keeps process-lifetime caches that LeakSanitizer reports
  * at exit; they are not ours. The hook is read only by sanitizer builds. */
@@ -49,12 +49,13 @@ TEST(fit_output)
     int got = sscanf(out, "r %lf\nk %lf\nkprime %lf\nerror %lf\n%7s", &r, &k, &kp, &e, extra);
     if (got != 4)
         TEST_FAIL("unexpected output (%d fields): \"%s\"", got, out);
-    phase *p = phase_new_mie_murky();
-    double e_paper = phase_fit_error(p, PHASE_FIT_NORM_ANGLE, 0.19, -0.65, 0.91);
+    brume_phase *p = NULL;
+    ASSERT_EQ_INT(brume_phase_new_preset(NULL, BRUME_PHASE_MURKY, &p), BRUME_OK);
+    double e_paper = brume_phase_fit_error(p, BRUME_PHASE_FIT_ANGLE, 0.19, -0.65, 0.91);
     ASSERT_TRUE(e <= e_paper);
-    ASSERT_NEAR(phase_fit_error(p, PHASE_FIT_NORM_ANGLE, r, k, kp), e, 1e-4);
+    ASSERT_NEAR(brume_phase_fit_error(p, BRUME_PHASE_FIT_ANGLE, r, k, kp), e, 1e-4);
     ASSERT_TRUE(k < 0.0 && kp > 0.9);
-    phase_release(p);
+    brume_phase_release(p);
 }
 
 TEST(plot_png)

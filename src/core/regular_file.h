@@ -57,9 +57,24 @@ const io_input *io_inputs_find(const io_inputs *rec, const char *path);
  * be read folds its errno instead (the key then differs from a run that could read it). */
 uint64_t io_inputs_hash(const io_inputs *rec, uint64_t h);
 
-/* Whether brume may write `path` (named by `what`, "-o" or "--checkpoint" or a scene key):
- * absent, or a regular file that is neither scene_file (may be NULL) nor one of *inputs (may
- * be NULL). Otherwise a one-line BRUME_ERROR_INVALID_ARGUMENT (err_set) naming both. */
-brume_status io_output_check(const char *what, const char *path, const char *scene_file, const io_inputs *inputs);
+/* Whether brume may write `path` (named by `what`, "-o" or "--checkpoint" or a scene key) as a
+ * file of `kind`: absent, or a regular file that is neither scene_file (may be NULL), nor one
+ * of *inputs (may be NULL), nor one of others[0..nothers-1] (the command's other inputs and
+ * outputs; NULL entries skipped), and that holds nothing (0 bytes) or content of the kind
+ * being written (io_target_check). Otherwise a one-line BRUME_ERROR_INVALID_ARGUMENT (err_set)
+ * naming both. */
+brume_status io_output_check(const char *what, const char *path, brume_file_kind kind, const char *scene_file,
+                             const io_inputs *inputs, const char *const *others, int nothers);
+
+/* Whether path may be replaced by a file of kind: absent, empty, or holding that kind (by its
+ * first bytes: a brume checkpoint, a brume light file, an EXR, PNG or PFM image, a .vol,
+ * NanoVDB or OpenVDB grid, or for a .raw or .df3 name, which have no magic number, anything but
+ * the others; text for BRUME_FILE_TEXT; anything for BRUME_FILE_ANY). Otherwise a one-line
+ * BRUME_ERROR_INVALID_ARGUMENT naming what path holds. */
+brume_status io_target_check(const char *what, const char *path, brume_file_kind kind);
+
+/* Whether a and b name the same file: the same device and inode when both exist, else the same
+ * name in the same folder (folders compared by realpath when they exist). */
+bool io_same_file(const char *a, const char *b);
 
 #endif

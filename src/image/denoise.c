@@ -209,6 +209,9 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
     if (layer_of(in, "raw", 3) || brume_image_attribute(in, "brume.denoised"))
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
                                        "brume_denoise: the image is denoised already (it has a \"raw\" layer)"));
+    /* NaN, infinities, negative features: refused; R, G, B may be signed (the filter is linear) */
+    if (image_check_values_signed(in, "brume_denoise: image", true, true) != BRUME_OK)
+        return ctx_report(ctx, err_status());
     const int w = in->width, h = in->height;
     const size_t npix = (size_t)w * (size_t)h;
     brume_image *img = image_copy(in);

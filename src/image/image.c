@@ -257,3 +257,62 @@ void image_srgb8_table_init(image_srgb8_table *t, const brume_write_options *opt
     }
 }
 
+
+/* The first value of px[npix * ch] that is not finite, or negative when !is_signed: its index, or
+ * -1 when none. */
+static long bad_value(const float *px, size_t npix, int ch, int stride, bool is_signed)
+{
+    for (size_t i = 0; i < npix; i++)
+        for (int c = 0; c < ch; c++) {
+            float v = px[i * (size_t)stride + (size_t)c];
+            if (!isfinite(v) || (!is_signed && v < 0.0f))
+                return (long)(i * (size_t)stride + (size_t)c);
+        }
+    return -1;
+}
+
+static brume_status bad_report(const brume_image *img, const char *what, const char *layer, const float *px, long k,
+                               int stride, const char *chan, bool is_signed)
+{
+    size_t i = (size_t)k / (size_t)stride;
+    float v = px[k];
+    return err_set(BRUME_ERROR_RANGE, "%s: %s%spixel (%zu, %zu) %s is %g: %s", what, layer ? "layer " : "",
+                   layer ? layer : "", i % (size_t)img->width, i / (size_t)img->width, chan, (double)v,
+                   is_signed ? "values must be finite" : "values must be finite and >= 0");
+}
+
+brume_status image_check_values(const brume_image *img, const char *what, bool layers)
+{
+    return image_check_values_signed(img, what, layers, false);
+}
+
+brume_status image_check_values_signed(const brume_image *img, const char *what, bool layers, bool rgb_signed)
+{
+    size_t npix = (size_t)img->width * (size_t)img->height;
+    static const char *const rgba[4] = {"R", "G", "B", "A"};
+    long k = bad_value(img->rgba, npix, 3, 4, rgb_signed);
+    if (k >= 0)
+        return bad_report(img, what, NULL, img->rgba, k, 4, rgba[k % 4], rgb_signed);
+    k = bad_value(img->rgba + 3, npix, 1, 4, false); /* alpha */
+    if (k >= 0)
+        return bad_report(img, what, NULL, img->rgba + 3, k, 4, "A", false);
+    for (int l = 0; layers && l < img->nlayers; l++) {
+        const image_layer *L = &img->layers[l];
+        bool is_signed = strcmp(L->name, "normal") == 0;
+        k = bad_value(L->px, npix, L->channels, L->channels, is_signed);
+        if (k >= 0) {
+            char layer[48];
+            snprintf(layer, sizeof layer, "%s, ", L->name);
+            return bad_report(img, what, layer, L->px, k, L->channels, L->chan[k % L->channels], is_signed);
+        }
+    }
+    return BRUME_OK;
+}
+
+brume_status brume_image_check_values(brume_context *ctx, const brume_image *image, const char *name, bool layers)
+{
+    err_clear();
+    if (!image)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_image_check_values: image: NULL"));
+    return ctx_report(ctx, image_check_values(image, name ? name : "image", layers));
+}

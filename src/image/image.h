@@ -54,6 +54,15 @@ brume_image *image_new(int width, int height);
  * and err_set() names path and the reason (BRUME_ERROR_PARSE for a bad size). */
 brume_status image_create(const char *path, int64_t width, int64_t height, brume_image **out);
 
+/* Before an image's values are used as light (compare, denoise): every R, G, B and alpha and
+ * every layer's value finite and >= 0, but the "normal" layer's, which is a signed unit vector
+ * (finite only). Otherwise BRUME_ERROR_RANGE (err_set) naming `what`, the layer, the pixel and
+ * the channel. The layers are looked at only when `layers`. */
+brume_status image_check_values(const brume_image *img, const char *what, bool layers);
+/* The same with R, G, B allowed below 0 when rgb_signed (finite still): the denoiser's input,
+ * which the filter treats linearly (a synthetic noisy image goes below 0). */
+brume_status image_check_values_signed(const brume_image *img, const char *what, bool layers, bool rgb_signed);
+
 /* The sRGB transfer functions of IEC 61966-2-1: linear in [0, 1] to encoded and back. */
 double image_srgb_encode(double linear);
 double image_srgb_decode(double encoded);

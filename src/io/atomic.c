@@ -33,7 +33,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/context.h"
 #include "core/error.h"
+#include "core/regular_file.h"
 
 static const char tmp_suffix[] = ".tmp-XXXXXX";
 
@@ -144,7 +146,7 @@ static brume_status not_regular(const char *path)
                    S_ISDIR(sb.st_mode) ? "a folder" : S_ISFIFO(sb.st_mode) ? "a pipe" : "a device or socket");
 }
 
-brume_status atomic_open(atomic_file *f, const char *path)
+brume_status atomic_open_kind(atomic_file *f, const char *path, brume_file_kind kind)
 {
     memset(f, 0, sizeof *f);
     if (!path || !*path)
@@ -162,7 +164,7 @@ brume_status atomic_open(atomic_file *f, const char *path)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
     }
     memcpy(f->path, path, strlen(path) + 1);
-    if ((st = not_regular(path)) != BRUME_OK)
+    if ((st = not_regular(path)) != BRUME_OK || (st = io_target_check(path, path, kind)) != BRUME_OK)
         return st;
 
     /* blocked while the file is created and listed: a signal in between cannot leave it */
@@ -261,6 +263,8 @@ void atomic_abort(atomic_file *f)
     }
 }
 
+brume_status atomic_open(atomic_file *f, const char *path) { return atomic_open_kind(f, path, BRUME_FILE_ANY); }
+
 const void *atomic_owner(const void *owner)
 {
     const void *prev = t_owner;
@@ -279,4 +283,27 @@ void brume_context_remove_temporaries(brume_context *ctx)
 {
     if (ctx)
         atomic_remove_temporaries(ctx);
+}
+
+brume_status brume_file_write(brume_context *ctx, const char *path, brume_file_kind kind, const void *data,
+                              size_t size)
+{
+    err_clear();
+    if (!path || (!data && size > 0))
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_file_write: %s: NULL",
+                                       !path ? "path" : "data"));
+    if ((unsigned)kind > BRUME_FILE_TEXT)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_file_write: kind: %d unknown", (int)kind));
+    const void *owner = atomic_owner(ctx);
+    atomic_file f;
+    brume_status st = atomic_open_kind(&f, path, kind);
+    if (st == BRUME_OK && size > 0 && fwrite(data, 1, size, f.fp) != size) {
+        int e = errno;
+        atomic_abort(&f);
+        st = err_set(BRUME_ERROR_IO, "%s: cannot write: %s", path, strerror(e));
+    } else if (st == BRUME_OK) {
+        st = atomic_commit(&f);
+    }
+    atomic_owner(owner);
+    return ctx_report(ctx, st);
 }

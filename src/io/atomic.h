@@ -17,6 +17,11 @@ typedef struct atomic_file {
     int slot;            /* private: 1 + index in atomic.c's table of files removed on a signal */
 } atomic_file;
 
+/* Refuses (one line, nothing created) a path that exists and is not a regular file, or holds
+ * content of another kind than the file being written (io_target_check: a light file replaces
+ * only a light file). Every writer of the library names its kind; atomic_open is
+ * BRUME_FILE_ANY, for tests of the mechanism. */
+brume_status atomic_open_kind(atomic_file *f, const char *path, brume_file_kind kind);
 brume_status atomic_open(atomic_file *f, const char *path);
 /* Closes fp if open, then renames. On failure the temporary file is removed. */
 brume_status atomic_commit(atomic_file *f);

@@ -229,7 +229,7 @@ brume_status chart_write_png(cairo_surface_t *s, cairo_t *cr, const char *path)
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: drawing failed: %s", path, cairo_status_to_string(cst));
     }
     atomic_file f;
-    brume_status st = atomic_open(&f, path);
+    brume_status st = atomic_open_kind(&f, path, BRUME_FILE_IMAGE);
     if (st != BRUME_OK) {
         cairo_surface_destroy(s);
         return st;

@@ -57,7 +57,10 @@ bool grid_dense_alloc(dense_read *out, const int64_t n[3], size_t count, const c
  * when complete. These two wrap it for the writers below. */
 FILE *grid_open_tmp(atomic_file *af, const char *path)
 {
-    return atomic_open(af, path) == BRUME_OK ? af->fp : NULL;
+    /* a raw grid's .hdr sidecar is text */
+    size_t n = strlen(path);
+    bool sidecar = n > 4 && strcmp(path + n - 4, ".hdr") == 0;
+    return atomic_open_kind(af, path, sidecar ? BRUME_FILE_TEXT : BRUME_FILE_GRID) == BRUME_OK ? af->fp : NULL;
 }
 
 brume_status grid_commit_tmp(atomic_file *af, bool ok)

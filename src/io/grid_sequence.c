@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/context.h"
 #include "core/error.h"
 #include "io/grid_sequence.h"
 
@@ -175,4 +176,57 @@ brume_status seq_file(const char *pattern, const seq_options *o, long frame_no, 
     }
     seq_name(pattern, n, out, cap);
     return BRUME_OK;
+}
+
+brume_status brume_sequence_pattern(brume_context *ctx, const char *name, bool *is_pattern)
+{
+    err_clear();
+    if (is_pattern)
+        *is_pattern = false;
+    if (!name || !is_pattern)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_sequence_pattern: %s: NULL",
+                                       !name ? "name" : "is_pattern"));
+    int k = seq_is_pattern(name);
+    *is_pattern = k == 1;
+    if (k < 0) { /* a name the caller gave: an argument, whatever the reader called it */
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", err_message());
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s", msg));
+    }
+    return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_sequence_name(brume_context *ctx, const char *pattern, long n, char *out, size_t cap)
+{
+    err_clear();
+    if (!pattern || !out || cap == 0)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_sequence_name: %s",
+                                       !pattern ? "pattern: NULL" : !out ? "out: NULL" : "cap: 0"));
+    out[0] = '\0';
+    int k = seq_is_pattern(pattern);
+    if (k != 1)
+        return ctx_report(ctx, k < 0 ? err_status()
+                                     : err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no frame pattern in the name", pattern));
+    char buf[8192];
+    seq_name(pattern, n, buf, sizeof buf);
+    if (strlen(buf) >= cap) {
+        out[0] = '\0';
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: frame %ld: the name needs %zu bytes, %zu given",
+                                       pattern, n, strlen(buf) + 1, cap));
+    }
+    memcpy(out, buf, strlen(buf) + 1);
+    return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_sequence_range(brume_context *ctx, const char *pattern, long *first, long *last)
+{
+    err_clear();
+    if (!pattern || !first || !last)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_sequence_range: %s: NULL",
+                                       !pattern ? "pattern" : !first ? "first" : "last"));
+    *first = *last = 0;
+    if (seq_is_pattern(pattern) != 1)
+        return ctx_report(ctx, err_status() != BRUME_OK ? err_status()
+                                    : err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: no frame pattern in the name", pattern));
+    return ctx_report(ctx, seq_range(pattern, first, last));
 }

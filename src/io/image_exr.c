@@ -194,7 +194,7 @@ static brume_status exr_write_body(const char *path, const brume_image *img, exr
 brume_status image_write_exr(const char *path, const brume_image *img)
 {
     atomic_file f;
-    brume_status st = atomic_open(&f, path);
+    brume_status st = atomic_open_kind(&f, path, BRUME_FILE_IMAGE);
     if (st != BRUME_OK)
         return st;
     exr_io io = {fileno(f.fp), ""};

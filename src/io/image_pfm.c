@@ -42,7 +42,7 @@ static float get_f32(const unsigned char *p, int little_endian)
 brume_status image_write_pfm(const char *path, const brume_image *img)
 {
     atomic_file f;
-    brume_status st = atomic_open(&f, path);
+    brume_status st = atomic_open_kind(&f, path, BRUME_FILE_IMAGE);
     if (st != BRUME_OK)
         return st;
     size_t w = (size_t)img->width;

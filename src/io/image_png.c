@@ -113,7 +113,7 @@ static int png_write_guarded(png_structp png, png_infop info, FILE *fp, const br
 brume_status image_write_png(const char *path, const brume_image *img, const brume_write_options *opts)
 {
     atomic_file f;
-    brume_status st = atomic_open(&f, path);
+    brume_status st = atomic_open_kind(&f, path, BRUME_FILE_IMAGE);
     if (st != BRUME_OK)
         return st;
     png_msg msg = {""};

@@ -26,7 +26,7 @@ brume_status light_file_write(const char *path, const light_file_layout *l, cons
     if (!host_is_little_endian())
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: blasi.save_light: light files are little-endian", path);
     atomic_file f;
-    brume_status rc = atomic_open(&f, path);
+    brume_status rc = atomic_open_kind(&f, path, BRUME_FILE_LIGHT);
     if (rc != BRUME_OK)
         return err_prefix("blasi.save_light");
     uint32_t head[2] = {LIGHT_FILE_VERSION, (uint32_t)l->nmedia};

@@ -16,6 +16,7 @@
  * may draw its samples differently. A checkpoint is written atomically (io/atomic.c): it is
  * whole or absent. */
 #include <errno.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -139,7 +140,7 @@ brume_status brume_render_job_save(brume_context *ctx, const brume_render_job *j
 
     atomic_file f;
     const void *owner = atomic_owner(ctx); /* the temporary file is ctx's (io/atomic.h) */
-    brume_status st = atomic_open(&f, path);
+    brume_status st = atomic_open_kind(&f, path, BRUME_FILE_CHECKPOINT);
     atomic_owner(owner);
     if (st == BRUME_OK) {
         uint64_t h = FNV_START;
@@ -305,6 +306,53 @@ static void restore_sums(brume_render_job *job, const unsigned char *data, uint6
         memcpy(job->aov, p, np * JOB_AOVS * sizeof *job->aov);
 }
 
+/* Why pixel i's sums cannot come from its n samples, or NULL when they can. Every sample is a
+ * finite radiance >= 0 and an alpha in [0, 1] (the first JOB_ALPHA_SAMPLES only), so the sums
+ * are finite and >= 0, the alpha sum at most min(n, JOB_ALPHA_SAMPLES), and each sum of
+ * squares lies between sum^2 / n (Cauchy-Schwarz) and sum^2 (non-negative terms); no sample,
+ * all zero. */
+static const char *sums_fault(const brume_render_job *job, size_t i)
+{
+    const double *s = job->sum + JOB_SUMS * i, *q = job->sq ? job->sq + JOB_SQS * i : NULL;
+    const double n = job->n[i], slack = 1e-6; /* the sums' rounding over 2^30 samples */
+    for (int c = 0; c < JOB_SUMS; c++)
+        if (!isfinite(s[c]) || s[c] < 0.0)
+            return "a sum that is not finite and >= 0";
+    for (int c = 0; q && c < JOB_SQS; c++)
+        if (!isfinite(q[c]) || q[c] < 0.0)
+            return "a sum of squares that is not finite and >= 0";
+    for (int c = 0; job->aov && c < JOB_AOVS; c++)
+        if (!isfinite(job->aov[JOB_AOVS * i + (size_t)c]))
+            return "a layer's sum that is not finite";
+    if (n == 0.0) {
+        for (int c = 0; c < JOB_SUMS; c++)
+            if (s[c] != 0.0 || (q && q[c] != 0.0))
+                return "sums without samples";
+        return NULL;
+    }
+    if (s[3] > fmin(n, JOB_ALPHA_SAMPLES) * (1.0 + slack))
+        return "an alpha sum over its sample count";
+    for (int c = 0; q && c < JOB_SQS; c++) {
+        double sc = c < 3 ? s[c] : (s[0] + s[1] + s[2]) / 3.0;
+        if (q[c] < sc * sc / n * (1.0 - slack) || q[c] > sc * sc * (1.0 + slack))
+            return "sums of squares that no samples give with these sums";
+    }
+    return NULL;
+}
+
+/* Every pixel's sums against its count (sums_fault): BRUME_OK, or a one-line error naming the
+ * first pixel that no samples can explain. */
+static brume_status sums_check(const brume_render_job *job, const char *path)
+{
+    for (size_t i = 0; i < job->npix; i++) {
+        const char *why = sums_fault(job, i);
+        if (why)
+            return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt: pixel (%zu, %zu): %s", path,
+                           i % (size_t)job->rs.width, i / (size_t)job->rs.width, why);
+    }
+    return BRUME_OK;
+}
+
 static brume_status resume(const brume_scene *s, uint64_t scene_key, const char *path, brume_render_job **out)
 {
     unsigned char *data = NULL;
@@ -335,12 +383,17 @@ static brume_status resume(const brume_scene *s, uint64_t scene_key, const char 
     }
     restore_sums(job, data, np, aovs);
     free(data);
-    bool sane = hd.spp_done >= 0 && hd.target >= hd.spp_done && hd.target <= (1 << 30) && hd.elapsed >= 0.0;
+    bool sane = hd.spp_done >= 0 && hd.target >= hd.spp_done && hd.target <= (1 << 30) && isfinite(hd.elapsed) &&
+                hd.elapsed >= 0.0;
     for (size_t i = 0; i < job->npix && sane; i++)
         sane = job->active[i] <= 1 && job->n[i] <= (uint32_t)hd.target;
     if (!sane) {
         brume_render_job_release(job);
         return err_set(BRUME_ERROR_PARSE, "%s: checkpoint corrupt (sample counts)", path);
+    }
+    if ((st = sums_check(job, path)) != BRUME_OK) {
+        brume_render_job_release(job);
+        return st;
     }
     job->spp_done = hd.spp_done;
     job->target = hd.target;
@@ -402,24 +455,30 @@ uint64_t checkpoint_inputs_key(const brume_scene *s, uint64_t h)
     return io_inputs_hash(&s->inputs, h);
 }
 
-brume_status checkpoint_output_check(const brume_scene *s, const char *what, const char *path)
+uint64_t brume_scene_inputs_key(const brume_scene *scene, uint64_t h) { return checkpoint_inputs_key(scene, h); }
+
+brume_status brume_render_job_remove_checkpoint(brume_context *ctx, const brume_render_job *job, uint64_t scene_key,
+                                                const char *path, bool *removed)
 {
-    return io_output_check(what, path, s && s->source[0] != '<' ? s->source : NULL, s ? &s->inputs : NULL);
+    err_clear();
+    if (removed)
+        *removed = false;
+    if (!job || !path || !removed)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_render_job_remove_checkpoint: %s: NULL",
+                                       !job ? "job" : !path ? "path" : "removed"));
+    *removed = checkpoint_remove_own(job, scene_key, path);
+    err_clear();
+    return ctx_report(ctx, BRUME_OK);
 }
 
-brume_status checkpoint_target_check(const char *path)
+brume_status brume_output_check(brume_context *ctx, const char *what, const char *path, brume_file_kind kind,
+                                const brume_scene *scene, const char *const *others, int nothers)
 {
-    struct stat sb;
-    if (!path || stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
-        return BRUME_OK; /* absent; anything else is io_output_check's */
-    FILE *fp = NULL; /* replaced by a FIFO since the stat: io_open_regular does not wait */
-    char magic[8] = {0};
-    bool ours = io_open_regular(path, &fp) == BRUME_OK && fread(magic, 1, sizeof magic, fp) == sizeof magic &&
-                memcmp(magic, "BRUMECKP", 8) == 0;
-    if (fp)
-        fclose(fp);
-    if (ours)
-        return BRUME_OK;
-    return err_set(BRUME_ERROR_INVALID_ARGUMENT,
-                   "%s: exists and is not a brume checkpoint: brume replaces or removes only its own checkpoints", path);
+    err_clear();
+    if (!what || !path || (nothers > 0 && !others) || nothers < 0 || (unsigned)kind > BRUME_FILE_TEXT)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_output_check: %s",
+                                       !what ? "what: NULL" : !path ? "path: NULL"
+                                       : (unsigned)kind > BRUME_FILE_TEXT ? "kind: unknown" : "others: NULL"));
+    const char *file = scene && scene->source[0] != '<' ? scene->source : NULL;
+    return ctx_report(ctx, io_output_check(what, path, kind, file, scene ? &scene->inputs : NULL, others, nothers));
 }

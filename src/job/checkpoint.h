@@ -17,13 +17,4 @@ bool checkpoint_remove_own(const brume_render_job *job, uint64_t scene_key, cons
  * folded in (FNV-1a): a checkpoint key that changes when any of them does. */
 uint64_t checkpoint_inputs_key(const brume_scene *s, uint64_t h);
 
-/* Before any work: whether a render of s may write path (named by `what`: "-o",
- * "--checkpoint"): absent or a regular file, neither the scene file nor one of its inputs.
- * Else a one-line error (err_set). */
-brume_status checkpoint_output_check(const brume_scene *s, const char *what, const char *path);
-
-/* Before any work: a checkpoint path is absent or holds a brume checkpoint (its magic), so that
- * the saves every few seconds never replace a file brume did not write. Else a one-line error. */
-brume_status checkpoint_target_check(const char *path);
-
 #endif

@@ -365,9 +365,11 @@ brume_status blasi_prepare(const brume_scene *s, blasi_state **out)
     *out = NULL;
     double t0 = progress_now();
     const blasi_options *o = blasi_opts(s);
-    /* before any work: the light file must not replace the scene, one of its inputs or a device */
-    if (o->save_light[0] && io_output_check("blasi.save_light", o->save_light,
-                                            s->source[0] != '<' ? s->source : NULL, &s->inputs) != BRUME_OK)
+    /* before any work: the light file replaces only a brume light file, never the scene, one of
+     * its inputs (the light file it loads included) or a device */
+    const char *load = o->load_light[0] ? o->load_light : NULL;
+    if (o->save_light[0] && io_output_check("blasi.save_light", o->save_light, BRUME_FILE_LIGHT,
+                                            s->source[0] != '<' ? s->source : NULL, &s->inputs, &load, 1) != BRUME_OK)
         return err_status();
     for (int m = 0; m < s->nmedia; m++)
         if (s->media[m].moved) /* a velocity and an open shutter (medium.h) */

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "io/atomic.h"
 #include "density/fractal.h"
 #include "io/grid_io.h"
 #include "io/grid_vdb.h"
@@ -14,23 +15,25 @@
 /* The status of the failure just reported (an I/O error if the callee set none). */
 static brume_status failed(void) { return err_status() != BRUME_OK ? err_status() : BRUME_ERROR_IO; }
 
-/* Writes the grids through a temporary file renamed over `out` (tool_file); out ends in
+/* Writes the grids through a temporary file renamed over `out` (io/atomic.h); out ends in
  * .vdb or .nvdb (the caller checked). */
 static brume_status save(gridvdb_writer *w, const char *out)
 {
     const char *dot = strrchr(out, '.');
     int nano = dot && strcmp(dot, ".nvdb") == 0;
-    tool_file *af = tool_file_open(out);
-    if (!af)
+    atomic_file af;
+    if (atomic_open_kind(&af, out, BRUME_FILE_GRID) != BRUME_OK)
         return failed();
-    /* OpenVDB writes the temporary file by name */
-    if (gridvdb_writer_save(w, tool_file_by_name(af), nano) != BRUME_OK) {
+    /* OpenVDB writes the temporary file by name: the stream is closed first */
+    fclose(af.fp);
+    af.fp = NULL;
+    if (gridvdb_writer_save(w, af.tmp_path, nano) != BRUME_OK) {
         err_prefix("%s", out);
         brume_status st = failed();
-        tool_file_abort(af);
+        atomic_abort(&af);
         return st;
     }
-    return tool_file_commit(af);
+    return atomic_commit(&af);
 }
 
 static double smoothstep(double a, double b, double x)

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "density/fractal.h"
 #include "io/grid_io.h"
+#include "io/grid_sequence.h"
 
 /* The command line's options as the readers take them (no checks: the tool made them). */
 static density_load_options load_options(const brume_grid_file_options *in)
@@ -116,7 +117,7 @@ brume_status tool_grid_sequence_extent(const char *pattern, long first, long las
     double rmax = 0.0;
     for (long n = first; n <= last; n++) {
         char name[4096];
-        tool_seq_name(pattern, n, name, sizeof name);
+        seq_name(pattern, n, name, sizeof name);
         density *d = density_load_file(name, &lo);
         if (!d)
             return err_status() != BRUME_OK ? err_status() : BRUME_ERROR_IO;

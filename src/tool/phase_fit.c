@@ -5,14 +5,18 @@
  * once. The minimizer is a grid search over the whole domain followed by Nelder-Mead
  * (Nelder and Mead 1965, with the coefficients of Lagarias et al. 1998) from the best
  * grid points; docs/phase-functions.md compares the result with the paper's Figure 7. */
-#include "tool/tool.h"
+#include "brume.h"
+
+#include <math.h>
 
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/context.h"
 #include "core/error.h"
 #include "phase/phase.h"
 #include "phase/quadrature.h"
+#include "scene/scene_build.h"
 
 #define FIT_PANELS 180
 #define FIT_ORDER 8
@@ -22,37 +26,37 @@
 #define FIT_STARTS 6
 
 typedef struct fit_problem {
-    phase_fit_norm norm;
+    brume_phase_fit_norm norm;
     double t[FIT_NODES];   /* cos(theta) at the nodes */
     double w[FIT_NODES];   /* quadrature weight of the norm's measure (dt or d theta) */
     double phi[FIT_NODES]; /* target phi = 4 pi p at the nodes (its log for the log norm) */
     double scale;          /* 1 / (integral of phi^2) for the L2 norms, 1/2 for the log norm */
 } fit_problem;
 
-bool phase_fit_norm_from_name(const char *name, phase_fit_norm *out)
+static bool norm_from_name(const char *name, brume_phase_fit_norm *out)
 {
-    static const phase_fit_norm all[] = {PHASE_FIT_NORM_COS, PHASE_FIT_NORM_ANGLE, PHASE_FIT_NORM_LOG};
+    static const brume_phase_fit_norm all[] = {BRUME_PHASE_FIT_COS, BRUME_PHASE_FIT_ANGLE, BRUME_PHASE_FIT_LOG};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
-        if (strcmp(name, phase_fit_norm_name(all[i])) == 0) {
+        if (strcmp(name, brume_phase_fit_norm_name(all[i])) == 0) {
             *out = all[i];
             return true;
         }
     return false;
 }
 
-const char *phase_fit_norm_name(phase_fit_norm norm)
+const char *brume_phase_fit_norm_name(brume_phase_fit_norm norm)
 {
     switch (norm) {
-    case PHASE_FIT_NORM_COS: return "cos";
-    case PHASE_FIT_NORM_ANGLE: return "angle";
-    case PHASE_FIT_NORM_LOG: return "log";
+    case BRUME_PHASE_FIT_COS: return "cos";
+    case BRUME_PHASE_FIT_ANGLE: return "angle";
+    case BRUME_PHASE_FIT_LOG: return "log";
     }
     return "?";
 }
 
 /* Nodes uniform in theta crowd near both poles in t, where the forward and backward peaks
  * of the targets and of Schlick lobes with |k| near 1 are. */
-static brume_status fit_problem_init(fit_problem *fp, const phase *target, phase_fit_norm norm)
+static brume_status fit_problem_init(fit_problem *fp, const phase *target, brume_phase_fit_norm norm)
 {
     double x[FIT_ORDER], wx[FIT_ORDER];
     quad_gauss_legendre(FIT_ORDER, x, wx);
@@ -65,9 +69,9 @@ static brume_status fit_problem_init(fit_problem *fp, const phase *target, phase
             double theta = h * (i + 0.5 * (x[j] + 1.0));
             double dtheta = 0.5 * h * wx[j];
             fp->t[n] = cos(theta);
-            fp->w[n] = norm == PHASE_FIT_NORM_ANGLE ? dtheta : dtheta * sin(theta);
+            fp->w[n] = norm == BRUME_PHASE_FIT_ANGLE ? dtheta : dtheta * sin(theta);
             double phi = 4.0 * PI * phase_eval(target, fp->t[n]);
-            if (norm == PHASE_FIT_NORM_LOG) {
+            if (norm == BRUME_PHASE_FIT_LOG) {
                 if (!(phi > 0.0))
                     return err_set(BRUME_ERROR_RANGE,
                                    "phase fit: the log norm needs a positive target, got %g at "
@@ -79,7 +83,7 @@ static brume_status fit_problem_init(fit_problem *fp, const phase *target, phase
             }
             fp->phi[n] = phi;
         }
-    fp->scale = norm == PHASE_FIT_NORM_LOG ? 0.5 : 1.0 / sum;
+    fp->scale = norm == BRUME_PHASE_FIT_LOG ? 0.5 : 1.0 / sum;
     return BRUME_OK;
 }
 
@@ -93,7 +97,7 @@ static double schlick_mix_phi(double r, double k, double kp, double t)
 static double fit_problem_error(const fit_problem *fp, double r, double k, double kp)
 {
     double s = 0.0;
-    if (fp->norm == PHASE_FIT_NORM_LOG) {
+    if (fp->norm == BRUME_PHASE_FIT_LOG) {
         for (int n = 0; n < FIT_NODES; n++) {
             double e = log(schlick_mix_phi(r, k, kp, fp->t[n])) - fp->phi[n];
             s += fp->w[n] * e * e;
@@ -107,7 +111,7 @@ static double fit_problem_error(const fit_problem *fp, double r, double k, doubl
     return sqrt(s * fp->scale);
 }
 
-double phase_fit_error(const phase *target, phase_fit_norm norm, double r, double k, double kprime)
+static double fit_error(const phase *target, brume_phase_fit_norm norm, double r, double k, double kprime)
 {
     if (!(r >= 0.0 && r <= 1.0) || !(fabs(k) < 1.0) || !(fabs(kprime) < 1.0))
         return (double)NAN;
@@ -210,7 +214,7 @@ static double nelder_mead(const fit_problem *fp, double y[3])
     return f[best];
 }
 
-brume_status phase_fit_schlick_mix(const phase *target, phase_fit_norm norm, phase_fit_result *out)
+static brume_status fit_schlick_mix(const phase *target, brume_phase_fit_norm norm, brume_phase_fit *out)
 {
     fit_problem *fp = malloc(sizeof *fp);
     if (!fp)
@@ -271,4 +275,38 @@ brume_status phase_fit_schlick_mix(const phase *target, phase_fit_norm norm, pha
     out->error = fit_problem_error(fp, r, k, kp);
     free(fp);
     return BRUME_OK;
+}
+
+/* ---- the public calls ----------------------------------------------------------------------- */
+
+brume_status brume_phase_fit_norm_from_name(brume_context *ctx, const char *name, brume_phase_fit_norm *out)
+{
+    err_clear();
+    if (!name || !out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_phase_fit_norm_from_name: %s: NULL",
+                                       !name ? "name" : "out"));
+    if (!norm_from_name(name, out))
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "norm '%s': expected cos, angle or log", name));
+    return ctx_report(ctx, BRUME_OK);
+}
+
+double brume_phase_fit_error(const brume_phase *target, brume_phase_fit_norm norm, double r, double k, double kprime)
+{
+    if (!target || (unsigned)norm > BRUME_PHASE_FIT_LOG)
+        return NAN;
+    return fit_error(target->p, norm, r, k, kprime);
+}
+
+brume_status brume_phase_fit_schlick_mix(brume_context *ctx, const brume_phase *target, brume_phase_fit_norm norm,
+                                         brume_phase_fit *out)
+{
+    err_clear();
+    if (!target || !out)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_phase_fit_schlick_mix: %s: NULL",
+                                       !target ? "target" : "out"));
+    memset(out, 0, sizeof *out);
+    if ((unsigned)norm > BRUME_PHASE_FIT_LOG)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_phase_fit_schlick_mix: norm: %d unknown",
+                                       (int)norm));
+    return ctx_report(ctx, fit_schlick_mix(target->p, norm, out));
 }

@@ -1,14 +1,19 @@
 /* phase_plot.c - polar and cartesian plots of phase functions with cairo. */
-#include "tool/tool.h"
+#include "brume.h"
+
+#include <math.h>
 
 #include <cairo.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "core/context.h"
 #include "core/error.h"
+#include "io/atomic.h"
 #include "phase/phase.h"
 #include "io/cairo_lib.h"
 #include "io/chart.h"
+#include "scene/scene_build.h"
 
 #define PLOT_WIDTH 900
 #define ROW_HEIGHT 300 /* panels */
@@ -23,17 +28,16 @@ static double plot_phi(const phase *p, double theta) { return 4.0 * PI * phase_e
 static double plot_value(double phi, bool log_scale) { return log_scale ? log10(fmax(phi, 1e-300)) : phi; }
 
 /* The curves of a row: truth and approx, or the overlay's. */
-static int row_count(const phase_plot_row *row) { return row->ncurves > 0 ? row->ncurves : 2; }
-static const phase *row_curve(const phase_plot_row *row, int c)
+static int row_count(const brume_phase_plot_row *row) { return row->ncurves > 0 ? row->ncurves : 2; }
+static const phase *row_curve(const brume_phase_plot_row *row, int c)
 {
-    if (row->ncurves > 0)
-        return row->curves[c];
-    return c ? row->approx : row->truth;
+    const brume_phase *h = row->ncurves > 0 ? row->curves[c] : c ? row->approx : row->truth;
+    return h ? h->p : NULL;
 }
 
 static void set_color(cairo_t *cr, int approx);
 
-static void set_style(cairo_t *cr, const phase_plot_row *row, int c)
+static void set_style(cairo_t *cr, const brume_phase_plot_row *row, int c)
 {
     if (row->ncurves <= 0) {
         set_color(cr, c);
@@ -61,7 +65,7 @@ static void set_color(cairo_t *cr, int approx)
 }
 
 /* The range [*lo, *hi] of plot_value over the curves of one row. */
-static void row_range(const phase_plot_row *row, bool log_scale, double *lo, double *hi)
+static void row_range(const brume_phase_plot_row *row, bool log_scale, double *lo, double *hi)
 {
     *lo = INFINITY;
     *hi = -INFINITY;
@@ -82,7 +86,7 @@ static void row_range(const phase_plot_row *row, bool log_scale, double *lo, dou
  * scale whatever log_scale says (a log radius turns every lobe into a shifted circle: the
  * cartesian panel beside it is the log companion). The dotted circle is phi = 1 (isotropic
  * scattering). */
-static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, double x0, double y0)
+static void draw_polar(cairo_t *cr, const brume_phase_plot_row *row, bool log_scale, double x0, double y0)
 {
     double lo, hi;
     (void)log_scale;
@@ -146,8 +150,24 @@ static void draw_polar(cairo_t *cr, const phase_plot_row *row, bool log_scale, d
     chart_text(cr, x0 + 6.0, y0 + ROW_HEIGHT - 6.0, "polar, phi / max phi (linear)", 0.0);
 }
 
+/* The overlay's legend, its first line at (right - 150, ly). */
+static void draw_legend(cairo_t *cr, const brume_phase_plot_row *row, double right, double ly)
+{
+    for (int c = 0; c < row->ncurves; c++) {
+        if (!row->labels || !row->labels[c])
+            continue;
+        set_style(cr, row, c);
+        cairo_move_to(cr, right - 150.0, ly - 4.0);
+        cairo_line_to(cr, right - 126.0, ly - 4.0);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+        chart_text(cr, right - 120.0, ly, row->labels[c], 0.0);
+        ly += 14.0;
+    }
+}
+
 /* phi against theta in degrees, in [x0, x0 + w] x [y0, y0 + ROW_HEIGHT]. */
-static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scale, double x0, double y0, double w)
+static void draw_cartesian(cairo_t *cr, const brume_phase_plot_row *row, bool log_scale, double x0, double y0, double w)
 {
     double lo, hi;
     row_range(row, log_scale, &lo, &hi);
@@ -215,22 +235,10 @@ static void draw_cartesian(cairo_t *cr, const phase_plot_row *row, bool log_scal
         cairo_stroke(cr);
     }
     cairo_restore(cr);
-    /* the overlay's legend, top right */
-    double ly = top + 16.0;
-    for (int c = 0; c < row->ncurves; c++) {
-        if (!row->labels || !row->labels[c])
-            continue;
-        set_style(cr, row, c);
-        cairo_move_to(cr, right - 150.0, ly - 4.0);
-        cairo_line_to(cr, right - 126.0, ly - 4.0);
-        cairo_stroke(cr);
-        cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-        chart_text(cr, right - 120.0, ly, row->labels[c], 0.0);
-        ly += 14.0;
-    }
+    draw_legend(cr, row, right, top + 16.0);
 }
 
-brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows, bool log_scale)
+static brume_status phase_plot_png(const char *path, int n, const brume_phase_plot_row *rows, bool log_scale)
 {
     if (n < 1)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: nothing to plot", path);
@@ -254,4 +262,31 @@ brume_status phase_plot_png(const char *path, int n, const phase_plot_row *rows,
         draw_cartesian(cr, &rows[i], log_scale, POLAR_SIZE, y0 + TITLE_HEIGHT, PLOT_WIDTH - POLAR_SIZE);
     }
     return chart_write_png(s, cr, path);
+}
+
+brume_status brume_phase_plot_png(brume_context *ctx, const char *path, int n, const brume_phase_plot_row *rows,
+                                  bool log_scale)
+{
+    err_clear();
+    if (!path || !rows)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_phase_plot_png: %s: NULL",
+                                       !path ? "path" : "rows"));
+    if (n < 1 || n > 64)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_phase_plot_png: n: %d outside [1, 64]", n));
+    for (int i = 0; i < n; i++) {
+        const brume_phase_plot_row *r = &rows[i];
+        if (r->ncurves > 16 || (r->ncurves > 0 && !r->curves) || (r->ncurves <= 0 && !r->truth))
+            return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                                           "brume_phase_plot_png: rows[%d]: %s", i,
+                                           r->ncurves > 16 ? "more than 16 curves" : r->ncurves > 0 ? "curves: NULL"
+                                                                                                : "truth: NULL"));
+        for (int c = 0; c < r->ncurves; c++)
+            if (!r->curves[c])
+                return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                                               "brume_phase_plot_png: rows[%d].curves[%d]: NULL", i, c));
+    }
+    const void *owner = atomic_owner(ctx);
+    brume_status st = phase_plot_png(path, n, rows, log_scale);
+    atomic_owner(owner);
+    return ctx_report(ctx, st);
 }

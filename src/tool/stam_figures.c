@@ -1,21 +1,26 @@
-/* stam_figures.c - the plots of Stam 1994 that are not renderings (tool.h): Figure 1,
+/* stam_figures.c - the plots of Stam 1994 that are not renderings (brume_stam_figure_png): Figure 1,
  * a random blob with and without clamping, and Figure 4, the variance of the optical depth
  * against the distance of the ray from the blob's centre, closed form against a Monte-Carlo
  * estimate over explicit 3-D realizations. docs/stam.md explains both. */
-#include "tool/tool.h"
+#include "brume.h"
+
+#include <math.h>
+#include <pthread.h>
 
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "io/chart.h"
+#include "core/context.h"
 #include "core/error.h"
+#include "io/atomic.h"
 #include "density/blobs.h"
 #include "density/randfield.h"
 #include "render/stam_stats.h"
 
 #define FIG1_N 701
 
-brume_status stam_figure1_png(const char *path, bool quick)
+static brume_status stam_figure1_png(const char *path, bool quick)
 {
     (void)quick; /* one realization along a line: already fast */
     const double h = 1.0, eps = 0.3, alpha = 0.15, eta = 0.25;
@@ -74,26 +79,14 @@ brume_status stam_figure1_png(const char *path, bool quick)
 #define F4_NZ 64
 #define F4_ETAS 4
 
-brume_status stam_figure4_png(const char *path, bool quick, double *max_z)
+enum { F4_NR = 19, F4_NC = 61 };
+
+/* Sums of T and T^2 over 2 * pairs explicit realizations of Q, per eta and distance. */
+static brume_status f4_realize(int pairs, double eps, double cell, const double *etas,
+                               const double mean[F4_NR][F4_NZ], double S[F4_ETAS][F4_NR], double S2[F4_ETAS][F4_NR],
+                               const char *path)
 {
-    const double h = 1.0, eps = 0.6, alpha = 0.25, cell = alpha / 1.5;
-    const double etas[F4_ETAS] = {1e30, 0.2, 0.1, 0.05};
-    const int pairs = quick ? 60 : 600;
-    blob b = {v3(0, 0, 32 * cell), 4.0, h};
-    blob_field *f = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, path);
-    if (!f)
-        return err_status();
-    stam_stats_init();
-    enum { NR = 19, NC = 61 };
-    static double mean[NR][F4_NZ], S[F4_ETAS][NR], S2[F4_ETAS][NR];
-    static double d_mc[NR], v_mc[F4_ETAS][NR], e_mc[F4_ETAS][NR], d_cf[NC], v_cf[F4_ETAS][NC];
-    for (int r = 0; r < NR; r++) {
-        d_mc[r] = r * cell;
-        for (int k = 0; k < F4_NZ; k++)
-            mean[r][k] = blob_mean_at(f, 0, v3(r * cell, 0, k * cell));
-        for (int e = 0; e < F4_ETAS; e++)
-            S[e][r] = S2[e][r] = 0.0;
-    }
+    const double alpha = 0.25;
     size_t count = (size_t)F4_NX * F4_NY * F4_NZ;
     float *q[2] = {malloc(count * sizeof(float)), malloc(count * sizeof(float))};
     brume_status st = q[0] && q[1] ? BRUME_OK : err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
@@ -102,7 +95,7 @@ brume_status stam_figure4_png(const char *path, bool quick, double *max_z)
         if ((st = randfield_synthesize(&rp, (uint64_t)pr, q[0], q[1])))
             break;
         for (int w = 0; w < 2; w++)
-            for (int r = 0; r < NR; r++)
+            for (int r = 0; r < F4_NR; r++)
                 for (int e = 0; e < F4_ETAS; e++) {
                     double T = 0.0;
                     for (int k = 0; k < F4_NZ; k++) {
@@ -116,7 +109,30 @@ brume_status stam_figure4_png(const char *path, bool quick, double *max_z)
     }
     free(q[0]);
     free(q[1]);
-    if (st) {
+    return st;
+}
+
+static brume_status stam_figure4_png(const char *path, bool quick, double *max_z)
+{
+    const double h = 1.0, eps = 0.6, alpha = 0.25, cell = alpha / 1.5;
+    const double etas[F4_ETAS] = {1e30, 0.2, 0.1, 0.05};
+    const int pairs = quick ? 60 : 600;
+    blob b = {v3(0, 0, 32 * cell), 4.0, h};
+    blob_field *f = blob_field_new(&b, 1, BLOB_DEFAULT_CUTOFF, path);
+    if (!f)
+        return err_status();
+    stam_stats_init();
+    enum { NR = F4_NR, NC = F4_NC };
+    static double mean[NR][F4_NZ], S[F4_ETAS][NR], S2[F4_ETAS][NR];
+    static double d_mc[NR], v_mc[F4_ETAS][NR], e_mc[F4_ETAS][NR], d_cf[NC], v_cf[F4_ETAS][NC];
+    for (int r = 0; r < NR; r++) {
+        d_mc[r] = r * cell;
+        for (int k = 0; k < F4_NZ; k++)
+            mean[r][k] = blob_mean_at(f, 0, v3(r * cell, 0, k * cell));
+        for (int e = 0; e < F4_ETAS; e++)
+            S[e][r] = S2[e][r] = 0.0;
+    }
+    if (f4_realize(pairs, eps, cell, etas, (const double(*)[F4_NZ])mean, S, S2, path) != BRUME_OK) {
         blob_field_release(f);
         return err_prefix("%s", path);
     }
@@ -158,4 +174,25 @@ brume_status stam_figure4_png(const char *path, bool quick, double *max_z)
     snprintf(sub, sizeof sub, "closed form (lines), %d explicit realizations (points)", M);
     chart_panel p = {sub, "distance d_i of the ray from the centre (units of h)", "Var T_i", 2 * F4_ETAS, s, true};
     return chart_png(path, title, 1, &p);
+}
+
+/* The figures keep their series in static arrays: one figure at a time. */
+static pthread_mutex_t figure_lock = PTHREAD_MUTEX_INITIALIZER;
+
+brume_status brume_stam_figure_png(brume_context *ctx, int figure, const char *path, bool quick, double *max_z)
+{
+    err_clear();
+    if (max_z)
+        *max_z = 0.0;
+    if (!path)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_stam_figure_png: path: NULL"));
+    if (figure != 1 && figure != 4)
+        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                                       "brume_stam_figure_png: figure: %d (Stam's plots are Figures 1 and 4)", figure));
+    const void *owner = atomic_owner(ctx);
+    pthread_mutex_lock(&figure_lock);
+    brume_status st = figure == 1 ? stam_figure1_png(path, quick) : stam_figure4_png(path, quick, max_z);
+    pthread_mutex_unlock(&figure_lock);
+    atomic_owner(owner);
+    return ctx_report(ctx, st);
 }
