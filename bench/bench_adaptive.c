@@ -61,7 +61,6 @@ static brume_scene *scene_for(brume_context *ctx, const setup *su, int spp, doub
     rs.min_spp = 16;
     rs.threads = 0;
     rs.aovs = aovs;
-    rs.progress = false;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK) {
         fprintf(stderr, "bench_adaptive: %s\n", brume_context_last_error(ctx));
         exit(1);

@@ -54,7 +54,6 @@ static brume_scene *load(const char *path, const char *method, int threads, int 
     if (brume_method_from_name(ctx, method, &rs.method) != BRUME_OK)
         die(ctx);
     rs.threads = threads;
-    rs.progress = false;
     if (size) rs.width = rs.height = size;
     if (spp) rs.spp = spp;
     rs.seed = seed;

@@ -58,7 +58,6 @@ static brume_image *render(brume_context *ctx, const char *path, double seconds,
     rs.seed = seed;
     rs.threads = 0;
     rs.aovs = aovs;
-    rs.progress = false;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK)
         die(ctx, "settings");
     double t0 = now();

@@ -31,7 +31,6 @@ static brume_image *render(const char *path, const brume_render_settings *base, 
     brume_render_settings rs = *base;
     rs.spp = spp;
     rs.seed = seed;
-    rs.progress = false;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK) {
         fprintf(stderr, "bench_render: %s\n", brume_context_last_error(ctx));
         exit(1);

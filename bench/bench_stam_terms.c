@@ -52,7 +52,6 @@ static brume_image *render(brume_context *ctx, int v, int seed, int w, int h, in
     rs.height = h;
     rs.spp = spp;
     rs.seed = v == V_EXPLICIT2 ? 77 : 1;
-    rs.progress = false;
     if (v >= V_EXPLICIT)
         rs.method = BRUME_METHOD_SINGLE;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||

@@ -3,7 +3,7 @@
  * The MPI library is opened by its SONAME (BRUME_MPI_SONAME, read from the library CMake
  * found) when a launcher starts brume with several processes, or when --help names it, and
  * not linked: Open MPI's loading and relocation took about 6 ms of every brume process's
- * start on the project's machine, for the few runs under mpirun (issue 37; the same way as
+ * start on the project's machine, for the few runs under mpirun (the same way as
  * Embree and libmicrohttpd). It is opened RTLD_GLOBAL: Open MPI's plugins (mca_*.so), which
  * it opens in MPI_Init, resolve libmpi's symbols from the global scope. Open MPI's
  * predefined handles (MPI_COMM_WORLD, MPI_FLOAT, MPI_SUM) are the addresses of objects in

@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli_progress.h"
 #include "commands.h"
 #include "tool/tool.h"
 
@@ -25,8 +26,8 @@ static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a sign
  * callback sees it within a tile) and its samples are kept. In any other phase (loading a
  * scene, generating a grid, Blasi's light pass, writing) there is nothing partial to keep, so
  * the first signal ends the process at once, as a second one always does: temporary files of
- * writes under way are removed, finished files stay (issue 36: SIGINT was answered after the
- * phase, minutes later). */
+ * writes under way are removed, finished files stay (a signal answered after the phase
+ * would come minutes later). */
 static void on_signal(int sig)
 {
     if (g_signal || !g_keep) {
@@ -186,6 +187,7 @@ static bool on_progress(void *user, uint64_t done, uint64_t total)
     job_state *st = user;
     if (g_signal)
         return false;
+    cli_progress_tick(st->job);
     if (st->checkpoint && st->job && now_seconds() - st->t_last >= st->every) {
         if (brume_render_job_save(st->ctx, st->job, st->scene_key, st->checkpoint) != BRUME_OK && !st->warned) {
             cli_error("warning: %s", brume_context_last_error(st->ctx));
@@ -276,10 +278,13 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     *job_out = NULL;
     brume_render_job *job = NULL;
     double t0 = now_seconds();
+    cli_progress_begin(o->progress, o->progress_every);
     brume_status st = o->resume ? brume_render_job_resume(ctx, scene, o->scene_key, o->resume, &job)
                                 : brume_render_begin(ctx, scene, &job);
-    if (st != BRUME_OK)
+    if (st != BRUME_OK) {
+        cli_progress_end(NULL);
         return st;
+    }
     g_job = (job_state){job, o->checkpoint, o->scene_key, o->checkpoint_every, now_seconds(), NULL, false};
     if (o->checkpoint && !(g_job.ctx = brume_context_new())) {
         brume_render_job_release(job);
@@ -290,6 +295,7 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     cli_signals_keep(true);
     st = g_signal ? BRUME_ERROR_CANCELLED : brume_render_job_run(ctx, job);
     res->seconds = now_seconds() - t0;
+    cli_progress_end(job);
     cli_signals_keep(false);
     g_job.job = NULL;
     brume_context_release(g_job.ctx);

@@ -52,6 +52,8 @@ typedef struct cli_job_opts {
     double time_budget;
     cli_serve *serve;        /* the live view, or NULL */
     const char *label;       /* what the live view calls this render */
+    bool progress;           /* show the render's progress on stderr (cli_progress.h) */
+    double progress_every;   /* seconds between two log lines; 0: the default */
 } cli_job_opts;
 
 typedef struct cli_job_result {

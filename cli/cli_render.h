@@ -81,7 +81,7 @@ typedef struct render_run {
     cli_serve *serve;               /* the live view, or NULL */
     brume_context *ctx;
     brume_scene *scene;             /* the last frame's, kept while the world is static */
-    bool load_progress;             /* the frames' scenes show the render's progress */
+    bool load_progress;             /* the render's progress is shown (cli_progress.h) */
     cli_read_ahead ra;              /* the next frame, read while this one renders */
     const char *ahead_why;          /* why the next frame was not read ahead, or NULL */
     const char *ahead;              /* --stats: the rendered frame's "yes" or why not; NULL: no line */

@@ -267,7 +267,7 @@ static const cli_flag render_flags[] = {
     {"--serve-exit", NULL, NULL, "with --serve: exit when the render is written", NULL, CLI_FLAG_TRUE,
      OFF(serve_exit), 0, 0, NULL},
     {"--progress-every", NULL, "S", "with stderr not a terminal: a progress line every S seconds (default 10)",
-     "settings.progress_interval", CLI_FLAG_DOUBLE, OFF(progress_every), 0.01, 1e9, NULL},
+     NULL, CLI_FLAG_DOUBLE, OFF(progress_every), 0.01, 1e9, NULL},
     {"--quiet", "-q", NULL, "no progress bar, progress lines or summary", NULL, CLI_FLAG_TRUE, OFF(quiet), 0, 0,
      NULL},
     {"--print-scene", NULL, NULL, "write the scene as brume JSON to stdout and exit (the studio scene of a\n"

@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli_progress.h"
 #include "cli_render.h"
 #include "commands.h"
 
@@ -306,26 +307,8 @@ int render_print_scene(const render_opts *o)
 }
 
 /* The line a written frame gets on stderr (not with --quiet): size, samples, method, time,
- * and the noise and time budgets when the render had them. */
-/* Why a render under a time budget or a noise target ended (an interrupt is reported apart),
- * from the job's figures and this run's seconds: into buf, which is returned. A pixel stops
- * at the samples per pixel cap, at the noise target (adaptive sampling), or where the budget
- * finds it; the budget is what ended a render that used it up short of both. */
-static const char *stop_reason(const brume_render_settings *rs, const brume_render_progress *p, double seconds,
-                               char *buf, size_t n)
-{
-    if (p->spp_min >= rs->spp)
-        snprintf(buf, n, "the samples per pixel cap (render.spp %d; --spp N raises it)", rs->spp);
-    else if (rs->noise_target > 0.0 && p->converged >= 1.0)
-        snprintf(buf, n, "the noise target");
-    else if (rs->time_budget > 0.0 && (seconds >= 0.9 * rs->time_budget || rs->noise_target <= 0.0))
-        snprintf(buf, n, "the time budget");
-    else
-        snprintf(buf, n, "the noise target, or the samples per pixel cap where it was not reached (render.spp %d)",
-                 rs->spp);
-    return buf;
-}
-
+ * and the noise and time budgets when the render had them, with what stopped it (the
+ * library's brume_render_progress.stopped). */
 static void report_frame(const render_run *r, const char *path, int owner, const brume_render_settings *rs,
                          double secs)
 {
@@ -344,10 +327,11 @@ static void report_frame(const render_run *r, const char *path, int owner, const
         char budget[64] = "";
         if (rs->time_budget > 0.0)
             snprintf(budget, sizeof budget, " (rendering %.2f s of a %.3g s budget)", r->jr.seconds, rs->time_budget);
-        char why[160];
-        fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s; stopped by %s\n",
-                path, rs->width, rs->height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs->method),
-                secs, budget, stop_reason(rs, p, r->jr.seconds, why, sizeof why));
+        char why[192];
+        cli_progress_stop_reason(p, rs, why, sizeof why);
+        fprintf(stderr, "brume: %s: %d x %d, %d to %d spp (%.1f on average)%s, method %s, %.2f s%s%s%s\n", path,
+                rs->width, rs->height, p->spp_min, p->spp_max, p->spp_mean, noise, brume_method_name(rs->method), secs,
+                budget, why[0] ? "; stopped: " : "", why);
     } else
         fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs->width,
                 rs->height, rs->spp, brume_method_name(rs->method), secs, (double)rs->width * rs->height * rs->spp / secs * 1e-6);

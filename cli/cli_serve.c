@@ -430,8 +430,8 @@ cli_serve *cli_serve_start(const char *spec)
     pthread_mutex_init(&sv->lock, NULL);
     sv->daemon = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD, 0, NULL, NULL, on_request, sv,
                                   MHD_OPTION_LISTEN_SOCKET, sv->fd, MHD_OPTION_CONNECTION_LIMIT, 64U,
-                                  /* idle connections cannot hold the view (issue 36: 32 of them
-                                     blocked it): 16 per client address, above a browser's 6 per
+                                  /* idle connections cannot hold the view (32 of them would
+                                     block it): 16 per client address, above a browser's 6 per
                                      host with its polls and a stop request (4 refused the stop
                                      after three page loads), dropped after 10 s idle */
                                   MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16U, MHD_OPTION_CONNECTION_TIMEOUT, 10U,

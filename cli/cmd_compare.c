@@ -54,7 +54,6 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.seed = seed;
-    rs.progress = false;
     if (r->method && brume_method_from_name(ctx, r->method, &rs.method) != BRUME_OK) {
         brume_scene_release(s);
         return NULL;

@@ -166,7 +166,6 @@ static int run_render(const char *scenes, const figure *f, const char *path, boo
         snprintf(size, sizeof size, " --width %d --height %d --spp 1%s", rs.width, rs.height,
                  blasi ? " --set blasi.light_rays=" QUICK_LIGHT_RAYS : "");
     }
-    rs.progress = false;
     if (brume_scene_set_settings(ctx, s, &rs) != BRUME_OK || brume_scene_commit(ctx, s) != BRUME_OK ||
         brume_render(ctx, s, &img) != BRUME_OK || brume_image_write(ctx, img, path, NULL) != BRUME_OK)
         goto fail;
@@ -323,7 +322,6 @@ static int render_variant(brume_context *ctx, const char *scene, const figure *f
         rs.method = BRUME_METHOD_PATH;
         rs.spp = quick ? 2 : COMPARE_SPP;
     }
-    rs.progress = false;
     brume_status st = brume_scene_set_settings(ctx, s, &rs);
     if (st == BRUME_OK)
         st = brume_scene_commit(ctx, s);
@@ -726,8 +724,8 @@ int cmd_figures(int argc, char **argv)
         cli_error("figures: %s: cannot create: %s", dir, strerror(errno));
         return 1;
     }
-    /* before any work: mkdir's EEXIST also means a file there (issue 36: -o FILE rendered every
-     * figure, then failed on each) */
+    /* before any work: mkdir's EEXIST also means a file there (-o FILE would render every
+     * figure, then fail on each) */
     if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode) || access(dir, W_OK | X_OK) != 0) {
         cli_error("figures: -o %s: %s", dir, stat(dir, &sb) == 0 && !S_ISDIR(sb.st_mode) ? "not a folder" : "cannot write there");
         return 1;

@@ -16,7 +16,7 @@
  * commits, counting `held` bytes of another scene against the memory limit (the frame that
  * renders while this one is read ahead). On failure returns NULL; the context has the
  * message. */
-static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f, bool progress, size_t held)
+static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f, size_t held)
 {
     brume_scene *scene = NULL;
     brume_status st;
@@ -46,12 +46,10 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     /* --time and --noise went in as render.time and render.noise (set_override): spp, from
      * --spp, the scene or its default, is the maximum under them all alike */
     if (o->min_spp) rs.min_spp = o->min_spp;
-    rs.progress_interval = o->progress_every;
     rs.aovs |= o->aovs;
     if (o->denoise) /* what the denoiser reads (docs/denoise.md) */
         rs.aovs |= BRUME_AOV_VARIANCE | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_DEPTH;
     cli_job_callback(&rs.progress_fn, &rs.progress_user);
-    rs.progress = progress;
     rs.stats = o->stats;
     if (brume_scene_set_settings(ctx, scene, &rs) != BRUME_OK || brume_scene_commit(ctx, scene) != BRUME_OK) {
         brume_scene_release(scene);
@@ -163,7 +161,7 @@ static int render_failed(const render_run *r)
  * 0, or the exit status with a message. */
 static int receive_frame(render_run *r, long k, long f, int owner, brume_render_settings *rs)
 {
-    if (!r->scene && !(r->scene = load_scene(r->ctx, r->o, f, false, 0)))
+    if (!r->scene && !(r->scene = load_scene(r->ctx, r->o, f, 0)))
         return render_failed(r);
     if (!r->plan.made && render_prepare_outputs(&r->plan, true) != 0)
         return 1;
@@ -190,7 +188,7 @@ static int frame_owner(const render_run *r, long k)
 static brume_scene *load_ahead(brume_context *ctx, const void *user, long f, size_t held)
 {
     const render_run *r = user;
-    return load_scene(ctx, r->o, f, r->load_progress, held);
+    return load_scene(ctx, r->o, f, held);
 }
 
 /* Before frame index k renders: the next frame this process renders is read on a thread
@@ -250,7 +248,7 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
         brume_scene_release(r->scene);
         r->scene = cli_read_ahead_take(&r->ra, f); /* read while the frame before rendered */
         r->ahead = r->scene ? "yes" : r->ahead_why;
-        if (!r->scene && !(r->scene = load_scene(r->ctx, o, f, r->load_progress, 0)))
+        if (!r->scene && !(r->scene = load_scene(r->ctx, o, f, 0)))
             return render_failed(r);
         if (!o->sequence || !o->scene_path || brume_scene_world_is_static(r->scene))
             r->ahead = NULL; /* no grids of its own per frame: nothing to say */
@@ -267,7 +265,8 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
             cli_serve_show(r->serve, NULL, NULL);
         brume_render_job_release(r->job);
         r->job = NULL;
-        cli_job_opts jo = {o->checkpoint, 5.0, o->resume, 0, rs->noise_target, rs->time_budget, r->serve, path};
+        cli_job_opts jo = {o->checkpoint, 5.0, o->resume, 0, rs->noise_target, rs->time_budget, r->serve, path,
+                           r->load_progress, o->progress_every};
         if (o->checkpoint || o->resume)
             jo.scene_key = cli_scene_key(o->scene_path, r->scene, o->nsets, o->sets, f);
         if (cli_run_job(r->ctx, r->scene, &jo, &r->job, &r->image, &r->jr) != BRUME_OK)

@@ -196,7 +196,6 @@ static brume_status render_cell(brume_context *ctx, const sweep_opts *o, int c, 
         rs.seed = o->seed;
     st = o->method ? brume_method_from_name(ctx, o->method, &rs.method) : BRUME_OK;
     rs.threads = o->threads;
-    rs.progress = false;
     if (st == BRUME_OK)
         st = brume_scene_set_settings(ctx, s, &rs);
     if (st == BRUME_OK)

@@ -198,7 +198,10 @@ brume_status brume_method_from_name(brume_context *ctx, const char *name, brume_
  * worker, never two at once. Return true to go on, false to cancel: every worker then stops
  * after the tile it is rendering. A phase before the first tile (Blasi's light pass, Stam's
  * random field) calls it with done = 0 and total = 1 about every 0.1 s, so that it may
- * cancel there too (brume_render_begin then returns BRUME_ERROR_CANCELLED). */
+ * cancel there too (brume_render_begin then returns BRUME_ERROR_CANCELLED).
+ * done / total is a count, not the fraction to show: a display asks the job for its figures
+ * (brume_render_job_progress, which the callback may call), whose fraction never goes back.
+ * The library prints nothing: a progress bar is the caller's to draw. */
 typedef bool (*brume_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 /* Extra image layers (AOVs), a bit mask for brume_render_settings.aovs. Each layer is the
@@ -228,8 +231,6 @@ typedef struct brume_render_settings {
     int max_depth;      /* maximum number of scattering events on a path (path), >= 1 */
     brume_filter filter;
     double filter_width; /* filter support in pixels (box: side; gaussian: diameter), > 0 */
-    bool progress;       /* report progress on stderr: a bar on a terminal, else a line every
-                            progress_interval seconds (samples, noise, elapsed, ETA) */
     double fps;          /* frames per second of a sequence: frame f is at time f / fps, > 0 */
     brume_progress_fn progress_fn; /* NULL: none. See brume_progress_fn */
     void *progress_user;           /* passed to progress_fn */
@@ -244,8 +245,6 @@ typedef struct brume_render_settings {
     brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
     int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
                             (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
-    double progress_interval; /* with progress and stderr not a terminal: seconds between two
-                                 progress lines; 0 = 10, < 0 = no lines (the bar on a terminal stays) */
 } brume_render_settings;
 
 /* Parses a device name, "cpu" (-1), "cuda" (0) or "cuda:N" (N, 0 <= N < 64), into *device.
@@ -961,7 +960,18 @@ brume_status brume_render_job_image(brume_context *ctx, const brume_render_job *
 /* Samples per pixel so far (the maximum over pixels). */
 int brume_render_job_samples(const brume_render_job *job);
 
-/* Figures of a job, for a progress display; safe from any thread at any time. */
+/* What ended a render job's passes (brume_render_progress.stopped). */
+typedef enum brume_stop_reason {
+    BRUME_STOP_NONE = 0,  /* passes are left under the settings (or one runs) */
+    BRUME_STOP_SPP,       /* the pixels still sampled reached spp, the sample maximum */
+    BRUME_STOP_NOISE,     /* every pixel met the noise target */
+    BRUME_STOP_TIME,      /* the time budget ran out */
+    BRUME_STOP_CANCELLED  /* the progress callback cancelled the last pass (an interrupt) */
+} brume_stop_reason;
+
+/* Figures of a job, for a progress display; safe from any thread at any time, the progress
+ * callback included. Every display of a job (brume's bar and log lines, its live view,
+ * Python's) shows these, so they agree; the library computes them and prints nothing. */
 typedef struct brume_render_progress {
     uint64_t done, total;  /* pixel samples, as the progress callback gets them */
     int spp_min, spp_max;  /* samples per pixel over the pixels */
@@ -974,12 +984,15 @@ typedef struct brume_render_progress {
     double eta;            /* seconds left, an estimate (0 when finished); negative: not known
                               yet (a noise target before the first error estimate). Under a
                               noise target it is the samples the pixels' own error trend says
-                              they still need (n (e / target)^2 each) at the cost of a sample
-                              in the last pass; under a time budget at most the time left */
+                              they still need (n (e / target)^2 each), each at its tile's cost
+                              per sample; under a time budget at most the time left. Smoothed
+                              over the calls: a new estimate shows over a quarter of the time
+                              spent (or left) rather than at once (docs/render-jobs.md) */
     bool finished;         /* nothing left to do under the settings */
-    double fraction;       /* of the work done, [0, 1), 1 only when finished; negative when
-                              the ETA is not known. The progress bar and lines show these
-                              figures, and the live view too */
+    double fraction;       /* of the work done, elapsed / (elapsed + eta), [0, 1), 1 only when
+                              finished; never below what an earlier call gave, however the
+                              estimate of the total moves; negative while the ETA is not known */
+    brume_stop_reason stopped; /* why the passes ended; BRUME_STOP_NONE while work is left */
 } brume_render_progress;
 void brume_render_job_progress(const brume_render_job *job, brume_render_progress *out);
 

@@ -1,5 +1,5 @@
 #!/bin/sh
-# attack.sh - replays issue 36's hostile inputs against the brume tool under time and memory
+# attack.sh - replays hostile inputs (tests/bad) against the brume tool under time and memory
 # limits, in a scratch folder full of files brume did not write, and fails when any input
 #   - crashes brume or gets it killed (an exit status from a signal it was not sent),
 #   - runs past its time limit or its memory limit (ulimit -v),

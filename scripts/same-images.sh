@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # same-images.sh - proves that two versions of brume render every scene byte for byte alike
-# (issue 33: a reshape changes no estimator). It builds both versions out of tree, renders
+# (a reshape changes no estimator). It builds both versions out of tree, renders
 # the same list of cases with each at low resolution and few samples, a fixed seed and the
 # same thread count, to OpenEXR (float32 RGBA, lossless) or, from Python, the raw float32
 # array, and compares the files with cmp.

@@ -1,5 +1,5 @@
 #!/bin/sh
-# docs_test.sh - the docs stay references (issue 33, item 5):
+# docs_test.sh - the docs stay references, each claim with the run that shows it:
 #   1. docs/performance.md is under 300 lines (current figures; the history is in git);
 #   2. every run log in docs/bench/ is cited by a page, and every docs/bench/ file a page
 #      cites exists;

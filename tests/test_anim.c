@@ -346,7 +346,7 @@ TEST(video_with_and_without_ffmpeg)
     snprintf(p, sizeof p, "%s/v.mp4", dir);
     struct stat st;
     ASSERT_TRUE(stat(p, &st) == 0 && st.st_size > 100);
-    /* no ffmpeg in PATH: checked before any work (issue 36): one clear line, exit status 1,
+    /* no ffmpeg in PATH: checked before any work: one clear line, exit status 1,
      * nothing rendered */
     char cmd[8192];
     snprintf(cmd, sizeof cmd, "env PATH=/nonexistent %s render %s --frames 0-1 --quiet -o %s/w_%%02d.png --video "

@@ -49,7 +49,7 @@ TEST(bare_grid_renders_with_a_budget_and_the_denoiser)
     ASSERT_EQ_INT(run(args, &err), 0);
     ASSERT_CONTAINS(err, "a grid file without --spp, --time or --noise: 15 s of rendering, then the denoiser");
     ASSERT_CONTAINS(err, "on average)");
-    ASSERT_CONTAINS(err, "of a 15 s budget); stopped by ");
+    ASSERT_CONTAINS(err, "of a 15 s budget); stopped: ");
     ASSERT_TRUE(test_exists(png) && test_exists(raw));
     free(err);
     remove(png);
@@ -65,7 +65,7 @@ TEST(bare_grid_renders_with_a_budget_and_the_denoiser)
     remove(grid);
 }
 
-/* --time on a scene whose spp comes first: the summary says the spp cap stopped it. */
+/* --time on a scene whose spp comes first: the summary says the sample maximum stopped it. */
 TEST(summary_says_why_the_render_stopped)
 {
     char png[512], args[2048], *err = NULL;
@@ -73,7 +73,7 @@ TEST(summary_says_why_the_render_stopped)
     snprintf(args, sizeof args, "render --width 8 --height 6 --spp 3 --time 60 --set render.noise=0 -o %s", png);
     ASSERT_EQ_INT(run(args, &err), 0);
     ASSERT_CONTAINS(err, "3 to 3 spp");
-    ASSERT_CONTAINS(err, "of a 60 s budget); stopped by the samples per pixel cap (render.spp 3; --spp N raises it)");
+    ASSERT_CONTAINS(err, "of a 60 s budget); stopped: the sample maximum, 3 spp (render.spp or --spp), before the time budget");
     free(err);
     remove(png);
 }

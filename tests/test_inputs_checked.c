@@ -75,7 +75,6 @@ TEST(denoise_checks_every_layer)
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
     rs.aovs = BRUME_AOV_VARIANCE | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL | BRUME_AOV_DEPTH;
-    rs.progress = false;
     ASSERT_EQ_INT(brume_scene_set_settings(ctx, s, &rs), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     static const char *const layers[] = {"variance", "albedo", "depth", "normal"};

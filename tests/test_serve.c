@@ -137,7 +137,7 @@ TEST(endpoints)
     ASSERT_CONTAINS(r.body, "exposure");
     ASSERT_CONTAINS(r.body, "/status.json");
     response_free(&r);
-    /* status until finished: the progress line's figures, sane (issue 37): elapsed never
+    /* status until finished: the progress line's figures, sane: elapsed never
      * falls, done never exceeds total, and the end says so */
     double t0 = test_now(), elapsed0 = -1.0, elapsed = -1.0;
     bool finished = false;

@@ -277,7 +277,7 @@ TEST(large_mesh_renders)
 }
 
 /* assimp is not linked (io/mesh.c): a fresh test process does not hold it, and reading a mesh
- * does not map it either, since assimp runs only in the reader's child process (issue 36). */
+ * does not map it either, since assimp runs only in the reader's child process. */
 TEST(assimp_opened_on_first_use)
 {
     ASSERT_TRUE(!test_mapped("libassimp"));

@@ -59,16 +59,23 @@ class Progress(NamedTuple):
     noise: float       # largest relative standard error over the pixels with signal (last pass)
     converged: float   # fraction of pixels adaptive sampling has stopped
     elapsed: float     # seconds spent rendering, a light pass included
-    eta: float         # seconds left, an estimate; negative: not known yet
+    eta: float         # seconds left, an estimate, smoothed; negative: not known yet
     finished: bool     # nothing left to do under the settings
-    fraction: float    # of the work done, [0, 1], 1 only when finished; negative: not known
+    fraction: float    # of the work done, [0, 1], 1 only when finished, never going back; negative: not known
+    stopped: str = ""  # why the passes ended: "spp", "noise", "time", "cancelled"; "" while work is left
+
+
+# brume_stop_reason -> Progress.stopped
+_STOPPED = {getattr(lib, "BRUME_STOP_" + n.upper(), None): n for n in ("spp", "noise", "time", "cancelled")}
 
 
 def _job_figures(job) -> Progress:
     """The figures of a render job (brume_render_job_progress); safe during a pass."""
     p = ffi.new("brume_render_progress *")
     lib.brume_render_job_progress(job, p)
-    return Progress(*(getattr(p, name) for name in Progress._fields))
+    fields = [getattr(p, name) for name in Progress._fields[:-1]]
+    stopped = _STOPPED.get(p.stopped, "") if has("BRUME_STOP_NONE") else ""
+    return Progress(*fields, stopped=stopped)
 
 
 def _takes_figures(fn) -> bool:
@@ -241,14 +248,17 @@ def _json_default(o):
     raise TypeError("not JSON: %r" % type(o))
 
 
-def _progress_bar(description="brume"):
-    """A progress callback drawing a bar with the figures of the progress line (samples per
-    pixel, noise, elapsed, ETA): tqdm's (notebook-aware) when installed, else text."""
+def _progress_bar(description="brume", log_seconds=10.0):
+    """A progress callback drawing the library's figures (samples per pixel, noise, elapsed,
+    ETA, the fraction done): tqdm's bar (notebook-aware) when installed, else a text bar
+    redrawn in place on a terminal, else (stderr a file or a pipe) a line every log_seconds,
+    as `brume render` logs. libbrume itself prints nothing."""
     try:
         from tqdm.auto import tqdm
     except ImportError:
         tqdm = None
-    state = {}
+    tty = sys.stderr.isatty()
+    state = {"t_last": time.monotonic()}
 
     def figures(p):
         what = "%.1f spp" % p.spp_mean
@@ -267,6 +277,14 @@ def _progress_bar(description="brume"):
             if p.finished:
                 bar.close()
                 state.pop("bar")
+        elif not tty:
+            now = time.monotonic()
+            if p.finished or now - state["t_last"] < log_seconds:
+                return True
+            state["t_last"] = now
+            pct = "  ?%" if p.fraction < 0 else "%3d%%" % int(100 * p.fraction)
+            sys.stderr.write("%s %s: %s\n" % (description, pct, figures(p)))
+            sys.stderr.flush()
         else:
             width = 30
             frac = 1.0 if p.finished else p.fraction

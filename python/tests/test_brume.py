@@ -84,7 +84,7 @@ class PackageTest(unittest.TestCase):
         self.assertFalse(any(a is rho for a in brume._borrowed.values()))
 
     def test_array_copied_unless_borrowed(self):
-        # issue 36: a borrowed array changed after Scene() rendered an inconsistent image
+        # a borrowed array changed after Scene() would render an inconsistent image
         # silently; by default the scene holds its own copy, so a change reaches nothing
         rho = cloud()
         want = brume.render(scene_with({"type": "array", "data": rho.copy(), "bounds": BOUNDS}), spp=2)
@@ -174,7 +174,7 @@ class PackageTest(unittest.TestCase):
         self.assertEqual(e.exception.image.shape, (24, 32, 4))
         brume.render(scene_with({"type": "constant", "value": 0.5}), width=8, height=6, progress=True)
 
-        # issue 36: an exception raised by the callback comes back as itself, not brume.Cancelled
+        # an exception raised by the callback comes back as itself, not brume.Cancelled
         class Mine(Exception):
             pass
 
@@ -195,7 +195,7 @@ class PackageTest(unittest.TestCase):
 
     @unittest.skipUnless(has("brume_render_progress"), "this libbrume has no progress figures")
     def test_progress_callback_gets_the_figures(self):
-        """issue 37: a callback fn(p) gets the progress line's figures (samples, noise,
+        """A callback fn(p) gets the progress line's figures (samples, noise,
         elapsed, ETA), sane as the render goes and the image's at the end."""
         scene = scene_with({"type": "array", "data": cloud(), "bounds": BOUNDS})
         scene["render"].update(width=48, height=40, spp=6)  # 3 x 3 tiles

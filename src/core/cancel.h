@@ -1,5 +1,5 @@
 /* cancel.h - asking a render's progress callback whether to go on, from a phase that
- * renders no sample yet (Blasi's light pass, issue 36).
+ * renders no sample yet (Blasi's light pass).
  *
  * Tiles call the callback as they finish (job/render.c); a phase before the first tile
  * has no tiles, so its loops call cancel_poll_stop between units of work (a ray): at most
@@ -38,7 +38,7 @@ bool cancel_poll_cancelled(const cancel_poll *c);
 bool cancel_poll_out_of_time(const cancel_poll *c);
 void cancel_poll_finish(cancel_poll *c);
 
-/* Loading a scene (issue 36): brume_context_cancel_loads(ctx) (async-signal-safe) ends every
+/* Loading a scene: brume_context_cancel_loads(ctx) (async-signal-safe) ends every
  * load in progress with ctx. Each load notes its context's cancel count when it starts
  * (cancel_load_begin, on its thread; ctx NULL: a load nothing cancels); the generators' loops
  * (procedural cloud, fractal grids) call cancel_load_check at least every second of work,

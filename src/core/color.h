@@ -99,7 +99,5 @@ static inline bool col_isfinite(color a)
             return false;
     return true;
 }
-/* Rec. 709 relative luminance of linear RGB. */
-static inline double col_luminance(color a) { return 0.2126 * a.c[0] + 0.7152 * a.c[1] + 0.0722 * a.c[2]; }
 
 #endif

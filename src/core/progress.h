@@ -1,49 +1,61 @@
-/* progress.h - progress reports on stderr: a bar redrawn in place when stderr is a terminal,
- * else one line every few seconds (a log), each with the work's figures and its ETA. */
+/* progress.h - the figures every display of a render shows, computed once: a fraction done
+ * that never goes back and a smoothed ETA. The library prints nothing; the figures reach a
+ * caller through brume_render_job_progress (job/), and the bar and the log lines are drawn
+ * by the caller (cli/cli_progress.c, python/brume). */
 #ifndef BRUME_CORE_PROGRESS_H
 #define BRUME_CORE_PROGRESS_H
 
-#include <pthread.h>
 #include <stdbool.h>
-#include <stddef.h>
-
-#define PROGRESS_LOG_SECONDS 10.0 /* between two log lines by default (Cycles and pbrt log alike) */
-
-/* What a report shows. A negative frac or eta means "not known yet" (a noise target before
- * any pixel has an error estimate); frac stays below 1 until the work is complete. */
-typedef struct progress_figures {
-    double frac;     /* fraction of the work done, [0, 1], or < 0 */
-    double elapsed;  /* seconds */
-    double eta;      /* seconds left, or < 0 */
-    double spp;      /* mean samples per pixel, < 0: not a render */
-    double noise;    /* largest relative standard error over the signal pixels, < 0: not shown */
-} progress_figures;
-
-typedef struct progress {
-    const char *label;
-    size_t total, done;  /* progress_add and progress_update: a count of work items */
-    bool active;         /* false: disabled, or interval < 0 off a terminal */
-    bool tty;            /* stderr is a terminal: a bar redrawn in place */
-    double interval;     /* seconds between log lines off a terminal */
-    double t_start, t_last_draw;
-    progress_figures last;
-    pthread_mutex_t lock;
-} progress;
-
-/* Starts a report when enabled: a bar on a terminal, else a line every log_seconds (0: the
- * default PROGRESS_LOG_SECONDS; < 0: none off a terminal). */
-void progress_begin(progress *p, const char *label, size_t total, bool enabled, double log_seconds);
-/* A count of work items (done of total): thread-safe; the ETA extrapolates the rate. */
-void progress_add(progress *p, size_t n);
-void progress_update(progress *p, size_t done, size_t total);
-/* The figures of a render; drawn when a redraw is due (ten a second on a terminal, one
- * per interval in a log). Thread-safe. */
-void progress_show(progress *p, const progress_figures *f);
-/* Ends the report: drawn complete when the work is, else as far as it got (an interrupted
- * or failed run must not end on 100 %). */
-void progress_end(progress *p, bool complete);
 
 /* Monotonic wall-clock seconds. */
 double progress_now(void);
+
+/* How a render's passes grow under a noise target: from s samples a pixel to
+ * s + min(max(1, s / divisor), max_step). */
+typedef struct progress_passes {
+    int divisor, max_step;
+} progress_passes;
+
+/* The samples a pixel will have taken when adaptive sampling stops it, predicted from the
+ * estimate err of its relative standard error after n samples: it needs n (err / target)^2
+ * (the error falls as 1 / sqrt(n)), and gets its samples in passes, so it stops at the first
+ * count of the passes from `from` (the last pass's count) that meets its need, not at the
+ * need itself; at most spp (the maximum). */
+double progress_samples_needed(double n, double err, double target, int from, progress_passes passes, int spp);
+
+/* A render's own estimate of the time left jumps: under a noise target the samples each
+ * pixel still needs are estimated again after every pass. A meter turns those readings
+ * into what a person can trust: a fraction that never goes back and an ETA that moves
+ * smoothly. job/ feeds it from brume_render_job_progress, so that the CLI's bar and log,
+ * the live view and Python show the same figures. */
+
+#define PROGRESS_SMOOTHING 0.25 /* the ETA's time constant, a fraction of the time spent or left */
+#define PROGRESS_FRAC_MAX 0.99  /* the largest fraction shown before the work is finished */
+
+/* What the work says of itself at one moment. */
+typedef struct progress_reading {
+    double elapsed;     /* seconds spent so far, >= 0 */
+    double left;        /* seconds the work's own estimate leaves, < 0: not known yet */
+    double budget_left; /* seconds left of a time budget, < 0: no budget */
+    bool finished;      /* nothing left to do */
+} progress_reading;
+
+/* What has been shown (progress_meter_init). */
+typedef struct progress_meter {
+    double frac; /* the largest fraction shown, < 0: none yet */
+    double end;  /* the smoothed estimate of `elapsed` at the end, < 0: not known yet */
+    double t;    /* elapsed at the last reading that knew the end */
+} progress_meter;
+
+void progress_meter_init(progress_meter *m);
+/* The fraction done and the ETA (seconds) to show for reading r. The end the reading
+ * predicts (elapsed + left, never past a time budget's end) is followed by a first-order
+ * filter whose time constant is PROGRESS_SMOOTHING x the smaller of the time spent and the
+ * time left: a jump in the estimate shows over a quarter of the run so far rather than at
+ * once, and the end of the run is followed closely. The fraction is elapsed / (elapsed +
+ * ETA), never below one shown before, at most PROGRESS_FRAC_MAX until the work is finished
+ * (then 1, with an ETA of 0). Before the end is known: the last fraction (< 0 if none) and
+ * an ETA of -1. Readings come in the order of their elapsed times. */
+void progress_meter_read(progress_meter *m, const progress_reading *r, double *frac, double *eta);
 
 #endif

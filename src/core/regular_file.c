@@ -59,17 +59,6 @@ void io_inputs_free(io_inputs *rec)
     memset(rec, 0, sizeof *rec);
 }
 
-const io_input *io_inputs_find(const io_inputs *rec, const char *path)
-{
-    struct stat sb;
-    if (!rec || stat(path, &sb) != 0)
-        return NULL;
-    for (size_t i = 0; i < rec->n; i++)
-        if (rec->v[i].dev == sb.st_dev && rec->v[i].ino == sb.st_ino)
-            return &rec->v[i];
-    return NULL;
-}
-
 static uint64_t fold(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;

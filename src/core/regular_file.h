@@ -51,8 +51,6 @@ void io_inputs_record(io_inputs *rec);
  * open through io_open_regular (the OpenVDB child, assimp) call it for the file they read. */
 void io_input_note(const char *path);
 void io_inputs_free(io_inputs *rec);
-/* The input that is the same file as path (device and inode), or NULL. */
-const io_input *io_inputs_find(const io_inputs *rec, const char *path);
 /* FNV-1a folded over every input's bytes in list order, starting from h; an input that cannot
  * be read folds its errno instead (the key then differs from a run that could read it). */
 uint64_t io_inputs_hash(const io_inputs *rec, uint64_t h);

@@ -63,10 +63,3 @@ void sobol_padded_pair(uint64_t key, uint32_t index, uint32_t pair, uint32_t x[2
     x[0] = reverse_bits32(laine_karras(j, seed0));
     x[1] = reverse_bits32(laine_karras(pascal_reversed(j), seed1));
 }
-
-uint32_t sobol_padded_u32(uint64_t key, uint32_t index, uint32_t dim)
-{
-    uint32_t x[2];
-    sobol_padded_pair(key, index, dim >> 1, x);
-    return x[dim & 1u];
-}

@@ -28,8 +28,4 @@ uint32_t sobol_owen_scramble(uint32_t x, uint32_t seed);
  * scrambled sequence keyed by key, as 32-bit fixed-point fractions. */
 void sobol_padded_pair(uint64_t key, uint32_t index, uint32_t pair, uint32_t x[2]);
 
-/* Coordinate dim (>= 0) of sample index of the padded, scrambled sequence keyed by key,
- * as a 32-bit fixed-point fraction. */
-uint32_t sobol_padded_u32(uint64_t key, uint32_t index, uint32_t dim);
-
 #endif

@@ -365,7 +365,7 @@ static float *fractal_base(const fractal_params *p)
     return f;
 }
 
-/* The work before it starts (render.max_work, issue 36), in noise values and lattice points:
+/* The work before it starts (render.max_work), in noise values and lattice points:
  * the base (Perlin: a value per voxel and octave; midpoint: every point of its (2^L + 1)^3
  * lattice; spectral: the FFT's log2(count) butterflies per voxel and a coefficient), the
  * turbulence (a value per voxel and octave) and the shape (one per voxel). */

@@ -9,7 +9,7 @@
  * The folder is not fsync'ed after the rename: that would only make the new name itself
  * survive a power cut, and without it a crash leaves the old file or none, never a torn
  * one (the data reached the disk before the name). It cost 5-8 ms of every written file on
- * the project's machine, 2-3 % of Blasi's picture as `brume render` makes it (issue 37),
+ * the project's machine, 2-3 % of Blasi's picture as `brume render` makes it,
  * for a durability that image writers (cp, Blender, ImageMagick) do not offer either; a
  * checkpoint whose rename is lost leaves the previous checkpoint, which resumes.
  *

@@ -2,7 +2,7 @@
  * SONAME (BRUME_CAIRO_SONAME, read from the library CMake found) at the first picture, not
  * linked: libcairo brings pixman, fontconfig, FreeType, libX11 and xcb, whose loading and
  * relocation took about 6 ms of every brume process's start on the project's machine, for
- * the few commands that draw (figures, charts, sheets, phase plots, compare; issue 37,
+ * the few commands that draw (figures, charts, sheets, phase plots, compare;
  * docs/performance.md "Start-up"), through core/lazylib.h as every optional library.
  *
  * Each forwarder keeps cairo.h's declaration, so the drawing code reads as cairo's

@@ -1,6 +1,6 @@
 /* mesh.c - mesh files read with assimp (Debian's libassimp), flattened to one triangle list.
  *
- * assimp is not hardened against hostile files (issue 36: a 21-byte PLY spins forever, a
+ * assimp is not hardened against hostile files (a 21-byte PLY spins forever, a
  * misspelled PLY property type aborts in an assertion, a 1 KB glTF of nested instances
  * builds 5.8 GB, one OBJ polygon of 100k vertices is triangulated in quadratic time), so it
  * runs only in a child process, as OpenVDB does (io/sandbox.h): CPU time 5 s + 2 s per MiB
@@ -221,7 +221,7 @@ static char *gltf_json(FILE *f, const char *path, long file_size)
 /* A glTF file (.gltf or .glb): the vertices its scenes make once assimp has copied every
  * instance (aiProcess_PreTransformVertices) must fit in the memory budget, at about 100
  * bytes each in assimp (positions, normals, the copies) -- refused before assimp builds them
- * (issue 36: a 1 KB file of 4 levels x 50 children built 5.8 GB). BRUME_OK for other files:
+ * (a 1 KB file of 4 levels x 50 children would build 5.8 GB). BRUME_OK for other files:
  * formats without instancing (PLY, OBJ, STL) build what their size says, and the others are
  * bounded by the child's address space and CPU time. */
 static brume_status gltf_check(FILE *f, const char *path, long file_size)

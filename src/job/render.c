@@ -35,6 +35,7 @@
                                       a pass this size takes well under a second */
 #define PASS_SHORT_REST 1.0 /* seconds: a fixed count whose remaining samples the last pass's cost
                                predicts to take less than this ends in one pass (job_next_pass) */
+#define NOISE_PASSES ((progress_passes){4, PASS_MAX}) /* a noise target's passes (job_next_pass) */
 #define NOISE_FLOOR 1e-3 /* radiance below which a pixel's mean no longer scales its error:
                             pixels darker than this carry no signal (docs/render-jobs.md) */
 
@@ -65,7 +66,32 @@ static brume_status prepared_state(const brume_scene *s, integrator_kind kind, c
 
 /* ---- the job ------------------------------------------------------------------------------ */
 
-static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1);
+/* The pixel rectangle [x0, x1) x [y0, y1) of the job's task-th tile. */
+static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1)
+{
+    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
+    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
+    *x0 = tx * TILE;
+    *y0 = ty * TILE;
+    *x1 = *x0 + TILE < job->rs.width ? *x0 + TILE : job->rs.width;
+    *y1 = *y0 + TILE < job->rs.height ? *y0 + TILE : job->rs.height;
+}
+
+/* The job's tiles (this part's of nparts, round robin) and pixels, from its settings. */
+static void job_layout(brume_render_job *job)
+{
+    const brume_render_settings *rs = &job->rs;
+    job->tiles_x = (rs->width + TILE - 1) / TILE;
+    job->ntiles_all = (size_t)job->tiles_x * (size_t)((rs->height + TILE - 1) / TILE);
+    job->ntiles = job->ntiles_all / (size_t)job->nparts + ((size_t)job->part < job->ntiles_all % (size_t)job->nparts);
+    job->npix = (size_t)rs->width * (size_t)rs->height;
+    job->npart = 0;
+    for (size_t t = 0; t < job->ntiles; t++) {
+        int x0, y0, x1, y1;
+        tile_rect(job, t, &x0, &y0, &x1, &y1);
+        job->npart += (size_t)(x1 - x0) * (size_t)(y1 - y0);
+    }
+}
 
 brume_status job_create(const brume_scene *s, int part, int nparts, bool squares, brume_render_job **out)
 {
@@ -82,21 +108,12 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     job->part = part;
     job->nparts = nparts;
     const brume_render_settings *rs = &job->rs;
-    job->tiles_x = (rs->width + TILE - 1) / TILE;
-    job->ntiles_all = (size_t)job->tiles_x * (size_t)((rs->height + TILE - 1) / TILE);
-    job->ntiles = job->ntiles_all / (size_t)nparts + ((size_t)part < job->ntiles_all % (size_t)nparts ? 1 : 0);
-    job->npix = (size_t)rs->width * (size_t)rs->height;
-    job->npart = 0;
-    for (size_t t = 0; t < job->ntiles; t++) {
-        int x0, y0, x1, y1;
-        tile_rect(job, t, &x0, &y0, &x1, &y1);
-        job->npart += (size_t)(x1 - x0) * (size_t)(y1 - y0);
-    }
+    job_layout(job);
     job->trace_aovs = (rs->aovs & (BRUME_AOV_DEPTH | BRUME_AOV_ALBEDO | BRUME_AOV_NORMAL)) != 0;
     job->t_start = stats_now();
     job->nthreads = rs->threads > 0 ? rs->threads : pool_default_threads();
     /* The film and the image made from it count against render.max_memory_mb, after what
-     * reading the scene took (issue 36): per pixel its count, flag and sums, and the RGBA
+     * reading the scene took: per pixel its count, flag and sums, and the RGBA
      * image with its layers (depth 1, albedo 3, normal 3 floats). */
     uint64_t doubles = JOB_SUMS + (squares ? JOB_SQS : 0u) + (job->trace_aovs ? JOB_AOVS : 0u);
     uint64_t floats = 4u + (job->trace_aovs ? 7u : 0u);
@@ -122,13 +139,16 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
     job->sum = bigmem_calloc(job->npix * JOB_SUMS, sizeof *job->sum);
     job->sq = squares ? bigmem_calloc(job->npix * JOB_SQS, sizeof *job->sq) : NULL;
     job->aov = job->trace_aovs ? bigmem_calloc(job->npix * JOB_AOVS, sizeof *job->aov) : NULL;
+    job->tile_cost = calloc(job->ntiles, sizeof *job->tile_cost);
+    progress_meter_init(&job->meter);
     pthread_mutex_init(&job->lock, NULL);
     pthread_mutex_init(&job->cb_lock, NULL);
     atomic_init(&job->stop, false);
     atomic_init(&job->samples_cut, 0);
     atomic_init(&job->next_poll_ns, 0);
     job->collision_bound = watch_bound(s, rs->max_depth);
-    if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov)) {
+    if (!job->n || !job->active || !job->sum || (squares && !job->sq) || (job->trace_aovs && !job->aov) ||
+        !job->tile_cost) {
         int w = rs->width, h = rs->height; /* rs points into the job, freed below */
         brume_render_job_release(job);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d render job", s->source, w, h);
@@ -151,8 +171,6 @@ void brume_render_job_release(brume_render_job *job)
 {
     if (!job)
         return;
-    if (job->bar_started) /* a job released before its end: stopped, cancelled or failed */
-        progress_end(&job->bar, false);
     gpu_job_release(job);
     pthread_mutex_destroy(&job->lock);
     pthread_mutex_destroy(&job->cb_lock);
@@ -161,19 +179,9 @@ void brume_render_job_release(brume_render_job *job)
     free(job->sum);
     free(job->sq);
     free(job->aov);
+    free(job->tile_cost);
     free(job->counters);
     free(job);
-}
-
-/* The pixel rectangle [x0, x1) x [y0, y1) of the job's task-th tile. */
-static void tile_rect(const brume_render_job *job, size_t task, int *x0, int *y0, int *x1, int *y1)
-{
-    size_t tile = task * (size_t)job->nparts + (size_t)job->part;
-    int tx = (int)(tile % (size_t)job->tiles_x), ty = (int)(tile / (size_t)job->tiles_x);
-    *x0 = tx * TILE;
-    *y0 = ty * TILE;
-    *x1 = *x0 + TILE < job->rs.width ? *x0 + TILE : job->rs.width;
-    *y1 = *y0 + TILE < job->rs.height ? *y0 + TILE : job->rs.height;
 }
 
 double job_pixel_error(const brume_render_job *job, size_t i)
@@ -197,14 +205,38 @@ bool job_in_part(const brume_render_job *job, size_t i)
     return tile % (size_t)job->nparts == (size_t)job->part;
 }
 
-/* Under job->lock (or before any pass): done, total and noise from the per-pixel state. The
- * total is what a fixed count would take, or with a noise target the samples each active
- * pixel is predicted to need: n (error / target)^2, the error falling as 1 / sqrt(n). */
+/* The mean cost per sample of the tiles whose cost is known, 0 if none: the cost of a tile
+ * that has not been measured yet. */
+static double mean_tile_cost(const brume_render_job *job)
+{
+    double sum = 0.0;
+    size_t known = 0;
+    for (size_t t = 0; t < job->ntiles; t++)
+        if (job->tile_cost[t] > 0.0) {
+            sum += job->tile_cost[t];
+            known++;
+        }
+    return known ? sum / (double)known : 0.0;
+}
+
+/* The tile of the job's part that holds pixel i (job_in_part(job, i)). */
+static size_t pixel_task(const brume_render_job *job, size_t i)
+{
+    size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
+    return ((y / TILE) * (size_t)job->tiles_x + x / TILE) / (size_t)job->nparts;
+}
+
+/* Under job->lock (or before any pass): done, total, noise and the cost of the samples left
+ * from the per-pixel state. The total is what a fixed count would take, or with a noise
+ * target the samples each active pixel is predicted to need (progress_samples_needed). The
+ * samples a pixel still needs are weighed by its tile's cost per sample: the pixels left
+ * at the end of an adaptive render are the costly ones (a cloud's interior rather than the
+ * sky), so the mean cost of the last pass would promise too early an end. */
 void job_refresh(brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
     uint64_t done = 0, total = 0;
-    double noise = 0.0;
+    double noise = 0.0, left_cost = 0.0, mean_cost = mean_tile_cost(job);
     for (size_t i = 0; i < job->npix; i++) {
         if (job->nparts > 1 && !job_in_part(job, i))
             continue;
@@ -220,14 +252,19 @@ void job_refresh(brume_render_job *job)
         } else if (rs->noise_target > 0.0 && job->spp_done == 0) {
             want = job->target; /* nothing known before the first pass */
         } else if (rs->noise_target > 0.0 && n >= 2) {
-            double need = n * (err / rs->noise_target) * (err / rs->noise_target);
-            want = fmin(want, fmax(need, (double)job->target));
+            want = progress_samples_needed(n, err, rs->noise_target, job->target, NOISE_PASSES, (int)want);
         }
         total += (uint64_t)fmax(want, (double)n);
+        if (want > n && mean_cost > 0.0) {
+            double c = job->tile_cost[pixel_task(job, i)];
+            left_cost += (want - n) * (c > 0.0 ? c : mean_cost);
+        }
     }
     job->done = done;
     job->total = total;
     job->noise = noise;
+    job->left_cost = left_cost;
+    job->left_samples = total - done;
 }
 
 /* Camera samples s0 .. s0 + nb - 1 (nb <= CAMERA_BATCH) of pixel (x, y), index i: their
@@ -311,58 +348,45 @@ static bool job_time_is_up(brume_render_job *job)
     return true;
 }
 
-/* Under job->lock: the figures a progress report shows, in O(1) (called after every tile).
- * The ETA: under a noise target, the samples the pixels' own error trend says they still
- * need (job_refresh: n (e / target)^2 each, capped at spp) at the wall cost of a pixel
- * sample in the last pass (the pixels left are the costly ones, so the mean cost over the
- * whole render would promise too early an end); unknown before the first estimate. Under a
- * fixed count the same with the exact total; under a time budget at most the time left.
- * The fraction is elapsed / (elapsed + ETA), below 1 until the job is finished. */
-void job_figures(const brume_render_job *job, bool finished, progress_figures *f)
+/* Under job->lock: the elapsed time, the ETA and the fraction done a display shows, through
+ * the job's meter (core/progress.h: the fraction never goes back, the ETA is smoothed). The
+ * render's own estimate of the time left: under a noise target the samples the pixels' own
+ * error trend says they still need (job_refresh), each at its tile's cost per sample, the
+ * tiles' costs turned into wall seconds as the last pass ran them; unknown before the first
+ * estimate. Under a fixed count the same with the exact total; under a time budget at most
+ * the time left. Without tile costs (the first pass, a GPU) the wall cost of a sample in
+ * the last pass, or so far. */
+void job_figures(brume_render_job *job, bool finished, brume_render_progress *out)
 {
     const brume_render_settings *rs = &job->rs;
     double used = job_spent(job);
-    f->elapsed = used;
-    f->spp = job->npart ? (double)job->done / (double)job->npart : 0.0;
-    f->noise = job->sq && job->spp_done >= 2 ? job->noise : -1.0; /* as of the last pass boundary */
-    if (finished) {
-        f->frac = 1.0;
-        f->eta = 0.0;
-        return;
-    }
     double rate = job->sample_seconds > 0.0 ? job->sample_seconds
                   : job->done > 0           ? (used - job->prep_seconds) / (double)job->done
                                             : 0.0;
-    double eta = -1.0;
+    if (job->left_cost > 0.0 && job->wall_per_cost > 0.0 && job->left_samples > 0)
+        rate = job->left_cost * job->wall_per_cost / (double)job->left_samples;
     /* a noise target's total is known once the pixels have error estimates, or when the
      * pass under way reaches the sample maximum */
     bool known = rs->noise_target > 0.0 ? job->spp_done >= 2 || job->target >= rs->spp : true;
+    progress_reading r = {used, -1.0, -1.0, finished};
     if (known && rate > 0.0)
-        eta = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
-    if (rs->time_budget > 0.0) {
-        double left = fmax(0.0, rs->time_budget - job_used(job));
-        eta = eta < 0.0 ? left : fmin(eta, left);
-    }
-    f->eta = eta;
-    f->frac = eta < 0.0 ? -1.0 : fmin(0.99, used / fmax(used + eta, 1e-9));
+        r.left = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
+    if (rs->time_budget > 0.0)
+        r.budget_left = fmax(0.0, rs->time_budget - job_used(job));
+    out->elapsed = used;
+    progress_meter_read(&job->meter, &r, &out->fraction, &out->eta);
 }
 
-/* After a tile: the progress bar and the caller's callback, which may stop the job.
- * Reports are serialized by cb_lock, and the counts are read inside it: two workers that
- * finish tiles together must not report the later count first (lock order: cb_lock, then
- * lock). */
+/* After a tile: the caller's callback, which may stop the job. Calls are serialized by
+ * cb_lock, and the counts are read inside it: two workers that finish tiles together must
+ * not report the later count first (lock order: cb_lock, then lock). */
 static void job_report_tile(brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
     pthread_mutex_lock(&job->cb_lock);
     pthread_mutex_lock(&job->lock);
     uint64_t done = job->done, total = job->total;
-    progress_figures fig;
-    if (job->bar_started)
-        job_figures(job, false, &fig);
     pthread_mutex_unlock(&job->lock);
-    if (job->bar_started)
-        progress_show(&job->bar, &fig);
     if (rs->progress_fn && !atomic_load(&job->stop) && !rs->progress_fn(rs->progress_user, done, total)) {
         atomic_store(&job->stop, true);
         job->cancelled = true;
@@ -529,6 +553,37 @@ static void job_tile(size_t task, int thread, void *user)
     job_report_tile(job);
 }
 
+/* The samples the pixels of the job's task-th tile hold; read by the task that renders
+ * the tile (it alone writes them). */
+static uint64_t tile_samples(const brume_render_job *job, size_t task)
+{
+    int x0, y0, x1, y1;
+    tile_rect(job, task, &x0, &y0, &x1, &y1);
+    uint64_t n = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++)
+            n += job->n[(size_t)y * (size_t)job->rs.width + (size_t)x];
+    return n;
+}
+
+/* A tile, timed: its cost per sample weighs the samples its pixels still need in the ETA
+ * (job_refresh). The cost is the tile's thread-seconds, the progress callback included. */
+static void job_tile_timed(size_t task, int thread, void *user)
+{
+    brume_render_job *job = user;
+    uint64_t before = tile_samples(job, task);
+    double t0 = progress_now();
+    job_tile(task, thread, user);
+    double seconds = progress_now() - t0;
+    uint64_t taken = tile_samples(job, task) - before;
+    if (taken == 0)
+        return;
+    pthread_mutex_lock(&job->lock);
+    job->tile_cost[task] = seconds / (double)taken;
+    job->pass_cost += seconds;
+    pthread_mutex_unlock(&job->lock);
+}
+
 /* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
  * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. An unwatched job
  * (job_next_pass) skips the per-pixel statistics before and after the pass (job_refresh:
@@ -537,10 +592,6 @@ static void job_tile(size_t task, int thread, void *user)
 static brume_status job_pass(brume_render_job *job, bool unwatched)
 {
     const brume_render_settings *rs = &job->rs;
-    if (rs->progress && !job->bar_started) {
-        progress_begin(&job->bar, "render", (size_t)job->total, true, rs->progress_interval);
-        job->bar_started = true;
-    }
     atomic_store(&job->stop, false);
     job->cancelled = false;
     if (rs->device >= 0) { /* the device's start-up (the driver's compile, the upload) is not the pass's */
@@ -550,6 +601,7 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     }
     pthread_mutex_lock(&job->lock);
     job->t_pass = progress_now();
+    job->pass_cost = 0.0;
     uint64_t done0 = job->done;
     if (!unwatched)
         job_refresh(job);
@@ -570,10 +622,8 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
             atomic_store(&job->stop, true);
             job->cancelled = true;
         }
-        if (job->bar_started)
-            progress_update(&job->bar, (size_t)job->done, (size_t)(job->total > job->done ? job->total : job->done));
     } else {
-        pool_run(rs->threads, job->ntiles, job_tile, job);
+        pool_run(rs->threads, job->ntiles, job_tile_timed, job);
     }
     pthread_mutex_lock(&job->lock);
     double pass_seconds = progress_now() - job->t_pass;
@@ -581,6 +631,8 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     job->t_pass = 0.0;
     if (job->done > done0) /* the cost of a pixel sample as the last pass measured it, waits included */
         job->sample_seconds = pass_seconds / (double)(job->done - done0);
+    if (job->pass_cost > 0.0)
+        job->wall_per_cost = pass_seconds / job->pass_cost;
     bool complete = !atomic_load(&job->stop);
     if (complete) {
         job->spp_done = job->target;
@@ -604,7 +656,7 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
  * min_spp samples, a time budget or a fixed count with 1 (an interrupted render has every
  * pixel soon); then each pass adds a quarter (a noise target, so that a pixel overshoots its
  * need by at most that) or a half of what each pixel has, at least 1 and at most PASS_MAX.
- * An unwatched render (brume_render with no callback, no progress bar and no budget: no
+ * An unwatched render (brume_render with no callback and no budget: no
  * one holds the job, sees its progress or can stop it) takes PASS_MAX at once: its passes
  * would only cost (each rereads every pixel's sums and statistics, and waits for the
  * slowest thread), and the image is the same (a pixel's samples are numbered, whatever
@@ -634,7 +686,7 @@ int job_next_pass(const brume_render_job *job, bool unwatched)
     else if (job->spp_done == 0)
         k = rs->noise_target > 0.0 && !timed ? rs->min_spp : 1; /* a budget starts at 1: the minimum yields */
     else
-        k = job->spp_done / (rs->noise_target > 0.0 ? 4 : 2);
+        k = job->spp_done / (rs->noise_target > 0.0 ? NOISE_PASSES.divisor : 2);
     if (!timed && !(rs->noise_target > 0.0) && job->spp_done > 0 && job->sample_seconds > 0.0 &&
         job->sample_seconds * (double)nactive * (double)(rs->spp - job->spp_done) <= PASS_SHORT_REST)
         k = rs->spp - job->spp_done; /* the rest is short: in one pass (at most PASS_MAX), not in
@@ -743,15 +795,6 @@ brume_status job_run(brume_render_job *job, bool unwatched)
                            "%s: render.time: the time budget of %.17g s was spent before the first sample (%.3g s in "
                            "the method's preparation): raise it",
                            job->s->source, job->rs.time_budget, job->prep_seconds);
-    if (job->bar_started) {
-        progress_figures fig;
-        pthread_mutex_lock(&job->lock);
-        job_figures(job, true, &fig);
-        pthread_mutex_unlock(&job->lock);
-        job->bar.last = fig;
-        progress_end(&job->bar, true);
-        job->bar_started = false;
-    }
     job_fill_stats(job);
     return st_empty;
 }

@@ -164,12 +164,15 @@ void brume_render_job_progress(const brume_render_job *job, brume_render_progres
     out->spp_mean = npart ? ntotal / (double)npart : 0.0;
     out->noise = job->noise;
     out->converged = npart ? (double)stopped / (double)npart : 0.0;
-    out->finished = job->t_pass == 0.0 && job_next_pass(job, false) <= 0;
-    progress_figures fig;
-    job_figures(job, out->finished, &fig);
-    out->elapsed = fig.elapsed;
-    out->eta = fig.eta;
-    out->fraction = fig.frac;
+    int next = job->t_pass == 0.0 ? job_next_pass(job, false) : 1;
+    out->finished = next <= 0;
+    if (out->finished) /* what ended it: the clock, every pixel at the noise target, or spp */
+        out->stopped = job->out_of_time || next < 0 ? BRUME_STOP_TIME
+                       : stopped == npart        ? BRUME_STOP_NOISE
+                                                 : BRUME_STOP_SPP;
+    else if (job->t_pass == 0.0 && atomic_load(&job->stop) && !job->out_of_time)
+        out->stopped = BRUME_STOP_CANCELLED; /* the callback stopped the last pass */
+    job_figures(j, out->finished, out);
     pthread_mutex_unlock(&j->lock);
 }
 
@@ -189,7 +192,7 @@ brume_status brume_render_part(brume_context *ctx, const brume_scene *s, int par
         return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: render part %d of %d: need 0 <= part < parts",
                                        s->source, part, nparts));
     const brume_render_settings *rs = &s->settings;
-    const bool unwatched = !rs->progress_fn && !rs->progress && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
+    const bool unwatched = !rs->progress_fn && !(rs->time_budget > 0.0) && !(rs->noise_target > 0.0);
     /* unwatched and without the variance layer, no one reads the squared samples: they are
      * neither kept nor made (half the job's memory, whose zeroing touches a fresh page, a
      * page fault, per 4 KiB) */

@@ -10,7 +10,7 @@
 
 /* render.c */
 bool job_in_part(const brume_render_job *job, size_t i);
-void job_figures(const brume_render_job *job, bool finished, progress_figures *f);
+void job_figures(brume_render_job *job, bool finished, brume_render_progress *out);
 int job_next_pass(const brume_render_job *job, bool unwatched);
 brume_status job_add(brume_render_job *job, int spp, bool unwatched);
 brume_status job_run(brume_render_job *job, bool unwatched);

@@ -29,7 +29,6 @@
 #include "core/error.h"
 #include "core/fixsum.h"
 #include "core/pool.h"
-#include "core/progress.h"
 #include "core/sampling.h"
 #include "render/blasi_state.h"
 #include "render/blasi_walk.h"
@@ -74,8 +73,7 @@ typedef struct pass1_job {
     size_t nocc;            /* non-empty voxels */
     double per_unit;
     light_sums *batch;      /* nbatch: each batch's counts (P unused) */
-    progress prog;
-    cancel_poll cancel;     /* the render's progress callback, asked between rays (issue 36) */
+    cancel_poll cancel;     /* the render's progress callback, asked between rays */
 } pass1_job;
 
 static inline void deposit(light_sums *out, size_t v, color w, double f)
@@ -520,7 +518,6 @@ static void pass1_batch(size_t task, int thread, void *user)
         }
     }
     job->batch[b] = (light_sums){NULL, NULL, 0.0, sums.intercepts, sums.deposits, sums.emitted};
-    progress_add(&job->prog, 1);
 }
 
 /* The job's sums: for the non-empty voxels only (a sixth of picture 1's: fewer pages to
@@ -556,9 +553,7 @@ static brume_status sums_new(const brume_scene *s, const blasi_state *st, pass1_
 static brume_status run_batches(const brume_scene *s, pass1_job *job, size_t threads)
 {
     cancel_poll_init(&job->cancel, &s->settings);
-    progress_begin(&job->prog, "light pass", (size_t)job->nbatch, s->settings.progress, s->settings.progress_interval);
     pool_run((int)threads, (size_t)job->nbatch, pass1_batch, job);
-    progress_end(&job->prog, !cancel_poll_cancelled(&job->cancel));
     const bool cancelled = cancel_poll_cancelled(&job->cancel), late = cancel_poll_out_of_time(&job->cancel);
     cancel_poll_finish(&job->cancel);
     if (late)

@@ -187,7 +187,7 @@ uint64_t *blasi_rays_per_light(const brume_scene *s, const blasi_state *st, uint
     return first;
 }
 
-/* The work before it starts (render.max_work, issue 36): rays x the steps of one across the
+/* The work before it starts (render.max_work): rays x the steps of one across the
  * media's box (a step of blasi.step, or a voxel of the finest medium). */
 brume_status blasi_check_work(const brume_scene *s, const blasi_state *st, uint64_t nrays)
 {

@@ -62,6 +62,14 @@ struct brume_render_job {
     bool out_of_time; /* the time budget ran out */
     double prep_seconds;   /* the integrator's preparation at job_create: part of a time budget */
     double sample_seconds; /* wall seconds per pixel sample in the last pass that took any */
+    double *tile_cost;     /* per tile of the part: thread-seconds per sample in the last pass
+                              that took samples there, 0 before (the ETA weighs the samples a
+                              pixel still needs by its tile's cost) */
+    double pass_cost;      /* thread-seconds of the tiles of the pass under way */
+    double wall_per_cost;  /* the last pass's wall seconds per thread-second of its tiles */
+    double left_cost;      /* at the last job_refresh: thread-seconds the samples left take at
+                              their tiles' costs, 0 when no tile's cost is known */
+    uint64_t left_samples; /* at the last job_refresh: total - done */
 
     void *gpu;        /* render.device >= 0: what the GPU keeps for the job (gpu/cuda.h) */
 
@@ -69,8 +77,7 @@ struct brume_render_job {
     pthread_mutex_t cb_lock; /* serialises the progress callback */
     atomic_bool stop;        /* set when the callback cancels or time runs out */
     bool cancelled;          /* the callback cancelled the pass in progress (under cb_lock) */
-    progress bar;
-    bool bar_started;
+    progress_meter meter;    /* what brume_render_job_progress showed (under lock) */
     double t_start;          /* stats_now() at job_create: the statistics' seconds */
     int nthreads;            /* threads the pool runs */
     struct stats_counters *counters; /* one per thread when rs.stats, else NULL */
@@ -88,7 +95,8 @@ brume_status job_create(const brume_scene *s, int part, int nparts, bool squares
 /* Relative standard error of pixel i's mean as adaptive sampling sees it (docs/render-jobs.md). */
 double job_pixel_error(const brume_render_job *job, size_t i);
 
-/* Recomputes done, total and noise from the per-pixel state (after a resume). */
+/* Recomputes done, total, noise and the cost of the samples left from the per-pixel state
+ * (at pass boundaries, after a resume). */
 void job_refresh(brume_render_job *job);
 
 #endif

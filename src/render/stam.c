@@ -281,7 +281,7 @@ static brume_status build_caches(stam_state *st, int cells)
                        "%.3g points within render.max_memory_mb %.0f",
                        s->source, cells, s->nlights, points, points * 3 * sizeof(double) / 1048576.0,
                        STAM_MAX_CACHE_POINTS, (double)s->max_memory / 1048576.0);
-    /* the work (render.max_work, issue 36): each point integrates about `cells` steps */
+    /* the work (render.max_work): each point integrates about `cells` steps */
     if (points * (cells + 1.0) > s->max_work)
         return err_set(BRUME_ERROR_RANGE,
                        "%s: stam.light_grid: %.3g points of about %d steps each are %.3g units of work, over "

@@ -18,8 +18,6 @@ static void phi_init(void)
         stam_phi_table[i] = SQRT_PI_2 * erf(i * (STAM_PHI_MAX / STAM_PHI_N) * 0.7071067811865476);
 }
 
-double stam_Phi_exact(double x) { return SQRT_PI_2 * erf(x * 0.7071067811865476); }
-
 void stam_stats_init(void) { pthread_once(&phi_once, phi_init); }
 
 blob_ray blob_ray_make(const blob_field *f, int i, double u, double d2)

@@ -32,9 +32,8 @@
 
 /* Phi(x) = integral_0^x exp(-t^2 / 2) dt = sqrt(pi / 2) erf(x / sqrt 2) (erratum 8), from a
  * table (|error| < 4e-8); stam_stats_init() must have run once (stam_prepare calls it;
- * it is idempotent and thread-safe). stam_Phi_exact calls erf. */
+ * it is idempotent and thread-safe). */
 void stam_stats_init(void);
-double stam_Phi_exact(double x);
 
 /* Phi on [0, STAM_PHI_MAX] at STAM_PHI_N + 1 points, linear in between: |error| < 4e-8 (the
  * second derivative of Phi is bounded by 0.61, the spacing is 7.3e-4); beyond, Phi(6)

@@ -22,7 +22,6 @@ void scene_default_settings(brume_render_settings *rs)
     rs->max_depth = 256;
     rs->filter = BRUME_FILTER_GAUSSIAN;
     rs->filter_width = 2.0;
-    rs->progress = false;
     rs->fps = 24.0;
     rs->min_spp = 16;
     rs->device = -1;
@@ -92,9 +91,6 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
         return err_set(BRUME_ERROR_RANGE, "%s: render.noise: %.17g outside [0, 1]", source, rs->noise_target);
     if (rs->device < -1 || rs->device >= 64)
         return err_set(BRUME_ERROR_RANGE, "%s: render.device: %d is not -1 (the CPU) or a GPU 0 .. 63", source, rs->device);
-    if (!(rs->progress_interval <= 1e9))
-        return err_set(BRUME_ERROR_RANGE, "%s: progress_interval: %g is not a number of seconds <= 1e9", source,
-                       rs->progress_interval);
     if (rs->sampler != BRUME_SAMPLER_INDEPENDENT && rs->sampler != BRUME_SAMPLER_SOBOL)
         return err_set(BRUME_ERROR_RANGE, "%s: render.sampler: unknown sampler %d", source, (int)rs->sampler);
     if (rs->min_spp < 1 || rs->min_spp > (1 << 24))

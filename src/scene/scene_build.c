@@ -435,7 +435,7 @@ brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s
     if (!st && up)
         st = build_direction(fn, "up", up, &u);
     /* radiance, as a grid's density: a negative value would render negative light, and a
-     * NaN or an infinity poisons every pixel that sees it (checked like grids, issue 36) */
+     * NaN or an infinity poisons every pixel that sees it (checked like grids) */
     for (size_t i = 0, n = st ? 0 : (size_t)image->width * (size_t)image->height; !st && i < n; i++)
         for (int c = 0; c < 3 && !st; c++) {
             float v = image->rgba[4 * i + (size_t)c];

@@ -35,7 +35,7 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     double mb = (double)(BUDGET_DEFAULT_BYTES >> 20);
     if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &mb))) return st;
     budget_set_limit((size_t)(mb * 1048576.0));
-    /* the one work limit: each method estimates its work before it starts (issue 36) */
+    /* the one work limit: each method estimates its work before it starts */
     if ((st = json_number(j, at, "max_work", 0, 1.0, 1e18, &s->max_work))) return st;
     budget_set_work_limit(s->max_work); /* the generators below ask it (budget_work) */
     brume_render_settings rs;

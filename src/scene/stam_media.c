@@ -31,7 +31,7 @@ randfield *stam_scene_randfield(const brume_scene *s)
 {
     randfield_params rp;
     stam_randfield_params(scene_options(s, METHOD_OPTIONS_STAM), s->time, stam_blob_extent(s), &rp);
-    /* the work before it starts (render.max_work, issue 36): a mode drawn per lattice point,
+    /* the work before it starts (render.max_work): a mode drawn per lattice point,
      * then the FFT's log2(points) butterflies per point */
     double points = (double)rp.n[0] * rp.n[1] * rp.n[2], work = points * (1.0 + log2(points));
     if (work > s->max_work) {
@@ -42,8 +42,8 @@ randfield *stam_scene_randfield(const brume_scene *s)
                 rp.n[0], rp.n[1], rp.n[2], work, s->max_work);
         return NULL;
     }
-    /* its loops ask the render's progress callback too (issue 36: a 512^3 lattice takes
-     * minutes, and the library's cancel must stop it within a second) */
+    /* its loops ask the render's progress callback too: a 512^3 lattice takes minutes,
+     * and the library's cancel stops it within a second */
     cancel_poll cancel;
     cancel_poll_init(&cancel, &s->settings);
     cancel_load_watch(&cancel);

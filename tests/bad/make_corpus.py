@@ -248,7 +248,7 @@ write('meshes/nan.obj', 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n')
 write('meshes/empty.obj', '')
 write('meshes/truncated.ply', 'ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\nelement face 1000\nproperty list uchar int vertex_indices\nend_header\n' + '\x00' * 40)
 write('meshes/truncated.stl', b'\x00' * 80 + struct.pack('<I', 1000000) + b'\x00' * 100)
-# issue 36: assimp runs in a child process under time and memory limits (io/mesh.c); what is
+# assimp runs in a child process under time and memory limits (io/mesh.c); what is
 # cheap to see is refused before it starts
 write('meshes/ply_no_end_header.ply', 'ply\nformat ascii 1.0\n')  # 21 bytes: assimp spun forever
 write('meshes/ply_type_typo.ply', b'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n'
@@ -546,7 +546,7 @@ cli('phase_unknown_sub', 2, 'phase', 'phase dance')
 cli('phase_fit_unknown', 1, 'zzz', 'phase fit zzz')
 cli('phase_plot_unknown_option', 2, '--bogus', 'phase plot --bogus')
 
-# ---- issue 36: resources, outputs, checkpoints ----------------------------------------------
+# ---- resources, outputs, checkpoints -------------------------------------------------------
 write('images/env_negative.pfm', pfm(2, 1, data=f32(0.5, 0.5, 0.5, 0.5, -1.0, 0.5)))
 write('images/env_inf.pfm', pfm(2, 1, data=f32(0.5, 0.5, 0.5, float('inf'), 0.5, 0.5)))
 scene('background_file_negative', 1, r'background.*pixel \(1, 0\) G is -1', lambda s: s.update(background={'file': '../images/env_negative.pfm'}))

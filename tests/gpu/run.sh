@@ -13,8 +13,8 @@
 #    same seed: the two GPU images must be byte-identical (determinism), and the GPU's must
 #    agree with the CPU's within the noise, per channel and per 32^2 block
 #    (tests/gpu/compare.c).
-# 3. The floors of issue 35, timed on the GPU and on this machine's own cores, and where the
-#    kernel's time goes (ncu, when Nsight Compute is there): bench/gpu.sh; CHECKS_ONLY=1
+# 3. The GPU's speed floors, timed on the GPU and on this machine's own cores, and where
+#    the kernel's time goes (ncu, when Nsight Compute is there): bench/gpu.sh; CHECKS_ONLY=1
 #    skips it (a check of a change, not a measurement).
 # Exit status 0 when every check passed.
 set -u
