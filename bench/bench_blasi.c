@@ -31,7 +31,6 @@
 
 #include "brume.h"
 #include "core/progress.h"
-#include "tool/tool.h"
 #include "render/blasi.h"
 #include "scene/scene.h"
 

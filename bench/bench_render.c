@@ -17,7 +17,6 @@
 
 #include "brume.h"
 #include "core/progress.h"
-#include "tool/tool.h"
 
 static brume_image *render(const char *path, const brume_render_settings *base, int spp, uint64_t seed, double *secs)
 {

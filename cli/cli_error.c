@@ -5,8 +5,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+#include "brume.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 void cli_error(const char *fmt, ...)
 {
@@ -14,7 +14,7 @@ void cli_error(const char *fmt, ...)
     char msg[2048];
     va_list ap;
     va_start(ap, fmt);
-    tool_vformat(msg, sizeof msg, fmt, ap);
+    brume_vformat_message(msg, sizeof msg, fmt, ap);
     va_end(ap);
     fprintf(stderr, "brume: %s\n", msg);
 }

@@ -1,7 +1,7 @@
 /* cli_gen_sparse.c - the command lines of `brume gen fire` (a procedural flame: density and
  * temperature grids, sparse, and its velocity) and `brume gen upres` (a cloud upsampled by an integer factor
  * with fractal detail, kept sparse); the grids are made and written through OpenVDB by
- * src/tool/gen_sparse.c (docs/grids.md). */
+ * brume_grid_gen_fire and brume_grid_gen_upres (docs/grids.md). */
 #include "cli_gen_sparse.h"
 
 #include <float.h>
@@ -17,7 +17,6 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "cli_job.h"
-#include "tool/tool.h"
 
 /* OUT must be .vdb or .nvdb: 0, or 2 with a message. */
 static int check_output(const char *out)
@@ -57,6 +56,7 @@ typedef struct fire_opts {
     const char *out;
     int n, seed;
     double height, velocity, time, fps;
+    double max_memory_mb; /* 0: the library's default */
     long first, last;
     bool frames, timed;
 } fire_opts;
@@ -92,6 +92,15 @@ static bool sparse_int(void *opts, const cli_flag *f, const char *v, const char 
 
 static bool fire_int(void *opts, const cli_flag *f, const char *v) { return sparse_int(opts, f, v, "gen fire"); }
 
+static bool fire_memory(void *opts, const cli_flag *f, const char *v)
+{
+    size_t bytes = 0;
+    if (!cli_parse_bytes(v, &bytes) || bytes == 0)
+        return bad_value("gen fire", f, v);
+    ((fire_opts *)opts)->max_memory_mb = (double)bytes / 1048576.0; /* exact below 2^53 bytes */
+    return true;
+}
+
 static bool fire_frames(void *opts, const cli_flag *f, const char *v)
 {
     fire_opts *o = opts;
@@ -122,6 +131,8 @@ static const cli_flag fire_flags[] = {
      "(%04d, ####, $F4: docs/grids.md, \"Sequences\"), in [0, 100000]", NULL, CLI_FLAG_CALL, 0, 0, 0, fire_frames},
     {"--fps", NULL, "F", "frames per second, (0, 1000] (default 24, as render.fps)", NULL, CLI_FLAG_CALL, FOFF(fps),
      DBL_TRUE_MIN, 1000.0, fire_num},
+    {"--max-memory", NULL, "BYTES", "refuse grids that could take more (K/M/G suffixes; default 4G)", NULL,
+     CLI_FLAG_CALL, 0, 0, 0, fire_memory},
 };
 
 const cli_command cli_gen_fire_command = {
@@ -139,7 +150,7 @@ static int fire_check(fire_opts *o)
         cli_error("gen fire: no output file (-o OUT.vdb)");
         return 2;
     }
-    if (!tool_grid_have_openvdb()) {
+    if (!brume_grid_have_openvdb()) {
         cli_error("gen fire: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
@@ -161,10 +172,12 @@ static int fire_check(fire_opts *o)
     }
     if (!o->frames)
         o->first = o->last = 0;
-    double t_max = o->frames ? (double)o->last / o->fps : o->time; /* every frame's time */
-    if (!(fabs(tool_gen_fire_rise(o->height, o->velocity, t_max)) <= 1e6)) {
+    /* every frame's request, checked at the last frame's time (the rise grows with time) */
+    brume_fire fire = {.resolution = o->n, .seed = (uint64_t)o->seed, .height = o->height, .velocity = o->velocity,
+                       .time = o->frames ? (double)o->last / o->fps : o->time, .max_memory_mb = o->max_memory_mb};
+    if (!(fabs(brume_fire_rise(&fire)) <= 1e6)) {
         cli_error("gen fire: %s %g s: the turbulence would rise %g flame heights, beyond 1e6",
-                  o->frames ? "the last frame at" : "--time", t_max, tool_gen_fire_rise(o->height, o->velocity, t_max));
+                  o->frames ? "the last frame at" : "--time", fire.time, brume_fire_rise(&fire));
         return 2;
     }
     return 0;
@@ -194,13 +207,17 @@ int gen_fire(int argc, char **argv)
             (void)brume_sequence_name(NULL, o.out, f, name, sizeof name); /* a pattern, checked above */
         else
             snprintf(name, sizeof name, "%s", o.out);
-        tool_gen_result res;
-        if (tool_gen_fire(name, o.n, (uint64_t)o.seed, o.height, o.velocity, o.frames ? (double)f / o.fps : o.time, &res) !=
-            BRUME_OK) {
-            cli_error("%.1000s", tool_last_error());
+        brume_fire fire = {.resolution = o.n, .seed = (uint64_t)o.seed, .height = o.height, .velocity = o.velocity,
+                           .time = o.frames ? (double)f / o.fps : o.time, .max_memory_mb = o.max_memory_mb};
+        brume_grid_gen_result res;
+        brume_context *ctx = brume_context_new();
+        brume_status st = ctx ? brume_grid_gen_fire(ctx, &fire, name, &res) : BRUME_ERROR_OUT_OF_MEMORY;
+        if (st != BRUME_OK)
+            cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "gen fire: out of memory");
+        brume_context_release(ctx);
+        if (st != BRUME_OK)
             return 1;
-        }
-        printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", name, res.active, res.box[0],
+        printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", name, res.active_voxels, res.box[0],
                res.box[1], res.box[2], res.voxel);
     }
     return 0;
@@ -253,7 +270,7 @@ int gen_upres(int argc, char **argv)
         cli_error("gen upres: need IN, --factor F and -o OUT (see brume gen upres --help)");
         return 2;
     }
-    if (!tool_grid_have_openvdb()) {
+    if (!brume_grid_have_openvdb()) {
         cli_error("gen upres: writing .vdb/.nvdb needs OpenVDB, and brume was built without OpenVDB");
         return 1;
     }
@@ -261,12 +278,16 @@ int gen_upres(int argc, char **argv)
         return 2;
     if (cli_check_output("-o", o.out, BRUME_FILE_GRID, NULL, NULL, &in, 1) != 0)
         return 1;
-    tool_gen_result res;
-    if (tool_gen_upres(in, &o.grid, o.factor, (uint64_t)o.seed, o.detail, o.out, &res) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    brume_grid_gen_result res;
+    brume_context *ctx = brume_context_new();
+    brume_status st = ctx ? brume_grid_gen_upres(ctx, in, &o.grid, o.factor, (uint64_t)o.seed, o.detail, o.out, &res)
+                          : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "gen upres: out of memory");
+    brume_context_release(ctx);
+    if (st != BRUME_OK)
         return 1;
-    }
-    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", o.out, res.active, res.box[0], res.box[1],
-           res.box[2], res.voxel);
+    printf("%s: %llu active voxels, index box %ld x %ld x %ld, voxel %g\n", o.out, res.active_voxels, res.box[0],
+           res.box[1], res.box[2], res.voxel);
     return 0;
 }

@@ -9,7 +9,6 @@
 #include <string.h>
 
 #include "commands.h"
-#include "tool/tool.h"
 
 bool cli_parse_dims(const char *s, int n[3])
 {
@@ -85,9 +84,8 @@ static bool bad_value(const cli_flag *f, const char *v)
 bool cli_grid_format(void *opts, const cli_flag *f, const char *v)
 {
     brume_grid_file_options *o = opts;
-    bool ok = tool_grid_format_known(v);
-    o->format = tool_grid_format_parse(ok ? v : NULL);
-    return ok || bad_value(f, v);
+    o->format = BRUME_GRID_FORMAT_AUTO;
+    return brume_grid_format_from_name(v, &o->format) || bad_value(f, v);
 }
 
 bool cli_grid_dims(void *opts, const cli_flag *f, const char *v)

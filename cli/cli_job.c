@@ -15,7 +15,6 @@
 
 #include "cli_progress.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 /* ---- signals ------------------------------------------------------------------------------ */
 
@@ -31,7 +30,7 @@ static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a sign
 static void on_signal(int sig)
 {
     if (g_signal || !g_keep) {
-        tool_remove_temporaries();
+        brume_remove_all_temporaries();
         static const char msg[] = "brume: interrupted: the work in progress is not kept\n";
         if (!g_signal)
             (void)!write(2, msg, sizeof msg - 1);

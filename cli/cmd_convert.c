@@ -8,7 +8,6 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "cli_job.h"
-#include "tool/tool.h"
 
 typedef struct convert_opts {
     brume_grid_file_options grid; /* first: the loading flags' */
@@ -18,7 +17,8 @@ typedef struct convert_opts {
 static bool flag_to(void *opts, const cli_flag *f, const char *v)
 {
     (void)f;
-    if (!tool_grid_format_known(v)) {
+    brume_grid_format unused;
+    if (!brume_grid_format_from_name(v, &unused)) {
         cli_error("convert: --to needs one of raw, df3, vol, nvdb, vdb");
         return false;
     }
@@ -64,8 +64,11 @@ int cmd_convert(int argc, char **argv)
     }
     brume_grid_file_options o = co.grid;
     const char *to = co.to;
-    const char *fin = tool_grid_format_of(in, o.format, NULL, 0), *fout = tool_grid_format_of(out, tool_grid_format_parse(to), NULL, 0);
-    if (!fout) {
+    brume_grid_format fin = o.format != BRUME_GRID_FORMAT_AUTO ? o.format : brume_grid_format_of(in);
+    brume_grid_format fout = BRUME_GRID_FORMAT_AUTO;
+    if (!(to && brume_grid_format_from_name(to, &fout) && fout != BRUME_GRID_FORMAT_AUTO))
+        fout = brume_grid_format_of(out); /* OUT does not exist yet: its extension says */
+    if (fout == BRUME_GRID_FORMAT_AUTO) {
         cli_error("%s: unknown output format (use .raw, .df3, .vol, .nvdb, .vdb or --to)", out);
         return 2;
     }
@@ -73,24 +76,24 @@ int cmd_convert(int argc, char **argv)
      * its other grids), and only over a grid file */
     if (cli_check_output("OUT", out, BRUME_FILE_GRID, NULL, NULL, &in, 1) != 0)
         return 1;
-    /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
-    if (fin && strcmp(fin, "vdb") == 0 && strcmp(fout, "nvdb") == 0 && !placed(argc, argv)) {
-        if (tool_grid_convert_vdb_to_nvdb(in, out, o.grid) != BRUME_OK) {
-            cli_error("%.1000s", tool_last_error());
-            return 1;
-        }
-        return 0;
-    }
-    density *d = tool_grid_load(in, &o);
-    if (!d) {
-        cli_error("%.1000s", tool_last_error());
+    brume_context *ctx = brume_context_new();
+    if (!ctx) {
+        cli_error("convert: out of memory");
         return 1;
     }
-    brume_status s = tool_grid_write(d, out, fout);
-    tool_grid_release(d);
-    if (s != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
-        return 1;
+    brume_status st;
+    if (fin == BRUME_GRID_FORMAT_VDB && fout == BRUME_GRID_FORMAT_NVDB && !placed(argc, argv)) {
+        /* OpenVDB to NanoVDB directly: the sparse tree is kept, nothing is densified */
+        st = brume_grid_convert_vdb_to_nvdb(ctx, in, out, o.grid);
+    } else {
+        brume_density *d = NULL;
+        st = brume_density_load(ctx, in, &o, &d);
+        if (st == BRUME_OK)
+            st = brume_density_write(ctx, d, out, fout);
+        brume_density_release(d);
     }
-    return 0;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", brume_context_last_error(ctx));
+    brume_context_release(ctx);
+    return st != BRUME_OK;
 }

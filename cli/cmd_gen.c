@@ -1,5 +1,5 @@
 /* cmd_gen.c - `brume gen cloud`, and `gen fire|upres` (cli_gen_sparse.c): a fractal cloud grid (Blasi et al. 1993, sec. 4.1; the
- * generator is src/density/fractal.c, called through src/tool/grids.c). `brume gen cloud --dims 65x65x10 --seed 1 -o
+ * generator is src/density/fractal.c, called through brume_density_new_fractal). `brume gen cloud --dims 65x65x10 --seed 1 -o
  * cloud.vol` makes the paper's grid. */
 #include <stddef.h>
 #include <stdio.h>
@@ -12,7 +12,6 @@
 #include "cli_grid.h"
 #include "commands.h"
 #include "cli_job.h"
-#include "tool/tool.h"
 
 /* The command line of `gen cloud`: the generator's parameters, the output. */
 typedef struct cloud_opts {
@@ -155,18 +154,20 @@ static int gen_cloud(int argc, char **argv)
     p.filter = BRUME_GRID_NEAREST;
     if (cli_check_output("-o", out, BRUME_FILE_GRID, NULL, NULL, NULL, 0) != 0)
         return 1;
-    density *d = tool_gen_cloud(&p);
-    if (!d) {
-        cli_error("gen: %.1000s", tool_last_error());
-        return 2;
+    brume_context *ctx = brume_context_new();
+    brume_density *d = NULL;
+    brume_status st = ctx ? brume_density_new_fractal(ctx, &p, &d) : BRUME_ERROR_OUT_OF_MEMORY;
+    int rc2 = 0;
+    if (st != BRUME_OK) { /* the request refused */
+        cli_error("gen: %.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+        rc2 = 2;
+    } else if (brume_density_write(ctx, d, out, BRUME_GRID_FORMAT_AUTO) != BRUME_OK) {
+        cli_error("%.1000s", brume_context_last_error(ctx));
+        rc2 = 1;
     }
-    brume_status s = tool_grid_write(d, out, NULL);
-    tool_grid_release(d);
-    if (s != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
-        return 1;
-    }
-    return 0;
+    brume_density_release(d);
+    brume_context_release(ctx);
+    return rc2;
 }
 
 int cmd_gen(int argc, char **argv)

@@ -5,12 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "cli_flags.h"
 #include "cli_grid.h"
 #include "commands.h"
-#include "tool/tool.h"
 
 typedef struct info_opts {
     brume_grid_file_options grid; /* first: the loading flags' */
@@ -42,13 +40,91 @@ static int info_sequence(const char *pattern, const brume_grid_file_options *o)
     printf("sequence:       %s\n", pattern);
     printf("frames:         files %ld to %ld (%ld files)\n", first, last, last - first + 1);
     double b[6], rho_max;
-    if (tool_grid_sequence_extent(pattern, first, last, o, b, &rho_max) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
+    ctx = brume_context_new();
+    st = ctx ? brume_grid_sequence_extent(ctx, pattern, first, last, o, b, &rho_max) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st != BRUME_OK)
+        cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    if (st != BRUME_OK)
         return 1;
-    }
     printf("world bounds:   (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g) over the sequence\n", b[0], b[1], b[2], b[3],
            b[4], b[5]);
     printf("values:         up to %.6g\n", rho_max);
+    return 0;
+}
+
+/* The grids of a .vdb/.nvdb, one line each: 0, or 1 after the message. */
+static int print_list(brume_context *ctx, const char *path, const brume_grid_file_options *o, int *count)
+{
+    brume_grid_entry *e = NULL;
+    int n = 0;
+    brume_status st = brume_grid_file_list(ctx, path, o, NULL, 0, &n);
+    if (st == BRUME_OK && n > 0 && !(e = calloc((size_t)n, sizeof *e)))
+        st = BRUME_ERROR_OUT_OF_MEMORY;
+    if (st == BRUME_OK && n > 0)
+        st = brume_grid_file_list(ctx, path, o, e, n, &n);
+    if (st != BRUME_OK) {
+        cli_error("%.1000s", st == BRUME_ERROR_OUT_OF_MEMORY && !e ? "info: out of memory" : brume_context_last_error(ctx));
+        free(e);
+        return 1;
+    }
+    printf("file:           %s\n", path);
+    printf("grids:          %d\n", n);
+    for (int g = 0; g < n; g++)
+        printf("  grid \"%s\": %s, %s, index box (%d, %d, %d) to (%d, %d, %d), %llu active voxels, values %.6g to "
+               "%.6g, NanoVDB %.2f MiB\n",
+               e[g].name, e[g].type, e[g].grid_class, e[g].index_min[0], e[g].index_min[1], e[g].index_min[2],
+               e[g].index_max[0], e[g].index_max[1], e[g].index_max[2], e[g].active_voxels, e[g].value_min,
+               e[g].value_max, (double)e[g].nanovdb_bytes / 1048576.0);
+    free(e);
+    *count = n;
+    return 0;
+}
+
+/* The density's format (as named), dimensions, bounds, placement, values, memory, active
+ * voxels and majorants, one line each. */
+static void print_info(const char *path, const char *format, const brume_density_info *in)
+{
+    const double *m = in->voxel_to_world, *b = in->bounds;
+    printf("file:           %s\n", path);
+    printf("format:         %s (%s grid)\n", format, in->sparse ? "sparse NanoVDB" : "dense");
+    printf("dimensions:     %d x %d x %d voxels\n", in->dims[0], in->dims[1], in->dims[2]);
+    printf("world bounds:   (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g)\n", b[0], b[1], b[2], b[3], b[4], b[5]);
+    printf("voxel to world: [%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g]\n", m[0], m[1], m[2], m[3],
+           m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]);
+    printf("values:         %.6g to %.6g\n", in->rho_min, in->rho_max);
+    printf("memory:         %zu bytes (%.2f MiB)\n", in->memory_bytes, (double)in->memory_bytes / 1048576.0);
+    printf("active voxels:  %llu\n", in->active_voxels);
+    if (in->majorant_tree)
+        printf("majorants:      from the tree: %d blocks of 128^3 voxels with bounds per 8^3 leaf cell\n",
+               in->majorant_dims[0]);
+    else
+        printf("majorant grid:  %d x %d x %d cells of %d^3 voxels\n", in->majorant_dims[0], in->majorant_dims[1],
+               in->majorant_dims[2], in->majorant_cell);
+}
+
+/* One grid file: its grids (a .vdb/.nvdb), then the one brume reads. */
+static int info_file(brume_context *ctx, const char *path, const brume_grid_file_options *o)
+{
+    brume_grid_format f = o->format != BRUME_GRID_FORMAT_AUTO ? o->format : brume_grid_format_of(path);
+    int ngrids = 0;
+    if ((f == BRUME_GRID_FORMAT_VDB || f == BRUME_GRID_FORMAT_NVDB) && print_list(ctx, path, o, &ngrids) != 0)
+        return 1;
+    brume_density *d = NULL;
+    if (brume_density_load(ctx, path, o, &d) != BRUME_OK) {
+        if (ngrids > 0 && !o->grid[0]) { /* the listing stands; no default grid to detail */
+            printf("density grid:   none by default (%s)\n", brume_context_last_error(ctx));
+            return 0;
+        }
+        cli_error("%.1000s", brume_context_last_error(ctx));
+        return 1;
+    }
+    if (ngrids > 0)
+        printf("density grid:   %s\n", o->grid[0] ? o->grid : "the default (see docs/grids.md)");
+    brume_density_info in;
+    (void)brume_density_get_info(ctx, d, &in); /* d is a density: it cannot fail */
+    print_info(path, brume_grid_format_name(f), &in);
+    brume_density_release(d);
     return 0;
 }
 
@@ -64,44 +140,13 @@ int cmd_info(int argc, char **argv)
         cli_error("info: no FILE given (see brume info --help)");
         return 2;
     }
-    brume_grid_file_options o = io.grid;
     bool pat = false;
     brume_context *ctx = brume_context_new();
     brume_status st = ctx ? brume_sequence_pattern(ctx, path, &pat) : BRUME_ERROR_OUT_OF_MEMORY;
     if (st != BRUME_OK)
         cli_error("%.1000s", ctx ? brume_context_last_error(ctx) : "out of memory");
+    else
+        rc = pat ? info_sequence(path, &io.grid) : info_file(ctx, path, &io.grid);
     brume_context_release(ctx);
-    if (st != BRUME_OK)
-        return 1;
-    if (pat)
-        return info_sequence(path, &o);
-    unsigned char head[16] = {0};
-    size_t nhead = 0;
-    struct stat sb; /* only a regular file is read: opening a FIFO waits for a writer (the load refuses it) */
-    FILE *f = stat(path, &sb) == 0 && S_ISREG(sb.st_mode) ? fopen(path, "rb") : NULL;
-    if (f) {
-        nhead = fread(head, 1, sizeof head, f);
-        fclose(f);
-    }
-    const char *fmt = tool_grid_format_of(path, o.format, head, nhead);
-    int ngrids = 0;
-    if (fmt && (strcmp(fmt, "vdb") == 0 || strcmp(fmt, "nvdb") == 0) &&
-        tool_grid_print_list(stdout, path, &o, &ngrids) != BRUME_OK) {
-        cli_error("%.1000s", tool_last_error());
-        return 1;
-    }
-    density *d = tool_grid_load(path, &o);
-    if (!d) {
-        if (ngrids > 0 && !o.grid[0]) { /* the listing stands; no default grid to detail */
-            printf("density grid:   none by default (%s)\n", tool_last_error());
-            return 0;
-        }
-        cli_error("%.1000s", tool_last_error());
-        return 1;
-    }
-    if (ngrids > 0)
-        printf("density grid:   %s\n", o.grid[0] ? o.grid : "the default (see docs/grids.md)");
-    tool_grid_print_info(stdout, path, fmt ? fmt : "auto", d);
-    tool_grid_release(d);
-    return 0;
+    return st != BRUME_OK ? 1 : rc;
 }

@@ -100,6 +100,7 @@ fail:
 #ifndef BRUME_H
 #define BRUME_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -160,6 +161,13 @@ void brume_context_cancel_loads(brume_context *ctx);
  * brume_render_job_save, a render's blasi.save_light); a write that then fails or finishes
  * leaves no file behind it. Async-signal-safe: for a signal handler that then calls _exit. */
 void brume_context_remove_temporaries(brume_context *ctx);
+/* The same for every context, and for the temporary files of brume_file_write without one: for
+ * a program's fatal-signal handler, which then calls _exit. Async-signal-safe. */
+void brume_remove_all_temporaries(void);
+/* printf-style formatting into out[n] (NUL-terminated, one line) as brume formats its own
+ * messages: control characters in string arguments escaped, a plain %s cut after 200 bytes,
+ * a "%.1000s" cut at its precision. For a program that reports its errors as brume does. */
+void brume_vformat_message(char *out, size_t n, const char *fmt, va_list ap);
 
 /* ---- scene -------------------------------------------------------------------------------- */
 
@@ -656,6 +664,93 @@ brume_status brume_density_new_blobs(brume_context *ctx, const double *blobs, in
                                      const brume_blob_generator *gens, int ngens, double cutoff,
                                      const double velocity[3], brume_density **out);
 void brume_density_release(brume_density *density);
+
+/* ---- Grid files: what `brume info`, `convert` and `gen` do (docs/grids.md) ------------------ */
+
+/* Whether this build reads and writes .vdb and writes .nvdb (OpenVDB, an optional part). */
+bool brume_grid_have_openvdb(void);
+/* The format a name says: "raw", "df3", "vol", "nvdb" or "vdb" (and "auto"); false, and *out
+ * unchanged, for any other name or NULL. */
+bool brume_grid_format_from_name(const char *name, brume_grid_format *out);
+/* The name of a format: "auto", "raw", "df3", "vol", "nvdb", "vdb"; NULL for another value. */
+const char *brume_grid_format_name(brume_grid_format format);
+/* The format of the grid file at path: by its extension, else (a regular file only, read
+ * without blocking) by its magic number; BRUME_GRID_FORMAT_AUTO when neither says. */
+brume_grid_format brume_grid_format_of(const char *path);
+
+/* One grid of a .vdb or .nvdb file, as it is stored. */
+typedef struct brume_grid_entry {
+    char name[128];
+    char type[32];                    /* value type: "float", "vec3s", "double", "int32", ... */
+    char grid_class[32];              /* "fog volume", "level set", "staggered", "unknown" */
+    int index_min[3], index_max[3];   /* active voxels' index box (voxels), inclusive; min > max: none */
+    unsigned long long active_voxels; /* active voxel count */
+    double value_min, value_max;      /* range of the active values (vec3: of their components) */
+    unsigned long long nanovdb_bytes; /* size as NanoVDB (float and vec3 grids; else 0), bytes */
+} brume_grid_entry;
+/* The grids of a .vdb or .nvdb file: fills up to max entries of out (out may be NULL when max
+ * is 0) and sets *count to how many the file has. opts may be NULL; its max_memory_mb bounds
+ * what is read. */
+brume_status brume_grid_file_list(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
+                                  brume_grid_entry *out, int max, int *count);
+
+/* What a density holds, as `brume info` prints it. */
+typedef struct brume_density_info {
+    bool sparse;                      /* a NanoVDB tree, else a dense grid (or an analytic field) */
+    int dims[3];                      /* voxels per axis (a tree's index box) */
+    double bounds[6];                 /* world box: xmin, ymin, zmin, xmax, ymax, zmax */
+    double voxel_to_world[12];        /* 3 x 4 row-major affine map; voxel (i, j, k) spans [i, i + 1) x ... */
+    double rho_min, rho_max;          /* values (unitless) */
+    size_t memory_bytes;              /* voxels and majorants, bytes */
+    unsigned long long active_voxels; /* voxels with rho > 0 (a tree: its active count) */
+    bool majorant_tree;               /* majorants from the tree's nested walk, else a cell grid: */
+    int majorant_dims[3];             /* majorant cells per axis (a tree: majorant_dims[0] blocks of 128^3) */
+    int majorant_cell;                /* voxels per majorant cell edge */
+} brume_density_info;
+brume_status brume_density_get_info(brume_context *ctx, const brume_density *density, brume_density_info *out);
+/* Writes density to path as a grid file of format (AUTO: by path's extension; raw, df3, vol,
+ * and with OpenVDB nvdb and vdb), through a temporary file renamed into place; a file already
+ * at path is replaced only when it is a grid file (brume_output_check). */
+brume_status brume_density_write(brume_context *ctx, const brume_density *density, const char *path,
+                                 brume_grid_format format);
+/* A .vdb straight to .nvdb (OpenVDB), keeping the sparse trees: every grid, or only the one
+ * named grid (NULL or "": all); written as brume_density_write writes. */
+brume_status brume_grid_convert_vdb_to_nvdb(brume_context *ctx, const char *in, const char *out, const char *grid);
+/* The world box (bounds: xmin, ymin, zmin, xmax, ymax, zmax) and the largest value over the
+ * files first..last of a frame pattern (brume_sequence_range), each loaded in turn with opts
+ * (one in memory at a time). */
+brume_status brume_grid_sequence_extent(brume_context *ctx, const char *pattern, long first, long last,
+                                        const brume_grid_file_options *opts, double bounds[6], double *rho_max);
+
+/* Sparse grids generated and written through OpenVDB to a .vdb or .nvdb file (docs/grids.md).
+ * What was written: */
+typedef struct brume_grid_gen_result {
+    unsigned long long active_voxels; /* active voxels of the density grid */
+    long box[3];                      /* index box, voxels per axis */
+    double voxel;                     /* voxel size, world units */
+} brume_grid_gen_result;
+/* A procedural flame (`brume gen fire`): grids "density" and "temperature" (kelvin). */
+typedef struct brume_fire {
+    int resolution;   /* voxels up its height, [8, 1024]; n / 2 across */
+    uint64_t seed;
+    double height;    /* world units, (0, 1e6] */
+    double velocity;  /* > 0: also a vec3 grid "vel", the updraft (velocity (0.5 + h) up at height
+                         fraction h, world units per second); 0: none. [0, 1e6] */
+    double time;      /* seconds: the turbulence has risen by time times the updraft's speed at
+                         mid-height (velocity, or 1 world unit per second without one) */
+    double max_memory_mb; /* MiB the generated trees may take; 0 = 4096 */
+} brume_fire;
+void brume_fire_default(brume_fire *fire); /* 128 voxels, seed 1, height 2, no velocity, time 0 */
+/* How far the flame's turbulence has risen at fire->time, in flame heights (the generator
+ * refuses more than 1e6: its noise's lattice index is an int). */
+double brume_fire_rise(const brume_fire *fire);
+brume_status brume_grid_gen_fire(brume_context *ctx, const brume_fire *fire, const char *out,
+                                 brume_grid_gen_result *result);
+/* `brume gen upres`: in's density grid (read with opts) upsampled factor in [1, 16] times per
+ * axis (trilinear) with fractal detail of amplitude detail in [0, 1], kept sparse, within
+ * opts->max_memory_mb. */
+brume_status brume_grid_gen_upres(brume_context *ctx, const char *in, const brume_grid_file_options *opts, int factor,
+                                  uint64_t seed, double detail, const char *out, brume_grid_gen_result *result);
 
 /* Phase functions, made here and given to a medium. */
 typedef struct brume_phase brume_phase;

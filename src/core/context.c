@@ -31,6 +31,16 @@ void brume_context_set_error_callback(brume_context *ctx, brume_error_fn fn, voi
 }
 
 const char *brume_context_last_error(const brume_context *ctx) { return ctx ? ctx->last_error : ""; }
+
+void brume_vformat_message(char *out, size_t n, const char *fmt, va_list ap)
+{
+    if (!out || n == 0)
+        return;
+    if (!fmt)
+        out[0] = '\0';
+    else
+        err_vformat(out, n, fmt, ap);
+}
 brume_status brume_context_last_status(const brume_context *ctx) { return ctx ? ctx->last_status : BRUME_OK; }
 
 brume_status ctx_report(brume_context *ctx, brume_status status)

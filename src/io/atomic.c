@@ -285,6 +285,8 @@ void brume_context_remove_temporaries(brume_context *ctx)
         atomic_remove_temporaries(ctx);
 }
 
+void brume_remove_all_temporaries(void) { atomic_remove_temporaries(NULL); }
+
 brume_status brume_file_write(brume_context *ctx, const char *path, brume_file_kind kind, const void *data,
                               size_t size)
 {

@@ -1,6 +1,5 @@
-/* tool.c - phase functions by name and the slab (brume.h), and what remains of tool.h:
- * messages and files written whole for the grid commands. */
-#include "tool/tool.h"
+/* tool.c - phase functions by name and the slab (brume.h). */
+#include "brume.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -8,14 +7,9 @@
 
 #include "core/context.h"
 #include "core/error.h"
-#include "io/atomic.h"
 #include "phase/phase.h"
 #include "render/slab.h"
 #include "scene/scene_build.h"
-
-void tool_vformat(char *out, size_t n, const char *fmt, va_list ap) { err_vformat(out, n, fmt, ap); }
-
-const char *tool_last_error(void) { return err_message(); }
 
 
 brume_status brume_phase_new_named(brume_context *ctx, const char *name, brume_phase **out)
@@ -66,5 +60,3 @@ brume_status brume_slab_run(brume_context *ctx, const brume_slab_params *p, brum
         *out = (brume_slab_result){r.Rd, r.Rd_stderr, r.Tt, r.Tt_stderr};
     return ctx_report(ctx, st);
 }
-
-void tool_remove_temporaries(void) { atomic_remove_temporaries(NULL); }
