@@ -429,11 +429,11 @@ static bool job_poll(void *user)
     return atomic_load(&job->stop);
 }
 
-/* The samples pixel i (at x, y) still lacks up to target, added into its count n
- * and its sums (sum, sq, aov): the samples taken. In batches: first the batch's camera rays
- * (camera_samples), then their radiance. Under a time budget the clock is read before every
- * sample (some tens of nanoseconds against microseconds a sample at least): the budget ends
- * within one sample per thread, however slow a sample is; the pixel keeps the samples it took. */
+/* The samples pixel i (at x, y) still lacks up to target, added into its count n and its sums
+ * (sum, sq, aov): the samples taken, in batches (camera rays, then their radiance). Under a
+ * time budget the clock is read before every sample: the budget ends within one sample per
+ * thread, the pixel keeping its samples. Between batches a slow tile asks job_poll too, so that
+ * samples without collisions (a sky in a pass of 2^30) stop on a signal as the others do. */
 static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, int target, uint32_t qmc_dims,
                               bool lens, bool shutter, size_t i, int x, int y, uint32_t *n, double *sum, double *sq,
                               double *aov)
@@ -441,7 +441,7 @@ static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, in
     const bool timed = job->rs.time_budget > 0.0;
     uint64_t taken = 0;
     bool cut = false;
-    for (uint32_t s0 = *n; s0 < (uint32_t)target && !cut; s0 += CAMERA_BATCH) {
+    for (uint32_t s0 = *n, s1 = *n; s0 < (uint32_t)target && !cut && !(s0 > s1 && job_poll(job)); s0 += CAMERA_BATCH) {
         uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
         rng gb[CAMERA_BATCH];
         ray rb[CAMERA_BATCH];
