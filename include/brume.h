@@ -151,9 +151,10 @@ void brume_context_set_error_callback(brume_context *ctx, brume_error_fn fn, voi
 /* The message of the last failed call ("" if none). Valid until the next call with ctx. */
 const char *brume_context_last_error(const brume_context *ctx);
 brume_status brume_context_last_status(const brume_context *ctx);
-/* Ends every scene load in progress with ctx, on any thread: its generators (procedural
- * clouds, fractal grids) stop within about a second and brume_scene_load returns
- * BRUME_ERROR_CANCELLED. Loads with other contexts, and loads that start afterwards, are not
+/* Ends every scene load and every brume_denoise in progress with ctx, on any thread: its
+ * generators (procedural clouds, fractal grids) stop within about a second, the denoiser
+ * within a row of pixels, and brume_scene_load or brume_denoise returns
+ * BRUME_ERROR_CANCELLED. Calls with other contexts, and calls that start afterwards, are not
  * affected. Async-signal-safe: for a SIGINT handler (a render is cancelled by its progress
  * callback instead). */
 void brume_context_cancel_loads(brume_context *ctx);
@@ -1148,6 +1149,14 @@ brume_status brume_image_check_values(brume_context *ctx, const brume_image *ima
  * BRUME_ERROR_RANGE naming the layer and the pixel. A denoised image is biased
  * (docs/denoise.md measures by how much): never a validation result. */
 brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out);
+/* Bytes brume_denoise allocates for a width x height image whose layers hold layer_channels
+ * channels in all (depth and samples 1 each, variance, albedo and normal 3 each): its output
+ * and its working buffers, (7 + layer_channels) floats and 12 doubles a pixel; 0 for a side
+ * <= 0. brume_denoise refuses (BRUME_ERROR_OUT_OF_MEMORY, one line) an image whose figure is
+ * over the default memory limit (render.max_memory_mb's 4096 MiB) before allocating;
+ * `brume render --denoise` checks it against the scene's render.max_memory_mb before
+ * rendering. brume_context_cancel_loads(ctx) stops it (BRUME_ERROR_CANCELLED, no image). */
+size_t brume_denoise_memory(int width, int height, int layer_channels);
 
 typedef enum brume_tonemap {
     BRUME_TONEMAP_CLAMP = 0, /* sRGB of the exposed linear value, clamped to [0, 1] */

@@ -19,9 +19,14 @@
  * separate buffer: the result is the same bits whatever the number of threads.
  * docs/denoise.md gives the measured error and bias. */
 #include <math.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/budget.h"
 #include "core/context.h"
 #include "core/error.h"
 #include "core/pool.h"
@@ -42,17 +47,34 @@ typedef struct denoise_job {
     double *c_out, *v_out; /* level output */
     const float *albedo, *normal, *depth; /* features, or NULL */
     double k2, ia, in, iz; /* k^2 and 1 / sigma^2 of the features */
+    const atomic_uint *cancels; /* the context's brume_context_cancel_loads count, or NULL */
+    unsigned cancels_start;     /* its value when the denoiser began */
+    atomic_bool stop;           /* a cancel was seen: the rows left are skipped */
 } denoise_job;
 
 static const double B3[5] = {1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0};
 
 static double sq(double x) { return x * x; }
 
+/* Whether brume_context_cancel_loads was called since the denoiser began; once seen, every
+ * later call says so (rows are short: a cancel is seen within a row of work). */
+static bool cancelled(denoise_job *j)
+{
+    if (atomic_load_explicit(&j->stop, memory_order_relaxed))
+        return true;
+    if (!j->cancels || atomic_load_explicit(j->cancels, memory_order_relaxed) == j->cancels_start)
+        return false;
+    atomic_store(&j->stop, true);
+    return true;
+}
+
 /* One row of one level. */
 static void denoise_row(size_t task, int thread, void *user)
 {
     (void)thread;
-    const denoise_job *j = user;
+    denoise_job *j = user;
+    if (cancelled(j))
+        return;
     const int y = (int)task, w = j->w, h = j->h, step = j->step;
     for (int x = 0; x < w; x++) {
         const size_t p = (size_t)y * (size_t)w + (size_t)x;
@@ -145,14 +167,14 @@ static brume_image *image_copy(const brume_image *in)
 
 /* The per-pixel variance v0 (w x h, 3 channels) made fit to weigh the first level: where it
  * is missing, the spatial variance of the colour c0 around the pixel, then a 3 x 3 blur of
- * it all; v1 is scratch. */
-static void steady_variance(int w, int h, const double *c0, double *v0, double *v1)
+ * it all; v1 is scratch. Stops early (v0 then meaningless) when j is cancelled. */
+static void steady_variance(denoise_job *j, int w, int h, const double *c0, double *v0, double *v1)
 {
     const size_t npix = (size_t)w * (size_t)h;
     /* a pixel of fewer than 2 samples has no variance estimate (the layer holds 0): it takes
      * the spatial variance of its 3 x 3 neighbourhood, what SVGF does before the temporal
      * history has samples; a flat region (the sky) gives 0 there as it should */
-    for (int y = 0; y < h; y++)
+    for (int y = 0; y < h && !cancelled(j); y++)
         for (int x = 0; x < w; x++)
             for (size_t c = 0; c < 3; c++) {
                 const size_t p = (size_t)y * (size_t)w + (size_t)x;
@@ -176,7 +198,7 @@ static void steady_variance(int w, int h, const double *c0, double *v0, double *
             v0[p] = v1[p];
     /* the variance estimate of a few samples is itself noisy: a 3 x 3 binomial blur of it
      * steadies the first level's weights (Schied et al. 2017 do the same) */
-    for (int y = 0; y < h; y++)
+    for (int y = 0; y < h && !cancelled(j); y++)
         for (int x = 0; x < w; x++)
             for (size_t c = 0; c < 3; c++) {
                 double s = 0.0, sw = 0.0;
@@ -194,26 +216,73 @@ static void steady_variance(int w, int h, const double *c0, double *v0, double *
     memcpy(v0, v1, npix * 3 * sizeof *v0);
 }
 
+size_t brume_denoise_memory(int width, int height, int layer_channels)
+{
+    if (width <= 0 || height <= 0 || layer_channels < 0)
+        return 0;
+    /* the output: RGBA, the layers and the "raw" layer in float; the levels' colour and
+     * variance, input and output, in double */
+    double per_pixel = (4.0 + layer_channels + 3.0) * sizeof(float) + 12.0 * sizeof(double);
+    double bytes = per_pixel * (double)width * (double)height;
+    return bytes < (double)SIZE_MAX ? (size_t)bytes : SIZE_MAX;
+}
+
+/* The levels over j's buffers (c0, v0 into c1, v1 and back), then the result into img. */
+static void denoise_levels(denoise_job *j, int threads, brume_image *img)
+{
+    for (int level = 0; level < DENOISE_LEVELS && !cancelled(j); level++) {
+        j->step = 1 << level;
+        pool_run(threads, (size_t)j->h, denoise_row, j);
+        double *tc = (double *)j->c, *tv = (double *)j->v; /* the output is the next level's input */
+        j->c = j->c_out;
+        j->v = j->v_out;
+        j->c_out = tc;
+        j->v_out = tv;
+    }
+    const size_t npix = (size_t)j->w * (size_t)j->h;
+    for (size_t p = 0; p < npix; p++)
+        for (size_t c = 0; c < 3; c++)
+            img->rgba[4 * p + c] = (float)j->c[3 * p + c];
+}
+
+/* What brume_denoise refuses before any work: NULL arguments, no variance layer, an image
+ * denoised already, values outside its range, more memory than the limit. */
+static brume_status denoise_check(const brume_image *in, brume_image **out)
+{
+    if (!in || !out)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_denoise: %s: NULL", !in ? "image" : "out");
+    if (!layer_of(in, "variance", 3))
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT,
+                       "brume_denoise: the image has no \"variance\" layer (render with --aov variance, "
+                       "or --denoise, which asks for it)");
+    if (layer_of(in, "raw", 3) || brume_image_attribute(in, "brume.denoised"))
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_denoise: the image is denoised already (it has a \"raw\" layer)");
+    /* NaN, infinities, negative features: refused; R, G, B may be signed (the filter is linear) */
+    brume_status st = image_check_values_signed(in, "brume_denoise: image", true, true);
+    if (st != BRUME_OK)
+        return st;
+    int channels = 0;
+    for (int i = 0; i < in->nlayers; i++)
+        channels += in->layers[i].channels;
+    char who[96];
+    snprintf(who, sizeof who, "brume_denoise: a %d x %d image", in->width, in->height);
+    return budget_take(brume_denoise_memory(in->width, in->height, channels), who);
+}
+
 brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out)
 {
     err_clear();
     if (out)
         *out = NULL;
-    if (!in || !out)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_denoise: %s: NULL", !in ? "image" : "out"));
-    const float *var = layer_of(in, "variance", 3);
-    if (!var)
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
-                                       "brume_denoise: the image has no \"variance\" layer (render with --aov variance, "
-                                       "or --denoise, which asks for it)"));
-    if (layer_of(in, "raw", 3) || brume_image_attribute(in, "brume.denoised"))
-        return ctx_report(ctx, err_set(BRUME_ERROR_INVALID_ARGUMENT,
-                                       "brume_denoise: the image is denoised already (it has a \"raw\" layer)"));
-    /* NaN, infinities, negative features: refused; R, G, B may be signed (the filter is linear) */
-    if (image_check_values_signed(in, "brume_denoise: image", true, true) != BRUME_OK)
+    if (denoise_check(in, out) != BRUME_OK)
         return ctx_report(ctx, err_status());
+    denoise_job j = {in->width, in->height, 1, NULL, NULL, NULL, NULL, layer_of(in, "albedo", 3),
+                     layer_of(in, "normal", 3), layer_of(in, "depth", 1), DENOISE_K * DENOISE_K,
+                     1.0 / sq(DENOISE_SIGMA_ALBEDO), 1.0 / sq(DENOISE_SIGMA_NORMAL), 1.0 / sq(DENOISE_SIGMA_DEPTH),
+                     ctx ? &ctx->load_cancels : NULL, ctx ? atomic_load(&ctx->load_cancels) : 0u, false};
     const int w = in->width, h = in->height;
     const size_t npix = (size_t)w * (size_t)h;
+    const float *var = layer_of(in, "variance", 3);
     brume_image *img = image_copy(in);
     double *buf = malloc(npix * 12 * sizeof *buf);
     static const char *const rgb[3] = {"R", "G", "B"};
@@ -231,23 +300,14 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
             c0[3 * p + c] = isfinite(x) ? (double)x : 0.0;
             v0[3 * p + c] = isfinite(v) && v > 0.0f ? (double)v : 0.0;
         }
-    steady_variance(w, h, c0, v0, v1);
-    denoise_job j = {w, h, 1, c0, v0, c1, v1, layer_of(in, "albedo", 3), layer_of(in, "normal", 3),
-                     layer_of(in, "depth", 1), DENOISE_K * DENOISE_K, 1.0 / sq(DENOISE_SIGMA_ALBEDO),
-                     1.0 / sq(DENOISE_SIGMA_NORMAL), 1.0 / sq(DENOISE_SIGMA_DEPTH)};
-    for (int level = 0; level < DENOISE_LEVELS; level++) {
-        j.step = 1 << level;
-        pool_run(threads, (size_t)h, denoise_row, &j);
-        double *tc = (double *)j.c, *tv = (double *)j.v; /* the output is the next level's input */
-        j.c = j.c_out;
-        j.v = j.v_out;
-        j.c_out = tc;
-        j.v_out = tv;
-    }
-    for (size_t p = 0; p < npix; p++)
-        for (size_t c = 0; c < 3; c++)
-            img->rgba[4 * p + c] = (float)j.c[3 * p + c];
+    j.c = c0, j.v = v0, j.c_out = c1, j.v_out = v1;
+    steady_variance(&j, w, h, c0, v0, v1);
+    denoise_levels(&j, threads, img);
     free(buf);
+    if (cancelled(&j)) {
+        brume_image_release(img);
+        return ctx_report(ctx, err_set(BRUME_ERROR_CANCELLED, "brume_denoise: cancelled (brume_context_cancel_loads)"));
+    }
     image_set_meta(img, "brume.denoised", "a-trous, variance-guided, 5 levels (docs/denoise.md); raw image: layer raw");
     *out = img;
     return ctx_report(ctx, BRUME_OK);
