@@ -20,13 +20,16 @@
 
 static volatile sig_atomic_t g_signal; /* the first SIGINT, SIGTERM or SIGHUP, 0 before */
 static volatile sig_atomic_t g_keep;   /* 1 while a phase runs whose work a signal keeps */
+static brume_context *_Atomic g_cancel; /* the denoiser's context: a kept signal cancels it */
 
 /* While a render job runs (cli_signals_keep), the first signal asks it to stop (the progress
- * callback sees it within a tile) and its samples are kept. In any other phase (loading a
- * scene, generating a grid, Blasi's light pass, writing) there is nothing partial to keep, so
- * the first signal ends the process at once, as a second one always does: temporary files of
- * writes under way are removed, finished files stay (a signal answered after the phase
- * would come minutes later). */
+ * callback sees it within a tile) and its samples are kept; while a finished image is
+ * written or denoised, the write goes on and the denoiser is cancelled (its context,
+ * cli_signals_cancel), so that the image before denoising is written. In any other phase
+ * (loading a scene, generating a grid, Blasi's light pass) there is nothing partial to keep,
+ * so the first signal ends the process at once, as a second one always does: temporary
+ * files of writes under way are removed, finished files stay (a signal answered after the
+ * phase would come minutes later). */
 static void on_signal(int sig)
 {
     if (g_signal || !g_keep) {
@@ -37,9 +40,21 @@ static void on_signal(int sig)
         _exit(128 + sig);
     }
     g_signal = sig;
+    brume_context *c = atomic_load(&g_cancel);
+    if (c)
+        brume_context_cancel_loads(c); /* async-signal-safe (brume.h) */
 }
 
 void cli_signals_keep(bool keep) { g_keep = keep ? 1 : 0; }
+
+void cli_signals_cancel(brume_context *ctx) { atomic_store(&g_cancel, ctx); }
+
+void cli_signals_raise(int sig)
+{
+    static atomic_flag raised = ATOMIC_FLAG_INIT; /* two stops at once on two threads: one signal */
+    if (!g_signal && !atomic_flag_test_and_set(&raised))
+        (void)kill(getpid(), sig);
+}
 
 void cli_signals_install(void)
 {
@@ -263,6 +278,7 @@ uint64_t cli_scene_key(const char *scene_path, const brume_scene *scene, int nse
  * the job until then). */
 static brume_status job_failed(const cli_job_opts *o, brume_render_job *job, brume_status st)
 {
+    cli_signals_keep(false);
     if (o->serve)
         cli_serve_show(o->serve, NULL, NULL);
     brume_render_job_release(job);
@@ -295,7 +311,7 @@ brume_status cli_run_job(brume_context *ctx, const brume_scene *scene, const cli
     st = g_signal ? BRUME_ERROR_CANCELLED : brume_render_job_run(ctx, job);
     res->seconds = now_seconds() - t0;
     cli_progress_end(job);
-    cli_signals_keep(false);
+    /* a signal from here on keeps the finished image too: the caller writes it, then lets go */
     g_job.job = NULL;
     brume_context_release(g_job.ctx);
     g_job.ctx = NULL;

@@ -9,12 +9,18 @@
 #include "brume.h"
 #include "cli_serve.h"
 
-/* SIGINT, SIGTERM, SIGHUP: the first stops the render within a tile (the work is kept), a
- * second ends the process at once after removing temporary files (exit 128 + signal). */
+/* SIGINT, SIGTERM, SIGHUP: the first stops the render within a tile (the work is kept; a
+ * finished image is still written, the denoiser cancelled), a second ends the process at
+ * once after removing temporary files (exit 128 + signal). */
 void cli_signals_install(void);
 /* Whether a signal now stops a phase whose work is kept (true: a render job runs, or the live
  * view serves the final image) or ends the process at once (false, the default). */
 void cli_signals_keep(bool keep);
+/* The context whose brume_denoise (or scene load) a kept signal cancels, NULL for none. */
+void cli_signals_cancel(brume_context *ctx);
+/* Sends sig to this process unless a signal came already: a stop asked twice (the live
+ * view's POST /stop) stops once and never counts as the second signal that ends at once. */
+void cli_signals_raise(int sig);
 /* The first signal received, 0 if none. */
 int cli_signal(void);
 const char *cli_signal_name(int sig);
@@ -68,7 +74,9 @@ typedef struct cli_job_result {
                                 before a resume too, not part of this run's time budget */
 } cli_job_result;
 
-/* Begins (or resumes) a job on the committed scene and runs it to its end or to a signal;
+/* Begins (or resumes) a job on the committed scene and runs it to its end or to a signal,
+ * signals kept from its start (cli_signals_keep(true)) and still kept on success: the
+ * caller writes the image, then calls cli_signals_keep(false);
  * *out is the image (partial when res->interrupted) with its figures as attributes, *job
  * the job (the caller releases it, after the live view lets go of it). On failure returns
  * the status (the context has the message) and nothing is allocated. */

@@ -117,6 +117,11 @@ int render_check_video(const char *video, const char *scene_path);
 /* The name of --denoise's raw image beside a PNG or PFM path (NAME-raw.EXT); false for an EXR,
  * which keeps it as a layer. */
 bool render_raw_companion(const char *path, char *raw, size_t cap);
+/* With --denoise, on rank 0 before rendering: the denoiser's buffers (brume_denoise_memory)
+ * and the image it reads fit in what render.max_memory_mb leaves after the scene, as the
+ * film must (the film is released before denoising, but while the live view shows it).
+ * 0, or 1 with a message naming the limit. */
+int render_check_denoise_memory(const brume_scene *scene);
 /* The files the run names, none of which an output may be: --resume first (the one file
  * --checkpoint may be), --checkpoint, --video, the light files, then -o (one image) and its
  * raw companion. Each output is compared with all of them but itself (the images' frames with

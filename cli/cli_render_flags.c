@@ -297,8 +297,10 @@ const cli_command cli_render_command = {
     render_flags, CLI_NFLAGS(render_flags),
     "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the render within about a second: the image so far\n"
     "is written to -o (a partial image; stderr says how many samples it holds), a checkpoint too\n"
-    "with --checkpoint, and brume exits 130, 143 or 129. A second Ctrl-C ends at once, and so\n"
-    "does the first outside rendering (loading, Blasi's light pass, writing): nothing is kept.\n"
+    "with --checkpoint, and brume exits 130, 143 or 129. While a finished image is written the\n"
+    "write ends whole; --denoise's denoiser stops within a row of pixels and only the image\n"
+    "before denoising is written (NAME-raw.EXT, or the EXR marked brume.denoise). A second\n"
+    "Ctrl-C ends at once, and so does the first while loading or in Blasi's light pass.\n"
     "Under `mpirun -np N brume render ...` the processes split the frames of a sequence, or\n"
     "the tiles of each frame, and rank 0 writes every file: the same bytes as one process.\n",
     render_epilogue};

@@ -189,28 +189,71 @@ void render_plan_files(const render_opts *o, output_plan *p)
 }
 
 /* Writes the render's image to path; with --denoise the denoised image (brume_denoise),
- * the raw one kept: in the EXR's layer "raw", else beside it as NAME-raw.EXT. */
+ * the image before denoising kept: in the EXR's layer "raw", else beside it as NAME-raw.EXT,
+ * written first. A kept signal (cli_signals_keep) cancels the denoiser, and an image whose
+ * render a signal stopped is not denoised: then only the image before denoising is written,
+ * as NAME-raw.EXT, or as the EXR marked brume.denoise "no" (never a file named as the
+ * denoised image holding anything else), its name in `written`, and *skipped is true. */
 static brume_status write_image(brume_context *ctx, brume_image *image, const char *path,
-                                const brume_write_options *wopts, bool denoise, int threads, bool quiet)
+                                const brume_write_options *wopts, bool denoise, int threads, bool quiet,
+                                char *written, size_t cap, bool *skipped)
 {
+    *skipped = false;
+    snprintf(written, cap, "%s", path);
     if (!denoise)
         return brume_image_write(ctx, image, path, wopts);
+    char raw[4200];
+    bool beside = render_raw_companion(path, raw, sizeof raw);
+    brume_status st;
+    if (beside && (st = brume_image_write(ctx, image, raw, wopts)) != BRUME_OK)
+        return st;
+    if (beside && !quiet && !cli_signal())
+        fprintf(stderr, "brume: the image before denoising: %s\n", raw);
     brume_image *den = NULL;
-    brume_status st = brume_denoise(ctx, image, threads, &den);
+    st = BRUME_ERROR_CANCELLED;
+    if (!cli_signal()) {
+        cli_signals_cancel(ctx);
+        st = brume_denoise(ctx, image, threads, &den);
+        cli_signals_cancel(NULL);
+    }
+    if (st == BRUME_ERROR_CANCELLED && cli_signal()) {
+        *skipped = true;
+        if (beside) {
+            snprintf(written, cap, "%s", raw);
+            return BRUME_OK;
+        }
+        if ((st = brume_image_set_attribute(ctx, image, "brume.denoise", "no: interrupted")) != BRUME_OK)
+            return st;
+        return brume_image_write(ctx, image, path, wopts);
+    }
     if (st != BRUME_OK)
         return st;
-    char raw[4200];
-    if (render_raw_companion(path, raw, sizeof raw)) {
-        if ((st = brume_image_write(ctx, image, raw, wopts)) != BRUME_OK) {
-            brume_image_release(den);
-            return st;
-        }
-        if (!quiet)
-            fprintf(stderr, "brume: the image before denoising: %s\n", raw);
-    }
     st = brume_image_write(ctx, den, path, wopts);
     brume_image_release(den);
     return st;
+}
+
+int render_check_denoise_memory(const brume_scene *scene)
+{
+    brume_render_settings rs;
+    brume_scene_settings(scene, &rs);
+    /* the image's layers: depth and samples 1 channel each, the others 3 */
+    static const struct { unsigned aov; int channels; } layers[] = {
+        {BRUME_AOV_DEPTH, 1}, {BRUME_AOV_ALBEDO, 3}, {BRUME_AOV_NORMAL, 3}, {BRUME_AOV_VARIANCE, 3}, {BRUME_AOV_SAMPLES, 1}};
+    int channels = 0;
+    for (size_t i = 0; i < sizeof layers / sizeof layers[0]; i++)
+        channels += (rs.aovs & layers[i].aov) ? layers[i].channels : 0;
+    /* the image it reads is held with them (the film is let go first: render_write_frame) */
+    size_t limit = 0, used = brume_scene_memory(scene, &limit), left = limit > used ? limit - used : 0;
+    double need = (double)brume_denoise_memory(rs.width, rs.height, channels) +
+                  (4.0 + channels) * sizeof(float) * rs.width * rs.height;
+    if (need <= (double)left)
+        return 0;
+    const double mib = 1.0 / 1048576.0;
+    cli_error("--denoise: render.max_memory_mb: denoising a %d x %d image needs %.1f MiB, over the %.1f MiB left "
+              "of the limit of %.0f MiB (the scene took %.1f MiB)", rs.width, rs.height, need * mib,
+              (double)left * mib, (double)limit * mib, (double)used * mib);
+    return 1;
 }
 
 /* Checks every output of the plan (make false: nothing is created) or makes their missing
@@ -315,7 +358,7 @@ static void report_frame(const render_run *r, const char *path, int owner, const
     if (owner != r->d.rank)
         fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, rendered by rank %d\n", path, rs->width, rs->height,
                 rs->spp, brume_method_name(rs->method), owner);
-    else if (r->job && (rs->time_budget > 0.0 || rs->noise_target > 0.0)) {
+    else if (!r->split_tiles && (rs->time_budget > 0.0 || rs->noise_target > 0.0)) {
         const brume_render_progress *p = &r->jr.progress;
         char noise[64] = "";
         if (rs->noise_target > 0.0 && p->spp_max < 2)
@@ -360,6 +403,11 @@ int render_write_frame(render_run *r, char *path, size_t n, int owner, const bru
                 cli_signal_name(r->jr.signal), path);
         return 128 + r->jr.signal;
     }
+    if (r->root && o->denoise && !r->serve) { /* the film is let go before the denoiser's buffers are
+                                                 made (render_check_denoise_memory counts on it) */
+        brume_render_job_release(r->job);
+        r->job = NULL;
+    }
     if (r->root && r->jr.interrupted) {
         /* a frame of a sequence is named for what it is: "f_0003.partial.png", never the
          * name a finished frame has (a video or a later run would take it for whole) */
@@ -370,17 +418,32 @@ int render_write_frame(render_run *r, char *path, size_t n, int owner, const bru
             size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - whole) : strlen(whole);
             snprintf(path, n, "%.*s.partial%s", (int)stem, whole, whole + stem);
         }
-        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet) != BRUME_OK)
+        char written[4200];
+        bool skipped;
+        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet, written,
+                        sizeof written, &skipped) != BRUME_OK)
             return render_write_failed(r);
         const brume_render_progress *p = &r->jr.progress;
-        fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s (%d to %d samples per pixel, %.1f on "
-                        "average)%s%s\n", cli_signal_name(r->jr.signal), path, p->spp_min, p->spp_max, p->spp_mean,
+        char spp[128] = "the ranks' tiles as far as each came"; /* MPI: the counts stay on the ranks */
+        if (p->spp_max >= 0)
+            snprintf(spp, sizeof spp, "%d to %d samples per pixel, %.1f on average", p->spp_min, p->spp_max,
+                     p->spp_mean);
+        fprintf(stderr, "brume: interrupted by %s: wrote the partial image %s%s (%s)%s%s\n",
+                cli_signal_name(r->jr.signal), written, skipped ? ", not denoised" : "", spp,
                 r->jr.checkpoint_written ? "; checkpoint " : "", r->jr.checkpoint_written ? o->checkpoint : "");
         return 128 + r->jr.signal;
     }
     if (r->root) {
-        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet) != BRUME_OK)
+        char written[4200];
+        bool skipped;
+        if (write_image(r->ctx, r->image, path, &o->wopts, o->denoise, rs->threads, o->quiet, written,
+                        sizeof written, &skipped) != BRUME_OK)
             return render_write_failed(r);
+        if (skipped) { /* the render was whole: only its denoising was stopped */
+            fprintf(stderr, "brume: interrupted by %s while denoising: wrote the image before denoising %s, not "
+                            "denoised\n", cli_signal_name(cli_signal()), written);
+            return 128 + cli_signal();
+        }
         if (!o->quiet)
             report_frame(r, path, owner, rs, render_now_seconds() - t0);
         brume_stats bs;

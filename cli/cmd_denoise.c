@@ -43,7 +43,10 @@ const cli_command cli_denoise_command = {
     "keeps every layer, the unfiltered image in the layer \"raw\", and is marked by the\n"
     "attribute brume.denoised. The result does not depend on --threads. A denoised image is\n"
     "biased: never a validation result.\n",
-    denoise_flags, CLI_NFLAGS(denoise_flags), NULL, NULL};
+    denoise_flags, CLI_NFLAGS(denoise_flags),
+    "SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the denoiser within a row of pixels: nothing is\n"
+    "written and brume exits 130, 143 or 129; during the write the image is written whole.\n",
+    NULL};
 
 int cmd_denoise(int argc, char **argv)
 {
@@ -72,10 +75,18 @@ int cmd_denoise(int argc, char **argv)
     }
     brume_image *img = NULL, *den = NULL;
     rc = 1;
+    cli_signals_install();
     if (brume_image_read(ctx, in, &img) != BRUME_OK)
         goto fail;
+    cli_signals_cancel(ctx); /* a signal cancels the denoiser; the write that follows is whole */
+    cli_signals_keep(true);
     if (brume_denoise(ctx, img, threads, &den) != BRUME_OK) {
-        cli_error("%s: %.1000s", in, brume_context_last_error(ctx));
+        if (cli_signal()) {
+            fprintf(stderr, "brume: interrupted by %s while denoising %s: nothing written\n",
+                    cli_signal_name(cli_signal()), in);
+            rc = 128 + cli_signal();
+        } else
+            cli_error("%s: %.1000s", in, brume_context_last_error(ctx));
         goto done;
     }
     if (brume_image_write(ctx, den, out, &wopts) != BRUME_OK)
@@ -85,6 +96,8 @@ int cmd_denoise(int argc, char **argv)
 fail:
     cli_error("%.1000s", brume_context_last_error(ctx));
 done:
+    cli_signals_keep(false);
+    cli_signals_cancel(NULL);
     brume_image_release(den);
     brume_image_release(img);
     brume_context_release(ctx);

@@ -3,6 +3,7 @@
  * assemble a video with ffmpeg (docs/animation.md). Its flags are cli_render_flags.c's
  * table; what it writes and prints is cli_render_output.c. */
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -225,9 +226,38 @@ static int check_frame_outputs(render_run *r, const char *path)
         (o->denoise && render_raw_companion(path, raw, sizeof raw) &&
          cli_check_output("--denoise", raw, BRUME_FILE_IMAGE, o->scene_path, r->scene, p->files, p->nbase) != 0) ||
         (o->checkpoint && cli_check_output("--checkpoint", o->checkpoint, BRUME_FILE_CHECKPOINT, o->scene_path,
-                                           r->scene, p->files + 1, p->nfiles - 1) != 0))
+                                           r->scene, p->files + 1, p->nfiles - 1) != 0) ||
+        (o->denoise && render_check_denoise_memory(r->scene) != 0))
         return 1;
     return !r->plan.made && render_prepare_outputs(&r->plan, true) != 0 ? 1 : 0;
+}
+
+/* This rank's tiles of the frame (MPI). A signal stops the part, its samples kept
+ * (cli_job.h), on every rank mpirun passes it to; the ranks then sum which of them were
+ * stopped, so that rank 0 writes the sum of their tiles as a partial image when any was.
+ * 0, or the exit status with a message. */
+static int render_part(render_run *r)
+{
+    memset(&r->jr, 0, sizeof r->jr);
+    cli_signals_keep(true);
+    brume_status st = brume_render_part(r->ctx, r->scene, r->d.rank, r->d.size, &r->image);
+    if (st != BRUME_OK && !(st == BRUME_ERROR_CANCELLED && cli_signal() && r->image)) {
+        cli_signals_keep(false);
+        return render_failed(r);
+    }
+    float stopped = cli_signal() ? (float)cli_signal() : 0.0f; /* kept on: the write keeps it too */
+    if (!dist_reduce_to_root(&r->d, &stopped, 1)) {
+        cli_signals_keep(false);
+        cli_error("gathering the ranks' interruptions on rank 0 failed");
+        return 1;
+    }
+    if (r->root && stopped > 0.0f) {
+        r->jr.interrupted = true;
+        r->jr.signal = cli_signal() ? cli_signal() : SIGTERM; /* another rank's: mpirun's SIGTERM */
+        r->jr.progress.spp_max = -1; /* the ranks' sample counts are not gathered */
+        brume_image_set_attribute(r->ctx, r->image, "brume.partial", "yes");
+    }
+    return 0;
 }
 
 /* Loads frame f (or moves the camera of the scene it shares with the frame before), then
@@ -258,8 +288,9 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
     read_next(r, k);
     brume_scene_settings(r->scene, rs);
     if (r->split_tiles) {
-        if (brume_render_part(r->ctx, r->scene, r->d.rank, r->d.size, &r->image) != BRUME_OK)
-            return render_failed(r);
+        int rc = render_part(r);
+        if (rc != 0)
+            return rc;
     } else {
         if (r->serve)
             cli_serve_show(r->serve, NULL, NULL);
@@ -276,6 +307,12 @@ static int render_frame(render_run *r, long k, long f, const char *path, brume_r
     if (r->split_tiles && !dist_reduce_to_root(&r->d, brume_image_pixels(r->image), n)) {
         cli_error("frame %ld: gathering the tiles on rank 0 failed", f);
         return 1;
+    }
+    if (r->split_frames && !r->root && r->jr.interrupted) {
+        /* rank 0 would take the partial frame for a whole one: it keeps the frames it has */
+        fprintf(stderr, "brume: rank %d: interrupted by %s: frame %ld not sent (partial)\n", r->d.rank,
+                cli_signal_name(r->jr.signal), f);
+        return 128 + r->jr.signal;
     }
     if (r->split_frames && !r->root) {
         if (!dist_send_to_root(&r->d, brume_image_pixels(r->image), n, (int)k)) {
@@ -314,9 +351,14 @@ static int render_frames(render_run *r)
         brume_render_settings rs;
         double t0 = render_now_seconds();
         int st = owner != r->d.rank ? receive_frame(r, k, f, owner, &rs) : render_frame(r, k, f, path, &rs);
+        if (st == 0) /* from the render's end to the write: a signal keeps the image (cli_job.h) */
+            cli_signals_keep(true);
+        if (st == 0)
+            st = render_write_frame(r, path, sizeof path, owner, &rs, t0);
+        cli_signals_keep(false);
         if (st < 0)
             continue;
-        if (st > 0 || (st = render_write_frame(r, path, sizeof path, owner, &rs, t0)) != 0)
+        if (st > 0)
             return st;
         r->done++;
     }
