@@ -10,7 +10,11 @@
  *                 &view=beauty|denoised|noise|LAYER (denoised and noise need the variance
  *                 layer: --denoise or --aov variance)
  *   /status.json  the job's figures (brume_render_job_progress) and the views it offers
- *   /stop (POST)  stops the render as Ctrl-C does: the image so far is written
+ *   /stop (POST)  stops the render as Ctrl-C does: the image so far is written; any number
+ *                 of stops in a row stop it once (never the second Ctrl-C that ends at once)
+ * Each connection has its own thread, so that a client that never reads, or a denoised view
+ * being computed, holds no other request (a stop included); the denoised views are computed
+ * one at a time, and cli_serve_stop cancels the one under way (brume_context_cancel_loads).
  * The listening socket is made here (so a port in use or a bad host is reported with the
  * system's reason before any rendering) and handed to libmicrohttpd. */
 #include "cli_serve.h"
@@ -23,6 +27,7 @@
 #include <netinet/in.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <time.h>
 #include <stdlib.h>
@@ -30,6 +35,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "cli_job.h"
 #include "commands.h"
 
 struct cli_serve {
@@ -37,10 +43,14 @@ struct cli_serve {
     int fd;
     pthread_mutex_t lock;          /* job, label */
     const brume_render_job *job;   /* the job shown, or NULL */
-    brume_context *ctx;            /* the server thread's own context */
+    brume_context *ctx;            /* the denoised views' context (one at a time: denoise_lock);
+                                      the other requests make their own (one per thread) */
     char label[256];               /* what is being rendered, for the page */
     char views[512];               /* what /image.png can show, comma-separated (from the last image) */
     char url[128];
+    pthread_mutex_t denoise_lock;  /* held while a denoised view is computed with ctx */
+    atomic_bool stopping;          /* cli_serve_stop began: no denoised view starts */
+    atomic_int stops_pending;      /* POST /stop answers queued and not yet sent */
 };
 
 static const char page[] =
@@ -183,21 +193,25 @@ static void view_names(const brume_image *img, char *out, size_t n)
  * data: depth and samples over their largest value, normals as 0.5 + 0.5 n, the rest as
  * they are; noise is a heat map of the relative standard error of each pixel's mean, black
  * at 0 through red to yellow at 10 % and above. */
-static const char *view_image(brume_context *ctx, const brume_image *img, const char *view, brume_image **out)
+static const char *view_image(cli_serve *sv, const brume_image *img, const char *view, brume_image **out)
 {
     *out = NULL;
     int var = find_layer(img, "variance");
     if (strcmp(view, "denoised") == 0) {
         if (var < 0)
             return "denoised: the render has no variance layer (render with --denoise or --aov variance)\n";
-        return brume_denoise(ctx, img, 1, out) == BRUME_OK ? NULL : "denoised: the denoiser failed\n";
+        pthread_mutex_lock(&sv->denoise_lock);
+        brume_status st = atomic_load(&sv->stopping) ? BRUME_ERROR_CANCELLED : brume_denoise(sv->ctx, img, 1, out);
+        pthread_mutex_unlock(&sv->denoise_lock);
+        return st == BRUME_OK ? NULL : st == BRUME_ERROR_CANCELLED ? "denoised: the live view is stopping\n"
+                                                                   : "denoised: the denoiser failed\n";
     }
     int l = strcmp(view, "noise") == 0 ? var : find_layer(img, view);
     if (l < 0)
         return "view: unknown (see the views in /status.json)\n";
     int w = brume_image_width(img), h = brume_image_height(img), ch = brume_image_layer_channels(img, l);
     brume_image *o = NULL;
-    if (brume_image_new(ctx, w, h, &o) != BRUME_OK)
+    if (brume_image_new(NULL, w, h, &o) != BRUME_OK)
         return "out of memory\n";
     const float *src = brume_image_layer_pixels(img, l), *rgba = brume_image_pixels(img);
     float *dst = brume_image_pixels(o);
@@ -247,7 +261,7 @@ static enum MHD_Result send_image(cli_serve *sv, struct MHD_Connection *conn)
     brume_image *img = NULL;
     pthread_mutex_lock(&sv->lock);
     if (sv->job)
-        brume_render_job_image(sv->ctx, sv->job, &img);
+        brume_render_job_image(NULL, sv->job, &img);
     if (img)
         view_names(img, sv->views, sizeof sv->views);
     pthread_mutex_unlock(&sv->lock);
@@ -255,7 +269,7 @@ static enum MHD_Result send_image(cli_serve *sv, struct MHD_Connection *conn)
         return error_page(conn, MHD_HTTP_SERVICE_UNAVAILABLE, "no image yet\n");
     if (view && strcmp(view, "beauty") != 0) {
         brume_image *shown = NULL;
-        const char *why = view_image(sv->ctx, img, view, &shown);
+        const char *why = view_image(sv, img, view, &shown);
         brume_image_release(img);
         if (!shown)
             return error_page(conn, MHD_HTTP_NOT_FOUND, why);
@@ -265,7 +279,7 @@ static enum MHD_Result send_image(cli_serve *sv, struct MHD_Connection *conn)
     }
     unsigned char *png = NULL;
     size_t size = 0;
-    brume_status st = brume_image_encode_png(sv->ctx, img, &opts, &png, &size);
+    brume_status st = brume_image_encode_png(NULL, img, &opts, &png, &size);
     brume_image_release(img);
     if (st != BRUME_OK)
         return error_page(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "cannot encode the image\n");
@@ -323,12 +337,16 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
     if (*upload_size != 0)
         return MHD_NO;
     if (strcmp(method, "POST") == 0 && strcmp(url, "/stop") == 0) {
-        kill(getpid(), SIGINT); /* as Ctrl-C: the render stops, the image so far is written */
-        return error_page(conn, MHD_HTTP_ACCEPTED, "stopping\n");
+        cli_signals_raise(SIGINT); /* as Ctrl-C, once: the render stops, the image so far is written */
+        enum MHD_Result ret = error_page(conn, MHD_HTTP_ACCEPTED, "stopping\n");
+        if (ret == MHD_YES) { /* cli_serve_stop lets this answer go out (on_completed) */
+            atomic_fetch_add(&sv->stops_pending, 1);
+            *state = &sv->stops_pending;
+        }
+        return ret;
     }
     if (strcmp(method, "GET") != 0 && strcmp(method, "HEAD") != 0)
         return error_page(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "only GET (and POST /stop)\n");
-    (void)state;
     if (strcmp(url, "/") == 0)
         return respond(conn, MHD_HTTP_OK, "text/html; charset=utf-8", (void *)page, sizeof page - 1,
                        MHD_RESPMEM_PERSISTENT);
@@ -337,6 +355,17 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
     if (strcmp(url, "/status.json") == 0)
         return send_status(sv, conn);
     return error_page(conn, MHD_HTTP_NOT_FOUND, "not found: the live view serves /, /image.png, /status.json and POST /stop\n");
+}
+
+/* A request's end (sent, or its connection closed): a stop's answer is no longer pending. */
+static void on_completed(void *cls, struct MHD_Connection *conn, void **state, enum MHD_RequestTerminationCode why)
+{
+    (void)conn;
+    (void)why;
+    cli_serve *sv = cls;
+    if (*state == &sv->stops_pending)
+        atomic_fetch_sub(&sv->stops_pending, 1);
+    *state = NULL;
 }
 
 /* "[HOST:]PORT" -> a bound, listening socket; -1 with a message. */
@@ -428,7 +457,11 @@ cli_serve *cli_serve_start(const char *spec)
         return NULL;
     }
     pthread_mutex_init(&sv->lock, NULL);
-    sv->daemon = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD, 0, NULL, NULL, on_request, sv,
+    pthread_mutex_init(&sv->denoise_lock, NULL);
+    atomic_init(&sv->stopping, false);
+    atomic_init(&sv->stops_pending, 0);
+    sv->daemon = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_THREAD_PER_CONNECTION, 0, NULL, NULL,
+                                  on_request, sv, MHD_OPTION_NOTIFY_COMPLETED, on_completed, sv,
                                   MHD_OPTION_LISTEN_SOCKET, sv->fd, MHD_OPTION_CONNECTION_LIMIT, 64U,
                                   /* idle connections cannot hold the view (32 of them would
                                      block it): 16 per client address, above a browser's 6 per
@@ -440,6 +473,7 @@ cli_serve *cli_serve_start(const char *spec)
         cli_error("--serve: %s: libmicrohttpd could not start", spec);
         close(sv->fd);
         pthread_mutex_destroy(&sv->lock);
+        pthread_mutex_destroy(&sv->denoise_lock);
         brume_context_release(sv->ctx);
         free(sv);
         return NULL;
@@ -463,17 +497,23 @@ void cli_serve_stop(cli_serve *sv)
 {
     if (!sv)
         return;
-    /* the answers in flight go out first (POST /stop's 202 raced the stop and was sometimes
-     * cut), for at most a second: a browser's idle keep-alive connections do not hold the exit */
-    for (int i = 0; i < 100; i++) {
-        const union MHD_DaemonInfo *di = MHD_get_daemon_info(sv->daemon, MHD_DAEMON_INFO_CURRENT_CONNECTIONS);
-        if (!di || di->num_connections == 0)
-            break;
-        struct timespec ts = {0, 10000000};
+    /* no denoised view starts from now, and the one under way (a second or more of a large
+     * image) is cancelled until it lets go: the exit never waits for it */
+    atomic_store(&sv->stopping, true);
+    struct timespec ts = {0, 5000000};
+    while (pthread_mutex_trylock(&sv->denoise_lock) != 0) {
+        brume_context_cancel_loads(sv->ctx); /* again: one that began after the last call */
         nanosleep(&ts, NULL);
     }
+    pthread_mutex_unlock(&sv->denoise_lock);
+    /* POST /stop's 202 goes out first (it raced the stop and was sometimes cut), for at most
+     * a second; no other connection is waited for: a browser's idle keep-alive connections
+     * and a client that never reads do not hold the exit */
+    for (int i = 0; i < 200 && atomic_load(&sv->stops_pending) > 0; i++)
+        nanosleep(&ts, NULL);
     MHD_stop_daemon(sv->daemon); /* closes the listening socket too */
     pthread_mutex_destroy(&sv->lock);
+    pthread_mutex_destroy(&sv->denoise_lock);
     brume_context_release(sv->ctx);
     free(sv);
 }
