@@ -37,7 +37,8 @@ static void string_token(lexer *L)
         }
         if (c == '\0' || c == '\n') {
             L->kind = TOK_BAD;
-            L->bad = c ? "unterminated string (a string ends on its own line)" : "unterminated string (the file ends in it)";
+            L->bad = c ? "unterminated string (a string ends on the line it starts)"
+                       : "unterminated string (the file ends in it)";
             break;
         }
         if (c == '\\') {
