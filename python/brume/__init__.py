@@ -156,6 +156,8 @@ def _plain(value, where, active=()):
     enclosing value (a container inside itself is refused)."""
     if isinstance(value, np.generic):
         value = value.item()
+    if isinstance(value, str) and "\0" in value:
+        raise ArgumentError("%s: contains a NUL character (the scene reader's strings end there)" % where)
     if value is None or isinstance(value, (bool, str)):
         return value
     if isinstance(value, int):

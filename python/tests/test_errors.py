@@ -43,6 +43,7 @@ class ErrorsTest(unittest.TestCase):
         self.refused(lambda: brume.Scene(scene(sigma_s={1, 2})), "media[0].sigma_s", "a set is not a value")
         self.refused(lambda: brume.Scene(scene(sigma_s=object())), "media[0].sigma_s", "object")
         self.refused(lambda: brume.Scene(scene(sigma_s=10 ** 400)), "media[0].sigma_s", "too large")
+        self.refused(lambda: brume.Scene(scene(comment="a\0b")), "<dict>: media[0].comment", "NUL")
         bad_key = scene()
         bad_key["camera"][3] = 1
         self.refused(lambda: brume.Scene(bad_key), "<dict>: camera", "the key 3 is not a string")
