@@ -54,14 +54,14 @@ cached_objects() {
     fi
     ls "$dir"/*.o
 }
-csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c $src/src/io/grid_formats.c $src/src/io/grid_raw.c $src/src/io/grid_df3.c $src/src/io/grid_vol.c $src/src/io/grid_nvdb.c $src/src/io/grid_openvdb.c $src/src/io/grid_sandbox.c $src/src/io/sandbox.c $src/src/io/grid_vdb_load.c" # the readers and what they stand on
+csrc="$src/fuzz/fuzz_grid.c $(ls "$src"/src/core/*.c "$src"/src/density/*.c) $src/src/io/atomic.c $src/src/io/grid_io.c $src/src/io/grid_formats.c $src/src/io/grid_raw.c $src/src/io/grid_df3.c $src/src/io/grid_vol.c $src/src/io/grid_nvdb.c $src/src/io/grid_openvdb.c $src/src/io/grid_sandbox.c $src/src/io/sandbox.c $src/src/io/grid_vdb_load.c $src/src/io/vdb_path.c" # the readers and what they stand on
 exe="$out/fuzz_$fmt"
 if [ "$fmt" = scene ] || [ "$fmt" = readers ]; then
     # the whole library but OpenVDB (C++), and the default scene and build id CMake generated
     flags="$(echo "$flags" | sed 's/-DFUZZ_FORMAT=GRID_FORMAT_[A-Z0-9]*//') -I$build/generated"
     # no GPU kernels: the fuzzers never ask for a GPU, and the PTX would only slow the build
     echo 'const char gpu_ptx[] = "";' > "$out/gpu_ptx_none.c"
-    lib="$(find "$src/src" -name '*.c' | sort) $build/default_scene.c $out/gpu_ptx_none.c"
+    lib="$(find "$src/src" -name '*.c' ! -name grid_sandbox_main.c | sort) $build/default_scene.c $out/gpu_ptx_none.c"
     # a 4 MiB memory budget that a scene cannot raise: each input stays quick and small
     cflags="-std=c11 $flags -DBUDGET_DEFAULT_BYTES=((size_t)4<<20) -DBUDGET_MAX_BYTES=((size_t)4<<20) -DBRUME_HAVE_OPENVDB=0 -I/usr/include/OpenEXR $(pkg-config --cflags libcjson libpng cairo fftw3 assimp)"
     objs=$(cached_objects lib clang "$cflags" $lib) || exit 1
@@ -114,7 +114,7 @@ case $fmt in
 esac
 [ -n "$extra" ] && cp "$extra" "$out/corpus-$fmt/"
 # leaks are checked; each input is limited in time and memory
-# The vdb target reads through brume's sandbox: libopenvdb runs in a child process per
+# The vdb target reads through brume's sandbox: libopenvdb runs in a child program per
 # input, under CPU and address-space limits, and a hang, a crash or an exhausted limit
 # there is a one-line error in brume (docs/grids.md). What the fuzzer watches is brume's
 # own process: no crash, leak, hang (-timeout is above the sandbox's own wall-clock limit,
@@ -133,6 +133,11 @@ if [ "$fmt" = vdb ]; then
     # `make test-sanitize`: one mutant must not have the reader touch gigabytes
     ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=2048${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
     export ASAN_OPTIONS
+    # the child is the build's brume-openvdb-reader (a program, started with posix_spawn), found
+    # with the build's OpenVDB module through BRUME_MODULE_PATH
+    [ -x "$build/brume-openvdb-reader" ] || { echo "fuzz: $build/brume-openvdb-reader not built, skipped"; exit 77; }
+    BRUME_MODULE_PATH=$build
+    export BRUME_MODULE_PATH
     cp "$data/wdas_cloud_sixteenth.vdb" "$out/corpus-$fmt/"
 fi
 timeout=${FUZZ_TIMEOUT:-$timeout}

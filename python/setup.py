@@ -38,12 +38,13 @@ def build_libbrume(dest):
                     "-DBRUME_MPI=OFF"], check=True, stdout=subprocess.DEVNULL)
     targets = ["brume_shared"]
     if os.path.exists(os.path.join(build, "CMakeFiles", "brume_openvdb.dir")):
-        targets.append("brume_openvdb")
+        targets += ["brume_openvdb", "brume_openvdb_reader"]
     subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target"] + targets, check=True)
     files = [os.path.join(build, SONAME)]
     module = os.path.join(build, "libbrume-openvdb.so")
     if os.path.exists(module):
-        files.append(module)  # found beside libbrume.so.1 (src/io/grid_vdb_load.c)
+        # found beside libbrume.so.1 (src/io/grid_vdb_load.c), with the program that runs it
+        files += [module, os.path.join(build, "brume-openvdb-reader")]
     return files
 
 

@@ -33,6 +33,9 @@ done
 if [ $vdb = 1 ] && ! [ -e "$prefix/lib/libbrume-openvdb.so" ]; then
     echo "install: lib/libbrume-openvdb.so (the OpenVDB module) missing under the prefix"; exit 1
 fi
+if [ $vdb = 1 ] && ! [ -x "$prefix/lib/brume-openvdb-reader" ]; then
+    echo "install: lib/brume-openvdb-reader (the .vdb reader's process) missing under the prefix"; exit 1
+fi
 soname=$(readelf -d "$prefix/lib/libbrume.so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
 test "$soname" = libbrume.so.1 || { echo "libbrume.so: SONAME '$soname', want libbrume.so.1"; exit 1; }
 # the example exactly as the header prints it

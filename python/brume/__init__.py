@@ -31,6 +31,8 @@ a render's time budget is the setting time_budget= (seconds): a bare time= is re
 """
 import inspect
 import json
+import math
+import operator
 import os
 import sys
 import threading
@@ -41,7 +43,7 @@ import numpy as np
 
 from ._lib import ffi, lib, has
 
-__all__ = ["Error", "Cancelled", "Interrupted", "Image", "Progress", "Scene", "render", "write", "version", "options",
+__all__ = ["Error", "ArgumentError", "Cancelled", "Interrupted", "Image", "Progress", "Scene", "render", "write", "version", "options",
            "AOVS"]
 
 SceneSource = Union[None, str, bytes, "os.PathLike[str]", Mapping[str, Any]]
@@ -136,6 +138,91 @@ class KeywordError(Error, TypeError):
     """An unknown or ambiguous keyword argument; the message lists the valid ones."""
 
 
+class ArgumentError(Error, TypeError):
+    """A value brume cannot take: of a type the field does not hold, beyond the range of its C
+    type, or one a scene file cannot hold (NaN, a set, a key that is not a string); the
+    message names the field. A brume.Error, and a TypeError as Python's own would have been."""
+
+
+# cJSON refuses arrays and objects nested deeper than 1000 as a syntax error: refused here
+# first, by name, well within it
+_MAX_NESTING = 200
+
+
+def _plain(value, where, active=()):
+    """value in JSON's types (dicts with string keys, lists, strings, finite numbers, bools,
+    None), numpy arrays and scalars converted; anything a scene file cannot hold raises
+    ArgumentError naming `where`, the field's path. `active`: the ids of the containers
+    enclosing value (a container inside itself is refused)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, str) and "\0" in value:
+        raise ArgumentError("%s: contains a NUL character (the scene reader's strings end there)" % where)
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, int):
+        try:
+            float(value)
+        except OverflowError:
+            raise ArgumentError("%s: %d is too large for a number brume reads (a double)" % (where, value)) from None
+        return int(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ArgumentError("%s: %r: a scene holds finite numbers only" % (where, value))
+        return float(value)
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist(), where, active)  # a 0-d array is a number
+    if not isinstance(value, (Mapping, list, tuple)):
+        raise ArgumentError("%s: a %s is not a value of the scene format (numbers, strings, bools, None, lists, "
+                            "dicts, numpy arrays)" % (where, type(value).__name__))
+    if id(value) in active:
+        raise ArgumentError("%s: contains itself" % where)
+    if len(active) >= _MAX_NESTING:
+        raise ArgumentError("%s: nested more than %d deep" % (where, _MAX_NESTING))
+    active = active + (id(value),)
+    if isinstance(value, Mapping):
+        out = {}
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise ArgumentError("%s: the key %r is not a string" % (where, k))
+            out[k] = _plain(v, "%s.%s" % (where, k) if where != "<dict>" else "<dict>: " + k, active)
+        return out
+    return [_plain(v, "%s[%d]" % (where, i), active) for i, v in enumerate(value)]
+
+
+def _c_string(value, where):
+    """A str, bytes or path as the bytes of a C string; NUL inside would cut it short."""
+    try:
+        b = os.fsencode(value)
+    except TypeError:
+        raise ArgumentError("%s: expected a string, got %s" % (where, type(value).__name__)) from None
+    if b"\0" in b:
+        raise ArgumentError("%s: contains a NUL character" % where)
+    return b
+
+
+def _number(value, where):
+    """value as a float: a real number, finite."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ArgumentError("%s: expected a number, got %r" % (where, value)) from None
+    if not math.isfinite(v):
+        raise ArgumentError("%s: %r is not finite" % (where, value))
+    return v
+
+
+def _c_int(value, where, lo, hi):
+    """value as a whole number in [lo, hi]."""
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise ArgumentError("%s: expected a whole number, got %r" % (where, value)) from None
+    if not lo <= v <= hi:
+        raise ArgumentError("%s: %d outside [%d, %d]" % (where, v, lo, hi))
+    return v
+
+
 def _refuse_time(kwargs):
     if "time" in kwargs:
         raise KeywordError("time: ambiguous; say frame_time= for the scene's animation time (seconds) or "
@@ -168,7 +255,7 @@ class _Context:
     def __init__(self):
         self.ptr = lib.brume_context_new()
         if self.ptr == ffi.NULL:
-            raise MemoryError("brume_context_new")
+            raise Error("brume_context_new: out of memory")
 
     def check(self, status):
         if status != 0:
@@ -204,12 +291,16 @@ def _array_density(ctx, spec, where):
         raise Error("%s.borrow: expected true or false" % where)
     if "data" not in spec or "bounds" not in spec:
         raise Error("%s: an array density needs \"data\" (ndarray [z, y, x]) and \"bounds\"" % where)
-    data = np.asarray(spec["data"])
-    if data.ndim != 3:
-        raise Error("%s.data: expected a 3-d array indexed [z, y, x], got %d dimensions" % (where, data.ndim))
-    if data.dtype != np.float32 or not data.flags["C_CONTIGUOUS"]:
-        data = np.ascontiguousarray(data, dtype=np.float32)  # a copy: the caller's array is not float32 [z][y][x]
-    elif not borrow:
+    try:
+        data = np.asarray(spec["data"])
+        if data.ndim != 3:
+            raise Error("%s.data: expected a 3-d array indexed [z, y, x], got %d dimensions" % (where, data.ndim))
+        converted = data.dtype != np.float32 or not data.flags["C_CONTIGUOUS"]
+        if converted:
+            data = np.ascontiguousarray(data, dtype=np.float32)  # a copy: the caller's array is not float32 [z][y][x]
+    except (TypeError, ValueError, OverflowError) as e:
+        raise ArgumentError("%s.data: expected an array of numbers (%s)" % (where, e)) from None
+    if not converted and not borrow:
         data = data.copy()  # the scene's own: the caller's later changes cannot reach it
     try:
         b = np.asarray(spec["bounds"], dtype=np.float64).reshape(-1)
@@ -236,16 +327,6 @@ def _array_density(ctx, spec, where):
         msg = ffi.string(lib.brume_context_last_error(ctx.ptr)).decode(errors="replace")
         raise Error("%s: %s" % (where, msg), st)
     return out[0]
-
-
-def _json_default(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    if isinstance(o, np.bool_):
-        return bool(o)
-    raise TypeError("not JSON: %r" % type(o))
 
 
 def _progress_bar(description="brume", log_seconds=10.0):
@@ -307,6 +388,20 @@ _ENUMS = {"filter": {"box": lib.BRUME_FILTER_BOX, "gaussian": lib.BRUME_FILTER_G
 if has("BRUME_SAMPLER_SOBOL"):
     _ENUMS["sampler"] = {"independent": lib.BRUME_SAMPLER_INDEPENDENT, "sobol": lib.BRUME_SAMPLER_SOBOL}
 _EXTRA = ("options", "frame_time")
+_SETTING_TYPES = dict(ffi.typeof("brume_render_settings").fields)
+
+
+def _field_words(key):
+    """What a render setting's C field holds, in words, for a refusal."""
+    t = _SETTING_TYPES[key].type
+    if t.cname in ("float", "double"):
+        return "a number"
+    if t.cname in ("_Bool", "bool"):
+        return "True or False"
+    bits = 8 * ffi.sizeof(t)
+    if t.cname.startswith(("uint", "unsigned", "size_t")):
+        return "a whole number in [0, %d]" % (2 ** bits - 1)
+    return "a whole number in [%d, %d]" % (-2 ** (bits - 1), 2 ** (bits - 1) - 1)
 
 
 class _RunState:
@@ -385,6 +480,8 @@ class _RunState:
         def target():
             try:
                 box["status"] = c_call()
+            except BaseException as e:  # raised again in the caller's thread
+                box["error"] = e
             finally:
                 finished.release()
 
@@ -395,6 +492,8 @@ class _RunState:
                     break
             except KeyboardInterrupt:
                 self.stop.set()  # and go on waiting: the scene must outlive the call
+        if "error" in box:
+            raise box["error"]
         return box["status"]
 
 
@@ -421,19 +520,19 @@ class Scene:
         self._aovs = False
         _refuse_time(settings)
         out = ffi.new("brume_scene **")
-        opts = ffi.new("brume_load_options *", {"time": float(frame_time)})
+        opts = ffi.new("brume_load_options *", {"time": _number(frame_time, "frame_time")})
         if scene is None:
             self._ctx.check(lib.brume_scene_load(self._ctx.ptr, ffi.NULL, opts, out))
             self._ptr = out[0]
         elif isinstance(scene, Mapping):
             self._from_dict(scene, opts, out)
         elif isinstance(scene, (str, bytes, os.PathLike)):
-            path = ffi.new("char[]", os.fsencode(scene))
+            path = ffi.new("char[]", _c_string(scene, "scene"))
             src = ffi.new("brume_source *", {"path": path})
             self._ctx.check(lib.brume_scene_load(self._ctx.ptr, src, opts, out))
             self._ptr = out[0]
         else:
-            raise TypeError("scene: expected a path, a dict or None, got %s" % type(scene).__name__)
+            raise ArgumentError("scene: expected a path, a dict or None, got %s" % type(scene).__name__)
         self._configure(options, settings)
 
     def _from_dict(self, scene, opts, out):
@@ -455,7 +554,9 @@ class Scene:
                                     "[xmax, ymax, zmax]]" % i) from None
                     m["density"] = {"type": "constant", "value": 0, "bounds": bounds}
                     media[i] = m
-        text = json.dumps(doc, default=_json_default).encode()
+        # the scene as the user gave it, checked here: anything JSON cannot hold would reach
+        # the reader as a "JSON syntax error" the user never wrote
+        text = json.dumps(_plain(doc, "<dict>"), allow_nan=False).encode()
         name, text = ffi.new("char[]", b"<dict>"), ffi.new("char[]", text)
         src = ffi.new("brume_source *", {"path": name, "text": text})
         self._ctx.check(lib.brume_scene_load(self._ctx.ptr, src, opts, out))
@@ -470,10 +571,20 @@ class Scene:
     def _configure(self, options, settings):
         if self._committed and (options or settings):
             raise Error("scene already rendered: settings and options are frozen (make a new brume.Scene)")
+        if options is not None and not isinstance(options, Mapping):
+            raise ArgumentError("options: expected a dict {\"METHOD.KEY\": value}, got %s" % type(options).__name__)
         for key, value in (options or {}).items():
+            if not isinstance(key, str):
+                raise ArgumentError("options: the key %r is not a \"METHOD.KEY\" string" % (key,))
             if isinstance(value, bool):
                 value = "true" if value else "false"
-            self._ctx.check(lib.brume_scene_set_option(self._ctx.ptr, self._ptr, key.encode(), str(value).encode()))
+            elif isinstance(value, (float, np.floating)):
+                value = repr(_number(value, "options: " + key))  # every digit: str() would round
+            elif not isinstance(value, (str, int, np.integer)):
+                raise ArgumentError("options: %s: expected a number, a string or a bool, got %s"
+                                    % (key, type(value).__name__))
+            self._ctx.check(lib.brume_scene_set_option(self._ctx.ptr, self._ptr, _c_string(key, "options"),
+                                                       _c_string(str(value), "options: " + key)))
         if settings:
             rs = ffi.new("brume_render_settings *")
             lib.brume_scene_settings(self._ptr, rs)
@@ -488,23 +599,32 @@ class Scene:
             rs.method = m[0]
         elif key in _ENUMS:
             names = _ENUMS[key]
-            if value not in names:
+            if not isinstance(value, str) or value not in names:
                 raise KeywordError("%s: unknown value %r (known: %s)" % (key, value, ", ".join(names)))
             setattr(rs, key, names[value])
         elif key == "aovs":
             mask = 0
+            if not isinstance(value, (list, tuple)):
+                raise ArgumentError("aovs: expected a list of layer names, got %s" % type(value).__name__)
             for name in value:
-                if name not in AOVS:
+                if not isinstance(name, str) or name not in AOVS:
                     raise Error("aovs: unknown layer '%s' (known: %s)" % (name, ", ".join(AOVS) or "none in this build"))
                 mask |= AOVS[name]
             rs.aovs = mask
         elif key == "progress":
             if value is not None and value is not False and not has("brume_progress_fn"):
                 raise Error("progress: this libbrume has no progress callback")
+            if not (value is None or isinstance(value, bool) or callable(value)):
+                raise ArgumentError("progress: expected True, False, None or a function, got %s" % type(value).__name__)
             self._run.progress = value if callable(value) or value is True else None
             self._run.set_user_fn(_progress_bar() if value is True else self._run.progress)
         elif key in _SETTINGS:
-            setattr(rs, key, value)
+            if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+                raise ArgumentError("%s: %r is not finite" % (key, value))
+            try:
+                setattr(rs, key, value)
+            except (TypeError, ValueError, OverflowError):
+                raise ArgumentError("%s: %r is not %s" % (key, value, _field_words(key))) from None
         else:
             raise KeywordError("unknown render setting '%s' (valid: %s)" % (key, ", ".join(sorted(set(_SETTINGS) | set(_EXTRA)))))
 
@@ -639,7 +759,8 @@ class Scene:
         """Adds a pass of spp samples per pixel to the job begun by begin()."""
         if self._job is None:
             raise Error("add: no render job (call begin() first)")
-        st = self._run.call(lambda: lib.brume_render_job_add(self._ctx.ptr, self._job, int(spp)))
+        spp = _c_int(spp, "add: spp", 1, 2 ** 31 - 1)
+        st = self._run.call(lambda: lib.brume_render_job_add(self._ctx.ptr, self._job, spp))
         self._job_status(st)
         self._run.final()
         return self
@@ -749,13 +870,18 @@ class Image(np.ndarray):
 
 
 def _to_brume_image(ctx, array):
-    a = np.asarray(array)
-    if a.ndim != 3 or a.shape[2] not in (3, 4):
-        raise Error("image: expected an array (height, width, 4) of RGBA or (height, width, 3) of RGB, got shape %s"
-                    % (a.shape,))
-    h, w = a.shape[:2]
-    rgba = np.ones((h, w, 4), np.float32)
-    rgba[..., :a.shape[2]] = a
+    try:
+        a = np.asarray(array)
+        if a.ndim != 3 or a.shape[2] not in (3, 4):
+            raise Error("image: expected an array (height, width, 4) of RGBA or (height, width, 3) of RGB, got "
+                        "shape %s" % (a.shape,))
+        h, w = a.shape[:2]
+        rgba = np.ones((h, w, 4), np.float32)
+        rgba[..., :a.shape[2]] = a
+    except (TypeError, ValueError, OverflowError) as e:
+        raise ArgumentError("image: expected an array of numbers (%s)" % e) from None
+    _c_int(w, "image: width", 1, 2 ** 31 - 1)
+    _c_int(h, "image: height", 1, 2 ** 31 - 1)
     out = ffi.new("brume_image **")
     ctx.check(lib.brume_image_new(ctx.ptr, w, h, out))
     ffi.memmove(lib.brume_image_pixels(out[0]), ffi.from_buffer(rgba), rgba.nbytes)
@@ -764,10 +890,10 @@ def _to_brume_image(ctx, array):
 
 def _write_options(exposure, tonemap):
     maps = {"clamp": lib.BRUME_TONEMAP_CLAMP, "filmic": lib.BRUME_TONEMAP_FILMIC}
-    if tonemap not in maps:
+    if not isinstance(tonemap, str) or tonemap not in maps:
         raise KeywordError("tonemap: unknown value %r (known: clamp, filmic)" % (tonemap,))
     opts = ffi.new("brume_write_options *")
-    opts.exposure = float(exposure)
+    opts.exposure = _number(exposure, "exposure")
     opts.tonemap = maps[tonemap]
     return opts
 
@@ -776,11 +902,12 @@ def write(image: Any, path: "Union[str, os.PathLike[str]]", *, exposure: float =
     """Writes an image (an array (height, width, 4) or (height, width, 3), linear) through
     libbrume's writers, by the extension: .exr (float RGBA), .png (8-bit sRGB after exposure
     in stops and tonemap "clamp" or "filmic"), .pfm. The write is atomic."""
+    name = _c_string(path, "path")
     ctx = _Context()
     img = ffi.NULL
     try:
         img = _to_brume_image(ctx, image)
-        ctx.check(lib.brume_image_write(ctx.ptr, img, os.fsencode(path), _write_options(exposure, tonemap)))
+        ctx.check(lib.brume_image_write(ctx.ptr, img, name, _write_options(exposure, tonemap)))
     finally:
         lib.brume_image_release(img)
         ctx.close()

@@ -6,11 +6,21 @@
  *   'L' count (uint32) count gridvdb_info         a grid list
  *   'K'                                           done, nothing to return
  * Anything else, a short read, a child killed by a signal or a timeout is an error naming
- * the file. The parent never trusts a size before checking it against its own limit. */
+ * the file. The parent never trusts a size before checking it against its own limit.
+ *
+ * The child is a program of its own, brume-openvdb-reader (cli/openvdb_reader.c, beside the
+ * OpenVDB module), started with posix_spawn: the job in its arguments, the file's bytes (when
+ * there is no path) on its fd 4 from a memory file, the answer on its fd 3. A fork without
+ * exec would copy a process whose other threads (a renderer's, a read-ahead's, Python's) may
+ * hold a lock, such as AddressSanitizer's allocator's, which GCC's libasan does not take
+ * across a fork: the child then blocked for good under the sanitizer. A new program holds no
+ * lock of this one. */
+#define _GNU_SOURCE /* memfd_create */
 #include "io/grid_sandbox.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdint.h>
@@ -20,13 +30,16 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/time.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
+#include <spawn.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "core/error.h"
 #include "core/regular_file.h"
 #include "io/sandbox.h"
+#include "io/vdb_path.h"
 
 #ifndef BRUME_HAVE_OPENVDB
 #define BRUME_HAVE_OPENVDB 0
@@ -49,7 +62,11 @@ static int child_sink(void *user, const void *data, size_t size)
                                                                                                             : 0;
 }
 
-static void child_run(const sandbox_job *j, int fd, double cpu_seconds, size_t max_memory, size_t in_size)
+/* The child's answer goes to this descriptor, the file's bytes (no path) come on CHILD_BYTES_FD. */
+#define CHILD_ANSWER_FD 3
+#define CHILD_BYTES_FD 4
+
+static _Noreturn void child_run(const sandbox_job *j, int fd, double cpu_seconds, size_t max_memory, size_t in_size)
 {
     /* OpenVDB stores at least a 64-byte mask per leaf of about 2 KiB: a tree is at most some
      * 40 times its file, the NanoVDB copy about as much again */
@@ -133,6 +150,67 @@ static int read_list(int fd, const sandbox_job *j, double deadline, sandbox_resu
     return rr;
 }
 
+/* A memory file holding the job's bytes (no path): the child's CHILD_BYTES_FD; -1 after a refusal. */
+static int bytes_file(const sandbox_job *j)
+{
+    int mfd = memfd_create("brume-vdb", MFD_CLOEXEC);
+    if (mfd < 0) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot hand the bytes to the OpenVDB reader: %s", j->name,
+                strerror(errno));
+        return -1;
+    }
+    if (sandbox_write_all(mfd, j->bytes, j->size) != 0) {
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot hand %zu bytes to the OpenVDB reader: %s", j->name, j->size,
+                strerror(errno));
+        close(mfd);
+        return -1;
+    }
+    return mfd;
+}
+
+/* Starts brume-openvdb-reader on job j, its answer to `answer`: argv is the job, in the order
+ * grid_sandbox_child_main reads it. */
+static brume_status spawn_child(const sandbox_job *j, int answer, double cpu, size_t max_memory, size_t in_size,
+                                pid_t *pid)
+{
+    char exe[PATH_MAX + 64];
+    if (vdb_path_reader(exe, sizeof exe) != BRUME_OK)
+        return err_set(err_status(), "%s: %.3000s", j->name, err_message());
+    char kind[8], vec3[8], cpu_s[40], mem_s[40], size_s[40];
+    snprintf(kind, sizeof kind, "%d", j->kind);
+    snprintf(vec3, sizeof vec3, "%d", j->vec3);
+    snprintf(cpu_s, sizeof cpu_s, "%.17g", cpu);
+    snprintf(mem_s, sizeof mem_s, "%zu", max_memory);
+    snprintf(size_s, sizeof size_s, "%zu", j->path ? in_size : j->size);
+    char *argv[] = {exe,     kind,   (char *)(j->path ? j->path : "-"), (char *)(j->out ? j->out : ""),
+                    (char *)j->name, (char *)(j->grid ? j->grid : ""), vec3, cpu_s, mem_s, size_s, NULL};
+    int mfd = j->path ? -1 : bytes_file(j);
+    if (!j->path && mfd < 0)
+        return err_status();
+    /* both above the child's numbers, so that neither dup2 is onto itself or onto the other */
+    int afd = fcntl(answer, F_DUPFD_CLOEXEC, 10), bfd = mfd >= 0 ? fcntl(mfd, F_DUPFD_CLOEXEC, 10) : -1;
+    posix_spawn_file_actions_t fa;
+    int e = afd < 0 || (mfd >= 0 && bfd < 0) ? errno : posix_spawn_file_actions_init(&fa);
+    if (e == 0) {
+        e = posix_spawn_file_actions_adddup2(&fa, afd, CHILD_ANSWER_FD);
+        if (e == 0 && bfd >= 0)
+            e = posix_spawn_file_actions_adddup2(&fa, bfd, CHILD_BYTES_FD);
+        extern char **environ;
+        if (e == 0)
+            e = posix_spawn(pid, exe, &fa, NULL, argv, environ);
+        posix_spawn_file_actions_destroy(&fa);
+    }
+    if (afd >= 0)
+        close(afd);
+    if (bfd >= 0)
+        close(bfd);
+    if (mfd >= 0)
+        close(mfd);
+    if (e != 0)
+        return err_set(BRUME_ERROR_IO, "%s: cannot start the OpenVDB reader %s: %s", j->name, exe, strerror(e));
+    return BRUME_OK;
+}
+
 static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox_result *res)
 {
     memset(res, 0, sizeof *res);
@@ -144,27 +222,17 @@ static brume_status sandbox_run(const sandbox_job *j, size_t max_memory, sandbox
     double cpu = (5.0 + 2.0 * (double)in_size / 1048576.0) * (SANDBOX_ASAN ? 4.0 : 1.0); /* ASan: slower */
     double deadline = sandbox_now() + 2.0 * cpu + 5.0;
     int fds[2];
-    if (pipe(fds) != 0)
+    if (pipe2(fds, O_CLOEXEC) != 0)
         return err_set(BRUME_ERROR_IO, "%s: cannot create a pipe: %s", j->name, strerror(errno));
-    /* The child opens the OpenVDB module itself (io/grid_vdb.h): this process does not map
-     * OpenVDB to read, so no thread of its libraries (log4cplus's pool starts at load) can
-     * hold a lock across the fork. A module this process opened to write is handled here. */
-    gridvdb_before_fork();
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
+    pid_t pid;
+    brume_status st = spawn_child(j, fds[1], cpu, max_memory, in_size, &pid);
+    if (st != BRUME_OK) {
         close(fds[0]);
         close(fds[1]);
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: cannot start the OpenVDB reader process: %s", j->name,
-                       strerror(errno));
-    }
-    if (pid == 0) {
-        close(fds[0]);
-        child_run(j, fds[1], cpu, max_memory, in_size);
+        return st;
     }
     close(fds[1]);
     int fd = fds[0];
-    brume_status st = BRUME_OK;
     char tag = 0;
     int rr = sandbox_read_all(fd, &tag, 1, deadline);
     if (rr == 0 && tag == 'E') {
@@ -221,6 +289,29 @@ brume_status grid_sandbox_vdb_to_nvdb(const char *in, const char *out, const cha
     return sandbox_run(&j, max_memory, &r);
 }
 
+/* brume-openvdb-reader's main: the job spawn_child wrote into argv. Not for users: refuses
+ * any other command line with exit 2. */
+int grid_sandbox_child_main(int argc, char **argv)
+{
+    if (argc != 10 || fcntl(CHILD_ANSWER_FD, F_GETFD) < 0) {
+        fprintf(stderr, "%s: run by libbrume to read a .vdb in a process of its own; not a command\n", argv[0]);
+        return 2;
+    }
+    sandbox_job j = {atoi(argv[1]), argv[2], argv[3], argv[4], argv[5], NULL, 0, atoi(argv[6])};
+    double cpu = strtod(argv[7], NULL);
+    size_t max_memory = (size_t)strtoull(argv[8], NULL, 10), in_size = (size_t)strtoull(argv[9], NULL, 10);
+    if (strcmp(j.path, "-") == 0) { /* the bytes, in a memory file */
+        j.path = NULL;
+        j.size = in_size;
+        j.bytes = in_size ? mmap(NULL, in_size, PROT_READ, MAP_PRIVATE, CHILD_BYTES_FD, 0) : "";
+        if (j.bytes == MAP_FAILED)
+            _exit(3);
+    }
+    if (!j.grid[0])
+        j.grid = NULL;
+    child_run(&j, CHILD_ANSWER_FD, cpu, max_memory, in_size);
+}
+
 #else /* built without OpenVDB */
 
 static brume_status no_openvdb(const char *name)
@@ -250,6 +341,13 @@ brume_status grid_sandbox_vdb_to_nvdb(const char *in, const char *out, const cha
 {
     (void)out, (void)grid, (void)max_memory;
     return no_openvdb(in);
+}
+
+int grid_sandbox_child_main(int argc, char **argv)
+{
+    (void)argc;
+    fprintf(stderr, "%s: brume was built without OpenVDB\n", argv[0]);
+    return 2;
 }
 
 #endif

@@ -2,7 +2,8 @@
  *
  * libopenvdb is not hardened against hostile files: a single flipped bit can make it loop
  * for minutes, leak, or allocate gigabytes. brume therefore never lets it run in its own
- * process: each call here forks a child that sets RLIMIT_CPU, RLIMIT_AS (not under
+ * process: each call here starts a child program (brume-openvdb-reader, installed beside the
+ * OpenVDB module; spawned, not forked: grid_sandbox.c says why) that sets RLIMIT_CPU, RLIMIT_AS (not under
  * AddressSanitizer, whose shadow memory needs terabytes of address space) and RLIMIT_CORE,
  * runs grid_vdb.cpp, and hands the result (a NanoVDB buffer, a grid list, or an error
  * message) back through a pipe. The parent reads at most `max_memory` bytes, waits at most
@@ -32,5 +33,9 @@ brume_status grid_sandbox_list(const char *path, const void *bytes, size_t size,
 
 /* .vdb to .nvdb (gridvdb_vdb_to_nvdb) in the child. */
 brume_status grid_sandbox_vdb_to_nvdb(const char *in, const char *out, const char *grid, size_t max_memory);
+
+/* The child's side: main() of brume-openvdb-reader (cli/openvdb_reader.c), the program the
+ * calls above start with posix_spawn; the job comes in argv, the answer goes out on fd 3. */
+int grid_sandbox_child_main(int argc, char **argv);
 
 #endif

@@ -6,24 +6,12 @@
  * project's machine, for the few runs that read or write a .vdb (docs/performance.md,
  * "Start-up"). Opened with RTLD_LOCAL, its libraries stay out of the process's global scope.
  *
- * Where the module is looked for, in order:
- *   0. the directory the environment variable BRUME_MODULE_PATH names, when set: for a
- *      program linking the static libbrume.a from somewhere the others do not reach;
- *   1. the build tree, when the object holding this code (the program, or libbrume.so) is
- *      inside it: the tests, benches and tools of a build use that build's module;
- *   2. the directory of that object: libbrume.so's, for programs linking the shared library
- *      and the Python package;
- *   3. that directory's BIN_TO_LIB: an installed brume tool finds the library directory
- *      beside its own, also after `cmake --install --prefix` to another place;
- *   4. the library directory the build was configured to install into.
- * A program linking grid_vdb.cpp itself (the fuzz target) defines brume_openvdb_module, and
- * that is used. A module of another API version is refused. Nothing is ever unloaded. */
-#define _GNU_SOURCE /* dladdr1, RTLD_DL_LINKMAP */
+ * Where the module is looked for: io/vdb_path.h. A program linking grid_vdb.cpp itself (the
+ * fuzz target) defines brume_openvdb_module, and that is used. A module of another API
+ * version is refused. Nothing is ever unloaded. */
 #include "io/grid_vdb.h"
 
-#include <dlfcn.h>
 #include <limits.h>
-#include <link.h>
 #include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -33,18 +21,9 @@
 
 #include "core/error.h"
 #include "core/lazylib.h"
+#include "io/vdb_path.h"
 
 #define MODULE_FILE "libbrume-openvdb.so"
-
-#ifndef BRUME_BUILD_DIR
-#define BRUME_BUILD_DIR ""
-#endif
-#ifndef BRUME_BIN_TO_LIB
-#define BRUME_BIN_TO_LIB "../lib"
-#endif
-#ifndef BRUME_INSTALL_LIBDIR
-#define BRUME_INSTALL_LIBDIR ""
-#endif
 
 /* Defined when grid_vdb.cpp is linked into the program; null otherwise. */
 #pragma weak brume_openvdb_module
@@ -52,7 +31,7 @@
 static const gridvdb_api *api;
 #if BRUME_HAVE_OPENVDB
 /* the module, once found (load()), opened as every optional library (core/lazylib.h) */
-static char module_path[PATH_MAX + sizeof MODULE_FILE + 1];
+static char module_path[PATH_MAX + 64];
 static const char *const module_sonames[] = {module_path, NULL};
 static const char *const module_names[] = {GRIDVDB_MODULE_SYMBOL, NULL};
 static struct {
@@ -64,37 +43,6 @@ static char load_error[PATH_MAX * 4 + 256];
 static pthread_once_t load_once = PTHREAD_ONCE_INIT;
 
 #if BRUME_HAVE_OPENVDB
-/* The directory of the object holding this code, into dir[n]; false when unknown. */
-static bool own_dir(char *dir, size_t n)
-{
-    Dl_info info;
-    struct link_map *self = NULL;
-    char path[PATH_MAX];
-    if (!dladdr1((void *)&own_dir, &info, (void **)&self, RTLD_DL_LINKMAP) || !self)
-        return false;
-    if (self->l_name && self->l_name[0]) { /* a shared library */
-        if (!realpath(self->l_name, path))
-            return false;
-    } else { /* the program itself */
-        ssize_t len = readlink("/proc/self/exe", path, sizeof path - 1);
-        if (len <= 0)
-            return false;
-        path[len] = '\0';
-    }
-    char *slash = strrchr(path, '/');
-    if (!slash || (size_t)(slash - path) >= n)
-        return false;
-    *slash = '\0';
-    snprintf(dir, n, "%s", path[0] ? path : "/");
-    return true;
-}
-
-static bool inside(const char *dir, const char *root)
-{
-    size_t k = strlen(root);
-    return k > 0 && strncmp(dir, root, k) == 0 && (dir[k] == '/' || dir[k] == '\0');
-}
-
 /* The module's table if its version is this build's; else null, with load_error set. */
 static const gridvdb_api *check(const gridvdb_api *a, const char *where)
 {
@@ -111,46 +59,20 @@ static void load(void)
         api = check(brume_openvdb_module(err_vset), "the linked-in OpenVDB code");
         return;
     }
-    char dir[PATH_MAX], cand[5][PATH_MAX];
-    int nc = 0;
-    const char *env = getenv("BRUME_MODULE_PATH");
-    if (env && env[0])
-        snprintf(cand[nc++], PATH_MAX, "%.*s", PATH_MAX - 1, env);
-    bool have_dir = own_dir(dir, sizeof dir);
-    if (have_dir && inside(dir, BRUME_BUILD_DIR))
-        snprintf(cand[nc++], PATH_MAX, "%s", BRUME_BUILD_DIR);
-    if (have_dir) {
-        snprintf(cand[nc++], PATH_MAX, "%s", dir);
-        snprintf(cand[nc++], PATH_MAX, "%.*s/%s", PATH_MAX / 2, dir, BRUME_BIN_TO_LIB);
-    }
-    if (BRUME_INSTALL_LIBDIR[0])
-        snprintf(cand[nc++], PATH_MAX, "%s", BRUME_INSTALL_LIBDIR);
-    char looked[PATH_MAX * 2] = "";
-    for (int c = 0; c < nc; c++) {
-        char path[PATH_MAX + sizeof MODULE_FILE + 1];
-        snprintf(path, sizeof path, "%.*s/%s", PATH_MAX - 1, cand[c], MODULE_FILE);
-        bool seen = false;
-        for (int e = 0; e < c; e++)
-            seen = seen || strcmp(cand[e], cand[c]) == 0;
-        if (seen)
-            continue;
-        if (access(path, F_OK) != 0) {
-            size_t at = strlen(looked);
-            snprintf(looked + at, sizeof looked - at, "%s%.*s", at ? ", " : "", PATH_MAX / 4, cand[c]);
-            continue;
-        }
-        snprintf(module_path, sizeof module_path, "%s", path);
-        if (!lazylib_open(&module)) {
-            snprintf(load_error, sizeof load_error, "%s", module.error);
-            return;
-        }
-        api = check(entry.get_api(err_vset), path);
+    char looked[PATH_MAX * 2];
+    if (!vdb_path_find(MODULE_FILE, module_path, sizeof module_path, looked, sizeof looked)) {
+        snprintf(load_error, sizeof load_error,
+                 "the OpenVDB module " MODULE_FILE " is missing (BRUME_MODULE_PATH=DIR names its folder; looked in %s)",
+                 looked);
         return;
     }
-    snprintf(load_error, sizeof load_error,
-             "the OpenVDB module " MODULE_FILE " is missing (BRUME_MODULE_PATH=DIR names its folder; looked in %s)",
-             looked);
+    if (!lazylib_open(&module)) {
+        snprintf(load_error, sizeof load_error, "%s", module.error);
+        return;
+    }
+    api = check(entry.get_api(err_vset), module_path);
 }
+
 #else
 static void load(void) { snprintf(load_error, sizeof load_error, "brume was built without OpenVDB"); }
 #endif

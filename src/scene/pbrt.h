@@ -26,7 +26,9 @@
 
 /* ---- tokens ------------------------------------------------------------------------------ */
 
-typedef enum { TOK_END, TOK_WORD, TOK_STRING, TOK_OPEN, TOK_CLOSE } tok_kind;
+/* TOK_BAD: a token the file cannot hold (an unterminated string, an unknown escape, a word
+ * longer than text); `bad` says which, and every refusal made on it reports that instead */
+typedef enum { TOK_END, TOK_WORD, TOK_STRING, TOK_OPEN, TOK_CLOSE, TOK_BAD } tok_kind;
 
 typedef struct lexer {
     const char *file;
@@ -36,6 +38,7 @@ typedef struct lexer {
     char text[1024];
     int tok_line;
     int dir_line;  /* the line of the directive being read: what refusals name */
+    const char *bad; /* why the current token is TOK_BAD */
 } lexer;
 
 /* ---- parameter lists --------------------------------------------------------------------- */
@@ -44,7 +47,7 @@ typedef struct param {
     char type[16], name[64];
     int n, cap;                      /* values; numbers allocated in v */
     double *v;                       /* numbers (malloc'd; an array's values) */
-    char s[256];                     /* the first string value */
+    char s[1024];                    /* the first string value (a token's text fits) */
     bool is_string, used;
     int line;
 } param;
@@ -75,6 +78,7 @@ typedef struct attrs {
     char material[32]; /* "diffuse" or "interface" */
     double albedo[3];
     char inside[128], outside[128];
+    int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
 } attrs;
 
 typedef struct pbrt_state {
@@ -84,6 +88,7 @@ typedef struct pbrt_state {
     attrs a[PBRT_MAX_DEPTH];
     int depth;
     bool have_camera, world;
+    int world_line; /* the line of WorldBegin */
     bool mirror; /* pbrt's left-handed view: the world is translated mirrored in x (camera_directive) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;
@@ -107,6 +112,9 @@ brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file
 /* pbrt_tokens.c */
 void pbrt_next(lexer *L);
 brume_status pbrt_fail(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* A refusal of the current token: "FILE:LINE: WHAT, found \"TOKEN\"", or "... found the end of
+ * the file (truncated?)"; on a TOK_BAD, what is wrong with that token. */
+brume_status pbrt_expected(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void pbrt_copy(char *dst, size_t cap, const char *src);
 brume_status pbrt_numbers(lexer *L, const char *dir, int n, double *out);
 void pbrt_params_clear(params *ps);
@@ -120,6 +128,12 @@ brume_status pbrt_all_used(const lexer *L, const params *ps, const char *dir);
 brume_status pbrt_get_count(lexer *L, params *ps, const char *name, int *out);
 brume_status pbrt_get_array(lexer *L, params *ps, const char *name, const char *const *types, param **out);
 
+/* pbrt_structure.c: the block of each directive and the nesting of blocks, as pbrt-v4 checks them */
+brume_status pbrt_structure_directive(pbrt_state *S, const char *dir);
+brume_status pbrt_attribute_begin(pbrt_state *S, const char *dir);
+brume_status pbrt_attribute_end(pbrt_state *S, const char *dir);
+brume_status pbrt_structure_end(pbrt_state *S);
+
 /* pbrt_transform.c */
 m4 pbrt_m4_identity(void);
 m4 pbrt_m4_mul(m4 a, m4 b);
@@ -127,6 +141,8 @@ bool pbrt_m4_inverse(m4 a, m4 *out);
 vec3 pbrt_m4_point(m4 a, vec3 p);
 vec3 pbrt_m4_vector(m4 a, vec3 v);
 m4 pbrt_m4_scale(double x, double y, double z);
+/* What makes a into no placement: "not finite", "projective ...", "singular ..."; NULL when none. */
+const char *pbrt_m4_flaw(m4 a);
 cJSON *pbrt_transform_json(m4 a, bool *oom);
 m4 pbrt_world_origin(const pbrt_state *S);
 brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled);

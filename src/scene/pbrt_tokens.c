@@ -21,8 +21,51 @@
 #include "core/budget.h"
 #include "scene/pbrt.h"
 
+/* A quoted string's body into L->text, escapes resolved as pbrt-v4's tokenizer does; L->p is
+ * on the opening quote. TOK_BAD when the line or the file ends first, or the text would not fit. */
+static void string_token(lexer *L)
+{
+    static const char escapes[] = "b\bf\fn\nr\rt\t\\\\''\"\"";
+    size_t n = 0;
+    L->kind = TOK_STRING;
+    L->p++;
+    for (;;) {
+        char c = *L->p;
+        if (c == '"') {
+            L->p++;
+            break;
+        }
+        if (c == '\0' || c == '\n') {
+            L->kind = TOK_BAD;
+            L->bad = c ? "unterminated string (a string ends on the line it starts)"
+                       : "unterminated string (the file ends in it)";
+            break;
+        }
+        if (c == '\\') {
+            const char *e = L->p[1] ? strchr(escapes, L->p[1]) : NULL;
+            if (!e || (e - escapes) % 2) {
+                L->kind = TOK_BAD;
+                L->bad = "a string with an unknown escape (pbrt-v4's: \\b \\f \\n \\r \\t \\\\ \\' \\\")";
+                break;
+            }
+            c = e[1];
+            L->p++;
+        }
+        if (n + 1 == sizeof L->text) {
+            L->kind = TOK_BAD;
+            L->bad = "a string longer than 1023 bytes";
+            break;
+        }
+        L->text[n++] = c;
+        L->p++;
+    }
+    L->text[n] = '\0';
+}
+
 void pbrt_next(lexer *L)
 {
+    if (L->kind == TOK_BAD)
+        return; /* the file cannot be read past it: every caller refuses it */
     for (;;) {
         while (isspace((unsigned char)*L->p)) {
             if (*L->p == '\n')
@@ -43,37 +86,49 @@ void pbrt_next(lexer *L)
         L->kind = c == '[' ? TOK_OPEN : TOK_CLOSE;
         L->p++;
     } else if (c == '"') {
-        L->kind = TOK_STRING;
-        L->p++;
-        while (*L->p && *L->p != '"' && *L->p != '\n') {
-            if (n + 1 < sizeof L->text)
-                L->text[n++] = *L->p;
-            L->p++;
-        }
-        if (*L->p == '"')
-            L->p++;
-        else
-            L->kind = TOK_END; /* unterminated: reported by the caller as a syntax error */
+        string_token(L);
+        return;
     } else {
         L->kind = TOK_WORD;
         while (*L->p && !isspace((unsigned char)*L->p) && *L->p != '"' && *L->p != '[' && *L->p != ']' && *L->p != '#') {
-            if (n + 1 < sizeof L->text)
-                L->text[n++] = *L->p;
+            if (n + 1 == sizeof L->text) {
+                L->kind = TOK_BAD;
+                L->bad = "a word longer than 1023 bytes";
+                break;
+            }
+            L->text[n++] = *L->p;
             L->p++;
         }
     }
     L->text[n] = '\0';
 }
 
-/* A refusal: "FILE:LINE: " and the message. */
+/* A refusal: "FILE:LINE: " and the message; on a token the file cannot hold, that token's
+ * fault at its own line instead (the directive read cannot be complete). */
 brume_status pbrt_fail(const lexer *L, const char *fmt, ...)
 {
+    if (L->kind == TOK_BAD)
+        return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->tok_line, L->bad);
     char msg[600];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     return err_set(BRUME_ERROR_UNSUPPORTED, "%s:%d: %s", L->file, L->dir_line, msg);
+}
+
+brume_status pbrt_expected(const lexer *L, const char *fmt, ...)
+{
+    char msg[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (L->kind == TOK_END)
+        return err_set(BRUME_ERROR_PARSE, "%s:%d: %s, found the end of the file (truncated?)", L->file, L->dir_line, msg);
+    if (L->kind == TOK_OPEN || L->kind == TOK_CLOSE)
+        return pbrt_fail(L, "%s, found \"%c\"", msg, L->kind == TOK_OPEN ? '[' : ']');
+    return pbrt_fail(L, "%s, found \"%.64s\"", msg, L->text);
 }
 
 /* src into dst[cap], cut to fit. */
@@ -108,12 +163,12 @@ brume_status pbrt_numbers(lexer *L, const char *dir, int n, double *out)
     }
     for (int i = 0; i < n; i++) {
         if (L->kind != TOK_WORD || !number(L->text, &out[i]))
-            return pbrt_fail(L, "%s: expected a number", dir);
+            return pbrt_expected(L, "%s: expected a number (%d of %d)", dir, i + 1, n);
         pbrt_next(L);
     }
     if (bracket) {
         if (L->kind != TOK_CLOSE)
-            return pbrt_fail(L, "%s: expected ]", dir);
+            return pbrt_expected(L, "%s: expected ] after %d numbers", dir, n);
         pbrt_next(L);
     }
     return BRUME_OK;
@@ -149,6 +204,70 @@ static brume_status grow(lexer *L, params *ps, param *q)
     return BRUME_OK;
 }
 
+/* pbrt-v4's parameter types (parser.cpp, paramdict.cpp) */
+static const char *const param_types[] = {"integer", "float", "point2", "vector2", "point3", "vector3", "normal3",
+                                          "normal", "point", "vector", "bool", "string", "texture", "spectrum",
+                                          "rgb", "blackbody", NULL};
+
+/* The declaration "type name" of q from L->text: exactly two words, a type pbrt-v4 knows, and
+ * a name not given before in the same list (pbrt-v4 would take the first silently). */
+static brume_status declaration(lexer *L, params *ps, param *q)
+{
+    lexer at = *L; /* refused at the declaration's own line */
+    at.dir_line = q->line;
+    L = &at;
+    char extra[2];
+    int got = sscanf(L->text, "%15s %63s %1s", q->type, q->name, extra);
+    size_t tl = strcspn(L->text + strspn(L->text, " \t"), " \t");
+    if (got != 2 || tl >= sizeof q->type || strlen(q->name) + 1 >= sizeof q->name)
+        return pbrt_fail(L, "parameter \"%.200s\": expected \"type name\" (a type of at most 15 letters, a name of "
+                            "at most 62)", L->text);
+    bool known = false;
+    for (int i = 0; param_types[i]; i++)
+        known |= strcmp(q->type, param_types[i]) == 0;
+    if (!known)
+        return pbrt_fail(L, "parameter \"%s %s\": unknown type \"%s\" (pbrt-v4's: integer, float, point2, vector2, "
+                            "point3, vector3, normal3, bool, string, texture, spectrum, rgb, blackbody)",
+                         q->type, q->name, q->type);
+    for (param *o = ps->p; o < q; o++)
+        if (strcmp(o->name, q->name) == 0 && o->line == q->line)
+            return pbrt_fail(L, "parameter \"%s\" given twice in one parameter list", q->name);
+        else if (strcmp(o->name, q->name) == 0)
+            return pbrt_fail(L, "parameter \"%s\" given twice in one parameter list (lines %d and %d)", q->name,
+                             o->line, q->line);
+    return BRUME_OK;
+}
+
+/* One value of q (L on it) appended: a string, true/false, or a finite number (an integer for
+ * an "integer" parameter); strings and numbers are not mixed. */
+static brume_status param_value(lexer *L, params *ps, param *q)
+{
+    brume_status st;
+    if ((st = grow(L, ps, q)))
+        return st;
+    if (L->kind == TOK_STRING) {
+        if (q->n > 0 && !q->is_string)
+            return pbrt_fail(L, "parameter \"%s\": mixes strings and numbers", q->name);
+        if (q->n == 0)
+            pbrt_copy(q->s, sizeof q->s, L->text);
+        q->is_string = true;
+    } else if (L->kind == TOK_WORD && q->is_string) {
+        return pbrt_fail(L, "parameter \"%s\": mixes strings and numbers", q->name);
+    } else if (L->kind == TOK_WORD && (strcmp(L->text, "true") == 0 || strcmp(L->text, "false") == 0)) {
+        q->v[q->n] = strcmp(L->text, "true") == 0;
+    } else if (L->kind == TOK_WORD) {
+        if (!number(L->text, &q->v[q->n]))
+            return pbrt_expected(L, "parameter \"%s\": expected a number", q->name);
+        if (strcmp(q->type, "integer") == 0 && !(fabs(q->v[q->n]) <= 2147483647.0 && q->v[q->n] == floor(q->v[q->n])))
+            return pbrt_fail(L, "parameter \"integer %s\": %s is not an integer", q->name, L->text);
+    } else {
+        return pbrt_expected(L, "parameter \"%s\": expected a value", q->name);
+    }
+    q->n++;
+    pbrt_next(L);
+    return BRUME_OK;
+}
+
 /* Reads "type name" value pairs after a directive; L is on the first token after the
  * directive's own arguments and is left on the next directive. */
 brume_status pbrt_read_params(lexer *L, params *ps)
@@ -161,35 +280,19 @@ brume_status pbrt_read_params(lexer *L, params *ps)
         param *q = &ps->p[ps->n++];
         memset(q, 0, sizeof *q);
         q->line = L->tok_line;
-        if (sscanf(L->text, "%15s %63s", q->type, q->name) != 2)
-            return pbrt_fail(L, "parameter \"%s\": expected \"type name\"", L->text);
+        if ((st = declaration(L, ps, q)))
+            return st;
         pbrt_next(L);
         bool bracket = L->kind == TOK_OPEN;
         if (bracket)
             pbrt_next(L);
         do {
-            if ((st = grow(L, ps, q)))
+            if ((st = param_value(L, ps, q)))
                 return st;
-            if (L->kind == TOK_STRING) {
-                if (q->n == 0)
-                    pbrt_copy(q->s, sizeof q->s, L->text);
-                q->is_string = true;
-                q->n++;
-            } else if (L->kind == TOK_WORD && (strcmp(L->text, "true") == 0 || strcmp(L->text, "false") == 0)) {
-                q->v[q->n] = strcmp(L->text, "true") == 0;
-                q->n++;
-            } else if (L->kind == TOK_WORD) {
-                if (!number(L->text, &q->v[q->n]))
-                    return pbrt_fail(L, "parameter \"%s\": expected a number", q->name);
-                q->n++;
-            } else {
-                return pbrt_fail(L, "parameter \"%s\": expected a value", q->name);
-            }
-            pbrt_next(L);
-        } while (bracket && L->kind != TOK_CLOSE && L->kind != TOK_END);
+        } while (bracket && L->kind != TOK_CLOSE && L->kind != TOK_END && L->kind != TOK_BAD);
         if (bracket) {
             if (L->kind != TOK_CLOSE)
-                return pbrt_fail(L, "parameter \"%s\": expected ]", q->name);
+                return pbrt_expected(L, "parameter \"%s\": expected ]", q->name);
             pbrt_next(L);
         }
     }

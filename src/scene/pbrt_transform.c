@@ -122,13 +122,21 @@ static m4 m4_rotate(double deg, vec3 axis)
     return r;
 }
 
-/* pbrt's LookAt: the camera-from-world matrix with the eye at the origin looking down +z. */
-static bool m4_look_at(vec3 eye, vec3 look, vec3 up, m4 *out)
+/* pbrt's LookAt: the camera-from-world matrix with the eye at the origin looking down +z;
+ * NULL, or why there is none (pbrt-v4 stops on the parallel case only, with LOG_FATAL). */
+static const char *m4_look_at(vec3 eye, vec3 look, vec3 up, m4 *out)
 {
-    vec3 dir = v3_normalize(v3_sub(look, eye));
+    vec3 d = v3_sub(look, eye);
+    if (!isfinite(d.x) || !isfinite(d.y) || !isfinite(d.z))
+        return "the view direction look - eye overflows";
+    if (d.x == 0.0 && d.y == 0.0 && d.z == 0.0)
+        return "eye and look are the same point: there is no view direction";
+    if (up.x == 0.0 && up.y == 0.0 && up.z == 0.0)
+        return "up is the zero vector";
+    vec3 dir = v3_normalize(d);
     vec3 right = v3_cross(v3_normalize(up), dir);
     if (!(v3_length(right) > 1e-12))
-        return false;
+        return "up parallel to the view direction";
     right = v3_normalize(right);
     vec3 nup = v3_cross(dir, right);
     m4 w = pbrt_m4_identity(); /* world from camera */
@@ -136,7 +144,26 @@ static bool m4_look_at(vec3 eye, vec3 look, vec3 up, m4 *out)
     w.m[1] = nup.x; w.m[5] = nup.y; w.m[9] = nup.z;
     w.m[2] = dir.x; w.m[6] = dir.y; w.m[10] = dir.z;
     w.m[3] = eye.x; w.m[7] = eye.y; w.m[11] = eye.z;
-    return pbrt_m4_inverse(w, out);
+    return pbrt_m4_inverse(w, out) ? NULL : "a view that cannot be inverted";
+}
+
+const char *pbrt_m4_flaw(m4 a)
+{
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(a.m[i]))
+            return "is not finite (its product overflows)";
+    if (a.m[12] != 0.0 || a.m[13] != 0.0 || a.m[14] != 0.0 || a.m[15] != 1.0)
+        return "is projective (its last row is not 0 0 0 1): brume places by scale, rotation and translation";
+    /* the volume of the columns over the product of their lengths: 0 when the linear part
+     * flattens space, whatever the scene's unit */
+    const double *c = a.m;
+    double l0 = sqrt(c[0] * c[0] + c[4] * c[4] + c[8] * c[8]), l1 = sqrt(c[1] * c[1] + c[5] * c[5] + c[9] * c[9]),
+           l2 = sqrt(c[2] * c[2] + c[6] * c[6] + c[10] * c[10]);
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    if (!(l0 > 0.0 && l1 > 0.0 && l2 > 0.0) || !(fabs(det) / l0 / l1 / l2 > 1e-12))
+        return "is singular (it flattens space to a plane, a line or a point): it has no inverse";
+    return NULL;
 }
 
 /* brume's transform object {"translate", "rotate", "scale"} = T R S for an affine map
@@ -204,7 +231,9 @@ m4 pbrt_world_origin(const pbrt_state *S)
     return S->world && S->mirror ? pbrt_m4_scale(-1.0, 1.0, 1.0) : pbrt_m4_identity();
 }
 
-/* The transform directives: *handled false when dir is none of them. */
+/* The transform directives: *handled false when dir is none of them. A zero scale, a
+ * rotation about no axis, a degenerate LookAt and a transform that overflows are refused
+ * where they are given; a singular or projective one where something is placed by it. */
 brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, bool *handled)
 {
     lexer *L = &S->L;
@@ -219,15 +248,22 @@ brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, 
         a->ctm = pbrt_m4_mul(a->ctm, m4_translate(v[0], v[1], v[2]));
     } else if (strcmp(dir, "Scale") == 0) {
         if ((st = pbrt_numbers(L, dir, 3, v))) return st;
+        if (v[0] == 0.0 || v[1] == 0.0 || v[2] == 0.0)
+            return pbrt_fail(L, "%s %g %g %g: a zero scale flattens space (a degenerate transform)", dir, v[0], v[1],
+                             v[2]);
         a->ctm = pbrt_m4_mul(a->ctm, pbrt_m4_scale(v[0], v[1], v[2]));
     } else if (strcmp(dir, "Rotate") == 0) {
         if ((st = pbrt_numbers(L, dir, 4, v))) return st;
-        a->ctm = pbrt_m4_mul(a->ctm, m4_rotate(v[0], v3(v[1], v[2], v[3])));
+        double big = fmax(fabs(v[1]), fmax(fabs(v[2]), fabs(v[3]))); /* scales the axis before its length */
+        if (big == 0.0)
+            return pbrt_fail(L, "%s: the axis (0, 0, 0) has zero length: a rotation about no axis", dir);
+        a->ctm = pbrt_m4_mul(a->ctm, m4_rotate(v[0], v3(v[1] / big, v[2] / big, v[3] / big)));
     } else if (strcmp(dir, "LookAt") == 0) {
         if ((st = pbrt_numbers(L, dir, 9, v))) return st;
         m4 la;
-        if (!m4_look_at(v3(v[0], v[1], v[2]), v3(v[3], v[4], v[5]), v3(v[6], v[7], v[8]), &la))
-            return pbrt_fail(L, "%s: up parallel to the view direction", dir);
+        const char *why = m4_look_at(v3(v[0], v[1], v[2]), v3(v[3], v[4], v[5]), v3(v[6], v[7], v[8]), &la);
+        if (why)
+            return pbrt_fail(L, "%s: %s", dir, why);
         a->ctm = pbrt_m4_mul(a->ctm, la);
     } else if (strcmp(dir, "Transform") == 0 || strcmp(dir, "ConcatTransform") == 0) {
         if ((st = pbrt_numbers(L, dir, 16, v))) return st;
@@ -238,6 +274,10 @@ brume_status pbrt_transform_directive(pbrt_state *S, attrs *a, const char *dir, 
         a->ctm = dir[0] == 'T' ? pbrt_m4_mul(pbrt_world_origin(S), t) : pbrt_m4_mul(a->ctm, t);
     } else {
         *handled = false;
+        return BRUME_OK;
     }
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(a->ctm.m[i]))
+            return pbrt_fail(L, "%s: the current transform overflows (an entry is no longer finite)", dir);
     return BRUME_OK;
 }

@@ -39,15 +39,24 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     lexer *L = &S->L;
     brume_status st;
     pbrt_next(L);
+    const char *arg = strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type";
     if (L->kind != TOK_STRING)
-        return pbrt_fail(L, "%s: expected its %s", dir, strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type");
+        return pbrt_expected(L, "%s: expected its %s (a quoted string)", dir, arg);
     char type[128], what[200];
+    if (strlen(L->text) >= sizeof type)
+        return pbrt_fail(L, "%s: a %s longer than %zu bytes", dir, arg, sizeof type - 1);
     pbrt_copy(type, sizeof type, L->text);
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     pbrt_next(L);
     if ((st = pbrt_read_params(L, ps))) return st;
     S->objects++;
     if ((st = pbrt_count_translation(S))) return st;
+    /* what is placed by the current transform: pbrt-v4 inverts it for each of these */
+    bool placed = strcmp(dir, "Camera") == 0 || strcmp(dir, "LightSource") == 0 || strcmp(dir, "Shape") == 0 ||
+                  strcmp(dir, "MakeNamedMedium") == 0;
+    const char *flaw = placed ? pbrt_m4_flaw(a->ctm) : NULL;
+    if (flaw)
+        return pbrt_fail(L, "%s: the current transform %s", what, flaw);
     if (strcmp(dir, "Camera") == 0)
         return pbrt_camera_directive(S, type, ps);
     if (strcmp(dir, "LightSource") == 0)
@@ -59,6 +68,28 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     return pbrt_setting_directive(S, a, dir, type, what, ps);
 }
 
+/* MediumInterface "inside" ["outside"]: one name stands for both. */
+static brume_status medium_interface(pbrt_state *S, attrs *a, const char *dir)
+{
+    lexer *L = &S->L;
+    pbrt_next(L);
+    if (L->kind != TOK_STRING)
+        return pbrt_expected(L, "%s: expected a medium name (a quoted string)", dir);
+    if (strlen(L->text) >= sizeof a->inside)
+        return pbrt_fail(L, "%s: a medium name longer than %zu bytes", dir, sizeof a->inside - 1);
+    pbrt_copy(a->inside, sizeof a->inside, L->text);
+    pbrt_next(L);
+    if (L->kind != TOK_STRING) {
+        pbrt_copy(a->outside, sizeof a->outside, a->inside);
+        return BRUME_OK;
+    }
+    if (strlen(L->text) >= sizeof a->outside)
+        return pbrt_fail(L, "%s: a medium name longer than %zu bytes", dir, sizeof a->outside - 1);
+    pbrt_copy(a->outside, sizeof a->outside, L->text);
+    pbrt_next(L);
+    return BRUME_OK;
+}
+
 static brume_status directive(pbrt_state *S, params *ps)
 {
     lexer *L = &S->L;
@@ -67,9 +98,12 @@ static brume_status directive(pbrt_state *S, params *ps)
     L->dir_line = L->tok_line;
     attrs *a = &S->a[S->depth];
     if (L->kind != TOK_WORD)
-        return pbrt_fail(L, "expected a directive, found \"%s\"", L->text);
+        return pbrt_expected(L, "expected a directive");
+    brume_status st = pbrt_structure_directive(S, dir);
+    if (st)
+        return st;
     bool handled;
-    brume_status st = pbrt_transform_directive(S, a, dir, &handled);
+    st = pbrt_transform_directive(S, a, dir, &handled);
     if (handled)
         return st;
     if (is_typed_directive(dir))
@@ -78,32 +112,17 @@ static brume_status directive(pbrt_state *S, params *ps)
         if (!S->have_camera)
             return pbrt_fail(L, "%s before a Camera", dir);
         S->world = true;
+        S->world_line = L->dir_line;
         a->ctm = pbrt_world_origin(S);
         pbrt_next(L);
-    } else if (strcmp(dir, "AttributeBegin") == 0) {
-        if (S->depth + 1 == PBRT_MAX_DEPTH)
-            return pbrt_fail(L, "%s: nested too deep", dir);
-        S->a[S->depth + 1] = *a;
-        S->depth++;
-        pbrt_next(L);
-    } else if (strcmp(dir, "AttributeEnd") == 0) {
-        if (S->depth == 0)
-            return pbrt_fail(L, "%s without AttributeBegin", dir);
-        S->depth--;
-        pbrt_next(L);
+    } else if (strcmp(dir, "AttributeBegin") == 0 || strcmp(dir, "TransformBegin") == 0) {
+        return pbrt_attribute_begin(S, dir);
+    } else if (strcmp(dir, "AttributeEnd") == 0 || strcmp(dir, "TransformEnd") == 0) {
+        return pbrt_attribute_end(S, dir);
+    } else if (strcmp(dir, "ObjectEnd") == 0) {
+        return pbrt_fail(L, "%s without an open ObjectBegin", dir); /* ObjectBegin itself is refused */
     } else if (strcmp(dir, "MediumInterface") == 0) {
-        pbrt_next(L);
-        if (L->kind != TOK_STRING)
-            return pbrt_fail(L, "%s: expected a medium name", dir);
-        pbrt_copy(a->inside, sizeof a->inside, L->text);
-        pbrt_next(L);
-        a->outside[0] = '\0';
-        if (L->kind == TOK_STRING) {
-            pbrt_copy(a->outside, sizeof a->outside, L->text);
-            pbrt_next(L);
-        } else {
-            pbrt_copy(a->outside, sizeof a->outside, a->inside);
-        }
+        return medium_interface(S, a, dir);
     } else {
         return pbrt_fail(L, "%s: not supported by brume's pbrt reader (docs/production.md lists what is)", dir);
     }
@@ -206,7 +225,7 @@ brume_status scene_pbrt_json(const char *path, char **json)
         free(text);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
-    S->L = (lexer){path, text, 1, TOK_END, "", 1, 1};
+    S->L = (lexer){path, text, 1, TOK_END, "", 1, 1, NULL};
     S->path = path;
     S->text_bytes = text_bytes;
     char tmp[PATH_MAX];
@@ -228,10 +247,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
     pbrt_next(&S->L);
     while (st == BRUME_OK && S->L.kind != TOK_END)
         st = directive(S, ps);
-    if (st == BRUME_OK && *S->L.p)
-        st = pbrt_fail(&S->L, "syntax error near \"%.64s\"", S->L.text);
-    if (st == BRUME_OK && !S->world)
-        st = err_set(BRUME_ERROR_PARSE, "%s: no WorldBegin", path);
+    if (st == BRUME_OK)
+        st = pbrt_structure_end(S);
     if (st == BRUME_OK)
         st = emit_scene(S, path, json);
     for (int i = 0; i < S->nmedia; i++)
