@@ -351,10 +351,10 @@ static int render_frames(render_run *r)
         brume_render_settings rs;
         double t0 = render_now_seconds();
         int st = owner != r->d.rank ? receive_frame(r, k, f, owner, &rs) : render_frame(r, k, f, path, &rs);
-        if (st == 0) /* from the render's end to the write: a signal keeps the image (cli_job.h) */
+        if (st == 0) { /* from the render's end to the write: a signal keeps the image (cli_job.h) */
             cli_signals_keep(true);
-        if (st == 0)
             st = render_write_frame(r, path, sizeof path, owner, &rs, t0);
+        }
         cli_signals_keep(false);
         if (st < 0)
             continue;
