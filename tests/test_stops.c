@@ -451,6 +451,44 @@ TEST(mpi_ctrl_c_keeps_the_tiles)
     ASSERT_EQ_INT(temporaries(dir), 0);
 }
 
+/* A render with --denoise to an EXR that a signal stops: the partial image is written as it
+ * is, not denoised (no "raw" layer), marked brume.partial and brume.denoise; exit 130. */
+TEST(partial_exr_is_not_denoised)
+{
+    const char *dir = test_fresh_dir("stops-partial-exr");
+    const char *scene = scene_file(dir, "cloud.json", cloud_json);
+    char out[400], err[400], args[1200];
+    snprintf(out, sizeof out, "%s/out.exr", dir);
+    snprintf(err, sizeof err, "%s/err.txt", dir);
+    snprintf(args, sizeof args, "render %s --spp 1000000 --threads 2 --denoise -o %s", scene, out);
+    int rc = -1;
+    for (double wait = 1.5; wait < 13.0; wait *= 2.0) { /* a signal before the first pass: again, later */
+        pid_t pid = test_spawn(BRUME_EXE, args, err);
+        test_sleep(wait);
+        kill(pid, SIGINT);
+        rc = test_wait_exit(pid, 60.0);
+        if (test_exists(out))
+            break;
+    }
+    size_t n;
+    char *msg = test_slurp(err, &n);
+    fprintf(stderr, "exit %d; stderr: %s", rc, msg);
+    ASSERT_EQ_INT(rc, 130);
+    ASSERT_CONTAINS(msg, "not denoised");
+    free(msg);
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_read(ctx, out, &img), BRUME_OK);
+    ASSERT_EQ_STR(brume_image_attribute(img, "brume.partial"), "yes");
+    ASSERT_EQ_STR(brume_image_attribute(img, "brume.denoise"), "no: interrupted");
+    ASSERT_TRUE(brume_image_attribute(img, "brume.denoised") == NULL);
+    for (int i = 0; i < brume_image_layer_count(img); i++)
+        ASSERT_TRUE(strcmp(brume_image_layer_name(img, i), "raw") != 0);
+    brume_image_release(img);
+    brume_context_release(ctx);
+    ASSERT_EQ_INT(temporaries(dir), 0);
+}
+
 TEST_MAIN(serve_stops_once, serve_stop_not_held_by_clients, ctrl_c_during_render_denoise, ctrl_c_during_denoise_command,
-          denoise_memory_figure, denoise_counts_against_max_memory,
+          partial_exr_is_not_denoised, denoise_memory_figure, denoise_counts_against_max_memory,
           resume_of_forged_checkpoint_honours_sigterm, mpi_ctrl_c_keeps_the_tiles)
