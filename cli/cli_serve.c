@@ -337,13 +337,12 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
     if (*upload_size != 0)
         return MHD_NO;
     if (strcmp(method, "POST") == 0 && strcmp(url, "/stop") == 0) {
+        /* counted before the signal: cli_serve_stop, which the signal may reach at once, lets
+         * this answer go out first (on_completed) */
+        atomic_fetch_add(&sv->stops_pending, 1);
+        *state = &sv->stops_pending;
         cli_signals_raise(SIGINT); /* as Ctrl-C, once: the render stops, the image so far is written */
-        enum MHD_Result ret = error_page(conn, MHD_HTTP_ACCEPTED, "stopping\n");
-        if (ret == MHD_YES) { /* cli_serve_stop lets this answer go out (on_completed) */
-            atomic_fetch_add(&sv->stops_pending, 1);
-            *state = &sv->stops_pending;
-        }
-        return ret;
+        return error_page(conn, MHD_HTTP_ACCEPTED, "stopping\n");
     }
     if (strcmp(method, "GET") != 0 && strcmp(method, "HEAD") != 0)
         return error_page(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "only GET (and POST /stop)\n");
