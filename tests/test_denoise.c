@@ -134,11 +134,15 @@ TEST(lowers_the_error_of_a_known_image)
 }
 
 /* The flat truth of the low-frequency test: a blur of it is no error. */
-static double flat(void) { return 0.5; }
+static double flat(int x, int y, double step)
+{
+    (void)x, (void)y, (void)step;
+    return 0.5;
+}
 
 /* The RMS over the 8 x 8-pixel blocks of the difference between the block means of px and of
  * the truth: the low-frequency part of the error, which a filter of small footprint leaves. */
-static double block_rms(const brume_image *img)
+static double block_rms(const brume_image *img, double (*truth_of)(int, int, double))
 {
     const float *px = brume_image_pixels(img);
     double s = 0.0;
@@ -149,7 +153,7 @@ static double block_rms(const brume_image *img)
                 double d = 0.0;
                 for (int y = by; y < by + 8; y++)
                     for (int x = bx; x < bx + 8; x++)
-                        d += px[4 * (y * W + x) + c] - flat();
+                        d += px[4 * (y * W + x) + c] - truth_of(x, y, 0.0);
                 s += (d / 64.0) * (d / 64.0);
             }
     return sqrt(s / n);
@@ -169,13 +173,34 @@ TEST(removes_low_frequency_noise)
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++)
             for (int c = 0; c < 3; c++)
-                px[4 * (y * W + x) + c] = (float)(flat() + sigma * gauss());
+                px[4 * (y * W + x) + c] = (float)(flat(x, y, 0.0) + sigma * gauss());
     brume_image *out = denoise(in, 2);
-    double b_raw = block_rms(in), b_den = block_rms(out);
+    double b_raw = block_rms(in, flat), b_den = block_rms(out, flat);
     fprintf(stderr, "8 x 8 block RMS error: raw %.5f (sigma / 8 = 0.0125), denoised %.5f: %.1f x lower\n", b_raw, b_den,
             b_raw / b_den);
     ASSERT_TRUE(fabs(b_raw / 0.0125 - 1.0) < 0.25);
     ASSERT_TRUE(b_den < b_raw / 2.8);
+    brume_image_release(in);
+    brume_image_release(out);
+}
+
+/* Low-frequency noise on an image with structure: the smooth truth of lowers_the_error (a
+ * swing of 0.4 over 60 to 90 pixels, so 8 x 8 blocks next to each other differ by up to 0.08,
+ * six times their noise of sigma / 8 = 0.0125) under white noise of sigma 0.1. A filter that
+ * averages only the flat parts leaves the blocks' noise; one that averages across the slope
+ * blurs it into the blocks. The block error must fall at least 1.25 x. Measured 1.38 x, and
+ * 1.39 x with single-pixel colour distances (until 2026-12-07): the coarse levels see the
+ * slope as edges and leave its low-frequency noise, as on the default scene's cloud
+ * (docs/denoise.md, "Low-frequency noise"). */
+TEST(removes_low_frequency_noise_of_a_slope)
+{
+    brume_image *in = noisy(0.1, 0.0, false);
+    brume_image *out = denoise(in, 2);
+    double b_raw = block_rms(in, truth), b_den = block_rms(out, truth);
+    fprintf(stderr, "8 x 8 block RMS error: raw %.5f (sigma / 8 = 0.0125), denoised %.5f: %.2f x lower\n", b_raw, b_den,
+            b_raw / b_den);
+    ASSERT_TRUE(fabs(b_raw / 0.0125 - 1.0) < 0.25);
+    ASSERT_TRUE(b_den < b_raw / 1.25);
     brume_image_release(in);
     brume_image_release(out);
 }
@@ -233,8 +258,10 @@ TEST(independent_of_threads)
  * whose weights are normalised per output pixel loses some of their energy (the outlier's
  * neighbours shut it out): the colour weight of Rousselle et al. as published (v_p +
  * min(v_p, v_q) subtracted, not symmetric: the outlier also took its neighbours in) lost
- * 13.2 % of this image's mean, the symmetric one (v_p + v_q) loses 8.0 %. A regression
- * guard, not a proof: the loss must stay under 10 % (docs/denoise.md, "Bias"). */
+ * 13.2 % of this image's mean, the symmetric one (v_p + v_q) of single pixels 8.0 % at k = 2
+ * and 4.0 % at k = 3; over 3 x 3 patches (now) it loses 0.1 %: a patch's distance is a mean
+ * over 9 pairs, and one outlier in it moves it less. The loss must stay under 1 %
+ * (docs/denoise.md, "Bias"). */
 TEST(keeps_the_energy_of_fireflies)
 {
     brume_image *img = noisy(0.0, 0.0, false);
@@ -262,7 +289,7 @@ TEST(keeps_the_energy_of_fireflies)
         den += o[4 * i];
     fprintf(stderr, "image mean: raw %.5f, denoised %.5f (%+.2f %%)\n", raw / (W * H), den / (W * H),
             100.0 * (den / raw - 1.0));
-    ASSERT_NEAR(den / raw, 1.0, 0.10);
+    ASSERT_NEAR(den / raw, 1.0, 0.01);
     brume_image_release(out);
     brume_image_release(img);
 }
@@ -330,5 +357,5 @@ TEST(command_line)
         remove(files[i]);
 }
 
-TEST_MAIN(lowers_the_error_of_a_known_image, removes_low_frequency_noise, keeps_an_edge, independent_of_threads, keeps_the_energy_of_fireflies,
+TEST_MAIN(lowers_the_error_of_a_known_image, removes_low_frequency_noise, removes_low_frequency_noise_of_a_slope, keeps_an_edge, independent_of_threads, keeps_the_energy_of_fireflies,
           command_line)

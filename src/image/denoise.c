@@ -3,7 +3,8 @@
  * Filtering"), its colour weight normalised by the per-pixel variance the render measured
  * (Rousselle et al. 2012, "Adaptive Rendering with Non-Local Means Filtering", Eq. 3: the
  * squared difference of two pixels less its expected value under noise, over the sum of
- * their variances), the variance carried through the levels (Schied et al. 2017, SVGF).
+ * their variances) and taken over 3 x 3 patches as in their non-local means, the variance
+ * carried through the levels (Schied et al. 2017, SVGF).
  *
  * Inputs: the beauty (RGBA), the "variance" layer (the variance of each pixel's mean, what
  * `--aov variance` writes), and when present the "albedo", "normal" and "depth" layers as
@@ -12,7 +13,9 @@
  *     c'_p = sum_q h(q - p) w(p, q) c_q / sum_q h(q - p) w(p, q)
  *     v'_p = sum_q (h w)^2 v_q / (sum_q h w)^2
  *     w    = w_colour w_albedo w_normal w_depth
- *     w_colour = exp(-max(0, mean_c ((c_p - c_q)^2 - (v_p + v_q)) / (k^2 (v_p + v_q) + eps)))
+ *     w_colour = exp(-max(0, mean_o mean_c ((c_p+o - c_q+o)^2 - (v_p+o + v_q+o))
+ *                                          / (k^2 (v_p+o + v_q+o) + eps)))
+ *                (o over the 3 x 3 patch's offsets, spaced 2^i as the level's taps)
  *     w_feature = exp(-|f_p - f_q|^2 / sigma_f^2)   (depth: relative to the larger depth)
  *
  * Every output pixel is a fixed sum over the level's input, in one order, written to a
@@ -33,9 +36,10 @@
 #include "image/image.h"
 
 #define DENOISE_LEVELS 5 /* kernel footprint 1 + 4 (2^5 - 1) = 125 pixels */
-#define DENOISE_K 3.0    /* colour weight: a difference of k standard deviations costs e^-1
-                            (the default scene at 17 spp: k = 2 left 2.71 % error per pixel, k = 3
-                            2.13 %, the 8 x 8 blocks' error the same; docs/denoise.md) */
+#define DENOISE_K 2.0    /* colour weight: a mean difference of k standard deviations over the
+                            patch costs e^-1 (the default scene at 17 spp: k = 2 left 1.63 % error
+                            per pixel, k = 3 1.69 %, k = 1.5 1.72 %; docs/denoise.md) */
+#define DENOISE_PATCH 1  /* the colour distance's patch: (2 r + 1)^2 pixels, r = 1 */
 #define DENOISE_SIGMA_ALBEDO 0.3 /* loose: a medium's albedo layer is a noisy mean (hit or miss) */
 #define DENOISE_SIGMA_NORMAL 0.3 /* |n_p - n_q|: 0.3 is about 17 degrees */
 #define DENOISE_SIGMA_DEPTH 0.3  /* relative depth difference; loose, as a medium's first collision is random */
@@ -68,6 +72,39 @@ static bool cancelled(denoise_job *j)
     return true;
 }
 
+/* The colour weight's exponent of the pair p = (x, y), q = (xq, yq): the per-pixel distance
+ * of Rousselle et al. 2012, Eq. 3, averaged over the patch offsets o (spaced as the level's
+ * taps) for which p + o and q + o are both in the image. With v_p + v_q (the expected squared
+ * difference under noise) where they subtract v_p + min(v_p, v_q): the weight is then
+ * symmetric, w(p, q) = w(q, p). Theirs is not, and a bright outlier with a large variance took
+ * its neighbours in while they shut it out, so its energy was lost: -5.3 % of wdas-dense's
+ * mean at 3 spp, -3.2 % so (docs/denoise.md, "Bias"). The patch's mean varies less under
+ * noise than one pixel's distance, so the weight tells structure from noise at a smaller k. */
+static double colour_exponent(const denoise_job *j, int x, int y, int xq, int yq)
+{
+    const int w = j->w, h = j->h, s = j->step;
+    double d = 0.0, n = 0.0;
+    for (int oy = -DENOISE_PATCH; oy <= DENOISE_PATCH; oy++) {
+        const int ya = y + oy * s, yb = yq + oy * s;
+        if (ya < 0 || ya >= h || yb < 0 || yb >= h)
+            continue;
+        for (int ox = -DENOISE_PATCH; ox <= DENOISE_PATCH; ox++) {
+            const int xa = x + ox * s, xb = xq + ox * s;
+            if (xa < 0 || xa >= w || xb < 0 || xb >= w)
+                continue;
+            const size_t a = 3 * ((size_t)ya * (size_t)w + (size_t)xa), b = 3 * ((size_t)yb * (size_t)w + (size_t)xb);
+            for (size_t c = 0; c < 3; c++) {
+                double vs = j->v[a + c] + j->v[b + c];
+                d += (sq(j->c[a + c] - j->c[b + c]) - vs) / (1e-10 + j->k2 * vs);
+            }
+            n += 1.0;
+        }
+    }
+    /* n >= 1: the offset 0 pairs p and q themselves. The channels' mean: the sum would count a
+     * grey medium's one noise three times */
+    return fmax(0.0, d / (3.0 * n));
+}
+
 /* One row of one level. */
 static void denoise_row(size_t task, int thread, void *user)
 {
@@ -78,7 +115,6 @@ static void denoise_row(size_t task, int thread, void *user)
     const int y = (int)task, w = j->w, h = j->h, step = j->step;
     for (int x = 0; x < w; x++) {
         const size_t p = (size_t)y * (size_t)w + (size_t)x;
-        const double *cp = j->c + 3 * p, *vp = j->v + 3 * p;
         double sw = 0.0, acc[3] = {0.0, 0.0, 0.0}, accv[3] = {0.0, 0.0, 0.0};
         for (int dy = -2; dy <= 2; dy++) {
             int yq = y + dy * step;
@@ -89,20 +125,7 @@ static void denoise_row(size_t task, int thread, void *user)
                 if (xq < 0 || xq >= w)
                     continue;
                 const size_t q = (size_t)yq * (size_t)w + (size_t)xq;
-                const double *cq = j->c + 3 * q, *vq = j->v + 3 * q;
-                /* Rousselle et al. 2012, Eq. 3, summed over the channels, with v_p + v_q (the
-                 * expected squared difference under noise) where they subtract v_p + min(v_p, v_q):
-                 * the weight is then symmetric, w(p, q) = w(q, p). Theirs is not, and a bright
-                 * outlier with a large variance took its neighbours in while they shut it out,
-                 * so its energy was lost: -5.3 % of wdas-dense's mean at 3 spp, -3.2 % so
-                 * (docs/denoise.md, "Bias") */
-                double d = 0.0;
-                for (size_t c = 0; c < 3; c++)
-                    d += (sq(cp[c] - cq[c]) - (vp[c] + vq[c])) / (1e-10 + j->k2 * (vp[c] + vq[c]));
-                double e = fmax(0.0, d / 3.0); /* the channels' mean: the sum would count a grey
-                                                  medium's one noise three times */
-                if (e > DENOISE_E_MAX)
-                    continue;
+                double e = 0.0; /* the features first: they are cheaper than the patch */
                 if (j->albedo) {
                     const float *a = j->albedo + 3 * p, *b = j->albedo + 3 * q;
                     e += (sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2])) * j->ia;
@@ -117,7 +140,11 @@ static void denoise_row(size_t task, int thread, void *user)
                 }
                 if (e > DENOISE_E_MAX)
                     continue;
+                e += colour_exponent(j, x, y, xq, yq);
+                if (e > DENOISE_E_MAX)
+                    continue;
                 double wq = B3[dx + 2] * B3[dy + 2] * exp(-e);
+                const double *cq = j->c + 3 * q, *vq = j->v + 3 * q;
                 sw += wq;
                 for (size_t c = 0; c < 3; c++) {
                     acc[c] += wq * cq[c];
@@ -308,7 +335,7 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
         brume_image_release(img);
         return ctx_report(ctx, err_set(BRUME_ERROR_CANCELLED, "brume_denoise: cancelled (brume_context_cancel_loads)"));
     }
-    image_set_meta(img, "brume.denoised", "a-trous, variance-guided, 5 levels (docs/denoise.md); raw image: layer raw");
+    image_set_meta(img, "brume.denoised", "a-trous, variance-guided, 3 x 3 patches, 5 levels (docs/denoise.md); raw image: layer raw");
     *out = img;
     return ctx_report(ctx, BRUME_OK);
 }
