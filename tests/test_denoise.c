@@ -162,9 +162,10 @@ static double block_rms(const brume_image *img, double (*truth_of)(int, int, dou
 /* Low-frequency noise: white noise of sigma 0.1 on a flat image leaves 8 x 8-block means
  * with an error of sigma / 8 = 0.0125 (to sqrt(1 / 288) = 6 % over the 96 blocks' 3
  * channels). The coarse levels are there to remove it: the block error must fall at least
- * 2.8 x. It falls 3.3 x with the colour weight's k = 3; with k = 2 (until 2026-12-07) the
- * coarse levels, whose carried variance is small, took their input's own low-frequency noise
- * for edges, and it fell 2.4 x (docs/denoise.md, "Low-frequency noise"). */
+ * 2.8 x. It falls 3.0 x with 3 x 3 patches and k = 2, 3.3 x with single pixels and k = 3;
+ * with single pixels and k = 2 the coarse levels, whose carried variance is small, took their
+ * input's own low-frequency noise for edges, and it fell 2.4 x (docs/denoise.md,
+ * "Low-frequency noise"). */
 TEST(removes_low_frequency_noise)
 {
     brume_image *in = noisy(0.0, 0.0, false);

@@ -37,10 +37,13 @@
 
 #define DENOISE_LEVELS 5 /* kernel footprint 1 + 4 (2^5 - 1) = 125 pixels */
 #define DENOISE_K 2.0    /* colour weight: a mean difference of k standard deviations over the
-                            patch costs e^-1 (the default scene at 17 spp: k = 2 left 1.63 % error
-                            per pixel, k = 3 1.69 %, k = 1.5 1.72 %; docs/denoise.md) */
+                            patch costs e^-1 (the default scene at 17 spp, sigma_albedo 0.3: k = 2
+                            left 1.63 % error per pixel, k = 3 1.69 %, k = 1.5 1.72 %;
+                            docs/denoise.md) */
 #define DENOISE_PATCH 1  /* the colour distance's patch: (2 r + 1)^2 pixels, r = 1 */
-#define DENOISE_SIGMA_ALBEDO 0.3 /* loose: a medium's albedo layer is a noisy mean (hit or miss) */
+#define DENOISE_SIGMA_ALBEDO 0.6 /* loose: a medium's albedo layer is a noisy mean (hit or miss); 0.3
+                                    left 1.63 % per pixel on the default scene at 17 spp, 0.6
+                                    1.49 % (docs/denoise.md) */
 #define DENOISE_SIGMA_NORMAL 0.3 /* |n_p - n_q|: 0.3 is about 17 degrees */
 #define DENOISE_SIGMA_DEPTH 0.3  /* relative depth difference; loose, as a medium's first collision is random */
 #define DENOISE_E_MAX 30.0       /* a neighbour of weight below e^-30 (1e-13 of the centre's) is skipped */
