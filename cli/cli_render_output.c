@@ -324,6 +324,8 @@ static void print_stats(brume_context *ctx, const brume_scene *scene, const char
     }
     fprintf(e, "stats: %llu samples reached the bound of %llu tentative collisions a sample\n",
             (unsigned long long)st.samples_cut, (unsigned long long)st.collision_bound);
+    fprintf(e, "stats: %llu samples gave NaN or infinity and were added as 0\n",
+            (unsigned long long)st.samples_nonfinite);
 }
 
 /* --print-scene: the scene description the loader reads, on stdout. */
@@ -452,6 +454,9 @@ int render_write_frame(render_run *r, char *path, size_t n, int owner, const bru
             fprintf(stderr, "brume: %s: %llu samples reached the bound of %llu tentative collisions a sample and were "
                             "ended there (docs/stats.md)\n",
                     path, (unsigned long long)bs.samples_cut, (unsigned long long)bs.collision_bound);
+        if (!o->quiet && bs.samples_nonfinite > 0 && owner == r->d.rank) /* a bias too */
+            fprintf(stderr, "brume: %s: %llu samples gave NaN or infinity and were added as 0 (docs/stats.md)\n", path,
+                    (unsigned long long)bs.samples_nonfinite);
         if (!o->quiet && r->jr.budget_spent && r->jr.checkpoint_written)
             fprintf(stderr, "brume: the time budget ended the render before its samples: its state is kept in %s "
                             "(--resume %s with another --time adds samples)\n", o->checkpoint, o->checkpoint);

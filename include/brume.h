@@ -1008,6 +1008,10 @@ typedef struct brume_stats {
      * render.stats. */
     uint64_t collision_bound;
     uint64_t samples_cut;
+    /* Camera samples whose estimate was NaN or infinite, on the CPU or the GPU: each added 0
+     * to its pixel, as a black sample (0 for every valid scene brume was tested with).
+     * Counted with or without render.stats. */
+    uint64_t samples_nonfinite;
 } brume_stats;
 /* Copies the statistics of the last render of scene into *out (zeros before any render). */
 void brume_scene_stats(const brume_scene *scene, brume_stats *out);

@@ -214,20 +214,24 @@ static gpu_device *gpu_open(const char *source, int ordinal)
 #define GPU_BLOCK 128
 #define GPU_RESIDENT 2048 /* threads a multiprocessor holds at most (compute capability 7.0 to 9.0) */
 
-typedef struct gpu_job {
+struct gpu_pass {
     gpu_device *dev;
+    const char *source;  /* the scene's, for messages */
+    int ordinal;         /* the device's */
+    size_t max_memory;   /* render.max_memory_mb, bytes */
+    size_t max_pixels;
+    bool squares, aovs;
     CUdeviceptr scene;   /* the arena: scene and integrator state */
     size_t scene_at, state_at;
     CUdeviceptr params;  /* sample_params */
-    CUdeviceptr pixels, n, sum, sq, aov, values;
-    CUdeviceptr next;    /* brume_paths' counter of the samples taken */
-    size_t npix, nvalues;
-    uint32_t *list;      /* host: the active pixels of the pass */
-} gpu_job;
+    CUdeviceptr pixels, n, sum, sq, aov, values; /* per listed pixel but values, per sample */
+    CUdeviceptr counts;  /* brume_paths' counter of the samples taken, brume_reduce's of non-finite ones */
+    size_t nvalues;
+};
 
-static void gpu_free(gpu_job *gj)
+static void gpu_free(gpu_pass *g)
 {
-    CUdeviceptr *p[] = {&gj->scene, &gj->params, &gj->pixels, &gj->n, &gj->sum, &gj->sq, &gj->aov, &gj->values, &gj->next};
+    CUdeviceptr *p[] = {&g->scene, &g->params, &g->pixels, &g->n, &g->sum, &g->sq, &g->aov, &g->values, &g->counts};
     for (size_t i = 0; i < sizeof p / sizeof p[0]; i++)
         if (*p[i]) {
             cu.MemFree(*p[i]);
@@ -235,167 +239,179 @@ static void gpu_free(gpu_job *gj)
         }
 }
 
-void gpu_job_release(brume_render_job *job)
+void gpu_pass_close(gpu_pass *g)
 {
-    gpu_job *gj = job->gpu;
-    if (!gj)
+    if (!g)
         return;
-    if (gj->dev && cu.CtxSetCurrent(gj->dev->ctx) == 0)
-        gpu_free(gj);
-    free(gj->list);
-    free(gj);
-    job->gpu = NULL;
+    if (g->dev && cu.CtxSetCurrent(g->dev->ctx) == 0)
+        gpu_free(g);
+    free(g);
 }
 
-static brume_status gpu_fail(const brume_render_job *job, const char *what, CUresult r)
+static brume_status gpu_fail(const gpu_pass *g, const char *what, CUresult r)
 {
-    return err_set(r == 2 ? BRUME_ERROR_OUT_OF_MEMORY : BRUME_ERROR_UNSUPPORTED, "%s: GPU cuda:%d: %s: %s",
-                   job->s->source, job->rs.device, what, cu_error(r));
+    return err_set(r == 2 ? BRUME_ERROR_OUT_OF_MEMORY : BRUME_ERROR_UNSUPPORTED, "%s: GPU cuda:%d: %s: %s", g->source,
+                   g->ordinal, what, cu_error(r));
 }
 
 /* Device memory of `bytes`, within the job's budget: what the scene may take on the host
  * (render.max_memory_mb) bounds it on the GPU too, and so does the GPU's free memory. */
-static brume_status gpu_alloc(brume_render_job *job, CUdeviceptr *p, size_t bytes, const char *what)
+static brume_status gpu_alloc(const gpu_pass *g, CUdeviceptr *p, size_t bytes, const char *what)
 {
     size_t free_b = 0, total_b = 0;
     cu.MemGetInfo(&free_b, &total_b);
     if (bytes > free_b)
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: GPU cuda:%d: %s need %zu MB, the GPU has %zu MB free",
-                       job->s->source, job->rs.device, what, bytes >> 20, free_b >> 20);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: GPU cuda:%d: %s need %zu MB, the GPU has %zu MB free", g->source,
+                       g->ordinal, what, bytes >> 20, free_b >> 20);
     CUresult r = cu.MemAlloc(p, bytes ? bytes : 16);
-    return r ? gpu_fail(job, what, r) : BRUME_OK;
+    return r ? gpu_fail(g, what, r) : BRUME_OK;
 }
 
-static brume_status gpu_job_start(brume_render_job *job, gpu_job **out)
+/* The scene's copy uploaded to g's device. */
+static brume_status gpu_upload_scene(gpu_pass *g, const render_pass *shape)
 {
-    const brume_scene *s = job->s;
-    brume_status st = device_scene_check(s, (int)job->kind);
-    if (st != BRUME_OK)
-        return st;
-    gpu_device *dev = gpu_open(s->source, job->rs.device);
-    if (!dev)
-        return err_status();
-    gpu_job *gj = calloc(1, sizeof *gj);
-    if (!gj || !(gj->list = malloc(job->npix * sizeof *gj->list))) {
-        free(gj);
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a GPU job", s->source);
-    }
-    gj->dev = dev;
-    gj->npix = job->npix;
-    job->gpu = gj;
     dev_arena a;
-    arena_init(&a, s->max_memory);
-    gj->scene_at = device_scene_put(s, job->state, &a, &gj->state_at);
+    arena_init(&a, g->max_memory);
+    g->scene_at = device_scene_put(shape->s, shape->state, &a, &g->state_at);
     if (a.failed) {
         arena_free(&a);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: the scene's copy for the GPU exceeds render.max_memory_mb (%zu MB)",
-                       s->source, s->max_memory >> 20);
+                       g->source, g->max_memory >> 20);
     }
-    if ((st = gpu_alloc(job, &gj->scene, a.size, "the scene")) != BRUME_OK) {
+    brume_status st = gpu_alloc(g, &g->scene, a.size, "the scene");
+    if (st != BRUME_OK) {
         arena_free(&a);
         return st;
     }
-    arena_relocate(&a, (uint64_t)gj->scene);
-    CUresult r = cu.MemcpyHtoD(gj->scene, a.buf, a.size);
+    arena_relocate(&a, (uint64_t)g->scene);
+    CUresult r = cu.MemcpyHtoD(g->scene, a.buf, a.size);
     arena_free(&a);
-    if (r)
-        return gpu_fail(job, "uploading the scene", r);
-    sample_params sp;
-    job_sample_params(job, &sp);
-    const size_t np = job->npix;
-    if ((st = gpu_alloc(job, &gj->params, sizeof sp, "the parameters")) ||
-        (st = gpu_alloc(job, &gj->pixels, np * sizeof(uint32_t), "the pixel list")) ||
-        (st = gpu_alloc(job, &gj->next, sizeof(uint32_t), "the sample counter")) ||
-        (st = gpu_alloc(job, &gj->n, np * sizeof(uint32_t), "the sample counts")) ||
-        (st = gpu_alloc(job, &gj->sum, np * JOB_SUMS * sizeof(double), "the image sums")) ||
-        (job->sq && (st = gpu_alloc(job, &gj->sq, np * JOB_SQS * sizeof(double), "the squares"))) ||
-        (job->aov && (st = gpu_alloc(job, &gj->aov, np * JOB_AOVS * sizeof(double), "the layers"))))
+    return r ? gpu_fail(g, "uploading the scene", r) : BRUME_OK;
+}
+
+brume_status gpu_pass_open(const render_pass *shape, int device, size_t max_pixels, gpu_pass **out)
+{
+    *out = NULL;
+    const brume_scene *s = shape->s;
+    brume_status st = device_scene_check(s, shape->sp.kind);
+    if (st != BRUME_OK)
         return st;
-    if ((r = cu.MemcpyHtoD(gj->params, &sp, sizeof sp)))
-        return gpu_fail(job, "uploading the parameters", r);
-    *out = gj;
+    gpu_device *dev = gpu_open(s->source, device);
+    if (!dev)
+        return err_status();
+    gpu_pass *g = calloc(1, sizeof *g);
+    if (!g)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a GPU job", s->source);
+    *g = (gpu_pass){.dev = dev,
+                    .source = s->source,
+                    .ordinal = device,
+                    .max_memory = s->max_memory,
+                    .max_pixels = max_pixels,
+                    .squares = shape->sp.squares,
+                    .aovs = shape->sp.trace_aovs};
+    const size_t np = max_pixels;
+    CUresult r = 0;
+    if ((st = gpu_upload_scene(g, shape)) || (st = gpu_alloc(g, &g->params, sizeof shape->sp, "the parameters")) ||
+        (st = gpu_alloc(g, &g->pixels, np * sizeof(uint32_t), "the pixel list")) ||
+        (st = gpu_alloc(g, &g->counts, 2 * sizeof(uint64_t), "the sample counters")) ||
+        (st = gpu_alloc(g, &g->n, np * sizeof(uint32_t), "the sample counts")) ||
+        (st = gpu_alloc(g, &g->sum, np * JOB_SUMS * sizeof(double), "the image sums")) ||
+        (g->squares && (st = gpu_alloc(g, &g->sq, np * JOB_SQS * sizeof(double), "the squares"))) ||
+        (g->aovs && (st = gpu_alloc(g, &g->aov, np * JOB_AOVS * sizeof(double), "the layers"))) ||
+        ((r = cu.MemcpyHtoD(g->params, &shape->sp, sizeof shape->sp)) && (st = gpu_fail(g, "uploading the parameters", r)))) {
+        gpu_pass_close(g);
+        return st;
+    }
+    *out = g;
     return BRUME_OK;
 }
 
-brume_status gpu_job_prepare(brume_render_job *job)
+/* Room for `need` bytes of samples' values on g's device. */
+static brume_status gpu_values(gpu_pass *g, size_t need)
 {
-    gpu_job *gj = job->gpu;
-    return gj ? BRUME_OK : gpu_job_start(job, &gj);
+    if (need <= g->nvalues)
+        return BRUME_OK;
+    if (g->values)
+        cu.MemFree(g->values);
+    g->values = 0;
+    g->nvalues = 0;
+    brume_status st = gpu_alloc(g, &g->values, need, "the samples' values");
+    if (st == BRUME_OK)
+        g->nvalues = need;
+    return st;
 }
 
-brume_status gpu_job_pass(brume_render_job *job)
+/* One launch of brume_paths and brume_reduce: samples from .. to - 1 of every listed pixel
+ * (those below each pixel's count are skipped). */
+static brume_status gpu_launch(gpu_pass *g, uint32_t np, uint32_t to, uint32_t per)
 {
-    brume_status st = gpu_job_prepare(job);
-    if (st != BRUME_OK)
-        return st;
-    gpu_job *gj = job->gpu;
-    if (cu.CtxSetCurrent(gj->dev->ctx) != 0)
-        return gpu_fail(job, "cuCtxSetCurrent", 1);
-    /* the pass's pixels: active ones of the job's part below the target */
-    const uint32_t target = (uint32_t)job->target;
-    uint32_t np = 0, n_min = target;
-    for (size_t i = 0; i < job->npix; i++) {
-        if (!job->active[i] || job->n[i] >= target)
-            continue;
-        if (job->nparts > 1) {
-            size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
-            size_t tile = (y / JOB_TILE) * (size_t)job->tiles_x + x / JOB_TILE;
-            if (tile % (size_t)job->nparts != (size_t)job->part)
-                continue;
-        }
-        gj->list[np++] = (uint32_t)i;
-        n_min = job->n[i] < n_min ? job->n[i] : n_min;
-    }
-    if (np == 0)
-        return BRUME_OK;
-    const size_t P = job->npix;
+    CUdeviceptr scene = g->scene + g->scene_at;
+    CUdeviceptr state = g->state_at == ARENA_NULL ? 0 : g->scene + g->state_at;
+    uint64_t threads = (uint64_t)np * per;
+    /* as many threads as the GPU holds, each taking samples until none is left */
+    uint32_t zero = 0;
+    uint64_t resident = (uint64_t)g->dev->sms * GPU_RESIDENT;
+    uint64_t launch = threads < resident ? threads : resident;
     CUresult r;
-    if ((r = cu.MemcpyHtoD(gj->pixels, gj->list, np * sizeof(uint32_t))) ||
-        (r = cu.MemcpyHtoD(gj->n, job->n, P * sizeof(uint32_t))) ||
-        (r = cu.MemcpyHtoD(gj->sum, job->sum, P * JOB_SUMS * sizeof(double))) ||
-        (job->sq && (r = cu.MemcpyHtoD(gj->sq, job->sq, P * JOB_SQS * sizeof(double)))) ||
-        (job->aov && (r = cu.MemcpyHtoD(gj->aov, job->aov, P * JOB_AOVS * sizeof(double)))))
-        return gpu_fail(job, "uploading the image", r);
+    void *a1[] = {&scene, &state, &g->params, &g->pixels, &np, &g->n, &to, &per, &g->values, &g->counts};
+    if ((r = cu.MemcpyHtoD(g->counts, &zero, sizeof zero)) ||
+        (r = cu.LaunchKernel(g->dev->paths, (unsigned)((launch + GPU_BLOCK - 1) / GPU_BLOCK), 1, 1, GPU_BLOCK, 1, 1, 0,
+                             NULL, a1, NULL)))
+        return gpu_fail(g, "launching the paths", r);
+    CUdeviceptr sq = g->squares ? g->sq : 0, aov = g->aovs ? g->aov : 0, nonfinite = g->counts + sizeof(uint64_t);
+    void *a2[] = {&g->params, &np, &g->n, &to, &per, &g->values, &g->sum, &sq, &aov, &nonfinite};
+    if ((r = cu.LaunchKernel(g->dev->reduce, (np + GPU_BLOCK - 1) / GPU_BLOCK, 1, 1, GPU_BLOCK, 1, 1, 0, NULL, a2, NULL)))
+        return gpu_fail(g, "launching the sums", r);
+    if ((r = cu.CtxSynchronize()))
+        return gpu_fail(g, "rendering", r);
+    return BRUME_OK;
+}
+
+brume_status gpu_pass_render(gpu_pass *g, render_pass *p)
+{
+    if (p->npixels == 0)
+        return BRUME_OK;
+    if (p->npixels > g->max_pixels)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: GPU cuda:%d: a pass of %zu pixels, over the %zu opened for",
+                       g->source, g->ordinal, p->npixels, g->max_pixels);
+    if (cu.CtxSetCurrent(g->dev->ctx) != 0)
+        return gpu_fail(g, "cuCtxSetCurrent", 1);
+    const uint32_t target = p->target, np = (uint32_t)p->npixels;
+    uint32_t n_min = target;
+    uint64_t taken = 0;
+    for (size_t j = 0; j < p->npixels; j++) {
+        n_min = p->n[j] < n_min ? p->n[j] : n_min;
+        taken += p->n[j] < target ? target - p->n[j] : 0;
+    }
+    CUresult r;
+    uint64_t zero = 0;
+    if ((r = cu.MemcpyHtoD(g->pixels, p->pixels, np * sizeof(uint32_t))) ||
+        (r = cu.MemcpyHtoD(g->n, p->n, np * sizeof(uint32_t))) ||
+        (r = cu.MemcpyHtoD(g->sum, p->sum, np * sizeof *p->sum)) ||
+        (p->sq && (r = cu.MemcpyHtoD(g->sq, p->sq, np * sizeof *p->sq))) ||
+        (p->aov && (r = cu.MemcpyHtoD(g->aov, p->aov, np * sizeof *p->aov))) ||
+        (r = cu.MemcpyHtoD(g->counts + sizeof(uint64_t), &zero, sizeof zero)))
+        return gpu_fail(g, "uploading the image", r);
     /* launches of at most GPU_MAX_SAMPLES samples: a few samples of every pixel each */
     uint32_t chunk = GPU_MAX_SAMPLES / np;
     chunk = chunk < 1 ? 1 : chunk;
     for (uint32_t from = n_min; from < target;) {
         uint32_t to = target - from < chunk ? target : from + chunk, per = to - from;
-        size_t need = (size_t)np * per * sizeof(sample_value);
-        if (need > gj->nvalues) {
-            if (gj->values)
-                cu.MemFree(gj->values);
-            gj->values = 0;
-            gj->nvalues = 0;
-            if ((st = gpu_alloc(job, &gj->values, need, "the samples' values")) != BRUME_OK)
-                return st;
-            gj->nvalues = need;
-        }
-        CUdeviceptr scene = gj->scene + gj->scene_at;
-        CUdeviceptr state = gj->state_at == ARENA_NULL ? 0 : gj->scene + gj->state_at;
-        uint64_t threads = (uint64_t)np * per;
-        /* as many threads as the GPU holds, each taking samples until none is left */
-        uint32_t zero = 0;
-        uint64_t resident = (uint64_t)gj->dev->sms * GPU_RESIDENT;
-        uint64_t launch = threads < resident ? threads : resident;
-        void *a1[] = {&scene, &state, &gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->next};
-        if ((r = cu.MemcpyHtoD(gj->next, &zero, sizeof zero)) ||
-            (r = cu.LaunchKernel(gj->dev->paths, (unsigned)((launch + GPU_BLOCK - 1) / GPU_BLOCK), 1, 1, GPU_BLOCK, 1, 1,
-                                 0, NULL, a1, NULL)))
-            return gpu_fail(job, "launching the paths", r);
-        CUdeviceptr sq = job->sq ? gj->sq : 0, aov = job->aov ? gj->aov : 0;
-        void *a2[] = {&gj->params, &gj->pixels, &np, &gj->n, &to, &per, &gj->values, &gj->sum, &sq, &aov};
-        if ((r = cu.LaunchKernel(gj->dev->reduce, (np + GPU_BLOCK - 1) / GPU_BLOCK, 1, 1, GPU_BLOCK, 1, 1, 0, NULL, a2, NULL)))
-            return gpu_fail(job, "launching the sums", r);
-        if ((r = cu.CtxSynchronize()))
-            return gpu_fail(job, "rendering", r);
+        brume_status st = gpu_values(g, (size_t)np * per * sizeof(sample_value));
+        if (st == BRUME_OK)
+            st = gpu_launch(g, np, to, per);
+        if (st != BRUME_OK)
+            return st;
         from = to;
     }
-    if ((r = cu.MemcpyDtoH(job->n, gj->n, P * sizeof(uint32_t))) ||
-        (r = cu.MemcpyDtoH(job->sum, gj->sum, P * JOB_SUMS * sizeof(double))) ||
-        (job->sq && (r = cu.MemcpyDtoH(job->sq, gj->sq, P * JOB_SQS * sizeof(double)))) ||
-        (job->aov && (r = cu.MemcpyDtoH(job->aov, gj->aov, P * JOB_AOVS * sizeof(double)))))
-        return gpu_fail(job, "reading the image back", r);
+    uint64_t nonfinite = 0;
+    if ((r = cu.MemcpyDtoH(p->n, g->n, np * sizeof(uint32_t))) ||
+        (r = cu.MemcpyDtoH(p->sum, g->sum, np * sizeof *p->sum)) ||
+        (p->sq && (r = cu.MemcpyDtoH(p->sq, g->sq, np * sizeof *p->sq))) ||
+        (p->aov && (r = cu.MemcpyDtoH(p->aov, g->aov, np * sizeof *p->aov))) ||
+        (r = cu.MemcpyDtoH(&nonfinite, g->counts + sizeof(uint64_t), sizeof nonfinite)))
+        return gpu_fail(g, "reading the image back", r);
+    p->taken += taken;
+    p->nonfinite += nonfinite;
     return BRUME_OK;
 }
-

@@ -12,24 +12,30 @@
 #include <stddef.h>
 
 #include "brume.h"
-#include "render/job.h"
+#include "render/pass.h"
 
 /* The PTX embedded at build time (a NUL-terminated text), or "" when the build had no
  * clang to make it (BRUME_CUDA=OFF). */
 extern const char gpu_ptx[];
 
-/* Renders job's pass on GPU job->rs.device: samples n[i] .. job->target - 1 of every active
- * pixel of the job's part, added to the job's sums in each sample's order. The scene is
- * uploaded at the first pass of a job and kept for its later passes (gpu_job_release).
- * BRUME_OK, or an error naming the scene and what failed (no driver, a refused feature
+/* What a GPU keeps for a render job: the device, the scene's copy, the samples' parameters
+ * and room for the pass's pixels. */
+typedef struct gpu_pass gpu_pass;
+
+/* Opens GPU `device` for passes shaped like `shape` (its scene, integrator state and
+ * sample parameters; its pixels are not read), of at most max_pixels pixels: the driver
+ * compiles the PTX on a machine's first run (about 20 s) and the scene is uploaded. The
+ * job calls it before it starts timing its first pass, so that the pass's measured cost,
+ * and the ETA and budgets made from it, are the GPU's rendering alone. BRUME_OK with *out
+ * set, or an error naming the scene and what failed (no driver, a refused feature
  * (gpu/device_scene.h), device memory over render.max_memory_mb or the GPU's). */
-brume_status gpu_job_pass(brume_render_job *job);
-/* What gpu_job_pass does first for a job, done now: opens the device (the driver compiles
- * the PTX on a machine's first run, about 20 s) and uploads the scene. The job calls it
- * before it starts timing its first pass, so that the pass's measured cost, and the ETA
- * and budgets made from it, are the GPU's rendering alone. Idempotent. */
-brume_status gpu_job_prepare(brume_render_job *job);
-/* Frees what gpu_job_pass kept for job on the device. */
-void gpu_job_release(brume_render_job *job);
+brume_status gpu_pass_open(const render_pass *shape, int device, size_t max_pixels, gpu_pass **out);
+/* Renders pass p (render/pass.h) on g's device: samples n[j] .. target - 1 of every listed
+ * pixel, added to its sums in each sample's order; p->taken and p->nonfinite are added to.
+ * The pass shares the scene, state and parameters g was opened with, and has at most its
+ * max_pixels pixels. A GPU pass is never cut. */
+brume_status gpu_pass_render(gpu_pass *g, render_pass *p);
+/* Frees what g keeps on the device, and g; nothing for NULL. */
+void gpu_pass_close(gpu_pass *g);
 
 #endif

@@ -117,11 +117,12 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 } /* namespace */
 
 /* ---- the kernels -------------------------------------------------------------------------- *
- * A pass adds samples n[p] .. target - 1 to each pixel p of the list `pixels` (the active
- * pixels of the job's part), in launches of per_pixel samples a pixel: sample t of a launch
- * is sample t % per_pixel of pixel t / per_pixel. brume_paths evaluates the samples into
- * their own slots of `values`; brume_reduce then adds each pixel's samples in their order
- * into its sums, one thread a pixel. The sums are thus made in a fixed order, whatever the
+ * A pass (render/pass.h) adds samples n[p] .. target - 1 to each pixel pixels[p] of its
+ * list, its count n[p] and sums at place p, in launches of per_pixel samples a pixel:
+ * sample t of a launch is sample t % per_pixel of listed pixel t / per_pixel. brume_paths
+ * evaluates the samples into their own slots of `values`; brume_reduce then adds each
+ * pixel's samples in their order into its sums, one thread a pixel, and counts those whose
+ * estimate was NaN or infinite. The sums are thus made in a fixed order, whatever the
  * scheduling: the image is a function of scene, seed and samples on one GPU, run after run.
  *
  * brume_paths runs `path` and `single` with path regeneration (Novak et al. 2010): each
@@ -154,7 +155,7 @@ extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, 
         if (t >= total)
             return;
         uint32_t p = t / per_pixel, k = t % per_pixel;
-        uint32_t i = pixels[p], sidx = n[i] + k;
+        uint32_t i = pixels[p], sidx = n[p] + k;
         if (sidx >= target)
             continue;
         int x = (int)(i % (uint32_t)sp->width), y = (int)(i / (uint32_t)sp->width);
@@ -169,17 +170,22 @@ extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, 
     }
 }
 
-extern "C" __global__ void brume_reduce(const sample_params *sp, const uint32_t *pixels, uint32_t npixels, uint32_t *n,
-                                        uint32_t target, uint32_t per_pixel, const sample_value *values, double *sum,
-                                        double *sq, double *aov)
+extern "C" __global__ void brume_reduce(const sample_params *sp, uint32_t npixels, uint32_t *n, uint32_t target,
+                                        uint32_t per_pixel, const sample_value *values, double *sum, double *sq,
+                                        double *aov, unsigned long long *nonfinite)
 {
     uint32_t p = blockIdx.x * blockDim.x + threadIdx.x;
     if (p >= npixels)
         return;
-    uint32_t i = pixels[p];
-    for (uint32_t k = 0; k < per_pixel && n[i] + k < target; k++)
-        sample_add(sp, &values[(uint64_t)p * per_pixel + k], n[i] + k, sum + (size_t)JOB_SUMS * i,
-                   sq ? sq + (size_t)JOB_SQS * i : NULL, aov ? aov + (size_t)JOB_AOVS * i : NULL);
-    if (n[i] < target)
-        n[i] = target;
+    long long bad = 0;
+    for (uint32_t k = 0; k < per_pixel && n[p] + k < target; k++) {
+        const sample_value *v = &values[(uint64_t)p * per_pixel + k];
+        sample_add(sp, v, n[p] + k, sum + (size_t)JOB_SUMS * p, sq ? sq + (size_t)JOB_SQS * p : NULL,
+                   aov ? aov + (size_t)JOB_AOVS * p : NULL);
+        bad += v->nonfinite;
+    }
+    if (bad)
+        __nvvm_atom_add_gen_ll((long long *)nonfinite, bad);
+    if (n[p] < target)
+        n[p] = target;
 }

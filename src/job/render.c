@@ -20,13 +20,12 @@
 #include "render/blasi.h"
 #include "render/film.h"
 #include "render/job.h"
-#include "render/sample.h"
+#include "render/pass.h"
 #include "render/watch.h"
 #include "gpu/cuda.h"
 #include "job/render_impl.h"
 
 #define TILE JOB_TILE
-#define CAMERA_BATCH 8 /* camera rays made together before their radiance (job_tile) */
 #define PASS_MAX 16 /* samples per pixel in one pass at most: a tile stays short, so a
                        cancellation or the end of a time budget takes effect soon */
 #define GPU_PASS_SAMPLES (1 << 21) /* samples a GPU pass takes at least after the first: each
@@ -171,7 +170,7 @@ void brume_render_job_release(brume_render_job *job)
 {
     if (!job)
         return;
-    gpu_job_release(job);
+    gpu_pass_close(job->gpu);
     pthread_mutex_destroy(&job->lock);
     pthread_mutex_destroy(&job->cb_lock);
     free(job->n);
@@ -267,60 +266,24 @@ void job_refresh(brume_render_job *job)
     job->left_samples = total - done;
 }
 
-/* Camera samples s0 .. s0 + nb - 1 (nb <= CAMERA_BATCH) of pixel (x, y), index i: their
- * rays, and in g their random sequences positioned after the camera's numbers.
- * Dimensions: the filter's offset takes the first pair; the lens and the shutter take the
- * next ones only when the camera has them (lens, shutter); the path the rest. The first
- * qmc_dims dimensions are Sobol points (render.sampler, docs/sampling.md).
- * Made stage by stage over the batch (the sequences, then the filter's offsets, then the
- * lens and shutter numbers, then the rays): each stage is a chain of hashes, or of
- * divisions and a square root, longer than the processor can look ahead past, and the
- * samples' chains are independent, so a stage's iterations overlap where one sample's
- * whole chain at a time would leave the processor waiting. Each sample's numbers are
- * those it would draw alone. */
-static void camera_samples(const brume_render_job *job, uint32_t qmc_dims, bool lens, bool shutter, size_t i, int x,
-                           int y, uint32_t s0, uint32_t nb, rng g[CAMERA_BATCH], ray r[CAMERA_BATCH])
-{
-    const brume_render_settings *rs = &job->rs;
-    double dx[CAMERA_BATCH], dy[CAMERA_BATCH], u1[CAMERA_BATCH], u2[CAMERA_BATCH], ut[CAMERA_BATCH];
-    for (uint32_t b = 0; b < nb; b++)
-        g[b] = rng_make_qmc(rs->seed, (uint64_t)i, s0 + b, qmc_dims);
-    for (uint32_t b = 0; b < nb; b++)
-        film_sample_filter(rs->filter, rs->filter_width, &g[b], &dx[b], &dy[b]);
-    for (uint32_t b = 0; b < nb; b++) {
-        u1[b] = u2[b] = ut[b] = 0.5;
-        if (lens) {
-            u1[b] = rng_next(&g[b]);
-            u2[b] = rng_next(&g[b]);
-        }
-        if (shutter)
-            ut[b] = rng_next(&g[b]);
-    }
-    const camera *cam = &job->s->cam;
-    if (camera_is_pinhole(cam)) { /* the rays made in place in the batch */
-        for (uint32_t b = 0; b < nb; b++)
-            camera_pinhole_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], ut[b], &r[b]);
-        return;
-    }
-    for (uint32_t b = 0; b < nb; b++)
-        r[b] = camera_ray(cam, rs->width, rs->height, x + 0.5 + dx[b], y + 0.5 + dy[b], u1[b], u2[b], ut[b]);
-}
-
-void job_sample_params(const brume_render_job *job, sample_params *sp)
+/* What every pass of the job shares (render/pass.h): the scene, the integrator's state and
+ * the samples' parameters; the pass's pixels, target and sums are the caller's to set. */
+static render_pass job_pass_shape(const brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
     const camera *cam = &job->s->cam;
-    *sp = (sample_params){.kind = (int)job->kind,
-                          .width = rs->width,
-                          .height = rs->height,
-                          .seed = rs->seed,
-                          .filter = rs->filter,
-                          .filter_width = rs->filter_width,
-                          .qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0,
-                          .lens = cam->aperture_radius > 0.0,
-                          .shutter = cam->shutter_close > cam->shutter_open,
-                          .trace_aovs = job->trace_aovs,
-                          .squares = job->sq != NULL};
+    sample_params sp = {.kind = (int)job->kind,
+                        .width = rs->width,
+                        .height = rs->height,
+                        .seed = rs->seed,
+                        .filter = rs->filter,
+                        .filter_width = rs->filter_width,
+                        .qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0,
+                        .lens = cam->aperture_radius > 0.0,
+                        .shutter = cam->shutter_close > cam->shutter_open,
+                        .trace_aovs = job->trace_aovs,
+                        .squares = job->sq != NULL};
+    return (render_pass){.s = job->s, .state = job->state, .sp = sp, .target = (uint32_t)job->target};
 }
 
 /* Seconds spent: the integrator's preparation (a light pass) and the passes so far, the one
@@ -429,68 +392,30 @@ static bool job_poll(void *user)
     return atomic_load(&job->stop);
 }
 
-/* The samples pixel i (at x, y) still lacks up to target, added into its count n and its sums
- * (sum, sq, aov): the samples taken, in batches (camera rays, then their radiance). Under a
- * time budget the clock is read before every sample: the budget ends within one sample per
- * thread, the pixel keeping its samples. Between batches a slow tile asks job_poll too, so that
- * samples without collisions (a sky in a pass of 2^30) stop on a signal as the others do. */
-static uint64_t pixel_samples(brume_render_job *job, const sample_params *sp, int target, uint32_t qmc_dims,
-                              bool lens, bool shutter, size_t i, int x, int y, uint32_t *n, double *sum, double *sq,
-                              double *aov)
+/* A CPU pass's time budget (render_pass.cut), asked before every sample. */
+static bool job_cut(void *user)
 {
-    const bool timed = job->rs.time_budget > 0.0;
-    uint64_t taken = 0;
-    bool cut = false;
-    for (uint32_t s0 = *n, s1 = *n; s0 < (uint32_t)target && !cut && !(s0 > s1 && job_poll(job)); s0 += CAMERA_BATCH) {
-        uint32_t nb = (uint32_t)target - s0 < CAMERA_BATCH ? (uint32_t)target - s0 : CAMERA_BATCH;
-        rng gb[CAMERA_BATCH];
-        ray rb[CAMERA_BATCH];
-        camera_samples(job, qmc_dims, lens, shutter, i, x, y, s0, nb, gb, rb);
-        for (uint32_t b = 0; b < nb; b++) {
-            const uint32_t sidx = s0 + b;
-            if (timed && (atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job))) {
-                cut = true;
-                break;
-            }
-            sample_value v;
-            sample_watch *w = watch_tls;
-            watch_sample(w);
-            sample_eval(job->s, job->state, sp, rb[b], gb[b], sidx, &v);
-            if (w->stopped) { /* stopped within the sample: it is not kept */
-                cut = true;
-                break;
-            }
-            w->ncut += w->cut;
-            sample_add(sp, &v, sidx, sum, sq, aov);
-            taken++;
-            *n = sidx + 1;
-        }
-    }
-    return taken;
+    brume_render_job *job = user;
+    return atomic_load_explicit(&job->stop, memory_order_relaxed) || job_time_is_up(job);
 }
 
-/* The active pixels of the tile [x0, x1) x [y0, y1) written back into the job (under its
- * lock), with the taken samples counted and the time budget's total extrapolated. */
-static void tile_store(brume_render_job *job, int x0, int y0, int x1, int y1, const uint32_t *n,
-                       const double (*sum)[JOB_SUMS], const double (*sq)[JOB_SQS], const double (*aov)[JOB_AOVS],
-                       uint64_t taken)
+/* Pass p's pixels written back into the job (under its lock), with its taken samples and
+ * non-finite estimates counted and the time budget's total extrapolated. */
+static void job_store(brume_render_job *job, const render_pass *p)
 {
     const brume_render_settings *rs = &job->rs;
     pthread_mutex_lock(&job->lock);
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
-            int k = (y - y0) * TILE + (x - x0);
-            if (!job->active[i])
-                continue;
-            job->n[i] = n[k];
-            memcpy(job->sum + JOB_SUMS * i, sum[k], sizeof sum[k]);
-            if (job->sq != NULL)
-                memcpy(job->sq + JOB_SQS * i, sq[k], sizeof sq[k]);
-            if (job->trace_aovs)
-                memcpy(job->aov + JOB_AOVS * i, aov[k], sizeof aov[k]);
-        }
-    job->done += taken;
+    for (size_t j = 0; j < p->npixels; j++) {
+        size_t i = p->pixels[j];
+        job->n[i] = p->n[j];
+        memcpy(job->sum + JOB_SUMS * i, p->sum[j], sizeof p->sum[j]);
+        if (p->sq)
+            memcpy(job->sq + JOB_SQS * i, p->sq[j], sizeof p->sq[j]);
+        if (p->aov)
+            memcpy(job->aov + JOB_AOVS * i, p->aov[j], sizeof p->aov[j]);
+    }
+    job->done += p->taken;
+    job->samples_nonfinite += p->nonfinite;
     double elapsed = job->elapsed + (progress_now() - job->t_pass);
     if (rs->time_budget > 0.0 && elapsed > 0.0) /* a time budget: extrapolate the rate */
         job->total = (uint64_t)fmax((double)job->done,
@@ -500,56 +425,59 @@ static void tile_store(brume_render_job *job, int x0, int y0, int x1, int y1, co
     pthread_mutex_unlock(&job->lock);
 }
 
+/* Pixel i's count and sums copied into pass p's j-th place. */
+static void job_load(const brume_render_job *job, size_t i, render_pass *p, size_t j)
+{
+    p->n[j] = job->n[i];
+    memcpy(p->sum[j], job->sum + JOB_SUMS * i, sizeof p->sum[j]);
+    if (p->sq)
+        memcpy(p->sq[j], job->sq + JOB_SQS * i, sizeof p->sq[j]);
+    if (p->aov)
+        memcpy(p->aov[j], job->aov + JOB_AOVS * i, sizeof p->aov[j]);
+}
+
 /* One tile: every active pixel of it from its sample count to job->target (or as far as
- * the time budget lets it go). */
+ * the time budget lets it go), as a pass on this thread (pass_render_cpu). */
 static void job_tile(size_t task, int thread, void *user)
 {
     brume_render_job *job = user;
     if (atomic_load(&job->stop))
         return;
-    stats_counters *sc = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
-    stats_tls = sc;
-    const brume_render_settings *rs = &job->rs;
-    const bool timed = rs->time_budget > 0.0;
+    const bool timed = job->rs.time_budget > 0.0;
     if (timed && job_time_is_up(job))
         return;
-    const brume_scene *s = job->s;
+    stats_tls = job->counters && thread < job->nthreads ? &job->counters[thread] : NULL;
     int x0, y0, x1, y1;
     tile_rect(job, task, &x0, &y0, &x1, &y1);
-    int target = job->target;
-    const uint32_t qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0;
-    const bool lens = s->cam.aperture_radius > 0.0, shutter = s->cam.shutter_close > s->cam.shutter_open;
-    const bool squares = job->sq != NULL;
-    sample_params sp;
-    job_sample_params(job, &sp);
     enum { P = TILE * TILE };
-    uint32_t n[P];
+    uint32_t list[P], n[P];
     double sum[P][JOB_SUMS], sq[P][JOB_SQS], aov[P][JOB_AOVS];
-    uint64_t taken = 0;
-    sample_watch watch = {.bound = job->collision_bound, .next_poll = WATCH_POLL, .poll = job_poll, .user = job};
-    tile_start_ns = job_now_ns();
-    watch_tls = &watch; /* pixel_samples' samples are watched (render/watch.h) */
+    render_pass p = job_pass_shape(job);
+    p.pixels = list;
+    p.n = n;
+    p.sum = sum;
+    p.sq = job->sq ? sq : NULL;
+    p.aov = job->trace_aovs ? aov : NULL;
+    p.cut = timed ? job_cut : NULL;
+    p.user = job;
     /* this task alone writes these pixels: read them without the lock */
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
-            size_t i = (size_t)y * (size_t)rs->width + (size_t)x;
-            int k = (y - y0) * TILE + (x - x0);
-            n[k] = job->n[i];
-            memcpy(sum[k], job->sum + JOB_SUMS * i, sizeof sum[k]);
-            if (squares)
-                memcpy(sq[k], job->sq + JOB_SQS * i, sizeof sq[k]);
-            if (job->trace_aovs)
-                memcpy(aov[k], job->aov + JOB_AOVS * i, sizeof aov[k]);
-            if (job->active[i])
-                taken += pixel_samples(job, &sp, target, qmc_dims, lens, shutter, i, x, y, &n[k], sum[k], sq[k],
-                                       aov[k]);
+            size_t i = (size_t)y * (size_t)job->rs.width + (size_t)x;
+            if (job->active[i]) {
+                list[p.npixels] = (uint32_t)i;
+                job_load(job, i, &p, p.npixels++);
+            }
         }
+    sample_watch watch = {.bound = job->collision_bound, .next_poll = WATCH_POLL, .poll = job_poll, .user = job};
+    tile_start_ns = job_now_ns();
+    watch_tls = &watch; /* the pass's samples are watched (render/watch.h) */
+    pass_render_cpu(&p);
     stats_tls = NULL;
     watch_tls = NULL;
     if (watch.ncut)
         atomic_fetch_add(&job->samples_cut, watch.ncut);
-    tile_store(job, x0, y0, x1, y1, n, (const double (*)[JOB_SUMS])sum, (const double (*)[JOB_SQS])sq,
-               (const double (*)[JOB_AOVS])aov, taken);
+    job_store(job, &p);
     job_report_tile(job);
 }
 
@@ -584,6 +512,44 @@ static void job_tile_timed(size_t task, int thread, void *user)
     pthread_mutex_unlock(&job->lock);
 }
 
+/* The GPU's pass (gpu_pass_render): every active pixel of the job's part below the target,
+ * copied into the pass's own arrays and written back whole (job_store) when the device is
+ * done, so a reader under the lock (a checkpoint, the live view) never sees half a pass. */
+static brume_status job_gpu_pass(brume_render_job *job)
+{
+    render_pass p = job_pass_shape(job);
+    size_t np = 0;
+    for (size_t i = 0; i < job->npix; i++)
+        np += job->active[i] && job->n[i] < p.target && (job->nparts == 1 || job_in_part(job, i));
+    if (np == 0)
+        return BRUME_OK;
+    uint32_t *list = malloc(np * sizeof *list);
+    p.pixels = list;
+    p.n = malloc(np * sizeof *p.n);
+    p.sum = malloc(np * sizeof *p.sum);
+    p.sq = job->sq ? malloc(np * sizeof *p.sq) : NULL;
+    p.aov = job->trace_aovs ? malloc(np * sizeof *p.aov) : NULL;
+    brume_status st = BRUME_OK;
+    if (!list || !p.n || !p.sum || (job->sq && !p.sq) || (job->trace_aovs && !p.aov)) {
+        st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for a GPU pass of %zu pixels", job->s->source, np);
+    } else {
+        for (size_t i = 0; i < job->npix; i++)
+            if (job->active[i] && job->n[i] < p.target && (job->nparts == 1 || job_in_part(job, i))) {
+                list[p.npixels] = (uint32_t)i;
+                job_load(job, i, &p, p.npixels++);
+            }
+        st = gpu_pass_render(job->gpu, &p);
+        if (st == BRUME_OK)
+            job_store(job, &p);
+    }
+    free(list);
+    free(p.n);
+    free(p.sum);
+    free(p.sq);
+    free(p.aov);
+    return st;
+}
+
 /* Runs the pass to job->target. Returns BRUME_OK when it completed, or when time ran out
  * (job->out_of_time), BRUME_ERROR_CANCELLED when the callback stopped it. An unwatched job
  * (job_next_pass) skips the per-pixel statistics before and after the pass (job_refresh:
@@ -594,10 +560,13 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     const brume_render_settings *rs = &job->rs;
     atomic_store(&job->stop, false);
     job->cancelled = false;
-    if (rs->device >= 0) { /* the device's start-up (the driver's compile, the upload) is not the pass's */
-        brume_status g = gpu_job_prepare(job);
-        if (g != BRUME_OK)
-            return g;
+    if (rs->device >= 0 && !job->gpu) { /* the device's start-up (the driver's compile, the upload) is not the pass's */
+        render_pass shape = job_pass_shape(job);
+        gpu_pass *g = NULL;
+        brume_status st = gpu_pass_open(&shape, rs->device, job->npart, &g);
+        if (st != BRUME_OK)
+            return st;
+        job->gpu = g;
     }
     pthread_mutex_lock(&job->lock);
     job->t_pass = progress_now();
@@ -607,17 +576,9 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
         job_refresh(job);
     pthread_mutex_unlock(&job->lock);
     if (rs->device >= 0) { /* the GPU: the whole pass at once, in each pixel's sample order */
-        uint64_t before = 0, after = 0;
-        for (size_t i = 0; i < job->npix; i++)
-            before += job->n[i];
-        brume_status g = gpu_job_pass(job);
+        brume_status g = job_gpu_pass(job);
         if (g != BRUME_OK)
             return g;
-        for (size_t i = 0; i < job->npix; i++)
-            after += job->n[i];
-        pthread_mutex_lock(&job->lock);
-        job->done += after - before;
-        pthread_mutex_unlock(&job->lock);
         if (rs->progress_fn && !rs->progress_fn(rs->progress_user, job->done, job->total > job->done ? job->total : job->done)) {
             atomic_store(&job->stop, true);
             job->cancelled = true;
@@ -742,6 +703,7 @@ static void job_fill_stats(const brume_render_job *job)
     out->camera_rays = c->camera_rays;
     out->li_cpu_seconds = c->t_li;
     out->samples_cut = atomic_load(&job->samples_cut);
+    out->samples_nonfinite = job->samples_nonfinite;
     out->collision_bound = job->collision_bound;
     switch (job->kind) {
     case INTEGRATOR_BLASI: {

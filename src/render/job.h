@@ -71,7 +71,7 @@ struct brume_render_job {
                               their tiles' costs, 0 when no tile's cost is known */
     uint64_t left_samples; /* at the last job_refresh: total - done */
 
-    void *gpu;        /* render.device >= 0: what the GPU keeps for the job (gpu/cuda.h) */
+    void *gpu;        /* render.device >= 0: the GPU's gpu_pass for the job (gpu/cuda.h) */
 
     pthread_mutex_t lock; /* the per-pixel state, done, total, noise, elapsed */
     pthread_mutex_t cb_lock; /* serialises the progress callback */
@@ -83,6 +83,7 @@ struct brume_render_job {
     struct stats_counters *counters; /* one per thread when rs.stats, else NULL */
     uint64_t collision_bound;        /* a sample's tentative collisions at most (render/watch.h) */
     atomic_ullong samples_cut;       /* samples that reached it */
+    uint64_t samples_nonfinite;      /* samples whose estimate was NaN or infinite, added as 0 (under lock) */
     atomic_llong next_poll_ns;       /* CLOCK_MONOTONIC time of the next progress call within a tile */
 };
 

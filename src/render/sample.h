@@ -29,12 +29,10 @@ typedef struct sample_params {
     bool squares;          /* keep the sums of squares (noise estimates) */
 } sample_params;
 
-/* The parameters of job's samples (render.c). */
-void job_sample_params(const brume_render_job *job, sample_params *sp);
-
 /* What one sample adds to its pixel. */
 typedef struct sample_value {
     color L;                /* radiance (0 when the estimator returned a non-finite value) */
+    bool nonfinite;         /* the estimator returned NaN or infinity (counted, added as 0) */
     double alpha;           /* 1 - transmittance, or 1 on a surface; counted when sidx < JOB_ALPHA_SAMPLES */
     double aov[JOB_AOVS];   /* depth, hit, albedo RGB, normal XYZ of the first vertex */
 } sample_value;
@@ -83,7 +81,8 @@ static inline void sample_aovs(const brume_scene *s, const sample_params *sp, ra
  * transmittance T, as the sample's value. */
 static inline void sample_set(sample_value *v, color L, bool opaque, color T)
 {
-    v->L = col_isfinite(L) ? L : col(0.0); /* a failed sample counts as black */
+    v->nonfinite = !col_isfinite(L);
+    v->L = v->nonfinite ? col(0.0) : L; /* a failed sample counts as black */
     v->alpha = opaque ? 1.0 : 1.0 - col_avg(T);
 }
 
