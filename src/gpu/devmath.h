@@ -15,7 +15,13 @@
  * [-pi/4, pi/4]; atan by two half-angle steps to |t| <= tan(pi/16) and its series; acos,
  * atan2 from atan; cbrt by one Newton step from exp(log(x) / 3). Special values (0,
  * infinities, NaN, negative arguments of log) follow C99's Annex F where the estimator can
- * meet them; pow covers x >= 0 and negative x with integer y. */
+ * meet them; pow covers x >= 0 and negative x with integer y.
+ *
+ * The float versions (devmath_expf ... devmath_nextafterf, below) are for the GPU's single
+ * precision stages: the same methods in float arithmetic alone, with polynomials of the
+ * degree float needs and constants split so that their products stay exact, so that they
+ * compile to no FP64 instruction. tests/test_gpu_float.c holds them to DEVMATH_MAX_ULPF
+ * of glibc's float functions (docs/gpu.md, "Device math"). */
 #ifndef BRUME_GPU_DEVMATH_H
 #define BRUME_GPU_DEVMATH_H
 
@@ -23,6 +29,7 @@
 #include <string.h>
 
 #define DEVMATH_MAX_ULP 8 /* the bound tests/test_gpu.c holds each function to */
+#define DEVMATH_MAX_ULPF 8 /* the bound tests/test_gpu_float.c holds each float function to */
 
 static inline uint64_t devmath_bits(double x)
 {
@@ -298,6 +305,260 @@ static inline double devmath_nextafter(double x, double y)
     else
         u--;
     return devmath_from_bits(u);
+}
+
+/* ---- single precision: the same methods in float arithmetic --------------------------------- */
+
+static inline uint32_t devmath_bitsf(float x)
+{
+    uint32_t u;
+    __builtin_memcpy(&u, &x, sizeof u);
+    return u;
+}
+static inline float devmath_from_bitsf(uint32_t u)
+{
+    float x;
+    __builtin_memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+/* x 2^k for k in [-252, 254] without loss in the normal range (two steps). */
+static inline float devmath_ldexpf(float x, int k)
+{
+    if (k > 127) {
+        x *= 0x1p127f;
+        k -= 127;
+        if (k > 127)
+            k = 127;
+    } else if (k < -126) {
+        x *= 0x1p-126f;
+        k += 126;
+        if (k < -126)
+            k = -126;
+    }
+    return x * devmath_from_bitsf((uint32_t)(k + 127) << 23);
+}
+
+/* ln 2 in two parts: the first with 15 significant bits, so that k ln2_hi is exact for |k| < 2^9 */
+#define DEVMATH_LN2F_HI 0.693145751953125f
+#define DEVMATH_LN2F_LO 1.428606765330187e-06f
+
+static inline float devmath_expf(float x)
+{
+    if (x != x)
+        return x;
+    if (x > 88.72283935546875f)
+        return __builtin_inff();
+    if (x < -103.98f)
+        return 0.0f;
+    float kf = __builtin_floorf(x * 1.44269502162933349609f + 0.5f);
+    float r = (x - kf * DEVMATH_LN2F_HI) - kf * DEVMATH_LN2F_LO;
+    /* e^r, |r| <= 0.347: Taylor to r^7 / 7! (remainder below 6e-10) */
+    float p = 1.0f / 5040.0f;
+    p = p * r + 1.0f / 720.0f;
+    p = p * r + 1.0f / 120.0f;
+    p = p * r + 1.0f / 24.0f;
+    p = p * r + 1.0f / 6.0f;
+    p = p * r + 0.5f;
+    p = p * r * r + r; /* e^r - 1 */
+    return devmath_ldexpf(1.0f + p, (int)kf);
+}
+
+static inline float devmath_logf(float x)
+{
+    if (x != x || x < 0.0f)
+        return __builtin_nanf("");
+    if (x == 0.0f)
+        return -__builtin_inff();
+    if (x == __builtin_inff())
+        return x;
+    int e = 0;
+    if (x < 0x1p-126f) { /* subnormal */
+        x *= 0x1p25f;
+        e = -25;
+    }
+    uint32_t u = devmath_bitsf(x);
+    e += (int)((u >> 23) & 0xff) - 127;
+    float m = devmath_from_bitsf((u & 0x007fffffu) | 0x3f800000u); /* [1, 2) */
+    if (m > 1.41421353816986083984f) {
+        m *= 0.5f;
+        e++;
+    }
+    /* log m = 2 atanh(f), f = (m - 1) / (m + 1), |f| <= 0.1716: the series to f^11 / 11 */
+    float f = (m - 1.0f) / (m + 1.0f), f2 = f * f;
+    float s = 1.0f / 11.0f;
+    s = s * f2 + 1.0f / 9.0f;
+    s = s * f2 + 1.0f / 7.0f;
+    s = s * f2 + 1.0f / 5.0f;
+    s = s * f2 + 1.0f / 3.0f;
+    float lm = 2.0f * f + 2.0f * f * f2 * s;
+    float ef = (float)e;
+    return ef * DEVMATH_LN2F_HI + (lm + ef * DEVMATH_LN2F_LO);
+}
+
+static inline float devmath_powf(float x, float y)
+{
+    if (y == 0.0f)
+        return 1.0f;
+    if (x != x || y != y)
+        return x + y;
+    if (x == 0.0f)
+        return y > 0.0f ? 0.0f : __builtin_inff();
+    if (__builtin_floorf(y) == y && __builtin_fabsf(y) <= 64.0f) { /* small integer powers by squaring */
+        float b = y < 0.0f ? 1.0f / x : x, r = 1.0f;
+        for (int k = (int)__builtin_fabsf(y); k > 0; k >>= 1) {
+            if (k & 1)
+                r *= b;
+            b *= b;
+        }
+        return r;
+    }
+    if (x < 0.0f) {
+        float yi = __builtin_floorf(y);
+        if (yi != y)
+            return __builtin_nanf("");
+        float v = devmath_expf(y * devmath_logf(-x));
+        float half = yi * 0.5f;
+        return __builtin_floorf(half) == half ? v : -v;
+    }
+    return devmath_expf(y * devmath_logf(x));
+}
+
+/* sin and cos of r, |r| <= pi/4 (Taylor to r^11 and r^10) */
+static inline float devmath_sin_kernelf(float r)
+{
+    float r2 = r * r;
+    float p = -1.0f / 39916800.0f;
+    p = p * r2 + 1.0f / 362880.0f;
+    p = p * r2 - 1.0f / 5040.0f;
+    p = p * r2 + 1.0f / 120.0f;
+    p = p * r2 - 1.0f / 6.0f;
+    return r + r * r2 * p;
+}
+static inline float devmath_cos_kernelf(float r)
+{
+    float r2 = r * r;
+    float p = -1.0f / 3628800.0f;
+    p = p * r2 + 1.0f / 40320.0f;
+    p = p * r2 - 1.0f / 720.0f;
+    p = p * r2 + 1.0f / 24.0f;
+    return 1.0f - 0.5f * r2 + r2 * r2 * p;
+}
+/* x = q pi/2 + r, |r| <= pi/4 (three-part pi/2, Cephes's: accurate for |x| < 8192) */
+static inline float devmath_reducef(float x, int *q)
+{
+    float k = __builtin_floorf(x * 0.636619772367581343f + 0.5f);
+    const float p1 = 1.5703125f, p2 = 4.837512969970703125e-4f, p3 = 7.54978995489188216e-8f;
+    *q = (int)k & 3;
+    return ((x - k * p1) - k * p2) - k * p3;
+}
+static inline float devmath_sinf(float x)
+{
+    if (!(__builtin_fabsf(x) < 8192.0f))
+        return x != x || __builtin_fabsf(x) == __builtin_inff() ? __builtin_nanf("") : 0.0f; /* out of the supported range */
+    int q;
+    float r = devmath_reducef(x, &q);
+    switch (q) {
+    case 0: return devmath_sin_kernelf(r);
+    case 1: return devmath_cos_kernelf(r);
+    case 2: return -devmath_sin_kernelf(r);
+    default: return -devmath_cos_kernelf(r);
+    }
+}
+static inline float devmath_cosf(float x)
+{
+    if (!(__builtin_fabsf(x) < 8192.0f))
+        return x != x || __builtin_fabsf(x) == __builtin_inff() ? __builtin_nanf("") : 1.0f;
+    int q;
+    float r = devmath_reducef(x, &q);
+    switch (q) {
+    case 0: return devmath_cos_kernelf(r);
+    case 1: return -devmath_sin_kernelf(r);
+    case 2: return -devmath_cos_kernelf(r);
+    default: return devmath_sin_kernelf(r);
+    }
+}
+
+static inline float devmath_tanf(float x) { return devmath_sinf(x) / devmath_cosf(x); }
+
+/* log(1 + x) accurate near 0 (Goldberg 1991, as devmath_log1p) */
+static inline float devmath_log1pf(float x)
+{
+    float u = 1.0f + x;
+    if (u == 1.0f)
+        return x;
+    if (u == __builtin_inff())
+        return u;
+    return devmath_logf(u) * x / (u - 1.0f);
+}
+
+/* atan(t) as devmath_atan: to |t| <= tan(pi/16) by 1/t and two half-angle steps, then the
+ * series to t^9 / 9 */
+static inline float devmath_atanf(float t)
+{
+    if (t != t)
+        return t;
+    float sgn = t < 0.0f ? -1.0f : 1.0f, a = __builtin_fabsf(t), base = 0.0f, mul = 1.0f;
+    if (a > 1.0f) {
+        base = 1.57079632679489661923f;
+        mul = -1.0f;
+        a = 1.0f / a;
+    }
+    for (int i = 0; i < 2; i++)
+        a = a / (1.0f + __builtin_sqrtf(1.0f + a * a));
+    float a2 = a * a;
+    float s = 1.0f / 9.0f;
+    s = s * a2 - 1.0f / 7.0f;
+    s = s * a2 + 1.0f / 5.0f;
+    s = s * a2 - 1.0f / 3.0f;
+    float at = 4.0f * (a + a * a2 * s);
+    return sgn * (base + mul * at);
+}
+static inline float devmath_atan2f(float y, float x)
+{
+    const float pi = 3.14159265358979323846f;
+    if (x != x || y != y)
+        return x + y;
+    if (x == 0.0f && y == 0.0f)
+        return __builtin_copysignf(__builtin_signbit(x) ? pi : 0.0f, y);
+    if (__builtin_fabsf(x) >= __builtin_fabsf(y)) {
+        float a = devmath_atanf(y / x);
+        if (x > 0.0f)
+            return a;
+        return y >= 0.0f ? a + pi : a - pi;
+    }
+    return __builtin_copysignf(0.5f * pi, y) - devmath_atanf(x / y);
+}
+static inline float devmath_acosf(float x)
+{
+    if (!(x >= -1.0f && x <= 1.0f))
+        return __builtin_nanf("");
+    return devmath_atan2f(__builtin_sqrtf((1.0f - x) * (1.0f + x)), x);
+}
+static inline float devmath_cbrtf(float x)
+{
+    if (x == 0.0f || x != x || __builtin_fabsf(x) == __builtin_inff())
+        return x;
+    float a = __builtin_fabsf(x);
+    float y = devmath_expf(devmath_logf(a) / 3.0f);
+    y = y - (y * y * y - a) / (3.0f * y * y);
+    return __builtin_copysignf(y, x);
+}
+/* the next representable float after x towards y */
+static inline float devmath_nextafterf(float x, float y)
+{
+    if (x != x || y != y)
+        return x + y;
+    if (x == y)
+        return y;
+    if (x == 0.0f)
+        return __builtin_copysignf(devmath_from_bitsf(1), y);
+    uint32_t u = devmath_bitsf(x);
+    if ((y > x) == (x > 0.0f))
+        u++;
+    else
+        u--;
+    return devmath_from_bitsf(u);
 }
 
 #endif

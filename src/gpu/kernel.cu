@@ -70,6 +70,24 @@ static inline double floor(double x) { return __builtin_floor(x); }
 static inline double fmin(double a, double b) { return __builtin_fmin(a, b); }
 static inline double fmax(double a, double b) { return __builtin_fmax(a, b); }
 static inline double copysign(double a, double b) { return __builtin_copysign(a, b); }
+/* the float names, for single-precision stages (gpu/devmath.h) */
+static inline float expf(float x) { return devmath_expf(x); }
+static inline float logf(float x) { return devmath_logf(x); }
+static inline float powf(float x, float y) { return devmath_powf(x, y); }
+static inline float sinf(float x) { return devmath_sinf(x); }
+static inline float cosf(float x) { return devmath_cosf(x); }
+static inline float tanf(float x) { return devmath_tanf(x); }
+static inline float acosf(float x) { return devmath_acosf(x); }
+static inline float atan2f(float y, float x) { return devmath_atan2f(y, x); }
+static inline float cbrtf(float x) { return devmath_cbrtf(x); }
+static inline float log1pf(float x) { return devmath_log1pf(x); }
+static inline float nextafterf(float x, float y) { return devmath_nextafterf(x, y); }
+static inline float sqrtf(float x) { return __builtin_sqrtf(x); }
+static inline float fabsf(float x) { return __builtin_fabsf(x); }
+static inline float floorf(float x) { return __builtin_floorf(x); }
+static inline float fminf(float a, float b) { return __builtin_fminf(a, b); }
+static inline float fmaxf(float a, float b) { return __builtin_fmaxf(a, b); }
+static inline float copysignf(float a, float b) { return __builtin_copysignf(a, b); }
 static inline void *memcpy(void *d, const void *s, size_t n) { return __builtin_memcpy(d, s, n); }
 static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d, c, n); }
 #include "scene/scene.h"
