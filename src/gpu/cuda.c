@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "core/context.h"
 #include "core/error.h"
@@ -210,7 +211,10 @@ static gpu_device *gpu_open(const char *source, int ordinal)
 }
 
 /* ---- a job on the GPU ----------------------------------------------------------------------- */
-#define GPU_MAX_SAMPLES (1u << 22) /* samples of one launch: their values take 96 bytes each */
+#define GPU_MAX_SAMPLES (1u << 22) /* samples of one launch at most: their values take 104 bytes each */
+#define GPU_LAUNCH_SECONDS 0.1 /* a launch's length, from the last launch's time per sample: a
+                                  stop or a time budget is honoured between launches, and a
+                                  display GPU's watchdog is never reached */
 #define GPU_BLOCK 128
 #define GPU_RESIDENT 2048 /* threads a multiprocessor holds at most (compute capability 7.0 to 9.0) */
 
@@ -227,6 +231,7 @@ struct gpu_pass {
     CUdeviceptr pixels, n, sum, sq, aov, values; /* per listed pixel but values, per sample */
     CUdeviceptr counts;  /* brume_paths' counter of the samples taken, brume_reduce's of non-finite ones */
     size_t nvalues;
+    double sample_seconds; /* the last launch's seconds per sample, 0 before any */
 };
 
 static void gpu_free(gpu_pass *g)
@@ -341,30 +346,57 @@ static brume_status gpu_values(gpu_pass *g, size_t need)
     return st;
 }
 
-/* One launch of brume_paths and brume_reduce: samples from .. to - 1 of every listed pixel
- * (those below each pixel's count are skipped). */
-static brume_status gpu_launch(gpu_pass *g, uint32_t np, uint32_t to, uint32_t per)
+static double gpu_now(void)
 {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* One launch of brume_paths and brume_reduce, timed into g->sample_seconds: samples up to
+ * to - 1 of listed pixels p0 .. p0 + np - 1, per at most a pixel (those below each pixel's
+ * count are skipped). The pixel arrays are list-indexed, so the launch sees its pixels'
+ * slice of each. */
+static brume_status gpu_launch(gpu_pass *g, uint32_t p0, uint32_t np, uint32_t to, uint32_t per)
+{
+    brume_status st = gpu_values(g, (size_t)np * per * sizeof(sample_value));
+    if (st != BRUME_OK)
+        return st;
+    double t0 = gpu_now();
     CUdeviceptr scene = g->scene + g->scene_at;
     CUdeviceptr state = g->state_at == ARENA_NULL ? 0 : g->scene + g->state_at;
+    CUdeviceptr pixels = g->pixels + (CUdeviceptr)p0 * sizeof(uint32_t), n = g->n + (CUdeviceptr)p0 * sizeof(uint32_t);
+    CUdeviceptr sum = g->sum + (CUdeviceptr)p0 * JOB_SUMS * sizeof(double);
+    CUdeviceptr sq = g->squares ? g->sq + (CUdeviceptr)p0 * JOB_SQS * sizeof(double) : 0;
+    CUdeviceptr aov = g->aovs ? g->aov + (CUdeviceptr)p0 * JOB_AOVS * sizeof(double) : 0;
+    CUdeviceptr nonfinite = g->counts + sizeof(uint64_t);
     uint64_t threads = (uint64_t)np * per;
     /* as many threads as the GPU holds, each taking samples until none is left */
     uint32_t zero = 0;
     uint64_t resident = (uint64_t)g->dev->sms * GPU_RESIDENT;
     uint64_t launch = threads < resident ? threads : resident;
     CUresult r;
-    void *a1[] = {&scene, &state, &g->params, &g->pixels, &np, &g->n, &to, &per, &g->values, &g->counts};
+    void *a1[] = {&scene, &state, &g->params, &pixels, &np, &n, &to, &per, &g->values, &g->counts};
     if ((r = cu.MemcpyHtoD(g->counts, &zero, sizeof zero)) ||
         (r = cu.LaunchKernel(g->dev->paths, (unsigned)((launch + GPU_BLOCK - 1) / GPU_BLOCK), 1, 1, GPU_BLOCK, 1, 1, 0,
                              NULL, a1, NULL)))
         return gpu_fail(g, "launching the paths", r);
-    CUdeviceptr sq = g->squares ? g->sq : 0, aov = g->aovs ? g->aov : 0, nonfinite = g->counts + sizeof(uint64_t);
-    void *a2[] = {&g->params, &np, &g->n, &to, &per, &g->values, &g->sum, &sq, &aov, &nonfinite};
+    void *a2[] = {&g->params, &np, &n, &to, &per, &g->values, &sum, &sq, &aov, &nonfinite};
     if ((r = cu.LaunchKernel(g->dev->reduce, (np + GPU_BLOCK - 1) / GPU_BLOCK, 1, 1, GPU_BLOCK, 1, 1, 0, NULL, a2, NULL)))
         return gpu_fail(g, "launching the sums", r);
     if ((r = cu.CtxSynchronize()))
         return gpu_fail(g, "rendering", r);
+    g->sample_seconds = (gpu_now() - t0) / (double)threads;
     return BRUME_OK;
+}
+
+/* The samples the next launch takes: GPU_LAUNCH_SECONDS of them at the last launch's rate,
+ * or for the first launch one per thread the GPU holds; within [1, GPU_MAX_SAMPLES]. */
+static uint64_t gpu_launch_samples(const gpu_pass *g)
+{
+    double want = g->sample_seconds > 0.0 ? GPU_LAUNCH_SECONDS / g->sample_seconds
+                                          : (double)g->dev->sms * GPU_RESIDENT;
+    return want < 1.0 ? 1 : want > (double)GPU_MAX_SAMPLES ? GPU_MAX_SAMPLES : (uint64_t)want;
 }
 
 brume_status gpu_pass_render(gpu_pass *g, render_pass *p)
@@ -378,10 +410,10 @@ brume_status gpu_pass_render(gpu_pass *g, render_pass *p)
         return gpu_fail(g, "cuCtxSetCurrent", 1);
     const uint32_t target = p->target, np = (uint32_t)p->npixels;
     uint32_t n_min = target;
-    uint64_t taken = 0;
+    uint64_t before = 0, after = 0;
     for (size_t j = 0; j < p->npixels; j++) {
         n_min = p->n[j] < n_min ? p->n[j] : n_min;
-        taken += p->n[j] < target ? target - p->n[j] : 0;
+        before += p->n[j];
     }
     CUresult r;
     uint64_t zero = 0;
@@ -392,17 +424,23 @@ brume_status gpu_pass_render(gpu_pass *g, render_pass *p)
         (p->aov && (r = cu.MemcpyHtoD(g->aov, p->aov, np * sizeof *p->aov))) ||
         (r = cu.MemcpyHtoD(g->counts + sizeof(uint64_t), &zero, sizeof zero)))
         return gpu_fail(g, "uploading the image", r);
-    /* launches of at most GPU_MAX_SAMPLES samples: a few samples of every pixel each */
-    uint32_t chunk = GPU_MAX_SAMPLES / np;
-    chunk = chunk < 1 ? 1 : chunk;
-    for (uint32_t from = n_min; from < target;) {
-        uint32_t to = target - from < chunk ? target : from + chunk, per = to - from;
-        brume_status st = gpu_values(g, (size_t)np * per * sizeof(sample_value));
-        if (st == BRUME_OK)
-            st = gpu_launch(g, np, to, per);
-        if (st != BRUME_OK)
-            return st;
-        from = to;
+    /* sweeps of a few samples of every pixel, each in launches of about GPU_LAUNCH_SECONDS:
+     * all the pixels in one launch, or when one sample of each takes longer, slices of the
+     * list. Each pixel's samples are still added in their order, whatever the split; p->cut
+     * is asked after each launch, and a cut pass leaves each pixel with the samples its
+     * launches added */
+    bool cut = false;
+    for (uint32_t from = n_min; from < target && !cut;) {
+        uint64_t want = gpu_launch_samples(g);
+        uint32_t per = want / np < 1 ? 1 : want / np > target - from ? target - from : (uint32_t)(want / np);
+        uint32_t m = per > 1 || want >= np ? np : (uint32_t)want;
+        for (uint32_t p0 = 0; p0 < np && !cut; p0 += m) {
+            brume_status st = gpu_launch(g, p0, np - p0 < m ? np - p0 : m, from + per, per);
+            if (st != BRUME_OK)
+                return st;
+            cut = p->cut && p->cut(p->user);
+        }
+        from += per;
     }
     uint64_t nonfinite = 0;
     if ((r = cu.MemcpyDtoH(p->n, g->n, np * sizeof(uint32_t))) ||
@@ -411,7 +449,9 @@ brume_status gpu_pass_render(gpu_pass *g, render_pass *p)
         (p->aov && (r = cu.MemcpyDtoH(p->aov, g->aov, np * sizeof *p->aov))) ||
         (r = cu.MemcpyDtoH(&nonfinite, g->counts + sizeof(uint64_t), sizeof nonfinite)))
         return gpu_fail(g, "reading the image back", r);
-    p->taken += taken;
+    for (size_t j = 0; j < p->npixels; j++)
+        after += p->n[j];
+    p->taken += after - before;
     p->nonfinite += nonfinite;
     return BRUME_OK;
 }

@@ -33,7 +33,9 @@ brume_status gpu_pass_open(const render_pass *shape, int device, size_t max_pixe
 /* Renders pass p (render/pass.h) on g's device: samples n[j] .. target - 1 of every listed
  * pixel, added to its sums in each sample's order; p->taken and p->nonfinite are added to.
  * The pass shares the scene, state and parameters g was opened with, and has at most its
- * max_pixels pixels. A GPU pass is never cut. */
+ * max_pixels pixels. It runs in launches of about 0.1 s (from the last launch's time per
+ * sample), and p->cut is asked after each: a cut pass leaves each pixel with the samples its
+ * launches added. */
 brume_status gpu_pass_render(gpu_pass *g, render_pass *p);
 /* Frees what g keeps on the device, and g; nothing for NULL. */
 void gpu_pass_close(gpu_pass *g);

@@ -512,12 +512,31 @@ static void job_tile_timed(size_t task, int thread, void *user)
     pthread_mutex_unlock(&job->lock);
 }
 
+/* A GPU pass's stop (render_pass.cut), asked after each launch (about GPU_LAUNCH_SECONDS,
+ * gpu/cuda.c): the time budget, and the progress callback (which SIGINT answers) at most
+ * every CANCEL_POLL_SECONDS, so that either stops the GPU within a second. */
+static bool job_gpu_cut(void *user)
+{
+    brume_render_job *job = user;
+    if (job->rs.time_budget > 0.0 && job_time_is_up(job))
+        return true;
+    long long now = job_now_ns();
+    if (job->rs.progress_fn && now >= atomic_load(&job->next_poll_ns)) {
+        atomic_store(&job->next_poll_ns, now + (long long)(CANCEL_POLL_SECONDS * 1e9));
+        job_report_tile(job);
+    }
+    return atomic_load(&job->stop);
+}
+
 /* The GPU's pass (gpu_pass_render): every active pixel of the job's part below the target,
  * copied into the pass's own arrays and written back whole (job_store) when the device is
- * done, so a reader under the lock (a checkpoint, the live view) never sees half a pass. */
+ * done or cut (job_gpu_cut), so a reader under the lock (a checkpoint, the live view) never
+ * sees half a pass. */
 static brume_status job_gpu_pass(brume_render_job *job)
 {
     render_pass p = job_pass_shape(job);
+    p.cut = job_gpu_cut;
+    p.user = job;
     size_t np = 0;
     for (size_t i = 0; i < job->npix; i++)
         np += job->active[i] && job->n[i] < p.target && (job->nparts == 1 || job_in_part(job, i));

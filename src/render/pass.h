@@ -30,8 +30,8 @@ typedef struct render_pass {
     double (*sum)[JOB_SUMS];     /* per listed pixel (sample_add) */
     double (*sq)[JOB_SQS];       /* per listed pixel, or NULL without sp.squares */
     double (*aov)[JOB_AOVS];     /* per listed pixel, or NULL without sp.trace_aovs */
-    /* the CPU only: asked before each sample when set; true ends the pass there (a time
-     * budget), the pixels keeping the samples they took */
+    /* asked when set, before each sample on the CPU and after each launch on the GPU; true
+     * ends the pass there (a time budget, a stop), the pixels keeping the samples they took */
     bool (*cut)(void *user);
     void *user;
     /* out, added to by the device */
