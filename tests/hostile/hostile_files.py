@@ -18,7 +18,9 @@ Sampler "sobol" "integer pixelsamples" [ 1 ]
 Integrator "volpath" "integer maxdepth" [ 20 ]
 WorldBegin
 LightSource "distant" "point3 to" [ 0 -1 0 ] "rgb L" [ 1 1 1 ]
-MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.1 0.1 ] "rgb sigma_s" [ 1 1 1 ] "float scale" [ 1 ]
+MakeNamedMedium "fog" "string type" "uniformgrid" "integer nx" [ 2 ] "integer ny" [ 2 ] "integer nz" [ 2 ]
+  "point3 p0" [ -1 -1 -1 ] "point3 p1" [ 1 1 1 ] "float density" [ 1 1 1 1 1 1 1 1 ]
+  "rgb sigma_a" [ 0.1 0.1 0.1 ] "rgb sigma_s" [ 1 1 1 ] "float scale" [ 1 ]
 AttributeBegin
   MediumInterface "fog" ""
   Material "interface"
@@ -29,8 +31,9 @@ PBRT_NUMBERS = [('fov', '"float fov" [ 40 ]', '"float fov" [ %s ]', (0.001, 179)
                 ('xres', '"integer xresolution" [ 8 ]', '"integer xresolution" [ %s ]', (1, 65536, 'int', 4096)),
                 ('spp', '"integer pixelsamples" [ 1 ]', '"integer pixelsamples" [ %s ]', (1, 16777216, 'int', 64)),
                 ('maxdepth', '"integer maxdepth" [ 20 ]', '"integer maxdepth" [ %s ]', (1, 100000, 'int')),
-                ('scale', '"float scale" [ 1 ]', '"float scale" [ %s ]', (0, 1e12, 'either', 1e11)),
-                ('lens', '"float fov" [ 40 ]', '"float fov" [ 40 ] "float lensradius" [ %s ]', (0, 1e18 - 1e6, 'either', 1e17))]
+                # sigma_s x scale over a grid's majorant cell meets the spread limit well below 1e12
+                ('scale', '"float scale" [ 1 ]', '"float scale" [ %s ]', (0, 1e12, 'either', 1e4)),
+                ('lens', '"float fov" [ 40 ]', '"float fov" [ 40 ] "float lensradius" [ %s ]', (0, 1e18, 'either', 1e17))]
 PBRT_VALUES = ['0', '-0', '1', '-1', '0.5', '40', '1e-308', '1e308', '1e30', '1e18', '1e19', '179', '180',
                '2147483647', '2147483648', '99999999999999999999', '65537', '16777217', '100001',
                'nan', 'inf', '-inf', '1e999', '0x10', '1,5', '"40"', 'true', '']
@@ -95,7 +98,7 @@ def pbrt_cases(render_scene):
         'param_type_unknown': PBRT.replace('"float fov"', '"quaternion fov"'),
         'param_no_name': PBRT.replace('"float fov"', '"float"'),
         'medium_unknown': PBRT.replace('MediumInterface "fog"', 'MediumInterface "smog"'),
-        'medium_type_unknown': PBRT.replace('"homogeneous"', '"plasma"'),
+        'medium_type_unknown': PBRT.replace('"uniformgrid"', '"plasma"'),
         'sigma_negative': PBRT.replace('"rgb sigma_s" [ 1 1 1 ]', '"rgb sigma_s" [ -1 1 1 ]'),
         'sigma_short': PBRT.replace('"rgb sigma_s" [ 1 1 1 ]', '"rgb sigma_s" [ 1 1 ]'),
         'nul_byte': PBRT.replace('WorldBegin', 'World\x00Begin'),

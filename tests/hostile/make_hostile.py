@@ -14,7 +14,7 @@
 #   serve   an HTTP request to --serve: an answer (or a closed connection), the server still
 #           serving, then POST /stop ends it with the image written
 # Placeholders in a command: {C} this folder, {R} the repository, {T} the case's scratch folder.
-import json, os, shutil, sys
+import json, os, re, shutil, sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -94,9 +94,11 @@ def also(judge, bad):
     return lambda v: 'refuse' if bad(v) else judge(v)
 
 
-def set_path(s, path, value):
+def set_path(s, path, value, label=None):
     if path[:2] == ['camera', 'up']:
         s['camera'].setdefault('up', [0, 1, 0])
+    if label in PREP:
+        set_path(s, *PREP[label])
     o = s
     for k in path[:-1]:
         o = o[k]
@@ -112,11 +114,11 @@ def slow_above(judge, limit):
 FIELDS = [
     ('fov', ['camera', 'fov'], rng(0.001, 179)),
     ('pos_x', ['camera', 'position', 0], rng(-1e18, 1e18)),
-    ('pos_z', ['camera', 'position', 2], also(rng(-1e18, 1e18), lambda v: v == 0)),
+    ('pos_z', ['camera', 'position', 2], also(rng(-1e18, 1e18, either_below=1e-30), lambda v: v == 0)),
     ('look_x', ['camera', 'look_at', 0], rng(-1e30, 1e30)),
     ('up_y', ['camera', 'up', 1], also(rng(-1e30, 1e30, either_below=1e-30), lambda v: v == 0)),
-    ('aperture', ['camera', 'aperture_radius'], rng(0, 1e18 - 1e6, either_above=1e17)),
-    ('focus', ['camera', 'focus_distance'], rng(0, 1e30, lo_open=True)),
+    ('aperture', ['camera', 'aperture_radius'], rng(0, 1e18, either_above=1e17)),
+    ('focus', ['camera', 'focus_distance'], rng(1e-9, 1e30)),
     ('irradiance', ['lights', 0, 'irradiance'], rng(0, float('inf'), either_above=1e12)),
     ('sun_radius', ['lights', 0, 'angular_radius'], also(rng(0, 90, either_above=89.99), lambda v: v > 90)),
     ('light_dir_y', ['lights', 0, 'direction', 1], also(rng(-1e308, 1e308, either_above=1e30, either_below=1e-30), lambda v: v == 0)),
@@ -129,14 +131,22 @@ FIELDS = [
     ('seed', ['render', 'seed'], rng(0, 2 ** 64 - 1, integer=True, either_above=2 ** 53)),
     ('threads', ['render', 'threads'], slow_above(rng(0, 1024, integer=True), 64)),
     ('max_depth', ['render', 'max_depth'], rng(1, 100000, integer=True)),
-    ('fps', ['render', 'fps'], rng(0, float('inf'), lo_open=True)),
-    ('time_budget', ['render', 'time'], slow_above(rng(0, 1e9), 2)),
+    ('fps', ['render', 'fps'], rng(1e-6, 1e6)),
+    # a budget shorter than the first sample is refused (never a 0-sample image): below 0.1 s either
+    ('time_budget', ['render', 'time'], slow_above(rng(0, 1e9, either_below=0.1), 2)),
     ('max_memory', ['render', 'max_memory_mb'], rng(1, 1e9)),
     ('max_work', ['render', 'max_work'], rng(1, 1e18)),
     ('sun_lobe', ['path', 'sun_lobe'], rng(0, 100)),
     ('sun_roulette', ['path', 'sun_roulette'], rng(0, 1)),
     ('split', ['path', 'split'], rng(1, 8, integer=True)),
+    # a chromatic medium: one channel extreme, the others 1 (the colour-channel spread limit: either above 1e4)
+    ('sigma_s_red', ['media', 0, 'sigma_s', 0], rng(0, 1e12, either_above=1e4)),
+    ('sigma_a_blue', ['media', 0, 'sigma_a', 2], rng(0, 1e12, either_above=1e4)),
+    ('irradiance_green', ['lights', 0, 'irradiance', 1], rng(0, float('inf'), either_above=1e12)),
+    ('background_red', ['background', 0], rng(0, float('inf'), either_above=1e12)),
 ]
+PREP = {'sigma_s_red': (['media', 0, 'sigma_s'], [1, 1, 1]), 'sigma_a_blue': (['media', 0, 'sigma_a'], [0.1, 0.1, 0.1]),
+        'irradiance_green': (['lights', 0, 'irradiance'], [1, 1, 1]), 'background_red': (['background'], [0.1, 0.1, 0.1])}
 
 
 def field_cases():
@@ -146,19 +156,21 @@ def field_cases():
             s = base()
             if path[0] == 'path':
                 s['path'] = {}
-            set_path(s, path, v)
+            set_path(s, path, v, label)
             render_scene('num_%s_%02d' % (label, i), 'scene', expect, json.dumps(s), note='%s = %r' % ('.'.join(map(str, path)), v))
         for i, v in enumerate(WRONG_TYPES):
             s = base()
             if path[0] == 'path':
                 s['path'] = {}
-            set_path(s, path, v)
-            render_scene('type_%s_%02d' % (label, i), 'scene', 'refuse', json.dumps(s), note='%s = %r' % ('.'.join(map(str, path)), v))
+            set_path(s, path, v, label)
+            color = label in ('irradiance', 'sigma_a', 'sigma_s') and v == [1, 2, 3]  # a colour: valid
+            render_scene('type_%s_%02d' % (label, i), 'scene', 'image' if color else 'refuse', json.dumps(s),
+                         note='%s = %r' % ('.'.join(map(str, path)), v))
         for i, tok in enumerate(RAW_TOKENS):
             s = base()
             if path[0] == 'path':
                 s['path'] = {}
-            set_path(s, path, '@@TOKEN@@')
+            set_path(s, path, '@@TOKEN@@', label)
             text = json.dumps(s).replace('"@@TOKEN@@"', tok)
             render_scene('token_%s_%02d' % (label, i), 'scene', 'refuse', text, note='%s = %s (not JSON)' % ('.'.join(map(str, path)), tok))
 
@@ -168,8 +180,8 @@ def structure_cases():
     b = json.dumps(base())
     for key in ('camera', 'lights', 'media', 'render'):
         for i, v in enumerate(WRONG_TYPES):
-            if key in ('lights', 'media') and v == []:
-                continue  # no lights, no media: a valid (black) scene
+            if (key in ('lights', 'media') and v == []) or (key == 'render' and v == {}):
+                continue  # no lights, no media, render's defaults: valid scenes (below)
             s = base()
             s[key] = v
             render_scene('object_%s_%02d' % (key, i), 'scene', 'refuse', json.dumps(s), note='%s = %r' % (key, v))
@@ -193,7 +205,6 @@ def structure_cases():
         'number_document': '1',
         'string_document': '"scene"',
         'whitespace_only': '   \n\t  ',
-        'long_string_value': b[:-1] + ', "comment": "' + 'x' * 20000 + '"}',
         'key_control_chars': b[:-1] + ', "\\u001b[2J\\u0007": 1}',
         'media_17': json.dumps(dict(base(), media=base()['media'] * 17)),
     }
@@ -205,9 +216,11 @@ def structure_cases():
         'comment_everywhere': dict(base(), comment='x', camera=dict(base()['camera'], comment=[1, {"a": None}])),
         'lights_64': dict(base(), lights=base()['lights'] * 64),
         'media_16': dict(base(), media=base()['media'] * 16),
+        'long_comment': dict(base(), comment='x' * 20000),
     }
     for name, s in ok.items():
         render_scene('struct_' + name, 'scene', 'image', json.dumps(s))
+    render_scene('struct_render_defaults', 'scene', 'slow', json.dumps(dict(base(), render={})))  # 640 x 480, 16 spp
 
 
 def truncation_cases():
@@ -225,6 +238,22 @@ def truncation_cases():
             render_scene('trunc_%s_%05d' % (fn[:-5].replace('-', '_'), c), 'scene', 'refuse', cut, folder='truncated')
 
 
+# Known defects: cases that fail today, with the reason and who fixes them. replay.py lists them
+# apart while they fail and fails once one passes, so that its mark is removed here.
+KNOWN = {
+    r'pbrt_cut_0(286|308|524|555|577|677|686)': 'H3: a .pbrt cut inside a string or a bracket is read as whole (pbrt_tokens.c '
+                                                'structure checks)',
+    r'pbrt_camera_in_world': 'H3: Camera after WorldBegin is accepted (the block of each directive)',
+    r'pbrt_world_twice': 'H3: WorldBegin twice is accepted (the block of each directive)',
+    r'pbrt_[a-z]+_23': 'H3: .pbrt numbers take hexadecimal (0x10)',
+    r'pbrt_[a-z]+_26': 'H3: .pbrt takes true for a float parameter',
+    r'pbrt_(lens|scale)_06': 'H3: .pbrt refuses 1e-308 (an underflow) as not a number',
+    r'pbrt_lens_03': 'H5: a negative lensradius from .pbrt is accepted (pbrt_camera.c)',
+    r'mesh_ply_(04|07|09|cut_177)': 'assimp takes a PLY face longer than its indices, format 2.0, bytes after the header and a '
+                                    'cut last face; brume checks only end_header and property types before it',
+}
+
+
 def main():
     for d in ('scenes', 'truncated', 'pbrt', 'grids', 'meshes', 'images', 'checkpoints', 'http', 'cli'):
         shutil.rmtree(os.path.join(HERE, d), ignore_errors=True)
@@ -240,6 +269,11 @@ def main():
     hostile_runs.cli_cases(case, write, base)
     hostile_runs.http_cases(case, write)
     hostile_runs.signal_cases(case, write, base)
+    hostile_runs.special_cases(case, write, base)
+    for name, cls, expect, args, extra in CASES:
+        for pattern, reason in KNOWN.items():
+            if re.fullmatch(pattern, name):
+                extra['known'] = reason
     for fn, cases, what in (('MANIFEST.tsv', CASES, 'replay.py (ctest hostile.corpus)'), ('SLOW.tsv', SLOW, 'bench/hostile_slow.sh')):
         with open(os.path.join(HERE, fn), 'w') as f:
             f.write('# %s - written by make_hostile.py (edit that, then rerun it); replayed by %s.\n' % (fn, what))
