@@ -249,8 +249,8 @@ KNOWN = {
     r'pbrt_[a-z]+_26': 'H3: .pbrt takes true for a float parameter',
     r'pbrt_(lens|scale)_06': 'H3: .pbrt refuses 1e-308 (an underflow) as not a number',
     r'pbrt_lens_03': 'H5: a negative lensradius from .pbrt is accepted (pbrt_camera.c)',
-    r'mesh_ply_(04|07|09|cut_177)': 'assimp takes a PLY face longer than its indices, format 2.0, bytes after the header and a '
-                                    'cut last face; brume checks only end_header and property types before it',
+    r'mesh_ply_(04|cut_177)': 'assimp takes an ASCII PLY face whose count exceeds its indices (the last face cut, or a '
+                              'count of 255): brume checks the header, not the text body, before it',
 }
 
 
