@@ -50,9 +50,7 @@ brume_status json_check_object(const cJSON *j, jloc at, const char *const *allow
     return BRUME_OK;
 }
 
-/* The first number of text, outside strings, that JSON's grammar refuses and cJSON would take
- * ("01", "1.", "1.e5": -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?); NULL when there is none. */
-static const char *bad_number(const char *text)
+const char *json_bad_number(const char *text)
 {
     bool in_string = false;
     for (const char *p = text; *p; p++) {
@@ -95,7 +93,7 @@ brume_status json_parse(const char *text, const char *file, cJSON **out)
 {
     const char *end = NULL;
     *out = cJSON_ParseWithOpts(text, &end, 1);
-    if (*out && (end = bad_number(text)) != NULL) {
+    if (*out && (end = json_bad_number(text)) != NULL) {
         cJSON_Delete(*out);
         *out = NULL;
     }

@@ -216,7 +216,8 @@ def cli_cases(case, write, base):
             ('media.-1.sigma_s=1', 'refuse'), ('media.0.sigma_s=[1,1,1]', 'image'), ('media.0.sigma_s=[1,1', 'refuse'),
             ('media.0.sigma_s=NaN', 'refuse'), ('media.0.sigma_s=1e999', 'refuse'), ('camera=null', 'refuse'), ('camera.fov={"a":1}', 'refuse'),
             ('render.width=8 ', 'either'), ('render.spp=0x4', 'refuse'), ('nokey=1', 'refuse'), ('render.spp=1e400', 'refuse'),
-            ('camera.fov=' + '[' * 5000, 'refuse'), ('media.0.density.value=-0', 'image'), ('render.spp=4=5', 'refuse')]
+            ('camera.fov=' + '[' * 5000, 'refuse'), ('media.0.density.value=-0', 'image'), ('render.spp=4=5', 'refuse'),
+            ('render.spp=01', 'refuse'), ('render.spp=1.', 'refuse'), ('camera.position=[0,0,04]', 'refuse'), ('render.spp=1e0', 'image')]
     for i, (kv, e) in enumerate(sets):
         case('cli_set_%02d' % i, 'cli', e, ['render', scene, '--set', kv, '-o', '{T}/out.png', '--quiet'], note='--set ' + kv[:60])
     victims = {'scene.json': 'cli/scene.json', 'notes.png': 'cli/scene.json', 'notes2-raw.png': 'cli/scene.json', 'ref.pfm': 'images/ref.pfm', 'a.exr': 'images/ref.exr',
