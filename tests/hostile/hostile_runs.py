@@ -60,6 +60,8 @@ def image_cases(case, write, render_scene, base):
         p = write('images/pfm_pixel_%02d.pfm' % i, pfm(4, 4, [0.5] * 47 + [v]))
         case('image_compare_pfm_pixel_%02d' % i, 'image', e, ['compare', p, ref, '--boot', '0'], note='pixel %r' % v)
         case('image_compare_pfm_ref_pixel_%02d' % i, 'image', e, ['compare', ref, p, '--boot', '0'], note='reference pixel %r' % v)
+        m = write('images/mask_pixel_%02d.pfm' % i, pfm(4, 4, [1.0] * 47 + [v]))
+        case('image_compare_mask_pixel_%02d' % i, 'image', e, ['compare', ref, ref, '--boot', '0', '--mask', m], note='mask pixel %r' % v)
         x = write('images/exr_pixel_%02d.exr' % i, exr(4, 4, RGBA, lambda c, x, y, v=v: v if (c, x, y) == ('G', 3, 3) else 0.5))
         case('image_compare_exr_pixel_%02d' % i, 'image', e, ['compare', x, ref, '--boot', '0'], note='pixel %r' % v)
         s = base()
