@@ -75,8 +75,8 @@ def pbrt_cases(render_scene):
             depth += 1
         elif ch == ']' and not quote:
             depth -= 1
-        if (quote or depth > 0) and i > 0:
-            inside.append(i)
+        if quote or depth > 0:
+            inside.append(i + 1)  # PBRT[:i + 1] ends inside the string or the bracket
     for c in inside[::9]:
         render_scene('pbrt_cut_%04d' % c, 'pbrt', 'refuse', PBRT[:c], ext='pbrt', folder='pbrt')
     bad = {

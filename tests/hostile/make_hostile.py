@@ -241,10 +241,6 @@ def truncation_cases():
 # Known defects: cases that fail today, with the reason and who fixes them. replay.py lists them
 # apart while they fail and fails once one passes, so that its mark is removed here.
 KNOWN = {
-    r'pbrt_cut_0(286|308|524|555|577|677|686)': 'H3: a .pbrt cut inside a string or a bracket is read as whole (pbrt_tokens.c '
-                                                'structure checks)',
-    r'pbrt_camera_in_world': 'H3: Camera after WorldBegin is accepted (the block of each directive)',
-    r'pbrt_world_twice': 'H3: WorldBegin twice is accepted (the block of each directive)',
     r'pbrt_[a-z]+_23': 'H3: .pbrt numbers take hexadecimal (0x10)',
     r'pbrt_[a-z]+_26': 'H3: .pbrt takes true for a float parameter',
     r'pbrt_(lens|scale)_06': 'H3: .pbrt refuses 1e-308 (an underflow) as not a number',
