@@ -99,12 +99,26 @@ bool arg_u64(const char *flag, const char *text, uint64_t *out)
     return true;
 }
 
+/* A decimal number as written by hand ("2", "-0.5", ".5", "1e3"): strtod alone would also take
+ * " 4", "+4" and "0x10". */
+static bool decimal_text(const char *text)
+{
+    if (!((text[0] >= '0' && text[0] <= '9') || text[0] == '-' || text[0] == '.'))
+        return false;
+    for (const char *q = text; *q; q++) {
+        bool sign_after_e = (*q == '+' || *q == '-') && q > text && (q[-1] == 'e' || q[-1] == 'E');
+        if (!((*q >= '0' && *q <= '9') || *q == '.' || *q == 'e' || *q == 'E' || sign_after_e || (*q == '-' && q == text)))
+            return false;
+    }
+    return true;
+}
+
 bool arg_double(const char *flag, const char *text, double lo, double hi, double *out)
 {
     char *end = NULL;
     errno = 0;
-    double v = strtod(text, &end);
-    if (errno || end == text || *end || !isfinite(v) || v < lo || v > hi) {
+    double v = decimal_text(text) ? strtod(text, &end) : 0.0;
+    if (!end || errno || end == text || *end || !isfinite(v) || v < lo || v > hi) {
         cli_error("%s: expected a number in [%g, %g], got '%s'", flag, lo, hi, text);
         return false;
     }

@@ -4,6 +4,7 @@
 #include "cli_job.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -160,16 +161,26 @@ int cli_prepare_folder(const char *flag, const char *path, bool make)
         if (!keep)
             break;
     }
-    /* a file can be made there (write permission, a writable file system) */
+    /* a file can be made there (write permission, a writable file system); a signal that
+     * ends brume waits until the probe is gone, which it would otherwise leave behind */
     char probe[4200];
     snprintf(probe, sizeof probe, "%s/.brume-probe-XXXXXX", dir);
-    int fd = mkstemp(probe);
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &block, &old);
+    int fd = mkstemp(probe), err = errno;
+    if (fd >= 0) {
+        close(fd);
+        unlink(probe);
+    }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
     if (fd < 0) {
-        cli_error("%s: '%s': cannot write in the folder '%s': %s", flag, path, dir, strerror(errno));
+        cli_error("%s: '%s': cannot write in the folder '%s': %s", flag, path, dir, strerror(err));
         return 1;
     }
-    close(fd);
-    unlink(probe);
     return 0;
 }
 

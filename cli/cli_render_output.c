@@ -331,6 +331,10 @@ static void print_stats(brume_context *ctx, const brume_scene *scene, const char
 /* --print-scene: the scene description the loader reads, on stdout. */
 int render_print_scene(const render_opts *o)
 {
+    if (o->nsets > 0) { /* brume_scene_text shows the file before the overrides: never a --set dropped silently */
+        cli_error("--print-scene prints the scene as the file gives it, before --set: leave --set out");
+        return 2;
+    }
     brume_context *ctx = brume_context_new();
     if (!ctx) {
         cli_error("out of memory");

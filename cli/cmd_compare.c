@@ -284,7 +284,8 @@ int cmd_compare(int argc, char **argv)
     }
     /* light is finite and >= 0: a NaN or a negative value would make every figure meaningless */
     if ((img && brume_image_check_values(ctx, img, o.paths[0], false) != BRUME_OK) ||
-        brume_image_check_values(ctx, ref, ref_path, false) != BRUME_OK) {
+        brume_image_check_values(ctx, ref, ref_path, false) != BRUME_OK ||
+        (mpic && brume_image_check_values(ctx, mpic, mask_path, false) != BRUME_OK)) { /* a NaN mask picks nothing */
         cli_error("%.1000s", brume_context_last_error(ctx));
         goto done;
     }

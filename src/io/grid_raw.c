@@ -18,6 +18,14 @@ static box3 centred_box(const int n[3])
     return (box3){v3_neg(h), h};
 }
 
+/* True when s holds nothing but white space: a line's numbers are all of it. */
+static bool only_space(const char *s)
+{
+    while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')
+        s++;
+    return *s == '\0';
+}
+
 /* grid_raw_sidecar in the "C" locale (its sscanf calls read "0.5" in every locale). */
 static int sidecar_read(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
 {
@@ -35,6 +43,12 @@ static int sidecar_read(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
     box3 b;
     while (fgets(line, sizeof line, f)) {
         lineno++;
+        size_t len = strlen(line);
+        if (len + 1 < sizeof line && line[len - (len > 0)] != '\n' && !feof(f)) { /* fgets stopped at a NUL byte */
+            fclose(f);
+            err_set(BRUME_ERROR_PARSE, "%s:%d: a NUL byte in a text file", hdr, lineno);
+            return -1;
+        }
         char *hash = strchr(line, '#');
         if (hash)
             *hash = '\0';
@@ -43,10 +57,12 @@ static int sidecar_read(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
         if (sscanf(line, "%31s%n", key, &used) != 1)
             continue;
         const char *rest = line + used;
-        if (strcmp(key, "dims") == 0 && sscanf(rest, "%d %d %d", &n[0], &n[1], &n[2]) == 3) {
+        int end = 0;
+        if (strcmp(key, "dims") == 0 && !got_dims && sscanf(rest, "%d %d %d%n", &n[0], &n[1], &n[2], &end) == 3 &&
+            only_space(rest + end)) {
             got_dims = 1;
-        } else if (strcmp(key, "bounds") == 0 && sscanf(rest, "%lf %lf %lf %lf %lf %lf", &b.lo.x, &b.lo.y, &b.lo.z,
-                                                          &b.hi.x, &b.hi.y, &b.hi.z) == 6) {
+        } else if (strcmp(key, "bounds") == 0 && sscanf(rest, "%lf %lf %lf %lf %lf %lf%n", &b.lo.x, &b.lo.y, &b.lo.z,
+                                                          &b.hi.x, &b.hi.y, &b.hi.z, &end) == 6 && only_space(rest + end)) {
             if (!v3_isfinite(b.lo) || !v3_isfinite(b.hi) || !(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z)) {
                 fclose(f);
                 err_set(BRUME_ERROR_RANGE, "%s:%d: bounds need finite min < max on every axis (a mirrored grid "
@@ -72,7 +88,8 @@ static int sidecar_read(const char *path, int n[3], bool *has_v2w, affine3 *v2w)
             *has_v2w = true;
         } else {
             fclose(f);
-            err_set(BRUME_ERROR_PARSE, "%s:%d: expected dims, bounds or voxel_to_world", hdr, lineno);
+            err_set(BRUME_ERROR_PARSE, "%s:%d: expected dims, bounds or voxel_to_world, each once with its "
+                    "numbers alone (dims NX NY NZ, bounds X0 Y0 Z0 X1 Y1 Z1)", hdr, lineno);
             return -1;
         }
     }

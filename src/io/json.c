@@ -2,6 +2,7 @@
 #include "io/json.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -49,10 +50,53 @@ brume_status json_check_object(const cJSON *j, jloc at, const char *const *allow
     return BRUME_OK;
 }
 
+const char *json_bad_number(const char *text)
+{
+    bool in_string = false;
+    for (const char *p = text; *p; p++) {
+        if (in_string) {
+            if (*p == '\\' && p[1])
+                p++;
+            else if (*p == '"')
+                in_string = false;
+            continue;
+        }
+        if (*p == '"') {
+            in_string = true;
+            continue;
+        }
+        if (*p != '-' && (*p < '0' || *p > '9'))
+            continue;
+        const char *q = p + (*p == '-');
+        if (*q == '0' && q[1] >= '0' && q[1] <= '9')
+            return p;
+        while (*q >= '0' && *q <= '9')
+            q++;
+        if (*q == '.' && !(q[1] >= '0' && q[1] <= '9'))
+            return p;
+        if (*q == '.')
+            for (q++; *q >= '0' && *q <= '9'; q++) {
+            }
+        if (*q == 'e' || *q == 'E') {
+            q += (q[1] == '+' || q[1] == '-') ? 2 : 1;
+            if (!(*q >= '0' && *q <= '9'))
+                return p;
+            while (*q >= '0' && *q <= '9')
+                q++;
+        }
+        p = q - 1;
+    }
+    return NULL;
+}
+
 brume_status json_parse(const char *text, const char *file, cJSON **out)
 {
     const char *end = NULL;
     *out = cJSON_ParseWithOpts(text, &end, 1);
+    if (*out && (end = json_bad_number(text)) != NULL) {
+        cJSON_Delete(*out);
+        *out = NULL;
+    }
     if (*out)
         return BRUME_OK;
     int line = 1, colno = 1;

@@ -28,6 +28,10 @@ const char *json_key_path(char *buf, size_t n, const char *path, const char *key
 brume_status json_check_object(const cJSON *j, jloc at, const char *const *allowed);
 /* Parses text; on a syntax error names the file, line and column. Caller cJSON_Delete()s. */
 brume_status json_parse(const char *text, const char *file, cJSON **out);
+/* The first number of a text cJSON has parsed, outside strings, that JSON's grammar refuses and
+ * cJSON takes ("01", "1.", "1.e5": -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?); NULL when
+ * there is none. */
+const char *json_bad_number(const char *text);
 
 /* j must be an object with a string "type" (a light, a density, a phase function, ...),
  * copied into type[n]. */

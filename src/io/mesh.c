@@ -81,8 +81,13 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
     for (int n = 0; n < 10000 && fgets(line, sizeof line, f); n++) {
         char a[64], b[64], c[64];
         double v = 0.0;
-        if (sscanf(line, "format %63s", a) == 1) {
+        if (sscanf(line, "format %63s %63s", a, b) >= 1) {
             binary = strncmp(a, "binary", 6) == 0;
+            bool known = strcmp(a, "ascii") == 0 || strcmp(a, "binary_little_endian") == 0 ||
+                         strcmp(a, "binary_big_endian") == 0;
+            if (!known || sscanf(line, "format %*s %63s %63s", b, c) != 1 || strcmp(b, "1.0") != 0)
+                return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: expected format ascii, "
+                               "binary_little_endian or binary_big_endian, version 1.0", path, n + 2);
         } else if (sscanf(line, "element %63s %lf", a, &v) == 2) {
             need += count * elem;
             count = v;
@@ -102,6 +107,9 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
             if (binary && !(need <= (double)body))
                 return err_set(BRUME_ERROR_PARSE, "%s: truncated: the PLY header announces at least %.0f bytes, the "
                                "file holds %ld", path, need, body);
+            for (int ch; !binary && (ch = fgetc(f)) != EOF;)
+                if (ch == '\0') /* assimp skips them: a text body holds none */
+                    return err_set(BRUME_ERROR_PARSE, "%s: a NUL byte in the text of a PLY file", path);
             return BRUME_OK;
         }
     }

@@ -52,7 +52,9 @@ bool method_option_number(const char *text, double lo, double hi, double *out)
     char *end = NULL;
     errno = 0;
     double v = num_strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi)
+    /* ERANGE with a small result is an underflow (1e-308, 5e-324): the number is still in range */
+    bool underflow = errno == ERANGE && fabs(v) < 1.0;
+    if (end == text || *end != '\0' || (errno != 0 && !underflow) || !isfinite(v) || v < lo || v > hi)
         return false;
     *out = v;
     return true;

@@ -49,15 +49,20 @@ static brume_status parse_object(const cJSON *obj, jloc top, const method_option
         char key[256], text[OPTION_TEXT_MAX], path[OPTION_TEXT_MAX];
         snprintf(key, sizeof key, "%s.%s", prefix, it->string);
         brume_status st;
-        if (cJSON_IsObject(it)) {
+        const method_option *o = method_option_find(def, key);
+        /* an object is a group of options ("voxelize"): never an option's value, never empty */
+        if (cJSON_IsObject(it) && !o && it->child) {
             if ((st = parse_object(it, top, def, key, s)))
                 return st;
             continue;
         }
-        if (!value_text(it, text, sizeof text))
-            return err_set(BRUME_ERROR_PARSE, "%s: %s: expected a number, a string, true, false or an array of numbers",
-                           top.file, key);
-        const method_option *o = method_option_find(def, key);
+        /* a number is written as a JSON number: the text "1" is not one */
+        bool numeric = o && (o->kind == OPTION_NUMBER || o->kind == OPTION_INTEGER || o->kind == OPTION_COLOR ||
+                             o->kind == OPTION_BOOL);
+        if (!value_text(it, text, sizeof text) || (numeric && cJSON_IsString(it)))
+            return err_set(BRUME_ERROR_PARSE, "%s: %s: expected %s", top.file, key,
+                           numeric ? (o->kind == OPTION_BOOL ? "true or false" : "a number or an array of numbers")
+                                   : "a number, a string, true, false or an array of numbers");
         if (o && o->kind == OPTION_PATH && cJSON_IsString(it)) {
             if (!(o->flags & OPTION_WRITES))
                 json_resolve_path(top.file, text, path, sizeof path);

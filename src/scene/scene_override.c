@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "io/json.h"
 
 #define OVERRIDE_KEY_MAX 256
 #define OVERRIDE_DEPTH_MAX 32
@@ -96,6 +97,10 @@ static brume_status apply_one(cJSON *root, const char *source, const char *text)
         return err_set(BRUME_ERROR_PARSE, "%s: override '%s': bad key path (use a.b.0.c or a.b[0].c)", source, text);
     const char *vtext = eq + 1;
     cJSON *value = cJSON_ParseWithOpts(vtext, NULL, true); /* the whole text, not a prefix of it */
+    if (value && json_bad_number(vtext)) { /* "01", "1.": what JSON refuses, cJSON takes */
+        cJSON_Delete(value);
+        value = NULL;
+    }
     size_t lead = strspn(vtext, " \t\r\n");
     if (!value && vtext[lead] && strchr("-+.0123456789[{\"", vtext[lead]))
         return err_set(BRUME_ERROR_PARSE, "%s: override %.*s: '%s' is not one whole JSON value (a number, array, "
