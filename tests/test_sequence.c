@@ -17,16 +17,8 @@
 #include "test.h"
 
 /* The frames' format: .vdb, read through the sandboxed OpenVDB reader (the read-ahead's
- * cancel kills that child). Under ASan that child intermittently gives no answer within its
- * 45 s (a blocked child, 0.7 s of CPU: the sandbox forks without exec, and GCC 12's
- * libasan takes no lock around a fork, so a thread in its allocator at the fork can leave
- * the child blocked); as in test_production.c, the frames are then .nvdb, read in-process
- * (the sandbox keeps its own ASan tests, sparse.*). */
-#if defined(__SANITIZE_ADDRESS__)
-#define EXT ".nvdb"
-#else
+ * cancel kills that child), under the sanitizers too. */
 #define EXT ".vdb"
-#endif
 
 /* Frames 1..n of a cloud moving along x (file k spans x in [k, k + 1]) in a fresh folder,
  * with the scene s.json reading smoke_####.vdb (frame f reads file f + 1); the folder. */

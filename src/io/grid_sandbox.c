@@ -174,8 +174,11 @@ static brume_status spawn_child(const sandbox_job *j, int answer, double cpu, si
                                 pid_t *pid)
 {
     char exe[PATH_MAX + 64];
-    if (vdb_path_reader(exe, sizeof exe) != BRUME_OK)
-        return err_set(err_status(), "%s: %.3000s", j->name, err_message());
+    if (vdb_path_reader(exe, sizeof exe) != BRUME_OK) {
+        char why[3000]; /* err_set writes over err_message()'s buffer */
+        snprintf(why, sizeof why, "%s", err_message());
+        return err_set(err_status(), "%s: %s", j->name, why);
+    }
     char kind[8], vec3[8], cpu_s[40], mem_s[40], size_s[40];
     snprintf(kind, sizeof kind, "%d", j->kind);
     snprintf(vec3, sizeof vec3, "%d", j->vec3);
