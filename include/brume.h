@@ -403,6 +403,7 @@ brume_status brume_scene_set_settings(brume_context *ctx, brume_scene *scene, co
  *   blasi.exit_deposit         one of paper, none
  *   blasi.view_attenuation     one of absorption, extinction
  *   blasi.gather               one of path_length, printed
+ *   blasi.interpolate          one of trilinear, voxel
  *   blasi.variant              one of paper, physical
  *   blasi.voxels               0 or an integer in [2, 2048]
  *   blasi.save_light           a file name

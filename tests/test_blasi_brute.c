@@ -1,6 +1,8 @@
-/* test_blasi_brute.c - blasi's passes against brute force on the cloud of blasi_scenes.h:
- * the transmittance behind a pixel's alpha and the view pass's radiance against
- * references stepped through the grid, and the printed gather two thirds along an axis. */
+/* test_blasi_brute.c - blasi's passes against brute force on the cloud of blasi_scenes.h,
+ * read constant per voxel (blasi.interpolate = voxel; the trilinear field's:
+ * test_blasi_interp.c): the transmittance behind a pixel's alpha and the view pass's
+ * radiance against references stepped through the grid, and the printed gather two thirds
+ * along an axis. */
 #include "test.h"
 
 #include "brume.h"
@@ -48,6 +50,7 @@ static void check_transmittance(const char *json, const char *what)
     brume_context *ctx = brume_context_new();
     ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "1000"), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.interpolate", "voxel"), BRUME_OK);
     density_info info;
     blasi_state *st = commit_and_prepare(ctx, s, &info);
     const medium *md = &s->media[0];
@@ -126,6 +129,7 @@ static void check_view_radiance(const char *json, const char *variant, const cha
     brume_context *ctx = brume_context_new();
     ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "20000"), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.interpolate", "voxel"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.variant", variant), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.threshold", "1e-12"), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.save_light", path), BRUME_OK);
@@ -233,6 +237,7 @@ TEST(printed_gather_is_two_thirds_along_an_axis)
         ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = "<test>", .text = json}, NULL, &s), BRUME_OK);
         ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.light_rays", "20000"), BRUME_OK);
         ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.gather", k ? "printed" : "path_length"), BRUME_OK);
+        ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.interpolate", "voxel"), BRUME_OK);
         density_info info;
         blasi_state *st = commit_and_prepare(ctx, s, &info);
         rng g = rng_make(3, 0, 0);

@@ -301,7 +301,7 @@ TEST(messages_are_unchanged)
         {"blasi.exit_deposit", "sometimes", "blasi.exit_deposit: 'sometimes' is not one of paper, none"},
         {"blasi.gather", "x", "blasi.gather: 'x' is not one of path_length, printed"},
         {"blasi.rays", "2", "blasi.rays: unknown key (known here: light_rays, r, kprime, step, threshold, sources, "
-                            "exit_deposit, view_attenuation, gather, variant, voxels, save_light, load_light)"},
+                            "exit_deposit, view_attenuation, gather, interpolate, variant, voxels, save_light, load_light)"},
         {"stam.lattice", "1", "stam.lattice: '1' is not 0 (automatic) or an integer in [2, 512]"},
         {"stam.voxelize.resolution", "1", "stam.voxelize.resolution: '1' is not an integer in [2, 2048] (0 = off)"},
         {"stam.ambient", "1,2", "stam.ambient: '1,2' is not a radiance >= 0 (v or r,g,b)"},

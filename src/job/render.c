@@ -23,6 +23,7 @@
 #include "render/pass.h"
 #include "render/watch.h"
 #include "gpu/cuda.h"
+#include "job/eta.h"
 #include "job/render_impl.h"
 
 #define TILE JOB_TILE
@@ -197,34 +198,6 @@ double job_pixel_error(const brume_render_job *job, size_t i)
     return sqrt(var / n) / fmax(mean, NOISE_FLOOR);
 }
 
-bool job_in_part(const brume_render_job *job, size_t i)
-{
-    size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
-    size_t tile = (y / TILE) * (size_t)job->tiles_x + x / TILE;
-    return tile % (size_t)job->nparts == (size_t)job->part;
-}
-
-/* The mean cost per sample of the tiles whose cost is known, 0 if none: the cost of a tile
- * that has not been measured yet. */
-static double mean_tile_cost(const brume_render_job *job)
-{
-    double sum = 0.0;
-    size_t known = 0;
-    for (size_t t = 0; t < job->ntiles; t++)
-        if (job->tile_cost[t] > 0.0) {
-            sum += job->tile_cost[t];
-            known++;
-        }
-    return known ? sum / (double)known : 0.0;
-}
-
-/* The tile of the job's part that holds pixel i (job_in_part(job, i)). */
-static size_t pixel_task(const brume_render_job *job, size_t i)
-{
-    size_t x = i % (size_t)job->rs.width, y = i / (size_t)job->rs.width;
-    return ((y / TILE) * (size_t)job->tiles_x + x / TILE) / (size_t)job->nparts;
-}
-
 /* Under job->lock (or before any pass): done, total, noise and the cost of the samples left
  * from the per-pixel state. The total is what a fixed count would take, or with a noise
  * target the samples each active pixel is predicted to need (progress_samples_needed). The
@@ -235,7 +208,7 @@ void job_refresh(brume_render_job *job)
 {
     const brume_render_settings *rs = &job->rs;
     uint64_t done = 0, total = 0;
-    double noise = 0.0, left_cost = 0.0, mean_cost = mean_tile_cost(job);
+    double noise = 0.0, left_cost = 0.0, mean_cost = job_mean_tile_cost(job);
     for (size_t i = 0; i < job->npix; i++) {
         if (job->nparts > 1 && !job_in_part(job, i))
             continue;
@@ -255,7 +228,7 @@ void job_refresh(brume_render_job *job)
         }
         total += (uint64_t)fmax(want, (double)n);
         if (want > n && mean_cost > 0.0) {
-            double c = job->tile_cost[pixel_task(job, i)];
+            double c = job->tile_cost[job_pixel_task(job, i)];
             left_cost += (want - n) * (c > 0.0 ? c : mean_cost);
         }
     }
@@ -334,6 +307,11 @@ void job_figures(brume_render_job *job, bool finished, brume_render_progress *ou
     progress_reading r = {used, -1.0, -1.0, finished};
     if (known && rate > 0.0)
         r.left = (double)(job->total > job->done ? job->total - job->done : 0) * rate;
+    /* the cost model prices the samples left at their tiles' last costs: under load, and as
+     * tiles empty (a tile's fixed costs spread over fewer samples), it misses by a factor that
+     * drifts slowly; the passes it priced measure that factor */
+    if (r.left > 0.0 && job->model_given > 0.0)
+        r.left *= fmin(fmax(job->model_wall / job->model_given, 0.25), 4.0);
     if (rs->time_budget > 0.0)
         r.budget_left = fmax(0.0, rs->time_budget - job_used(job));
     out->elapsed = used;
@@ -593,6 +571,7 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     uint64_t done0 = job->done;
     if (!unwatched)
         job_refresh(job);
+    job->pass_model = unwatched || rs->device >= 0 ? 0.0 : job_pass_model(job);
     pthread_mutex_unlock(&job->lock);
     if (rs->device >= 0) { /* the GPU: the whole pass at once, in each pixel's sample order */
         brume_status g = job_gpu_pass(job);
@@ -614,6 +593,10 @@ static brume_status job_pass(brume_render_job *job, bool unwatched)
     if (job->pass_cost > 0.0)
         job->wall_per_cost = pass_seconds / job->pass_cost;
     bool complete = !atomic_load(&job->stop);
+    if (complete && job->pass_model > 0.0) { /* what the ETA's cost model gave the pass, and its time */
+        job->model_wall = 0.5 * job->model_wall + pass_seconds;
+        job->model_given = 0.5 * job->model_given + job->pass_model;
+    }
     if (complete) {
         job->spp_done = job->target;
         if (rs->noise_target > 0.0) /* adaptive sampling: each pixel by its own statistics */

@@ -64,6 +64,11 @@ static const method_option options[] = {
      .doc = "how a view ray gathers a voxel's stored source S_V: integrated over the length it crosses, or, as the "
             "paper's second pass prints it, A L_V once per voxel visited with L_V = S_V times the voxel's mean "
             "chord 4 |V| / area (docs/blasi.md); `variant` does not set it"},
+    {.key = "blasi.interpolate", .kind = OPTION_ENUM, OPTION_NAMES2("trilinear", "voxel"),
+     OPTION_FIELD(blasi_options, interpolate), .def = "trilinear",
+     .doc = "the density both passes see along their rays: trilinear between the voxels' centres (as the path "
+            "tracer reads a trilinear grid; the light grid stays one value per voxel), or constant over each "
+            "voxel, the paper's model and its stepped look (docs/blasi.md); `variant` does not set it"},
     {.key = "blasi.variant", .kind = OPTION_ENUM, OPTION_NAMES2("paper", "physical"), .effect = variant,
      .doc = "sets both exit_deposit and view_attenuation at once; keys given beside it win, in any order"},
     {.key = "blasi.voxels", .kind = OPTION_INTEGER, .flags = OPTION_ZERO_OR, .lo = 2.0, .hi = 2048.0,

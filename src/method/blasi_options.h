@@ -30,6 +30,13 @@ typedef enum blasi_gather {
                                  L_V = S_V times the voxel's mean chord 4 |V| / area (docs/blasi.md) */
 } blasi_gather;
 
+/* How both passes read the density between the voxels' values. */
+typedef enum blasi_interpolate {
+    BLASI_INTERPOLATE_TRILINEAR, /* trilinear between the voxels' centres, as the path tracer reads a
+                                    trilinear grid: no steps at voxel faces (docs/blasi.md) */
+    BLASI_INTERPOLATE_VOXEL      /* constant over each voxel, the paper's model and look */
+} blasi_interpolate;
+
 #define BLASI_PATH_MAX 1024
 
 typedef struct blasi_options {
@@ -44,6 +51,7 @@ typedef struct blasi_options {
     blasi_exit exit_deposit;
     blasi_view_atten view_attenuation;
     blasi_gather gather;    /* not set by `variant`: path_length unless given */
+    blasi_interpolate interpolate; /* not set by `variant`: trilinear unless given */
     int voxels;             /* a blob field (Stam) is rendered as a dense grid of this many cells
                                along its longest axis, one realization of the perturbation
                                (stam.eps, stam.eta, Q); 0 = blob fields are refused */

@@ -94,7 +94,7 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
     *kx = col(0.0);
     for (int i = 0; i < pc->n; i++) {
         const blasi_medium *bm = &st->m[pc->m[i]];
-        double rho = (double)st->rho[pc->v[i]];
+        double rho = pc->rho[i];
         sb += bm->sigma_bar * rho;
         for (int c = 0; c < 3; c++)
             kx->c[c] += (bm->sigma_t.c[c] - bm->sigma_bar) * rho;
@@ -102,15 +102,26 @@ static inline double piece_coeffs(const blasi_state *st, const piece *pc, color 
     return sb;
 }
 
-/* A voxel of the piece that holds density, where a deposit may land (the piece's first
- * medium's voxel may be empty where another medium's is not); the piece holds one: its
- * coefficients are not all 0. */
-static inline size_t piece_occupied(const blasi_state *st, const piece *pc)
+/* Whether an exit deposit may land in voxel v of bm: the paper's "last non-empty voxel",
+ * one with a value of its own. A trilinear medium's voxel whose value is 0 holds some of its
+ * neighbours' field, but the power a ray still carries when it leaves does not scale with
+ * that density: stored there, the view pass (which gathers a voxel's source in proportion
+ * to the density over its mean) would show it as a bright rim. */
+static inline bool exit_voxel(const blasi_state *st, const blasi_medium *bm, size_t v)
 {
-    int i = 0;
-    while (i < pc->n - 1 && st->rho[pc->v[i]] == 0.0f)
-        i++;
-    return pc->v[i];
+    return !bm->trilinear || st->field[v] != 0.0f;
+}
+
+/* A voxel of the piece that holds density and may take an exit deposit (the piece's first
+ * medium's voxel may be empty where another medium's is not), in *v; false if none. */
+static inline bool piece_exit_voxel(const blasi_state *st, const piece *pc, size_t *v)
+{
+    for (int i = 0; i < pc->n; i++)
+        if (pc->rho[i] != 0.0 && exit_voxel(st, &st->m[pc->m[i]], pc->v[i])) {
+            *v = pc->v[i];
+            return true;
+        }
+    return false;
 }
 
 /* exp(-x) per channel, once when the channels are equal (a grey medium), and by
@@ -240,17 +251,18 @@ static inline bool flight_cross(flight *f, double sb, color kx, double dl, color
  * stored, and the new direction from the lobe (Eq. 23 for Schlick lobes). False when what
  * goes on is under the threshold (the ray ends). */
 static bool intercept(const blasi_state *st, const piece *pc, double sb, color kx, const flight *f, double ds,
-                      double t_hit, ray *r, color *w, double w_stop, rng *g, light_sums *acc, size_t *last)
+                      double t_hit, ray *r, color *w, double w_stop, rng *g, light_sums *acc, bool *have_last,
+                      size_t *last)
 {
     int pick = 0;
     if (pc->n > 1) { /* the medium that scatters, in proportion to its sigma_bar rho */
         double x = rng_next(g) * sb;
         int nonzero = 0; /* the last medium that can scatter here: where rounding in x leaves it */
         for (int i = 0; i < pc->n; i++)
-            if (st->m[pc->m[i]].sigma_bar * (double)st->rho[pc->v[i]] > 0.0)
+            if (st->m[pc->m[i]].sigma_bar * pc->rho[i] > 0.0)
                 nonzero = i;
         for (pick = 0; pick < nonzero; pick++) {
-            double wi = st->m[pc->m[pick]].sigma_bar * (double)st->rho[pc->v[pick]];
+            double wi = st->m[pc->m[pick]].sigma_bar * pc->rho[pick];
             if (x < wi && wi > 0.0)
                 break;
             x -= wi;
@@ -258,7 +270,7 @@ static bool intercept(const blasi_state *st, const piece *pc, double sb, color k
     }
     color sig_s = col(0.0), dep; /* RGB weight sigma_s / sigma_bar (Eq. 10) */
     for (int i = 0; i < pc->n; i++)
-        sig_s = col_madd(sig_s, st->m[pc->m[i]].md->sigma_s, (double)st->rho[pc->v[i]]);
+        sig_s = col_madd(sig_s, st->m[pc->m[i]].md->sigma_s, pc->rho[i]);
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         dep.c[c] = f->D.c[c] + kx.c[c] * ds;
     color T = col_exp_neg(dep);
@@ -267,7 +279,10 @@ static bool intercept(const blasi_state *st, const piece *pc, double sb, color k
     const blasi_medium *bm = &st->m[pc->m[pick]];
     deposit(acc, pc->v[pick], *w, bm->r);
     acc->intercepts++;
-    *last = pc->v[pick];
+    if (exit_voxel(st, bm, pc->v[pick])) {
+        *have_last = true;
+        *last = pc->v[pick];
+    }
     *w = col_scale(*w, 1.0 - bm->r);
     if (!(col_max(*w) > w_stop))
         return false;
@@ -331,11 +346,12 @@ static inline __attribute__((always_inline)) flight_end fly_one_as(const blasi_s
                 pc.n = 1;
                 pc.m[0] = 0;
                 pc.v[0] = v;
+                pc.rho[0] = rh;
                 f->D = grey ? col(D.c[0]) : D;
                 kx = grey ? col(kx.c[0]) : kx;
-                *have_last = true;
-                return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
-                                                                                              : FLIGHT_STOPPED;
+                return intercept(st, &pc, sb, kx, f, ds, c.t0 + ds, r, w, w_stop, g, acc, have_last, last)
+                           ? FLIGHT_SCATTERED
+                           : FLIGHT_STOPPED;
             }
         }
         /* !(sb <= 0 && kx == 0), with | so that no branch is mispredicted on it */
@@ -401,6 +417,7 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
         } else {
             if (!walk_next(&wk, st, &pc))
                 return FLIGHT_LEFT;
+            piece_density(st, &pc, *r, false);
             dl = pc.t1 - pc.t0;
         }
         color kx;
@@ -409,14 +426,16 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
             /* interception: exactly inside the voxel, or at the step's midpoint */
             double ds = st->step > 0.0 ? dl : (f->target - f->tau) / sb;
             double t_hit = st->step > 0.0 ? t_mid : pc.t0 + ds;
-            *have_last = true;
-            return intercept(st, &pc, sb, kx, f, ds, t_hit, r, w, w_stop, g, acc, last) ? FLIGHT_SCATTERED
-                                                                                     : FLIGHT_STOPPED;
+            return intercept(st, &pc, sb, kx, f, ds, t_hit, r, w, w_stop, g, acc, have_last, last) ? FLIGHT_SCATTERED
+                                                                                                : FLIGHT_STOPPED;
         }
         if (sb <= 0.0 && kx.c[0] == 0.0 && kx.c[1] == 0.0 && kx.c[2] == 0.0)
             continue; /* empty voxel */
-        *have_last = true;
-        *last = piece_occupied(st, &pc);
+        size_t v;
+        if (piece_exit_voxel(st, &pc, &v)) {
+            *have_last = true;
+            *last = v;
+        }
         if (flight_cross(f, sb, kx, dl, *w, w_stop))
             return FLIGHT_STOPPED;
     }
@@ -424,8 +443,11 @@ static flight_end fly(const blasi_state *st, flight *f, ray *r, double t_end, co
 
 /* Follows one light ray through the media (Algorithm of the First Pass), flight by
  * flight. */
-/* True when light flights take fly_one: one small grid, the voxel walk. */
-static inline bool flights_one(const blasi_state *st) { return st->nm == 1 && !st->m[0].skip && !(st->step > 0.0); }
+/* True when light flights take fly_one: one small grid read per voxel, the voxel walk. */
+static inline bool flights_one(const blasi_state *st)
+{
+    return st->nm == 1 && !st->m[0].skip && !st->m[0].trilinear && !(st->step > 0.0);
+}
 
 /* The voxel-space set-up of the direction of a delta sun's rays (light_ray gives them all
  * its direction), for their first flights through one small grid; NULL for another light

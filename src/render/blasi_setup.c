@@ -79,6 +79,8 @@ static uint64_t scene_hash(const brume_scene *s, const blasi_state *st)
         h = fnv(h, st->rho + bm->offset, bm->nvox * sizeof(float));
         h = fnv_col(fnv_col(fnv_col(h, bm->md->sigma_a), bm->md->sigma_s), bm->md->Le);
         h = fnv_d(h, bm->r);
+        if (bm->trilinear) /* the values behind the means; a voxel medium's key is unchanged */
+            h = fnv(h, st->field + bm->offset, bm->nvox * sizeof(float));
         for (int i = 0; i <= 8; i++)
             h = fnv_d(h, phase_eval(bm->dir, -1.0 + 0.25 * i));
     }
@@ -142,6 +144,7 @@ void blasi_finish(blasi_state *st)
         free(st->m[m].occ);
     }
     free(st->rho);
+    free(st->field);
     free(st->S);
     free(st);
 }
@@ -236,6 +239,7 @@ static brume_status medium_setup(const brume_scene *s, blasi_state *st, int m)
     bm->emit = col_mul(md->sigma_a, md->Le);
     bm->emits = !col_is_black(bm->emit);
     bm->view_grey = col_is_grey(bm->kappa) && col_is_grey(bm->sigma_t);
+    bm->trilinear = o->interpolate == BLASI_INTERPOLATE_TRILINEAR;
     split_phase(md->ph, &bm->r, &bm->dir);
     if (!isnan(o->r))
         bm->r = o->r;
@@ -271,7 +275,8 @@ static void occupied_extend(blasi_medium *bm, int i, int j, int k, bool any)
             (size_t)bm->bn[0] * ((size_t)(j / BLASI_BLOCK) + (size_t)bm->bn[1] * (size_t)(k / BLASI_BLOCK))] = 1;
 }
 
-/* bm's densities into st->rho, constant per voxel, and what the walk skips by: the
+/* bm's densities into st->rho, constant per voxel (a trilinear medium's values into
+ * st->field, their field's voxel means into st->rho), and what the walk skips by: the
  * occupancy blocks, the box and the diagonal slabs of the non-empty voxels. */
 static brume_status medium_voxels(const brume_scene *s, blasi_state *st, blasi_medium *bm)
 {
@@ -284,14 +289,19 @@ static brume_status medium_voxels(const brume_scene *s, blasi_state *st, blasi_m
     bm->occ = calloc(nblocks, 1);
     if (!bm->occ)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
-    float *dst = st->rho + bm->offset;
+    float *dst = (bm->trilinear ? st->field : st->rho) + bm->offset;
+    for (int k = 0; k < bm->n[2]; k++)
+        for (int j = 0; j < bm->n[1]; j++)
+            for (int i = 0; i < bm->n[0]; i++)
+                *dst++ = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
+    if (bm->trilinear)
+        blasi_field_means(st, bm);
+    const float *rho = st->rho + bm->offset;
     bool any = false; /* occ_lo, occ_hi stay 0 (calloc) for an empty grid */
     for (int k = 0; k < bm->n[2]; k++)
         for (int j = 0; j < bm->n[1]; j++)
             for (int i = 0; i < bm->n[0]; i++) {
-                float rho = (float)density_voxel(bm->vox ? bm->vox : bm->md->rho, i, j, k);
-                *dst++ = rho;
-                if (rho != 0.0f) {
+                if (*rho++ != 0.0f) {
                     occupied_extend(bm, i, j, k, any);
                     any = true;
                 }
@@ -350,7 +360,9 @@ static brume_status media_setup(const brume_scene *s, blasi_state *st)
     if (st->nvox > 0) {
         st->rho = malloc(st->nvox * sizeof *st->rho);
         st->S = calloc(st->nvox * 3, sizeof *st->S);
-        if (!st->rho || !st->S)
+        if (blasi_opts(s)->interpolate == BLASI_INTERPOLATE_TRILINEAR)
+            st->field = malloc(st->nvox * sizeof *st->field);
+        if (!st->rho || !st->S || (blasi_opts(s)->interpolate == BLASI_INTERPOLATE_TRILINEAR && !st->field))
             return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: blasi: out of memory for %zu voxels", s->source, st->nvox);
     }
     for (int m = 0; m < st->nm && rc == BRUME_OK; m++)

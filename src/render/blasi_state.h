@@ -39,6 +39,8 @@ typedef struct blasi_medium {
     const phase *dir;    /* the directional lobe (the medium's, or dir_owned) */
     phase *dir_owned;
     bool skip;           /* walk occupancy blocks first (BLASI_SKIP_CELLS) */
+    bool trilinear;      /* blasi.interpolate = trilinear: the density along a ray is st->field's
+                            trilinear field, st->rho its mean over each voxel (blasi_field.c) */
     int occ_lo[3], occ_hi[3]; /* the box of the voxels with rho > 0, [lo, hi) (all 0 if none) */
     double slab_lo[BLASI_SLABS], slab_hi[BLASI_SLABS]; /* the voxels with rho > 0 between the planes
                                                           n . x = lo and hi, n = blasi_slab_n (voxel space) */
@@ -52,7 +54,10 @@ struct blasi_state {
     int nm;
     blasi_medium m[SCENE_MAX_MEDIA];
     size_t nvox;      /* over all media */
-    float *rho;       /* nvox densities, constant per voxel */
+    float *rho;       /* nvox densities, constant per voxel; a trilinear medium's: the field's mean
+                         over the voxel (0 exactly where the field is 0 throughout the voxel) */
+    float *field;     /* nvox: a trilinear medium's voxel values, the field's samples at the voxels'
+                         centres; NULL when no medium is trilinear */
     float *S;         /* 3 nvox: isotropic source, radiance per unit length (RGB) */
     box3 bounds;      /* union of the media's world boxes */
     box3 light_box;   /* union of the world boxes of the media's non-empty voxels: the light
@@ -96,6 +101,16 @@ static inline bool col_is_grey(color a)
             return false;
     return true;
 }
+
+/* blasi_field.c, for a trilinear medium bm (points in its voxel space): the field at u; its
+ * mean along the segment [a, b] inside one voxel (exact: Simpson's rule between the planes
+ * through the voxel's centre, where the field is a cubic along the segment), and with S not
+ * NULL the mean there of the stored source st->S read the same way (voxel values at the
+ * centres, trilinear between them); and the field's means over bm's voxels from st->field
+ * into st->rho. */
+double blasi_field_point(const blasi_state *st, const blasi_medium *bm, vec3 u);
+double blasi_crossing_mean(const blasi_state *st, const blasi_medium *bm, vec3 a, vec3 b, color *S);
+void blasi_field_means(blasi_state *st, const blasi_medium *bm);
 
 /* The first pass (blasi_light.c): fills st->S from the lights, and st->stats. */
 brume_status blasi_light_pass(const brume_scene *s, blasi_state *st);

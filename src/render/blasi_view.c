@@ -21,9 +21,10 @@ static color view_attenuation(const blasi_state *st, ray r, double tmax)
     piece pc;
     walk_begin(&wk, st, r, tmax);
     while (walk_next(&wk, st, &pc)) {
+        piece_density(st, &pc, r, false);
         double dl = pc.t1 - pc.t0;
         for (int i = 0; i < pc.n; i++) {
-            double rho = (double)st->rho[pc.v[i]];
+            double rho = pc.rho[i];
             for (int c = 0; c < 3; c++)
                 A.c[c] *= exp(-st->m[pc.m[i]].kappa.c[c] * rho * dl);
         }
@@ -73,18 +74,18 @@ typedef struct view_sums {
     color L, A, tau_t;
 } view_sums;
 
-/* One voxel of one medium crossed over length dl (the second pass's loop body): its source,
- * attenuated by A and integrated over the voxel, and A attenuated. False when A fell under
- * the threshold ("While A > THRESHOLD"). */
-static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *st, const blasi_medium *bm, size_t v, double dl, view_sums *s)
+/* One voxel of one medium crossed over length dl with density rho and stored source sv
+ * along it (the second pass's loop body): its source, attenuated by A and integrated over
+ * the voxel, and A attenuated. False when A fell under the threshold ("While A >
+ * THRESHOLD"). */
+static inline __attribute__((always_inline)) bool view_voxel(const blasi_state *st, const blasi_medium *bm, double rho,
+                                                             color sv, double dl, view_sums *s)
 {
-    double rho = (double)st->rho[v];
-    const float *sv = st->S + 3 * v;
     color S, kap;
 #pragma GCC unroll 3
     for (int c = 0; c < BRUME_NSAMPLES; c++) {
         s->tau_t.c[c] += bm->sigma_t.c[c] * (rho * dl); /* as blasi_transmittance sums it */
-        S.c[c] = (double)sv[c] + bm->emit.c[c] * rho;
+        S.c[c] = sv.c[c] + bm->emit.c[c] * rho;
         kap.c[c] = bm->kappa.c[c] * rho;
     }
     if (st->gather_printed) { /* Blasi's second pass as printed: "L_P = L_P + A L_V", then attenuate */
@@ -134,7 +135,8 @@ static inline __attribute__((always_inline)) bool view_walk_one_as(const blasi_s
             size_t v = (size_t)c.i + nx * ((size_t)c.j + ny * (size_t)c.k);
             if (rho[v] == 0.0f) /* empty: no density, no source */
                 continue;
-            if (!(on = view_voxel(st, bm, v, c.t1 - c.t0, &s)))
+            const float *sv = st->S + 3 * v;
+            if (!(on = view_voxel(st, bm, (double)rho[v], col_rgb(sv[0], sv[1], sv[2]), c.t1 - c.t0, &s)))
                 break;
         }
         *out = s;
@@ -191,20 +193,20 @@ static bool view_walk(const blasi_state *st, ray r, double t_end, view_sums *out
     piece pc;
     walk_begin(&wk, st, r, t_end);
     while (walk_next(&wk, st, &pc)) {
+        piece_density(st, &pc, r, true);
         double dl = pc.t1 - pc.t0;
         if (pc.n == 1) {
-            if (!view_voxel(st, &st->m[pc.m[0]], pc.v[0], dl, out))
+            if (!view_voxel(st, &st->m[pc.m[0]], pc.rho[0], pc.S[0], dl, out))
                 return false;
             continue;
         }
         color S = col(0.0), kap = col(0.0);
         for (int i = 0; i < pc.n; i++) {
             const blasi_medium *bm = &st->m[pc.m[i]];
-            double rho = (double)st->rho[pc.v[i]];
+            double rho = pc.rho[i];
             out->tau_t = col_madd(out->tau_t, bm->sigma_t, rho * dl);
-            const float *sv = st->S + 3 * pc.v[i];
             for (int c = 0; c < 3; c++) {
-                S.c[c] += (double)sv[c] + bm->emit.c[c] * rho;
+                S.c[c] += pc.S[i].c[c] + bm->emit.c[c] * rho;
                 kap.c[c] += bm->kappa.c[c] * rho;
             }
         }
@@ -254,7 +256,7 @@ color blasi_Li(const brume_scene *s, const blasi_state *st, ray r, rng *g, bool 
         *hit_surface = on_surface;
 
     color L = col(0.0), A = col(1.0), tau_t = col(0.0);
-    const bool one = st->nm == 1 && !st->m[0].skip;
+    const bool one = st->nm == 1 && !st->m[0].skip && !st->m[0].trilinear;
     /* most view rays miss the non-empty voxels of one grid: those are told here, without a
      * walk or its set-up */
     if (st->nm > 0 && !(one && line_misses_box(st->m[0].occ_c, st->m[0].occ_e, r.o, r.d))) {
@@ -296,9 +298,10 @@ color blasi_transmittance(const brume_scene *s, const blasi_state *st, ray r)
     piece pc;
     walk_begin(&wk, st, r, INFINITY);
     while (walk_next(&wk, st, &pc)) {
+        piece_density(st, &pc, r, false);
         double dl = pc.t1 - pc.t0;
         for (int i = 0; i < pc.n; i++)
-            tau = col_madd(tau, st->m[pc.m[i]].sigma_t, (double)st->rho[pc.v[i]] * dl);
+            tau = col_madd(tau, st->m[pc.m[i]].sigma_t, pc.rho[i] * dl);
     }
 done:
     if (tau.c[0] == tau.c[1] && tau.c[1] == tau.c[2]) /* grey; 0 for the rays that miss the media */

@@ -9,13 +9,33 @@
 #include "density/dda.h"
 #include "render/blasi_state.h"
 
-/* One stretch [t0, t1) of a ray inside constant voxels: n media, their global voxels v. */
+/* One stretch [t0, t1) of a ray inside one voxel of each of n media: their global voxels v,
+ * the density each has along the stretch, rho, and (view pass) its stored source there, S
+ * (piece_density: the voxel's values, or a trilinear medium's means along the stretch). */
 typedef struct piece {
     double t0, t1;
     int n;
     int m[SCENE_MAX_MEDIA];
     size_t v[SCENE_MAX_MEDIA];
+    double rho[SCENE_MAX_MEDIA];
+    color S[SCENE_MAX_MEDIA];
 } piece;
+
+/* pc->rho, and with source pc->S, for the stretch [pc->t0, pc->t1] of ray r. */
+static inline void piece_density(const blasi_state *st, piece *pc, ray r, bool source)
+{
+    for (int i = 0; i < pc->n; i++) {
+        const blasi_medium *bm = &st->m[pc->m[i]];
+        if (!bm->trilinear) {
+            pc->rho[i] = (double)st->rho[pc->v[i]];
+            for (int c = 0; source && c < 3; c++)
+                pc->S[i].c[c] = (double)st->S[3 * pc->v[i] + (size_t)c];
+            continue;
+        }
+        vec3 o = affine3_apply(&bm->w2v, r.o), d = affine3_apply_dir(&bm->w2v, r.d);
+        pc->rho[i] = blasi_crossing_mean(st, bm, v3_madd(o, d, pc->t0), v3_madd(o, d, pc->t1), source ? &pc->S[i] : NULL);
+    }
+}
 
 /* The exact voxel walks of every medium (density/dda.h), merged in t. With one medium
  * (the usual case) the walk skips empty space: a coarse walk over occupancy blocks, and a
@@ -241,7 +261,7 @@ static inline bool walk_next_any(walk *w, const blasi_state *st, piece *p)
     }
 }
 
-/* The voxels holding point p (uniform-step marching). */
+/* The voxels holding point p and their density there (uniform-step marching). */
 static inline void piece_at(const blasi_state *st, vec3 p, piece *pc)
 {
     pc->n = 0;
@@ -253,6 +273,7 @@ static inline void piece_at(const blasi_state *st, vec3 p, piece *pc)
             continue;
         pc->m[pc->n] = m;
         pc->v[pc->n] = voxel_index(bm, (int)f[0], (int)f[1], (int)f[2]);
+        pc->rho[pc->n] = bm->trilinear ? blasi_field_point(st, bm, u) : (double)st->rho[pc->v[pc->n]];
         pc->n++;
     }
 }

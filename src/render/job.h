@@ -70,6 +70,11 @@ struct brume_render_job {
     double left_cost;      /* at the last job_refresh: thread-seconds the samples left take at
                               their tiles' costs, 0 when no tile's cost is known */
     uint64_t left_samples; /* at the last job_refresh: total - done */
+    double pass_model;     /* wall seconds the cost model (left_cost's) gave the pass under way at
+                              its start, 0 when it had no costs */
+    double model_wall, model_given; /* over the passes it priced, each pass's weight halved at the
+                              next: their wall seconds and what the model gave them (the
+                              ratio corrects the ETA) */
 
     void *gpu;        /* render.device >= 0: the GPU's gpu_pass for the job (gpu/cuda.h) */
 
