@@ -141,12 +141,37 @@ void pbrt_copy(char *dst, size_t cap, const char *src)
     dst[n] = '\0';
 }
 
+/* A decimal number as pbrt-v4 writes one: [+-] digits [. digits] [e [+-] digits], at least
+ * one digit before the exponent; no hexadecimal, inf or nan (which strtod would take). */
+static bool decimal(const char *s)
+{
+    size_t i = (s[0] == '+' || s[0] == '-') ? 1 : 0, digits = 0;
+    for (; isdigit((unsigned char)s[i]); i++)
+        digits++;
+    if (s[i] == '.')
+        for (i++; isdigit((unsigned char)s[i]); i++)
+            digits++;
+    if (digits == 0)
+        return false;
+    if (s[i] == 'e' || s[i] == 'E') {
+        i += (s[i + 1] == '+' || s[i + 1] == '-') ? 2 : 1;
+        if (!isdigit((unsigned char)s[i]))
+            return false;
+        while (isdigit((unsigned char)s[i]))
+            i++;
+    }
+    return s[i] == '\0';
+}
+
 static bool number(const char *s, double *out)
 {
     char *end;
+    if (!decimal(s))
+        return false;
     errno = 0;
     double v = num_strtod(s, &end);
-    if (end == s || *end || errno || !isfinite(v))
+    /* an underflow is the number it rounds to (0 or a subnormal); an overflow is refused */
+    if (end == s || *end || !isfinite(v) || (errno && fabs(v) >= 1.0))
         return false;
     *out = v;
     return true;
@@ -254,6 +279,8 @@ static brume_status param_value(lexer *L, params *ps, param *q)
     } else if (L->kind == TOK_WORD && q->is_string) {
         return pbrt_fail(L, "parameter \"%s\": mixes strings and numbers", q->name);
     } else if (L->kind == TOK_WORD && (strcmp(L->text, "true") == 0 || strcmp(L->text, "false") == 0)) {
+        if (strcmp(q->type, "bool") != 0)
+            return pbrt_fail(L, "parameter \"%s %s\": %s is not a number", q->type, q->name, L->text);
         q->v[q->n] = strcmp(L->text, "true") == 0;
     } else if (L->kind == TOK_WORD) {
         if (!number(L->text, &q->v[q->n]))

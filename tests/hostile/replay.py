@@ -299,6 +299,7 @@ def main():
     ap.add_argument('--only', default='')
     ap.add_argument('--sanitized', action='store_true')
     ap.add_argument('--time-scale', type=float, default=1.0)
+    ap.add_argument('--every', type=int, default=1, help='replay every N-th case of each class (N >= 1)')
     ap.add_argument('--manifest', default=os.path.join(HERE, 'MANIFEST.tsv'))
     OPT = ap.parse_args()
     OPT.brume = os.path.abspath(OPT.brume)
@@ -310,6 +311,14 @@ def main():
         if OPT.only and not re.search(OPT.only, name):
             continue
         cases.append((name, cls, expect, json.loads(args), json.loads(extra)))
+    if OPT.every > 1:  # a deterministic sample that keeps every class
+        seen = {}
+        kept = []
+        for c in cases:
+            seen[c[1]] = seen.get(c[1], -1) + 1
+            if seen[c[1]] % OPT.every == 0:
+                kept.append(c)
+        cases = kept
     marks = {c[0]: c[4]['known'] for c in cases if 'known' in c[4]}
     OPT.work = tempfile.mkdtemp(prefix='brume-hostile.')
     watched = [HERE, os.path.join(REPO, 'scenes')]
