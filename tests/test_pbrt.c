@@ -1,4 +1,4 @@
-/* test_pbrt.c - pbrt-v4 scenes read by brume (docs/production.md, "pbrt-v4 scenes"): the
+/* test_pbrt.c - pbrt-v4 scenes read by brume (docs/pbrt.md): the
  * homogeneous, uniformgrid and rgbgrid media, the triangle, bilinear and PLY meshes, each
  * against values worked out here by hand from pbrt-v4's definitions; a homogeneous box's
  * transmittance against exp(-sigma_t d); and the refusals, each one line with FILE:LINE. */

@@ -90,6 +90,11 @@ typedef struct pbrt_state {
     bool have_camera, world;
     int world_line; /* the line of WorldBegin */
     bool mirror; /* pbrt's left-handed view: the world is translated mirrored in x (camera_directive) */
+    char camera_medium[128]; /* the outside medium of the MediumInterface at Camera; "" for none */
+    int camera_line;         /* the Camera directive's line */
+    int far_light_line;      /* the first distant or infinite light's line (0: none) */
+    char far_light[16];      /* and its type */
+    double iso, exposure_time; /* Film "iso" and the Camera's shutterclose - shutteropen (pbrt_imaging) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;
     int xres, yres, spp, max_depth;
@@ -99,7 +104,8 @@ typedef struct pbrt_state {
     double background[3];
     bool have_background;
     double inline_numbers; /* numbers of the inline grids and meshes written so far */
-    size_t text_bytes;     /* the file's */
+    size_t text_bytes;     /* the file's, and those it includes */
+    int includes;          /* Include and Import files open, one within the other */
     long objects;          /* typed directives read so far (count_translation) */
 } pbrt_state;
 
@@ -154,9 +160,11 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
 
 /* pbrt_lights.c */
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps);
+void pbrt_imaging(pbrt_state *S);
 
 /* pbrt_media.c */
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);
+brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position);
 
 /* pbrt_shapes.c */
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);

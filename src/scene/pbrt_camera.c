@@ -25,11 +25,22 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     S->fov = 90.0;
     S->lens_radius = 0.0;
     S->focal_distance = 1e6;
+    double open = 0.0, close = 1.0;
     if ((st = pbrt_get_float(L, ps, "fov", &S->fov)) || (st = pbrt_get_float(L, ps, "lensradius", &S->lens_radius)) ||
-        (st = pbrt_get_float(L, ps, "focaldistance", &S->focal_distance)))
+        (st = pbrt_get_float(L, ps, "focaldistance", &S->focal_distance)) ||
+        (st = pbrt_get_float(L, ps, "shutteropen", &open)) || (st = pbrt_get_float(L, ps, "shutterclose", &close)))
         return st;
+    /* without animated transforms the shutter sets only the exposure time (pbrt-v4 swaps a
+       close before the open) */
+    S->exposure_time = fabs(close - open);
+    if (!(S->exposure_time <= 1e30))
+        return pbrt_fail(L, "Camera: shutteropen and shutterclose must be finite");
     if ((st = pbrt_all_used(L, ps, "Camera \"perspective\"")))
         return st;
+    /* pbrt-v4's camera starts its rays in the outside medium of the MediumInterface in effect,
+       resolved by name when the scene is complete (pbrt_camera_medium) */
+    pbrt_copy(S->camera_medium, sizeof S->camera_medium, S->a[S->depth].outside);
+    S->camera_line = L->dir_line;
     m4 wc;
     if (!pbrt_m4_inverse(S->a[S->depth].ctm, &wc))
         return pbrt_fail(L, "Camera: the current transform is not invertible");
@@ -56,11 +67,26 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
     lexer *L = &S->L;
     brume_status st;
     if (strcmp(dir, "Film") == 0) {
-        double x = 1280, y = 720;
-        char fn[512];
+        /* gbuffer writes rgb's image plus layers; spectral writes spectral bands brume has not */
+        if (strcmp(type, "rgb") != 0 && strcmp(type, "gbuffer") != 0)
+            return pbrt_fail(L, "%s: brume's image is pbrt's \"rgb\" film (rgb, gbuffer)", what);
+        double x = 1280, y = 720, wb = 0.0;
+        char fn[512], sensor[64] = "cie1931";
         if ((st = pbrt_get_float(L, ps, "xresolution", &x)) || (st = pbrt_get_float(L, ps, "yresolution", &y)) ||
-            (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)))
+            (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)) ||
+            (st = pbrt_get_string(L, ps, "sensor", sensor, sizeof sensor)) ||
+            (st = pbrt_get_float(L, ps, "iso", &S->iso)) || (st = pbrt_get_float(L, ps, "whitebalance", &wb)))
             return st;
+        /* pbrt-v4's cie1931 sensor is the XYZ observer, which an RGB film turns into the colour
+           space's RGB: brume's own values. Camera sensors weigh the spectrum with their own curves */
+        if (strcmp(sensor, "cie1931") != 0)
+            return pbrt_fail(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
+                                "sensor sees it; a camera's spectral response is not read", what, sensor);
+        if (wb != 0.0)
+            return pbrt_fail(L, "%s: parameter \"whitebalance\": %g K: pbrt-v4 adapts the image's colours from that "
+                                "white to the colour space's, a 3 x 3 map of the image brume does not apply", what, wb);
+        if (!(S->iso >= 0.0 && S->iso <= 1e30))
+            return pbrt_fail(L, "%s: parameter \"iso\": %g outside [0, 1e30]", what, S->iso);
         if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
             return pbrt_fail(L, "%s: resolution outside [1, 65536]", what);
         S->xres = (int)x;

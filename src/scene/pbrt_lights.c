@@ -12,8 +12,59 @@
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
+#include "medium/blackbody.h"
 #include "scene/scene_build.h"
 #include "scene/pbrt.h"
+
+/* A light's L or I: what pbrt_get_color reads, and "blackbody" T (kelvin) as pbrt-v4 gives it
+ * to an RGB film: the peak-normalized Planck spectrum, its scale divided by the spectrum's
+ * luminance (every light's `scale /= SpectrumToPhotometric`), so Y = 1, seen by the cie1931
+ * sensor and written in linear Rec. 709: XYZ(B_T) / Y(B_T) in Rec. 709. */
+static brume_status light_color(lexer *L, params *ps, const char *name, double out[3])
+{
+    param *q = pbrt_get(ps, name);
+    if (!q || strcmp(q->type, "blackbody") != 0)
+        return pbrt_get_color(L, ps, name, out);
+    double T = q->n == 1 && !q->is_string ? q->v[0] : -1.0;
+    if (!(T >= 100.0 && T <= 1e5))
+        return pbrt_fail(L, "parameter \"blackbody %s\": one temperature in [100, 100000] K", name);
+    double xyz[3];
+    blackbody_xyz(T, xyz);
+    color rgb = blackbody_rgb_exact(T);
+    for (int c = 0; c < 3; c++) {
+        out[c] = rgb.c[c] / xyz[1];
+        if (!(out[c] >= 0.0))
+            return pbrt_fail(L, "parameter \"blackbody %s\": %g K is outside Rec. 709 (channel %d: %g)", name, T, c,
+                             out[c]);
+    }
+    return BRUME_OK;
+}
+
+/* pbrt-v4's exposure: the film records radiance times the imaging ratio, the exposure time
+ * (the Camera's shutterclose - shutteropen, 1 by default) times iso / 100 (Film "iso", 100 by
+ * default). The image is linear in its sources taken together, so brume scales every one of
+ * them, the lights, the sky and the media's emission, by the ratio. */
+void pbrt_imaging(pbrt_state *S)
+{
+    double k = S->exposure_time * S->iso / 100.0;
+    if (k == 1.0)
+        return;
+    static const char *const keys[] = {"irradiance", "intensity", "emission"};
+    cJSON *lists[2] = {S->lights, S->media_j};
+    for (int l = 0; l < 2; l++)
+        for (cJSON *o = lists[l] ? lists[l]->child : NULL; o; o = o->next) {
+            for (int i = 0; i < 3; i++) {
+                cJSON *arr = cJSON_GetObjectItemCaseSensitive(o, keys[i]);
+                for (cJSON *v = arr ? arr->child : NULL; v; v = v->next)
+                    cJSON_SetNumberHelper(v, v->valuedouble * k);
+            }
+            cJSON *bb = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(o, "blackbody"), "scale");
+            if (bb)
+                cJSON_SetNumberHelper(bb, bb->valuedouble * k);
+        }
+    for (int c = 0; c < 3; c++)
+        S->background[c] *= k;
+}
 
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
 {
@@ -22,9 +73,13 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
     double Lrgb[3] = {1, 1, 1}, scale = 1.0;
     if ((st = pbrt_get_float(L, ps, "scale", &scale))) return st;
     m4 ctm = S->a[S->depth].ctm;
+    if (!S->far_light_line && (strcmp(type, "distant") == 0 || strcmp(type, "infinite") == 0)) {
+        S->far_light_line = L->dir_line; /* what an unbounded camera medium refuses (pbrt_camera_medium) */
+        pbrt_copy(S->far_light, sizeof S->far_light, type);
+    }
     if (strcmp(type, "distant") == 0) {
         double from[3] = {0, 0, 0}, to[3] = {0, 0, 1};
-        if ((st = pbrt_get_color(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+        if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
             (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
             return st;
         vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
@@ -39,7 +94,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddItemToArray(S->lights, l);
     } else if (strcmp(type, "point") == 0) {
         double from[3] = {0, 0, 0};
-        if ((st = pbrt_get_color(L, ps, "I", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+        if ((st = light_color(L, ps, "I", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
             (st = pbrt_all_used(L, ps, "LightSource \"point\"")))
             return st;
         vec3 p = pbrt_m4_point(ctm, v3(from[0], from[1], from[2]));
@@ -50,7 +105,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddItemToObject(l, "intensity", cJSON_CreateDoubleArray(I, 3));
         cJSON_AddItemToArray(S->lights, l);
     } else if (strcmp(type, "infinite") == 0) {
-        if ((st = pbrt_get_color(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
+        if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
             return st;
         for (int c = 0; c < 3; c++) /* several constant skies add */
             S->background[c] += Lrgb[c] * scale;

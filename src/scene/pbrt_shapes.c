@@ -225,7 +225,7 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
         m = pbrt_m4_mul(m, pbrt_m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
     } else if (det < 0.0) {
         pbrt_fail(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
-                         "without \"Scale -1 1 1\" mirrors the whole world, docs/production.md)", what);
+                         "without \"Scale -1 1 1\" mirrors the whole world, docs/pbrt.md)", what);
         return NULL;
     }
     bool oom;
@@ -240,15 +240,13 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
     return s;
 }
 
-brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
+static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
     brume_status st;
     attrs *a = &S->a[S->depth];
     char what[160];
     snprintf(what, sizeof what, "Shape \"%s\"", type);
-    if (a->outside[0])
-        return pbrt_fail(L, "MediumInterface: an outside medium \"%s\" (brume's media are fields in vacuum)", a->outside);
     bool interface = strcmp(a->material, "interface") == 0;
     if (strcmp(type, "sphere") == 0) {
         double radius = 1.0;
@@ -313,4 +311,54 @@ brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
     cJSON_AddItemToObject(s, "indices", cJSON_CreateIntArray(t.idx, 3 * t.nt));
     tris_free(&t);
     return shape_surface(S, s);
+}
+
+/* The media on a shape's two sides, as brume's fields can have them. In pbrt-v4 a
+ * MediumInterface whose sides are one medium is no transition: rays keep their medium
+ * through the shape, as through one without it. A transition's outside must be the camera's
+ * medium ("" for none): brume's media are fields in the camera's medium, so no shape can end
+ * it or begin another outside; and inside a camera medium an interface's inside medium would
+ * replace it where brume's media add. What is left is the medium inside, or none; *inside
+ * points at it. */
+static brume_status shape_sides(pbrt_state *S, const char **inside)
+{
+    const attrs *a = &S->a[S->depth];
+    const char *cm = S->camera_medium;
+    *inside = "";
+    if (strcmp(a->inside, a->outside) == 0) {
+        if (a->inside[0] && strcmp(a->material, "interface") == 0)
+            return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": the same medium on both sides of an "
+                                    "\"interface\" shape is no transition in pbrt-v4 (the shape changes nothing); "
+                                    "the medium inside with nothing outside is MediumInterface \"%s\" \"\"",
+                             a->inside, a->outside, a->inside);
+        return BRUME_OK;
+    }
+    if (strcmp(a->outside, cm) != 0)
+        return pbrt_fail(&S->L, "MediumInterface: the outside medium \"%s\" is not the camera's (%s%s%s): brume's "
+                                "media are fields in the camera's medium", a->outside, cm[0] ? "\"" : "",
+                         cm[0] ? cm : "none", cm[0] ? "\"" : "");
+    if (cm[0] && strcmp(a->material, "interface") == 0)
+        return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": inside the shape pbrt-v4 replaces the camera's "
+                                "medium by \"%s\", where brume's media add", a->inside, a->outside, a->inside);
+    *inside = a->inside;
+    return BRUME_OK;
+}
+
+brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
+{
+    attrs *a = &S->a[S->depth];
+    const char *inside;
+    brume_status st = shape_sides(S, &inside);
+    if (st)
+        return st;
+    /* the shape is read with the one medium left inside it, then the attributes restored */
+    char in[sizeof a->inside], out[sizeof a->outside];
+    memcpy(in, a->inside, sizeof in);
+    memcpy(out, a->outside, sizeof out);
+    pbrt_copy(a->inside, sizeof a->inside, inside == a->inside ? in : "");
+    a->outside[0] = '\0';
+    st = shape_read(S, type, ps);
+    memcpy(a->inside, in, sizeof in);
+    memcpy(a->outside, out, sizeof out);
+    return st;
 }
