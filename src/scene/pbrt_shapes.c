@@ -240,6 +240,85 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
     return s;
 }
 
+/* pbrt's disk (at z = height, radius, innerradius, phimax) and cylinder (radius, zmin, zmax,
+ * phimax) as triangles, PBRT_ROUND_SEGMENTS per full turn, corners on the exact surface:
+ * the facets fall inside it by at most r (1 - cos(pi / 2048)) = 1.2e-6 r, and their normals
+ * turn from the surface's by at most pi / 2048 (0.09 degrees). Object space, z up, as pbrt
+ * places them; transformed by the current transform. */
+#define PBRT_ROUND_SEGMENTS 2048
+static brume_status round_params(pbrt_state *S, params *ps, const char *what, bool disk, tris *t)
+{
+    lexer *L = &S->L;
+    double r = 1.0, r_in = 0.0, z0 = disk ? 0.0 : -1.0, z1 = 1.0, phimax = 360.0;
+    brume_status st;
+    if ((st = pbrt_get_float(L, ps, "radius", &r)) || (st = pbrt_get_float(L, ps, "phimax", &phimax)) ||
+        (disk && ((st = pbrt_get_float(L, ps, "height", &z0)) || (st = pbrt_get_float(L, ps, "innerradius", &r_in)))) ||
+        (!disk && ((st = pbrt_get_float(L, ps, "zmin", &z0)) || (st = pbrt_get_float(L, ps, "zmax", &z1)))) ||
+        (st = pbrt_all_used(L, ps, what)))
+        return st;
+    if (disk)
+        z1 = z0;
+    if (!(r > 0.0 && r <= 1e18 && r_in >= 0.0 && r_in < r && phimax > 0.0 && phimax <= 360.0 && fabs(z0) <= 1e18 &&
+          fabs(z1) <= 1e18 && (disk || z1 != z0)))
+        return pbrt_fail(L, "%s: need 0 <= innerradius < radius, phimax in (0, 360] and zmin != zmax, finite", what);
+    int n = (int)ceil(PBRT_ROUND_SEGMENTS * phimax / 360.0);
+    double phi = phimax * PI / 180.0, rr[2] = {disk ? r_in : r, r}, zz[2] = {z0, z1};
+    bool fan = disk && r_in == 0.0; /* the inner ring is the centre: one triangle a segment */
+    t->nv = 2 * (n + 1);
+    t->nt = fan ? n : 2 * n;
+    t->P = malloc((size_t)t->nv * 3 * sizeof *t->P);
+    t->idx = malloc((size_t)t->nt * 3 * sizeof *t->idx);
+    if (!t->P || !t->idx)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", L->file, L->dir_line, what);
+    m4 ctm = S->a[S->depth].ctm;
+    for (int i = 0; i <= n; i++) /* ring 0: inner edge or bottom, ring 1: outer edge or top */
+        for (int k = 0; k < 2; k++) {
+            double a = phi * i / n;
+            vec3 w = pbrt_m4_point(ctm, v3(rr[k] * cos(a), rr[k] * sin(a), zz[k]));
+            double *q = &t->P[3 * (2 * i + k)];
+            q[0] = w.x, q[1] = w.y, q[2] = w.z;
+        }
+    /* a segment: a, c on ring 0 at i, i + 1; b, d on ring 1; facing pbrt's normal, +z for the
+       disk, outwards for the cylinder */
+    int *q = t->idx;
+    for (int i = 0; i < n; i++) {
+        int a = 2 * i, b = 2 * i + 1, c = 2 * i + 2, d = 2 * i + 3;
+        int one[3] = {a, b, d}, two[3] = {a, d, c};
+        if (!disk) {
+            one[1] = d, one[2] = b;
+            two[1] = c, two[2] = d;
+        }
+        memcpy(q, one, sizeof one);
+        q += 3;
+        if (!fan) {
+            memcpy(q, two, sizeof two);
+            q += 3;
+        }
+    }
+    return BRUME_OK;
+}
+
+/* "plymesh": the file, read by assimp as any mesh file. */
+static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, bool interface)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    char file[1024] = "", abs[PATH_MAX];
+    if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
+        return st;
+    if (!file[0])
+        return pbrt_fail(L, "%s: no \"string filename\"", what);
+    if ((st = pbrt_resolve_file(S, what, file, abs)))
+        return st;
+    if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
+        return shape_interface(S, "plymesh", NULL);
+    cJSON *s = placed_surface(S, what, "mesh");
+    if (!s)
+        return err_status();
+    cJSON_AddStringToObject(s, "file", abs);
+    return shape_surface(S, s);
+}
+
 static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -260,37 +339,32 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         cJSON_AddNumberToObject(s, "radius", radius);
         return shape_surface(S, s);
     }
-    if (strcmp(type, "plymesh") == 0) {
-        char file[1024] = "", abs[PATH_MAX];
-        if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
-            return st;
-        if (!file[0])
-            return pbrt_fail(L, "%s: no \"string filename\"", what);
-        if ((st = pbrt_resolve_file(S, what, file, abs)))
-            return st;
-        if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
-            return shape_interface(S, type, NULL);
-        cJSON *s = placed_surface(S, what, "mesh");
-        if (!s)
-            return err_status();
-        cJSON_AddStringToObject(s, "file", abs);
-        return shape_surface(S, s);
-    }
-    bool tri = strcmp(type, "trianglemesh") == 0;
-    if (!tri && strcmp(type, "bilinearmesh") != 0)
-        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, trianglemesh, bilinearmesh, plymesh)", what);
+    if (strcmp(type, "plymesh") == 0)
+        return shape_plymesh(S, ps, what, interface);
+    bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
+    if (!tri && !round && strcmp(type, "bilinearmesh") != 0)
+        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, disk, cylinder, trianglemesh, "
+                            "bilinearmesh, plymesh)", what);
+    if (round && interface)
+        return pbrt_fail(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
     /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
        not used (brume shades by the geometric normal) */
-    pbrt_get(ps, "N");
-    pbrt_get(ps, "uv");
+    if (!round) {
+        pbrt_get(ps, "N");
+        pbrt_get(ps, "uv");
+    }
     if (tri) {
         pbrt_get(ps, "S");
         pbrt_get(ps, "faceIndices");
     }
     tris t = {0};
     int *quad = NULL;
-    if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) || (st = pbrt_all_used(L, ps, what)) ||
-             (!tri && (st = bilinear_tris(L, quad, &t)))) {
+    if (round)
+        st = round_params(S, ps, what, strcmp(type, "disk") == 0, &t);
+    else if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) == BRUME_OK &&
+             (st = pbrt_all_used(L, ps, what)) == BRUME_OK && !tri)
+        st = bilinear_tris(L, quad, &t);
+    if (st) {
         free(quad);
         tris_free(&t);
         return st;
