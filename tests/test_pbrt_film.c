@@ -129,6 +129,31 @@ TEST(blackbody_lights_as_pbrt)
                    "LightSource \"point\" \"blackbody I\" [10]\n", 6, "\"blackbody I\"");
 }
 
+/* "spot": pbrt-v4's cone, I times SmoothStep(cos coneangle, cos(coneangle - conedeltaangle),
+ * cos theta), is brume's smooth cone with cone_angle = coneangle and falloff_start =
+ * coneangle - conedeltaangle; from and to through the transform (Rotate 90 about y takes
+ * +z to +x); a blackbody I as for the point light (Y = scale). A non-uniform scale, which
+ * would make pbrt's cone elliptical, is refused. */
+TEST(spot_light_as_pbrt)
+{
+    cJSON *root = translate_ok("Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\nRotate 90 0 1 0\n"
+                               "LightSource \"spot\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 3] \"float coneangle\" 20 "
+                               "\"float conedeltaangle\" 8 \"blackbody I\" 4000 \"float scale\" 2\n");
+    const cJSON *l = light(root, 0);
+    ASSERT_EQ_STR(cJSON_GetObjectItemCaseSensitive(l, "type")->valuestring, "spot");
+    ASSERT_NEAR(item(l, "position", 0), 1.0, 1e-12);
+    ASSERT_NEAR(item(l, "direction", 0), 1.0, 1e-12);
+    ASSERT_NEAR(item(l, "direction", 2), 0.0, 1e-12);
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(l, "cone_angle")->valuedouble, 20.0, 0);
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(l, "falloff_start")->valuedouble, 12.0, 0);
+    double x, y, Y;
+    rec709_xyY(l, "intensity", &x, &y, &Y);
+    ASSERT_NEAR(Y, 2.0, 1e-6);
+    cJSON_Delete(root);
+    expect_refusal("Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\nScale 1 2 1\nLightSource \"spot\"\n", 7,
+                   "elliptical");
+}
+
 /* nanovdb's emission scale spelled "Lescale" (pbrt-v4) or "LeScale" (pbrt-v4-scenes'
  * explosion): the blackbody scale of a fire's temperature grid; both at once refused. */
 TEST(nanovdb_emission_scale_spellings)
@@ -217,4 +242,4 @@ TEST(missing_grid_names_its_command)
 }
 
 TEST_MAIN(film_imaging_ratio_scales_sources, film_sensor_and_whitebalance_refused_by_name, blackbody_lights_as_pbrt,
-          nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)
+          spot_light_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)

@@ -66,6 +66,47 @@ void pbrt_imaging(pbrt_state *S)
         S->background[c] *= k;
 }
 
+/* "spot": pbrt-v4's SpotLight, I scale times SmoothStep(cos coneangle, cos(coneangle -
+ * conedeltaangle), cos theta) from the axis from -> to: brume's smooth cone, cone_angle and
+ * falloff_start, the same smoothstep in cos theta. The cone is circular in pbrt's light space:
+ * a transform that is not a rotation times a uniform scale would make it elliptical, and is
+ * refused. */
+static brume_status light_spot(pbrt_state *S, params *ps, double scale)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    double I[3] = {1, 1, 1}, from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, cone = 30.0, delta = 5.0;
+    if ((st = light_color(L, ps, "I", I)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+        (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_get_float(L, ps, "coneangle", &cone)) ||
+        (st = pbrt_get_float(L, ps, "conedeltaangle", &delta)) || (st = pbrt_all_used(L, ps, "LightSource \"spot\"")))
+        return st;
+    if (!(cone >= 0.01 && cone <= 180.0 && delta >= 0.0 && delta <= cone))
+        return pbrt_fail(L, "LightSource \"spot\": need coneangle in [0.01, 180] and conedeltaangle in [0, coneangle]");
+    m4 ctm = S->a[S->depth].ctm;
+    vec3 c[3] = {pbrt_m4_vector(ctm, v3(1, 0, 0)), pbrt_m4_vector(ctm, v3(0, 1, 0)), pbrt_m4_vector(ctm, v3(0, 0, 1))};
+    double n0 = v3_length(c[0]);
+    for (int a = 0; a < 3; a++)
+        for (int b = a; b < 3; b++)
+            if (fabs(v3_dot(c[a], c[b]) - (a == b ? n0 * n0 : 0.0)) > 1e-9 * n0 * n0)
+                return pbrt_fail(L, "LightSource \"spot\": a transform that is not a rotation and a uniform scale "
+                                    "(pbrt-v4's cone would be elliptical)");
+    vec3 p = pbrt_m4_point(ctm, v3(from[0], from[1], from[2]));
+    vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
+    if (!(v3_length(d) > 0.0))
+        return pbrt_fail(L, "LightSource \"spot\": from equals to");
+    d = v3_normalize(d);
+    cJSON *l = cJSON_CreateObject();
+    double pv[3] = {p.x, p.y, p.z}, dv[3] = {d.x, d.y, d.z}, Iv[3] = {I[0] * scale, I[1] * scale, I[2] * scale};
+    cJSON_AddStringToObject(l, "type", "spot");
+    cJSON_AddItemToObject(l, "position", cJSON_CreateDoubleArray(pv, 3));
+    cJSON_AddItemToObject(l, "direction", cJSON_CreateDoubleArray(dv, 3));
+    cJSON_AddItemToObject(l, "intensity", cJSON_CreateDoubleArray(Iv, 3));
+    cJSON_AddNumberToObject(l, "cone_angle", cone);
+    cJSON_AddNumberToObject(l, "falloff_start", cone - delta);
+    cJSON_AddItemToArray(S->lights, l);
+    return BRUME_OK;
+}
+
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -104,6 +145,9 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddItemToObject(l, "position", cJSON_CreateDoubleArray(pv, 3));
         cJSON_AddItemToObject(l, "intensity", cJSON_CreateDoubleArray(I, 3));
         cJSON_AddItemToArray(S->lights, l);
+    } else if (strcmp(type, "spot") == 0) {
+        if ((st = light_spot(S, ps, scale)))
+            return st;
     } else if (strcmp(type, "infinite") == 0) {
         if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
             return st;
@@ -111,7 +155,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
             S->background[c] += Lrgb[c] * scale;
         S->have_background = true;
     } else {
-        return pbrt_fail(L, "LightSource \"%s\": not supported by brume (distant, point, infinite with L)", type);
+        return pbrt_fail(L, "LightSource \"%s\": not supported by brume (distant, point, spot, infinite with L)", type);
     }
     return BRUME_OK;
 }
