@@ -1,7 +1,7 @@
 /* test_pbrt_shapes.c - pbrt-v4's disk and cylinder as brume's triangles (docs/pbrt.md): 2048
  * segments a turn with their corners on the exact surface, facing pbrt's normal, against
- * the shapes' areas and radii worked out by hand; and a diffuse disk lit by a point light
- * above its centre against Lambert's law. */
+ * the shapes' areas and radii worked out by hand; a diffuse disk lit by a point light
+ * above its centre against Lambert's law; and area lights emitting from pbrt's side. */
 #include "test.h"
 
 #include <math.h>
@@ -150,6 +150,82 @@ TEST(disk_lit_by_lambert)
     remove(path);
 }
 
+/* The mean of channel c of the image of a pbrt file (16 x 16, 4 samples a pixel). */
+static double render_mean(const char *text, int c)
+{
+    const char *path = test_tmp_path("area.pbrt");
+    test_write_file(path, text);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_image *img = test_render_scene(s, -1, 23);
+    double mean, se;
+    test_channel_mean(brume_image_pixels(img), brume_image_width(img) * brume_image_height(img), c, &mean, &se);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    remove(path);
+    return mean;
+}
+
+/* AreaLightSource "diffuse": a patch filling the 1-degree view emits L scale = (1, 2, 3) x 2
+ * toward the camera from the side pbrt's normal faces, (p10 - p00) x (p01 - p00) = -z here,
+ * toward the camera at z = -5: each pixel is that radiance, with pbrt's right-handed view
+ * (Scale -1 1 1) and with its bare LookAt, which brume translates as a mirrored world (the
+ * mirror reverses the triangles, which the reader turns back). The patch turned around emits
+ * nothing toward the camera, unless twosided; an iso of 200 doubles it. */
+TEST(area_light_faces_pbrt_normal)
+{
+    const char *views[2] = {"Scale -1 1 1\nLookAt 0 0 -5  0 0 0  0 1 0\n", "LookAt 0 0 -5  0 0 0  0 1 0\n"};
+    const char *patch[2] = {"[-9 -9 0  -9 9 0  9 -9 0  9 9 0]", "[-9 -9 0  9 -9 0  -9 9 0  9 9 0]"};
+    for (int v = 0; v < 2; v++)
+        for (int back = 0; back < 2; back++)
+            for (int two = 0; two < 2; two++) {
+                char text[2048];
+                snprintf(text, sizeof text,
+                         "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"float iso\" 200\n"
+                         "Sampler \"halton\" \"integer pixelsamples\" 4\n%sCamera \"perspective\" \"float fov\" 1\n"
+                         "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 2 3] \"float scale\" 2%s\n"
+                         "Material \"diffuse\" \"rgb reflectance\" [0 0 0]\nShape \"bilinearmesh\" \"point3 P\" %s\n"
+                         "AttributeEnd\n", views[v], two ? " \"bool twosided\" true" : "", patch[back]);
+                double want = back && !two ? 0.0 : 2.0 * 2.0 * 3.0;
+                double got = render_mean(text, 2);
+                if (!(fabs(got - want) <= 1e-5 * 12.0))
+                    TEST_FAIL("view %d, patch %s, twosided %d: blue %g, want %g", v, back ? "turned" : "facing", two,
+                              got, want);
+            }
+}
+
+/* What would emit from a side brume cannot tell, each refused by name. */
+TEST(area_light_refusals)
+{
+    const char *cases[][2] = {
+        {"Shape \"plymesh\" \"string filename\" ", "a one-sided area light on a PLY mesh"},
+        {"Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"normal N\" [0 0 1 0 0 1 0 0 1]\n",
+         "a one-sided area light on a mesh with \"normal N\""},
+        {"Material \"interface\"\nShape \"sphere\"\n", "an area light on an \"interface\" shape"},
+        {"AreaLightSource \"goniometric\"\n", "AreaLightSource \"goniometric\""}};
+    test_write_file(test_tmp_path("tri.ply"), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                              "property float y\nproperty float z\nelement face 1\n"
+                                              "property list uchar int vertex_indices\nend_header\n"
+                                              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    for (int i = 0; i < 4; i++) {
+        char world[1024], text[4096];
+        snprintf(world, sizeof world, "%s", cases[i][0]);
+        if (i == 0) /* the file's name, quoted */
+            snprintf(world + strlen(world), sizeof world - strlen(world), "\"%s\"\n", test_tmp_path("tri.ply"));
+        snprintf(text, sizeof text, "%sAreaLightSource \"diffuse\"\n%s", HEAD, world);
+        const char *path = test_tmp_path("bad.pbrt");
+        test_write_file(path, text);
+        char *json = NULL;
+        ASSERT_TRUE(scene_pbrt_json(path, &json) != BRUME_OK);
+        ASSERT_CONTAINS(err_message(), cases[i][1]);
+        remove(path);
+    }
+    remove(test_tmp_path("tri.ply"));
+}
+
 /* A disk or cylinder bounds no volume: as an interface shape it is refused. */
 TEST(open_shapes_bound_no_medium)
 {
@@ -165,4 +241,5 @@ TEST(open_shapes_bound_no_medium)
     remove(path);
 }
 
-TEST_MAIN(disk_is_its_polygon, cylinder_is_its_prism, disk_lit_by_lambert, open_shapes_bound_no_medium)
+TEST_MAIN(disk_is_its_polygon, cylinder_is_its_prism, disk_lit_by_lambert, open_shapes_bound_no_medium,
+          area_light_faces_pbrt_normal, area_light_refusals)

@@ -79,6 +79,8 @@ typedef struct attrs {
     double albedo[3];
     char inside[128], outside[128];
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
+    bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
+    double area_L[3];
 } attrs;
 
 typedef struct pbrt_state {
@@ -161,6 +163,7 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
 /* pbrt_lights.c */
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps);
 void pbrt_imaging(pbrt_state *S);
+brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type, params *ps);
 
 /* pbrt_media.c */
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);

@@ -40,10 +40,41 @@ static brume_status light_color(lexer *L, params *ps, const char *name, double o
     return BRUME_OK;
 }
 
+/* "diffuse": the shapes that follow in the attribute block emit L scale from the side pbrt's
+ * normal faces (both with twosided), as brume's surface emission does (pbrt_shapes.c faces
+ * them); pbrt-v4 divides the scale by L's luminance, so rgb L is brume's radiance as it is. */
+brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    if (strcmp(type, "diffuse") != 0)
+        return pbrt_fail(L, "AreaLightSource \"%s\": not supported by brume (diffuse)", type);
+    double Lrgb[3] = {1, 1, 1}, scale = 1.0;
+    if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)))
+        return st;
+    param *two = pbrt_get(ps, "twosided");
+    bool two_sided = false;
+    if (two) {
+        bool word = strcmp(two->type, "bool") == 0 && two->n == 1;
+        if (!word || (two->is_string && strcmp(two->s, "true") != 0 && strcmp(two->s, "false") != 0))
+            return pbrt_fail(L, "AreaLightSource: parameter \"twosided\": expected one bool");
+        two_sided = two->is_string ? strcmp(two->s, "true") == 0 : two->v[0] != 0.0;
+    }
+    if ((st = pbrt_all_used(L, ps, "AreaLightSource \"diffuse\"")))
+        return st;
+    if (!(scale >= 0.0 && scale <= 1e30))
+        return pbrt_fail(L, "AreaLightSource: parameter \"scale\": %g outside [0, 1e30]", scale);
+    a->area = true;
+    a->area_two_sided = two_sided;
+    for (int c = 0; c < 3; c++)
+        a->area_L[c] = Lrgb[c] * scale;
+    return BRUME_OK;
+}
+
 /* pbrt-v4's exposure: the film records radiance times the imaging ratio, the exposure time
  * (the Camera's shutterclose - shutteropen, 1 by default) times iso / 100 (Film "iso", 100 by
  * default). The image is linear in its sources taken together, so brume scales every one of
- * them, the lights, the sky and the media's emission, by the ratio. */
+ * them, the lights, the sky, the media's and the surfaces' emission, by the ratio. */
 void pbrt_imaging(pbrt_state *S)
 {
     double k = S->exposure_time * S->iso / 100.0;
@@ -64,6 +95,11 @@ void pbrt_imaging(pbrt_state *S)
         }
     for (int c = 0; c < 3; c++)
         S->background[c] *= k;
+    for (cJSON *o = S->surfaces ? S->surfaces->child : NULL; o; o = o->next) {
+        cJSON *e = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(o, "material"), "emission");
+        for (cJSON *v = e ? e->child : NULL; v; v = v->next)
+            cJSON_SetNumberHelper(v, v->valuedouble * k);
+    }
 }
 
 /* "spot": pbrt-v4's SpotLight, I scale times SmoothStep(cos coneangle, cos(coneangle -

@@ -209,7 +209,36 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     }
     cJSON *mat = cJSON_AddObjectToObject(s, "material");
     cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
+    if (a->area) {
+        cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
+        if (a->area_two_sided)
+            cJSON_AddBoolToObject(mat, "two_sided", true);
+    }
     cJSON_AddItemToArray(S->surfaces, s);
+    return BRUME_OK;
+}
+
+/* An emitting shape's triangles face pbrt's normal: the object's winding carried through the
+ * transform, which a mirroring transform (the reader's mirrored world included) reverses in
+ * world space, so the winding is reversed back. One-sided emission from a mesh with shading
+ * normals N faces them in pbrt-v4 (FaceForward), which brume does not read: refused. */
+static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, tris *t)
+{
+    const attrs *a = &S->a[S->depth];
+    if (!a->area || a->area_two_sided)
+        return BRUME_OK;
+    param *N = pbrt_get(ps, "N");
+    if (N && N->n > 0)
+        return pbrt_fail(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
+                                "side toward N; give \"bool twosided\" true)", what);
+    const double *c = a->ctm.m;
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    for (int f = 0; det < 0.0 && f < t->nt; f++) {
+        int k = t->idx[3 * f + 1];
+        t->idx[3 * f + 1] = t->idx[3 * f + 2];
+        t->idx[3 * f + 2] = k;
+    }
     return BRUME_OK;
 }
 
@@ -312,6 +341,9 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return st;
     if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
         return shape_interface(S, "plymesh", NULL);
+    if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
+        return pbrt_fail(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
+                            "file's normals; give \"bool twosided\" true)", what);
     cJSON *s = placed_surface(S, what, "mesh");
     if (!s)
         return err_status();
@@ -327,6 +359,8 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
     char what[160];
     snprintf(what, sizeof what, "Shape \"%s\"", type);
     bool interface = strcmp(a->material, "interface") == 0;
+    if (interface && S->a[S->depth].area)
+        return pbrt_fail(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
     if (strcmp(type, "sphere") == 0) {
         double radius = 1.0;
         if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
@@ -375,7 +409,7 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         tris_free(&t);
         return st;
     }
-    if ((st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
+    if ((st = emitter_facing(S, ps, what, &t)) || (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
         tris_free(&t);
         return st;
     }

@@ -25,7 +25,7 @@
 
 static bool is_typed_directive(const char *dir)
 {
-    static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material",
+    static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material", "AreaLightSource",
                                         "LightSource", "Shape", "ColorSpace", "MakeNamedMedium"};
     for (size_t i = 0; i < sizeof typed / sizeof typed[0]; i++)
         if (strcmp(dir, typed[i]) == 0)
@@ -65,6 +65,8 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
         return pbrt_shape_directive(S, type, ps);
     if (strcmp(dir, "MakeNamedMedium") == 0)
         return pbrt_medium_directive(S, type, ps);
+    if (strcmp(dir, "AreaLightSource") == 0)
+        return pbrt_area_light_directive(S, a, type, ps);
     return pbrt_setting_directive(S, a, dir, type, what, ps);
 }
 
