@@ -226,6 +226,29 @@ TEST(area_light_refusals)
     remove(test_tmp_path("tri.ply"));
 }
 
+/* MakeNamedMaterial keeps a material by name (a later one of the name replaces it) and sets
+ * nothing; NamedMaterial makes it current; an unknown name is refused. */
+TEST(named_materials_as_pbrt)
+{
+    cJSON *root;
+    const cJSON *s = surface("MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.5 0.1 0.1]\n"
+                             "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.6 0.2 0.1]\n"
+                             "Material \"diffuse\" \"rgb reflectance\" [0.3 0.3 0.3]\nNamedMaterial \"red\"\n"
+                             "Shape \"sphere\"\n", &root);
+    const cJSON *albedo = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(s, "material"), "albedo");
+    ASSERT_NEAR(cJSON_GetArrayItem(albedo, 0)->valuedouble, 0.6, 1e-12);
+    ASSERT_NEAR(cJSON_GetArrayItem(albedo, 1)->valuedouble, 0.2, 1e-12);
+    cJSON_Delete(root);
+    char text[4096];
+    snprintf(text, sizeof text, "%s%s", HEAD, "NamedMaterial \"blue\"\n");
+    const char *path = test_tmp_path("named.pbrt");
+    test_write_file(path, text);
+    char *json = NULL;
+    ASSERT_TRUE(scene_pbrt_json(path, &json) != BRUME_OK);
+    ASSERT_CONTAINS(err_message(), ":7: NamedMaterial \"blue\": no MakeNamedMaterial of that name");
+    remove(path);
+}
+
 /* A disk or cylinder bounds no volume: as an interface shape it is refused. */
 TEST(open_shapes_bound_no_medium)
 {
@@ -242,4 +265,4 @@ TEST(open_shapes_bound_no_medium)
 }
 
 TEST_MAIN(disk_is_its_polygon, cylinder_is_its_prism, disk_lit_by_lambert, open_shapes_bound_no_medium,
-          area_light_faces_pbrt_normal, area_light_refusals)
+          area_light_faces_pbrt_normal, area_light_refusals, named_materials_as_pbrt)

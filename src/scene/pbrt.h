@@ -83,6 +83,13 @@ typedef struct attrs {
     double area_L[3];
 } attrs;
 
+typedef struct named_material {
+    char name[128];
+    char material[32]; /* "diffuse" or "interface" */
+    double albedo[3];
+} named_material;
+#define PBRT_MAX_MATERIALS 64
+
 typedef struct pbrt_state {
     lexer L;
     const char *path;
@@ -102,6 +109,8 @@ typedef struct pbrt_state {
     int xres, yres, spp, max_depth;
     named_medium media[PBRT_MAX_MEDIA];
     int nmedia;
+    named_material materials[PBRT_MAX_MATERIALS]; /* MakeNamedMaterial */
+    int nmaterials;
     cJSON *root, *lights, *media_j, *surfaces;
     double background[3];
     bool have_background;

@@ -59,8 +59,58 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     return BRUME_OK;
 }
 
-/* Film, Sampler, Integrator, ColorSpace, Material: what they set of the scene or of the
- * current attributes a (their type and parameters read). */
+/* A material of the type (pbrt's "" is "interface") into material and albedo, its parameters
+ * read: diffuse (reflectance, default 0.5) and interface. */
+static brume_status material_read(pbrt_state *S, const char *type, const char *what, params *ps, char material[32],
+                                  double albedo[3])
+{
+    if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
+        return pbrt_fail(&S->L, "%s: not supported by brume (diffuse, interface)", what);
+    pbrt_copy(material, 32, type[0] ? type : "interface");
+    albedo[0] = albedo[1] = albedo[2] = 0.5;
+    if (strcmp(type, "diffuse") == 0)
+        return pbrt_get_color(&S->L, ps, "reflectance", albedo);
+    return BRUME_OK;
+}
+
+/* MakeNamedMaterial "name" "string type" ... and NamedMaterial "name": a material kept by
+ * name (a later one of the same name replaces it, as in pbrt-v4), and set as the current. */
+static brume_status named_material_directive(pbrt_state *S, attrs *a, const char *dir, const char *name,
+                                             const char *what, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    int i = 0;
+    while (i < S->nmaterials && strcmp(S->materials[i].name, name) != 0)
+        i++;
+    if (strcmp(dir, "NamedMaterial") == 0) {
+        if ((st = pbrt_all_used(L, ps, what)))
+            return st;
+        if (i == S->nmaterials)
+            return pbrt_fail(L, "%s: no MakeNamedMaterial of that name before it", what);
+        pbrt_copy(a->material, sizeof a->material, S->materials[i].material);
+        memcpy(a->albedo, S->materials[i].albedo, sizeof a->albedo);
+        return BRUME_OK;
+    }
+    if (i == PBRT_MAX_MATERIALS)
+        return pbrt_fail(L, "%s: more than %d named materials", what, PBRT_MAX_MATERIALS);
+    char type[64] = "";
+    named_material m;
+    if ((st = pbrt_get_string(L, ps, "type", type, sizeof type)))
+        return st;
+    if (!pbrt_get(ps, "type"))
+        return pbrt_fail(L, "%s: no \"string type\"", what);
+    if ((st = material_read(S, type, what, ps, m.material, m.albedo)) || (st = pbrt_all_used(L, ps, what)))
+        return st;
+    pbrt_copy(m.name, sizeof m.name, name);
+    S->materials[i] = m;
+    if (i == S->nmaterials)
+        S->nmaterials++;
+    return BRUME_OK;
+}
+
+/* Film, Sampler, Integrator, ColorSpace, Material, MakeNamedMaterial, NamedMaterial: what they
+ * set of the scene or of the current attributes a (their type and parameters read). */
 brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, const char *type, const char *what,
                                     params *ps)
 {
@@ -108,13 +158,11 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
     } else if (strcmp(dir, "ColorSpace") == 0) {
         if (strcmp(type, "srgb") != 0)
             return pbrt_fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
-    } else { /* Material */
-        if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
-            return pbrt_fail(L, "%s: not supported by brume (diffuse, interface)", what);
-        pbrt_copy(a->material, sizeof a->material, type[0] ? type : "interface"); /* pbrt: "" is "interface" */
-        a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
-        if (strcmp(type, "diffuse") == 0 && (st = pbrt_get_color(L, ps, "reflectance", a->albedo)))
+    } else if (strcmp(dir, "Material") == 0) {
+        if ((st = material_read(S, type, what, ps, a->material, a->albedo)))
             return st;
+    } else {
+        return named_material_directive(S, a, dir, type, what, ps);
     }
     return pbrt_all_used(L, ps, what);
 }

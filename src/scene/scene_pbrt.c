@@ -26,6 +26,7 @@
 static bool is_typed_directive(const char *dir)
 {
     static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material", "AreaLightSource",
+                                        "MakeNamedMaterial", "NamedMaterial",
                                         "LightSource", "Shape", "ColorSpace", "MakeNamedMedium"};
     for (size_t i = 0; i < sizeof typed / sizeof typed[0]; i++)
         if (strcmp(dir, typed[i]) == 0)
@@ -39,7 +40,7 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     lexer *L = &S->L;
     brume_status st;
     pbrt_next(L);
-    const char *arg = strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type";
+    const char *arg = strncmp(dir, "Make", 4) == 0 || strcmp(dir, "NamedMaterial") == 0 ? "name" : "type";
     if (L->kind != TOK_STRING)
         return pbrt_expected(L, "%s: expected its %s (a quoted string)", dir, arg);
     char type[128], what[200];
