@@ -91,6 +91,20 @@ TEST(film_sensor_and_whitebalance_refused_by_name)
                    "\"whitebalance\": 6000 K");
 }
 
+/* PixelFilter "box" of radius r is brume's box filter of side 2 r; pbrt's other filters are
+ * refused by name. */
+TEST(box_pixel_filter_read)
+{
+    cJSON *root = translate_ok("PixelFilter \"box\" \"float xradius\" 1 \"float yradius\" 1\nFilm \"rgb\"\n" VIEW
+                               "Camera \"perspective\"\nWorldBegin\n");
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(root, "render"), "filter");
+    ASSERT_EQ_STR(cJSON_GetObjectItemCaseSensitive(f, "type")->valuestring, "box");
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(f, "width")->valuedouble, 2.0, 0);
+    cJSON_Delete(root);
+    expect_refusal("PixelFilter \"mitchell\"\nFilm \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\n", 1,
+                   "PixelFilter \"mitchell\"");
+}
+
 /* The chromaticity (x, y) of a linear Rec. 709 colour, and its luminance Y. */
 static void rec709_xyY(const cJSON *o, const char *key, double *x, double *y, double *Y)
 {
@@ -241,5 +255,5 @@ TEST(missing_grid_names_its_command)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(film_imaging_ratio_scales_sources, film_sensor_and_whitebalance_refused_by_name, blackbody_lights_as_pbrt,
+TEST_MAIN(film_imaging_ratio_scales_sources, box_pixel_filter_read, film_sensor_and_whitebalance_refused_by_name, blackbody_lights_as_pbrt,
           spot_light_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)

@@ -103,6 +103,7 @@ typedef struct pbrt_state {
     int camera_line;         /* the Camera directive's line */
     int far_light_line;      /* the first distant or infinite light's line (0: none) */
     char far_light[16];      /* and its type */
+    double box_filter;       /* PixelFilter "box": its width in pixels (0: none given) */
     double iso, exposure_time; /* Film "iso" and the Camera's shutterclose - shutteropen (pbrt_imaging) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;

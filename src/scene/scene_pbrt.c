@@ -26,7 +26,7 @@
 static bool is_typed_directive(const char *dir)
 {
     static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material", "AreaLightSource",
-                                        "MakeNamedMaterial", "NamedMaterial",
+                                        "MakeNamedMaterial", "NamedMaterial", "PixelFilter",
                                         "LightSource", "Shape", "ColorSpace", "MakeNamedMedium"};
     for (size_t i = 0; i < sizeof typed / sizeof typed[0]; i++)
         if (strcmp(dir, typed[i]) == 0)
@@ -266,6 +266,11 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     cJSON_AddNumberToObject(r, "spp", S->spp);
     cJSON_AddStringToObject(r, "method", "path");
     cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
+    if (S->box_filter > 0.0) {
+        cJSON *f = cJSON_AddObjectToObject(r, "filter");
+        cJSON_AddStringToObject(f, "type", "box");
+        cJSON_AddNumberToObject(f, "width", S->box_filter);
+    }
     if (!(*json = cJSON_Print(S->root)))
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     return BRUME_OK;
