@@ -249,6 +249,69 @@ TEST(named_materials_as_pbrt)
     remove(path);
 }
 
+/* The translation of text, or NULL with the message in err_message(). */
+static cJSON *translate_text(const char *text)
+{
+    const char *path = test_tmp_path("obj.pbrt");
+    test_write_file(path, text);
+    char *json = NULL;
+    brume_status st = scene_pbrt_json(path, &json);
+    remove(path);
+    if (st != BRUME_OK)
+        return NULL;
+    cJSON *root = cJSON_Parse(json);
+    free(json);
+    return root;
+}
+
+/* ObjectBegin/ObjectInstance: each instance is the object's shapes placed by the transform
+ * at ObjectInstance times their own (pbrt-v4), here Translate 5 0 0 (then none) times
+ * Translate 0 0 1: a triangle's first corner (0, 0, 0) lands at (5, 0, 1) and (0, 0, 1); in
+ * the world a bare LookAt mirrors (x -> -x), at (-5, 0, 1). The object's own material is the
+ * one at ObjectBegin. A light inside an object, an unknown name and a stray ObjectEnd are
+ * refused by name. */
+TEST(object_instances_as_pbrt)
+{
+    const char *views[2] = {"Scale -1 1 1\nLookAt 0 0 -5  0 0 0  0 1 0\n", "LookAt 0 0 -5  0 0 0  0 1 0\n"};
+    for (int v = 0; v < 2; v++) {
+        char text[4096];
+        snprintf(text, sizeof text,
+                 "%sCamera \"perspective\"\nWorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\n"
+                 "ObjectBegin \"tri\"\nTranslate 0 0 1\n"
+                 "Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0] \"integer indices\" [0 1 2]\nObjectEnd\n"
+                 "Material \"diffuse\" \"rgb reflectance\" [0.9 0.9 0.9]\n"
+                 "AttributeBegin\nTranslate 5 0 0\nObjectInstance \"tri\"\nAttributeEnd\nObjectInstance \"tri\"\n",
+                 views[v]);
+        cJSON *root = translate_text(text);
+        if (!root)
+            TEST_FAIL("%s", err_message());
+        const cJSON *surf = cJSON_GetObjectItemCaseSensitive(root, "surfaces");
+        ASSERT_EQ_INT(cJSON_GetArraySize(surf), 2);
+        for (int i = 0; i < 2; i++) {
+            const cJSON *sp = cJSON_GetArrayItem(surf, i);
+            const cJSON *P = cJSON_GetObjectItemCaseSensitive(sp, "positions");
+            double x = (i == 0 ? 5.0 : 0.0) * (v == 1 ? -1.0 : 1.0);
+            ASSERT_NEAR(cJSON_GetArrayItem(P, 0)->valuedouble, x, 1e-12);
+            ASSERT_NEAR(cJSON_GetArrayItem(P, 2)->valuedouble, 1.0, 1e-12);
+            const cJSON *alb = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(sp, "material"), "albedo");
+            ASSERT_NEAR(cJSON_GetArrayItem(alb, 2)->valuedouble, 0.3, 1e-12);
+        }
+        cJSON_Delete(root);
+    }
+    const char *bad[][2] = {
+        {"ObjectBegin \"o\"\nLightSource \"point\"\nObjectEnd\nObjectInstance \"o\"\n",
+         ":8: LightSource inside ObjectBegin \"o\""},
+        {"ObjectInstance \"p\"\n", ":7: ObjectInstance \"p\": no ObjectBegin of that name"},
+        {"ObjectEnd\n", ":7: ObjectEnd without an open ObjectBegin"},
+        {"ObjectBegin \"o\"\nShape \"sphere\"\n", "no ObjectEnd before the end of the file"}};
+    for (int i = 0; i < 4; i++) {
+        char text[4096];
+        snprintf(text, sizeof text, "%s%s", HEAD, bad[i][0]);
+        ASSERT_TRUE(translate_text(text) == NULL);
+        ASSERT_CONTAINS(err_message(), bad[i][1]);
+    }
+}
+
 /* A disk or cylinder bounds no volume: as an interface shape it is refused. */
 TEST(open_shapes_bound_no_medium)
 {
@@ -265,4 +328,4 @@ TEST(open_shapes_bound_no_medium)
 }
 
 TEST_MAIN(disk_is_its_polygon, cylinder_is_its_prism, disk_lit_by_lambert, open_shapes_bound_no_medium,
-          area_light_faces_pbrt_normal, area_light_refusals, named_materials_as_pbrt)
+          area_light_faces_pbrt_normal, area_light_refusals, named_materials_as_pbrt, object_instances_as_pbrt)

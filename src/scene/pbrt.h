@@ -90,6 +90,15 @@ typedef struct named_material {
 } named_material;
 #define PBRT_MAX_MATERIALS 64
 
+/* ObjectBegin "name" ... ObjectEnd: its directives, replayed by ObjectInstance. */
+typedef struct pbrt_object {
+    char name[128];
+    lexer at;   /* just after ObjectBegin "name", in a text kept to the end */
+    attrs a;    /* the graphics state at ObjectBegin */
+} pbrt_object;
+#define PBRT_MAX_OBJECTS 256
+#define PBRT_MAX_TEXTS 256
+
 typedef struct pbrt_state {
     lexer L;
     const char *path;
@@ -118,6 +127,11 @@ typedef struct pbrt_state {
     double inline_numbers; /* numbers of the inline grids and meshes written so far */
     size_t text_bytes;     /* the file's, and those it includes */
     int includes;          /* Include and Import files open, one within the other */
+    char *texts[PBRT_MAX_TEXTS]; /* the included files' texts, kept for ObjectInstance */
+    int ntexts;
+    pbrt_object objs[PBRT_MAX_OBJECTS]; /* ObjectBegin */
+    int nobjs;
+    bool instancing;       /* an ObjectInstance is being read */
     long objects;          /* typed directives read so far (count_translation) */
 } pbrt_state;
 
@@ -173,11 +187,16 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
 /* pbrt_lights.c */
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps);
 void pbrt_imaging(pbrt_state *S);
+brume_status pbrt_illuminant(lexer *L, params *ps, const char *name, double out[3]);
 brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type, params *ps);
 
 /* pbrt_media.c */
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);
 brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position);
+
+/* pbrt_objects.c */
+brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,
+                                   brume_status (*directive)(pbrt_state *, params *));
 
 /* pbrt_shapes.c */
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);

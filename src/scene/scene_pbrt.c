@@ -120,7 +120,12 @@ static brume_status include_directive(pbrt_state *S, params *ps, const char *dir
         free(saved);
     }
     *L = outer;
-    free(text);
+    if (st == BRUME_OK && S->ntexts == PBRT_MAX_TEXTS)
+        st = pbrt_fail(L, "%s: more than %d included files", dir, PBRT_MAX_TEXTS);
+    if (st == BRUME_OK)
+        S->texts[S->ntexts++] = text; /* kept to the end: ObjectInstance may replay it */
+    else
+        free(text);
     return st;
 }
 
@@ -166,6 +171,8 @@ static brume_status directive(pbrt_state *S, params *ps)
         return typed_directive(S, a, dir, ps);
     if (strcmp(dir, "Include") == 0 || strcmp(dir, "Import") == 0)
         return include_directive(S, ps, dir);
+    if (strncmp(dir, "Object", 6) == 0)
+        return pbrt_object_directive(S, ps, dir, directive);
     if (strcmp(dir, "WorldBegin") == 0) {
         if (!S->have_camera)
             return pbrt_fail(L, "%s before a Camera", dir);
@@ -177,8 +184,6 @@ static brume_status directive(pbrt_state *S, params *ps)
         return pbrt_attribute_begin(S, dir);
     } else if (strcmp(dir, "AttributeEnd") == 0 || strcmp(dir, "TransformEnd") == 0) {
         return pbrt_attribute_end(S, dir);
-    } else if (strcmp(dir, "ObjectEnd") == 0) {
-        return pbrt_fail(L, "%s without an open ObjectBegin", dir); /* ObjectBegin itself is refused */
     } else if (strcmp(dir, "MediumInterface") == 0) {
         return medium_interface(S, a, dir);
     } else {
@@ -322,6 +327,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
     for (int i = 0; i < S->nmedia; i++)
         if (!S->media[i].emitted)
             cJSON_Delete(S->media[i].json);
+    for (int i = 0; i < S->ntexts; i++)
+        free(S->texts[i]);
     cJSON_Delete(S->lights);
     cJSON_Delete(S->media_j);
     cJSON_Delete(S->surfaces);
