@@ -168,6 +168,28 @@ TEST(spot_light_as_pbrt)
                    "elliptical");
 }
 
+/* A constant spectrum on a light or a medium's Le: pbrt-v4 divides the scale by the
+ * spectrum's luminance, so [200 5 900 5] emits luminance Y = scale (not 5 scale), and it is
+ * the equal-energy white, chromaticity (1/3, 1/3) by the CIE's definition. */
+TEST(constant_spectrum_sources_as_pbrt)
+{
+    cJSON *root = translate_ok("Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\n"
+                               "LightSource \"distant\" \"spectrum L\" [200 5 900 5] \"float scale\" 2\n"
+                               "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"spectrum Le\" [200 3 900 3] "
+                               "\"float Lescale\" 0.5\nMaterial \"interface\"\nMediumInterface \"m\" \"\"\n"
+                               "Shape \"bilinearmesh\" \"point3 P\" [-1 -1 -1  1 -1 -1  -1 1 -1  1 1 -1  -1 -1 1  1 -1 1  "
+                               "-1 1 1  1 1 1]\n  \"integer indices\" [0 2 1 3  4 5 6 7  0 1 4 5  2 6 3 7  0 4 2 6  1 3 5 7]\n");
+    double x, y, Y;
+    rec709_xyY(light(root, 0), "irradiance", &x, &y, &Y);
+    ASSERT_NEAR(Y, 2.0, 1e-6);
+    ASSERT_NEAR(x, 1.0 / 3.0, 1e-6);
+    ASSERT_NEAR(y, 1.0 / 3.0, 1e-6);
+    rec709_xyY(cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "media"), 0), "emission", &x, &y, &Y);
+    ASSERT_NEAR(Y, 0.5, 1e-6);
+    ASSERT_NEAR(x, 1.0 / 3.0, 1e-6);
+    cJSON_Delete(root);
+}
+
 /* nanovdb's emission scale spelled "Lescale" (pbrt-v4) or "LeScale" (pbrt-v4-scenes'
  * explosion): the blackbody scale of a fire's temperature grid; both at once refused. */
 TEST(nanovdb_emission_scale_spellings)
@@ -256,4 +278,4 @@ TEST(missing_grid_names_its_command)
 }
 
 TEST_MAIN(film_imaging_ratio_scales_sources, box_pixel_filter_read, film_sensor_and_whitebalance_refused_by_name, blackbody_lights_as_pbrt,
-          spot_light_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)
+          spot_light_as_pbrt, constant_spectrum_sources_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)

@@ -16,13 +16,24 @@
 #include "scene/scene_build.h"
 #include "scene/pbrt.h"
 
-/* A light's L or I: what pbrt_get_color reads, and "blackbody" T (kelvin) as pbrt-v4 gives it
- * to an RGB film: the peak-normalized Planck spectrum, its scale divided by the spectrum's
- * luminance (every light's `scale /= SpectrumToPhotometric`), so Y = 1, seen by the cie1931
- * sensor and written in linear Rec. 709: XYZ(B_T) / Y(B_T) in Rec. 709. */
-static brume_status light_color(lexer *L, params *ps, const char *name, double out[3])
+/* A light's L or I, or a medium's Le, as pbrt-v4 gives it to an RGB film: every light and
+ * emitting medium divides its scale by the spectrum's luminance (SpectrumToPhotometric), of
+ * the colour space's illuminant for rgb (so rgb is read as it is) and of the spectrum itself
+ * otherwise (so a spectrum's own magnitude drops out, Y = 1): a constant spectrum is the
+ * equal-energy white, "blackbody" T (kelvin) the peak-normalized Planck spectrum, each seen
+ * by the cie1931 sensor and written in linear Rec. 709 (XYZ / Y). */
+brume_status pbrt_illuminant(lexer *L, params *ps, const char *name, double out[3])
 {
     param *q = pbrt_get(ps, name);
+    if (q && strcmp(q->type, "spectrum") == 0) {
+        /* a constant spectrum (pbrt_get_color checks it) of luminance 1: the equal-energy
+           white, X = Y = Z, in Rec. 709 (the XYZ to Rec. 709 matrix's row sums) */
+        brume_status st = pbrt_get_color(L, ps, name, out);
+        const double white[3] = {1.2047843, 0.9483008, 0.9088427};
+        for (int c = 0; c < 3 && st == BRUME_OK; c++)
+            out[c] = out[c] > 0.0 ? white[c] : 0.0;
+        return st;
+    }
     if (!q || strcmp(q->type, "blackbody") != 0)
         return pbrt_get_color(L, ps, name, out);
     double T = q->n == 1 && !q->is_string ? q->v[0] : -1.0;
@@ -50,7 +61,7 @@ brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type
     if (strcmp(type, "diffuse") != 0)
         return pbrt_fail(L, "AreaLightSource \"%s\": not supported by brume (diffuse)", type);
     double Lrgb[3] = {1, 1, 1}, scale = 1.0;
-    if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)))
+    if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)))
         return st;
     param *two = pbrt_get(ps, "twosided");
     bool two_sided = false;
@@ -112,7 +123,7 @@ static brume_status light_spot(pbrt_state *S, params *ps, double scale)
     lexer *L = &S->L;
     brume_status st;
     double I[3] = {1, 1, 1}, from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, cone = 30.0, delta = 5.0;
-    if ((st = light_color(L, ps, "I", I)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+    if ((st = pbrt_illuminant(L, ps, "I", I)) || (st = pbrt_get_point(L, ps, "from", from)) ||
         (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_get_float(L, ps, "coneangle", &cone)) ||
         (st = pbrt_get_float(L, ps, "conedeltaangle", &delta)) || (st = pbrt_all_used(L, ps, "LightSource \"spot\"")))
         return st;
@@ -156,7 +167,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
     }
     if (strcmp(type, "distant") == 0) {
         double from[3] = {0, 0, 0}, to[3] = {0, 0, 1};
-        if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+        if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
             (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
             return st;
         vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
@@ -171,7 +182,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddItemToArray(S->lights, l);
     } else if (strcmp(type, "point") == 0) {
         double from[3] = {0, 0, 0};
-        if ((st = light_color(L, ps, "I", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
+        if ((st = pbrt_illuminant(L, ps, "I", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
             (st = pbrt_all_used(L, ps, "LightSource \"point\"")))
             return st;
         vec3 p = pbrt_m4_point(ctm, v3(from[0], from[1], from[2]));
@@ -185,7 +196,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         if ((st = light_spot(S, ps, scale)))
             return st;
     } else if (strcmp(type, "infinite") == 0) {
-        if ((st = light_color(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
+        if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
             return st;
         for (int c = 0; c < 3; c++) /* several constant skies add */
             S->background[c] += Lrgb[c] * scale;

@@ -157,7 +157,7 @@ static brume_status medium_homogeneous(pbrt_state *S, const char *name, params *
                             "(give sigma_a and sigma_s)", name);
     if ((st = pbrt_get_color(L, ps, "sigma_a", sa)) || (st = pbrt_get_color(L, ps, "sigma_s", ss)) ||
         (st = pbrt_get_float(L, ps, "scale", &scale)) || (st = pbrt_get_float(L, ps, "g", &g)) ||
-        (st = pbrt_get_color(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_illuminant(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
         (st = pbrt_all_used(L, ps, "MakeNamedMedium \"homogeneous\"")))
         return st;
     cJSON *m = medium_new(L, name, sa, ss, scale, g);
