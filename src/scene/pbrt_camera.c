@@ -37,6 +37,8 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
         return pbrt_fail(L, "Camera: shutteropen and shutterclose must be finite");
     if ((st = pbrt_all_used(L, ps, "Camera \"perspective\"")))
         return st;
+    if (!(S->lens_radius >= 0.0))
+        return pbrt_fail(L, "Camera: parameter \"lensradius\": %g is negative", S->lens_radius);
     /* pbrt-v4's camera starts its rays in the outside medium of the MediumInterface in effect,
        resolved by name when the scene is complete (pbrt_camera_medium) */
     pbrt_copy(S->camera_medium, sizeof S->camera_medium, S->a[S->depth].outside);

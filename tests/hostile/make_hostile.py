@@ -244,7 +244,6 @@ KNOWN = {
     r'pbrt_[a-z]+_23': 'H3: .pbrt numbers take hexadecimal (0x10)',
     r'pbrt_[a-z]+_26': 'H3: .pbrt takes true for a float parameter',
     r'pbrt_(lens|scale)_06': 'H3: .pbrt refuses 1e-308 (an underflow) as not a number',
-    r'pbrt_lens_03': 'H5: a negative lensradius from .pbrt is accepted (pbrt_camera.c)',
     r'mesh_ply_(04|cut_177)': 'assimp takes an ASCII PLY face whose count exceeds its indices (the last face cut, or a '
                               'count of 255): brume checks the header, not the text body, before it',
 }
