@@ -513,6 +513,13 @@ brume_status brume_scene_frame_camera(brume_context *ctx, brume_scene *scene, co
  * the media's: a sequence's studio scene frames the box over all its files, so that the
  * camera is the same for every frame (docs/production.md). */
 brume_status brume_scene_frame_camera_box(brume_context *ctx, brume_scene *scene, const double box[6], double margin);
+/* The camera's medium (scene JSON camera.medium; pbrt-v4's MediumInterface at Camera): the
+ * camera sits inside the medium `name`. brume's media are fields, so camera rays start in
+ * every medium whose field's box holds the camera, named or not; commit checks that the
+ * named medium exists, is at rest (no keyframes) and that its field's box holds every point
+ * a camera ray starts from (the position, each key's, and the lens around them), and refuses
+ * the scene otherwise. NULL or "" clears it. */
+brume_status brume_scene_set_camera_medium(brume_context *ctx, brume_scene *scene, const char *name);
 
 /* Lights (at most 4096). Colors are linear RGB, each component finite and >= 0. */
 /* Sunlight-like: irradiance (W m^-2) on a surface facing the light, travelling along

@@ -1,4 +1,4 @@
-/* test_pbrt.c - pbrt-v4 scenes read by brume (docs/production.md, "pbrt-v4 scenes"): the
+/* test_pbrt.c - pbrt-v4 scenes read by brume (docs/pbrt.md): the
  * homogeneous, uniformgrid and rgbgrid media, the triangle, bilinear and PLY meshes, each
  * against values worked out here by hand from pbrt-v4's definitions; a homogeneous box's
  * transmittance against exp(-sigma_t d); and the refusals, each one line with FILE:LINE. */
@@ -286,7 +286,7 @@ TEST(refusals_name_file_and_line)
     expect_refusal("Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0] \"integer indices\" [0 1 3]\n", 1,
                    "index 2: 3 is not a point");
     expect_refusal("Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 0]\n", 1, "no \"integer indices\"");
-    expect_refusal("Shape \"disk\"\n", 1, "Shape \"disk\"");
+    expect_refusal("Shape \"cone\"\n", 1, "Shape \"cone\"");
     expect_refusal("Shape \"plymesh\" \"string filename\" \"none.ply\" \"float edgelength\" 1\n", 1,
                    "\"float edgelength\"");
 }

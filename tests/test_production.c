@@ -396,12 +396,12 @@ static void expect_refusal(const char *prefix, const char *extra, const char *li
 /* What brume cannot honour is refused with FILE:LINE and the directive or parameter. */
 TEST(pbrt_refuses_what_it_cannot_honour)
 {
-    expect_refusal("Scale -1 1 1\n", "Shape \"disk\" \"float radius\" 2\n", "20", "Shape \"disk\"");
+    expect_refusal("Scale -1 1 1\n", "Shape \"cone\" \"float radius\" 2\n", "20", "Shape \"cone\"");
     expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"float power\" 3\n", "20", "parameter \"float power\"");
     expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"spectrum L\" [400 1 700 2]\n", "20",
                    "varies with wavelength");
     expect_refusal("Scale -1 1 1\n", "MakeNamedMedium \"f\" \"string type\" \"cloud\"\n", "20", "type \"cloud\"");
-    expect_refusal("Scale -1 1 1\n", "Include \"more.pbrt\"\n", "20", "Include: not supported");
+    expect_refusal("Scale -1 1 1\n", "CoordinateSystem \"c\"\n", "20", "CoordinateSystem: not supported");
     remove(test_tmp_path("pbrt-grid.nvdb"));
 }
 

@@ -28,6 +28,15 @@ bool density_place(density *d, const affine3 *voxel_to_world)
     return density_set_placement(d, voxel_to_world, "grid");
 }
 
+void density_crop(density *d, const double lo[3], const double hi[3])
+{
+    d->crop = true;
+    for (int a = 0; a < 3; a++) {
+        d->crop_lo[a] = lo[a];
+        d->crop_hi[a] = hi[a];
+    }
+}
+
 /* Max and min over each majorant cell of the voxels a lookup inside it can read: the cell
  * itself (nearest) or the cell dilated by one voxel (trilinear). A trilinear value is a
  * convex combination of those voxels, so it lies between the two. Cells of

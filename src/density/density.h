@@ -85,6 +85,11 @@ void density_release(density *d);
 /* For loaders, before the field is shared: replaces the placement of any grid kind by
  * voxel_to_world (bounds follow). false with err_set() when the map is not invertible. */
 bool density_place(density *d, const affine3 *voxel_to_world);
+/* For loaders, before the field is shared: rho is 0 outside the voxel-space box [lo, hi]
+ * (closed), within the voxel box. Walks keep the voxel box and its majorants, which still
+ * bound rho: the grid's own values beyond the cut are to be 0 where its minorants reach
+ * (the zero layer around a grid with pbrt-v4's edges, scene_json_density.c). */
+void density_crop(density *d, const double lo[3], const double hi[3]);
 
 density_kind density_get_kind(const density *d);
 /* Bytes of a NanoVDB buffer that d shares with the other components of its grid (0 for

@@ -33,6 +33,8 @@ struct density {
     int n[3];              /* voxels per axis */
     affine3 w2v, v2w;      /* world -> voxel space and back */
     box3 bounds;           /* world AABB of the voxel box */
+    bool crop;             /* rho is 0 outside the voxel-space box [crop_lo, crop_hi] (density_crop) */
+    double crop_lo[3], crop_hi[3];
     double rho_min, rho_max;
     uint64_t active;       /* see density_info.active_voxels */
     size_t memory;         /* bytes held */

@@ -88,6 +88,9 @@ double density_eval(const density *d, vec3 p)
     /* half-open voxel box; the negated test also rejects NaN */
     if (!(u.x >= 0.0 && u.x < d->n[0] && u.y >= 0.0 && u.y < d->n[1] && u.z >= 0.0 && u.z < d->n[2]))
         return 0.0;
+    if (d->crop && !(u.x >= d->crop_lo[0] && u.x <= d->crop_hi[0] && u.y >= d->crop_lo[1] && u.y <= d->crop_hi[1] &&
+                     u.z >= d->crop_lo[2] && u.z <= d->crop_hi[2]))
+        return 0.0;
     if (d->data) { /* a dense grid, or a small NanoVDB box's dense copy (nanovdb.c) */
         if (d->filter == GRID_NEAREST)
             return dense_at(d, (int)u.x, (int)u.y, (int)u.z);

@@ -79,7 +79,25 @@ typedef struct attrs {
     double albedo[3];
     char inside[128], outside[128];
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
+    bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
+    double area_L[3];
 } attrs;
+
+typedef struct named_material {
+    char name[128];
+    char material[32]; /* "diffuse" or "interface" */
+    double albedo[3];
+} named_material;
+#define PBRT_MAX_MATERIALS 64
+
+/* ObjectBegin "name" ... ObjectEnd: its directives, replayed by ObjectInstance. */
+typedef struct pbrt_object {
+    char name[128];
+    lexer at;   /* just after ObjectBegin "name", in a text kept to the end */
+    attrs a;    /* the graphics state at ObjectBegin */
+} pbrt_object;
+#define PBRT_MAX_OBJECTS 256
+#define PBRT_MAX_TEXTS 256
 
 typedef struct pbrt_state {
     lexer L;
@@ -90,16 +108,30 @@ typedef struct pbrt_state {
     bool have_camera, world;
     int world_line; /* the line of WorldBegin */
     bool mirror; /* pbrt's left-handed view: the world is translated mirrored in x (camera_directive) */
+    char camera_medium[128]; /* the outside medium of the MediumInterface at Camera; "" for none */
+    int camera_line;         /* the Camera directive's line */
+    int far_light_line;      /* the first distant or infinite light's line (0: none) */
+    char far_light[16];      /* and its type */
+    double box_filter;       /* PixelFilter "box": its width in pixels (0: none given) */
+    double iso, exposure_time; /* Film "iso" and the Camera's shutterclose - shutteropen (pbrt_imaging) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;
     int xres, yres, spp, max_depth;
     named_medium media[PBRT_MAX_MEDIA];
     int nmedia;
+    named_material materials[PBRT_MAX_MATERIALS]; /* MakeNamedMaterial */
+    int nmaterials;
     cJSON *root, *lights, *media_j, *surfaces;
     double background[3];
     bool have_background;
     double inline_numbers; /* numbers of the inline grids and meshes written so far */
-    size_t text_bytes;     /* the file's */
+    size_t text_bytes;     /* the file's, and those it includes */
+    int includes;          /* Include and Import files open, one within the other */
+    char *texts[PBRT_MAX_TEXTS]; /* the included files' texts, kept for ObjectInstance */
+    int ntexts;
+    pbrt_object objs[PBRT_MAX_OBJECTS]; /* ObjectBegin */
+    int nobjs;
+    bool instancing;       /* an ObjectInstance is being read */
     long objects;          /* typed directives read so far (count_translation) */
 } pbrt_state;
 
@@ -154,9 +186,17 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
 
 /* pbrt_lights.c */
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps);
+void pbrt_imaging(pbrt_state *S);
+brume_status pbrt_illuminant(lexer *L, params *ps, const char *name, double out[3]);
+brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type, params *ps);
 
 /* pbrt_media.c */
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);
+brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position);
+
+/* pbrt_objects.c */
+brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,
+                                   brume_status (*directive)(pbrt_state *, params *));
 
 /* pbrt_shapes.c */
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);

@@ -25,11 +25,24 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     S->fov = 90.0;
     S->lens_radius = 0.0;
     S->focal_distance = 1e6;
+    double open = 0.0, close = 1.0;
     if ((st = pbrt_get_float(L, ps, "fov", &S->fov)) || (st = pbrt_get_float(L, ps, "lensradius", &S->lens_radius)) ||
-        (st = pbrt_get_float(L, ps, "focaldistance", &S->focal_distance)))
+        (st = pbrt_get_float(L, ps, "focaldistance", &S->focal_distance)) ||
+        (st = pbrt_get_float(L, ps, "shutteropen", &open)) || (st = pbrt_get_float(L, ps, "shutterclose", &close)))
         return st;
+    /* without animated transforms the shutter sets only the exposure time (pbrt-v4 swaps a
+       close before the open) */
+    S->exposure_time = fabs(close - open);
+    if (!(S->exposure_time <= 1e30))
+        return pbrt_fail(L, "Camera: shutteropen and shutterclose must be finite");
     if ((st = pbrt_all_used(L, ps, "Camera \"perspective\"")))
         return st;
+    if (!(S->lens_radius >= 0.0))
+        return pbrt_fail(L, "Camera: parameter \"lensradius\": %g is negative", S->lens_radius);
+    /* pbrt-v4's camera starts its rays in the outside medium of the MediumInterface in effect,
+       resolved by name when the scene is complete (pbrt_camera_medium) */
+    pbrt_copy(S->camera_medium, sizeof S->camera_medium, S->a[S->depth].outside);
+    S->camera_line = L->dir_line;
     m4 wc;
     if (!pbrt_m4_inverse(S->a[S->depth].ctm, &wc))
         return pbrt_fail(L, "Camera: the current transform is not invertible");
@@ -48,19 +61,84 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     return BRUME_OK;
 }
 
-/* Film, Sampler, Integrator, ColorSpace, Material: what they set of the scene or of the
- * current attributes a (their type and parameters read). */
+/* A material of the type (pbrt's "" is "interface") into material and albedo, its parameters
+ * read: diffuse (reflectance, default 0.5) and interface. */
+static brume_status material_read(pbrt_state *S, const char *type, const char *what, params *ps, char material[32],
+                                  double albedo[3])
+{
+    if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
+        return pbrt_fail(&S->L, "%s: not supported by brume (diffuse, interface)", what);
+    pbrt_copy(material, 32, type[0] ? type : "interface");
+    albedo[0] = albedo[1] = albedo[2] = 0.5;
+    if (strcmp(type, "diffuse") == 0)
+        return pbrt_get_color(&S->L, ps, "reflectance", albedo);
+    return BRUME_OK;
+}
+
+/* MakeNamedMaterial "name" "string type" ... and NamedMaterial "name": a material kept by
+ * name (a later one of the same name replaces it, as in pbrt-v4), and set as the current. */
+static brume_status named_material_directive(pbrt_state *S, attrs *a, const char *dir, const char *name,
+                                             const char *what, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    int i = 0;
+    while (i < S->nmaterials && strcmp(S->materials[i].name, name) != 0)
+        i++;
+    if (strcmp(dir, "NamedMaterial") == 0) {
+        if ((st = pbrt_all_used(L, ps, what)))
+            return st;
+        if (i == S->nmaterials)
+            return pbrt_fail(L, "%s: no MakeNamedMaterial of that name before it", what);
+        pbrt_copy(a->material, sizeof a->material, S->materials[i].material);
+        memcpy(a->albedo, S->materials[i].albedo, sizeof a->albedo);
+        return BRUME_OK;
+    }
+    if (i == PBRT_MAX_MATERIALS)
+        return pbrt_fail(L, "%s: more than %d named materials", what, PBRT_MAX_MATERIALS);
+    char type[64] = "";
+    named_material m;
+    if ((st = pbrt_get_string(L, ps, "type", type, sizeof type)))
+        return st;
+    if (!pbrt_get(ps, "type"))
+        return pbrt_fail(L, "%s: no \"string type\"", what);
+    if ((st = material_read(S, type, what, ps, m.material, m.albedo)) || (st = pbrt_all_used(L, ps, what)))
+        return st;
+    pbrt_copy(m.name, sizeof m.name, name);
+    S->materials[i] = m;
+    if (i == S->nmaterials)
+        S->nmaterials++;
+    return BRUME_OK;
+}
+
+/* Film, Sampler, Integrator, ColorSpace, Material, MakeNamedMaterial, NamedMaterial: what they
+ * set of the scene or of the current attributes a (their type and parameters read). */
 brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, const char *type, const char *what,
                                     params *ps)
 {
     lexer *L = &S->L;
     brume_status st;
     if (strcmp(dir, "Film") == 0) {
-        double x = 1280, y = 720;
-        char fn[512];
+        /* gbuffer writes rgb's image plus layers; spectral writes spectral bands brume has not */
+        if (strcmp(type, "rgb") != 0 && strcmp(type, "gbuffer") != 0)
+            return pbrt_fail(L, "%s: brume's image is pbrt's \"rgb\" film (rgb, gbuffer)", what);
+        double x = 1280, y = 720, wb = 0.0;
+        char fn[512], sensor[64] = "cie1931";
         if ((st = pbrt_get_float(L, ps, "xresolution", &x)) || (st = pbrt_get_float(L, ps, "yresolution", &y)) ||
-            (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)))
+            (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)) ||
+            (st = pbrt_get_string(L, ps, "sensor", sensor, sizeof sensor)) ||
+            (st = pbrt_get_float(L, ps, "iso", &S->iso)) || (st = pbrt_get_float(L, ps, "whitebalance", &wb)))
             return st;
+        /* pbrt-v4's cie1931 sensor is the XYZ observer, which an RGB film turns into the colour
+           space's RGB: brume's own values. Camera sensors weigh the spectrum with their own curves */
+        if (strcmp(sensor, "cie1931") != 0)
+            return pbrt_fail(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
+                                "sensor sees it; a camera's spectral response is not read", what, sensor);
+        if (wb != 0.0)
+            return pbrt_fail(L, "%s: parameter \"whitebalance\": %g K: pbrt-v4 adapts the image's colours from that "
+                                "white to the colour space's, a 3 x 3 map of the image brume does not apply", what, wb);
+        if (!(S->iso >= 0.0 && S->iso <= 1e30))
+            return pbrt_fail(L, "%s: parameter \"iso\": %g outside [0, 1e30]", what, S->iso);
         if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
             return pbrt_fail(L, "%s: resolution outside [1, 65536]", what);
         S->xres = (int)x;
@@ -82,13 +160,23 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
     } else if (strcmp(dir, "ColorSpace") == 0) {
         if (strcmp(type, "srgb") != 0)
             return pbrt_fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
-    } else { /* Material */
-        if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
-            return pbrt_fail(L, "%s: not supported by brume (diffuse, interface)", what);
-        pbrt_copy(a->material, sizeof a->material, type[0] ? type : "interface"); /* pbrt: "" is "interface" */
-        a->albedo[0] = a->albedo[1] = a->albedo[2] = 0.5;
-        if (strcmp(type, "diffuse") == 0 && (st = pbrt_get_color(L, ps, "reflectance", a->albedo)))
+    } else if (strcmp(dir, "PixelFilter") == 0) {
+        /* pbrt-v4's box filter weighs the samples within radius of the pixel's centre alike:
+           brume's box of side 2 radius. Its other filters' shapes differ from brume's */
+        double rx = 0.5, ry = 0.5;
+        if (strcmp(type, "box") != 0)
+            return pbrt_fail(L, "%s: brume reads pbrt's \"box\" filter (without PixelFilter, pbrt-v4's gaussian is "
+                                "rendered with brume's, docs/pbrt.md)", what);
+        if ((st = pbrt_get_float(L, ps, "xradius", &rx)) || (st = pbrt_get_float(L, ps, "yradius", &ry)))
             return st;
+        if (!(rx == ry && rx >= 0.05 && rx <= 8.0))
+            return pbrt_fail(L, "%s: xradius and yradius must be equal, in [0.05, 8]", what);
+        S->box_filter = 2.0 * rx;
+    } else if (strcmp(dir, "Material") == 0) {
+        if ((st = material_read(S, type, what, ps, a->material, a->albedo)))
+            return st;
+    } else {
+        return named_material_directive(S, a, dir, type, what, ps);
     }
     return pbrt_all_used(L, ps, what);
 }

@@ -79,41 +79,29 @@ static brume_status medium_add(pbrt_state *S, const char *name, cJSON *m, bool h
 
 /* pbrt's grid media (uniformgrid, rgbgrid): n = nx ny nz samples d (x fastest) at the
  * centres of the cells of [p0, p1], read trilinearly with samples beyond the grid taken as
- * 0, so the field falls to d/2 at the faces. brume's trilinear grid holds its outermost
- * samples to its faces instead: the grid is written with a layer of zero samples around it
- * and bounds one cell wider, which gives pbrt's field exactly inside [p0, p1]; it adds the
- * half cell beyond each face, where brume's field falls from d/2 to 0 and pbrt's is 0
- * (none for a grid whose outer samples are 0). An `array` density, placed by the transform
- * at MakeNamedMedium (docs/production.md). */
+ * 0, so the field falls to d/2 at the faces, and 0 outside [p0, p1] (pbrt-v4's SampledGrid
+ * and the grid media's bounds): brume's `array` density with `edge` "zero", which is that
+ * field exactly (its zero layer counts against the inline limit). Placed by the transform at
+ * MakeNamedMedium (docs/pbrt.md). */
 static cJSON *grid_density(pbrt_state *S, const char *name, const double *d, const int n[3], const double p0[3],
                            const double p1[3])
 {
-    int m[3] = {n[0] + 2, n[1] + 2, n[2] + 2};
     char what[200];
     snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
-    if (pbrt_count_inline(S, what, (double)m[0] * m[1] * m[2]))
+    if (pbrt_count_inline(S, what, (double)(n[0] + 2) * (n[1] + 2) * (n[2] + 2)))
         return NULL;
-    double b[2][3];
-    for (int k = 0; k < 3; k++) {
-        double cell = (p1[k] - p0[k]) / n[k];
-        b[0][k] = p0[k] - cell;
-        b[1][k] = p1[k] + cell;
-    }
     cJSON *dj = cJSON_CreateObject();
     cJSON_AddStringToObject(dj, "type", "array");
-    cJSON_AddItemToObject(dj, "dims", cJSON_CreateIntArray(m, 3));
+    cJSON_AddItemToObject(dj, "dims", cJSON_CreateIntArray(n, 3));
     cJSON *data = cJSON_AddArrayToObject(dj, "data");
-    for (int z = 0; z < m[2]; z++)
-        for (int y = 0; y < m[1]; y++)
-            for (int x = 0; x < m[0]; x++) {
-                bool in = x > 0 && y > 0 && z > 0 && x <= n[0] && y <= n[1] && z <= n[2];
-                double v = in ? d[((size_t)(z - 1) * (size_t)n[1] + (size_t)(y - 1)) * (size_t)n[0] + (size_t)(x - 1)] : 0.0;
-                cJSON_AddItemToArray(data, cJSON_CreateNumber(v));
-            }
+    size_t count = (size_t)n[0] * (size_t)n[1] * (size_t)n[2];
+    for (size_t i = 0; i < count; i++)
+        cJSON_AddItemToArray(data, cJSON_CreateNumber(d[i]));
     cJSON *bounds = cJSON_AddArrayToObject(dj, "bounds");
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b[0], 3));
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b[1], 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(p0, 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(p1, 3));
     cJSON_AddStringToObject(dj, "filter", "trilinear");
+    cJSON_AddStringToObject(dj, "edge", "zero");
     if (!medium_place(S, dj, name)) {
         cJSON_Delete(dj);
         return NULL;
@@ -169,7 +157,7 @@ static brume_status medium_homogeneous(pbrt_state *S, const char *name, params *
                             "(give sigma_a and sigma_s)", name);
     if ((st = pbrt_get_color(L, ps, "sigma_a", sa)) || (st = pbrt_get_color(L, ps, "sigma_s", ss)) ||
         (st = pbrt_get_float(L, ps, "scale", &scale)) || (st = pbrt_get_float(L, ps, "g", &g)) ||
-        (st = pbrt_get_color(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_illuminant(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
         (st = pbrt_all_used(L, ps, "MakeNamedMedium \"homogeneous\"")))
         return st;
     cJSON *m = medium_new(L, name, sa, ss, scale, g);
@@ -224,7 +212,7 @@ static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *
  * medium is one density times one colour per coefficient, so the grid is taken when every
  * sample is d_i (c_a, c_s) for one pair of colours: d_i = the sample's largest coefficient,
  * each coefficient within 1e-5 of the grid's largest (values written with 6 digits); any
- * other grid is refused (docs/production.md). */
+ * other grid is refused (docs/pbrt.md). */
 static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
 {
     lexer *L = &S->L;
@@ -306,6 +294,16 @@ brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps)
                             "nanovdb)", type);
 }
 
+/* The nanovdb medium's emission scale: pbrt-v4 reads "Lescale", as for its other media;
+ * pbrt-v4-scenes' explosion writes "LeScale". Either spelling, not both. */
+static brume_status nanovdb_lescale(lexer *L, params *ps, double *out)
+{
+    bool lower = pbrt_get(ps, "Lescale") != NULL, upper = pbrt_get(ps, "LeScale") != NULL;
+    if (lower && upper)
+        return pbrt_fail(L, "MakeNamedMedium \"nanovdb\": both \"Lescale\" and \"LeScale\" (one emission scale)");
+    return pbrt_get_float(L, ps, upper ? "LeScale" : "Lescale", out);
+}
+
 static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
 {
     lexer *L = &S->L;
@@ -315,7 +313,7 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
            tcut = 0.0;
     if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_get_color(L, ps, "sigma_a", sa)) ||
         (st = pbrt_get_color(L, ps, "sigma_s", ss)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
-        (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
+        (st = pbrt_get_float(L, ps, "g", &g)) || (st = nanovdb_lescale(L, ps, &Lescale)) ||
         (st = pbrt_get_float(L, ps, "temperaturescale", &tscale)) || (st = pbrt_get_float(L, ps, "temperaturecutoff", &tcut)))
         return st;
     toff = tcut; /* pbrt-v4: temperatureoffset defaults to temperaturecutoff */
@@ -360,4 +358,70 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
         cJSON_AddNumberToObject(bb, "cutoff", 100);
     }
     return medium_add(S, name, m, false);
+}
+
+/* The camera's medium (the outside one of the MediumInterface at Camera), with the camera at
+ * position (world) and its JSON object cam, once the scene is read. A grid medium is its
+ * field, bounded as in pbrt-v4: added as it is. A homogeneous one is unbounded in pbrt-v4
+ * (shapes end it only where their MediumInterface says so, which pbrt_shape_directive refuses
+ * besides the camera's): it becomes a constant density in the cube of half-side
+ * 64 / sigma_t (the smallest positive channel) around the camera, beyond which whatever
+ * reaches the camera has crossed an optical depth of 64 in pbrt-v4 too (a transmittance of
+ * 1.6e-28; a channel of sigma_t 0 crosses nothing either way). pbrt-v4 attenuates distant and
+ * infinite lights there over twice the scene's radius, which a bounded medium cannot follow:
+ * they are refused. cam gets "medium". */
+brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position)
+{
+    const char *name = S->camera_medium;
+    if (!name[0])
+        return BRUME_OK;
+    lexer *L = &S->L;
+    L->dir_line = S->camera_line;
+    named_medium *nm = NULL;
+    for (int i = 0; i < S->nmedia && !nm; i++)
+        if (strcmp(S->media[i].name, name) == 0)
+            nm = &S->media[i];
+    if (!nm)
+        return pbrt_fail(L, "Camera: its MediumInterface names no medium \"%s\"", name);
+    if (!nm->homogeneous) {
+        if (!nm->emitted) {
+            cJSON_AddItemToArray(S->media_j, nm->json);
+            nm->emitted = true;
+        }
+        return BRUME_OK;
+    }
+    double sigma_t = INFINITY;
+    const cJSON *sa = cJSON_GetObjectItemCaseSensitive(nm->json, "sigma_a");
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(nm->json, "sigma_s");
+    for (int c = 0; c < 3; c++) {
+        double t = cJSON_GetArrayItem(sa, c)->valuedouble + cJSON_GetArrayItem(ss, c)->valuedouble;
+        if (t > 0.0)
+            sigma_t = fmin(sigma_t, t);
+    }
+    if (!isfinite(sigma_t)) /* no extinction and so no emission: the camera sees through it */
+        return BRUME_OK;
+    if (S->far_light_line) {
+        L->dir_line = S->far_light_line;
+        return pbrt_fail(L, "LightSource \"%s\" with the camera in the homogeneous medium \"%s\": pbrt-v4 attenuates "
+                            "this light over twice the scene's radius of that unbounded medium, which brume's bounded "
+                            "media cannot follow", S->far_light, name);
+    }
+    double h = 64.0 / sigma_t;
+    double reach = h + fmax(fabs(position.x), fmax(fabs(position.y), fabs(position.z)));
+    if (!(reach <= 1e17))
+        return pbrt_fail(L, "Camera: its medium \"%s\" (sigma_t %g) would reach %g from the origin; brume traces "
+                            "rays within 1e18", name, sigma_t, reach);
+    cJSON *m = cJSON_Duplicate(nm->json, 1);
+    if (!m)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", L->file);
+    cJSON *d = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(d, "type", "constant");
+    cJSON_AddNumberToObject(d, "value", 1);
+    double lo[3] = {position.x - h, position.y - h, position.z - h}, hi[3] = {position.x + h, position.y + h, position.z + h};
+    cJSON *bounds = cJSON_AddArrayToObject(d, "bounds");
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(lo, 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(hi, 3));
+    cJSON_AddItemToArray(S->media_j, m);
+    cJSON_AddStringToObject(cam, "medium", name);
+    return BRUME_OK;
 }

@@ -209,7 +209,36 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     }
     cJSON *mat = cJSON_AddObjectToObject(s, "material");
     cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
+    if (a->area) {
+        cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
+        if (a->area_two_sided)
+            cJSON_AddBoolToObject(mat, "two_sided", true);
+    }
     cJSON_AddItemToArray(S->surfaces, s);
+    return BRUME_OK;
+}
+
+/* An emitting shape's triangles face pbrt's normal: the object's winding carried through the
+ * transform, which a mirroring transform (the reader's mirrored world included) reverses in
+ * world space, so the winding is reversed back. One-sided emission from a mesh with shading
+ * normals N faces them in pbrt-v4 (FaceForward), which brume does not read: refused. */
+static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, tris *t)
+{
+    const attrs *a = &S->a[S->depth];
+    if (!a->area || a->area_two_sided)
+        return BRUME_OK;
+    param *N = pbrt_get(ps, "N");
+    if (N && N->n > 0)
+        return pbrt_fail(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
+                                "side toward N; give \"bool twosided\" true)", what);
+    const double *c = a->ctm.m;
+    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+                 c[2] * (c[4] * c[9] - c[5] * c[8]);
+    for (int f = 0; det < 0.0 && f < t->nt; f++) {
+        int k = t->idx[3 * f + 1];
+        t->idx[3 * f + 1] = t->idx[3 * f + 2];
+        t->idx[3 * f + 2] = k;
+    }
     return BRUME_OK;
 }
 
@@ -225,7 +254,7 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
         m = pbrt_m4_mul(m, pbrt_m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
     } else if (det < 0.0) {
         pbrt_fail(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
-                         "without \"Scale -1 1 1\" mirrors the whole world, docs/production.md)", what);
+                         "without \"Scale -1 1 1\" mirrors the whole world, docs/pbrt.md)", what);
         return NULL;
     }
     bool oom;
@@ -240,16 +269,98 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
     return s;
 }
 
-brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
+/* pbrt's disk (at z = height, radius, innerradius, phimax) and cylinder (radius, zmin, zmax,
+ * phimax) as triangles, PBRT_ROUND_SEGMENTS per full turn, corners on the exact surface:
+ * the facets fall inside it by at most r (1 - cos(pi / 2048)) = 1.2e-6 r, and their normals
+ * turn from the surface's by at most pi / 2048 (0.09 degrees). Object space, z up, as pbrt
+ * places them; transformed by the current transform. */
+#define PBRT_ROUND_SEGMENTS 2048
+static brume_status round_params(pbrt_state *S, params *ps, const char *what, bool disk, tris *t)
+{
+    lexer *L = &S->L;
+    double r = 1.0, r_in = 0.0, z0 = disk ? 0.0 : -1.0, z1 = 1.0, phimax = 360.0;
+    brume_status st;
+    if ((st = pbrt_get_float(L, ps, "radius", &r)) || (st = pbrt_get_float(L, ps, "phimax", &phimax)) ||
+        (disk && ((st = pbrt_get_float(L, ps, "height", &z0)) || (st = pbrt_get_float(L, ps, "innerradius", &r_in)))) ||
+        (!disk && ((st = pbrt_get_float(L, ps, "zmin", &z0)) || (st = pbrt_get_float(L, ps, "zmax", &z1)))) ||
+        (st = pbrt_all_used(L, ps, what)))
+        return st;
+    if (disk)
+        z1 = z0;
+    if (!(r > 0.0 && r <= 1e18 && r_in >= 0.0 && r_in < r && phimax > 0.0 && phimax <= 360.0 && fabs(z0) <= 1e18 &&
+          fabs(z1) <= 1e18 && (disk || z1 != z0)))
+        return pbrt_fail(L, "%s: need 0 <= innerradius < radius, phimax in (0, 360] and zmin != zmax, finite", what);
+    int n = (int)ceil(PBRT_ROUND_SEGMENTS * phimax / 360.0);
+    double phi = phimax * PI / 180.0, rr[2] = {disk ? r_in : r, r}, zz[2] = {z0, z1};
+    bool fan = disk && r_in == 0.0; /* the inner ring is the centre: one triangle a segment */
+    t->nv = 2 * (n + 1);
+    t->nt = fan ? n : 2 * n;
+    t->P = malloc((size_t)t->nv * 3 * sizeof *t->P);
+    t->idx = malloc((size_t)t->nt * 3 * sizeof *t->idx);
+    if (!t->P || !t->idx)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", L->file, L->dir_line, what);
+    m4 ctm = S->a[S->depth].ctm;
+    for (int i = 0; i <= n; i++) /* ring 0: inner edge or bottom, ring 1: outer edge or top */
+        for (int k = 0; k < 2; k++) {
+            double a = phi * i / n;
+            vec3 w = pbrt_m4_point(ctm, v3(rr[k] * cos(a), rr[k] * sin(a), zz[k]));
+            double *q = &t->P[3 * (2 * i + k)];
+            q[0] = w.x, q[1] = w.y, q[2] = w.z;
+        }
+    /* a segment: a, c on ring 0 at i, i + 1; b, d on ring 1; facing pbrt's normal, +z for the
+       disk, outwards for the cylinder */
+    int *q = t->idx;
+    for (int i = 0; i < n; i++) {
+        int a = 2 * i, b = 2 * i + 1, c = 2 * i + 2, d = 2 * i + 3;
+        int one[3] = {a, b, d}, two[3] = {a, d, c};
+        if (!disk) {
+            one[1] = d, one[2] = b;
+            two[1] = c, two[2] = d;
+        }
+        memcpy(q, one, sizeof one);
+        q += 3;
+        if (!fan) {
+            memcpy(q, two, sizeof two);
+            q += 3;
+        }
+    }
+    return BRUME_OK;
+}
+
+/* "plymesh": the file, read by assimp as any mesh file. */
+static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, bool interface)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    char file[1024] = "", abs[PATH_MAX];
+    if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
+        return st;
+    if (!file[0])
+        return pbrt_fail(L, "%s: no \"string filename\"", what);
+    if ((st = pbrt_resolve_file(S, what, file, abs)))
+        return st;
+    if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
+        return shape_interface(S, "plymesh", NULL);
+    if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
+        return pbrt_fail(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
+                            "file's normals; give \"bool twosided\" true)", what);
+    cJSON *s = placed_surface(S, what, "mesh");
+    if (!s)
+        return err_status();
+    cJSON_AddStringToObject(s, "file", abs);
+    return shape_surface(S, s);
+}
+
+static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
     brume_status st;
     attrs *a = &S->a[S->depth];
     char what[160];
     snprintf(what, sizeof what, "Shape \"%s\"", type);
-    if (a->outside[0])
-        return pbrt_fail(L, "MediumInterface: an outside medium \"%s\" (brume's media are fields in vacuum)", a->outside);
     bool interface = strcmp(a->material, "interface") == 0;
+    if (interface && S->a[S->depth].area)
+        return pbrt_fail(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
     if (strcmp(type, "sphere") == 0) {
         double radius = 1.0;
         if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
@@ -262,37 +373,32 @@ brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddNumberToObject(s, "radius", radius);
         return shape_surface(S, s);
     }
-    if (strcmp(type, "plymesh") == 0) {
-        char file[1024] = "", abs[PATH_MAX];
-        if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
-            return st;
-        if (!file[0])
-            return pbrt_fail(L, "%s: no \"string filename\"", what);
-        if ((st = pbrt_resolve_file(S, what, file, abs)))
-            return st;
-        if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
-            return shape_interface(S, type, NULL);
-        cJSON *s = placed_surface(S, what, "mesh");
-        if (!s)
-            return err_status();
-        cJSON_AddStringToObject(s, "file", abs);
-        return shape_surface(S, s);
-    }
-    bool tri = strcmp(type, "trianglemesh") == 0;
-    if (!tri && strcmp(type, "bilinearmesh") != 0)
-        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, trianglemesh, bilinearmesh, plymesh)", what);
+    if (strcmp(type, "plymesh") == 0)
+        return shape_plymesh(S, ps, what, interface);
+    bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
+    if (!tri && !round && strcmp(type, "bilinearmesh") != 0)
+        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, disk, cylinder, trianglemesh, "
+                            "bilinearmesh, plymesh)", what);
+    if (round && interface)
+        return pbrt_fail(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
     /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
        not used (brume shades by the geometric normal) */
-    pbrt_get(ps, "N");
-    pbrt_get(ps, "uv");
+    if (!round) {
+        pbrt_get(ps, "N");
+        pbrt_get(ps, "uv");
+    }
     if (tri) {
         pbrt_get(ps, "S");
         pbrt_get(ps, "faceIndices");
     }
     tris t = {0};
     int *quad = NULL;
-    if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) || (st = pbrt_all_used(L, ps, what)) ||
-             (!tri && (st = bilinear_tris(L, quad, &t)))) {
+    if (round)
+        st = round_params(S, ps, what, strcmp(type, "disk") == 0, &t);
+    else if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) == BRUME_OK &&
+             (st = pbrt_all_used(L, ps, what)) == BRUME_OK && !tri)
+        st = bilinear_tris(L, quad, &t);
+    if (st) {
         free(quad);
         tris_free(&t);
         return st;
@@ -303,7 +409,7 @@ brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
         tris_free(&t);
         return st;
     }
-    if ((st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
+    if ((st = emitter_facing(S, ps, what, &t)) || (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
         tris_free(&t);
         return st;
     }
@@ -313,4 +419,54 @@ brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
     cJSON_AddItemToObject(s, "indices", cJSON_CreateIntArray(t.idx, 3 * t.nt));
     tris_free(&t);
     return shape_surface(S, s);
+}
+
+/* The media on a shape's two sides, as brume's fields can have them. In pbrt-v4 a
+ * MediumInterface whose sides are one medium is no transition: rays keep their medium
+ * through the shape, as through one without it. A transition's outside must be the camera's
+ * medium ("" for none): brume's media are fields in the camera's medium, so no shape can end
+ * it or begin another outside; and inside a camera medium an interface's inside medium would
+ * replace it where brume's media add. What is left is the medium inside, or none; *inside
+ * points at it. */
+static brume_status shape_sides(pbrt_state *S, const char **inside)
+{
+    const attrs *a = &S->a[S->depth];
+    const char *cm = S->camera_medium;
+    *inside = "";
+    if (strcmp(a->inside, a->outside) == 0) {
+        if (a->inside[0] && strcmp(a->material, "interface") == 0)
+            return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": the same medium on both sides of an "
+                                    "\"interface\" shape is no transition in pbrt-v4 (the shape changes nothing); "
+                                    "the medium inside with nothing outside is MediumInterface \"%s\" \"\"",
+                             a->inside, a->outside, a->inside);
+        return BRUME_OK;
+    }
+    if (strcmp(a->outside, cm) != 0)
+        return pbrt_fail(&S->L, "MediumInterface: the outside medium \"%s\" is not the camera's (%s%s%s): brume's "
+                                "media are fields in the camera's medium", a->outside, cm[0] ? "\"" : "",
+                         cm[0] ? cm : "none", cm[0] ? "\"" : "");
+    if (cm[0] && strcmp(a->material, "interface") == 0)
+        return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": inside the shape pbrt-v4 replaces the camera's "
+                                "medium by \"%s\", where brume's media add", a->inside, a->outside, a->inside);
+    *inside = a->inside;
+    return BRUME_OK;
+}
+
+brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
+{
+    attrs *a = &S->a[S->depth];
+    const char *inside;
+    brume_status st = shape_sides(S, &inside);
+    if (st)
+        return st;
+    /* the shape is read with the one medium left inside it, then the attributes restored */
+    char in[sizeof a->inside], out[sizeof a->outside];
+    memcpy(in, a->inside, sizeof in);
+    memcpy(out, a->outside, sizeof out);
+    pbrt_copy(a->inside, sizeof a->inside, inside == a->inside ? in : "");
+    a->outside[0] = '\0';
+    st = shape_read(S, type, ps);
+    memcpy(a->inside, in, sizeof in);
+    memcpy(a->outside, out, sizeof out);
+    return st;
 }

@@ -46,6 +46,7 @@ struct brume_scene {
     io_inputs inputs;   /* the files the scene was read from (core/regular_file.h), owned */
     double max_work;    /* render.max_work: units of work a method may estimate before it starts
                            (a step of a ray, a voxel generated, a blob at a lattice point) */
+    char camera_medium[64]; /* brume_scene_set_camera_medium: "" or the medium the camera sits in */
     struct {
         bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
         char media[64]; /* "media" = all of them, else one medium's name */
@@ -99,6 +100,9 @@ bool scene_flight_control(const brume_scene *s);
 /* Commit's auto-framing (scene/scene_frame.c): moves the camera onto the media that
  * brume_scene_frame_camera named; BRUME_OK at once when it was not called. */
 brume_status scene_frame_resolve(brume_scene *s);
+/* Commit's check of brume_scene_set_camera_medium (scene/scene_frame.c): the medium named
+ * exists, is at rest, and its field's box holds every point a camera ray starts from. */
+brume_status scene_camera_medium_check(const brume_scene *s);
 /* The world box holding every non-zero value of d (its voxel box cut to the cells that are
  * not empty), or an empty box: what framing looks at. */
 box3 scene_density_box(const density *d);

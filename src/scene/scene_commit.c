@@ -110,6 +110,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         if (medium_emits(&s->media[m]))
             s->has_emission = true;
     }
+    if (st == BRUME_OK)
+        st = scene_camera_medium_check(s);
     s->memory_used = budget_used();
     budget_hold(0);
     budget_end();

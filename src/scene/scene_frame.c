@@ -113,3 +113,51 @@ brume_status scene_frame_resolve(brume_scene *s)
     c->focus_distance = focus_ratio * D; /* the focus keeps its place relative to the look-at point */
     return BRUME_OK;
 }
+
+brume_status brume_scene_set_camera_medium(brume_context *ctx, brume_scene *scene, const char *name)
+{
+    static const char fn[] = "brume_scene_set_camera_medium";
+    err_clear();
+    brume_status st = build_check_scene(fn, scene);
+    if (st == BRUME_OK && name && strlen(name) >= sizeof scene->camera_medium)
+        st = err_set(BRUME_ERROR_RANGE, "%s: name: longer than %zu bytes", fn, sizeof scene->camera_medium - 1);
+    if (st != BRUME_OK)
+        return ctx_report(ctx, st);
+    snprintf(scene->camera_medium, sizeof scene->camera_medium, "%s", name ? name : "");
+    return ctx_report(ctx, BRUME_OK);
+}
+
+/* Whether the box holds the ball of radius r around p (the lens's points around it). */
+static bool box_holds(box3 b, vec3 p, double r)
+{
+    return p.x - r >= b.lo.x && p.x + r <= b.hi.x && p.y - r >= b.lo.y && p.y + r <= b.hi.y && p.z - r >= b.lo.z &&
+           p.z + r <= b.hi.z;
+}
+
+brume_status scene_camera_medium_check(const brume_scene *s)
+{
+    if (!s->camera_medium[0])
+        return BRUME_OK;
+    const medium *md = NULL;
+    for (int i = 0; i < s->nmedia && !md; i++)
+        if (strcmp(s->media[i].name, s->camera_medium) == 0)
+            md = &s->media[i];
+    if (!md)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: camera.medium: no medium named \"%s\"", s->source,
+                       s->camera_medium);
+    if (md->motion)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: camera.medium: \"%s\" moves (keyframes); the camera's "
+                       "medium must be at rest", s->source, s->camera_medium);
+    const camera *c = &s->cam;
+    box3 b = density_bounds(md->rho);
+    for (int i = -1; i < c->nkeys; i++) {
+        vec3 p = i < 0 ? c->position : c->keys[i].position;
+        double r = i < 0 ? c->aperture_radius : c->keys[i].aperture_radius;
+        if (!box_holds(b, p, r))
+            return err_set(BRUME_ERROR_RANGE, "%s: camera.medium: the camera%s at (%g, %g, %g) (lens radius %g) is not "
+                           "inside \"%s\", whose field spans [%g, %g] x [%g, %g] x [%g, %g]", s->source,
+                           i < 0 ? "" : " key", p.x, p.y, p.z, r, s->camera_medium, b.lo.x, b.hi.x, b.lo.y, b.hi.y,
+                           b.lo.z, b.hi.z);
+    }
+    return BRUME_OK;
+}

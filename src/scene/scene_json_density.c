@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/budget.h"
 #include "core/cancel.h"
@@ -171,25 +172,54 @@ brume_status scene_parse_grid_options(const cJSON *j, jloc at, const char *const
     return BRUME_OK;
 }
 
-/* A voxel grid from a file (docs/grids.md lists the formats). */
+/* A voxel grid from a file (docs/grids.md lists the formats). `made_by`, the command that
+ * makes a file a scene ships without (scenes/fire-vdb.json's `brume gen fire`), is named
+ * when the file is missing. */
 static brume_status parse_grid_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
 {
+    static const char *const extra[] = {"made_by", NULL};
     brume_grid_file_options o;
-    char path[2048];
+    char path[2048], made_by[512] = "";
     bool sequence = false;
-    brume_status st = scene_parse_grid_options(j, at, NULL, scene_frame_number(s), path, sizeof path, &o, &sequence);
-    if (st) return st;
+    brume_status st = scene_parse_grid_options(j, at, extra, scene_frame_number(s), path, sizeof path, &o, &sequence);
+    if (st || (st = json_string(j, at, "made_by", 0, made_by, sizeof made_by))) return st;
     st = brume_density_load(NULL, path, &o, out);
     if (st == BRUME_OK && sequence)
         (*out)->evolves = true; /* frames differ: the scene is loaded again for each */
+    if (st && made_by[0] && access(path, F_OK) != 0) {
+        char msg[1200];
+        snprintf(msg, sizeof msg, "%s", err_message());
+        return err_set(st, "%s: %s.file: %s (make it with: %s)", at.file, at.path, msg, made_by);
+    }
     return st ? err_prefix("%s: %s.file", at.file, at.path) : BRUME_OK;
+}
+
+/* The values of `data` (nx ny nz of them, checked), x fastest, into a new array *out of
+ * m[0] x m[1] x m[2] = (nx + 2 p) x (ny + 2 p) x (nz + 2 p), p layers of zeros around them. */
+static brume_status array_values(const cJSON *data, jloc at, const int m[3], int p, float **out)
+{
+    const size_t nx = (size_t)(m[0] - 2 * p), ny = (size_t)(m[1] - 2 * p);
+    float *v = calloc((size_t)m[0] * (size_t)m[1] * (size_t)m[2], sizeof *v);
+    if (!v)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.data: out of memory", at.file, at.path);
+    size_t i = 0;
+    for (const cJSON *e = data->child; e; e = e->next, i++) {
+        if (!cJSON_IsNumber(e) || !(e->valuedouble >= 0.0 && e->valuedouble <= 1e30)) {
+            free(v);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.data[%zu]: expected a number in [0, 1e30]", at.file, at.path, i);
+        }
+        size_t x = i % nx + (size_t)p, y = i / nx % ny + (size_t)p, z = i / (nx * ny) + (size_t)p;
+        v[x + (size_t)m[0] * (y + (size_t)m[1] * z)] = (float)e->valuedouble;
+    }
+    *out = v;
+    return BRUME_OK;
 }
 
 /* A voxel grid given inline: `dims` [nx, ny, nz], `data` nx ny nz numbers >= 0, x fastest
  * (brume_density_new_array's layout), placed by `bounds` then `transform` as a grid file is. */
 static brume_status parse_array_density(const cJSON *j, jloc at, brume_density **out)
 {
-    static const char *const keys[] = {"type", "dims", "data", "bounds", "transform", "filter", NULL};
+    static const char *const keys[] = {"type", "dims", "data", "bounds", "transform", "filter", "edge", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     double d[3] = {0, 0, 0}, b[6] = {-1, -1, -1, 1, 1, 1};
@@ -212,26 +242,36 @@ static brume_status parse_array_density(const cJSON *j, jloc at, brume_density *
     if ((st = parse_box(j, at, "bounds", b))) return st;
     brume_grid_filter filter = BRUME_GRID_TRILINEAR;
     if ((st = parse_filter(j, at, &filter))) return st;
+    char edge[16] = "hold";
+    if ((st = json_string(j, at, "edge", 0, edge, sizeof edge))) return st;
+    if (strcmp(edge, "hold") != 0 && strcmp(edge, "zero") != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.edge: unknown '%s' (known: hold, zero)", at.file, at.path, edge);
+    /* pbrt-v4's samples beyond the grid read 0; a nearest lookup never reads beyond it */
+    bool zero = strcmp(edge, "zero") == 0 && filter == BRUME_GRID_TRILINEAR;
     affine3 xf;
     char kp[256];
     const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
     if (tr && (st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, true, &xf)))
         return st;
-    float *v = malloc((size_t)n * sizeof *v);
-    if (!v)
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.data: out of memory", at.file, at.path);
-    int i = 0;
-    for (const cJSON *e = data->child; e; e = e->next, i++)
-        if (!cJSON_IsNumber(e) || !(e->valuedouble >= 0.0 && e->valuedouble <= 1e30)) {
-            free(v);
-            return err_set(BRUME_ERROR_RANGE, "%s: %s.data[%d]: expected a number in [0, 1e30]", at.file, at.path, i);
-        } else {
-            v[i] = (float)e->valuedouble;
-        }
-    st = brume_density_new_array(NULL, v, (int)d[0], (int)d[1], (int)d[2], b, filter, NULL, NULL, out);
+    /* edge zero: the grid inside a layer of zero samples, one cell wider on every side, and
+       rho cut to the grid's own box: the trilinear field is pbrt-v4's SampledGrid there */
+    int p = zero ? 1 : 0, m[3] = {(int)d[0] + 2 * p, (int)d[1] + 2 * p, (int)d[2] + 2 * p};
+    float *v = NULL;
+    if ((st = array_values(data, at, m, p, &v))) return st;
+    double wb[6];
+    for (int k = 0; k < 3; k++) {
+        double cell = (b[k + 3] - b[k]) / d[k];
+        wb[k] = b[k] - p * cell;
+        wb[k + 3] = b[k + 3] + p * cell;
+    }
+    st = brume_density_new_array(NULL, v, m[0], m[1], m[2], wb, filter, NULL, NULL, out);
     free(v);
     if (st)
         return err_prefix("%s: %s", at.file, at.path);
+    if (zero) {
+        const double lo[3] = {1, 1, 1}, hi[3] = {d[0] + 1, d[1] + 1, d[2] + 1};
+        density_crop((*out)->d, lo, hi);
+    }
     if (tr) { /* after the bounds, as a grid file's `transform` */
         density_info info;
         density_get_info((*out)->d, &info);

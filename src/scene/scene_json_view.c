@@ -24,10 +24,20 @@
 #include "scene/scene_build.h"
 #include "scene/scene_json_common.h"
 
+/* camera.medium: the medium the camera sits in (checked at commit, scene_frame.c). */
+static brume_status parse_camera_medium(const cJSON *j, jloc at, brume_scene *s)
+{
+    char name[64] = "";
+    brume_status st = json_string(j, at, "medium", 0, name, sizeof name);
+    if (st || !name[0])
+        return st;
+    return scene_json_built(brume_scene_set_camera_medium(NULL, s, name), at);
+}
+
 brume_status scene_parse_camera(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance",
-                                       "shutter", "keyframes", "frame", "frame_margin", NULL};
+                                       "shutter", "keyframes", "frame", "frame_margin", "medium", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_camera c;
@@ -71,6 +81,7 @@ brume_status scene_parse_camera(const cJSON *j, jloc at, brume_scene *s)
                            c.shutter_open, c.shutter_close);
     }
     if ((st = scene_json_built(brume_scene_set_camera(NULL, s, &c), at))) return st;
+    if ((st = parse_camera_medium(j, at, s))) return st;
     if (framed[0] && !framed_box && (st = scene_json_built(brume_scene_frame_camera(NULL, s, framed, margin), at))) return st;
     if (framed_box && (st = scene_json_built(brume_scene_frame_camera_box(NULL, s, box, margin), at))) return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");

@@ -1,6 +1,6 @@
 /* scene_pbrt.c - pbrt-v4 scene files translated to brume's scene description (JSON), then
  * read by the one scene reader (scene/scene_json.c). The subset read and the mapping of units
- * and conventions are in docs/production.md, "pbrt-v4 scenes". Every directive, type or
+ * and conventions are in docs/pbrt.md. Every directive, type or
  * parameter outside that subset is refused with one line "FILE:LINE: ..." naming it. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <ctype.h>
@@ -25,7 +25,8 @@
 
 static bool is_typed_directive(const char *dir)
 {
-    static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material",
+    static const char *const typed[] = {"Camera", "Film", "Sampler", "Integrator", "Material", "AreaLightSource",
+                                        "MakeNamedMaterial", "NamedMaterial", "PixelFilter",
                                         "LightSource", "Shape", "ColorSpace", "MakeNamedMedium"};
     for (size_t i = 0; i < sizeof typed / sizeof typed[0]; i++)
         if (strcmp(dir, typed[i]) == 0)
@@ -39,7 +40,7 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
     lexer *L = &S->L;
     brume_status st;
     pbrt_next(L);
-    const char *arg = strcmp(dir, "MakeNamedMedium") == 0 ? "name" : "type";
+    const char *arg = strncmp(dir, "Make", 4) == 0 || strcmp(dir, "NamedMaterial") == 0 ? "name" : "type";
     if (L->kind != TOK_STRING)
         return pbrt_expected(L, "%s: expected its %s (a quoted string)", dir, arg);
     char type[128], what[200];
@@ -65,7 +66,67 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
         return pbrt_shape_directive(S, type, ps);
     if (strcmp(dir, "MakeNamedMedium") == 0)
         return pbrt_medium_directive(S, type, ps);
+    if (strcmp(dir, "AreaLightSource") == 0)
+        return pbrt_area_light_directive(S, a, type, ps);
     return pbrt_setting_directive(S, a, dir, type, what, ps);
+}
+
+static brume_status directive(pbrt_state *S, params *ps);
+static brume_status read_all(const char *path, char **out, size_t *len);
+
+/* Include "file" and Import "file": the file's directives read in place, as pbrt-v4 does (the
+ * path relative to the main file's folder). Import in pbrt-v4 works on a copy of the
+ * graphics state (its transform, material and media do not come back); Include shares it. */
+static brume_status include_directive(pbrt_state *S, params *ps, const char *dir)
+{
+    lexer *L = &S->L;
+    pbrt_next(L);
+    if (L->kind != TOK_STRING)
+        return pbrt_fail(L, "%s: expected a file name", dir);
+    if (S->includes == 8)
+        return pbrt_fail(L, "%s \"%s\": included files nested more than 8 deep", dir, L->text);
+    char abs[PATH_MAX], what[80];
+    snprintf(what, sizeof what, "%s", dir);
+    brume_status st = pbrt_resolve_file(S, what, L->text, abs);
+    if (st)
+        return st;
+    char *text = NULL;
+    size_t bytes = 0;
+    if (read_all(abs, &text, &bytes) != BRUME_OK)
+        return err_prefix("%s:%d: %s", L->file, L->dir_line, dir);
+    if (bytes > PBRT_MAX_BYTES - S->text_bytes) {
+        free(text);
+        return pbrt_fail(L, "%s: the scene's files are over %ld bytes together", dir, (long)PBRT_MAX_BYTES);
+    }
+    S->text_bytes += bytes;
+    pbrt_next(L); /* past the name: where the including file goes on */
+    lexer outer = *L;
+    int depth = S->depth;
+    attrs *saved = strcmp(dir, "Import") == 0 ? malloc(sizeof S->a) : NULL;
+    if (saved)
+        memcpy(saved, S->a, sizeof S->a);
+    *L = (lexer){abs, text, 1, TOK_END, "", 1, 1, NULL};
+    S->includes++;
+    pbrt_next(L);
+    while (st == BRUME_OK && L->kind != TOK_END)
+        st = directive(S, ps);
+    S->includes--;
+    if (st == BRUME_OK && *L->p)
+        st = pbrt_fail(L, "syntax error near \"%.64s\"", L->text);
+    if (st == BRUME_OK && S->depth != depth)
+        st = pbrt_fail(L, "%s: AttributeBegin and AttributeEnd do not balance in this file", dir);
+    if (saved) {
+        memcpy(S->a, saved, sizeof S->a);
+        free(saved);
+    }
+    *L = outer;
+    if (st == BRUME_OK && S->ntexts == PBRT_MAX_TEXTS)
+        st = pbrt_fail(L, "%s: more than %d included files", dir, PBRT_MAX_TEXTS);
+    if (st == BRUME_OK)
+        S->texts[S->ntexts++] = text; /* kept to the end: ObjectInstance may replay it */
+    else
+        free(text);
+    return st;
 }
 
 /* MediumInterface "inside" ["outside"]: one name stands for both. */
@@ -108,6 +169,10 @@ static brume_status directive(pbrt_state *S, params *ps)
         return st;
     if (is_typed_directive(dir))
         return typed_directive(S, a, dir, ps);
+    if (strcmp(dir, "Include") == 0 || strcmp(dir, "Import") == 0)
+        return include_directive(S, ps, dir);
+    if (strncmp(dir, "Object", 6) == 0)
+        return pbrt_object_directive(S, ps, dir, directive);
     if (strcmp(dir, "WorldBegin") == 0) {
         if (!S->have_camera)
             return pbrt_fail(L, "%s before a Camera", dir);
@@ -119,12 +184,10 @@ static brume_status directive(pbrt_state *S, params *ps)
         return pbrt_attribute_begin(S, dir);
     } else if (strcmp(dir, "AttributeEnd") == 0 || strcmp(dir, "TransformEnd") == 0) {
         return pbrt_attribute_end(S, dir);
-    } else if (strcmp(dir, "ObjectEnd") == 0) {
-        return pbrt_fail(L, "%s without an open ObjectBegin", dir); /* ObjectBegin itself is refused */
     } else if (strcmp(dir, "MediumInterface") == 0) {
         return medium_interface(S, a, dir);
     } else {
-        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (docs/production.md lists what is)", dir);
+        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
     }
     return BRUME_OK;
 }
@@ -173,7 +236,7 @@ static brume_status read_all(const char *path, char **out, size_t *len)
 static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
 {
     char note[600];
-    snprintf(note, sizeof note, "translated by brume from the pbrt-v4 scene %s (docs/production.md)", path);
+    snprintf(note, sizeof note, "translated by brume from the pbrt-v4 scene %s (docs/pbrt.md)", path);
     cJSON_AddStringToObject(S->root, "comment", note);
     cJSON *cam = cJSON_AddObjectToObject(S->root, "camera");
     vec3 P = pbrt_m4_point(S->world_from_camera, v3(0, 0, 0));
@@ -189,6 +252,9 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     if (S->yres > S->xres)
         fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
     cJSON_AddNumberToObject(cam, "fov", fov);
+    if (pbrt_camera_medium(S, cam, P) != BRUME_OK)
+        return err_status();
+    pbrt_imaging(S);
     if (S->lens_radius > 0.0) {
         cJSON_AddNumberToObject(cam, "aperture_radius", S->lens_radius);
         cJSON_AddNumberToObject(cam, "focus_distance", S->focal_distance);
@@ -205,6 +271,11 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     cJSON_AddNumberToObject(r, "spp", S->spp);
     cJSON_AddStringToObject(r, "method", "path");
     cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
+    if (S->box_filter > 0.0) {
+        cJSON *f = cJSON_AddObjectToObject(r, "filter");
+        cJSON_AddStringToObject(f, "type", "box");
+        cJSON_AddNumberToObject(f, "width", S->box_filter);
+    }
     if (!(*json = cJSON_Print(S->root)))
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     return BRUME_OK;
@@ -239,6 +310,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
     S->yres = 720;
     S->spp = 16;
     S->max_depth = 5;
+    S->iso = 100.0;
+    S->exposure_time = 1.0;
     S->root = cJSON_CreateObject();
     S->lights = cJSON_CreateArray();
     S->media_j = cJSON_CreateArray();
@@ -254,6 +327,8 @@ brume_status scene_pbrt_json(const char *path, char **json)
     for (int i = 0; i < S->nmedia; i++)
         if (!S->media[i].emitted)
             cJSON_Delete(S->media[i].json);
+    for (int i = 0; i < S->ntexts; i++)
+        free(S->texts[i]);
     cJSON_Delete(S->lights);
     cJSON_Delete(S->media_j);
     cJSON_Delete(S->surfaces);

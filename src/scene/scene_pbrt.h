@@ -1,6 +1,6 @@
 /* scene_pbrt.h - pbrt-v4 scene files (.pbrt) translated to brume's scene description (JSON,
  * docs/scene-format.md) for the one scene reader. What is read and how it maps is in
- * docs/production.md, "pbrt-v4 scenes"; every directive or parameter brume cannot honour is
+ * docs/pbrt.md; every directive or parameter brume cannot honour is
  * refused with one line naming it and FILE:LINE. */
 #ifndef BRUME_SCENE_SCENE_PBRT_H
 #define BRUME_SCENE_SCENE_PBRT_H

@@ -241,7 +241,6 @@ def truncation_cases():
 # Known defects: cases that fail today, with the reason. replay.py lists them
 # apart while they fail and fails once one passes, so that its mark is removed here.
 KNOWN = {
-    r'pbrt_lens_03': 'a negative lensradius from .pbrt is accepted (pbrt_camera.c)',
     r'mesh_ply_(04|cut_177)': 'assimp takes an ASCII PLY face whose count exceeds its indices (the last face cut, or a '
                               'count of 255): brume checks the header, not the text body, before it',
 }
