@@ -34,6 +34,7 @@
 #include "core/budget.h"
 #include "core/error.h"
 #include "core/lazylib.h"
+#include "core/number.h"
 #include "io/json.h"
 #include "core/regular_file.h"
 #include "io/sandbox.h"
@@ -68,8 +69,74 @@ static int ply_type_size(const char *t)
     return 0;
 }
 
+/* The elements of a PLY header: each one's count and which of its properties are lists. */
+#define PLY_MAX_ELEMENTS 16
+#define PLY_MAX_PROPERTIES 64
+typedef struct ply_layout {
+    int n;
+    double count[PLY_MAX_ELEMENTS];
+    int props[PLY_MAX_ELEMENTS];
+    bool list[PLY_MAX_ELEMENTS][PLY_MAX_PROPERTIES];
+} ply_layout;
+
+/* An ASCII PLY body must hold every value its header announces, each a number, and each list
+ * as many values as its count says (assimp takes a short last face, or a count of 255 with
+ * three indices, and reads what is not there). */
+static brume_status ply_check_text(FILE *f, const char *path, const ply_layout *L)
+{
+    char tok[128];
+    for (int e = 0; e < L->n; e++)
+        for (double i = 0; i < L->count[e]; i++)
+            for (int p = 0; p < L->props[e]; p++) {
+                double v = 0.0;
+                char *end;
+                if (fscanf(f, "%127s", tok) != 1 || ((v = num_strtod(tok, &end)), *end != '\0') || !isfinite(v))
+                    return err_set(BRUME_ERROR_PARSE, "%s: the PLY text ends before element %d's item %.0f, or holds "
+                                   "'%s' where a number belongs", path, e, i, feof(f) ? "" : tok);
+                if (!L->list[e][p])
+                    continue;
+                if (!(v >= 0.0 && v <= 1e6 && v == floor(v)))
+                    return err_set(BRUME_ERROR_PARSE, "%s: a PLY list of %s values", path, tok);
+                for (double k = 0; k < v; k++)
+                    if (fscanf(f, "%127s", tok) != 1 || ((void)num_strtod(tok, &end), *end != '\0'))
+                        return err_set(BRUME_ERROR_PARSE, "%s: a PLY list shorter than its count of %.0f", path, v);
+            }
+    return BRUME_OK;
+}
+
+/* One header line of an element or a property into L: BRUME_OK, or an error at line no. */
+static brume_status ply_header_line(const char *line, const char *path, int no, ply_layout *L, double *need,
+                                    double *elem)
+{
+    char a[64], b[64], c[64];
+    double v = 0.0;
+    if (sscanf(line, "element %63s %lf", a, &v) == 2) {
+        *need += L->n > 0 ? L->count[L->n - 1] * *elem : 0.0;
+        if (L->n == PLY_MAX_ELEMENTS || !(v >= 0.0 && v <= 1e12))
+            return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: more than %d elements, or a count of %.0f",
+                           path, no, PLY_MAX_ELEMENTS, v);
+        L->count[L->n] = v;
+        L->props[L->n++] = 0;
+        *elem = 0.0;
+        return BRUME_OK;
+    }
+    bool list = sscanf(line, "property list %63s %63s %63s", a, b, c) == 3;
+    if (!list && sscanf(line, "property %63s %63s", a, b) != 2)
+        return BRUME_OK; /* comment, obj_info */
+    if (!ply_type_size(a) || (list && !ply_type_size(b)))
+        return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: unknown property type '%s'", path, no,
+                       ply_type_size(a) ? b : a);
+    if (L->n == 0 || L->props[L->n - 1] == PLY_MAX_PROPERTIES)
+        return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: a property outside an element, or more than %d",
+                       path, no, PLY_MAX_PROPERTIES);
+    L->list[L->n - 1][L->props[L->n - 1]++] = list;
+    *elem += ply_type_size(a); /* a list: at least its length */
+    return BRUME_OK;
+}
+
 /* A binary PLY file must hold at least the bytes its header announces (assimp reads past
- * the end of a truncated one); BRUME_OK for anything else, which assimp checks itself. */
+ * the end of a truncated one), a text one every value it announces; BRUME_OK for anything
+ * else, which assimp checks itself. */
 static brume_status ply_check(FILE *f, const char *path, long file_size)
 {
     char line[512];
@@ -77,10 +144,11 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
     if (!fgets(line, sizeof line, f) || strncmp(line, "ply", 3) != 0)
         return BRUME_OK;
     bool binary = false;
-    double need = 0.0, count = 0.0, elem = 0.0;
+    double need = 0.0, elem = 0.0;
+    ply_layout L = {0};
+    brume_status st;
     for (int n = 0; n < 10000 && fgets(line, sizeof line, f); n++) {
         char a[64], b[64], c[64];
-        double v = 0.0;
         if (sscanf(line, "format %63s %63s", a, b) >= 1) {
             binary = strncmp(a, "binary", 6) == 0;
             bool known = strcmp(a, "ascii") == 0 || strcmp(a, "binary_little_endian") == 0 ||
@@ -88,29 +156,18 @@ static brume_status ply_check(FILE *f, const char *path, long file_size)
             if (!known || sscanf(line, "format %*s %63s %63s", b, c) != 1 || strcmp(b, "1.0") != 0)
                 return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: expected format ascii, "
                                "binary_little_endian or binary_big_endian, version 1.0", path, n + 2);
-        } else if (sscanf(line, "element %63s %lf", a, &v) == 2) {
-            need += count * elem;
-            count = v;
-            elem = 0.0;
-        } else if (sscanf(line, "property list %63s %63s %63s", a, b, c) == 3) {
-            if (!ply_type_size(a) || !ply_type_size(b))
-                return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: unknown property type '%s'", path, n + 2,
-                               ply_type_size(a) ? b : a);
-            elem += ply_type_size(a); /* at least the length of each list */
-        } else if (sscanf(line, "property %63s %63s", a, b) == 2) {
-            if (!ply_type_size(a))
-                return err_set(BRUME_ERROR_PARSE, "%s: PLY header line %d: unknown property type '%s'", path, n + 2, a);
-            elem += ply_type_size(a);
         } else if (strncmp(line, "end_header", 10) == 0) {
-            need += count * elem;
-            long body = file_size - ftell(f);
+            need += L.n > 0 ? L.count[L.n - 1] * elem : 0.0;
+            long body = file_size - ftell(f), at = ftell(f);
             if (binary && !(need <= (double)body))
                 return err_set(BRUME_ERROR_PARSE, "%s: truncated: the PLY header announces at least %.0f bytes, the "
                                "file holds %ld", path, need, body);
             for (int ch; !binary && (ch = fgetc(f)) != EOF;)
                 if (ch == '\0') /* assimp skips them: a text body holds none */
                     return err_set(BRUME_ERROR_PARSE, "%s: a NUL byte in the text of a PLY file", path);
-            return BRUME_OK;
+            return binary || fseek(f, at, SEEK_SET) != 0 ? BRUME_OK : ply_check_text(f, path, &L);
+        } else if ((st = ply_header_line(line, path, n + 2, &L, &need, &elem)) != BRUME_OK) {
+            return st;
         }
     }
     /* assimp's PLY reader spins on a header that never ends ("ply\nformat ascii 1.0\n") */

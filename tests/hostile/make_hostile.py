@@ -240,10 +240,7 @@ def truncation_cases():
 
 # Known defects: cases that fail today, with the reason. replay.py lists them
 # apart while they fail and fails once one passes, so that its mark is removed here.
-KNOWN = {
-    r'mesh_ply_(04|cut_177)': 'assimp takes an ASCII PLY face whose count exceeds its indices (the last face cut, or a '
-                              'count of 255): brume checks the header, not the text body, before it',
-}
+KNOWN = {}
 
 
 def main():
