@@ -24,6 +24,7 @@ OPTIONAL = {
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},
     "brume_density_load_rgb": {"opts"},
+    "brume_scene_set_camera_medium": {"name"},  # NULL clears it
     "brume_grid_file_list": {"opts"},
     "brume_grid_sequence_extent": {"opts"},
     "brume_grid_gen_upres": {"opts"},
