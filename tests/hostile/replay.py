@@ -35,7 +35,7 @@ def limits(as_limit):
 
 
 def image_ok(path):
-    """'' when path holds a whole PNG, PFM or EXR image, else why not."""
+    """'' when path holds a whole PNG, PFM or EXR image (or .vol grid), else why not."""
     try:
         data = open(path, 'rb').read()
     except OSError as e:
@@ -45,6 +45,9 @@ def image_ok(path):
         return '' if w > 0 and h > 0 and data.endswith(b'IEND\xaeB`\x82') else 'PNG not whole'
     if data.startswith(b'\x76\x2f\x31\x01'):
         return '' if len(data) > 100 else 'EXR too short'
+    if data.startswith(b'VOL\x03') and len(data) >= 48:  # a grid (gen cloud): Mitsuba's float volume
+        nx, ny, nz, ch = struct.unpack('<4i', data[8:24])
+        return '' if len(data) == 48 + nx * ny * nz * ch * 4 else 'VOL not whole'
     m = re.match(rb'P[Ff]\s+(\d+)\s+(\d+)\s+(\S+)\s', data)
     if m:
         n = int(m.group(1)) * int(m.group(2)) * (3 if data[1:2] == b'F' else 1) * 4
