@@ -1,6 +1,8 @@
 /* harness.c - runs the cases of one test executable (see test.h). */
 #include "test.h"
 
+#include <dirent.h>
+
 #include "brume.h"
 
 #include <fcntl.h>
@@ -72,6 +74,21 @@ int test_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0;
+}
+
+int test_temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    ASSERT_TRUE(d != NULL);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strstr(e->d_name, ".tmp-") || strstr(e->d_name, ".brume-probe-")) {
+            fprintf(stderr, "temporary file left: %s/%s\n", dir, e->d_name);
+            n++;
+        }
+    closedir(d);
+    return n;
 }
 
 void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se)

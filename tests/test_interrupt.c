@@ -42,21 +42,6 @@ static int run(const char *args, const char *err_path)
     return test_wait_exit(test_spawn(BRUME_EXE, args, err_path), 300.0);
 }
 
-/* Number of temporary files (".NAME.tmp-XXXXXX", ".brume-probe-*") left in dir. */
-static int temporaries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    ASSERT_TRUE(d != NULL);
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strstr(e->d_name, ".tmp-") || strstr(e->d_name, ".brume-probe-")) {
-            fprintf(stderr, "temporary file left: %s/%s\n", dir, e->d_name);
-            n++;
-        }
-    closedir(d);
-    return n;
-}
 
 static bool same_file(const char *a, const char *b)
 {
@@ -132,7 +117,7 @@ TEST(signal_writes_partial_image)
             ASSERT_TRUE(cnt[i] >= 1.0f);
         brume_image_release(img);
         brume_context_release(ctx);
-        ASSERT_EQ_INT(temporaries(dir), 0);
+        ASSERT_EQ_INT(test_temporaries(dir), 0);
     }
 }
 
@@ -155,7 +140,7 @@ TEST(second_sigint_ends_at_once)
         kill(pid, SIGINT);
         int rc = test_wait_exit(pid, 10.0);
         ASSERT_EQ_INT(rc, 130);
-        ASSERT_EQ_INT(temporaries(dir), 0);
+        ASSERT_EQ_INT(test_temporaries(dir), 0);
         if (test_exists(out)) {
             brume_context *ctx = brume_context_new();
             brume_image *img = NULL;
@@ -198,7 +183,7 @@ TEST(sequence_keeps_finished_frames)
     ASSERT_TRUE(whole >= 3);
     char frames[600];
     snprintf(frames, sizeof frames, "%s/frames", dir);
-    ASSERT_EQ_INT(temporaries(frames), 0);
+    ASSERT_EQ_INT(test_temporaries(frames), 0);
 }
 
 /* Interrupted at several points (inside passes and between), with 1 and 2 threads, then
@@ -274,7 +259,7 @@ TEST(resume_is_byte_identical)
                 TEST_FAIL("%d thread(s), cut at %.0f %%: the resumed render differs from the uninterrupted one",
                           threads, 100 * cuts[c]);
             ASSERT_TRUE(!test_exists(ck)); /* a finished render removes its checkpoint */
-            ASSERT_EQ_INT(temporaries(dir), 0);
+            ASSERT_EQ_INT(test_temporaries(dir), 0);
         }
         fprintf(stderr, "%d thread(s): %d of 3 runs interrupted and resumed\n", threads, interrupted);
         ASSERT_TRUE(interrupted >= 2);
@@ -402,7 +387,7 @@ TEST(resume_takes_another_budget)
     ASSERT_TRUE(atoi(brume_image_attribute(img, "brume.spp_min")) > saved_max);
     brume_image_release(img);
     brume_context_release(ctx);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* A render its time budget ends before its samples keeps its checkpoint: a second run
@@ -450,7 +435,7 @@ TEST(budget_keeps_the_checkpoint)
     ASSERT_EQ_INT(run(args, err), 0);
     ASSERT_TRUE(!test_exists(ck));
     brume_context_release(ctx);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* Outputs are checked before any rendering: a render that would take days fails at once
@@ -488,7 +473,7 @@ TEST(outputs_checked_before_rendering)
     ASSERT_EQ_INT(run(args, err), 0);
     snprintf(path, sizeof path, "%s/a/b/c.png", dir);
     ASSERT_TRUE(test_exists(path));
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* Budgets on the command line: bad values are usage errors (exit 2, one line); --noise

@@ -50,21 +50,6 @@ static const char *scene_file(const char *dir, const char *name, const char *jso
     return path[k];
 }
 
-/* Temporary files (".NAME.tmp-XXXXXX", ".brume-probe-*") left in dir. */
-static int temporaries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    ASSERT_TRUE(d != NULL);
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strstr(e->d_name, ".tmp-") || strstr(e->d_name, ".brume-probe-")) {
-            fprintf(stderr, "temporary file left: %s/%s\n", dir, e->d_name);
-            n++;
-        }
-    closedir(d);
-    return n;
-}
 
 /* The image at path is whole: it reads back at w x h. */
 static void assert_image(const char *path, int w, int h)
@@ -214,7 +199,7 @@ TEST(serve_stops_once)
     ASSERT_TRUE(strstr(msg, "not kept") == NULL);
     free(msg);
     assert_image(out, 48, 32);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* While a client holds a denoised view being computed (seconds on one thread at this size)
@@ -262,7 +247,7 @@ TEST(serve_stop_not_held_by_clients)
     ASSERT_TRUE(took < 5.0);
     assert_image(raw, BIG_W, BIG_H); /* partial: written as it is, not denoised */
     ASSERT_TRUE(!test_exists(out));
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
     close(denoised);
     close(loris);
     close(reader);
@@ -296,7 +281,7 @@ TEST(ctrl_c_during_render_denoise)
     free(msg);
     assert_image(raw, BIG_W, BIG_H);
     ASSERT_TRUE(!test_exists(out));
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* Ctrl-C during `brume denoise`: it stops within a row of pixels, writes nothing, says so in
@@ -327,7 +312,7 @@ TEST(ctrl_c_during_denoise_command)
     ASSERT_TRUE(n > 0 && strchr(msg, '\n') == msg + n - 1);
     free(msg);
     ASSERT_TRUE(!test_exists(out));
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* brume_denoise_memory by hand: a 100 x 50 image with the four layers --denoise asks for
@@ -417,7 +402,7 @@ TEST(resume_of_forged_checkpoint_honours_sigterm)
     ASSERT_CONTAINS(msg, "wrote the partial image");
     free(msg);
     assert_image(out, 32, 16);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* Under mpirun (two ranks splitting the tiles), Ctrl-C to mpirun, which passes SIGTERM to the
@@ -454,7 +439,7 @@ TEST(mpi_ctrl_c_keeps_the_tiles)
     ASSERT_CONTAINS(msg, "wrote the partial image");
     free(msg);
     assert_image(out, 48, 32);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 /* A render with --denoise to an EXR that a signal stops: the partial image is written as it
@@ -492,7 +477,7 @@ TEST(partial_exr_is_not_denoised)
         ASSERT_TRUE(strcmp(brume_image_layer_name(img, i), "raw") != 0);
     brume_image_release(img);
     brume_context_release(ctx);
-    ASSERT_EQ_INT(temporaries(dir), 0);
+    ASSERT_EQ_INT(test_temporaries(dir), 0);
 }
 
 TEST_MAIN(serve_stops_once, serve_stop_not_held_by_clients, ctrl_c_during_render_denoise, ctrl_c_during_denoise_command,
