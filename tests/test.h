@@ -31,7 +31,8 @@ char *test_slurp(const char *path, size_t *n);
 void test_channel_mean(const float *rgba, int n, int c, double *mean, double *se);
 /* 1 if the path names an existing file or folder. */
 int test_exists(const char *path);
-/* The temporary files (".NAME.tmp-XXXXXX", ".brume-probe-*") left in dir, each named on stderr. */
+/* The temporary files left in dir (".NAME.tmp-" or ".brume-probe-" and six random
+ * characters, as mkstemp makes them), each named on stderr. */
 int test_temporaries(const char *dir);
 /* True when a file whose path contains `name` is mapped into this process (/proc/self/maps):
  * whether a shared library has been loaded. */

@@ -63,7 +63,7 @@ TEST(hostile_headers)
     unsigned char vol[48 + 8] = {'V', 'O', 'L', 3, 1, 0, 0, 0};
     /* wrong magic */
     expect_error("XOL\3", 4, "a.vol", NULL, "magic");
-    expect_error("NanoVDB1xxxxxxxxxxxxxxxx", 24, "a.nvdb", NULL, "magic");
+    expect_error("NanoVDB1-not-a-grid-head", 24, "a.nvdb", NULL, "magic");
     expect_error("hello world, not a grid", 23, "x.bin", NULL, "unknown grid format");
     /* overflowing and oversized dimensions */
     int32_t big = 0x7fffffff;

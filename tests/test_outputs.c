@@ -59,7 +59,7 @@ static void still_notes(const char *path)
     free(t);
 }
 
-/* No ".NAME.tmp-XXXXXX" left in dir. */
+/* No temporary ".NAME.tmp-" file (mkstemp's six random characters after it) left in dir. */
 static void no_temporary(const char *dir)
 {
     DIR *d = opendir(dir);
