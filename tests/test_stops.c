@@ -142,6 +142,19 @@ static int answer_status(int fd)
     return len > 12 && strncmp(buf, "HTTP/1.", 7) == 0 ? atoi(buf + 9) : -1;
 }
 
+/* Runs exe with args (stderr to err), sends sig after wait seconds, and waits up to 60 s for
+ * the exit: its status, and in *took the seconds from the signal to the exit. */
+static int signal_after(const char *exe, const char *args, const char *err, double wait, int sig, double *took)
+{
+    pid_t pid = test_spawn(exe, args, err);
+    test_sleep(wait);
+    double t0 = test_now();
+    kill(pid, sig);
+    int rc = test_wait_exit(pid, 60.0);
+    *took = test_now() - t0;
+    return rc;
+}
+
 static const char stop_request[] = "POST /stop HTTP/1.0\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n";
 
 /* /status.json's spp_min, -1 when not answered. */
@@ -297,12 +310,8 @@ TEST(ctrl_c_during_denoise_command)
     snprintf(args, sizeof args, "render %s " BIG " --spp 2 --aov variance -q -o %s", scene, in);
     ASSERT_EQ_INT(test_wait_exit(test_spawn(BRUME_EXE, args, err), 300.0), 0);
     snprintf(args, sizeof args, "denoise %s --threads 1 -o %s", in, out);
-    pid_t pid = test_spawn(BRUME_EXE, args, err);
-    test_sleep(2.5); /* past reading the EXR */
-    double t0 = test_now();
-    kill(pid, SIGINT);
-    int rc = test_wait_exit(pid, 60.0);
-    double took = test_now() - t0;
+    double took;
+    int rc = signal_after(BRUME_EXE, args, err, 2.5, SIGINT, &took); /* 2.5 s: past reading the EXR */
     size_t n;
     char *msg = test_slurp(err, &n);
     fprintf(stderr, "exit %d after %.2f s; stderr: %s", rc, took, msg);
@@ -366,10 +375,8 @@ TEST(resume_of_forged_checkpoint_honours_sigterm)
     snprintf(err, sizeof err, "%s/err.txt", dir);
     snprintf(args, sizeof args, "render %s --width 32 --height 16 --spp 1000000 --threads 2 --checkpoint %s -o %s",
              scene, ckpt, out);
-    pid_t pid = test_spawn(BRUME_EXE, args, err);
-    test_sleep(2.5);
-    kill(pid, SIGINT);
-    ASSERT_EQ_INT(test_wait_exit(pid, 60.0), 130);
+    double took;
+    ASSERT_EQ_INT(signal_after(BRUME_EXE, args, err, 2.5, SIGINT, &took), 130);
     ASSERT_TRUE(test_exists(ckpt));
     /* the header ends with spp_done, target (int32), elapsed (double), pixels (uint64); then
      * per pixel 4 + 1 + 32 + 32 bytes (no AOV), then the FNV-1a 64 of every byte before */
@@ -389,12 +396,7 @@ TEST(resume_of_forged_checkpoint_honours_sigterm)
     free(data);
     snprintf(args, sizeof args, "render %s --width 32 --height 16 --spp 1000000 --threads 2 --checkpoint %s --resume %s -o %s",
              scene, ckpt, ckpt, out);
-    pid = test_spawn(BRUME_EXE, args, err);
-    test_sleep(2.0);
-    double t0 = test_now();
-    kill(pid, SIGTERM);
-    int rc = test_wait_exit(pid, 30.0);
-    double took = test_now() - t0;
+    int rc = signal_after(BRUME_EXE, args, err, 2.0, SIGTERM, &took);
     char *msg = test_slurp(err, &n);
     fprintf(stderr, "exit %d after %.2f s; stderr: %s", rc, took, msg);
     ASSERT_EQ_INT(rc, 143);
@@ -423,15 +425,12 @@ TEST(mpi_ctrl_c_keeps_the_tiles)
     double wait = 3.0;
     for (int attempt = 0; attempt < 3; attempt++, wait *= 2.0) {
         remove(out);
-        pid_t pid = test_spawn(mpirun, args, err);
-        test_sleep(wait);
-        double t0 = test_now();
-        kill(pid, SIGINT);
-        int rc = test_wait_exit(pid, 60.0);
+        double took;
+        int rc = signal_after(mpirun, args, err, wait, SIGINT, &took);
         size_t n;
         free(msg);
         msg = test_slurp(err, &n);
-        fprintf(stderr, "SIGINT after %.0f s: mpirun exit %d after %.2f s; stderr: %s", wait, rc, test_now() - t0, msg);
+        fprintf(stderr, "SIGINT after %.0f s: mpirun exit %d after %.2f s; stderr: %s", wait, rc, took, msg);
         ASSERT_TRUE(rc != 0);
         if (!strstr(msg, "not kept"))
             break;
@@ -454,10 +453,8 @@ TEST(partial_exr_is_not_denoised)
     snprintf(args, sizeof args, "render %s --spp 1000000 --threads 2 --denoise -o %s", scene, out);
     int rc = -1;
     for (double wait = 1.5; wait < 13.0; wait *= 2.0) { /* a signal before the first pass: again, later */
-        pid_t pid = test_spawn(BRUME_EXE, args, err);
-        test_sleep(wait);
-        kill(pid, SIGINT);
-        rc = test_wait_exit(pid, 60.0);
+        double took;
+        rc = signal_after(BRUME_EXE, args, err, wait, SIGINT, &took);
         if (test_exists(out))
             break;
     }
