@@ -59,12 +59,14 @@ static int print_list(brume_context *ctx, const char *path, const brume_grid_fil
     brume_grid_entry *e = NULL;
     int n = 0;
     brume_status st = brume_grid_file_list(ctx, path, o, NULL, 0, &n);
-    if (st == BRUME_OK && n > 0 && !(e = calloc((size_t)n, sizeof *e)))
-        st = BRUME_ERROR_OUT_OF_MEMORY;
+    if (st == BRUME_OK && n > 0 && !(e = calloc((size_t)n, sizeof *e))) {
+        cli_error("info: out of memory for %d grids", n);
+        return 1;
+    }
     if (st == BRUME_OK && n > 0)
         st = brume_grid_file_list(ctx, path, o, e, n, &n);
     if (st != BRUME_OK) {
-        cli_error("%.1000s", st == BRUME_ERROR_OUT_OF_MEMORY && !e ? "info: out of memory" : brume_context_last_error(ctx));
+        cli_error("%.1000s", brume_context_last_error(ctx));
         free(e);
         return 1;
     }
