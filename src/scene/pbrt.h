@@ -143,7 +143,10 @@ brume_status pbrt_resolve_file(pbrt_state *S, const char *what, const char *file
 
 /* pbrt_tokens.c */
 void pbrt_next(lexer *L);
+/* Malformed input (BRUME_ERROR_PARSE) and what brume cannot honour (BRUME_ERROR_UNSUPPORTED):
+ * "FILE:LINE: message", the directive's line. */
 brume_status pbrt_fail(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+brume_status pbrt_unsupported(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* A refusal of the current token: "FILE:LINE: WHAT, found \"TOKEN\"", or "... found the end of
  * the file (truncated?)"; on a TOK_BAD, what is wrong with that token. */
 brume_status pbrt_expected(const lexer *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -21,7 +21,7 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     lexer *L = &S->L;
     brume_status st;
     if (strcmp(type, "perspective") != 0)
-        return pbrt_fail(L, "Camera \"%s\": brume has a perspective camera only", type);
+        return pbrt_unsupported(L, "Camera \"%s\": brume has a perspective camera only", type);
     S->fov = 90.0;
     S->lens_radius = 0.0;
     S->focal_distance = 1e6;
@@ -67,7 +67,7 @@ static brume_status material_read(pbrt_state *S, const char *type, const char *w
                                   double albedo[3])
 {
     if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
-        return pbrt_fail(&S->L, "%s: not supported by brume (diffuse, interface)", what);
+        return pbrt_unsupported(&S->L, "%s: not supported by brume (diffuse, interface)", what);
     pbrt_copy(material, 32, type[0] ? type : "interface");
     albedo[0] = albedo[1] = albedo[2] = 0.5;
     if (strcmp(type, "diffuse") == 0)
@@ -121,7 +121,7 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
     if (strcmp(dir, "Film") == 0) {
         /* gbuffer writes rgb's image plus layers; spectral writes spectral bands brume has not */
         if (strcmp(type, "rgb") != 0 && strcmp(type, "gbuffer") != 0)
-            return pbrt_fail(L, "%s: brume's image is pbrt's \"rgb\" film (rgb, gbuffer)", what);
+            return pbrt_unsupported(L, "%s: brume's image is pbrt's \"rgb\" film (rgb, gbuffer)", what);
         double x = 1280, y = 720, wb = 0.0;
         char fn[512], sensor[64] = "cie1931";
         if ((st = pbrt_get_float(L, ps, "xresolution", &x)) || (st = pbrt_get_float(L, ps, "yresolution", &y)) ||
@@ -132,11 +132,11 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
         /* pbrt-v4's cie1931 sensor is the XYZ observer, which an RGB film turns into the colour
            space's RGB: brume's own values. Camera sensors weigh the spectrum with their own curves */
         if (strcmp(sensor, "cie1931") != 0)
-            return pbrt_fail(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
-                                "sensor sees it; a camera's spectral response is not read", what, sensor);
+            return pbrt_unsupported(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
+                                       "sensor sees it; a camera's spectral response is not read", what, sensor);
         if (wb != 0.0)
-            return pbrt_fail(L, "%s: parameter \"whitebalance\": %g K: pbrt-v4 adapts the image's colours from that "
-                                "white to the colour space's, a 3 x 3 map of the image brume does not apply", what, wb);
+            return pbrt_unsupported(L, "%s: parameter \"whitebalance\": %g K: pbrt-v4 adapts the image's colours from that "
+                                       "white to the colour space's, a 3 x 3 map of the image brume does not apply", what, wb);
         if (!(S->iso >= 0.0 && S->iso <= 1e30))
             return pbrt_fail(L, "%s: parameter \"iso\": %g outside [0, 1e30]", what, S->iso);
         if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))
@@ -151,7 +151,7 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
         S->spp = (int)n;
     } else if (strcmp(dir, "Integrator") == 0) {
         if (strcmp(type, "volpath") != 0 && strcmp(type, "path") != 0)
-            return pbrt_fail(L, "%s: brume's path tracer stands for volpath and path only", what);
+            return pbrt_unsupported(L, "%s: brume's path tracer stands for volpath and path only", what);
         double d = 5;
         if ((st = pbrt_get_float(L, ps, "maxdepth", &d))) return st;
         if (!(d >= 1 && d <= 100000))
@@ -159,14 +159,14 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
         S->max_depth = (int)d;
     } else if (strcmp(dir, "ColorSpace") == 0) {
         if (strcmp(type, "srgb") != 0)
-            return pbrt_fail(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
+            return pbrt_unsupported(L, "%s: brume renders linear Rec. 709 (srgb) only", what);
     } else if (strcmp(dir, "PixelFilter") == 0) {
         /* pbrt-v4's box filter weighs the samples within radius of the pixel's centre alike:
            brume's box of side 2 radius. Its other filters' shapes differ from brume's */
         double rx = 0.5, ry = 0.5;
         if (strcmp(type, "box") != 0)
-            return pbrt_fail(L, "%s: brume reads pbrt's \"box\" filter (without PixelFilter, pbrt-v4's gaussian is "
-                                "rendered with brume's, docs/pbrt.md)", what);
+            return pbrt_unsupported(L, "%s: brume reads pbrt's \"box\" filter (without PixelFilter, pbrt-v4's gaussian is "
+                                       "rendered with brume's, docs/pbrt.md)", what);
         if ((st = pbrt_get_float(L, ps, "xradius", &rx)) || (st = pbrt_get_float(L, ps, "yradius", &ry)))
             return st;
         if (!(rx == ry && rx >= 0.05 && rx <= 8.0))

@@ -45,8 +45,8 @@ brume_status pbrt_illuminant(lexer *L, params *ps, const char *name, double out[
     for (int c = 0; c < 3; c++) {
         out[c] = rgb.c[c] / xyz[1];
         if (!(out[c] >= 0.0))
-            return pbrt_fail(L, "parameter \"blackbody %s\": %g K is outside Rec. 709 (channel %d: %g)", name, T, c,
-                             out[c]);
+            return pbrt_unsupported(L, "parameter \"blackbody %s\": %g K is outside Rec. 709 (channel %d: %g)", name, T, c,
+                                    out[c]);
     }
     return BRUME_OK;
 }
@@ -59,7 +59,7 @@ brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type
     lexer *L = &S->L;
     brume_status st;
     if (strcmp(type, "diffuse") != 0)
-        return pbrt_fail(L, "AreaLightSource \"%s\": not supported by brume (diffuse)", type);
+        return pbrt_unsupported(L, "AreaLightSource \"%s\": not supported by brume (diffuse)", type);
     double Lrgb[3] = {1, 1, 1}, scale = 1.0;
     if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)))
         return st;
@@ -135,8 +135,8 @@ static brume_status light_spot(pbrt_state *S, params *ps, double scale)
     for (int a = 0; a < 3; a++)
         for (int b = a; b < 3; b++)
             if (fabs(v3_dot(c[a], c[b]) - (a == b ? n0 * n0 : 0.0)) > 1e-9 * n0 * n0)
-                return pbrt_fail(L, "LightSource \"spot\": a transform that is not a rotation and a uniform scale "
-                                    "(pbrt-v4's cone would be elliptical)");
+                return pbrt_unsupported(L, "LightSource \"spot\": a transform that is not a rotation and a uniform scale "
+                                           "(pbrt-v4's cone would be elliptical)");
     vec3 p = pbrt_m4_point(ctm, v3(from[0], from[1], from[2]));
     vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
     if (!(v3_length(d) > 0.0))
@@ -202,7 +202,7 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
             S->background[c] += Lrgb[c] * scale;
         S->have_background = true;
     } else {
-        return pbrt_fail(L, "LightSource \"%s\": not supported by brume (distant, point, spot, infinite with L)", type);
+        return pbrt_unsupported(L, "LightSource \"%s\": not supported by brume (distant, point, spot, infinite with L)", type);
     }
     return BRUME_OK;
 }

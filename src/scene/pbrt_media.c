@@ -54,8 +54,8 @@ static bool medium_place(pbrt_state *S, cJSON *dj, const char *name)
         if (oom)
             pbrt_fail(&S->L, "MakeNamedMedium \"%s\": out of memory", name);
         else
-            pbrt_fail(&S->L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
-                             "translation)", name);
+            pbrt_unsupported(&S->L, "MakeNamedMedium \"%s\": a transform with shear (brume places grids by scale, rotation, "
+                                    "translation)", name);
         return false;
     }
     cJSON_AddItemToObject(dj, "transform", t);
@@ -153,8 +153,8 @@ static brume_status medium_homogeneous(pbrt_state *S, const char *name, params *
     char preset[128] = "";
     if ((st = pbrt_get_string(L, ps, "preset", preset, sizeof preset))) return st;
     if (preset[0])
-        return pbrt_fail(L, "MakeNamedMedium \"%s\": parameter \"preset\": brume has no table of pbrt's measured media "
-                            "(give sigma_a and sigma_s)", name);
+        return pbrt_unsupported(L, "MakeNamedMedium \"%s\": parameter \"preset\": brume has no table of pbrt's measured media "
+                                   "(give sigma_a and sigma_s)", name);
     if ((st = pbrt_get_color(L, ps, "sigma_a", sa)) || (st = pbrt_get_color(L, ps, "sigma_s", ss)) ||
         (st = pbrt_get_float(L, ps, "scale", &scale)) || (st = pbrt_get_float(L, ps, "g", &g)) ||
         (st = pbrt_illuminant(L, ps, "Le", Le)) || (st = pbrt_get_float(L, ps, "Lescale", &Lescale)) ||
@@ -189,12 +189,12 @@ static brume_status medium_uniformgrid(pbrt_state *S, const char *name, params *
     if (!d)
         return pbrt_fail(L, "%s \"%s\": no \"float density\" values", what, name);
     if (pbrt_get(ps, "temperature"))
-        return pbrt_fail(L, "%s: parameter \"temperature\": brume reads temperature grids from files (nanovdb), not "
-                            "inline", what);
+        return pbrt_unsupported(L, "%s: parameter \"temperature\": brume reads temperature grids from files (nanovdb), not "
+                                   "inline", what);
     if (pbrt_get(ps, "Le") || pbrt_get(ps, "Lescale"))
-        return pbrt_fail(L, "%s: parameters \"Le\" and \"Lescale\": pbrt-v4 scales Le by a Lescale grid read "
-                            "trilinearly (without one, a 1 x 1 x 1 grid that fades toward the faces); brume's "
-                            "emission is one colour or a grid from a file", what);
+        return pbrt_unsupported(L, "%s: parameters \"Le\" and \"Lescale\": pbrt-v4 scales Le by a Lescale grid read "
+                                   "trilinearly (without one, a 1 x 1 x 1 grid that fades toward the faces); brume's "
+                                   "emission is one colour or a grid from a file", what);
     if ((st = grid_shape(L, ps, what, d->n, n, p0, p1)) || (st = pbrt_get_color(L, ps, "sigma_a", sa)) ||
         (st = pbrt_get_color(L, ps, "sigma_s", ss)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
         (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "temperaturescale", &t)) ||
@@ -226,11 +226,11 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
     if (!A && !Sg)
         return pbrt_fail(L, "%s \"%s\": neither \"rgb sigma_a\" nor \"rgb sigma_s\" values", what, name);
     if (pbrt_get(ps, "Le"))
-        return pbrt_fail(L, "%s: parameter \"Le\": an RGB emission grid; brume reads emission grids from files", what);
+        return pbrt_unsupported(L, "%s: parameter \"Le\": an RGB emission grid; brume reads emission grids from files", what);
     if (!A || !Sg)
-        return pbrt_fail(L, "%s: no \"rgb %s\" grid: pbrt then takes %s as 1 up to the faces while the other grid fades "
-                            "to half its outer samples there, which one density cannot carry", what,
-                         A ? "sigma_s" : "sigma_a", A ? "sigma_s" : "sigma_a");
+        return pbrt_unsupported(L, "%s: no \"rgb %s\" grid: pbrt then takes %s as 1 up to the faces while the other grid fades "
+                                   "to half its outer samples there, which one density cannot carry", what,
+                                A ? "sigma_s" : "sigma_a", A ? "sigma_s" : "sigma_a");
     if (A->n % 3 || Sg->n % 3 || A->n != Sg->n)
         return pbrt_fail(L, "%s: sigma_a and sigma_s must be RGB triples, as many of each", what);
     int count = A->n / 3;
@@ -265,8 +265,8 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
             double a = A->v[3 * i + c], s = Sg->v[3 * i + c];
             if (fabs(a - d[i] * ca[c]) > 1e-5 * d[top] || fabs(s - d[i] * cs[c]) > 1e-5 * d[top]) {
                 free(d);
-                return pbrt_fail(L, "%s: sigma_a or sigma_s changes colour over the grid (sample %d against %d); "
-                                    "brume's media are one density times one colour per coefficient", what, i, top);
+                return pbrt_unsupported(L, "%s: sigma_a or sigma_s changes colour over the grid (sample %d against %d); "
+                                           "brume's media are one density times one colour per coefficient", what, i, top);
             }
         }
     st = grid_medium_add(S, name, ca, cs, scale, g, d, n, p0, p1);
@@ -290,8 +290,8 @@ brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps)
         return medium_uniformgrid(S, name, ps);
     if (strcmp(type, "rgbgrid") == 0)
         return medium_rgbgrid(S, name, ps);
-    return pbrt_fail(&S->L, "MakeNamedMedium type \"%s\": not supported by brume (homogeneous, uniformgrid, rgbgrid, "
-                            "nanovdb)", type);
+    return pbrt_unsupported(&S->L, "MakeNamedMedium type \"%s\": not supported by brume (homogeneous, uniformgrid, rgbgrid, "
+                                   "nanovdb)", type);
 }
 
 /* The nanovdb medium's emission scale: pbrt-v4 reads "Lescale", as for its other media;
@@ -402,9 +402,9 @@ brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position)
         return BRUME_OK;
     if (S->far_light_line) {
         L->dir_line = S->far_light_line;
-        return pbrt_fail(L, "LightSource \"%s\" with the camera in the homogeneous medium \"%s\": pbrt-v4 attenuates "
-                            "this light over twice the scene's radius of that unbounded medium, which brume's bounded "
-                            "media cannot follow", S->far_light, name);
+        return pbrt_unsupported(L, "LightSource \"%s\" with the camera in the homogeneous medium \"%s\": pbrt-v4 attenuates "
+                                   "this light over twice the scene's radius of that unbounded medium, which brume's bounded "
+                                   "media cannot follow", S->far_light, name);
     }
     double h = 64.0 / sigma_t;
     double reach = h + fmax(fabs(position.x), fmax(fabs(position.y), fabs(position.z)));

@@ -87,8 +87,8 @@ static brume_status object_instance(pbrt_state *S, params *ps, brume_status (*di
         bool media = strcmp(L->text, "Shape") == 0 && (strcmp(a->material, "interface") == 0 || a->inside[0]);
         if (L->kind == TOK_WORD && (!allowed_in_object(L->text) || media)) {
             L->dir_line = L->tok_line;
-            st = pbrt_fail(L, "%s inside ObjectBegin \"%s\": brume instances transforms, attributes, materials and "
-                              "drawn shapes%s", L->text, o->name, media ? " (not media)" : "");
+            st = pbrt_unsupported(L, "%s inside ObjectBegin \"%s\": brume instances transforms, attributes, materials and "
+                                     "drawn shapes%s", L->text, o->name, media ? " (not media)" : "");
         } else {
             st = directive(S, ps);
         }
@@ -110,5 +110,5 @@ brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,
         return object_instance(S, ps, directive);
     if (strcmp(dir, "ObjectEnd") == 0)
         return pbrt_fail(&S->L, "ObjectEnd without an open ObjectBegin");
-    return pbrt_fail(&S->L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
+    return pbrt_unsupported(&S->L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
 }

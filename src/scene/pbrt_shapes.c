@@ -148,8 +148,8 @@ static brume_status bilinear_tris(lexer *L, const int *quad, tris *t)
         vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
         double size = fmax(v3_length(v3_sub(p[3], p[0])), v3_length(v3_sub(p[2], p[1])));
         if (!(v3_length(n) > 0.0) || fabs(v3_dot(v3_normalize(n), v3_sub(p[3], p[0]))) > 1e-9 * size)
-            return pbrt_fail(L, "Shape \"bilinearmesh\": patch %d is not planar (or is degenerate): brume renders "
-                                "triangles, exact only for planar patches", i);
+            return pbrt_unsupported(L, "Shape \"bilinearmesh\": patch %d is not planar (or is degenerate): brume renders "
+                                       "triangles, exact only for planar patches", i);
         int tri[6] = {q[0], q[1], q[3], q[0], q[3], q[2]};
         memcpy(&t->idx[6 * i], tri, sizeof tri);
     }
@@ -185,8 +185,8 @@ static brume_status shape_interface(pbrt_state *S, const char *type, const tris 
     double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
                  c[2] * (c[4] * c[9] - c[5] * c[8]);
     if (!t || !tris_are_box(t, det < 0.0, b))
-        return pbrt_fail(L, "Shape \"%s\" bounding the homogeneous medium \"%s\": brume's homogeneous media fill "
-                            "axis-aligned boxes (a trianglemesh or bilinearmesh that is one, faces facing out)", type,
+        return pbrt_unsupported(L, "Shape \"%s\" bounding the homogeneous medium \"%s\": brume's homogeneous media fill "
+                                   "axis-aligned boxes (a trianglemesh or bilinearmesh that is one, faces facing out)", type,
                          nm->name);
     cJSON *m = cJSON_Duplicate(nm->json, 1);
     cJSON *d = cJSON_AddObjectToObject(m, "density");
@@ -205,7 +205,7 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     attrs *a = &S->a[S->depth];
     if (a->inside[0]) {
         cJSON_Delete(s);
-        return pbrt_fail(&S->L, "Shape: medium \"%s\" inside a shape whose material is not \"interface\"", a->inside);
+        return pbrt_unsupported(&S->L, "Shape: medium \"%s\" inside a shape whose material is not \"interface\"", a->inside);
     }
     cJSON *mat = cJSON_AddObjectToObject(s, "material");
     cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
@@ -229,8 +229,8 @@ static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, 
         return BRUME_OK;
     param *N = pbrt_get(ps, "N");
     if (N && N->n > 0)
-        return pbrt_fail(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
-                                "side toward N; give \"bool twosided\" true)", what);
+        return pbrt_unsupported(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
+                                       "side toward N; give \"bool twosided\" true)", what);
     const double *c = a->ctm.m;
     double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
                  c[2] * (c[4] * c[9] - c[5] * c[8]);
@@ -253,14 +253,17 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
     if (det < 0.0 && strcmp(type, "sphere") == 0) {
         m = pbrt_m4_mul(m, pbrt_m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
     } else if (det < 0.0) {
-        pbrt_fail(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
-                         "without \"Scale -1 1 1\" mirrors the whole world, docs/pbrt.md)", what);
+        pbrt_unsupported(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
+                                "without \"Scale -1 1 1\" mirrors the whole world, docs/pbrt.md)", what);
         return NULL;
     }
     bool oom;
     cJSON *t = pbrt_transform_json(m, &oom);
     if (!t) {
-        pbrt_fail(&S->L, oom ? "%s: out of memory" : "%s: a transform with shear", what);
+        if (oom)
+            pbrt_fail(&S->L, "%s: out of memory", what);
+        else
+            pbrt_unsupported(&S->L, "%s: a transform with shear", what);
         return NULL;
     }
     cJSON *s = cJSON_CreateObject();
@@ -342,8 +345,8 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
     if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
         return shape_interface(S, "plymesh", NULL);
     if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
-        return pbrt_fail(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
-                            "file's normals; give \"bool twosided\" true)", what);
+        return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
+                                   "file's normals; give \"bool twosided\" true)", what);
     cJSON *s = placed_surface(S, what, "mesh");
     if (!s)
         return err_status();
@@ -360,7 +363,7 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
     snprintf(what, sizeof what, "Shape \"%s\"", type);
     bool interface = strcmp(a->material, "interface") == 0;
     if (interface && S->a[S->depth].area)
-        return pbrt_fail(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
+        return pbrt_unsupported(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
     if (strcmp(type, "sphere") == 0) {
         double radius = 1.0;
         if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
@@ -377,10 +380,10 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         return shape_plymesh(S, ps, what, interface);
     bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
     if (!tri && !round && strcmp(type, "bilinearmesh") != 0)
-        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (sphere, disk, cylinder, trianglemesh, "
-                            "bilinearmesh, plymesh)", what);
+        return pbrt_unsupported(L, "%s: not supported by brume's pbrt reader (sphere, disk, cylinder, trianglemesh, "
+                                   "bilinearmesh, plymesh)", what);
     if (round && interface)
-        return pbrt_fail(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
+        return pbrt_unsupported(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
     /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
        not used (brume shades by the geometric normal) */
     if (!round) {
@@ -442,12 +445,12 @@ static brume_status shape_sides(pbrt_state *S, const char **inside)
         return BRUME_OK;
     }
     if (strcmp(a->outside, cm) != 0)
-        return pbrt_fail(&S->L, "MediumInterface: the outside medium \"%s\" is not the camera's (%s%s%s): brume's "
-                                "media are fields in the camera's medium", a->outside, cm[0] ? "\"" : "",
+        return pbrt_unsupported(&S->L, "MediumInterface: the outside medium \"%s\" is not the camera's (%s%s%s): brume's "
+                                       "media are fields in the camera's medium", a->outside, cm[0] ? "\"" : "",
                          cm[0] ? cm : "none", cm[0] ? "\"" : "");
     if (cm[0] && strcmp(a->material, "interface") == 0)
-        return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": inside the shape pbrt-v4 replaces the camera's "
-                                "medium by \"%s\", where brume's media add", a->inside, a->outside, a->inside);
+        return pbrt_unsupported(&S->L, "MediumInterface \"%s\" \"%s\": inside the shape pbrt-v4 replaces the camera's "
+                                       "medium by \"%s\", where brume's media add", a->inside, a->outside, a->inside);
     *inside = a->inside;
     return BRUME_OK;
 }

@@ -103,9 +103,24 @@ void pbrt_next(lexer *L)
     L->text[n] = '\0';
 }
 
-/* A refusal: "FILE:LINE: " and the message; on a token the file cannot hold, that token's
- * fault at its own line instead (the directive read cannot be complete). */
+/* A refusal of malformed input: "FILE:LINE: " and the message (BRUME_ERROR_PARSE); on a
+ * token the file cannot hold, that token's fault at its own line instead (the directive
+ * read cannot be complete). */
 brume_status pbrt_fail(const lexer *L, const char *fmt, ...)
+{
+    if (L->kind == TOK_BAD)
+        return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->tok_line, L->bad);
+    char msg[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->dir_line, msg);
+}
+
+/* A refusal of what is well formed but brume cannot honour (a type, a parameter, a value):
+ * BRUME_ERROR_UNSUPPORTED, which --lenient turns into a warning and a skipped directive. */
+brume_status pbrt_unsupported(const lexer *L, const char *fmt, ...)
 {
     if (L->kind == TOK_BAD)
         return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->tok_line, L->bad);
@@ -374,7 +389,7 @@ brume_status pbrt_get_color(lexer *L, params *ps, const char *name, double out[3
         double v = q->n == 1 ? q->v[0] : q->v[1];
         for (int i = 3; i < q->n; i += 2)
             if (q->v[i] != v)
-                return pbrt_fail(L, "parameter \"%s\": a spectrum that varies with wavelength (brume renders RGB)", name);
+                return pbrt_unsupported(L, "parameter \"%s\": a spectrum that varies with wavelength (brume renders RGB)", name);
         out[0] = out[1] = out[2] = v;
         return BRUME_OK;
     }
@@ -382,7 +397,7 @@ brume_status pbrt_get_color(lexer *L, params *ps, const char *name, double out[3
         out[0] = out[1] = out[2] = q->v[0];
         return BRUME_OK;
     }
-    return pbrt_fail(L, "parameter \"%s\": brume reads rgb values and constant spectra only", name);
+    return pbrt_unsupported(L, "parameter \"%s\": brume reads rgb values and constant spectra only", name);
 }
 
 brume_status pbrt_get_string(lexer *L, params *ps, const char *name, char *out, size_t n)
@@ -403,7 +418,7 @@ brume_status pbrt_all_used(const lexer *L, const params *ps, const char *dir)
         if (!ps->p[i].used) {
             lexer at = *L;
             at.dir_line = ps->p[i].line;
-            return pbrt_fail(&at, "%s: parameter \"%s %s\": not supported by brume", dir, ps->p[i].type, ps->p[i].name);
+            return pbrt_unsupported(&at, "%s: parameter \"%s %s\": not supported by brume", dir, ps->p[i].type, ps->p[i].name);
         }
     return BRUME_OK;
 }

@@ -187,7 +187,7 @@ static brume_status directive(pbrt_state *S, params *ps)
     } else if (strcmp(dir, "MediumInterface") == 0) {
         return medium_interface(S, a, dir);
     } else {
-        return pbrt_fail(L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
+        return pbrt_unsupported(L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
     }
     return BRUME_OK;
 }
