@@ -966,6 +966,15 @@ brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *scene, c
 int brume_scene_surface_count(const brume_scene *scene);
 brume_status brume_scene_set_surface_motion(brume_context *ctx, brume_scene *scene, int surface,
                                             const brume_transform_key *keys, int n);
+/* Bounded media (docs/surfaces.md, "How surfaces meet media"): surface `surface` (its index)
+ * bounds the medium named `inside` (behind its front side: a sphere's or a closed mesh's
+ * interior; NULL or "": none) and the one named `outside` (before it). A medium named by a
+ * surface is bounded: present only where the crossings put a path (the camera starts in
+ * the ones its line from infinity enters, and in camera.medium); every other medium is a
+ * free field, present everywhere. With `interface` the surface has no material: paths and
+ * shadow rays cross it. The shape must be closed. Names are resolved at commit. */
+brume_status brume_scene_set_surface_media(brume_context *ctx, brume_scene *scene, int surface, const char *inside,
+                                           const char *outside, bool interface);
 
 /* STATISTICS of the last render of a scene (docs/stats.md). Counts are exact sums over the
  * whole run and do not depend on the thread count; times are seconds (wall time, or CPU

@@ -40,6 +40,7 @@ OPTIONAL = {
     "brume_scene_add_plane": {"transform", "material", "name"},
     "brume_scene_add_mesh": {"transform", "material", "name"},
     "brume_scene_add_mesh_file": {"transform", "material", "name"},
+    "brume_scene_set_surface_media": {"inside", "outside"},  # NULL: no medium on that side
     "brume_output_check": {"scene"},
     "brume_image_compare_region": {"mask"},  # NULL: the whole frame
     "brume_image_diff_png": {"mask"},

@@ -261,7 +261,7 @@ TEST(residual_ratio_tracking_transmittance)
     double sum[3] = {0}, sq[3] = {0}, lowest = INFINITY;
     for (int n = 0; n < M; n++) {
         rng g = rng_make(17, (uint64_t)n, 0);
-        color T = track_transmittance(s, r, INFINITY, &g);
+        color T = track_transmittance(s, 0, r, INFINITY, &g);
         for (int c = 0; c < 3; c++) {
             sum[c] += T.c[c];
             sq[c] += T.c[c] * T.c[c];

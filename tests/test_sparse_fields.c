@@ -102,7 +102,7 @@ TEST(medium_fields_from_scene_keys)
         int i = puff_c[p][0] + (int)(rng_next(&g) * 9) - 4, j = puff_c[p][1] + (int)(rng_next(&g) * 9) - 4,
             k = puff_c[p][2] + (int)(rng_next(&g) * 9) - 4;
         medium_sample ms;
-        media_at(s, centre(i, j, k), 0.0, &ms);
+        media_at(s, 0, centre(i, j, k), 0.0, &ms);
         double rho = puff_density(i, j, k);
         float cd[3];
         puff_colour(i, j, k, cd);

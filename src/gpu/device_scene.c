@@ -15,6 +15,10 @@ brume_status device_scene_check(const brume_scene *s, int kind)
         return err_set(BRUME_ERROR_UNSUPPORTED,
                        "%s: render.method '%s' runs on the CPU only: the GPU renders path and single (--device cpu)",
                        s->source, brume_method_name(s->settings.method));
+    if (s->bounded)
+        return err_set(BRUME_ERROR_UNSUPPORTED,
+                       "%s: media bounded by surfaces (medium_inside/medium_outside) render on the CPU only "
+                       "(--device cpu)", s->source);
     return BRUME_OK;
 }
 

@@ -27,7 +27,8 @@ static void flight_offer(flight *f, color w, double t)
     if (f->u < pr) {
         f->u /= pr;
         f->beta_s = col_scale(w, 1.0 / a);
-        f->t = t;
+        f->t = f->t0 + t;
+        f->absent_s = f->absent;
         /* what media_choose_phase reads: the media there and their weights */
         f->ms.n = f->cur.n;
         for (int i = 0; i < f->cur.n; i++) {
@@ -68,7 +69,7 @@ static bool flight_step(const track_event *e, void *user)
         f->Tr = col(0.0);
         return false;
     }
-    media_at(f->s, ray_at(f->r, e->t), f->r.time, &f->cur);
+    media_at(f->s, f->absent, ray_at(f->r, e->t), f->r.time, &f->cur);
     medium_sample *ms = &f->cur;
     if (sigma_c > 0.0) { /* the residual: rho - rho_c */
         const medium *md = &f->s->media[0];
@@ -97,16 +98,33 @@ static bool flight_step(const track_event *e, void *user)
     return track_roulette(&f->Tr, f->g);
 }
 
-bool flight_run(flight *f, ray r, double tmax, rng *ug)
+void flight_begin(flight *f, rng *ug)
 {
-    f->r = r;
     f->ug = ug;
     f->udim = ug->counter++;
     f->Tr = col(1.0);
     f->A = 0.0;
-    track_collisions(f->s, r, tmax, f->g, false, flight_step, f, NULL);
+}
+
+void flight_track(flight *f, ray r, double t0, double tmax)
+{
+    f->r = r;
+    f->t0 = t0;
+    if (!col_is_black(f->Tr))
+        track_collisions(f->s, f->absent, r, tmax, f->g, false, flight_step, f, NULL);
+}
+
+bool flight_end(flight *f)
+{
     if (!(f->A > 0.0))
         return false;
     f->beta_s = col_scale(f->beta_s, f->A);
     return true;
+}
+
+bool flight_run(flight *f, ray r, double tmax, rng *ug)
+{
+    flight_begin(f, ug);
+    flight_track(f, r, 0.0, tmax);
+    return flight_end(f);
 }

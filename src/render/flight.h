@@ -32,6 +32,10 @@ typedef struct flight {
     double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
     rng *ug;          /* scratch: the sequence and dimension u is drawn from, at the first */
     uint64_t udim;    /*          collision (a flight that meets none never computes it) */
+    uint32_t absent;  /* in/out: the bounded media the flight is not in (track_collisions'; 0:
+                         none), changed where it crosses a surface (flight_track's pieces) */
+    uint32_t absent_s; /* out: those at the kept collision */
+    double t0;        /* scratch: where the piece being tracked starts along the flight */
 } flight;
 
 /* Where a flight's delta tail starts (f->tail_Tr) after the first scattering event: measured
@@ -48,5 +52,13 @@ typedef struct flight {
  * meets a collision) makes the reservoir's choices: one number for the whole flight, so a
  * sampler can stratify where flights scatter. The tracking draws from f->g. */
 bool flight_run(flight *f, ray r, double tmax, rng *ug);
+
+/* flight_run in pieces, for a flight that crosses surfaces bounding media (render/path.c):
+ * flight_begin takes the reservoir's dimension; flight_track walks the piece r over
+ * [0, tmax] in the media f->absent leaves, r starting at t0 along the flight (f->t counts
+ * from the flight's start); flight_end is flight_run's result. */
+void flight_begin(flight *f, rng *ug);
+void flight_track(flight *f, ray r, double t0, double tmax);
+bool flight_end(flight *f);
 
 #endif

@@ -19,6 +19,12 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
             return err_set(BRUME_ERROR_UNSUPPORTED,
                            "%s: media[%d]: albedo, temperature and emission grids need the path or single method",
                            s->source, m);
+    if ((kind == INTEGRATOR_BLASI || kind == INTEGRATOR_STAM) && s->bounded)
+        for (int m = 0; m < s->nmedia; m++)
+            if (s->bounded >> m & 1u)
+                return err_set(BRUME_ERROR_UNSUPPORTED,
+                               "%s: media[%d] '%s': a medium bounded by a surface (medium_inside/medium_outside) "
+                               "renders with path and single only", s->source, m, s->media[m].name);
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: {

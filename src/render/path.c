@@ -40,6 +40,7 @@ typedef struct vertex {
     const phase *ph; /* medium vertex */
     const material *m; /* surface vertex */
     vec3 n;          /* surface: unit normal on the side of -d */
+    uint32_t absent; /* the bounded media the vertex is not in (track_collisions') */
     double time;     /* the path's instant: shadow rays see moving things where they are then */
 } vertex;
 
@@ -59,13 +60,93 @@ static double vertex_pdf(const vertex *v, vec3 wi)
     return material_pdf(v->m, v->n, v3_neg(v->d), wi);
 }
 
-/* Transmittance from p along unit wi over (0, dist) at `time`: 0 if a surface is in the
- * way, else the media's, by ratio tracking. */
-color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g)
+/* Surfaces a flight or a shadow ray crosses at most: past them, the next one counts as
+ * opaque (a bound on the work of a ray caught between coincident surfaces). */
+#define PATH_MAX_CROSSINGS 64
+
+uint32_t path_cross_surface(const surface_hit *sh, vec3 d, uint32_t absent)
 {
-    if (s->surf && surfaces_occluded(s->surf, p, wi, 0.0, dist * (1.0 - 1e-7), time))
-        return col(0.0);
-    return track_transmittance(s, (ray){p, wi, time}, dist, g);
+    return surface_media_cross(sh->media, sh->ng, d, absent);
+}
+
+/* Transmittance from p along unit wi over (0, dist) at `time`, starting outside the bounded
+ * media `absent`: 0 if a surface is in the way, else the media's, by ratio tracking. An
+ * interface (a surface with no material that bounds media) is crossed: the media change
+ * there (path_cross_surface). */
+color scene_transmittance(const brume_scene *s, uint32_t absent, vec3 p, vec3 wi, double dist, double time, rng *g)
+{
+    if (!s->has_interfaces) {
+        if (s->surf && surfaces_occluded(s->surf, p, wi, 0.0, dist * (1.0 - 1e-7), time))
+            return col(0.0);
+        return track_transmittance(s, absent, (ray){p, wi, time}, dist, g);
+    }
+    color Tr = col(1.0);
+    ray r = {p, wi, time};
+    double tmin = 0.0;
+    for (int k = 0; k <= PATH_MAX_CROSSINGS; k++) {
+        surface_hit sh;
+        bool hit = surfaces_intersect(s->surf, r, tmin, dist * (1.0 - 1e-7), &sh);
+        if (hit && (!sh.media.interface || k == PATH_MAX_CROSSINGS))
+            return col(0.0);
+        Tr = col_mul(Tr, track_transmittance(s, absent, r, hit ? sh.t : dist, g));
+        if (!hit || col_is_black(Tr))
+            break;
+        absent = path_cross_surface(&sh, wi, absent);
+        dist -= sh.t;
+        r.o = sh.p; /* the next piece starts on the surface: no medium skipped */
+        tmin = surface_cross_tmin(r.o);
+    }
+    return Tr;
+}
+
+/* Crossings of a camera's line at most (path_camera_absent): past them, the nearest count. */
+#define CAMERA_MAX_CROSSINGS 64
+
+uint32_t path_camera_absent(const brume_scene *s, ray r)
+{
+    if (!s->bounded)
+        return 0;
+    surface_hit h[CAMERA_MAX_CROSSINGS];
+    int n = 0;
+    ray q = r;
+    double tmin = 0.0;
+    for (int k = 0; k < 4 * CAMERA_MAX_CROSSINGS && n < CAMERA_MAX_CROSSINGS; k++) {
+        surface_hit sh;
+        if (!surfaces_intersect(s->surf, q, tmin, INFINITY, &sh))
+            break;
+        if (sh.media.inside >= 0 || sh.media.outside >= 0)
+            h[n++] = sh;
+        q.o = sh.p;
+        tmin = surface_cross_tmin(q.o);
+    }
+    /* from infinity, where no bounded medium is, back along the line to the camera */
+    uint32_t absent = s->bounded;
+    for (int i = n - 1; i >= 0; i--)
+        absent = path_cross_surface(&h[i], v3_neg(r.d), absent);
+    return absent & ~s->camera_members;
+}
+
+/* Flight f (flight_begin, f->absent set) along r up to tmax (the nearest area light, or
+ * INFINITY), crossing interfaces on the way (their media change f->absent): true when it
+ * ends on a surface that is not one, whose hit *sh then is (its t counted from the last
+ * piece's start, its p exact). The kept collision's f->t counts along r from its origin:
+ * each piece starts where the last one crossed. flight_end gives the flight's result. */
+static bool path_fly(const brume_scene *s, flight *f, ray r, double tmax, surface_hit *sh, rng *ug)
+{
+    flight_begin(f, ug);
+    double t0 = 0.0, tmin = 0.0;
+    for (int k = 0;; k++) {
+        bool on = s->surf && surfaces_intersect(s->surf, r, tmin, tmax - t0, sh);
+        if (!on || !sh->media.interface || k == PATH_MAX_CROSSINGS) {
+            flight_track(f, r, t0, on ? sh->t : tmax - t0);
+            return on;
+        }
+        flight_track(f, r, t0, sh->t);
+        f->absent = path_cross_surface(sh, r.d, f->absent);
+        t0 += sh->t;
+        r.o = sh->p; /* the next piece starts on the surface: no medium skipped */
+        tmin = surface_cross_tmin(r.o);
+    }
 }
 
 /* Russian roulette on a shadow ray by what it can bring (docs/path-tracer.md, "Shadow-ray
@@ -176,7 +257,7 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
         double q = nee_roulette(f, sun_roulette(st, sun, v->p), g);
         if (q == 0.0)
             continue;
-        color Tr = scene_transmittance(s, v->p, ls.wi, ls.dist, v->time, g);
+        color Tr = scene_transmittance(s, v->absent, v->p, ls.wi, ls.dist, v->time, g);
         Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / (q * ls.pdf)));
     }
     if (surfaces_has_emitters(s->surf)) {
@@ -190,7 +271,7 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
                 double q = nee_roulette(f, 1.0, g);
                 if (q > 0.0) {
-                    color Tr = scene_transmittance(s, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
+                    color Tr = scene_transmittance(s, v->absent, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / (q * pdf)));
                 }
             }
@@ -206,7 +287,7 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
                 double q = nee_roulette(f, 1.0, g);
                 if (q > 0.0) {
-                    color Tr = scene_transmittance(s, v->p, wi, INFINITY, v->time, g);
+                    color Tr = scene_transmittance(s, v->absent, v->p, wi, INFINITY, v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / (q * pdf)));
                 }
             }
@@ -296,18 +377,17 @@ static color lobe_samples(const brume_scene *s, const path_state *st, const vert
         nearest_area_light(s, v->p, omega, &t_end, &Le_l, &pdf_l);
         surface_hit sh;
         const ray rb = {v->p, omega, v->time};
-        if (s->surf && surfaces_intersect(s->surf, rb, 0.0, t_end, &sh))
-            t_end = sh.t;
         flight fb = {.s = s, .g = g, .beta = col_scale(beta, p_a / (P * p_b) * w_b), .L = col(0.0),
-                     .tail_Tr = FLIGHT_TAIL_TR};
-        if (!flight_run(&fb, rb, t_end, g))
+                     .tail_Tr = FLIGHT_TAIL_TR, .absent = v->absent};
+        path_fly(s, &fb, rb, t_end, &sh, g);
+        if (!flight_end(&fb))
             continue; /* (the emission fb.L gathered is the path's own flights' to count) */
         const phase *ph_y = media_choose_phase(s, &fb.ms, rng_next(g));
         const double f_y = phase_eval(ph_y, v3_dot(wi, omega));
         const double q = nee_roulette(col(f_y), 1.0, g);
         if (q == 0.0)
             continue;
-        color Tr = scene_transmittance(s, ray_at(rb, fb.t), wi, INFINITY, v->time, g);
+        color Tr = scene_transmittance(s, fb.absent_s, ray_at(rb, fb.t), wi, INFINITY, v->time, g);
         L = col_add(L, col_scale(col_mul(col_mul(fb.beta_s, Tr), l->L), f_y / q));
     }
     return L;
@@ -384,9 +464,10 @@ typedef struct path_walk {
     int depth;              /* the next event's */
 } path_walk;
 
-/* The flight of event `depth` along w->r up to t_end (a surface or an area light): true when
- * it kept a scattering collision and the path may scatter again. */
-static bool path_flight(path_walk *w, int depth, double t_end)
+/* The flight of event `depth` along w->r up to the nearest surface that is not an interface
+ * (*on_surface; its hit *sh) or t_light (an area light, or INFINITY): true when it kept a
+ * scattering collision and the path may scatter again. */
+static bool path_flight(path_walk *w, int depth, double t_light, surface_hit *sh, bool *on_surface)
 {
     stats_counters *sc = stats_tls;
     double t0 = sc ? stats_now() : 0.0;
@@ -394,7 +475,8 @@ static bool path_flight(path_walk *w, int depth, double t_end)
     /* the camera ray's flight stays ratio tracking throughout: its one reservoir number is
      * what the sampler stratifies, and a tail's coin flips are not */
     w->f.tail_Tr = depth > 0 ? FLIGHT_TAIL_TR : 0.0;
-    bool scattered = flight_run(&w->f, w->r, t_end, w->g) && depth < w->max_depth;
+    *on_surface = path_fly(w->s, &w->f, w->r, t_light, sh, w->g);
+    bool scattered = flight_end(&w->f) && depth < w->max_depth;
     if (sc)
         sc->t_tracking += stats_now() - t0;
     return scattered;
@@ -436,7 +518,7 @@ static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color b
     if (sc)
         sc->path_vertices++;
     f->beta = beta;
-    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .time = w->r.time};
+    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .time = w->r.time};
     v.n = v3_dot(sh->ng, w->r.d) < 0.0 ? sh->ng : v3_neg(sh->ng);
     v.p = surface_offset(sh, v.n);
     f->L = col_add(f->L, col_mul(f->beta, direct_light_counted(s, w->st, NULL, &v, &w->gt)));
@@ -462,7 +544,8 @@ static bool path_scatter(path_walk *w, int depth)
     f->beta = f->beta_s;
     w->g->counter = w->dim0 + 4 * (uint64_t)depth + 1;
     vertex v = {.p = ray_at(w->r, f->t), .d = w->r.d, .ph = media_choose_phase(s, &f->ms, rng_next(w->g)),
-                .m = NULL, .time = w->r.time};
+                .m = NULL, .absent = f->absent_s, .time = w->r.time};
+    f->absent = f->absent_s; /* the next flight starts where this one scattered */
     stats_counters *sc = stats_tls;
     if (sc) {
         sc->path_scatterings++;
@@ -499,10 +582,10 @@ static bool path_event(path_walk *w, int depth)
     color Le_light = col(0.0);
     int hit = nearest_area_light(s, w->r.o, w->r.d, &t_light, &Le_light, &pdf_light);
     surface_hit sh;
-    bool on_surface = s->surf && surfaces_intersect(s->surf, w->r, 0.0, t_light, &sh);
+    bool on_surface;
+    bool scattered = path_flight(w, depth, t_light, &sh, &on_surface);
     if (depth == 0 && w->hit_surface)
         *w->hit_surface = on_surface;
-    bool scattered = path_flight(w, depth, on_surface ? sh.t : t_light);
     if (depth == 0 && w->Tr_cam) { /* the flight's ratio-tracked Tr over [0, t_cam]: alpha's estimate */
         *w->Tr_cam = on_surface ? col(0.0) : f->Tr;
         w->t_cam = on_surface ? 0.0 : t_light;
@@ -535,6 +618,7 @@ static void path_split_next(path_walk *w)
     w->dim0 = 0;
     w->pending--;
     w->f.beta = w->split.beta;
+    w->f.absent = w->split.v.absent;
     w->prev = w->split.prev;
     w->g->counter = 2;
     w->r = phase_continue(&w->split.v, w->g, &w->pdf_dir);
@@ -579,6 +663,7 @@ static bool path_walk_begin(path_walk *w, const brume_scene *s, const void *stat
     w->f.g = &w->gt;
     w->f.beta = col(1.0);
     w->f.L = col(0.0);
+    w->f.absent = path_camera_absent(s, r);
     return true;
 }
 
@@ -601,7 +686,8 @@ static color path_walk_end(path_walk *w)
     color *Tr_cam = w->Tr_cam;
     ray r = w->r_cam;
     if (Tr_cam && w->t_cam > 0.0 && isfinite(w->t_cam) && !col_is_black(*Tr_cam))
-        *Tr_cam = col_mul(*Tr_cam, track_transmittance(w->s, (ray){ray_at(r, w->t_cam), r.d, r.time}, INFINITY, &w->gt));
+        *Tr_cam = col_mul(*Tr_cam, track_transmittance(w->s, w->f.absent, (ray){ray_at(r, w->t_cam), r.d, r.time},
+                                                       INFINITY, &w->gt));
     return w->f.L;
 }
 

@@ -20,11 +20,20 @@ color path_Li_alpha(const brume_scene *s, const void *state, ray r, int max_dept
  * order of the lights) from the world point p, for tests: 1 where nothing is predicted
  * (outside the media's box; no prediction built). state as path_Li_alpha's. */
 double path_sun_transmittance_hat(const void *state, int sun, vec3 p);
-/* Transmittance from p along unit wi over (0, dist) at `time` (seconds): 0 when a surface
- * blocks the segment, else that of the media (ratio tracking). Moving things are taken
+/* Transmittance from p along unit wi over (0, dist) at `time` (seconds), from a point
+ * outside the bounded media `absent` (track_collisions'; 0: in every medium): 0 when a
+ * surface blocks the segment, else that of the media (ratio tracking), crossing the
+ * interfaces on the way (docs/surfaces.md, "How surfaces meet media"). Moving things are taken
  * where they are at that instant, so every estimator that passes the path's time gets
  * motion blur (docs/animation.md). */
-color scene_transmittance(const brume_scene *s, vec3 p, vec3 wi, double dist, double time, rng *g);
+color scene_transmittance(const brume_scene *s, uint32_t absent, vec3 p, vec3 wi, double dist, double time,
+                          rng *g);
+
+/* The bounded media absent where the camera ray r starts (bit m: s->media[m] is not there;
+ * 0 when the scene has none): those the crossings of r's line, taken from infinity, where no
+ * bounded medium is, back to r.o, leave it outside of, less camera.medium
+ * (docs/surfaces.md, "How surfaces meet media"). */
+uint32_t path_camera_absent(const brume_scene *s, ray r);
 
 /* Copies path and single's prepared state (integrator_prepare's, may be NULL) into a
  * (core/arena.h) for the GPU; returns the copy's offset (ARENA_NULL for NULL or on failure). */

@@ -4,6 +4,17 @@
 #define BRUME_RENDER_PATH_IMPL_H
 
 #include "render/path.h"
+#include "surface/surfaces.h"
+
+/* Crossing a surface (docs/surfaces.md, "How surfaces meet media"): the bounded media absent
+ * (bit m: s->media[m] is not there, track_collisions') on the far side of the surface hit
+ * sh for a ray leaving it along d, from those absent on the near side. Every crossing goes
+ * through it: the flights and shadow rays that pass interfaces (path.c), and a material
+ * whose sampled direction wi goes through its surface (a refraction): there, the path's
+ * next flight starts with w->f.absent = path_cross_surface(sh, wi, w->f.absent), and the
+ * new ray from the offset point on wi's side (surface_offset(sh, wi)). A reflection
+ * keeps w->f.absent as it is. */
+uint32_t path_cross_surface(const surface_hit *sh, vec3 d, uint32_t absent);
 
 /* Power heuristic with exponent 2. */
 static inline double mis_weight(double pdf_this, double pdf_other)

@@ -63,7 +63,7 @@ static void lobe_table(const phase *ph, float S[LOBE_TABLE])
 static double sigma_t_least(const brume_scene *s, vec3 p)
 {
     medium_sample ms;
-    media_at(s, p, 0.0, &ms);
+    media_at(s, 0, p, 0.0, &ms);
     double m = INFINITY;
     for (int c = 0; c < BRUME_NSAMPLES; c++)
         m = fmin(m, ms.sigma_a.c[c] + ms.sigma_s.c[c]);
@@ -206,7 +206,8 @@ brume_status path_prepare(const brume_scene *s, bool lobes, path_state **out)
             lobe_table(s->media[m].ph, st.S[m]);
     }
     size_t cells = 0;
-    if (o->sun_roulette > 0.0 && st.nsuns > 0 && some && !moving) {
+    /* the predictions sum every medium: with bounded media, where a ray sees only some, none */
+    if (o->sun_roulette > 0.0 && st.nsuns > 0 && some && !moving && !s->bounded) {
         const vec3 ext = v3_sub(st.reach.hi, st.reach.lo);
         const double e[3] = {ext.x, ext.y, ext.z}, L = fmax(e[0], fmax(e[1], e[2]));
         double sc[3];

@@ -4,7 +4,7 @@
 #include "core/sampling.h"
 #include "core/stats.h"
 
-void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
+void media_at(const brume_scene *s, uint32_t absent, vec3 p, double time, medium_sample *ms)
 {
     ms->sigma_a = col(0.0);
     ms->sigma_s = col(0.0);
@@ -19,7 +19,7 @@ void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms)
     dt = dt < s->cam.shutter_open ? s->cam.shutter_open : (dt > s->cam.shutter_close ? s->cam.shutter_close : dt);
     for (int m = 0; m < s->nmedia; m++) {
         medium_coeffs mc;
-        if (!medium_coeffs_at(&s->media[m], p, time, dt, &mc))
+        if ((absent >> m & 1u) || !medium_coeffs_at(&s->media[m], p, time, dt, &mc))
             continue;
         ms->sigma_a = col_add(ms->sigma_a, mc.sigma_a);
         ms->sigma_s = col_add(ms->sigma_s, mc.sigma_s);
@@ -48,6 +48,7 @@ const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, d
 
 typedef struct ratio_state {
     const brume_scene *s;
+    uint32_t absent;
     ray r;
     color Tr;     /* the estimate up to the last collision, exp(-tau_c) included */
     double tau_c; /* control optical depth already in Tr */
@@ -81,7 +82,7 @@ static bool ratio_step(const track_event *e, void *user)
 {
     ratio_state *rs = (ratio_state *)user;
     medium_sample ms;
-    media_at(rs->s, ray_at(rs->r, e->t), rs->r.time, &ms);
+    media_at(rs->s, rs->absent, ray_at(rs->r, e->t), rs->r.time, &ms);
     color sigma_t = col_add(ms.sigma_a, ms.sigma_s);
     double inv = 1.0 / e->sigma_r;
     double Tc = e->tau_c > rs->tau_c ? exp(rs->tau_c - e->tau_c) : 1.0;
@@ -91,11 +92,11 @@ static bool ratio_step(const track_event *e, void *user)
     return track_roulette(&rs->Tr, rs->g);
 }
 
-color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g)
+color track_transmittance(const brume_scene *s, uint32_t absent, ray r, double tmax, rng *g)
 {
-    ratio_state rs = {s, r, col(1.0), 0.0, g};
+    ratio_state rs = {s, absent, r, col(1.0), 0.0, g};
     double tau_c;
-    if (track_collisions(s, r, tmax, g, true, ratio_step, &rs, &tau_c) && tau_c > rs.tau_c)
+    if (track_collisions(s, absent, r, tmax, g, true, ratio_step, &rs, &tau_c) && tau_c > rs.tau_c)
         rs.Tr = col_scale(rs.Tr, exp(rs.tau_c - tau_c));
     return rs.Tr;
 }

@@ -35,14 +35,16 @@ typedef struct track_event {
 typedef bool (*track_fn)(const track_event *e, void *user);
 
 /* Tracks r (unit direction) over [0, tmax] at the ray's time r.time (moving media are
- * taken where they are at that instant). Tentative collisions come at the rate sigma_maj,
+ * taken where they are at that instant), through the media not in `absent` (bit m set:
+ * s->media[m], a bounded medium the ray is not in, is left out of the walk and its
+ * majorant; 0: every medium). Tentative collisions come at the rate sigma_maj,
  * or with `residual` at the rate sigma_maj - sigma_c (residual ratio tracking, Novak et al.
  * 2014: the control part is then accounted for analytically by the caller through tau_c;
  * *tau_c_end, when not NULL, receives the control optical depth of the whole walk).
  * Returns true when the walk passed tmax (or left every medium) without the callback
  * stopping it. */
-static inline bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g, bool residual, track_fn fn,
-                                    void *user, double *tau_c_end);
+static inline bool track_collisions(const brume_scene *s, uint32_t absent, ray r, double tmax, rng *g, bool residual,
+                                    track_fn fn, void *user, double *tau_c_end);
 
 /* Optical coefficients at p summed over the media [1 / world unit]. */
 typedef struct medium_sample {
@@ -53,8 +55,9 @@ typedef struct medium_sample {
     double weight[SCENE_MAX_MEDIA]; /* avg sigma_s of each, for choosing a phase function */
 } medium_sample;
 
-/* At time `time` (seconds): moving media are evaluated where they are then. */
-void media_at(const brume_scene *s, vec3 p, double time, medium_sample *ms);
+/* At time `time` (seconds): moving media are evaluated where they are then. The media in
+ * `absent` (as track_collisions') are left out. */
+void media_at(const brume_scene *s, uint32_t absent, vec3 p, double time, medium_sample *ms);
 /* The phase function of a medium chosen among those at p in proportion to scattering. */
 const phase *media_choose_phase(const brume_scene *s, const medium_sample *ms, double u);
 
@@ -66,7 +69,7 @@ bool track_roulette(color *Tr, rng *g);
 /* Residual ratio-tracking estimate of transmittance along r over [0, tmax] (unbiased, per
  * channel): exp(-tau_c) times the ratio-tracking product of the residual
  * (docs/path-tracer.md, "Control density"). */
-color track_transmittance(const brume_scene *s, ray r, double tmax, rng *g);
+color track_transmittance(const brume_scene *s, uint32_t absent, ray r, double tmax, rng *g);
 
 /* ---- the tracking loop, inline: each caller's callback is inlined into its own copy ---- */
 
@@ -145,13 +148,13 @@ static inline void track_count_cells(const track_stream *st, int n)
 
 /* One medium is the common case: with n a constant the loops over media vanish, and one
  * stream is kept. */
-static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, ray r, double tmax, rng *g,
-                                                                   bool residual, track_fn fn, void *user,
-                                                                   double *tau_c_end)
+static inline __attribute__((always_inline)) bool track_collisions(const brume_scene *s, uint32_t absent, ray r,
+                                                                   double tmax, rng *g, bool residual, track_fn fn,
+                                                                   void *user, double *tau_c_end)
 {
     if (s->nmedia == 1)
-        return track_collisions_1(s, 1, r, tmax, g, residual, fn, user, tau_c_end);
-    return track_collisions_n(s, s->nmedia, r, tmax, g, residual, fn, user, tau_c_end);
+        return track_collisions_1(s, 1, absent, r, tmax, g, residual, fn, user, tau_c_end);
+    return track_collisions_n(s, s->nmedia, absent, r, tmax, g, residual, fn, user, tau_c_end);
 }
 
 #endif

@@ -10,13 +10,13 @@
  * and it strictly increases (a step below its resolution moves it by one ulp), so the walk
  * reaches the segment's end or stops in a finite number of steps. The range that keeps that
  * number small is checked at commit (medium_check_range, docs/scene-format.md#limits). */
-static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ray r,
+static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, uint32_t absent, ray r,
                                                                      double tmax, rng *g, bool residual, track_fn fn,
                                                                      void *user, double *tau_c_end)
 {
     track_stream st[TRACK_NMAX];
     for (int m = 0; m < n; m++) {
-        if (!medium_majorant_begin(&s->media[m], r, tmax, &st[m].it)) {
+        if ((absent >> m & 1u) || !medium_majorant_begin(&s->media[m], r, tmax, &st[m].it)) {
             st[m].live = false;
             st[m].it.cells = 0;
             continue;

@@ -151,6 +151,7 @@ void brume_scene_release(brume_scene *s)
     free(s->lights);
     background_release(&s->bg);
     surfaces_release(s->surf);
+    free(s->bound);
     for (int i = 0; i < METHOD_OPTIONS_COUNT; i++)
         free(s->options[i]);
     free(s);

@@ -47,6 +47,14 @@ struct brume_scene {
     double max_work;    /* render.max_work: units of work a method may estimate before it starts
                            (a step of a ray, a voxel generated, a blob at a lattice point) */
     char camera_medium[64]; /* brume_scene_set_camera_medium: "" or the medium the camera sits in */
+    /* Bounded media (docs/surfaces.md, "How surfaces meet media"): bit m is set when a
+     * surface names media[m] as its inside or outside medium (set by commit); 0 when every
+     * medium is a free field, present everywhere (then nothing below is looked at). */
+    uint32_t bounded;
+    bool has_interfaces;     /* some surface bounds media (set by commit): rays cross surfaces */
+    uint32_t camera_members; /* bounded media the camera.medium names (set by commit) */
+    struct scene_bound *bound; /* owned: brume_scene_set_surface_media's, resolved by commit */
+    int nbound;
     struct {
         bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
         char media[64]; /* "media" = all of them, else one medium's name */
@@ -96,6 +104,11 @@ brume_status scene_load_text(const brume_source *src, const brume_load_options *
 /* Whether flights may take control collisions (integrator.c, flight_step): one medium, no
  * fields, gray sigma_t. Call after medium_init. */
 bool scene_flight_control(const brume_scene *s);
+
+/* Commit's resolution of brume_scene_set_surface_media (scene/scene_bounded.c): names to
+ * media, s->bounded, s->camera_members, each surface's surface_media; refuses unknown
+ * names and open shapes bounding media (err_set names the key). Before surfaces_commit. */
+brume_status scene_bounded_resolve(brume_scene *s);
 
 /* Commit's auto-framing (scene/scene_frame.c): moves the camera onto the media that
  * brume_scene_frame_camera named; BRUME_OK at once when it was not called. */

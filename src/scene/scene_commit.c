@@ -124,6 +124,8 @@ brume_status brume_scene_commit(brume_context *ctx, brume_scene *s)
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: background: out of memory", s->source));
     if (s->surf)
         surfaces_set_shutter(s->surf, s->time + c->shutter_open, s->time + c->shutter_close);
+    if ((st = scene_bounded_resolve(s)) != BRUME_OK)
+        return ctx_report(ctx, st);
     if (s->surf && surfaces_commit(s->surf) != BRUME_OK)
         return ctx_report(ctx, err_prefix("%s: surfaces", s->source));
     s->flight_control = scene_flight_control(s);

@@ -115,14 +115,14 @@ static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, c
 static const char *const *surface_keys(const char *type)
 {
     static const char *const sphere_keys[] = {"type", "name", "material", "transform", "keyframes", "center",
-                                              "radius", NULL};
-    static const char *const box_keys[] = {"type", "name", "material", "transform", "keyframes", "min", "max", NULL};
+                                              "radius", "medium_inside", "medium_outside", NULL};
+    static const char *const box_keys[] = {"type", "name", "material", "transform", "keyframes", "min", "max", "medium_inside", "medium_outside", NULL};
     static const char *const quad_keys[] = {"type", "name", "material", "transform", "keyframes", "corner",
-                                            "edge_u", "edge_v", NULL};
+                                            "edge_u", "edge_v", "medium_inside", "medium_outside", NULL};
     static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
-                                             "normal", "size", NULL};
+                                             "normal", "size", "medium_inside", "medium_outside", NULL};
     static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", "positions",
-                                            "indices", NULL};
+                                            "indices", "medium_inside", "medium_outside", NULL};
     return strcmp(type, "sphere") == 0  ? sphere_keys
            : strcmp(type, "box") == 0   ? box_keys
            : strcmp(type, "quad") == 0  ? quad_keys
@@ -176,6 +176,34 @@ static brume_status add_shape(const cJSON *j, jloc at, brume_scene *s, const cha
     return st ? err_prefix("%s: %s", at.file, at.path) : BRUME_OK;
 }
 
+/* A material {"type": "interface"}: the surface has no material, it only bounds media
+ * (docs/surfaces.md, "How surfaces meet media"); *interface says whether m is one. */
+static brume_status parse_interface(const cJSON *m, jloc at, bool *interface)
+{
+    static const char *const keys[] = {"type", NULL};
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(m, "type");
+    *interface = cJSON_IsString(t) && strcmp(t->valuestring, "interface") == 0;
+    return *interface ? json_check_object(m, at, keys) : BRUME_OK;
+}
+
+/* The surface just added bounds medium_inside / medium_outside (names of media), or is an
+ * interface: brume_scene_set_surface_media. */
+static brume_status parse_surface_media(const cJSON *j, jloc at, brume_scene *s, bool interface)
+{
+    char in[64] = "", out[64] = "";
+    brume_status st;
+    if ((st = json_string(j, at, "medium_inside", 0, in, sizeof in))) return st;
+    if ((st = json_string(j, at, "medium_outside", 0, out, sizeof out))) return st;
+    if (!interface && !in[0] && !out[0])
+        return BRUME_OK;
+    if (interface && !in[0] && !out[0])
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s.material: an interface only bounds media: give "
+                       "medium_inside or medium_outside", at.file, at.path);
+    if (brume_scene_set_surface_media(NULL, s, brume_scene_surface_count(s) - 1, in, out, interface))
+        return err_prefix("%s: %s", at.file, at.path);
+    return BRUME_OK;
+}
+
 static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
 {
     char type[32], name[64] = "";
@@ -192,14 +220,18 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
         snprintf(name, sizeof name, "%s", at.path);
     char kp[256];
     brume_material m;
-    if ((st = parse_material(cJSON_GetObjectItemCaseSensitive(j, "material"),
-                             (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "material")}, &m)))
-        return st;
+    const cJSON *mj = cJSON_GetObjectItemCaseSensitive(j, "material");
+    jloc mat = {at.file, json_key_path(kp, sizeof kp, at.path, "material")};
+    bool interface = false;
+    if (mj && (st = parse_interface(mj, mat, &interface))) return st;
+    if ((st = parse_material(interface ? NULL : mj, mat, &m))) return st;
     affine3 xf;
     if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
                               (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)))
         return st;
     if ((st = add_shape(j, at, s, type, &xf, &m, name)))
+        return st;
+    if ((st = parse_surface_media(j, at, s, interface)))
         return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");
     if (keys_j) {

@@ -94,6 +94,7 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     h->object = f->object;
     h->prim = s->obj[f->object].is_sphere ? 0 : f->prim;
     h->mat = &s->obj[f->object].mat;
+    h->media = s->obj[f->object].media;
     h->time = r.time;
     return true;
 }

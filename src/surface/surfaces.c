@@ -108,6 +108,7 @@ static surface_object *surfaces_push(surfaces *s, const material *m, const char 
     memset(o, 0, sizeof *o);
     snprintf(o->name, sizeof o->name, "%s", name ? name : "");
     o->mat = *m;
+    o->media = (surface_media){-1, -1, false};
     return o;
 }
 
@@ -339,6 +340,82 @@ brume_status surfaces_commit(surfaces *s)
 
 int surfaces_count(const surfaces *s) { return s->n; }
 
+const char *surfaces_name(const surfaces *s, int index) { return s->obj[index].name; }
+
+void surfaces_set_media(surfaces *s, int index, surface_media m)
+{
+    if (index < 0 || index >= s->n)
+        return;
+    s->obj[index].media = m;
+    if (m.interface) /* no material: nothing reflects or emits there */
+        s->obj[index].mat = (material){.albedo = {{0}}};
+}
+
+/* A directed edge a -> b of a mesh, as the ordered pair (lo, hi) and the direction. */
+typedef struct mesh_edge {
+    int lo, hi, dir; /* dir: +1 when a < b */
+} mesh_edge;
+
+static int edge_cmp(const void *pa, const void *pb)
+{
+    const mesh_edge *a = (const mesh_edge *)pa, *b = (const mesh_edge *)pb;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi)
+        return a->hi < b->hi ? -1 : 1;
+    return a->dir - b->dir;
+}
+
+/* Vertex indices ordered by position (x, then y, then z), for surfaces_closed. */
+static _Thread_local const double *closed_pos;
+
+static int vertex_cmp(const void *pa, const void *pb)
+{
+    const double *a = closed_pos + 3 * (size_t)*(const int *)pa, *b = closed_pos + 3 * (size_t)*(const int *)pb;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+bool surfaces_closed(const surfaces *s, int index)
+{
+    const surface_object *o = &s->obj[index];
+    if (o->is_sphere)
+        return true;
+    /* vertices at one position are one vertex (a file's faces may each have their own) */
+    size_t ne = 3 * (size_t)o->ntri;
+    int *order = malloc((size_t)o->nv * sizeof *order), *id = malloc((size_t)o->nv * sizeof *id);
+    mesh_edge *e = malloc(ne * sizeof *e);
+    if (!order || !id || !e) {
+        free(order);
+        free(id);
+        free(e);
+        return false;
+    }
+    for (int v = 0; v < o->nv; v++)
+        order[v] = v;
+    closed_pos = o->pos; /* qsort has no user pointer: this thread's */
+    qsort(order, (size_t)o->nv, sizeof *order, vertex_cmp);
+    for (int v = 0; v < o->nv; v++)
+        id[order[v]] = v > 0 && vertex_cmp(&order[v - 1], &order[v]) == 0 ? id[order[v - 1]] : v;
+    for (size_t t = 0; t < (size_t)o->ntri; t++)
+        for (size_t k = 0; k < 3; k++) {
+            int a = id[(size_t)o->idx[3 * t + k]], b = id[(size_t)o->idx[3 * t + (k + 1) % 3]];
+            e[3 * t + k] = (mesh_edge){a < b ? a : b, a < b ? b : a, a < b ? 1 : -1};
+        }
+    free(order);
+    free(id);
+    qsort(e, ne, sizeof *e, edge_cmp);
+    /* sorted, each undirected edge must be exactly one pair (-1, +1) */
+    bool closed = ne % 2 == 0;
+    for (size_t i = 0; closed && i < ne; i += 2)
+        closed = e[i].lo == e[i + 1].lo && e[i].hi == e[i + 1].hi && e[i].dir == -1 && e[i + 1].dir == 1 &&
+                 (i + 2 >= ne || e[i + 2].lo != e[i].lo || e[i + 2].hi != e[i].hi);
+    free(e);
+    return closed;
+}
+
 long surfaces_triangle_count(const surfaces *s)
 {
     long n = 0;
@@ -394,6 +471,7 @@ bool surfaces_embree_intersect(const surfaces *s, ray r, double tmin, double tma
     h->object = (int)rh.hit.geomID;
     h->prim = (int)rh.hit.primID;
     h->mat = &o->mat;
+    h->media = o->media;
     h->time = r.time;
     if (o->is_sphere) {
         /* recompute the hit in double precision from the sphere itself (where it is at u) */

@@ -15,7 +15,9 @@
 #ifndef BRUME_SURFACE_SURFACES_H
 #define BRUME_SURFACE_SURFACES_H
 
+#include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "brume.h"
 #include "core/color.h"
@@ -29,6 +31,30 @@ typedef struct surfaces surfaces;
  * process on a ray beyond its FLT_LARGE (1.844e18), so the camera's rays stay within this
  * (checked at commit) and a ray starting farther out meets no surface. */
 #define SURFACES_COORD_MAX 1e18
+
+/* How a surface bounds media (docs/surfaces.md, "How surfaces meet media"): the indices in
+ * the scene's media of the medium behind its front side (`inside`: a sphere's, a closed
+ * mesh's interior) and of the one before it (`outside`), -1 for none. An `interface` has no
+ * material: paths and shadow rays cross it (render/path.c, path_cross_surface). */
+typedef struct surface_media {
+    signed char inside, outside;
+    bool interface;
+} surface_media;
+
+/* The bounded media absent (bit i: the scene's medium i is not where the ray is) after a ray
+ * along d crosses a surface of geometric normal ng that bounds m: going in (against ng) it
+ * leaves the outside medium and enters the inside one; coming out, the reverse. The one
+ * membership rule: paths, shadow rays and the camera's start all cross by it. */
+static inline uint32_t surface_media_cross(surface_media m, vec3 ng, vec3 d, uint32_t absent)
+{
+    const bool in = v3_dot(d, ng) < 0.0;
+    const int leave = in ? m.outside : m.inside, enter = in ? m.inside : m.outside;
+    if (leave >= 0)
+        absent |= 1u << leave;
+    if (enter >= 0)
+        absent &= ~(1u << enter);
+    return absent;
+}
 
 /* NULL when out of memory or Embree cannot start (err_set says which). */
 surfaces *surfaces_new(void);
@@ -45,6 +71,15 @@ brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int
 brume_status surfaces_set_motion(surfaces *s, int index, const motion *m);
 /* The shutter interval in absolute seconds, t0 <= t1 (default [0, 0]). Before commit. */
 void surfaces_set_shutter(surfaces *s, double t0, double t1);
+/* Gives object `index` (insertion order) the media it bounds (default: none, not an
+ * interface); an interface's material becomes black, emitting nothing. Before commit. */
+void surfaces_set_media(surfaces *s, int index, surface_media m);
+/* Whether object `index` is closed: a sphere, or a mesh whose every edge is shared by
+ * exactly two triangles that run along it in opposite directions (a consistently wound,
+ * watertight mesh: its inside is well defined). */
+bool surfaces_closed(const surfaces *s, int index);
+/* The object's name (insertion order). */
+const char *surfaces_name(const surfaces *s, int index);
 /* True when some object has a motion. */
 bool surfaces_moving(const surfaces *s);
 brume_status surfaces_commit(surfaces *s);
@@ -59,6 +94,7 @@ typedef struct surface_hit {
     int object;  /* index in insertion order */
     int prim;    /* triangle index, 0 for spheres */
     double time; /* the ray's time, absolute seconds */
+    surface_media media; /* the object's */
 } surface_hit;
 
 /* brume's own hierarchy (core/bvh.h) for the queries instead of Embree's: what the GPU
@@ -76,6 +112,14 @@ bool surfaces_occluded(const surfaces *s, vec3 o, vec3 d, double tmin, double tm
 
 /* A point slightly off the surface on the side of direction d, for spawning rays. */
 vec3 surface_offset(const surface_hit *h, vec3 d);
+/* Where a ray that crossed a surface at p, and goes on from p itself, starts its next
+ * surface query (ray parameter): the scale surface_offset moves spawned rays by, so that
+ * the surface crossed is not met again. The media are tracked from p on, none skipped;
+ * a second surface closer than this to the first is not seen. */
+static inline double surface_cross_tmin(vec3 p)
+{
+    return 1e-4 * (1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z))));
+}
 
 /* ---- emitters --------------------------------------------------------------------------- */
 bool surfaces_has_emitters(const surfaces *s);

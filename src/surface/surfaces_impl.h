@@ -12,6 +12,7 @@
 typedef struct surface_object {
     char name[64];
     material mat;
+    surface_media media;
     bool is_sphere;
     vec3 center; /* sphere */
     double radius;
