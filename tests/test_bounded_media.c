@@ -223,5 +223,96 @@ TEST(refusals_name_the_key)
 }
 
 
+/* The scene of a .pbrt text (written to a temporary file), committed or not, or NULL with
+ * the message. */
+static brume_scene *pbrt_scene(brume_context *ctx, const char *text, bool commit, char *msg, size_t cap)
+{
+    const char *path = test_tmp_path("bounded.pbrt");
+    test_write_file(path, text);
+    brume_scene *s = NULL;
+    brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s);
+    if (st == BRUME_OK && commit)
+        st = brume_scene_commit(ctx, s);
+    snprintf(msg, cap, "%s", st == BRUME_OK ? "" : brume_context_last_error(ctx));
+    if (st != BRUME_OK) {
+        brume_scene_release(s);
+        return NULL;
+    }
+    return s;
+}
+
+#define PBRT_VIEW                                                                                           \
+    "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [0.2]\n"                             \
+    "Film \"rgb\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"                               \
+    "Sampler \"independent\" \"integer pixelsamples\" [32]\n"
+
+/* pbrt-v4's nested media: an absorbing fog sphere (radius 2, sigma_a 0.3) holds a smaller
+ * one (radius 1, sigma_a 1.1) whose MediumInterface "inner" "outer" replaces the outer fog
+ * inside it, seen through the centre against a sky of radiance 1 (a 0.2-degree view: the
+ * chords are shorter than the diameters by 1e-4 at most): each pixel is
+ * exp(-2 (2 - 1) 0.3 - 2 1.1) = exp(-2.8), where adding the fogs would give exp(-3.4).
+ * Within 5 standard errors of the image's mean. */
+TEST(pbrt_nested_fog_replaces)
+{
+    const char *text = PBRT_VIEW
+        "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\n"
+        "MakeNamedMedium \"outer\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [0.3 0.3 0.3]"
+        " \"rgb sigma_s\" [0 0 0]\n"
+        "MakeNamedMedium \"inner\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [1.1 1.1 1.1]"
+        " \"rgb sigma_s\" [0 0 0]\n"
+        "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"outer\" \"\"\n"
+        "Shape \"sphere\" \"float radius\" [2]\nAttributeEnd\n"
+        "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"inner\" \"outer\"\n"
+        "Shape \"sphere\" \"float radius\" [1]\nAttributeEnd\n";
+    char msg[2048];
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = pbrt_scene(ctx, text, false, msg, sizeof msg);
+    if (!s)
+        TEST_FAIL("%s", msg);
+    brume_image *img = test_render_scene(s, -1, 3);
+    int n = brume_image_width(img) * brume_image_height(img);
+    for (int c = 0; c < 3; c++) {
+        double mean, se, want = exp(-2.8);
+        test_channel_mean(brume_image_pixels(img), n, c, &mean, &se);
+        fprintf(stderr, "channel %d: %.5f (se %.2g), want %.5f (added: %.5f)\n", c, mean, se, want, exp(-3.4));
+        ASSERT_NEAR(mean, want, 5.0 * se + 1e-4 * want);
+        ASSERT_TRUE(5.0 * se < 0.5 * (want - exp(-3.4)));
+    }
+    ASSERT_EQ_INT(s->bounded, 3); /* both fogs bounded (set by the render's commit) */
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* What .pbrt media on shapes still cannot be is refused with the file and the line: the
+ * same medium on both sides of an interface, a disk bounding a medium, an open triangle
+ * mesh (found at commit, the surface named by its line). */
+TEST(pbrt_refusals_name_line)
+{
+    static const char *const cases[][2] = {
+        {"Material \"interface\"\nMediumInterface \"fog\" \"fog\"\nShape \"sphere\"\n", ":9: MediumInterface"},
+        {"Material \"interface\"\nMediumInterface \"fog\" \"\"\nShape \"disk\"\n", ":9: Shape \"disk\": an \"interface\""},
+        {"Material \"interface\"\nMediumInterface \"fog\" \"\"\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]"
+         " \"integer indices\" [0 1 2]\n", "bounded.pbrt:9': medium_inside/medium_outside: the shape is not closed"},
+        {"Material \"interface\"\nMediumInterface \"smoke\" \"\"\nShape \"sphere\"\n", ":9: MediumInterface: no medium "
+                                                                                       "named \"smoke\""},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[2048], msg[2048];
+        snprintf(text, sizeof text, "%sWorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n%s",
+                 PBRT_VIEW, cases[i][0]);
+        brume_context *ctx = brume_context_new();
+        brume_scene *s = pbrt_scene(ctx, text, true, msg, sizeof msg);
+        if (s)
+            TEST_FAIL("accepted: %s", text);
+        fprintf(stderr, "refused: %s\n", msg);
+        ASSERT_CONTAINS(msg, cases[i][1]);
+        ASSERT_CONTAINS(msg, test_tmp_path("bounded.pbrt"));
+        ASSERT_TRUE(strchr(msg, '\n') == NULL);
+        brume_context_release(ctx);
+    }
+}
+
 TEST_MAIN(sphere_of_fog_transmittance, nested_spheres_add_or_replace, camera_inside_fog_sphere,
-          slab_bounded_by_mesh_matches_box, refusals_name_the_key)
+          slab_bounded_by_mesh_matches_box, refusals_name_the_key, pbrt_nested_fog_replaces,
+          pbrt_refusals_name_line)

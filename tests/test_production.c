@@ -370,7 +370,8 @@ TEST(pbrt_scene_maps_units)
     ASSERT_NEAR(s->cam.position.z, 5.0, 1e-12);
     ASSERT_NEAR(s->cam.f.s.x, 1.0, 1e-12); /* image right is +x, as pbrt draws it with Scale -1 1 1 */
     ASSERT_NEAR(s->cam.fov, 30.0, 1e-12); /* the shorter side is vertical */
-    ASSERT_TRUE(s->surf == NULL);         /* the interface sphere only bounds the medium */
+    ASSERT_EQ_INT(brume_scene_surface_count(s), 1); /* the interface sphere bounds the medium */
+    ASSERT_EQ_INT(s->bounded, 1);
     brume_scene_release(s);
     brume_context_release(ctx);
     remove(path);

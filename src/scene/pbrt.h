@@ -70,7 +70,8 @@ typedef struct named_medium {
     char name[128];
     cJSON *json; /* the brume medium, emitted when a shape first uses it */
     bool emitted;
-    bool homogeneous; /* json has no density: a box is made for each shape that bounds it */
+    bool homogeneous; /* json has no density until pbrt_media_finish: a constant one over `box` */
+    double box[6];    /* homogeneous: lo, hi of what its uses need (empty: lo > hi) */
 } named_medium;
 
 typedef struct attrs {
@@ -196,6 +197,13 @@ brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type
 /* pbrt_media.c */
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps);
 brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position);
+/* A medium a shape names (pbrt_shapes.c): emitted into the scene once; a homogeneous one's
+ * box grows to hold box (lo, hi; NULL: nothing), and with `outside` also 64 / sigma_t around
+ * it, where pbrt-v4's unbounded medium has attenuated everything. Refuses an unknown name. */
+brume_status pbrt_medium_use(pbrt_state *S, const char *name, const double box[6], bool outside);
+/* Gives each homogeneous medium used its `constant` density over its box, at the end of
+ * the translation (after pbrt_camera_medium). */
+brume_status pbrt_media_finish(pbrt_state *S);
 
 /* pbrt_objects.c */
 brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,

@@ -74,6 +74,90 @@ static brume_status medium_add(pbrt_state *S, const char *name, cJSON *m, bool h
     nm->json = m;
     nm->emitted = false;
     nm->homogeneous = homogeneous;
+    for (int k = 0; k < 3; k++) {
+        nm->box[k] = INFINITY;
+        nm->box[3 + k] = -INFINITY;
+    }
+    return BRUME_OK;
+}
+
+/* The smallest positive channel of a medium's sigma_a + sigma_s; INFINITY when none is. */
+static double medium_sigma_t_min(const cJSON *m)
+{
+    double sigma_t = INFINITY;
+    const cJSON *sa = cJSON_GetObjectItemCaseSensitive(m, "sigma_a");
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(m, "sigma_s");
+    for (int c = 0; c < 3; c++) {
+        double t = cJSON_GetArrayItem(sa, c)->valuedouble + cJSON_GetArrayItem(ss, c)->valuedouble;
+        if (t > 0.0)
+            sigma_t = fmin(sigma_t, t);
+    }
+    return sigma_t;
+}
+
+/* The named medium, or NULL. */
+static named_medium *medium_find(pbrt_state *S, const char *name)
+{
+    for (int i = 0; i < S->nmedia; i++)
+        if (strcmp(S->media[i].name, name) == 0)
+            return &S->media[i];
+    return NULL;
+}
+
+/* Emits nm into the scene's media (once) and grows a homogeneous one's box by box (lo, hi),
+ * widened by w on every side. */
+static void medium_emit(pbrt_state *S, named_medium *nm, const double box[6], double w)
+{
+    if (!nm->emitted) {
+        cJSON_AddItemToArray(S->media_j, nm->json);
+        nm->emitted = true;
+    }
+    for (int k = 0; box && nm->homogeneous && k < 3; k++) {
+        nm->box[k] = fmin(nm->box[k], box[k] - w);
+        nm->box[3 + k] = fmax(nm->box[3 + k], box[3 + k] + w);
+    }
+}
+
+brume_status pbrt_medium_use(pbrt_state *S, const char *name, const double box[6], bool outside)
+{
+    named_medium *nm = medium_find(S, name);
+    if (!nm)
+        return pbrt_fail(&S->L, "MediumInterface: no medium named \"%s\"", name);
+    double sigma_t = nm->homogeneous ? medium_sigma_t_min(nm->json) : (double)INFINITY;
+    medium_emit(S, nm, box, outside && isfinite(sigma_t) ? 64.0 / sigma_t : 0.0);
+    return BRUME_OK;
+}
+
+brume_status pbrt_media_finish(pbrt_state *S)
+{
+    for (int i = 0; i < S->nmedia; i++) {
+        named_medium *nm = &S->media[i];
+        if (!nm->emitted || !nm->homogeneous)
+            continue;
+        double *b = nm->box;
+        if (!(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5])) /* no extent asked: no extinction either */
+            b[0] = b[1] = b[2] = -1.0, b[3] = b[4] = b[5] = 1.0;
+        /* a margin: the shapes' facets and points lie inside the box, not on its faces (a flat
+         * shape's box has some depth) */
+        double size = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2])), reach = 0.0;
+        for (int k = 0; k < 3; k++) {
+            double pad = 1e-4 * size + 1e-9 * fmax(fabs(b[k]), fabs(b[3 + k])) + 1e-300;
+            b[k] -= pad;
+            b[3 + k] += pad;
+        }
+        for (int k = 0; k < 6; k++)
+            reach = fmax(reach, fabs(b[k]));
+        if (!(reach <= 1e17))
+            return pbrt_fail(&S->L, "MakeNamedMedium \"%s\": the homogeneous medium would reach %g from the origin "
+                                    "(64 / sigma_t past what it bounds); brume traces rays within 1e18", nm->name,
+                             reach);
+        cJSON *d = cJSON_AddObjectToObject(nm->json, "density");
+        cJSON_AddStringToObject(d, "type", "constant");
+        cJSON_AddNumberToObject(d, "value", 1);
+        cJSON *bounds = cJSON_AddArrayToObject(d, "bounds");
+        cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b, 3));
+        cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b + 3, 3));
+    }
     return BRUME_OK;
 }
 
@@ -363,8 +447,8 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
 /* The camera's medium (the outside one of the MediumInterface at Camera), with the camera at
  * position (world) and its JSON object cam, once the scene is read. A grid medium is its
  * field, bounded as in pbrt-v4: added as it is. A homogeneous one is unbounded in pbrt-v4
- * (shapes end it only where their MediumInterface says so, which pbrt_shape_directive refuses
- * besides the camera's): it becomes a constant density in the cube of half-side
+ * (shapes end it only where their MediumInterface says so: then it is a bounded medium,
+ * docs/pbrt.md): its constant density's box holds the cube of half-side
  * 64 / sigma_t (the smallest positive channel) around the camera, beyond which whatever
  * reaches the camera has crossed an optical depth of 64 in pbrt-v4 too (a transmittance of
  * 1.6e-28; a channel of sigma_t 0 crosses nothing either way). pbrt-v4 attenuates distant and
@@ -377,27 +461,14 @@ brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position)
         return BRUME_OK;
     lexer *L = &S->L;
     L->dir_line = S->camera_line;
-    named_medium *nm = NULL;
-    for (int i = 0; i < S->nmedia && !nm; i++)
-        if (strcmp(S->media[i].name, name) == 0)
-            nm = &S->media[i];
+    named_medium *nm = medium_find(S, name);
     if (!nm)
         return pbrt_fail(L, "Camera: its MediumInterface names no medium \"%s\"", name);
     if (!nm->homogeneous) {
-        if (!nm->emitted) {
-            cJSON_AddItemToArray(S->media_j, nm->json);
-            nm->emitted = true;
-        }
+        medium_emit(S, nm, NULL, 0.0);
         return BRUME_OK;
     }
-    double sigma_t = INFINITY;
-    const cJSON *sa = cJSON_GetObjectItemCaseSensitive(nm->json, "sigma_a");
-    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(nm->json, "sigma_s");
-    for (int c = 0; c < 3; c++) {
-        double t = cJSON_GetArrayItem(sa, c)->valuedouble + cJSON_GetArrayItem(ss, c)->valuedouble;
-        if (t > 0.0)
-            sigma_t = fmin(sigma_t, t);
-    }
+    double sigma_t = medium_sigma_t_min(nm->json);
     if (!isfinite(sigma_t)) /* no extinction and so no emission: the camera sees through it */
         return BRUME_OK;
     if (S->far_light_line) {
@@ -411,17 +482,8 @@ brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position)
     if (!(reach <= 1e17))
         return pbrt_fail(L, "Camera: its medium \"%s\" (sigma_t %g) would reach %g from the origin; brume traces "
                             "rays within 1e18", name, sigma_t, reach);
-    cJSON *m = cJSON_Duplicate(nm->json, 1);
-    if (!m)
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", L->file);
-    cJSON *d = cJSON_AddObjectToObject(m, "density");
-    cJSON_AddStringToObject(d, "type", "constant");
-    cJSON_AddNumberToObject(d, "value", 1);
-    double lo[3] = {position.x - h, position.y - h, position.z - h}, hi[3] = {position.x + h, position.y + h, position.z + h};
-    cJSON *bounds = cJSON_AddArrayToObject(d, "bounds");
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(lo, 3));
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(hi, 3));
-    cJSON_AddItemToArray(S->media_j, m);
+    double cube[6] = {position.x, position.y, position.z, position.x, position.y, position.z};
+    medium_emit(S, nm, cube, h);
     cJSON_AddStringToObject(cam, "medium", name);
     return BRUME_OK;
 }

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/vec.h"
 #include "io/grid_io.h"
+#include "io/mesh.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
 #include "scene/pbrt.h"
@@ -28,53 +29,6 @@ static void tris_free(tris *t)
 {
     free(t->P);
     free(t->idx);
-}
-
-/* Whether the triangles are exactly the surface of an axis-aligned box, which they give in
- * b: every triangle lies in a face plane, faces out, and each face's triangles add up to its
- * area (within 1e-9 of the box's size and 1e-6 of the area). pbrt puts a shape's inside
- * medium behind its faces' normals, (p1 - p0) x (p2 - p0) reversed when the transform
- * mirrors (flip); shading normals N are not consulted. */
-static bool tris_are_box(const tris *t, bool flip, double b[6])
-{
-    for (int k = 0; k < 3; k++) {
-        b[k] = INFINITY;
-        b[3 + k] = -INFINITY;
-    }
-    for (int i = 0; i < t->nv; i++)
-        for (int k = 0; k < 3; k++) {
-            b[k] = fmin(b[k], t->P[3 * i + k]);
-            b[3 + k] = fmax(b[3 + k], t->P[3 * i + k]);
-        }
-    double size = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2])), eps = 1e-9 * size, area[6] = {0};
-    for (int k = 0; k < 3; k++)
-        if (!(b[3 + k] - b[k] > eps))
-            return false;
-    for (int f = 0; f < t->nt; f++) {
-        const double *p[3] = {&t->P[3 * t->idx[3 * f]], &t->P[3 * t->idx[3 * f + 1]], &t->P[3 * t->idx[3 * f + 2]]};
-        int face = -1;
-        for (int s = 0; s < 6 && face < 0; s++) {
-            int k = s % 3;
-            if (fabs(p[0][k] - b[s]) <= eps && fabs(p[1][k] - b[s]) <= eps && fabs(p[2][k] - b[s]) <= eps)
-                face = s;
-        }
-        if (face < 0)
-            return false;
-        vec3 u = v3(p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]);
-        vec3 v = v3(p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]);
-        vec3 n = v3_cross(u, v);
-        double out = (face < 3 ? -1.0 : 1.0) * (flip ? -1.0 : 1.0) * (face % 3 == 0 ? n.x : face % 3 == 1 ? n.y : n.z);
-        if (!(out > 0.0))
-            return false;
-        area[face] += 0.5 * v3_length(n);
-    }
-    for (int s = 0; s < 6; s++) {
-        int k = s % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-        double want = (b[3 + k1] - b[k1]) * (b[3 + k2] - b[k2]);
-        if (fabs(area[s] - want) > 1e-6 * want)
-            return false;
-    }
-    return true;
 }
 
 /* "point3 P" and "integer indices" (per = 3 for triangles, 4 for bilinear patches; without
@@ -157,56 +111,79 @@ static brume_status bilinear_tris(lexer *L, const int *quad, tris *t)
     return BRUME_OK;
 }
 
-/* The medium inside a shape whose material is "interface": brume's media are fields in
- * vacuum, so the shape is not drawn. A grid medium is the whole grid (exact when the shape
- * bounds it, as pbrt-v4-scenes' bounding spheres do; not checked); a homogeneous one fills
- * the shape, which must then be an axis-aligned box of triangles (a `constant` density). */
-static brume_status shape_interface(pbrt_state *S, const char *type, const tris *t)
+/* The world box (lo, hi) of n points (x, y, z). */
+static void points_box(const double *P, int n, double b[6])
 {
-    lexer *L = &S->L;
-    attrs *a = &S->a[S->depth];
-    if (!a->inside[0])
-        return pbrt_fail(L, "Shape: an \"interface\" material without a medium inside (MediumInterface)");
-    named_medium *nm = NULL;
-    for (int i = 0; i < S->nmedia; i++)
-        if (strcmp(S->media[i].name, a->inside) == 0)
-            nm = &S->media[i];
-    if (!nm)
-        return pbrt_fail(L, "MediumInterface: no medium named \"%s\"", a->inside);
-    if (!nm->homogeneous) {
-        if (!nm->emitted) {
-            cJSON_AddItemToArray(S->media_j, nm->json);
-            nm->emitted = true;
+    for (int k = 0; k < 3; k++) {
+        b[k] = INFINITY;
+        b[3 + k] = -INFINITY;
+    }
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            b[k] = fmin(b[k], P[3 * i + k]);
+            b[3 + k] = fmax(b[3 + k], P[3 * i + k]);
         }
+}
+
+/* An "interface" shape s (owned from here; its box b in world space): a surface with no
+ * material that bounds the media of its MediumInterface, crossed by every ray
+ * (docs/surfaces.md, "How surfaces meet media"): the inside one behind pbrt's normal, the
+ * outside one before it, which replaces whatever medium a ray was in, as in pbrt-v4. */
+static brume_status shape_interface(pbrt_state *S, cJSON *s, const double b[6])
+{
+    attrs *a = &S->a[S->depth];
+    if (!a->inside[0] && !a->outside[0]) { /* no medium changes there: pbrt-v4 draws nothing */
+        cJSON_Delete(s);
         return BRUME_OK;
     }
-    double b[6];
-    const double *c = a->ctm.m; /* a mirror reverses pbrt's normals */
-    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
-                 c[2] * (c[4] * c[9] - c[5] * c[8]);
-    if (!t || !tris_are_box(t, det < 0.0, b))
-        return pbrt_unsupported(L, "Shape \"%s\" bounding the homogeneous medium \"%s\": brume's homogeneous media fill "
-                                   "axis-aligned boxes (a trianglemesh or bilinearmesh that is one, faces facing out)", type,
-                         nm->name);
-    cJSON *m = cJSON_Duplicate(nm->json, 1);
-    cJSON *d = cJSON_AddObjectToObject(m, "density");
-    cJSON_AddStringToObject(d, "type", "constant");
-    cJSON_AddNumberToObject(d, "value", 1);
-    cJSON *bounds = cJSON_AddArrayToObject(d, "bounds");
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b, 3));
-    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(b + 3, 3));
-    cJSON_AddItemToArray(S->media_j, m);
+    /* named by its file and line: what commit's refusals (an open mesh) then say */
+    const char *base = strrchr(S->L.file, '/');
+    char name[64];
+    snprintf(name, sizeof name, "%.50s:%d", base ? base + 1 : S->L.file, S->L.dir_line);
+    cJSON_AddStringToObject(s, "name", name);
+    cJSON_AddStringToObject(cJSON_AddObjectToObject(s, "material"), "type", "interface");
+    brume_status st = BRUME_OK;
+    if (a->inside[0] && (st = pbrt_medium_use(S, a->inside, b, false)) == BRUME_OK)
+        cJSON_AddStringToObject(s, "medium_inside", a->inside);
+    if (st == BRUME_OK && a->outside[0] && (st = pbrt_medium_use(S, a->outside, b, true)) == BRUME_OK)
+        cJSON_AddStringToObject(s, "medium_outside", a->outside);
+    if (st != BRUME_OK) {
+        cJSON_Delete(s);
+        return st;
+    }
+    cJSON_AddItemToArray(S->surfaces, s);
     return BRUME_OK;
+}
+
+/* The inline mesh of the triangles t (world space), their winding made pbrt's normal: the
+ * object's carried through the transform, which a mirroring one reverses (flip). */
+static cJSON *tris_json(const tris *t, bool flip)
+{
+    if (flip)
+        for (int f = 0; f < t->nt; f++) {
+            int k = t->idx[3 * f + 1];
+            t->idx[3 * f + 1] = t->idx[3 * f + 2];
+            t->idx[3 * f + 2] = k;
+        }
+    cJSON *s = cJSON_CreateObject();
+    cJSON_AddStringToObject(s, "type", "mesh");
+    cJSON_AddItemToObject(s, "positions", cJSON_CreateDoubleArray(t->P, 3 * t->nv));
+    cJSON_AddItemToObject(s, "indices", cJSON_CreateIntArray(t->idx, 3 * t->nt));
+    return s;
+}
+
+/* Whether the current transform mirrors. */
+static bool ctm_mirrors(const pbrt_state *S)
+{
+    const double *c = S->a[S->depth].ctm.m;
+    return c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
+               c[2] * (c[4] * c[9] - c[5] * c[8]) < 0.0;
 }
 
 /* A drawn shape: s (owned from here) with the current diffuse material. */
 static brume_status shape_surface(pbrt_state *S, cJSON *s)
 {
     attrs *a = &S->a[S->depth];
-    if (a->inside[0]) {
-        cJSON_Delete(s);
-        return pbrt_unsupported(&S->L, "Shape: medium \"%s\" inside a shape whose material is not \"interface\"", a->inside);
-    }
     cJSON *mat = cJSON_AddObjectToObject(s, "material");
     cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
     if (a->area) {
@@ -342,8 +319,6 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: no \"string filename\"", what);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
-    if (interface) /* a grid's bound; a homogeneous medium's box needs the triangles, read later by assimp */
-        return shape_interface(S, "plymesh", NULL);
     if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
         return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
                                    "file's normals; give \"bool twosided\" true)", what);
@@ -351,7 +326,23 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
     if (!s)
         return err_status();
     cJSON_AddStringToObject(s, "file", abs);
-    return shape_surface(S, s);
+    if (!interface)
+        return shape_surface(S, s);
+    /* the box a homogeneous medium needs: the file's points through the transform */
+    double *P = NULL, b[6];
+    int *idx = NULL, nv = 0, nt = 0;
+    if (mesh_load(abs, &P, &nv, &idx, &nt) != BRUME_OK) {
+        cJSON_Delete(s);
+        return pbrt_fail(L, "%s: %s", what, err_message());
+    }
+    for (int i = 0; i < nv; i++) {
+        vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(P[3 * i], P[3 * i + 1], P[3 * i + 2]));
+        P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
+    }
+    points_box(P, nv, b);
+    free(P);
+    free(idx);
+    return shape_interface(S, s, b);
 }
 
 static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
@@ -368,13 +359,20 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         double radius = 1.0;
         if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
             return st;
-        if (interface)
-            return shape_interface(S, type, NULL);
         cJSON *s = placed_surface(S, what, "sphere");
         if (!s)
             return err_status();
         cJSON_AddNumberToObject(s, "radius", radius);
-        return shape_surface(S, s);
+        if (!interface)
+            return shape_surface(S, s);
+        double P[24], b[6]; /* the box: the corners of the object's cube around it */
+        for (int i = 0; i < 8; i++) {
+            vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(i & 1 ? radius : -radius, i & 2 ? radius : -radius,
+                                                          i & 4 ? radius : -radius));
+            P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
+        }
+        points_box(P, 8, b);
+        return shape_interface(S, s, b);
     }
     if (strcmp(type, "plymesh") == 0)
         return shape_plymesh(S, ps, what, interface);
@@ -408,7 +406,10 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
     }
     free(quad);
     if (interface) {
-        st = shape_interface(S, type, &t);
+        double b[6];
+        points_box(t.P, t.nv, b);
+        if ((st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt)) == BRUME_OK)
+            st = shape_interface(S, tris_json(&t, ctm_mirrors(S)), b);
         tris_free(&t);
         return st;
     }
@@ -416,58 +417,46 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         tris_free(&t);
         return st;
     }
-    cJSON *s = cJSON_CreateObject();
-    cJSON_AddStringToObject(s, "type", "mesh");
-    cJSON_AddItemToObject(s, "positions", cJSON_CreateDoubleArray(t.P, 3 * t.nv));
-    cJSON_AddItemToObject(s, "indices", cJSON_CreateIntArray(t.idx, 3 * t.nt));
+    cJSON *s = tris_json(&t, false);
     tris_free(&t);
     return shape_surface(S, s);
 }
 
-/* The media on a shape's two sides, as brume's fields can have them. In pbrt-v4 a
- * MediumInterface whose sides are one medium is no transition: rays keep their medium
- * through the shape, as through one without it. A transition's outside must be the camera's
- * medium ("" for none): brume's media are fields in the camera's medium, so no shape can end
- * it or begin another outside; and inside a camera medium an interface's inside medium would
- * replace it where brume's media add. What is left is the medium inside, or none; *inside
- * points at it. */
-static brume_status shape_sides(pbrt_state *S, const char **inside)
+/* The media on a shape's two sides. In pbrt-v4 a MediumInterface whose sides are one medium
+ * is no transition: rays keep their medium through the shape, as through one without it
+ * (an "interface" shape of one medium on both sides is refused: it would change nothing). No
+ * ray crosses an opaque shape, so its MediumInterface changes nothing either. What is left,
+ * *media, is an "interface" shape with a transition: it bounds its media (shape_interface). */
+static brume_status shape_sides(pbrt_state *S, bool *media)
 {
     const attrs *a = &S->a[S->depth];
-    const char *cm = S->camera_medium;
-    *inside = "";
+    const bool interface = strcmp(a->material, "interface") == 0;
+    *media = false;
     if (strcmp(a->inside, a->outside) == 0) {
-        if (a->inside[0] && strcmp(a->material, "interface") == 0)
+        if (a->inside[0] && interface)
             return pbrt_fail(&S->L, "MediumInterface \"%s\" \"%s\": the same medium on both sides of an "
                                     "\"interface\" shape is no transition in pbrt-v4 (the shape changes nothing); "
                                     "the medium inside with nothing outside is MediumInterface \"%s\" \"\"",
                              a->inside, a->outside, a->inside);
         return BRUME_OK;
     }
-    if (strcmp(a->outside, cm) != 0)
-        return pbrt_unsupported(&S->L, "MediumInterface: the outside medium \"%s\" is not the camera's (%s%s%s): brume's "
-                                       "media are fields in the camera's medium", a->outside, cm[0] ? "\"" : "",
-                         cm[0] ? cm : "none", cm[0] ? "\"" : "");
-    if (cm[0] && strcmp(a->material, "interface") == 0)
-        return pbrt_unsupported(&S->L, "MediumInterface \"%s\" \"%s\": inside the shape pbrt-v4 replaces the camera's "
-                                       "medium by \"%s\", where brume's media add", a->inside, a->outside, a->inside);
-    *inside = a->inside;
+    *media = interface;
     return BRUME_OK;
 }
 
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps)
 {
     attrs *a = &S->a[S->depth];
-    const char *inside;
-    brume_status st = shape_sides(S, &inside);
+    bool media;
+    brume_status st = shape_sides(S, &media);
     if (st)
         return st;
-    /* the shape is read with the one medium left inside it, then the attributes restored */
+    /* the shape is read with its media when it bounds them, else none; then the attributes restored */
     char in[sizeof a->inside], out[sizeof a->outside];
     memcpy(in, a->inside, sizeof in);
     memcpy(out, a->outside, sizeof out);
-    pbrt_copy(a->inside, sizeof a->inside, inside == a->inside ? in : "");
-    a->outside[0] = '\0';
+    if (!media)
+        a->inside[0] = a->outside[0] = '\0';
     st = shape_read(S, type, ps);
     memcpy(a->inside, in, sizeof in);
     memcpy(a->outside, out, sizeof out);

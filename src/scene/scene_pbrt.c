@@ -252,7 +252,7 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     if (S->yres > S->xres)
         fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
     cJSON_AddNumberToObject(cam, "fov", fov);
-    if (pbrt_camera_medium(S, cam, P) != BRUME_OK)
+    if (pbrt_camera_medium(S, cam, P) != BRUME_OK || pbrt_media_finish(S) != BRUME_OK)
         return err_status();
     pbrt_imaging(S);
     if (S->lens_radius > 0.0) {
