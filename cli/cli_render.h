@@ -40,6 +40,7 @@ typedef struct render_opts {
     const char *light_key[MAX_SETS], *light_value[MAX_SETS];
     brume_studio_options studio; /* a grid file's studio scene (--up, --grid, --no-ground) */
     bool print_scene;            /* --print-scene */
+    bool lenient;                /* --lenient */
     bool no_read_ahead;          /* --no-read-ahead */
     /* what the command writes, and how */
     const char *out_path;        /* -o: one file, or a frame pattern (kind 1) */

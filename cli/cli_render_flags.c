@@ -270,6 +270,8 @@ static const cli_flag render_flags[] = {
      NULL, CLI_FLAG_DOUBLE, OFF(progress_every), 0.01, 1e9, NULL},
     {"--quiet", "-q", NULL, "no progress bar, progress lines or summary", NULL, CLI_FLAG_TRUE, OFF(quiet), 0, 0,
      NULL},
+    {"--lenient", NULL, NULL, "a .pbrt scene: skip what brume cannot honour, with a warning each, instead of\n"
+     "refusing the file (malformed input is still refused)", NULL, CLI_FLAG_TRUE, OFF(lenient), 0, 0, NULL},
     {"--print-scene", NULL, NULL, "write the scene as brume JSON to stdout and exit (the studio scene of a\n"
      "grid file, to start editing from)", NULL, CLI_FLAG_TRUE, OFF(print_scene), 0, 0, NULL},
     {"--up", NULL, "y|z", "a grid file's studio scene: the up axis (default y)", "studio.up", CALL(flag_up)},

@@ -340,7 +340,7 @@ int render_print_scene(const render_opts *o)
         cli_error("out of memory");
         return 1;
     }
-    brume_load_options lo = {0.0, 0, NULL, 0, &o->studio, 0};
+    brume_load_options lo = {0.0, 0, NULL, 0, &o->studio, 0, o->lenient};
     char *text = NULL;
     int rc = 0;
     if (brume_scene_text(ctx, &(brume_source){.path = o->scene_path}, &lo, &text) != BRUME_OK) {
@@ -384,6 +384,9 @@ static void report_frame(const render_run *r, const char *path, int owner, const
     } else
         fprintf(stderr, "brume: %s: %d x %d, %d spp, method %s, %.2f s (%.2f M samples/s)\n", path, rs->width,
                 rs->height, rs->spp, brume_method_name(rs->method), secs, (double)rs->width * rs->height * rs->spp / secs * 1e-6);
+    int ignored = brume_scene_ignored_count(r->scene);
+    if (ignored > 0)
+        fprintf(stderr, "brume: %d pbrt construct%s ignored (--lenient)\n", ignored, ignored == 1 ? "" : "s");
 }
 
 /* A failure the context explains: its message, exit status 1. */

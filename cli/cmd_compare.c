@@ -44,7 +44,7 @@ static brume_image *render_seed(brume_context *ctx, const scene_run *r, uint64_t
 {
     brume_scene *s = NULL;
     brume_image *img = NULL;
-    brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL, 0};
+    brume_load_options lo = {0.0, 0, r->sets, r->nsets, NULL, 0, false};
     if (brume_scene_load(ctx, &(brume_source){.path = r->path}, &lo, &s) != BRUME_OK)
         return NULL;
     if (r->diff && brume_output_check(ctx, "-o", r->diff, BRUME_FILE_IMAGE, s, NULL, 0) != BRUME_OK) {

@@ -155,7 +155,7 @@ static int run_render(const char *scenes, const figure *f, const char *path, boo
     int rc = 1;
     const char *ov[] = {"blasi.light_rays=" QUICK_LIGHT_RAYS};
     bool blasi = strncmp(f->arg, "blasi", 5) == 0;
-    brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0, NULL, 0};
+    brume_load_options lo = {0.0, 0, ov, quick && blasi ? 1 : 0, NULL, 0, false};
     if (!ctx || brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
         goto fail;
     brume_render_settings rs;
@@ -305,7 +305,7 @@ static int render_variant(brume_context *ctx, const char *scene, const figure *f
                           bool quick, brume_image **img)
 {
     brume_scene *s = NULL;
-    brume_load_options lo = {0.0, 0, ov, nov, NULL, 0};
+    brume_load_options lo = {0.0, 0, ov, nov, NULL, 0, false};
     if (brume_scene_load(ctx, &(brume_source){.path = scene}, &lo, &s) != BRUME_OK)
         return 1;
     brume_render_settings rs;

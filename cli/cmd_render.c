@@ -22,10 +22,12 @@ static brume_scene *load_scene(brume_context *ctx, const render_opts *o, long f,
     brume_scene *scene = NULL;
     brume_status st;
     /* the built-in scene is static: it is loaded at time 0 and its camera moved below */
-    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio, held};
+    brume_load_options lo = {0.0, o->scene_path && f > 0 ? f : 0, o->sets, o->nsets, &o->studio, held, o->lenient};
     st = brume_scene_load(ctx, &(brume_source){.path = o->scene_path}, &lo, &scene);
     if (st != BRUME_OK)
         return NULL;
+    for (int i = 0; (f < 0 || f == o->first) && i < brume_scene_ignored_count(scene); i++)
+        fprintf(stderr, "brume: warning: %s (ignored: --lenient)\n", brume_scene_ignored(scene, i));
     for (int k = 0; k < o->nlight; k++)
         if (brume_scene_set_option(ctx, scene, o->light_key[k], o->light_value[k]) != BRUME_OK) {
             brume_scene_release(scene);
@@ -139,7 +141,7 @@ static int begin_run(render_run *r)
         return 1;
     }
     if (o->sequence && o->scene_path) { /* grid sequences: every frame's file, before the first frame */
-        brume_load_options lo = {0.0, 0, o->sets, o->nsets, &o->studio, 0};
+        brume_load_options lo = {0.0, 0, o->sets, o->nsets, &o->studio, 0, o->lenient};
         if (brume_scene_check_frames(r->ctx, &(brume_source){.path = o->scene_path}, &lo, o->first, o->last) != BRUME_OK) {
             cli_error("%.1000s", brume_context_last_error(r->ctx));
             brume_context_release(r->ctx);

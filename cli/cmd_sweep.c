@@ -174,7 +174,7 @@ static brume_status render_cell(brume_context *ctx, const sweep_opts *o, int c, 
         snprintf(texts[k], sizeof texts[k], "%s=%s", o->keys[k].key, o->keys[k].values[j]);
         ov[k] = texts[k];
     }
-    brume_load_options lo = {0.0, 0, ov, o->nkeys, NULL, 0};
+    brume_load_options lo = {0.0, 0, ov, o->nkeys, NULL, 0, false};
     brume_scene *s = NULL;
     brume_render_settings rs;
     brume_status st = brume_scene_load(ctx, &(brume_source){.path = o->scene}, &lo, &s);

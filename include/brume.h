@@ -339,6 +339,10 @@ typedef struct brume_load_options {
      * otherwise the scene is the one a load without them makes (the same choices, the same
      * image). Rendering it counts only its own bytes. */
     size_t memory_held;
+    /* A pbrt-v4 scene (docs/pbrt.md): true skips each directive or parameter brume cannot
+     * honour instead of refusing the file, and lists its refusal (brume_scene_ignored);
+     * malformed input is refused either way. `brume render --lenient`. */
+    bool lenient;
 } brume_load_options;
 
 /* Loads a scene from src (NULL: the default scene) with opts (NULL: the defaults). On
@@ -364,6 +368,12 @@ brume_status brume_scene_text(brume_context *ctx, const brume_source *src, const
  * with one line naming the first frame that has none. opts may be NULL. */
 brume_status brume_scene_check_frames(brume_context *ctx, const brume_source *src, const brume_load_options *opts,
                                       long first, long last);
+/* What the scene's source asked for and the scene leaves out: the scene file's "ignored"
+ * list (docs/scene-format.md), which a pbrt-v4 translation read with
+ * brume_load_options.lenient fills, one "FILE:LINE: what was refused" per construct. The
+ * count (0 for NULL), and entry `index` (NULL outside [0, count)), owned by the scene. */
+int brume_scene_ignored_count(const brume_scene *scene);
+const char *brume_scene_ignored(const brume_scene *scene, int index);
 /* The scene's frame time in seconds. */
 double brume_scene_time(const brume_scene *scene);
 /* Bytes of render.max_memory_mb that reading and committing the scene took (its grids, the

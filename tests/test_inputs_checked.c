@@ -70,7 +70,7 @@ TEST(denoise_checks_every_layer)
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     const char *sets[] = {"render.width=12", "render.height=8", "render.spp=4"};
-    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0};
+    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0, false};
     ASSERT_EQ_INT(brume_scene_load(ctx, NULL, &lo, &s), BRUME_OK);
     brume_render_settings rs;
     brume_scene_settings(s, &rs);
@@ -159,7 +159,7 @@ TEST(forged_checkpoint_sums_are_refused)
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     const char *sets[] = {"render.width=8", "render.height=4", "render.spp=4"};
-    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0};
+    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0, false};
     ASSERT_EQ_INT(brume_scene_load(ctx, NULL, &lo, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_render_job *job = NULL;

@@ -104,7 +104,7 @@ TEST(light_file_replaces_only_a_light_file)
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     const char *sets[] = {"render.width=8", "render.height=6", "render.spp=1"};
-    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0};
+    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0, false};
     ASSERT_EQ_INT(brume_scene_load(ctx, &(brume_source){.path = blasi_scene}, &lo, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_set_option(ctx, s, "blasi.save_light", in_dir(dir, "notes.txt")), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
@@ -144,7 +144,7 @@ TEST(each_writer_replaces_only_its_kind)
     still_notes(notes);
     brume_scene *s = NULL;
     const char *sets[] = {"render.width=8", "render.height=6", "render.spp=1"};
-    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0};
+    brume_load_options lo = {0.0, 0, sets, 3, NULL, 0, false};
     ASSERT_EQ_INT(brume_scene_load(ctx, NULL, &lo, &s), BRUME_OK);
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     brume_render_job *job = NULL;

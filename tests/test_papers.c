@@ -19,7 +19,7 @@ static brume_scene *load_with(const char *path, const char *const *ov, int n, br
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    brume_load_options o = {0.0, 0, ov, n, NULL, 0};
+    brume_load_options o = {0.0, 0, ov, n, NULL, 0, false};
     brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, &o, &s);
     if (st != want)
         TEST_FAIL("load %s with %d overrides: status %d, want %d (%s)", path ? path : "default", n, (int)st, (int)want,

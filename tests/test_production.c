@@ -241,7 +241,7 @@ static int file_of_frame(const char *dir, const char *keys, long f, const char *
     test_write_file(path, json);
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    brume_load_options lo = {0.0, f, NULL, 0, NULL, 0};
+    brume_load_options lo = {0.0, f, NULL, 0, NULL, 0, false};
     brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, &lo, &s);
     int k = 0;
     if (st == BRUME_OK) {

@@ -112,7 +112,7 @@ static brume_status load_frame(const char *dir, long f, double mb, size_t held, 
     snprintf(path, sizeof path, "%s/s.json", dir);
     snprintf(set, sizeof set, "render.max_memory_mb=%.6f", mb);
     const char *sets[1] = {set};
-    brume_load_options lo = {0.0, f, sets, mb > 0.0 ? 1 : 0, NULL, held};
+    brume_load_options lo = {0.0, f, sets, mb > 0.0 ? 1 : 0, NULL, held, false};
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
     brume_status st = brume_scene_load(ctx, &(brume_source){.path = path}, &lo, &s);
@@ -192,7 +192,7 @@ static void studio_camera(const char *pattern, long f, double pos[3], double at[
 {
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
-    brume_load_options lo = {0.0, f, NULL, 0, NULL, 0};
+    brume_load_options lo = {0.0, f, NULL, 0, NULL, 0, false};
     if (brume_scene_load(ctx, &(brume_source){.path = pattern}, &lo, &s) != BRUME_OK ||
         brume_scene_commit(ctx, s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));

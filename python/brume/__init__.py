@@ -501,6 +501,8 @@ class Scene:
     """A scene kept for repeated renders: a path to a scene file, a dict in the scene-file
     format, or None (the built-in default scene), loaded at `frame_time` seconds of its
     animation (time_budget= is the render setting that bounds a render's seconds).
+    lenient=True reads a .pbrt file skipping each directive or parameter brume cannot honour
+    instead of refusing it; Scene.ignored lists what was skipped.
 
     Scene.render(**settings) renders it; Scene.begin(**settings) starts a progressive
     render (then add(spp), image(), samples). Settings are brume_render_settings fields:
@@ -510,7 +512,7 @@ class Scene:
     """
 
     def __init__(self, scene: SceneSource = None, *, frame_time: float = 0.0,
-                 options: Optional[Mapping[str, Any]] = None, **settings: Any) -> None:
+                 options: Optional[Mapping[str, Any]] = None, lenient: bool = False, **settings: Any) -> None:
         self._ctx = _Context()
         self._ptr = None
         self._job = None
@@ -520,7 +522,9 @@ class Scene:
         self._aovs = False
         _refuse_time(settings)
         out = ffi.new("brume_scene **")
-        opts = ffi.new("brume_load_options *", {"time": _number(frame_time, "frame_time")})
+        if not isinstance(lenient, bool):
+            raise ArgumentError("lenient: expected True or False, got %s" % type(lenient).__name__)
+        opts = ffi.new("brume_load_options *", {"time": _number(frame_time, "frame_time"), "lenient": lenient})
         if scene is None:
             self._ctx.check(lib.brume_scene_load(self._ctx.ptr, ffi.NULL, opts, out))
             self._ptr = out[0]
@@ -643,6 +647,13 @@ class Scene:
                 self._ctx.check(lib.brume_scene_set_settings(self._ctx.ptr, self._ptr, rs))
             self._ctx.check(lib.brume_scene_commit(self._ctx.ptr, self._ptr))
             self._committed = True
+
+    @property
+    def ignored(self) -> List[str]:
+        """What the scene's source asked for and the scene leaves out: with lenient=True, each
+        pbrt-v4 directive or parameter brume cannot honour, as "FILE:LINE: what" (docs/pbrt.md)."""
+        return [ffi.string(lib.brume_scene_ignored(self._ptr, i)).decode()
+                for i in range(lib.brume_scene_ignored_count(self._ptr))]
 
     @property
     def settings(self) -> Dict[str, Any]:

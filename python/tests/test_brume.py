@@ -125,6 +125,20 @@ class PackageTest(unittest.TestCase):
             brume.render(scene_with({"type": "constant"}), options={"blasi.rays": 3})
         self.assertIn("blasi.rays: unknown key", str(e.exception))
 
+    @unittest.skipUnless(has("brume_scene_ignored"), "this libbrume has no --lenient")
+    def test_lenient_pbrt_lists_what_it_skipped(self):
+        path = os.path.join(self.tmp, "cone.pbrt")
+        with open(path, "w") as f:
+            f.write('LookAt 0 0 -5  0 0 0  0 1 0\nCamera "perspective"\nWorldBegin\n'
+                    'Shape "cone"\nShape "sphere" "float radius" [1]\n')
+        with self.assertRaises(brume.Error) as e:
+            brume.Scene(path)
+        self.assertIn("cone.pbrt:4: Shape \"cone\"", e.exception.message)
+        scene = brume.Scene(path, lenient=True)
+        self.assertEqual(len(scene.ignored), 1)
+        self.assertIn("cone.pbrt:4: Shape \"cone\"", scene.ignored[0])
+        self.assertEqual(brume.Scene(scene_with({"type": "constant", "value": 1})).ignored, [])
+
     @unittest.skipUnless(has("brume_option_get"), "this libbrume does not list its options")
     def test_options_listed_by_the_library_are_taken(self):
         opts = brume.options()

@@ -56,6 +56,8 @@ typedef struct params {
     int n;
     long values; /* numbers over all n */
     param p[PBRT_MAX_PARAMS];
+    struct cJSON *ignored; /* --lenient: pbrt_all_used lists an unknown parameter here (pbrt_ignore)
+                              and goes on without it; NULL: it refuses it */
 } params;
 
 /* ---- transforms: 4 x 4 row-major, p' = M p ------------------------------------------------- */
@@ -89,6 +91,7 @@ typedef struct named_material {
     char material[32]; /* "diffuse" or "interface" */
     double albedo[3];
 } named_material;
+
 #define PBRT_MAX_MATERIALS 64
 
 /* ObjectBegin "name" ... ObjectEnd: its directives, replayed by ObjectInstance. */
@@ -134,7 +137,9 @@ typedef struct pbrt_state {
     int nobjs;
     bool instancing;       /* an ObjectInstance is being read */
     long objects;          /* typed directives read so far (count_translation) */
+    cJSON *ignored;        /* --lenient: the refusals of what was skipped, each once (pbrt_ignore); NULL: strict */
 } pbrt_state;
+#define PBRT_MAX_IGNORED SCENE_MAX_IGNORED
 
 /* scene_pbrt.c */
 /* Keeps the translation's estimated memory within the memory limit (pbrt_tokens.c). */
@@ -161,6 +166,9 @@ brume_status pbrt_get_point(lexer *L, params *ps, const char *name, double out[3
 brume_status pbrt_get_color(lexer *L, params *ps, const char *name, double out[3]);
 brume_status pbrt_get_string(lexer *L, params *ps, const char *name, char *out, size_t n);
 brume_status pbrt_all_used(const lexer *L, const params *ps, const char *dir);
+/* --lenient: adds this thread's last message (a pbrt_unsupported refusal) to the list of what
+ * was ignored unless it is there already, and clears it; a refusal past PBRT_MAX_IGNORED. */
+brume_status pbrt_ignore(struct cJSON *ignored, const char *path);
 brume_status pbrt_get_count(lexer *L, params *ps, const char *name, int *out);
 brume_status pbrt_get_array(lexer *L, params *ps, const char *name, const char *const *types, param **out);
 

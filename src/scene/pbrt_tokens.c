@@ -411,15 +411,38 @@ brume_status pbrt_get_string(lexer *L, params *ps, const char *name, char *out, 
     return BRUME_OK;
 }
 
-/* Every parameter must have been read: the first that was not is refused. */
+/* Every parameter must have been read: the first that was not is refused; with --lenient
+ * each is listed as ignored instead, and the directive goes on as if it were absent. */
 brume_status pbrt_all_used(const lexer *L, const params *ps, const char *dir)
 {
     for (int i = 0; i < ps->n; i++)
         if (!ps->p[i].used) {
             lexer at = *L;
             at.dir_line = ps->p[i].line;
-            return pbrt_unsupported(&at, "%s: parameter \"%s %s\": not supported by brume", dir, ps->p[i].type, ps->p[i].name);
+            brume_status st = pbrt_unsupported(&at, "%s: parameter \"%s %s\": not supported by brume", dir, ps->p[i].type,
+                                               ps->p[i].name);
+            if (!ps->ignored || st != BRUME_ERROR_UNSUPPORTED || (st = pbrt_ignore(ps->ignored, L->file)))
+                return st;
         }
+    return BRUME_OK;
+}
+
+brume_status pbrt_ignore(cJSON *ignored, const char *path)
+{
+    const char *msg = err_message();
+    for (const cJSON *i = ignored->child; i; i = i->next)
+        if (strcmp(i->valuestring, msg) == 0) {
+            err_clear();
+            return BRUME_OK;
+        }
+    if (cJSON_GetArraySize(ignored) >= PBRT_MAX_IGNORED)
+        return err_prefix("more than %d constructs ignored (--lenient)", PBRT_MAX_IGNORED);
+    cJSON *item = cJSON_CreateString(msg);
+    if (!item || !cJSON_AddItemToArray(ignored, item)) {
+        cJSON_Delete(item);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    err_clear();
     return BRUME_OK;
 }
 

@@ -154,5 +154,15 @@ void brume_scene_release(brume_scene *s)
     free(s->bound);
     for (int i = 0; i < METHOD_OPTIONS_COUNT; i++)
         free(s->options[i]);
+    for (int i = 0; i < s->nignored; i++)
+        free(s->ignored[i]);
+    free(s->ignored);
     free(s);
+}
+
+int brume_scene_ignored_count(const brume_scene *s) { return s ? s->nignored : 0; }
+
+const char *brume_scene_ignored(const brume_scene *s, int index)
+{
+    return s && index >= 0 && index < s->nignored ? s->ignored[index] : NULL;
 }

@@ -55,6 +55,8 @@ struct brume_scene {
     uint32_t camera_members; /* bounded media the camera.medium names (set by commit) */
     struct scene_bound *bound; /* owned: brume_scene_set_surface_media's, resolved by commit */
     int nbound;
+    char **ignored;     /* the scene file's "ignored" list (brume_scene_ignored), owned */
+    int nignored;
     struct {
         bool on;        /* brume_scene_frame_camera was called: commit moves the camera */
         char media[64]; /* "media" = all of them, else one medium's name */

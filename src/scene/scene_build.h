@@ -20,6 +20,7 @@ struct brume_density {
  * `positions` or `indices`): 2^21 voxels is 128^3, 8 MiB as floats, and about 130 MiB of
  * parsed JSON nodes; larger data belongs in a file (docs/scene-format.md, "Limits"). */
 #define SCENE_INLINE_MAX_VALUES (1 << 21)
+#define SCENE_MAX_IGNORED 1000 /* entries of a scene file's "ignored" list (brume_scene_ignored) */
 
 struct brume_phase {
     phase *p; /* owned */

@@ -96,12 +96,37 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     return brume_scene_set_settings(NULL, s, &rs); /* names "FILE: render.KEY" */
 }
 
+/* "ignored": what the source asked for and the scene leaves out (a pbrt-v4 file read with
+ * --lenient), one line each, kept for brume_scene_ignored. */
+static brume_status parse_ignored(const cJSON *list, const char *file, brume_scene *s)
+{
+    if (!list)
+        return BRUME_OK;
+    int n = cJSON_IsArray(list) ? cJSON_GetArraySize(list) : -1;
+    if (n < 0 || n > SCENE_MAX_IGNORED)
+        return err_set(BRUME_ERROR_PARSE, "%s: ignored: expected an array of at most %d strings", file,
+                       SCENE_MAX_IGNORED);
+    if (!(s->ignored = calloc(n ? (size_t)n : 1, sizeof *s->ignored)))
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", file);
+    for (const cJSON *i = list->child; i; i = i->next) {
+        if (!cJSON_IsString(i) || strlen(i->valuestring) > 4096)
+            return err_set(BRUME_ERROR_PARSE, "%s: ignored[%d]: expected a string of at most 4096 bytes", file,
+                           s->nignored);
+        size_t len = strlen(i->valuestring) + 1;
+        if (!(s->ignored[s->nignored] = malloc(len)))
+            return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", file);
+        memcpy(s->ignored[s->nignored], i->valuestring, len);
+        s->nignored++;
+    }
+    return BRUME_OK;
+}
+
 /* The scene at time `time`, or at frame_no / render.fps when frame_no >= 0. Render settings come
  * first: a frame's time needs the frame rate. */
 static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, long frame_no)
 {
     static const char *const keys[] = {"camera", "lights", "media", "surfaces", "background", "render", "path",
-                                       "blasi", "stam", NULL};
+                                       "blasi", "stam", "ignored", NULL};
     const char *file = s->source;
     jloc top = {file, ""};
     brume_status st = json_check_object(root, top, keys);
@@ -157,6 +182,7 @@ static brume_status parse_scene(const cJSON *root, brume_scene *s, double time, 
     }
     const cJSON *surf = cJSON_GetObjectItemCaseSensitive(root, "surfaces");
     if (surf && (st = scene_parse_surfaces(surf, file, s))) return st;
+    if ((st = parse_ignored(cJSON_GetObjectItemCaseSensitive(root, "ignored"), file, s))) return st;
     return scene_parse_method_options(root, top, s);
 }
 

@@ -97,7 +97,7 @@ static brume_status copy_text(const char *text, const char *name, char **out)
  * itself, a grid file becomes its studio scene (scene/scene_studio.c), a .pbrt file its
  * translation (scene/scene_pbrt.c), any other file is read as JSON, no source is the
  * default scene. */
-static brume_status scene_source_text(const brume_source *src, const brume_studio_options *studio, char **text)
+static brume_status scene_source_text(const brume_source *src, const brume_load_options *o, char **text)
 {
     *text = NULL;
     if (src && src->text)
@@ -105,9 +105,9 @@ static brume_status scene_source_text(const brume_source *src, const brume_studi
     if (!src || !src->path)
         return copy_text(scene_default_json, scene_source_name(src), text);
     if (scene_studio_is_grid(src->path))
-        return scene_studio_json(src->path, studio, text);
+        return scene_studio_json(src->path, o ? o->studio : NULL, text);
     if (scene_pbrt_is_pbrt(src->path))
-        return scene_pbrt_json(src->path, text);
+        return scene_pbrt_read(src->path, o && o->lenient, text);
     return read_text_file(src->path, text);
 }
 
@@ -115,7 +115,7 @@ static brume_status scene_source_text(const brume_source *src, const brume_studi
 static brume_status load_options(const brume_source *src, const brume_load_options *opts, const char *fn,
                                  brume_load_options *o)
 {
-    *o = (brume_load_options){0.0, 0, NULL, 0, NULL, 0};
+    *o = (brume_load_options){0.0, 0, NULL, 0, NULL, 0, false};
     if (opts)
         *o = *opts;
     if (o->noverrides < 0 || (o->noverrides > 0 && !o->overrides))
@@ -141,7 +141,7 @@ brume_status brume_scene_load(brume_context *ctx, const brume_source *src, const
     char *text = NULL;
     cancel_load_begin(ctx); /* brume_context_cancel_loads(ctx) ends it */
     budget_hold(o.memory_held);
-    if ((st = scene_source_text(src, o.studio, &text)) == BRUME_OK)
+    if ((st = scene_source_text(src, &o, &text)) == BRUME_OK)
         st = scene_parse_json_with(text, scene_source_name(src), o.time, o.frame > 0 ? o.frame : -1, o.overrides,
                                    o.noverrides, out);
     budget_hold(0);
@@ -158,7 +158,7 @@ brume_status scene_load_text(const brume_source *src, const brume_load_options *
     if (!json)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "brume_scene_text: json: NULL");
     *json = NULL;
-    return scene_source_text(src, opts ? opts->studio : NULL, json);
+    return scene_source_text(src, opts, json);
 }
 
 brume_status brume_scene_text(brume_context *ctx, const brume_source *src, const brume_load_options *opts,

@@ -72,6 +72,7 @@ static brume_status typed_directive(pbrt_state *S, attrs *a, const char *dir, pa
 }
 
 static brume_status directive(pbrt_state *S, params *ps);
+static brume_status lenient_directive(pbrt_state *S, params *ps);
 static brume_status read_all(const char *path, char **out, size_t *len);
 
 /* Include "file" and Import "file": the file's directives read in place, as pbrt-v4 does (the
@@ -109,7 +110,7 @@ static brume_status include_directive(pbrt_state *S, params *ps, const char *dir
     S->includes++;
     pbrt_next(L);
     while (st == BRUME_OK && L->kind != TOK_END)
-        st = directive(S, ps);
+        st = lenient_directive(S, ps);
     S->includes--;
     if (st == BRUME_OK && *L->p)
         st = pbrt_fail(L, "syntax error near \"%.64s\"", L->text);
@@ -172,7 +173,7 @@ static brume_status directive(pbrt_state *S, params *ps)
     if (strcmp(dir, "Include") == 0 || strcmp(dir, "Import") == 0)
         return include_directive(S, ps, dir);
     if (strncmp(dir, "Object", 6) == 0)
-        return pbrt_object_directive(S, ps, dir, directive);
+        return pbrt_object_directive(S, ps, dir, lenient_directive);
     if (strcmp(dir, "WorldBegin") == 0) {
         if (!S->have_camera)
             return pbrt_fail(L, "%s before a Camera", dir);
@@ -188,6 +189,33 @@ static brume_status directive(pbrt_state *S, params *ps)
         return medium_interface(S, a, dir);
     } else {
         return pbrt_unsupported(L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
+    }
+    return BRUME_OK;
+}
+
+/* With --lenient, a directive refused as unsupported (pbrt_unsupported) becomes one entry
+ * of the list of what was ignored ("FILE:LINE: what", each once) and is skipped as if absent:
+ * the graphics state it may have begun to change is restored, and the tokens up to the next
+ * directive (a word with a capital) are passed over. Malformed input stays an error. */
+static brume_status lenient_directive(pbrt_state *S, params *ps)
+{
+    lexer *L = &S->L;
+    const char *after_word = L->p;
+    int depth = S->depth;
+    attrs saved = S->a[depth];
+    brume_status st = directive(S, ps);
+    if (st != BRUME_ERROR_UNSUPPORTED || !S->ignored)
+        return st;
+    if ((st = pbrt_ignore(S->ignored, S->path)))
+        return st;
+    if (S->depth == depth)
+        S->a[depth] = saved;
+    if (L->p == after_word)
+        pbrt_next(L); /* refused at its name: its arguments follow */
+    while (L->kind != TOK_END && !(L->kind == TOK_WORD && isupper((unsigned char)L->text[0]))) {
+        if (L->kind == TOK_BAD)
+            return pbrt_fail(L, "a token brume cannot read");
+        pbrt_next(L);
     }
     return BRUME_OK;
 }
@@ -265,6 +293,10 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     cJSON_AddItemToObject(S->root, "media", S->media_j);
     cJSON_AddItemToObject(S->root, "surfaces", S->surfaces);
     S->lights = S->media_j = S->surfaces = NULL;
+    if (S->ignored && cJSON_GetArraySize(S->ignored) > 0) {
+        cJSON_AddItemToObject(S->root, "ignored", S->ignored);
+        S->ignored = NULL;
+    }
     cJSON *r = cJSON_AddObjectToObject(S->root, "render");
     cJSON_AddNumberToObject(r, "width", S->xres);
     cJSON_AddNumberToObject(r, "height", S->yres);
@@ -281,7 +313,9 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     return BRUME_OK;
 }
 
-brume_status scene_pbrt_json(const char *path, char **json)
+brume_status scene_pbrt_json(const char *path, char **json) { return scene_pbrt_read(path, false, json); }
+
+brume_status scene_pbrt_read(const char *path, bool lenient, char **json)
 {
     *json = NULL;
     char *text = NULL;
@@ -316,10 +350,12 @@ brume_status scene_pbrt_json(const char *path, char **json)
     S->lights = cJSON_CreateArray();
     S->media_j = cJSON_CreateArray();
     S->surfaces = cJSON_CreateArray();
-    brume_status st = BRUME_OK;
+    S->ignored = lenient ? cJSON_CreateArray() : NULL;
+    ps->ignored = S->ignored;
+    brume_status st = lenient && !S->ignored ? err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path) : BRUME_OK;
     pbrt_next(&S->L);
     while (st == BRUME_OK && S->L.kind != TOK_END)
-        st = directive(S, ps);
+        st = lenient_directive(S, ps);
     if (st == BRUME_OK)
         st = pbrt_structure_end(S);
     if (st == BRUME_OK)
@@ -332,6 +368,7 @@ brume_status scene_pbrt_json(const char *path, char **json)
     cJSON_Delete(S->lights);
     cJSON_Delete(S->media_j);
     cJSON_Delete(S->surfaces);
+    cJSON_Delete(S->ignored);
     cJSON_Delete(S->root);
     free(S);
     pbrt_params_clear(ps);
