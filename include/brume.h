@@ -939,6 +939,49 @@ typedef struct brume_transform_key {
 brume_status brume_scene_set_medium_motion(brume_context *ctx, brume_scene *scene, int medium,
                                            const brume_transform_key *keys, int n);
 
+/* TEXTURES (docs/surfaces.md, "Textures"): a value that varies over a surface with its
+ * texture coordinates (u, v) (brume_scene_set_mesh_uv; a sphere's are pbrt's longitude and
+ * latitude). A texture is a tree of nodes in an array, node 0 its root; a node's inputs
+ * (tex1, tex2, amount) are indices of later nodes (so no loop), or -1 for the node's
+ * default value. Every node maps (u, v) to (s, t) = (uscale u + udelta, vscale v + vdelta)
+ * for what it reads itself; its inputs map the surface's (u, v) again, as in pbrt-v4.
+ *   CONSTANT      value
+ *   IMAGEMAP      the file (PNG, EXR, PFM, through brume_image_read and its limits) read
+ *                 bilinearly at (s, 1 - t) (t = 0 is the image's bottom row, pbrt-v4's
+ *                 convention), pixel centres at (i + 0.5) / width; `wrap` outside [0, 1];
+ *                 8-bit (PNG) values decoded by `encoding` (sRGB, linear or gamma), float
+ *                 files linear; times `scale`, then 1 - x when `invert`
+ *   SCALE         tex1 x amount (each defaults to 1)
+ *   MIX           (1 - amount) tex1 + amount tex2 (defaults 0, 1 and amount 0.5)
+ *   CHECKERBOARD  tex1 where floor(s) + floor(t) is even, else tex2 (defaults 1 and 0),
+ *                 point-sampled (pbrt-v4 filters it over a pixel's footprint)
+ * A float texture (is_float) gives one number to all channels: an image's first channel. */
+typedef enum brume_texture_type {
+    BRUME_TEXTURE_CONSTANT,
+    BRUME_TEXTURE_IMAGEMAP,
+    BRUME_TEXTURE_SCALE,
+    BRUME_TEXTURE_MIX,
+    BRUME_TEXTURE_CHECKERBOARD
+} brume_texture_type;
+typedef enum brume_texture_wrap { BRUME_WRAP_REPEAT, BRUME_WRAP_BLACK, BRUME_WRAP_CLAMP } brume_texture_wrap;
+typedef struct brume_texture_node {
+    brume_texture_type type;
+    bool is_float;
+    double value[3];             /* CONSTANT: each finite */
+    int tex1, tex2, amount;      /* inputs: a later node's index, or -1 for the default */
+    double uscale, vscale, udelta, vdelta; /* finite; 0 scales are read as 1 */
+    const char *filename;        /* IMAGEMAP (borrowed for the call) */
+    double gamma;                /* IMAGEMAP, 8-bit files: 0 = sRGB, 1 = linear, else x^gamma */
+    double scale;                /* IMAGEMAP: 0 is read as 1 */
+    bool invert;                 /* IMAGEMAP */
+    brume_texture_wrap wrap;     /* IMAGEMAP */
+} brume_texture_node;
+#define BRUME_TEXTURE_MAX_NODES 64
+typedef struct brume_texture {
+    const brume_texture_node *nodes; /* n nodes, borrowed for the call */
+    int n;                           /* 1 to BRUME_TEXTURE_MAX_NODES */
+} brume_texture;
+
 /* Surfaces: a Lambertian lobe plus a normalized Phong lobe, and emission. */
 typedef struct brume_material {
     double albedo[3];   /* diffuse reflectance, each in [0, 1] */
@@ -946,6 +989,10 @@ typedef struct brume_material {
     double exponent;    /* Phong exponent, [0, 1e6] */
     double emission[3]; /* emitted radiance W m^-2 sr^-1 from the front side, >= 0 */
     bool two_sided;     /* emit from both sides */
+    /* NULL, or the diffuse reflectance as a texture (copied; its images read once per shape),
+     * in place of albedo; its values are clamped to [0, 1 - specular] per channel. Rendered
+     * on the CPU (the GPU refuses it by name). */
+    const brume_texture *albedo_texture;
 } brume_material;
 /* albedo 0.8, no specular (exponent 50), no emission. */
 void brume_material_default(brume_material *material);
@@ -970,6 +1017,10 @@ brume_status brume_scene_add_plane(brume_context *ctx, brume_scene *scene, const
 brume_status brume_scene_add_mesh(brume_context *ctx, brume_scene *scene, const double *positions, int nv,
                                   const int *indices, int ntri, const double *transform,
                                   const brume_material *material, const char *name);
+/* Texture coordinates for surface `index`, a mesh of nv vertices (before commit): uv holds
+ * (u, v) per vertex, finite, copied. A mesh without them gives each triangle (0, 0),
+ * (1, 0), (1, 1) at its corners, as pbrt-v4 does. */
+brume_status brume_scene_set_mesh_uv(brume_context *ctx, brume_scene *scene, int index, const double *uv, int nv);
 /* A mesh file (OBJ, PLY, ... through assimp). */
 brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *scene, const char *path,
                                        const double *transform, const brume_material *material, const char *name);

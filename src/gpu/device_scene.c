@@ -19,6 +19,10 @@ brume_status device_scene_check(const brume_scene *s, int kind)
         return err_set(BRUME_ERROR_UNSUPPORTED,
                        "%s: media bounded by surfaces (medium_inside/medium_outside) render on the CPU only "
                        "(--device cpu)", s->source);
+    const char *textured = surfaces_textured(s->surf);
+    if (textured)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: textures render on the CPU only (surface '%s') (--device cpu)",
+                       s->source, textured);
     return BRUME_OK;
 }
 

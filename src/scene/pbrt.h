@@ -80,6 +80,7 @@ typedef struct attrs {
     m4 ctm;
     char material[32]; /* "diffuse" or "interface" */
     double albedo[3];
+    const cJSON *albedo_tex; /* NULL, or the reflectance's texture (brume's JSON, owned by pbrt_state.textures) */
     char inside[128], outside[128];
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
     bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
@@ -90,8 +91,17 @@ typedef struct named_material {
     char name[128];
     char material[32]; /* "diffuse" or "interface" */
     double albedo[3];
+    const cJSON *albedo_tex;
 } named_material;
 
+/* Texture "name" "float"|"spectrum" "class": its brume JSON tree, kept to the end (a later
+ * texture of the same name and kind replaces it for what follows, as in pbrt-v4). */
+typedef struct named_texture {
+    char name[128];
+    bool is_float;
+    cJSON *json;
+} named_texture;
+#define PBRT_MAX_TEXTURES 256
 #define PBRT_MAX_MATERIALS 64
 
 /* ObjectBegin "name" ... ObjectEnd: its directives, replayed by ObjectInstance. */
@@ -137,6 +147,8 @@ typedef struct pbrt_state {
     int nobjs;
     bool instancing;       /* an ObjectInstance is being read */
     long objects;          /* typed directives read so far (count_translation) */
+    named_texture textures[PBRT_MAX_TEXTURES];
+    int ntextures;
     cJSON *ignored;        /* --lenient: the refusals of what was skipped, each once (pbrt_ignore); NULL: strict */
 } pbrt_state;
 #define PBRT_MAX_IGNORED SCENE_MAX_IGNORED
@@ -216,6 +228,20 @@ brume_status pbrt_media_finish(pbrt_state *S);
 /* pbrt_objects.c */
 brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,
                                    brume_status (*directive)(pbrt_state *, params *));
+
+/* pbrt_textures.c */
+brume_status pbrt_texture_directive(pbrt_state *S, params *ps);
+/* A material's spectrum parameter `name`: a colour into rgb, or a "texture" naming a
+ * spectrum Texture into *tex (else NULL). */
+brume_status pbrt_spectrum_or_texture(pbrt_state *S, params *ps, const char *name, double rgb[3], const cJSON **tex);
+void pbrt_textures_free(pbrt_state *S);
+/* A mesh's "uv" parameter q (u v per point of nv) into *uv (malloc'd). */
+brume_status pbrt_mesh_uv(pbrt_state *S, const param *q, const char *what, int nv, double **uv);
+/* A mesh without uv given its own three points per triangle (idx renumbered, *P and *nv
+ * replaced), with pbrt-v4's default uv: pattern holds 6 numbers (u v at each corner) per
+ * triangle, repeating every `period` triangles. */
+brume_status pbrt_uv_unshare(pbrt_state *S, const char *what, double **P, int *nv, int *idx, int nt,
+                             const double *pattern, int period, double **uv);
 
 /* pbrt_shapes.c */
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);

@@ -23,12 +23,14 @@ typedef struct tris {
     double *P; /* 3 nv */
     int *idx;  /* 3 nt */
     int nv, nt;
+    double *uv; /* 2 nv texture coordinates, or NULL */
 } tris;
 
 static void tris_free(tris *t)
 {
     free(t->P);
     free(t->idx);
+    free(t->uv);
 }
 
 /* "point3 P" and "integer indices" (per = 3 for triangles, 4 for bilinear patches; without
@@ -180,12 +182,24 @@ static bool ctm_mirrors(const pbrt_state *S)
                c[2] * (c[4] * c[9] - c[5] * c[8]) < 0.0;
 }
 
+/* A textured mesh's texture coordinates: its "uv", else pbrt-v4's defaults, (0, 0), (1, 0),
+ * (1, 1) at a triangle's corners and (0, 0), (1, 0), (0, 1), (1, 1) at a bilinear patch's,
+ * each triangle then given its own points. */
+static brume_status shape_uv(pbrt_state *S, const char *what, const param *uv, bool tri, tris *t)
+{
+    static const double corners[12] = {0, 0, 1, 0, 1, 1, /* bilinear_tris' second */ 0, 0, 1, 1, 0, 1};
+    if (uv)
+        return pbrt_mesh_uv(S, uv, what, t->nv, &t->uv);
+    return pbrt_uv_unshare(S, what, &t->P, &t->nv, t->idx, t->nt, corners, tri ? 1 : 2, &t->uv);
+}
+
 /* A drawn shape: s (owned from here) with the current diffuse material. */
 static brume_status shape_surface(pbrt_state *S, cJSON *s)
 {
     attrs *a = &S->a[S->depth];
     cJSON *mat = cJSON_AddObjectToObject(s, "material");
-    cJSON_AddItemToObject(mat, "albedo", cJSON_CreateDoubleArray(a->albedo, 3));
+    cJSON_AddItemToObject(mat, "albedo", a->albedo_tex ? cJSON_Duplicate(a->albedo_tex, 1)
+                                                       : cJSON_CreateDoubleArray(a->albedo, 3));
     if (a->area) {
         cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
         if (a->area_two_sided)
@@ -277,7 +291,8 @@ static brume_status round_params(pbrt_state *S, params *ps, const char *what, bo
     t->nt = fan ? n : 2 * n;
     t->P = malloc((size_t)t->nv * 3 * sizeof *t->P);
     t->idx = malloc((size_t)t->nt * 3 * sizeof *t->idx);
-    if (!t->P || !t->idx)
+    t->uv = malloc((size_t)t->nv * 2 * sizeof *t->uv);
+    if (!t->P || !t->idx || !t->uv)
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", L->file, L->dir_line, what);
     m4 ctm = S->a[S->depth].ctm;
     for (int i = 0; i <= n; i++) /* ring 0: inner edge or bottom, ring 1: outer edge or top */
@@ -286,6 +301,10 @@ static brume_status round_params(pbrt_state *S, params *ps, const char *what, bo
             vec3 w = pbrt_m4_point(ctm, v3(rr[k] * cos(a), rr[k] * sin(a), zz[k]));
             double *q = &t->P[3 * (2 * i + k)];
             q[0] = w.x, q[1] = w.y, q[2] = w.z;
+            /* pbrt-v4's: u = phi / phimax; v = (rmax - r) / (rmax - rmin) on a disk, (z - zmin) /
+               (zmax - zmin) on a cylinder */
+            t->uv[2 * (2 * i + k)] = (double)i / n;
+            t->uv[2 * (2 * i + k) + 1] = disk ? 1.0 - k : (zz[k] - fmin(z0, z1)) / fabs(z1 - z0);
         }
     /* a segment: a, c on ring 0 at i, i + 1; b, d on ring 1; facing pbrt's normal, +z for the
        disk, outwards for the cylinder */
@@ -319,6 +338,8 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: no \"string filename\"", what);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
+    if (!interface && S->a[S->depth].albedo_tex)
+        return pbrt_unsupported(L, "%s: a textured PLY mesh (brume reads no texture coordinates from mesh files)", what);
     if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
         return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
                                    "file's normals; give \"bool twosided\" true)", what);
@@ -345,6 +366,37 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
     return shape_interface(S, s, b);
 }
 
+/* "sphere": a brume sphere, or the box of an "interface" sphere's media. */
+static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bool interface)
+{
+    lexer *L = &S->L;
+    const attrs *a = &S->a[S->depth];
+    brume_status st;
+    double radius = 1.0;
+    if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
+        return st;
+    const double *c = a->ctm.m;
+    if (!interface && a->albedo_tex &&
+        !(c[0] > 0.0 && c[1] == 0.0 && c[2] == 0.0 && c[4] == 0.0 && c[5] == c[0] && c[6] == 0.0 && c[8] == 0.0 &&
+          c[9] == 0.0 && c[10] == c[0]))
+        return pbrt_unsupported(L, "%s: a textured sphere turned or mirrored (brume maps a sphere's (u, v) in "
+                                   "world axes; a pbrt view without \"Scale -1 1 1\" mirrors the world)", what);
+    cJSON *s = placed_surface(S, what, "sphere");
+    if (!s)
+        return err_status();
+    cJSON_AddNumberToObject(s, "radius", radius);
+    if (!interface)
+        return shape_surface(S, s);
+    double P[24], b[6]; /* the box: the corners of the object's cube around it */
+    for (int i = 0; i < 8; i++) {
+        vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(i & 1 ? radius : -radius, i & 2 ? radius : -radius,
+                                                      i & 4 ? radius : -radius));
+        P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
+    }
+    points_box(P, 8, b);
+    return shape_interface(S, s, b);
+}
+
 static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -355,25 +407,8 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
     bool interface = strcmp(a->material, "interface") == 0;
     if (interface && S->a[S->depth].area)
         return pbrt_unsupported(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
-    if (strcmp(type, "sphere") == 0) {
-        double radius = 1.0;
-        if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
-            return st;
-        cJSON *s = placed_surface(S, what, "sphere");
-        if (!s)
-            return err_status();
-        cJSON_AddNumberToObject(s, "radius", radius);
-        if (!interface)
-            return shape_surface(S, s);
-        double P[24], b[6]; /* the box: the corners of the object's cube around it */
-        for (int i = 0; i < 8; i++) {
-            vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(i & 1 ? radius : -radius, i & 2 ? radius : -radius,
-                                                          i & 4 ? radius : -radius));
-            P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
-        }
-        points_box(P, 8, b);
-        return shape_interface(S, s, b);
-    }
+    if (strcmp(type, "sphere") == 0)
+        return shape_sphere(S, ps, what, interface);
     if (strcmp(type, "plymesh") == 0)
         return shape_plymesh(S, ps, what, interface);
     bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
@@ -382,12 +417,11 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
                                    "bilinearmesh, plymesh)", what);
     if (round && interface)
         return pbrt_unsupported(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
-    /* shading normals, uv and tangents do not change a diffuse surface's geometry: read and
-       not used (brume shades by the geometric normal) */
-    if (!round) {
+    /* shading normals and tangents do not change a diffuse surface's geometry: read and not
+       used (brume shades by the geometric normal); uv is read for a textured material */
+    if (!round)
         pbrt_get(ps, "N");
-        pbrt_get(ps, "uv");
-    }
+    param *uv = round ? NULL : pbrt_get(ps, "uv");
     if (tri) {
         pbrt_get(ps, "S");
         pbrt_get(ps, "faceIndices");
@@ -405,6 +439,10 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         return st;
     }
     free(quad);
+    if (!interface && !round && a->albedo_tex && (st = shape_uv(S, what, uv, tri, &t))) {
+        tris_free(&t);
+        return st;
+    }
     if (interface) {
         double b[6];
         points_box(t.P, t.nv, b);
@@ -418,6 +456,8 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         return st;
     }
     cJSON *s = tris_json(&t, false);
+    if (a->albedo_tex)
+        cJSON_AddItemToObject(s, "uvs", cJSON_CreateDoubleArray(t.uv, 2 * t.nv));
     tris_free(&t);
     return shape_surface(S, s);
 }

@@ -172,6 +172,8 @@ static brume_status directive(pbrt_state *S, params *ps)
         return typed_directive(S, a, dir, ps);
     if (strcmp(dir, "Include") == 0 || strcmp(dir, "Import") == 0)
         return include_directive(S, ps, dir);
+    if (strcmp(dir, "Texture") == 0)
+        return pbrt_texture_directive(S, ps);
     if (strncmp(dir, "Object", 6) == 0)
         return pbrt_object_directive(S, ps, dir, lenient_directive);
     if (strcmp(dir, "WorldBegin") == 0) {
@@ -365,6 +367,7 @@ brume_status scene_pbrt_read(const char *path, bool lenient, char **json)
             cJSON_Delete(S->media[i].json);
     for (int i = 0; i < S->ntexts; i++)
         free(S->texts[i]);
+    pbrt_textures_free(S);
     cJSON_Delete(S->lights);
     cJSON_Delete(S->media_j);
     cJSON_Delete(S->surfaces);

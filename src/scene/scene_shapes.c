@@ -6,16 +6,37 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/budget.h"
 #include "core/error.h"
 #include "io/mesh.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
+#include "surface/texture.h"
 
 void brume_material_default(brume_material *m)
 {
     if (!m)
         return;
     *m = (brume_material){.albedo = {0.8, 0.8, 0.8}, .exponent = 50.0};
+}
+
+/* A material's texture built, its imagemaps' files read here (the scene layer reads files;
+ * surface/texture.c decodes them). NULL after err_set. */
+static texture *build_texture(const char *fn, const brume_texture *bt)
+{
+    brume_image *img[BRUME_TEXTURE_MAX_NODES] = {NULL};
+    int n = bt->nodes && bt->n >= 1 && bt->n <= BRUME_TEXTURE_MAX_NODES ? bt->n : 0;
+    brume_status st = BRUME_OK;
+    for (int i = 0; i < n && st == BRUME_OK; i++) {
+        const brume_texture_node *node = &bt->nodes[i];
+        if (node->type == BRUME_TEXTURE_IMAGEMAP && node->filename && node->filename[0] &&
+            brume_image_read(NULL, node->filename, &img[i]) != BRUME_OK)
+            st = err_prefix("%s: material.albedo_texture.nodes[%d]", fn, i);
+    }
+    texture *t = st == BRUME_OK ? texture_build(bt, img, fn, "material.albedo_texture") : NULL;
+    for (int i = 0; i < n; i++)
+        brume_image_release(img[i]);
+    return t;
 }
 
 /* What every shape builder checks: the scene, the transform, the material and the name. */
@@ -48,7 +69,7 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
         (st = build_number(fn, "material.exponent", bm->exponent, 0.0, 1e6)) ||
         (st = build_color(fn, "material.emission", bm->emission, 1e30, &a->m.emission)))
         return st;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 3 && !bm->albedo_texture; c++)
         if (bm->albedo[c] + bm->specular[c] > 1.0)
             return err_set(BRUME_ERROR_RANGE, "%s: material: albedo + specular = %g > 1 would create energy", fn,
                            bm->albedo[c] + bm->specular[c]);
@@ -62,12 +83,20 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
         snprintf(a->name, sizeof a->name, "surfaces[%d]", s->surf ? surfaces_count(s->surf) : 0);
     if (!s->surf && !(s->surf = surfaces_new()))
         return err_prefix("%s", fn);
+    a->m.albedo_tex = NULL;
+    if (bm->albedo_texture && !(a->m.albedo_tex = build_texture(fn, bm->albedo_texture)))
+        return err_status();
     return BRUME_OK;
 }
 
-/* After an add: a scene whose first shape failed keeps no empty surfaces object. */
-static brume_status shape_end(const char *fn, brume_scene *s, brume_status st)
+/* After an add: a scene whose first shape failed keeps no empty surfaces object, nor the
+ * texture built for the shape. */
+static brume_status shape_end(const char *fn, brume_scene *s, shape_args *a, brume_status st)
 {
+    if (st) { /* the surfaces took the texture only on success */
+        budget_give(texture_bytes(a->m.albedo_tex));
+        texture_free(a->m.albedo_tex);
+    }
     if (st && surfaces_count(s->surf) == 0) {
         surfaces_release(s->surf);
         s->surf = NULL;
@@ -113,7 +142,9 @@ static brume_status add_quad(surfaces *S, vec3 c, vec3 u, vec3 v, const affine3 
         pos[3 * i + 2] = p[i].z;
     }
     static const int idx[6] = {0, 1, 2, 0, 2, 3};
-    return add_mesh(S, pos, 4, idx, 2, xf, m, name);
+    static const double uv[8] = {0, 0, 1, 0, 1, 1, 0, 1}; /* as pbrt-v4's bilinear patch */
+    brume_status st = add_mesh(S, pos, 4, idx, 2, xf, m, name);
+    return st ? st : surfaces_set_uv(S, surfaces_count(S) - 1, uv, 4);
 }
 
 brume_status brume_scene_add_sphere(brume_context *ctx, brume_scene *s, const double center[3], double radius,
@@ -137,7 +168,7 @@ brume_status brume_scene_add_sphere(brume_context *ctx, brume_scene *s, const do
         st = err_set(BRUME_ERROR_UNSUPPORTED, "transform: a sphere takes a uniform scale only (use a mesh for ellipsoids)");
     else
         st = surfaces_add_sphere(s->surf, affine3_apply(&a.xf, c), radius * sx, &a.m, a.name);
-    return ctx_report(ctx, shape_end(fn, s, st));
+    return ctx_report(ctx, shape_end(fn, s, &a, st));
 }
 
 brume_status brume_scene_add_box(brume_context *ctx, brume_scene *s, const double min[3], const double max[3],
@@ -166,7 +197,7 @@ brume_status brume_scene_add_box(brume_context *ctx, brume_scene *s, const doubl
     static const int idx[36] = {0, 2, 3, 0, 3, 1, /* -z */ 4, 5, 7, 4, 7, 6, /* +z */
                                 0, 1, 5, 0, 5, 4, /* -y */ 2, 6, 7, 2, 7, 3, /* +y */
                                 0, 4, 6, 0, 6, 2, /* -x */ 1, 3, 7, 1, 7, 5 /* +x */};
-    return ctx_report(ctx, shape_end(fn, s, add_mesh(s->surf, pos, 8, idx, 12, &a.xf, &a.m, a.name)));
+    return ctx_report(ctx, shape_end(fn, s, &a, add_mesh(s->surf, pos, 8, idx, 12, &a.xf, &a.m, a.name)));
 }
 
 brume_status brume_scene_add_quad(brume_context *ctx, brume_scene *s, const double corner[3], const double edge_u[3],
@@ -188,7 +219,7 @@ brume_status brume_scene_add_quad(brume_context *ctx, brume_scene *s, const doub
     shape_args a;
     if ((st = shape_begin(fn, s, transform, mat, name, &a)))
         return ctx_report(ctx, st);
-    return ctx_report(ctx, shape_end(fn, s, add_quad(s->surf, c, u, v, &a.xf, &a.m, a.name)));
+    return ctx_report(ctx, shape_end(fn, s, &a, add_quad(s->surf, c, u, v, &a.xf, &a.m, a.name)));
 }
 
 brume_status brume_scene_add_plane(brume_context *ctx, brume_scene *s, const double point[3], const double normal[3],
@@ -209,7 +240,7 @@ brume_status brume_scene_add_plane(brume_context *ctx, brume_scene *s, const dou
     frame f = frame_from_n(n);
     vec3 u = v3_scale(f.s, size), v = v3_scale(f.t, size);
     vec3 c = v3_sub(p, v3_scale(v3_add(u, v), 0.5));
-    return ctx_report(ctx, shape_end(fn, s, add_quad(s->surf, c, u, v, &a.xf, &a.m, a.name)));
+    return ctx_report(ctx, shape_end(fn, s, &a, add_quad(s->surf, c, u, v, &a.xf, &a.m, a.name)));
 }
 
 brume_status brume_scene_add_mesh(brume_context *ctx, brume_scene *s, const double *positions, int nv,
@@ -238,11 +269,11 @@ brume_status brume_scene_add_mesh(brume_context *ctx, brume_scene *s, const doub
         return ctx_report(ctx, st);
     double *pos = malloc(sizeof *pos * 3 * (size_t)nv);
     if (!pos)
-        return ctx_report(ctx, shape_end(fn, s, err_set(BRUME_ERROR_OUT_OF_MEMORY, "out of memory")));
+        return ctx_report(ctx, shape_end(fn, s, &a, err_set(BRUME_ERROR_OUT_OF_MEMORY, "out of memory")));
     memcpy(pos, positions, sizeof *pos * 3 * (size_t)nv);
     st = add_mesh(s->surf, pos, nv, indices, ntri, &a.xf, &a.m, a.name);
     free(pos);
-    return ctx_report(ctx, shape_end(fn, s, st));
+    return ctx_report(ctx, shape_end(fn, s, &a, st));
 }
 
 brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *s, const char *path, const double *transform,
@@ -255,6 +286,9 @@ brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *s, const
         return ctx_report(ctx, st);
     if (!path)
         return ctx_report(ctx, build_null(fn, "path"));
+    if (mat && mat->albedo_texture)
+        return ctx_report(ctx, err_set(BRUME_ERROR_UNSUPPORTED, "%s: material.albedo_texture: brume reads no texture "
+                                       "coordinates from mesh files (an inline mesh takes uv)", fn));
     shape_args a;
     if ((st = shape_begin(fn, s, transform, mat, name, &a)))
         return ctx_report(ctx, st);
@@ -264,7 +298,7 @@ brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *s, const
         st = add_mesh(s->surf, pos, nv, idx, ntri, &a.xf, &a.m, a.name);
     free(pos);
     free(idx);
-    return ctx_report(ctx, shape_end(fn, s, st));
+    return ctx_report(ctx, shape_end(fn, s, &a, st));
 }
 
 int brume_scene_surface_count(const brume_scene *s) { return s && s->surf ? surfaces_count(s->surf) : 0; }
@@ -289,4 +323,16 @@ brume_status brume_scene_set_surface_motion(brume_context *ctx, brume_scene *s, 
     if ((st = surfaces_set_motion(s->surf, index, &mo)))
         return ctx_report(ctx, err_prefix("%s", fn));
     return ctx_report(ctx, BRUME_OK);
+}
+
+brume_status brume_scene_set_mesh_uv(brume_context *ctx, brume_scene *s, int index, const double *uv, int nv)
+{
+    static const char fn[] = "brume_scene_set_mesh_uv";
+    err_clear();
+    brume_status st;
+    if ((st = build_check_scene(fn, s)) || (st = build_need(fn, 1, "uv", (const void *)uv)))
+        return ctx_report(ctx, st);
+    if (!s->surf || index < 0 || index >= surfaces_count(s->surf))
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: index %d: no such surface", fn, index));
+    return ctx_report(ctx, surfaces_set_uv(s->surf, index, uv, nv) ? err_prefix("%s", fn) : BRUME_OK);
 }

@@ -9,6 +9,7 @@
 #include "core/xform.h"
 #include "io/json.h"
 #include "scene/scene_build.h"
+#include "scene/scene_json_texture.h"
 #include "scene/scene_keys.h"
 #include "scene/scene_surfaces.h"
 
@@ -32,7 +33,9 @@ static brume_status jcolor(const cJSON *j, jloc at, const char *key, double hi, 
     return st;
 }
 
-static brume_status parse_material(const cJSON *j, jloc at, brume_material *m)
+/* The material j into m; an "albedo" texture object into *tex (the caller frees it), which
+ * m->albedo_texture then points to. */
+static brume_status parse_material(const cJSON *j, jloc at, brume_material *m, json_texture **tex)
 {
     static const char *const keys[] = {"albedo", "specular", "exponent", "emission", "two_sided", NULL};
     brume_material_default(m);
@@ -40,7 +43,13 @@ static brume_status parse_material(const cJSON *j, jloc at, brume_material *m)
         return BRUME_OK;
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
-    if ((st = jcolor(j, at, "albedo", 1.0, m->albedo))) return st;
+    if (cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(j, "albedo"))) {
+        if ((st = scene_json_texture(j, at, "albedo", tex))) return st;
+        m->albedo_texture = &(*tex)->tex;
+        m->albedo[0] = m->albedo[1] = m->albedo[2] = 0.0;
+    } else if ((st = jcolor(j, at, "albedo", 1.0, m->albedo))) {
+        return st;
+    }
     if ((st = jcolor(j, at, "specular", 1.0, m->specular))) return st;
     if ((st = json_number(j, at, "exponent", 0, 0.0, 1e6, &m->exponent))) return st;
     if ((st = jcolor(j, at, "emission", BIG, m->emission))) return st;
@@ -86,6 +95,29 @@ static brume_status inline_numbers(const cJSON *j, jloc at, const char *key, dou
     return BRUME_OK;
 }
 
+/* "uvs" [u, v, ...] of the mesh just added, one pair per vertex of its nv. */
+static brume_status parse_uvs(const cJSON *j, jloc at, brume_scene *s, int nv)
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(j, "uvs");
+    if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 2 * nv)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.uvs: expected an array of %d numbers (u, v per vertex)", at.file,
+                       at.path, 2 * nv);
+    double *uv = malloc(2 * (size_t)nv * sizeof *uv);
+    if (!uv)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: %s.uvs: out of memory", at.file, at.path);
+    int i = 0;
+    for (const cJSON *e = a->child; e; e = e->next, i++) {
+        uv[i] = cJSON_IsNumber(e) ? e->valuedouble : (double)NAN;
+        if (!(fabs(uv[i]) <= BIG)) {
+            free(uv);
+            return err_set(BRUME_ERROR_RANGE, "%s: %s.uvs[%d]: expected a finite number", at.file, at.path, i);
+        }
+    }
+    brume_status st = brume_scene_set_mesh_uv(NULL, s, brume_scene_surface_count(s) - 1, uv, nv);
+    free(uv);
+    return st ? err_prefix("%s: %s.uvs", at.file, at.path) : BRUME_OK;
+}
+
 /* A mesh given inline: `positions` [x, y, z, ...] and `indices` [i, j, k, ...] (counter-
  * clockwise seen from the front), built by brume_scene_add_mesh. */
 static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, const double *xf,
@@ -105,6 +137,8 @@ static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, c
         if (brume_scene_add_mesh(NULL, s, p, np / 3, idx, nt / 3, xf, m, name))
             st = err_prefix("%s: %s", at.file, at.path);
     }
+    if (st == BRUME_OK && cJSON_HasObjectItem(j, "uvs"))
+        st = parse_uvs(j, at, s, np / 3);
     free(p);
     free(t);
     free(idx);
@@ -122,7 +156,7 @@ static const char *const *surface_keys(const char *type)
     static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
                                              "normal", "size", "medium_inside", "medium_outside", NULL};
     static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", "positions",
-                                            "indices", "medium_inside", "medium_outside", NULL};
+                                            "indices", "medium_inside", "medium_outside", "uvs", NULL};
     return strcmp(type, "sphere") == 0  ? sphere_keys
            : strcmp(type, "box") == 0   ? box_keys
            : strcmp(type, "quad") == 0  ? quad_keys
@@ -169,6 +203,8 @@ static brume_status add_shape(const cJSON *j, jloc at, brume_scene *s, const cha
         return parse_inline_mesh(j, at, s, xf->m, m, name);
     } else {
         char file[1024], path[2048];
+        if (cJSON_HasObjectItem(j, "uvs"))
+            return err_set(BRUME_ERROR_PARSE, "%s: %s.uvs: given with positions and indices only", at.file, at.path);
         if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
         json_resolve_path(at.file, file, path, sizeof path);
         st = brume_scene_add_mesh_file(NULL, s, path, xf->m, m, name);
@@ -224,13 +260,16 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
     jloc mat = {at.file, json_key_path(kp, sizeof kp, at.path, "material")};
     bool interface = false;
     if (mj && (st = parse_interface(mj, mat, &interface))) return st;
-    if ((st = parse_material(interface ? NULL : mj, mat, &m))) return st;
+    json_texture *tex = NULL;
     affine3 xf;
-    if ((st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
-                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)))
+    if ((st = parse_material(interface ? NULL : mj, mat, &m, &tex)) ||
+        (st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
+                             (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)) ||
+        (st = add_shape(j, at, s, type, &xf, &m, name))) {
+        scene_json_texture_free(tex);
         return st;
-    if ((st = add_shape(j, at, s, type, &xf, &m, name)))
-        return st;
+    }
+    scene_json_texture_free(tex);
     if ((st = parse_surface_media(j, at, s, interface)))
         return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");

@@ -21,6 +21,9 @@ typedef struct material {
     double exponent; /* Phong exponent e >= 0 (larger = sharper) */
     color emission;  /* emitted radiance, W m^-2 sr^-1, from the front side(s) */
     bool two_sided_emission;
+    /* NULL, or the albedo as a texture of the hit's (u, v) (surface/texture.h): owned by the
+     * surfaces object, evaluated into the hit's own copy of the material (surface_hit.shade) */
+    struct texture *albedo_tex;
 } material;
 
 /* f(wi, wo) (per steradian), without the cosine. */

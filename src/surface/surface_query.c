@@ -4,6 +4,7 @@
  * scene given brume's own hierarchy by surfaces_use_bvh) they come from core/bvh.h, with
  * each primitive intersected in double precision at the ray's time. */
 #include "surface/surfaces_impl.h"
+#include "surface/texture.h"
 
 /* ---- brume's own hierarchy -------------------------------------------------------------- */
 
@@ -74,13 +75,65 @@ static bool leaf_any(void *user, int item, double *tmax)
     return prim_hit(&q->s->obj[f->object], f->prim, q->r, q->u, q->tmin, *tmax, &t, NULL);
 }
 
+#if !defined(__CUDA_ARCH__)
+/* (u, v) at the hit: a triangle's vertex coordinates (pbrt-v4's (0, 0), (1, 0), (1, 1) when
+ * the mesh has none) weighted by the hit's barycentric coordinates; a sphere's pbrt-v4
+ * longitude phi / 2 pi and latitude 1 - theta / pi (theta from +z, in world axes). */
+static void hit_uv(const surfaces *s, const surface_object *o, const surface_hit *h, double *u, double *v)
+{
+    double when = shutter_time(s, h->time);
+    if (o->is_sphere) {
+        vec3 c;
+        double r;
+        sphere_at(o, when, &c, &r);
+        vec3 d = v3_sub(h->p, c);
+        double phi = atan2(d.y, d.x), z = fmax(-1.0, fmin(1.0, d.z / r));
+        *u = (phi < 0.0 ? phi + 2.0 * PI : phi) / (2.0 * PI);
+        *v = 1.0 - acos(z) / PI;
+        return;
+    }
+    vec3 a = tri_vertex(o, h->prim, 0, when), e1 = v3_sub(tri_vertex(o, h->prim, 1, when), a),
+         e2 = v3_sub(tri_vertex(o, h->prim, 2, when), a), ep = v3_sub(h->p, a);
+    double d00 = v3_dot(e1, e1), d01 = v3_dot(e1, e2), d11 = v3_dot(e2, e2), d20 = v3_dot(ep, e1), d21 = v3_dot(ep, e2);
+    double den = d00 * d11 - d01 * d01;
+    double b1 = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 0.0, b2 = den > 0.0 ? (d00 * d21 - d01 * d20) / den : 0.0;
+    static const double corner[6] = {0, 0, 1, 0, 1, 1};
+    double w[3] = {1.0 - b1 - b2, b1, b2};
+    *u = *v = 0.0;
+    for (int k = 0; k < 3; k++) {
+        const double *t = o->uv ? o->uv + 2 * (size_t)o->idx[3 * h->prim + k] : corner + 2 * k;
+        *u += w[k] * t[0];
+        *v += w[k] * t[1];
+    }
+}
+
+/* A textured object's material at the hit, in h->shade: the albedo evaluated at (u, v) and
+ * kept in [0, 1 - specular] per channel, so that the surface creates no energy. */
+static void shade_hit(const surfaces *s, surface_hit *h)
+{
+    const surface_object *o = &s->obj[h->object];
+    if (!o->mat.albedo_tex)
+        return;
+    hit_uv(s, o, h, &h->uv[0], &h->uv[1]);
+    h->shade = o->mat;
+    color a = texture_eval(o->mat.albedo_tex, h->uv[0], h->uv[1]);
+    for (int c = 0; c < 3; c++)
+        h->shade.albedo.c[c] = a.c[c] > 0.0 ? fmin(a.c[c], 1.0 - o->mat.specular.c[c]) : 0.0;
+    h->mat = &h->shade;
+}
+#endif
+
 bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surface_hit *h)
 {
     if (!s || s->n == 0)
         return false;
 #if !defined(__CUDA_ARCH__)
-    if (!s->hier.nnodes)
-        return surfaces_embree_intersect(s, r, tmin, tmax, h);
+    if (!s->hier.nnodes) {
+        bool hit = surfaces_embree_intersect(s, r, tmin, tmax, h);
+        if (hit)
+            shade_hit(s, h);
+        return hit;
+    }
 #endif
     bvh_query q = {s, r, shutter_time(s, r.time), tmin, -1, v3(0, 0, 0)};
     double t = tmax;
@@ -96,6 +149,9 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     h->mat = &s->obj[f->object].mat;
     h->media = s->obj[f->object].media;
     h->time = r.time;
+#if !defined(__CUDA_ARCH__)
+    shade_hit(s, h);
+#endif
     return true;
 }
 

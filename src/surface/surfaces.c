@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "core/lazylib.h"
 #include "surface/surfaces_impl.h"
+#include "surface/texture.h"
 
 #ifndef BRUME_EMBREE_SONAME
 #define BRUME_EMBREE_SONAME "libembree3.so.3"
@@ -74,6 +75,8 @@ void surfaces_release(surfaces *s)
         free(s->obj[i].idx);
         free(s->obj[i].mo);
         free(s->obj[i].step);
+        free(s->obj[i].uv);
+        texture_free(s->obj[i].mat.albedo_tex);
     }
     free(s->obj);
     free(s->em);
@@ -153,6 +156,31 @@ brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int
     o->nv = nv;
     o->ntri = ntri;
     s->n++;
+    return BRUME_OK;
+}
+
+const char *surfaces_textured(const surfaces *s)
+{
+    for (int i = 0; s && i < s->n; i++)
+        if (s->obj[i].mat.albedo_tex)
+            return s->obj[i].name;
+    return NULL;
+}
+
+brume_status surfaces_set_uv(surfaces *s, int index, const double *uv, int nv)
+{
+    if (s->committed || index < 0 || index >= s->n || s->obj[index].is_sphere || s->obj[index].nv != nv)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "surfaces: uv for object %d: not a mesh of %d vertices before "
+                       "commit", index, nv);
+    for (int i = 0; i < 2 * nv; i++)
+        if (!isfinite(uv[i]))
+            return err_set(BRUME_ERROR_RANGE, "surface '%s': uv of vertex %d is not finite", s->obj[index].name, i / 2);
+    double *c = malloc(sizeof *c * 2 * (size_t)nv);
+    if (!c)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "surface '%s': out of memory", s->obj[index].name);
+    memcpy(c, uv, sizeof *c * 2 * (size_t)nv);
+    free(s->obj[index].uv);
+    s->obj[index].uv = c;
     return BRUME_OK;
 }
 

@@ -59,6 +59,8 @@ static inline uint32_t surface_media_cross(surface_media m, vec3 ng, vec3 d, uin
 /* NULL when out of memory or Embree cannot start (err_set says which). */
 surfaces *surfaces_new(void);
 void surfaces_release(surfaces *s);
+/* The adds below take over m->albedo_tex on success (surfaces_release frees it); on failure
+ * the caller keeps it. */
 /* A sphere of `radius` (world units) at `center`. */
 brume_status surfaces_add_sphere(surfaces *s, vec3 center, double radius, const material *m, const char *name);
 /* A triangle mesh in world coordinates: nv vertices (x, y, z), ntri triangles of three
@@ -66,6 +68,9 @@ brume_status surfaces_add_sphere(surfaces *s, vec3 center, double radius, const 
  * must be finite and indices in range (err_set names the object). */
 brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int *idx, int ntri, const material *m,
                                const char *name);
+/* Texture coordinates (u, v) per vertex for mesh `index` of nv vertices (copied, finite).
+ * Before commit. */
+brume_status surfaces_set_uv(surfaces *s, int index, const double *uv, int nv);
 /* Gives object `index` (insertion order) a motion (copied). A sphere's keys must scale
  * uniformly. Before commit. */
 brume_status surfaces_set_motion(surfaces *s, int index, const motion *m);
@@ -80,6 +85,8 @@ void surfaces_set_media(surfaces *s, int index, surface_media m);
 bool surfaces_closed(const surfaces *s, int index);
 /* The object's name (insertion order). */
 const char *surfaces_name(const surfaces *s, int index);
+/* The name of the first object with a texture, or NULL when none has one. */
+const char *surfaces_textured(const surfaces *s);
 /* True when some object has a motion. */
 bool surfaces_moving(const surfaces *s);
 brume_status surfaces_commit(surfaces *s);
@@ -90,7 +97,9 @@ typedef struct surface_hit {
     double t;    /* ray parameter of the hit */
     vec3 p;      /* world position */
     vec3 ng;     /* unit geometric normal (front side: counter-clockwise, or outward) */
-    const material *mat;
+    const material *mat; /* the object's, or &shade when it has a texture */
+    material shade;      /* a textured object's material at this hit (CPU only) */
+    double uv[2];        /* texture coordinates at the hit (set for textured objects only) */
     int object;  /* index in insertion order */
     int prim;    /* triangle index, 0 for spheres */
     double time; /* the ray's time, absolute seconds */

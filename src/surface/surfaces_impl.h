@@ -19,6 +19,7 @@ typedef struct surface_object {
     int nv, ntri;   /* mesh */
     double *pos;    /* 3 nv, owned */
     int *idx;       /* 3 ntri, owned */
+    double *uv;     /* 2 nv texture coordinates, owned; NULL: (0, 0), (1, 0), (1, 1) per triangle */
     motion *mo;     /* owned; NULL = fixed */
     int nsteps;     /* with mo: Embree time steps over the shutter (1 = closed shutter) */
     double *step;   /* with mo: per step, 3 nv positions (mesh) or centre and radius (sphere) */
