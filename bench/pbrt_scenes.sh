@@ -1,0 +1,125 @@
+#!/bin/sh
+# pbrt_scenes.sh - pbrt-v4-scenes' media scenes rendered from their own, unmodified .pbrt
+# files by brume and, when given, by pbrt-v4 at the same size and samples.
+#
+#   sh bench/pbrt_scenes.sh PBRT_V4_SCENES_DIR [PBRT_EXE]
+#   K=8 SPP=1 SCENES="disney-cloud explosion" sh bench/pbrt_scenes.sh ~/pbrt-v4-scenes ~/pbrt-v4/build/pbrt
+#   PICTURES=docs/images sh bench/pbrt_scenes.sh ...   # also the side-by-side PNGs of docs/pbrt-scenes.md
+#
+# PBRT_V4_SCENES_DIR is a checkout of github.com/mmp/pbrt-v4-scenes (any part of it: a scene
+# whose .pbrt is absent is reported as such). Per scene:
+#   1. its folder is copied to a temporary folder, and every file the .pbrt (and what it
+#      includes) names but the copy lacks gets a stand-in (bench/pbrt_scenes_assets.py:
+#      grids by `brume gen cloud` / `brume gen fire`, boxes for meshes, a small equal-area
+#      octahedral EXR sky, grey textures, a procedural uniformgrid for smoke-plume's density
+#      include), each named on stderr;
+#   2. brume renders the .pbrt as it is, at 1/K of the film's size (--width, --height) and
+#      K^2 SPP samples a pixel (--spp); nothing else is overridden;
+#   3. with PBRT_EXE, pbrt-v4 renders the same file at the film's own size and SPP samples a
+#      pixel (--spp, --outfile: pbrt-v4 has no option for the film's size), and its image is
+#      averaged over K x K blocks: the same pixels at the same samples per pixel as brume's.
+#      `brume compare` then gives the ratio of the means (with its 95 % block-bootstrap
+#      interval) and the relative RMSE (noise of both images included);
+#   4. one line: "rendered" (times, figures) or "refused" (brume's one-line message), or
+#      "pbrt-v4 failed" (pbrt-v4's last line).
+# With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
+# and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 240 pixels wide), by the same code for
+# both so that they differ only where the renders do.
+# Env: BRUME (default build/brume), K (4), SPP (1), SCENES (all eight), THREADS (brume's and
+# pbrt-v4's threads; default all cores), KEEP=1 keeps the temporary folder.
+# Times are wall-clock on whatever else the machine runs: they are for orientation only.
+set -eu
+
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(dirname "$here")
+[ $# -ge 1 ] || { sed -n '2,30p' "$0" >&2; exit 2; }
+scenes_dir=$(cd "$1" && pwd)
+pbrt=${2:-}
+[ -z "$pbrt" ] || pbrt=$(cd "$(dirname "$pbrt")" && pwd)/$(basename "$pbrt")
+brume=${BRUME:-$root/build/brume}
+case $brume in /*) ;; *) brume=$(pwd)/$brume ;; esac
+K=${K:-4}
+SPP=${SPP:-1}
+SCENES=${SCENES:-"disney-cloud bunny-cloud clouds explosion smoke-plume dambreak0 dambreak1 crown"}
+assets="python3 $here/pbrt_scenes_assets.py"
+[ -x "$brume" ] || { echo "pbrt_scenes.sh: $brume: no brume binary (set BRUME)" >&2; exit 2; }
+if [ -n "${PICTURES:-}" ]; then
+    mkdir -p "$PICTURES"
+    PICTURES=$(cd "$PICTURES" && pwd)
+fi
+thr_b=""; thr_p=""
+if [ -n "${THREADS:-}" ]; then thr_b="--threads $THREADS"; thr_p="--nthreads $THREADS"; fi
+
+scene_file() {
+    case $1 in
+        disney-cloud) echo disney-cloud/disney-cloud.pbrt ;;
+        bunny-cloud) echo bunny-cloud/bunny-cloud.pbrt ;;
+        clouds) echo clouds/clouds.pbrt ;;
+        explosion) echo explosion/explosion.pbrt ;;
+        smoke-plume) echo smoke-plume/plume.pbrt ;;
+        dambreak0) echo dambreak/dambreak0.pbrt ;;
+        dambreak1) echo dambreak/dambreak1.pbrt ;;
+        crown) echo crown/crown.pbrt ;;
+        *) echo "$1" ;;
+    esac
+}
+
+now() { date +%s.%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", b - a }'; }
+
+tmp=$(mktemp -d /tmp/pbrt_scenes.XXXXXX)
+[ -n "${KEEP:-}" ] || trap 'rm -rf "$tmp"' EXIT INT TERM
+
+brume_rev=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "?")
+echo "# brume $brume_rev ($("$brume" --version 2>&1 | head -1)); K=$K, pbrt-v4 at SPP=$SPP spp, brume at $((K * K * SPP)) spp and 1/$K size"
+[ -z "$pbrt" ] || echo "# pbrt-v4: $pbrt ($(git -C "$(dirname "$pbrt")/.." rev-parse --short HEAD 2>/dev/null || echo "?"))"
+for name in $SCENES; do
+    rel=$(scene_file "$name")
+    folder=${rel%%/*}
+    if [ ! -f "$scenes_dir/$rel" ]; then
+        printf '%-13s absent     (%s not in %s)\n' "$name" "$rel" "$scenes_dir"
+        continue
+    fi
+    work=$tmp/$name
+    mkdir -p "$work"
+    cp -R "$scenes_dir/$folder" "$work/"
+    file=$work/$rel
+    $assets standins "$file" "$brume" 2> "$work/standins.txt" || true
+    sed "s/^/# $name: /" "$work/standins.txt" >&2
+    set -- $($assets film "$file")
+    w=$(( $1 / K )); h=$(( $2 / K ))
+    t0=$(now)
+    # shellcheck disable=SC2086
+    if (cd "$(dirname "$file")" && "$brume" render "$(basename "$file")" -q $thr_b \
+            --width "$w" --height "$h" --spp $((K * K * SPP)) -o "$work/brume.pfm") \
+            > "$work/brume.log" 2>&1; then
+        tb=$(secs "$t0" "$(now)")
+    else
+        printf '%-13s refused    %s\n' "$name" "$(grep -v '^$' "$work/brume.log" | tail -1)"
+        continue
+    fi
+    [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 240
+    if [ -z "$pbrt" ]; then
+        printf '%-13s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" $((K * K * SPP))
+        continue
+    fi
+    t0=$(now)
+    # shellcheck disable=SC2086
+    if (cd "$(dirname "$file")" && "$pbrt" --quiet $thr_p --spp "$SPP" --outfile "$work/pbrt_full.pfm" \
+            "$(basename "$file")") > "$work/pbrt.log" 2>&1; then
+        tp=$(secs "$t0" "$(now)")
+    else
+        printf '%-13s rendered   brume %5ss; pbrt-v4 failed: %s\n' "$name" "$tb" \
+            "$(grep -v '^$' "$work/pbrt.log" | tail -1)"
+        continue
+    fi
+    $assets shrink "$work/pbrt_full.pfm" "$K" "$work/pbrt.pfm"
+    [ -z "${PICTURES:-}" ] || $assets png "$work/pbrt.pfm" "$PICTURES/pbrt-$name-pbrt.png" 240
+    "$brume" compare "$work/brume.pfm" "$work/pbrt.pfm" --boot 400 > "$work/compare.txt" 2>&1 || true
+    ratio=$(awk '$1 == "frame" && $2 == "ratio" { print $3, $4, $5 }' "$work/compare.txt")
+    rel_rmse=$(awk '$1 == "rel_rmse" { print $2 }' "$work/compare.txt")
+    mean=$(awk '$1 == "mean" { print $2 }' "$work/compare.txt")
+    mean_ref=$(awk '$1 == "mean_ref" { print $2 }' "$work/compare.txt")
+    printf '%-13s rendered   brume %5ss, pbrt-v4 %5ss (%dx%d, %d spp); mean %s vs %s: ratio %s; rel_rmse %s\n' \
+        "$name" "$tb" "$tp" "$w" "$h" $((K * K * SPP)) "$mean" "$mean_ref" "$ratio" "$rel_rmse"
+done
