@@ -7,7 +7,8 @@
 #   PICTURES=docs/images sh bench/pbrt_scenes.sh ...   # also the side-by-side PNGs of docs/pbrt-scenes.md
 #
 # PBRT_V4_SCENES_DIR is a checkout of github.com/mmp/pbrt-v4-scenes (any part of it: a scene
-# whose .pbrt is absent is reported as such). Per scene:
+# whose .pbrt is absent is reported as such); SCENES may also name .pbrt files of that folder
+# (tests/pbrt_rehearsal: SCENES="fog_camera.pbrt blackbody_slab.pbrt ink_ball.pbrt"). Per scene:
 #   1. its folder is copied to a temporary folder, and every file the .pbrt (and what it
 #      includes) names but the copy lacks gets a stand-in (bench/pbrt_scenes_assets.py:
 #      grids by `brume gen cloud` / `brume gen fire`, boxes for meshes, a small equal-area
@@ -19,7 +20,8 @@
 #      pixel (--spp, --outfile: pbrt-v4 has no option for the film's size), and its image is
 #      averaged over K x K blocks: the same pixels at the same samples per pixel as brume's.
 #      `brume compare` then gives the ratio of the means (with its 95 % block-bootstrap
-#      interval) and the relative RMSE (noise of both images included);
+#      interval), the ratio of each channel's means, and the relative RMSE (the noise of
+#      both images included);
 #   4. one line: "rendered" (times, figures) or "refused" (brume's one-line message), or
 #      "pbrt-v4 failed" (pbrt-v4's last line).
 # With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
@@ -75,14 +77,14 @@ echo "# brume $brume_rev ($("$brume" --version 2>&1 | head -1)); K=$K, pbrt-v4 a
 [ -z "$pbrt" ] || echo "# pbrt-v4: $pbrt ($(git -C "$(dirname "$pbrt")/.." rev-parse --short HEAD 2>/dev/null || echo "?"))"
 for name in $SCENES; do
     rel=$(scene_file "$name")
-    folder=${rel%%/*}
+    case $rel in */*) folder=${rel%%/*} ;; *) folder=. ;; esac
     if [ ! -f "$scenes_dir/$rel" ]; then
-        printf '%-13s absent     (%s not in %s)\n' "$name" "$rel" "$scenes_dir"
+        printf '%-19s absent     (%s not in %s)\n' "$name" "$rel" "$scenes_dir"
         continue
     fi
     work=$tmp/$name
-    mkdir -p "$work"
-    cp -R "$scenes_dir/$folder" "$work/"
+    mkdir -p "$work/$folder"
+    cp -R "$scenes_dir/$folder/." "$work/$folder/"
     file=$work/$rel
     $assets standins "$file" "$brume" 2> "$work/standins.txt" || true
     sed "s/^/# $name: /" "$work/standins.txt" >&2
@@ -95,12 +97,12 @@ for name in $SCENES; do
             > "$work/brume.log" 2>&1; then
         tb=$(secs "$t0" "$(now)")
     else
-        printf '%-13s refused    %s\n' "$name" "$(grep -v '^$' "$work/brume.log" | tail -1)"
+        printf '%-19s refused    %s\n' "$name" "$(grep -v '^$' "$work/brume.log" | tail -1)"
         continue
     fi
     [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 240
     if [ -z "$pbrt" ]; then
-        printf '%-13s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" $((K * K * SPP))
+        printf '%-19s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" $((K * K * SPP))
         continue
     fi
     t0=$(now)
@@ -109,7 +111,7 @@ for name in $SCENES; do
             "$(basename "$file")") > "$work/pbrt.log" 2>&1; then
         tp=$(secs "$t0" "$(now)")
     else
-        printf '%-13s rendered   brume %5ss; pbrt-v4 failed: %s\n' "$name" "$tb" \
+        printf '%-19s rendered   brume %5ss; pbrt-v4 failed: %s\n' "$name" "$tb" \
             "$(grep -v '^$' "$work/pbrt.log" | tail -1)"
         continue
     fi
@@ -120,6 +122,7 @@ for name in $SCENES; do
     rel_rmse=$(awk '$1 == "rel_rmse" { print $2 }' "$work/compare.txt")
     mean=$(awk '$1 == "mean" { print $2 }' "$work/compare.txt")
     mean_ref=$(awk '$1 == "mean_ref" { print $2 }' "$work/compare.txt")
-    printf '%-13s rendered   brume %5ss, pbrt-v4 %5ss (%dx%d, %d spp); mean %s vs %s: ratio %s; rel_rmse %s\n' \
-        "$name" "$tb" "$tp" "$w" "$h" $((K * K * SPP)) "$mean" "$mean_ref" "$ratio" "$rel_rmse"
+    rgb=$($assets ratios "$work/brume.pfm" "$work/pbrt.pfm")
+    printf '%-19s rendered   brume %5ss, pbrt-v4 %5ss (%dx%d, %d spp); mean %s vs %s: ratio %s, r/g/b %s; rel_rmse %s\n' \
+        "$name" "$tb" "$tp" "$w" "$h" $((K * K * SPP)) "$mean" "$mean_ref" "$ratio" "$rgb" "$rel_rmse"
 done

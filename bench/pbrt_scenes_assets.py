@@ -7,6 +7,7 @@ and the image arithmetic of the comparison (standard library only: no numpy here
   pbrt_scenes_assets.py shrink IN.pfm K OUT.pfm     K x K box means (a full-size pbrt-v4
                                                     image at s spp -> K^2 s spp at 1/K size)
   pbrt_scenes_assets.py png IN.pfm OUT.png MAXW     sRGB 8-bit picture, box-shrunk to <= MAXW
+  pbrt_scenes_assets.py ratios A.pfm B.pfm          mean(A) / mean(B) per channel "r/g/b"
 
 Stand-ins are generated, never copied: grids with brume's own `gen cloud` / `gen fire`,
 meshes as boxes, skies as a small equal-area octahedral EXR (pbrt-v4's layout for image
@@ -32,6 +33,8 @@ GRID_HINTS = {
     "bunny_cloud.nvdb": ("cloud", (-25.0, -20.0, -25.0, 25.0, 20.0, 25.0)),
     # explosion: a sphere of radius 80 about (0, 40, 0) after Scale 1 1 1.6, Rotate 90 x.
     "fire.nvdb": ("fire", 50.0),
+    # tests/pbrt_rehearsal/blackbody_slab.pbrt: density 1 on 8 x 4 x 8 voxels (its test).
+    "slab.nvdb": ("slab", (-2.0, 1.0, -2.0, 2.0, 1.5, 2.0)),
 }
 
 
@@ -228,7 +231,13 @@ def standin_mesh(path, pbrt_path, line):
 def standin_grid(path, brume):
     name = os.path.basename(path)
     kind, arg = GRID_HINTS.get(name, ("cloud", (-0.5, -0.5, -0.5, 0.5, 0.5, 0.5)))
-    if kind == "fire":
+    if kind == "slab":
+        raw = path + ".raw"
+        with open(raw, "wb") as f:
+            f.write(struct.pack("<256f", *([1.0] * 256)))
+        cmd = [brume, "convert", raw, path, "--dims", "8x4x8", "--bounds", ",".join("%g" % v for v in arg)]
+        what = "brume convert of a constant 8 x 4 x 8 grid in %s" % (arg,)
+    elif kind == "fire":
         cmd = [brume, "gen", "fire", "--resolution", "64", "--height", "%g" % arg, "-o", path]
         what = "brume gen fire, height %g" % arg
     else:
@@ -364,6 +373,12 @@ def main(argv):
         if k > 1:
             w, h, rows = shrink(w, h, rows, k)
         write_png(argv[2], w, h, [[srgb8(v) for v in r] for r in rows])
+    elif len(argv) == 3 and argv[0] == "ratios":
+        means = []
+        for path in argv[1:]:
+            w, h, rows = read_pfm(path)
+            means.append([sum(sum(r[c::3]) for r in rows) / (w * h) for c in range(3)])
+        print("/".join("%.3f" % (a / b) if b > 0 else "-" for a, b in zip(*means)))
     else:
         sys.exit(__doc__)
 
