@@ -25,7 +25,7 @@
 #   4. one line: "rendered" (times, figures) or "refused" (brume's one-line message), or
 #      "pbrt-v4 failed" (pbrt-v4's last line).
 # With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
-# and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 240 pixels wide), by the same code for
+# and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 320 pixels wide), by the same code for
 # both so that they differ only where the renders do.
 # Env: BRUME (default build/brume), K (4), SPP (1), SCENES (all eight), THREADS (brume's and
 # pbrt-v4's threads; default all cores), KEEP=1 keeps the temporary folder.
@@ -100,7 +100,7 @@ for name in $SCENES; do
         printf '%-19s refused    %s\n' "$name" "$(grep -v '^$' "$work/brume.log" | tail -1)"
         continue
     fi
-    [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 240
+    [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 320
     if [ -z "$pbrt" ]; then
         printf '%-19s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" $((K * K * SPP))
         continue
@@ -116,7 +116,7 @@ for name in $SCENES; do
         continue
     fi
     $assets shrink "$work/pbrt_full.pfm" "$K" "$work/pbrt.pfm"
-    [ -z "${PICTURES:-}" ] || $assets png "$work/pbrt.pfm" "$PICTURES/pbrt-$name-pbrt.png" 240
+    [ -z "${PICTURES:-}" ] || $assets png "$work/pbrt.pfm" "$PICTURES/pbrt-$name-pbrt.png" 320
     "$brume" compare "$work/brume.pfm" "$work/pbrt.pfm" --boot 400 > "$work/compare.txt" 2>&1 || true
     ratio=$(awk '$1 == "frame" && $2 == "ratio" { print $3, $4, $5 }' "$work/compare.txt")
     rel_rmse=$(awk '$1 == "rel_rmse" { print $2 }' "$work/compare.txt")
