@@ -26,9 +26,9 @@ import zlib
 # Where a missing grid file sits in its scene, from the shape that bounds it there (the
 # .pbrt's own bounding sphere and medium transform): grid-space boxes for the stand-ins.
 GRID_HINTS = {
-    # disney-cloud: Translate -9.984 73.008 -42.64, Scale 206.544 140.4 254.592 around a
-    # unit cube; the medium's transform is the identity, so the box is in world space.
-    "wdas_cloud_quarter.nvdb": ("cloud", (-113.256, 2.808, -169.936, 93.288, 143.208, 84.656)),
+    # disney-cloud: the same cloud at 1/16 resolution, in this repository (data/README.md),
+    # in the same world frame as the quarter one.
+    "wdas_cloud_quarter.nvdb": ("convert", "data/wdas_cloud_sixteenth.vdb"),
     # bunny-cloud: a sphere of radius 45 at the origin bounds it.
     "bunny_cloud.nvdb": ("cloud", (-25.0, -20.0, -25.0, 25.0, 20.0, 25.0)),
     # explosion: a sphere of radius 80 about (0, 40, 0) after Scale 1 1 1.6, Rotate 90 x.
@@ -231,7 +231,11 @@ def standin_mesh(path, pbrt_path, line):
 def standin_grid(path, brume):
     name = os.path.basename(path)
     kind, arg = GRID_HINTS.get(name, ("cloud", (-0.5, -0.5, -0.5, 0.5, 0.5, 0.5)))
-    if kind == "slab":
+    if kind == "convert":
+        src = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), arg)
+        cmd = [brume, "convert", src, path]
+        what = "brume convert of this repository's %s" % arg
+    elif kind == "slab":
         raw = path + ".raw"
         with open(raw, "wb") as f:
             f.write(struct.pack("<256f", *([1.0] * 256)))
