@@ -23,7 +23,9 @@
 #      interval), the ratio of each channel's means, and the relative RMSE (the noise of
 #      both images included);
 #   4. one line: "rendered" (times, figures) or "refused" (brume's one-line message), or
-#      "pbrt-v4 failed" (pbrt-v4's last line).
+#      "pbrt-v4 failed" (pbrt-v4's last line). Under a refusal, where brume has --lenient,
+#      one "stops" line per construct a --lenient translation skips (what else stands in
+#      the scene's way; malformed input still ends that listing).
 # With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
 # and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 320 pixels wide), by the same code for
 # both so that they differ only where the renders do.
@@ -49,6 +51,8 @@ if [ -n "${PICTURES:-}" ]; then
     mkdir -p "$PICTURES"
     PICTURES=$(cd "$PICTURES" && pwd)
 fi
+lenient=""
+"$brume" help render 2>&1 | grep -q -- '--lenient' && lenient=1
 thr_b=""; thr_p=""
 if [ -n "${THREADS:-}" ]; then thr_b="--threads $THREADS"; thr_p="--nthreads $THREADS"; fi
 
@@ -98,6 +102,14 @@ for name in $SCENES; do
         tb=$(secs "$t0" "$(now)")
     else
         printf '%-19s refused    %s\n' "$name" "$(grep -v '^$' "$work/brume.log" | tail -1)"
+        if [ -n "$lenient" ]; then
+            # everything else brume would skip: the warnings of a translation with --lenient,
+            # and the line that ends it where the file is malformed for brume's reader
+            (cd "$(dirname "$file")" && "$brume" render "$(basename "$file")" --lenient -q \
+                --width 4 --height 4 --spp 1 -o "$work/lenient.pfm") > "$work/lenient.log" 2>&1 || true
+            sed -n 's/^brume: warning: \(.*\) (ignored: --lenient)$/\1/p; s/^brume: \([^ ]*\.pbrt:[0-9]*: .*\)$/\1/p' \
+                "$work/lenient.log" | sed "s/^/$(printf '%-19s' '') stops      /" | awk '!seen[$0]++'
+        fi
         continue
     fi
     [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 320
