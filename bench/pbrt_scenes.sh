@@ -29,7 +29,8 @@
 # With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
 # and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 320 pixels wide), by the same code for
 # both so that they differ only where the renders do.
-# Env: BRUME (default build/brume), K (4), SPP (1), SCENES (all eight), THREADS (brume's and
+# Env: BRUME (default build/brume), K (4), SPP (1), BRUME_SPP (brume's samples a pixel when
+# there is no PBRT_EXE; default K^2 SPP), SCENES (all eight), THREADS (brume's and
 # pbrt-v4's threads; default all cores), KEEP=1 keeps the temporary folder.
 # Times are wall-clock on whatever else the machine runs: they are for orientation only.
 set -eu
@@ -44,6 +45,11 @@ brume=${BRUME:-$root/build/brume}
 case $brume in /*) ;; *) brume=$(pwd)/$brume ;; esac
 K=${K:-4}
 SPP=${SPP:-1}
+bspp=$((K * K * SPP))
+if [ -n "${BRUME_SPP:-}" ]; then
+    [ -z "$pbrt" ] || { echo "pbrt_scenes.sh: BRUME_SPP is for brume alone (with pbrt-v4 both take SPP)" >&2; exit 2; }
+    bspp=$BRUME_SPP
+fi
 SCENES=${SCENES:-"disney-cloud bunny-cloud clouds explosion smoke-plume dambreak0 dambreak1 crown"}
 assets="python3 $here/pbrt_scenes_assets.py"
 [ -x "$brume" ] || { echo "pbrt_scenes.sh: $brume: no brume binary (set BRUME)" >&2; exit 2; }
@@ -77,7 +83,7 @@ tmp=$(mktemp -d /tmp/pbrt_scenes.XXXXXX)
 [ -n "${KEEP:-}" ] || trap 'rm -rf "$tmp"' EXIT INT TERM
 
 brume_rev=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "?")
-echo "# brume $brume_rev ($("$brume" --version 2>&1 | head -1)); K=$K, pbrt-v4 at SPP=$SPP spp, brume at $((K * K * SPP)) spp and 1/$K size"
+echo "# brume $brume_rev ($("$brume" --version 2>&1 | head -1)); K=$K, pbrt-v4 at SPP=$SPP spp, brume at $bspp spp and 1/$K size"
 [ -z "$pbrt" ] || echo "# pbrt-v4: $pbrt ($(git -C "$(dirname "$pbrt")/.." rev-parse --short HEAD 2>/dev/null || echo "?"))"
 for name in $SCENES; do
     rel=$(scene_file "$name")
@@ -97,7 +103,7 @@ for name in $SCENES; do
     t0=$(now)
     # shellcheck disable=SC2086
     if (cd "$(dirname "$file")" && "$brume" render "$(basename "$file")" -q $thr_b \
-            --width "$w" --height "$h" --spp $((K * K * SPP)) -o "$work/brume.pfm") \
+            --width "$w" --height "$h" --spp "$bspp" -o "$work/brume.pfm") \
             > "$work/brume.log" 2>&1; then
         tb=$(secs "$t0" "$(now)")
     else
@@ -114,7 +120,7 @@ for name in $SCENES; do
     fi
     [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 320
     if [ -z "$pbrt" ]; then
-        printf '%-19s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" $((K * K * SPP))
+        printf '%-19s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" "$bspp"
         continue
     fi
     t0=$(now)
