@@ -118,7 +118,7 @@ for name in $SCENES; do
         fi
         continue
     fi
-    [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-$name-brume.png" 320
+    [ -z "${PICTURES:-}" ] || $assets png "$work/brume.pfm" "$PICTURES/pbrt-${name%.pbrt}-brume.png" 320
     if [ -z "$pbrt" ]; then
         printf '%-19s rendered   brume %5ss (%dx%d, %d spp)\n' "$name" "$tb" "$w" "$h" "$bspp"
         continue
@@ -134,7 +134,7 @@ for name in $SCENES; do
         continue
     fi
     $assets shrink "$work/pbrt_full.pfm" "$K" "$work/pbrt.pfm"
-    [ -z "${PICTURES:-}" ] || $assets png "$work/pbrt.pfm" "$PICTURES/pbrt-$name-pbrt.png" 320
+    [ -z "${PICTURES:-}" ] || $assets png "$work/pbrt.pfm" "$PICTURES/pbrt-${name%.pbrt}-pbrt.png" 320
     "$brume" compare "$work/brume.pfm" "$work/pbrt.pfm" --boot 400 > "$work/compare.txt" 2>&1 || true
     ratio=$(awk '$1 == "frame" && $2 == "ratio" { print $3, $4, $5 }' "$work/compare.txt")
     rel_rmse=$(awk '$1 == "rel_rmse" { print $2 }' "$work/compare.txt")
