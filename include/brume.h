@@ -563,6 +563,14 @@ brume_status brume_scene_set_background_color(brume_context *ctx, brume_scene *s
  * +y), column u at azimuth 2 pi u - pi; radiance = pixel value * scale (finite, >= 0). */
 brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *scene, const brume_image *image,
                                               double scale, const double up[3]);
+/* An environment in pbrt-v4's equal-area octahedral layout, copied: a square image whose
+ * point (u, v) (u to the right, v down from the top row, both in [0, 1]) looks along pbrt-v4's
+ * EqualAreaSquareToSphere(u, v) in the map's frame; world_from_map (row-major 3 x 3, NULL: the
+ * identity) turns the map's frame into the world: a rotation, possibly with a mirror, times a
+ * uniform scale (which is divided out). Every texel covers 4 pi / texels steradians;
+ * radiance = pixel value * scale (finite, >= 0). */
+brume_status brume_scene_set_background_equal_area(brume_context *ctx, brume_scene *scene, const brume_image *image,
+                                                   double scale, const double world_from_map[9]);
 
 /* Density fields rho(x) >= 0 (unitless), made here and given to a medium. */
 typedef struct brume_density brume_density;

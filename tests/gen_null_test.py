@@ -21,6 +21,7 @@ OPTIONAL = {
     "brume_image_write": {"opts"},
     "brume_image_encode_png": {"opts"},  # issue-15's, like brume_image_write
     "brume_scene_set_background_image": {"up"},
+    "brume_scene_set_background_equal_area": {"world_from_map"},
     "brume_density_new_array": {"release", "user"},
     "brume_density_load": {"opts"},
     "brume_density_load_rgb": {"opts"},

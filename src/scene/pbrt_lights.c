@@ -13,6 +13,7 @@
 #include "io/grid_io.h"
 #include "io/json.h"
 #include "medium/blackbody.h"
+#include "scene/background.h"
 #include "scene/scene_build.h"
 #include "scene/pbrt.h"
 
@@ -106,6 +107,9 @@ void pbrt_imaging(pbrt_state *S)
         }
     for (int c = 0; c < 3; c++)
         S->background[c] *= k;
+    cJSON *sky = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(S->root, "background"), "scale");
+    if (sky)
+        cJSON_SetNumberHelper(sky, sky->valuedouble * k);
     for (cJSON *o = S->surfaces ? S->surfaces->child : NULL; o; o = o->next) {
         cJSON *e = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(o, "material"), "emission");
         for (cJSON *v = e ? e->child : NULL; v; v = v->next)
@@ -154,6 +158,131 @@ static brume_status light_spot(pbrt_state *S, params *ps, double scale)
     return BRUME_OK;
 }
 
+/* pbrt-v4's normalisation of an image sky to an illuminance E_v: its own estimate of the
+ * map's illuminance on an upward-facing (+z in the light's frame) surface, each texel of the
+ * upper half weighted by its luminance (Rec. 709's Y) times cos theta and by 2 pi / texels,
+ * as pbrt-v4's lights.cpp sums it. A texel covers 4 pi / texels steradians, so that sum is half
+ * the map's illuminance, and the map as pbrt-v4 scales it lights such a surface with 2 E_v;
+ * brume renders pbrt-v4's image, so it scales as pbrt-v4 does. */
+static double sky_illuminance_as_pbrt(const brume_image *img)
+{
+    int n = brume_image_width(img);
+    const float *rgba = brume_image_pixels(img);
+    double sum = 0.0;
+    for (int y = 0; y < n; y++)
+        for (int x = 0; x < n; x++) {
+            vec3 w = bg_equal_area_to_sphere((x + 0.5) / n, (y + 0.5) / n);
+            if (w.z <= 0.0)
+                continue;
+            const float *px = rgba + 4 * ((size_t)y * (size_t)n + (size_t)x);
+            sum += (0.212639 * (double)px[0] + 0.715169 * (double)px[1] + 0.072192 * (double)px[2]) * w.z;
+        }
+    return sum * 2.0 * PI / ((double)n * (double)n);
+}
+
+/* The sky's light-to-world: the CTM's linear part, which must turn directions rigidly (a
+ * rotation, with the reader's mirror or a Scale -1, times a uniform scale) since pbrt-v4
+ * looks the map up along the normalized inverse image of the direction. */
+static cJSON *sky_transform(pbrt_state *S)
+{
+    m4 ctm = S->a[S->depth].ctm;
+    vec3 c[3] = {pbrt_m4_vector(ctm, v3(1, 0, 0)), pbrt_m4_vector(ctm, v3(0, 1, 0)), pbrt_m4_vector(ctm, v3(0, 0, 1))};
+    double n0 = v3_length(c[0]);
+    for (int a = 0; a < 3; a++)
+        for (int b = a; b < 3; b++)
+            if (!(fabs(v3_dot(c[a], c[b]) - (a == b ? n0 * n0 : 0.0)) <= 1e-9 * n0 * n0)) {
+                pbrt_unsupported(&S->L, "LightSource \"infinite\": a transform that is not a rotation and a uniform "
+                                        "scale (pbrt-v4's sky would be distorted)");
+                return NULL;
+            }
+    ctm.m[3] = ctm.m[7] = ctm.m[11] = 0.0; /* directions: no translation */
+    bool oom;
+    cJSON *t = pbrt_transform_json(ctm, &oom);
+    if (!t)
+        err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory", S->L.file, S->L.dir_line);
+    return t;
+}
+
+/* "infinite" with "string filename": pbrt-v4's ImageInfiniteLight, a square equal-area map
+ * (a background with mapping equal_area), oriented by the CTM; its scale divided by the
+ * colour space's illuminant's luminance, so the pixel values are radiance as written. */
+static brume_status light_sky_image(pbrt_state *S, const char *file, double scale, double E_v)
+{
+    lexer *L = &S->L;
+    char abs[PATH_MAX];
+    brume_status st;
+    if ((st = pbrt_resolve_file(S, "LightSource \"infinite\": \"filename\"", file, abs)))
+        return st;
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    st = ctx ? brume_image_read(ctx, abs, &img) : BRUME_ERROR_OUT_OF_MEMORY;
+    if (st)
+        err_set(st, "%s:%d: LightSource \"infinite\": %.1000s", L->file, L->dir_line,
+                ctx ? brume_context_last_error(ctx) : "out of memory");
+    brume_context_release(ctx);
+    if (st)
+        return st;
+    int w = brume_image_width(img), h = brume_image_height(img);
+    double k_e = w == h && E_v > 0.0 ? sky_illuminance_as_pbrt(img) : 1.0;
+    brume_image_release(img);
+    if (w != h)
+        return pbrt_fail(L, "LightSource \"infinite\": %s is %d x %d pixels: pbrt-v4 reads square equal-area maps only",
+                         file, w, h);
+    if (E_v > 0.0) {
+        if (!(k_e > 0.0))
+            return pbrt_fail(L, "LightSource \"infinite\": \"illuminance\" on a map black over its upper half");
+        scale *= E_v / k_e;
+    }
+    cJSON *t = sky_transform(S);
+    if (!t)
+        return err_status();
+    cJSON *b = cJSON_CreateObject();
+    if (!b) {
+        cJSON_Delete(t);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory", L->file, L->dir_line);
+    }
+    cJSON_AddStringToObject(b, "file", abs);
+    cJSON_AddStringToObject(b, "mapping", "equal_area");
+    cJSON_AddNumberToObject(b, "scale", scale);
+    cJSON_AddItemToObject(b, "transform", t);
+    cJSON_AddItemToObject(S->root, "background", b);
+    return BRUME_OK;
+}
+
+/* "infinite": a constant sky (L, or the colour space's illuminant, of luminance 1: white) or
+ * an image; an illuminance E_v > 0 makes the constant sky's E_v / pi (the illuminance of a
+ * uniform sky of luminance 1 is pi) and scales an image as pbrt-v4 does. brume has one
+ * background: constant skies add, an image sky stands alone. */
+static brume_status light_infinite(pbrt_state *S, params *ps, double scale)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    double Lrgb[3] = {1, 1, 1}, E_v = -1.0;
+    char file[1024] = "";
+    if (pbrt_get(ps, "portal"))
+        return pbrt_unsupported(L, "LightSource \"infinite\": parameter \"portal\": not supported by brume");
+    if ((st = pbrt_get_float(L, ps, "illuminance", &E_v)) || (st = pbrt_get_string(L, ps, "filename", file, sizeof file)))
+        return st;
+    if (file[0] && pbrt_get(ps, "L"))
+        return pbrt_fail(L, "LightSource \"infinite\": both \"L\" and \"filename\" (pbrt-v4 takes one)");
+    if (!file[0] && (st = pbrt_illuminant(L, ps, "L", Lrgb)))
+        return st;
+    if ((st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
+        return st;
+    bool image_sky = cJSON_HasObjectItem(S->root, "background");
+    if (image_sky || (file[0] && S->have_background))
+        return pbrt_unsupported(L, "LightSource \"infinite\": a second infinite light with an image sky (brume has "
+                                   "one background: constant skies add, an image sky stands alone)");
+    if (file[0])
+        return light_sky_image(S, file, scale, E_v);
+    if (E_v > 0.0)
+        scale *= E_v / PI;
+    for (int c = 0; c < 3; c++) /* several constant skies add */
+        S->background[c] += Lrgb[c] * scale;
+    S->have_background = true;
+    return BRUME_OK;
+}
+
 brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
 {
     lexer *L = &S->L;
@@ -196,13 +325,10 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         if ((st = light_spot(S, ps, scale)))
             return st;
     } else if (strcmp(type, "infinite") == 0) {
-        if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_all_used(L, ps, "LightSource \"infinite\"")))
+        if ((st = light_infinite(S, ps, scale)))
             return st;
-        for (int c = 0; c < 3; c++) /* several constant skies add */
-            S->background[c] += Lrgb[c] * scale;
-        S->have_background = true;
     } else {
-        return pbrt_unsupported(L, "LightSource \"%s\": not supported by brume (distant, point, spot, infinite with L)", type);
+        return pbrt_unsupported(L, "LightSource \"%s\": not supported by brume (distant, point, spot, infinite)", type);
     }
     return BRUME_OK;
 }

@@ -421,19 +421,18 @@ brume_status brume_scene_set_background_color(brume_context *ctx, brume_scene *s
     return ctx_report(ctx, st);
 }
 
-brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s, const brume_image *image,
-                                              double scale, const double up[3])
+/* The image, checked and copied, as the background (either mapping). */
+static brume_status set_background_map(const char *fn, brume_scene *s, const brume_image *image, double scale,
+                                       bg_mapping mapping, vec3 up, frame f)
 {
-    static const char fn[] = "brume_scene_set_background_image";
-    err_clear();
-    vec3 u = v3(0, 1, 0);
-    brume_status st = build_check_scene(fn, s);
-    if (!st && !image)
+    brume_status st = BRUME_OK;
+    if (!image)
         st = build_null(fn, "image");
     if (!st)
         st = build_number(fn, "scale", scale, 0.0, BIG);
-    if (!st && up)
-        st = build_direction(fn, "up", up, &u);
+    if (!st && mapping == BG_EQUAL_AREA && image->width != image->height)
+        st = err_set(BRUME_ERROR_RANGE, "%s: image: %d x %d pixels: an equal-area map is square", fn, image->width,
+                     image->height);
     /* radiance, as a grid's density: a negative value would render negative light, and a
      * NaN or an infinity poisons every pixel that sees it (checked like grids) */
     for (size_t i = 0, n = st ? 0 : (size_t)image->width * (size_t)image->height; !st && i < n; i++)
@@ -444,17 +443,63 @@ brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s
                              fn, i % (size_t)image->width, i / (size_t)image->width, "RGB"[c], (double)v);
         }
     if (st)
-        return ctx_report(ctx, st);
+        return st;
     brume_image *copy = image_new(image->width, image->height);
     if (!copy)
-        return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn));
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
     memcpy(copy->rgba, image->rgba, sizeof *copy->rgba * 4 * (size_t)image->width * (size_t)image->height);
     brume_image_release(s->bg.img);
     s->bg.img = copy;
     s->bg.L = col(0.0);
     s->bg.scale = scale;
-    s->bg.up = u;
-    return ctx_report(ctx, BRUME_OK);
+    s->bg.mapping = mapping;
+    s->bg.up = up;
+    s->bg.f = f;
+    return BRUME_OK;
+}
+
+brume_status brume_scene_set_background_image(brume_context *ctx, brume_scene *s, const brume_image *image,
+                                              double scale, const double up[3])
+{
+    static const char fn[] = "brume_scene_set_background_image";
+    err_clear();
+    vec3 u = v3(0, 1, 0);
+    brume_status st = build_check_scene(fn, s);
+    if (!st && !image)
+        st = build_null(fn, "image");
+    if (!st && up)
+        st = build_direction(fn, "up", up, &u);
+    if (!st)
+        st = set_background_map(fn, s, image, scale, BG_LATLONG, u, frame_from_n(u));
+    return ctx_report(ctx, st);
+}
+
+brume_status brume_scene_set_background_equal_area(brume_context *ctx, brume_scene *s, const brume_image *image,
+                                                   double scale, const double world_from_map[9])
+{
+    static const char fn[] = "brume_scene_set_background_equal_area";
+    err_clear();
+    frame f = {v3(1, 0, 0), v3(0, 1, 0), v3(0, 0, 1)};
+    brume_status st = build_check_scene(fn, s);
+    if (!st && !image)
+        st = build_null(fn, "image");
+    if (!st && world_from_map) {
+        vec3 c[3];
+        for (int j = 0; j < 3; j++)
+            c[j] = v3(world_from_map[j], world_from_map[3 + j], world_from_map[6 + j]);
+        double n0 = v3_length(c[0]);
+        bool ok = isfinite(n0) && n0 > 0.0 && n0 < BIG;
+        for (int i = 0; i < 3 && ok; i++)
+            for (int j = i; j < 3 && ok; j++)
+                ok = fabs(v3_dot(c[i], c[j]) - (i == j ? n0 * n0 : 0.0)) <= 1e-6 * n0 * n0;
+        if (!ok)
+            st = err_set(BRUME_ERROR_RANGE, "%s: world_from_map: not a rotation (and mirror) times a uniform scale", fn);
+        else
+            f = (frame){v3_scale(c[0], 1.0 / n0), v3_scale(c[1], 1.0 / n0), v3_scale(c[2], 1.0 / n0)};
+    }
+    if (!st)
+        st = set_background_map(fn, s, image, scale, BG_EQUAL_AREA, v3(0, 0, 1), f);
+    return ctx_report(ctx, st);
 }
 
 /* ---- media -------------------------------------------------------------------------------- */

@@ -210,7 +210,31 @@ brume_status scene_parse_light(const cJSON *j, jloc at, brume_scene *s)
                    at.path, type);
 }
 
-/* "background": a color, or {"color": c} or {"file": "env.exr", "scale": s, "up": [...]} */
+/* background.transform: a rotation (with a mirror when a scale factor is negative) times a
+ * uniform scale, as the 3 x 3 brume_scene_set_background_equal_area takes. */
+static brume_status background_transform(const cJSON *b, jloc at, double m[9])
+{
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(b, "transform");
+    char kp[256];
+    jloc tat = {at.file, json_key_path(kp, sizeof kp, at.path, "transform")};
+    affine3 a;
+    brume_status st = json_transform(t, tat, true, &a);
+    if (st) return st;
+    if (a.m[3] != 0.0 || a.m[7] != 0.0 || a.m[11] != 0.0)
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.translate: a map of directions takes no translation", at.file, tat.path);
+    json_transform_parts parts;
+    if (t && (st = json_transform_split(t, tat, true, &parts))) return st;
+    if (t && !(fabs(parts.scale.x) == fabs(parts.scale.y) && fabs(parts.scale.x) == fabs(parts.scale.z)))
+        return err_set(BRUME_ERROR_RANGE, "%s: %s.scale: the factors must have one magnitude (a direction map)", at.file,
+                       tat.path);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            m[3 * r + c] = a.m[4 * r + c];
+    return BRUME_OK;
+}
+
+/* "background": a color, or {"color": c} or {"file": "env.exr", "scale": s, "mapping": ...,
+ * "up": [...] (lat-long) or "transform": {...} (equal-area)} */
 brume_status scene_parse_background(const cJSON *root, jloc top, brume_scene *s)
 {
     const cJSON *b = cJSON_GetObjectItemCaseSensitive(root, "background");
@@ -223,14 +247,22 @@ brume_status scene_parse_background(const cJSON *root, jloc top, brume_scene *s)
         if ((st = scene_json_color(root, top, "background", 0, BIG, L))) return st;
         return scene_json_built(brume_scene_set_background_color(NULL, s, L), at);
     }
-    static const char *const keys[] = {"color", "file", "scale", "up", NULL};
+    static const char *const keys[] = {"color", "file", "scale", "up", "mapping", "transform", NULL};
     if ((st = json_check_object(b, at, keys))) return st;
-    double scale = 1.0, up[3] = {0, 1, 0};
+    double scale = 1.0, up[3] = {0, 1, 0}, m[9];
+    char name[1024], path[2048], mapping[32] = "latlong";
+    name[0] = '\0';
     if ((st = scene_json_color(b, at, "color", 0, BIG, L))) return st;
     if ((st = json_number(b, at, "scale", 0, 0.0, BIG, &scale))) return st;
     if (cJSON_HasObjectItem(b, "up") && (st = scene_parse_unit_vector(b, at, "up", up))) return st;
-    char name[1024], path[2048];
-    name[0] = '\0';
+    if ((st = json_string(b, at, "mapping", 0, mapping, sizeof mapping))) return st;
+    bool equal_area = strcmp(mapping, "equal_area") == 0;
+    if (!equal_area && strcmp(mapping, "latlong") != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: background.mapping: '%s' (known: latlong, equal_area)", top.file, mapping);
+    if (cJSON_HasObjectItem(b, equal_area ? "up" : "transform"))
+        return err_set(BRUME_ERROR_PARSE, "%s: background.%s: not read with mapping %s (%s orients it)", top.file,
+                       equal_area ? "up" : "transform", mapping, equal_area ? "transform" : "up");
+    if (equal_area && (st = background_transform(b, at, m))) return st;
     if ((st = json_string(b, at, "file", 0, name, sizeof name))) return st;
     if (!name[0])
         return scene_json_built(brume_scene_set_background_color(NULL, s, L), at);
@@ -244,7 +276,9 @@ brume_status scene_parse_background(const cJSON *root, jloc top, brume_scene *s)
         err_set(st, "%s: background.file: %.1000s", top.file, ctx ? brume_context_last_error(ctx) : "out of memory");
     brume_context_release(ctx);
     if (st) return st;
-    st = scene_json_built(brume_scene_set_background_image(NULL, s, img, scale, up), at);
+    st = scene_json_built(equal_area ? brume_scene_set_background_equal_area(NULL, s, img, scale, m)
+                                     : brume_scene_set_background_image(NULL, s, img, scale, up),
+                          at);
     brume_image_release(img);
     return st;
 }
