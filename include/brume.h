@@ -254,6 +254,14 @@ typedef struct brume_render_settings {
     brume_sampler sampler; /* camera-sample numbers (render.sampler); default BRUME_SAMPLER_SOBOL */
     int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
                             (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
+    double max_component; /* 0 = none; else each camera sample's radiance is scaled so that the
+                             largest of its CIE X, Y, Z is at most this (pbrt-v4's Film
+                             "maxcomponentvalue" with its cie1931 sensor): a clamp, biased low,
+                             in [0, 1e30] (render.max_component) */
+    double white_balance; /* 0 = none; else kelvin in [1000, 100000]: each sample's colour is
+                             mapped from the daylight white of that temperature to D65's, as
+                             pbrt-v4's Film "whitebalance" does for its cie1931 sensor
+                             (render.white_balance) */
 } brume_render_settings;
 
 /* Parses a device name, "cpu" (-1), "cuda" (0) or "cuda:N" (N, 0 <= N < 64), into *device.

@@ -166,7 +166,7 @@ extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, 
         if (live) {
             if (path_walk_step(&w))
                 continue;
-            sample_set(&values[t], path_walk_end(&w), opaque, T);
+            sample_set(&values[t], sp, path_walk_end(&w), opaque, T);
             live = false;
         }
         t = (uint32_t)__nvvm_atom_add_gen_i((int *)next, 1);
@@ -184,7 +184,7 @@ extern "C" __global__ void brume_paths(const brume_scene *s, const void *state, 
         opaque = false;
         live = path_walk_begin(&w, s, state, r, max_depth, &g, &opaque, sidx < JOB_ALPHA_SAMPLES ? &T : NULL);
         if (!live)
-            sample_set(&values[t], path_walk_end(&w), opaque, T);
+            sample_set(&values[t], sp, path_walk_end(&w), opaque, T);
     }
 }
 

@@ -127,6 +127,8 @@ typedef struct pbrt_state {
     int far_light_line;      /* the first distant or infinite light's line (0: none) */
     char far_light[16];      /* and its type */
     double box_filter;       /* PixelFilter "box": its width in pixels (0: none given) */
+    double max_component;    /* Film "maxcomponentvalue" (0: none given) */
+    double white_balance;    /* Film "whitebalance" with the cie1931 sensor, kelvin (0: none) */
     double iso, exposure_time; /* Film "iso" and the Camera's shutterclose - shutteropen (pbrt_imaging) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;

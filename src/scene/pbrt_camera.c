@@ -125,21 +125,29 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
         /* gbuffer writes rgb's image plus layers; spectral writes spectral bands brume has not */
         if (strcmp(type, "rgb") != 0 && strcmp(type, "gbuffer") != 0)
             return pbrt_unsupported(L, "%s: brume's image is pbrt's \"rgb\" film (rgb, gbuffer)", what);
-        double x = 1280, y = 720, wb = 0.0;
+        double x = 1280, y = 720, wb = 0.0, mc = INFINITY;
         char fn[512], sensor[64] = "cie1931";
         if ((st = pbrt_get_float(L, ps, "xresolution", &x)) || (st = pbrt_get_float(L, ps, "yresolution", &y)) ||
             (st = pbrt_get_string(L, ps, "filename", fn, sizeof fn)) ||
             (st = pbrt_get_string(L, ps, "sensor", sensor, sizeof sensor)) ||
-            (st = pbrt_get_float(L, ps, "iso", &S->iso)) || (st = pbrt_get_float(L, ps, "whitebalance", &wb)))
+            (st = pbrt_get_float(L, ps, "iso", &S->iso)) || (st = pbrt_get_float(L, ps, "whitebalance", &wb)) ||
+            (st = pbrt_get_float(L, ps, "maxcomponentvalue", &mc)))
             return st;
+        /* pbrt-v4's per-sample clamp of the sensor's values (X, Y, Z with cie1931): brume's
+           render.max_component; pbrt-v4's default, infinity, is none */
+        if (!(mc > 0.0))
+            return pbrt_fail(L, "%s: parameter \"maxcomponentvalue\": %g must be > 0", what, mc);
+        S->max_component = mc <= 1e30 ? mc : 0.0;
         /* pbrt-v4's cie1931 sensor is the XYZ observer, which an RGB film turns into the colour
            space's RGB: brume's own values. Camera sensors weigh the spectrum with their own curves */
         if (strcmp(sensor, "cie1931") != 0)
             return pbrt_unsupported(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
                                        "sensor sees it; a camera's spectral response is not read", what, sensor);
-        if (wb != 0.0)
-            return pbrt_unsupported(L, "%s: parameter \"whitebalance\": %g K: pbrt-v4 adapts the image's colours from that "
-                                       "white to the colour space's, a 3 x 3 map of the image brume does not apply", what, wb);
+        /* pbrt-v4 adapts the cie1931 sensor's values from the daylight white of that temperature
+           to the colour space's: brume's render.white_balance */
+        if (!(wb == 0.0 || (wb >= 1000.0 && wb <= 1e5)))
+            return pbrt_unsupported(L, "%s: parameter \"whitebalance\": %g K: 0 (none) or in [1000, 100000]", what, wb);
+        S->white_balance = wb;
         if (!(S->iso >= 0.0 && S->iso <= 1e30))
             return pbrt_fail(L, "%s: parameter \"iso\": %g outside [0, 1e30]", what, S->iso);
         if (!(x >= 1 && x <= 65536 && y >= 1 && y <= 65536))

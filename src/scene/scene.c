@@ -83,6 +83,11 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.width: %.17g outside (0, 16]", source, rs->filter_width);
     if (rs->filter != BRUME_FILTER_BOX && rs->filter != BRUME_FILTER_GAUSSIAN)
         return err_set(BRUME_ERROR_RANGE, "%s: render.filter.type: unknown filter %d", source, (int)rs->filter);
+    if (!(rs->max_component >= 0.0 && rs->max_component <= 1e30))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.max_component: %.17g outside [0, 1e30]", source, rs->max_component);
+    if (!(rs->white_balance == 0.0 || (rs->white_balance >= 1000.0 && rs->white_balance <= 1e5)))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.white_balance: %.17g K: 0 (none) or in [1000, 100000]", source,
+                       rs->white_balance);
     if (!(rs->fps > 0.0 && rs->fps <= 1e6))
         return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %.17g outside (0, 1e6]", source, rs->fps);
     if (!(rs->time_budget >= 0.0 && rs->time_budget <= 1e9))

@@ -28,7 +28,7 @@
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", "device", NULL};
+                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", "device", "max_component", "white_balance", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
@@ -57,6 +57,8 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_number(j, at, "noise", 0, 0.0, 1.0, &rs.noise_target))) return st;
     if ((st = json_number(j, at, "time", 0, 0.0, 1e9, &rs.time_budget))) return st;
     if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
+    if ((st = json_number(j, at, "max_component", 0, 0.0, 1e30, &rs.max_component))) return st;
+    if ((st = json_number(j, at, "white_balance", 0, 0.0, 1e5, &rs.white_balance))) return st;
     char device[32] = "";
     if ((st = json_string(j, at, "device", 0, device, sizeof device))) return st;
     if (device[0] && brume_device_from_name(NULL, device, &rs.device) != BRUME_OK)

@@ -305,6 +305,10 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     cJSON_AddNumberToObject(r, "spp", S->spp);
     cJSON_AddStringToObject(r, "method", "path");
     cJSON_AddNumberToObject(r, "max_depth", S->max_depth);
+    if (S->max_component > 0.0)
+        cJSON_AddNumberToObject(r, "max_component", S->max_component);
+    if (S->white_balance > 0.0)
+        cJSON_AddNumberToObject(r, "white_balance", S->white_balance);
     if (S->box_filter > 0.0) {
         cJSON *f = cJSON_AddObjectToObject(r, "filter");
         cJSON_AddStringToObject(f, "type", "box");

@@ -1,0 +1,180 @@
+/* test_pbrt_leftovers.c - pbrt-v4's Film "maxcomponentvalue" and "whitebalance" (brume's
+ * render.max_component and render.white_balance, docs/scene-format.md and docs/pbrt.md): the
+ * clamp against pbrt-v4's RGBFilm::AddSample written out here (the largest of the sample's
+ * CIE X, Y, Z scaled to the value), on a sample and in a render; the white balance's source
+ * white against the CIE's published daylight whites, and its map taking it to D65. */
+#include "test.h"
+
+#include <math.h>
+
+#include "brume.h"
+#include "core/error.h"
+#include "io/json.h"
+#include "render/film.h"
+#include "render/sample.h"
+#include "scene/scene_pbrt.h"
+
+/* pbrt-v4's clamp with its cie1931 sensor: the sample's XYZ (from linear Rec. 709 by the
+ * standard D65 matrix) scaled by m / max(X, Y, Z) when that exceeds m. */
+static void pbrt_clamp(const double rgb[3], double m, double out[3])
+{
+    const double M[3][3] = {{0.4124564, 0.3575761, 0.1804375},
+                            {0.2126729, 0.7151522, 0.0721750},
+                            {0.0193339, 0.1191920, 0.9503041}};
+    double top = 0.0;
+    for (int i = 0; i < 3; i++)
+        top = fmax(top, M[i][0] * rgb[0] + M[i][1] * rgb[1] + M[i][2] * rgb[2]);
+    double k = top > m ? m / top : 1.0;
+    for (int c = 0; c < 3; c++)
+        out[c] = rgb[c] * k;
+}
+
+/* A sample's clamp: a grey (its Z largest), a red (its X largest), a green (its Y), one under
+ * the value (unchanged), no clamp (0), and a NaN kept for sample_set to count. */
+TEST(max_component_clamps_largest_xyz)
+{
+    const double cases[][4] = {{10, 10, 10, 5}, {8, 0.5, 0.2, 1}, {0.1, 9, 0.1, 2}, {0.3, 0.2, 0.1, 1}, {7, 7, 7, 0}};
+    for (int i = 0; i < 5; i++) {
+        double want[3];
+        pbrt_clamp(cases[i], cases[i][3] > 0 ? cases[i][3] : INFINITY, want);
+        color got = sample_clamp(col_rgb(cases[i][0], cases[i][1], cases[i][2]), cases[i][3]);
+        for (int c = 0; c < 3; c++)
+            ASSERT_NEAR(got.c[c], want[c], 1e-12 * (1 + want[c]));
+    }
+    ASSERT_NEAR(sample_clamp(col_rgb(10, 10, 10), 5).c[0], 10 * 5 / (10 * (0.0193339 + 0.1191920 + 0.9503041)), 1e-12);
+    ASSERT_TRUE(isnan(sample_clamp(col_rgb(NAN, 1, 1), 1).c[0]));
+    sample_value v;
+    sample_params sp = {.max_component = 1};
+    sample_set(&v, &sp, col_rgb(INFINITY, 1, 1), true, col(1.0));
+    ASSERT_TRUE(v.nonfinite);
+}
+
+/* Every camera sample of a sky of (3, 2, 1) is clamped before it is added: each pixel is
+ * the clamped colour, (3, 2, 1) / Y with Y = 2.1405 the largest of X, Y, Z, for
+ * render.max_component 1; and the sky as it is for a clamp above it. */
+TEST(max_component_renders_clamped_samples)
+{
+    const double sky[3] = {3, 2, 1};
+    for (int k = 0; k < 2; k++) {
+        const double m = k == 0 ? 1.0 : 2.5;
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]}, \"background\": [3, 2, 1], \"render\": {\"width\": 4, \"height\": 4, \"spp\": 4, \"max_component\": %g}}",
+                 m);
+        brume_image *img = test_render_json(json, 1);
+        double want[3];
+        pbrt_clamp(sky, m, want);
+        const float *px = brume_image_pixels(img);
+        for (int i = 0; i < 16; i++)
+            for (int c = 0; c < 3; c++)
+                ASSERT_NEAR(px[4 * i + c], want[c], 1e-6 * want[c]);
+        brume_image_release(img);
+    }
+}
+
+/* The translation of a .pbrt text; NULL and *msg set when it is refused. */
+static cJSON *translate(const char *text, char *msg, size_t cap)
+{
+    const char *path = test_tmp_path("left.pbrt");
+    test_write_file(path, text);
+    char *json = NULL;
+    msg[0] = '\0';
+    if (scene_pbrt_json(path, &json) != BRUME_OK) {
+        snprintf(msg, cap, "%s", err_message());
+        return NULL;
+    }
+    cJSON *root = cJSON_Parse(json);
+    free(json);
+    ASSERT_TRUE(root != NULL);
+    return root;
+}
+
+#define VIEW "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+
+/* Film "float maxcomponentvalue" is render.max_component; pbrt-v4's default (none) writes
+ * none; a value <= 0 is refused with the Film's line. */
+TEST(maxcomponentvalue_read_from_film)
+{
+    char msg[2048];
+    cJSON *root = translate("Film \"rgb\" \"float maxcomponentvalue\" [10]\n" VIEW "WorldBegin\n", msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *r = cJSON_GetObjectItemCaseSensitive(root, "render");
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(r, "max_component")->valuedouble, 10.0, 0);
+    cJSON_Delete(root);
+    root = translate("Film \"rgb\"\n" VIEW "WorldBegin\n", msg, sizeof msg);
+    ASSERT_TRUE(root && !cJSON_HasObjectItem(cJSON_GetObjectItemCaseSensitive(root, "render"), "max_component"));
+    cJSON_Delete(root);
+    ASSERT_TRUE(translate("Film \"rgb\"\n  \"float maxcomponentvalue\" [0]\n" VIEW "WorldBegin\n", msg, sizeof msg) ==
+                NULL);
+    ASSERT_CONTAINS(msg, "left.pbrt:1: ");
+    ASSERT_CONTAINS(msg, "\"maxcomponentvalue\"");
+}
+
+/* pbrt-v4's source white for Film "whitebalance" T (Spectra::D at T 1.4388 / 1.4380): the CIE
+ * daylight illuminants' published chromaticities, D50 (0.34567, 0.35850), D65 (0.31271,
+ * 0.32902) and D75 (0.29902, 0.31485), at their nominal 5000, 6500 and 7500 K, within 3e-4;
+ * below 4000 K the Planckian locus: CIE illuminant A (0.44757, 0.40745), Planck's law at
+ * 2856 K with c2 = 1.435e-2 m K, i.e. at 2856 x 1.4388 / 1.435 K with today's c2, within the
+ * 2.5e-3 of brume's fitted colour matching functions (docs/grids.md). */
+TEST(white_balance_source_white_is_cie_daylight)
+{
+    const double cases[4][4] = {{5000, 0.34567, 0.35850, 3e-4}, {6500, 0.31271, 0.32902, 3e-4},
+                                {7500, 0.29902, 0.31485, 3e-4}, {2856 * 1.4380 / 1.435, 0.44757, 0.40745, 2.5e-3}};
+    for (int i = 0; i < 4; i++) {
+        double xy[2];
+        film_daylight_xy(cases[i][0], xy);
+        ASSERT_NEAR(xy[0], cases[i][1], cases[i][3]);
+        ASSERT_NEAR(xy[1], cases[i][2], cases[i][3]);
+    }
+}
+
+/* The white balance takes the source white to D65: the Rec. 709 colour of the daylight white
+ * at T (luminance 1) becomes (1, 1, 1), Rec. 709's white, for T from 2500 to 20000 K; and at
+ * D65's own temperature the map is the identity within the whites' difference. */
+TEST(white_balance_maps_source_white_to_d65)
+{
+    const double ts[5] = {2500, 4000, 5000, 9000, 20000};
+    for (int i = 0; i < 5; i++) {
+        double xy[2], m[9];
+        film_daylight_xy(ts[i], xy);
+        film_white_balance(ts[i], m);
+        double X = xy[0] / xy[1], Z = (1 - xy[0] - xy[1]) / xy[1];
+        double rgb[3] = {3.2404542 * X - 1.5371385 - 0.4985314 * Z, -0.9692660 * X + 1.8760108 + 0.0415560 * Z,
+                         0.0556434 * X - 0.2040259 + 1.0572252 * Z};
+        for (int r = 0; r < 3; r++)
+            ASSERT_NEAR(m[3 * r] * rgb[0] + m[3 * r + 1] * rgb[1] + m[3 * r + 2] * rgb[2], 1.0, 1e-3);
+    }
+    double m[9];
+    film_white_balance(6500 * 1.4380 / 1.4388 * 6504.0 / 6500.0, m);
+    for (int i = 0; i < 9; i++)
+        ASSERT_NEAR(m[i], i % 4 == 0 ? 1.0 : 0.0, 3e-3);
+}
+
+/* render.white_balance maps every sample: a sky of (0.8, 0.6, 0.4) renders as the map times
+ * it; Film "whitebalance" with the cie1931 sensor is read into it. */
+TEST(white_balance_renders_and_reads_from_film)
+{
+    brume_image *img = test_render_json("{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]}, \"background\": [0.8, 0.6, 0.4],"
+                                        " \"render\": {\"width\": 4, \"height\": 4, \"spp\": 2, \"white_balance\": 3200}}",
+                                        1);
+    double m[9], sky[3] = {0.8, 0.6, 0.4};
+    film_white_balance(3200, m);
+    const float *px = brume_image_pixels(img);
+    for (int c = 0; c < 3; c++)
+        ASSERT_NEAR(px[c], m[3 * c] * sky[0] + m[3 * c + 1] * sky[1] + m[3 * c + 2] * sky[2], 1e-6);
+    ASSERT_TRUE(px[2] > 0.5 && px[0] < 0.75); /* a warm white made neutral: blue up, red down */
+    brume_image_release(img);
+    char msg[2048];
+    cJSON *root = translate("Film \"rgb\" \"string sensor\" \"cie1931\" \"float whitebalance\" [5000]\n" VIEW "WorldBegin\n",
+                            msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *r = cJSON_GetObjectItemCaseSensitive(root, "render");
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(r, "white_balance")->valuedouble, 5000, 0);
+    cJSON_Delete(root);
+}
+
+TEST_MAIN(max_component_clamps_largest_xyz, max_component_renders_clamped_samples, maxcomponentvalue_read_from_film,
+          white_balance_source_white_is_cie_daylight, white_balance_maps_source_white_to_d65,
+          white_balance_renders_and_reads_from_film)
