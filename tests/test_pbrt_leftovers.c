@@ -1,8 +1,10 @@
 /* test_pbrt_leftovers.c - pbrt-v4's Film "maxcomponentvalue" and "whitebalance" (brume's
- * render.max_component and render.white_balance, docs/scene-format.md and docs/pbrt.md): the
- * clamp against pbrt-v4's RGBFilm::AddSample written out here (the largest of the sample's
- * CIE X, Y, Z scaled to the value), on a sample and in a render; the white balance's source
- * white against the CIE's published daylight whites, and its map taking it to D65. */
+ * render.max_component and render.white_balance, docs/scene-format.md and docs/pbrt.md) and
+ * PLY meshes under mirroring transforms: the clamp against pbrt-v4's RGBFilm::AddSample
+ * written out here (the largest of the sample's CIE X, Y, Z scaled to the value), on a
+ * sample and in a render; the white balance's source white against the CIE's published
+ * daylight whites, and its map taking it to D65; a PLY triangle written by the test placed
+ * where pbrt-v4 places it, its front side pbrt-v4's geometric normal. */
 #include "test.h"
 
 #include <math.h>
@@ -12,7 +14,9 @@
 #include "io/json.h"
 #include "render/film.h"
 #include "render/sample.h"
+#include "scene/scene.h"
 #include "scene/scene_pbrt.h"
+#include "surface/surfaces.h"
 
 /* pbrt-v4's clamp with its cie1931 sensor: the sample's XYZ (from linear Rec. 709 by the
  * standard D65 matrix) scaled by m / max(X, Y, Z) when that exceeds m. */
@@ -175,6 +179,50 @@ TEST(white_balance_renders_and_reads_from_film)
     cJSON_Delete(root);
 }
 
+/* A PLY triangle (0,0,0) (1,0,0) (0,1,0), counter-clockwise seen from +z, placed by
+ * Translate 2 0 0 and Scale -1 1 1 lies at (2,0,0) (1,0,0) (2,1,0), where pbrt-v4 puts it, and
+ * faces +z: pbrt-v4's normal cross(p0 - p2, p1 - p2), negated as the transform swaps
+ * handedness. Without the mirror it lies at x in [2, 3], facing +z too; under the bare
+ * LookAt's mirrored world the mirrored triangle is the reader's (it is x -> -x of pbrt's). */
+TEST(plymesh_under_mirror_placed_and_facing_as_pbrt)
+{
+    char ply[512];
+    snprintf(ply, sizeof ply, "%s", test_tmp_path("tri.ply"));
+    test_write_file(ply, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                         "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    const char *views[3] = {VIEW, VIEW, "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"};
+    const char *scales[3] = {"Scale -1 1 1\n", "", "Scale -1 1 1\n"};
+    const double xs[3] = {1.7, 2.3, -1.7}; /* a point of the triangle where each puts it */
+    for (int k = 0; k < 3; k++) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "Film \"rgb\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n%sWorldBegin\n"
+                 "Material \"diffuse\"\nTranslate 2 0 0\n%sShape \"plymesh\" \"string filename\" \"%s\"\n",
+                 views[k], scales[k], ply);
+        const char *path = test_tmp_path("left.pbrt");
+        test_write_file(path, text);
+        brume_context *ctx = brume_context_new();
+        brume_scene *s = NULL;
+        if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
+            TEST_FAIL("view %d: %s", k, brume_context_last_error(ctx));
+        ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+        surface_hit h;
+        ray r = {v3(xs[k], 0.2, 5), v3(0, 0, -1), 0.0};
+        ASSERT_TRUE(surfaces_intersect(s->surf, r, 0.0, 100.0, &h));
+        ASSERT_NEAR(h.p.z, 0.0, 1e-5); /* Embree intersects in single precision */
+        ASSERT_NEAR(h.ng.z, 1.0, 1e-6);
+        r.o.x = -xs[k]; /* nothing at the unmirrored place */
+        ASSERT_TRUE(!surfaces_intersect(s->surf, r, 0.0, 100.0, &h));
+        brume_scene_release(s);
+        brume_context_release(ctx);
+    }
+    remove(ply);
+    remove(test_tmp_path("left.pbrt"));
+}
+
+
 TEST_MAIN(max_component_clamps_largest_xyz, max_component_renders_clamped_samples, maxcomponentvalue_read_from_film,
           white_balance_source_white_is_cie_daylight, white_balance_maps_source_white_to_d65,
-          white_balance_renders_and_reads_from_film)
+          white_balance_renders_and_reads_from_film,
+          plymesh_under_mirror_placed_and_facing_as_pbrt)

@@ -241,13 +241,11 @@ static cJSON *placed_surface(pbrt_state *S, const char *what, const char *type)
     const double *c = m.m;
     double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
                  c[2] * (c[4] * c[9] - c[5] * c[8]);
-    if (det < 0.0 && strcmp(type, "sphere") == 0) {
+    /* a mesh file is placed with the mirror, which brume's mesh builder meets by reversing
+       the winding: the front side stays the mirror image of the file's, pbrt-v4's geometric
+       normal under a transform that swaps handedness */
+    if (det < 0.0 && strcmp(type, "sphere") == 0)
         m = pbrt_m4_mul(m, pbrt_m4_scale(-1.0, 1.0, 1.0)); /* the same points: the unit sphere is its own mirror image */
-    } else if (det < 0.0) {
-        pbrt_unsupported(&S->L, "%s: a mirroring transform (brume places a mesh file with positive scales only; a pbrt view "
-                                "without \"Scale -1 1 1\" mirrors the whole world, docs/pbrt.md)", what);
-        return NULL;
-    }
     bool oom;
     cJSON *t = pbrt_transform_json(m, &oom);
     if (!t) {

@@ -261,10 +261,11 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
     bool interface = false;
     if (mj && (st = parse_interface(mj, mat, &interface))) return st;
     json_texture *tex = NULL;
-    affine3 xf;
+    affine3 xf; /* a mesh may be mirrored (negative scales): its winding is reversed with it */
     if ((st = parse_material(interface ? NULL : mj, mat, &m, &tex)) ||
         (st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
-                             (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, false, &xf)) ||
+                             (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")},
+                             strcmp(type, "mesh") == 0, &xf)) ||
         (st = add_shape(j, at, s, type, &xf, &m, name))) {
         scene_json_texture_free(tex);
         return st;
