@@ -605,6 +605,13 @@ brume_status brume_density_new_constant(brume_context *ctx, double value, const 
  * (resolution in [2, 512]) over bounds, max rho 1. */
 brume_status brume_density_new_procedural_cloud(brume_context *ctx, int resolution, uint64_t seed,
                                                 const double bounds[6], brume_density **out);
+/* pbrt-v4's procedural cloud (its "cloud" medium's density): Perlin noise of `frequency`
+ * (pbrt's default 5) perturbed by `wispiness` (1), scaled by `density` (1) and falling off
+ * with height, in [0, 1], evaluated where it is looked up over the box bounds (pbrt's p0, p1:
+ * the cloud's own space, y its height); each value in [0, 1e30]. docs/pbrt.md gives the
+ * formula. */
+brume_status brume_density_new_pbrt_cloud(brume_context *ctx, double density, double wispiness, double frequency,
+                                          const double bounds[6], brume_density **out);
 /* A NanoVDB buffer holding a float grid (copied; size in bytes), placed by its own map;
  * values multiplied by scale (> 0). */
 brume_status brume_density_new_nanovdb(brume_context *ctx, const void *buffer, size_t size,

@@ -280,7 +280,7 @@ TEST(refusals_name_file_and_line)
                    "\"Le\"");
     expect_refusal("MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"rgb sigma_s\" [1 1 1]\n", 1,
                    "no \"rgb sigma_a\" grid");
-    expect_refusal("MakeNamedMedium \"c\" \"string type\" \"cloud\"\n", 1, "type \"cloud\"");
+    expect_refusal("MakeNamedMedium \"c\" \"string type\" \"fog\"\n", 1, "type \"fog\"");
     expect_refusal("Shape \"bilinearmesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 1]\n", 1, "not planar");
     expect_refusal("Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0] \"integer indices\" [0 1 3]\n", 1,
                    "index 2: 3 is not a point");

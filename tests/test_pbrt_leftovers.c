@@ -1,16 +1,19 @@
 /* test_pbrt_leftovers.c - pbrt-v4's Film "maxcomponentvalue" and "whitebalance" (brume's
- * render.max_component and render.white_balance, docs/scene-format.md and docs/pbrt.md) and
- * PLY meshes under mirroring transforms: the clamp against pbrt-v4's RGBFilm::AddSample
- * written out here (the largest of the sample's CIE X, Y, Z scaled to the value), on a
- * sample and in a render; the white balance's source white against the CIE's published
- * daylight whites, and its map taking it to D65; a PLY triangle written by the test placed
- * where pbrt-v4 places it, its front side pbrt-v4's geometric normal. */
+ * render.max_component and render.white_balance, docs/scene-format.md and docs/pbrt.md),
+ * PLY meshes under mirroring transforms and the "cloud" medium: the clamp against pbrt-v4's
+ * RGBFilm::AddSample written out here (the largest of the sample's CIE X, Y, Z scaled to the
+ * value), on a sample and in a render; the white balance's source white against the CIE's
+ * published daylight whites, and its map taking it to D65; a PLY triangle written by the
+ * test placed where pbrt-v4 places it, its front side pbrt-v4's geometric normal; the
+ * cloud's density against pbrt-v4's CloudMedium::Density and Perlin noise written out here
+ * from pbrt-v4's source. */
 #include "test.h"
 
 #include <math.h>
 
 #include "brume.h"
 #include "core/error.h"
+#include "density/density.h"
 #include "io/json.h"
 #include "render/film.h"
 #include "render/sample.h"
@@ -222,7 +225,159 @@ TEST(plymesh_under_mirror_placed_and_facing_as_pbrt)
 }
 
 
+/* pbrt-v4's NoisePerm: Perlin's reference permutation, twice. */
+static const int NoisePerm[512] = {
+    151, 160, 137, 91, 90, 15, 131, 13, 201, 95, 96, 53, 194, 233, 7, 225, 140, 36, 103, 30, 69, 142, 8, 99, 37, 240,
+    21, 10, 23, 190, 6, 148, 247, 120, 234, 75, 0, 26, 197, 62, 94, 252, 219, 203, 117, 35, 11, 32, 57, 177, 33, 88,
+    237, 149, 56, 87, 174, 20, 125, 136, 171, 168, 68, 175, 74, 165, 71, 134, 139, 48, 27, 166, 77, 146, 158, 231, 83,
+    111, 229, 122, 60, 211, 133, 230, 220, 105, 92, 41, 55, 46, 245, 40, 244, 102, 143, 54, 65, 25, 63, 161, 1, 216,
+    80, 73, 209, 76, 132, 187, 208, 89, 18, 169, 200, 196, 135, 130, 116, 188, 159, 86, 164, 100, 109, 198, 173, 186,
+    3, 64, 52, 217, 226, 250, 124, 123, 5, 202, 38, 147, 118, 126, 255, 82, 85, 212, 207, 206, 59, 227, 47, 16, 58,
+    17, 182, 189, 28, 42, 223, 183, 170, 213, 119, 248, 152, 2, 44, 154, 163, 70, 221, 153, 101, 155, 167, 43, 172, 9,
+    129, 22, 39, 253, 19, 98, 108, 110, 79, 113, 224, 232, 178, 185, 112, 104, 218, 246, 97, 228, 251, 34, 242, 193,
+    238, 210, 144, 12, 191, 179, 162, 241, 81, 51, 145, 235, 249, 14, 239, 107, 49, 192, 214, 31, 181, 199, 106, 157,
+    184, 84, 204, 176, 115, 121, 50, 45, 127, 4, 150, 254, 138, 236, 205, 93, 222, 114, 67, 29, 24, 72, 243, 141, 128,
+    195, 78, 66, 215, 61, 156, 180, 151, 160, 137, 91, 90, 15, 131, 13, 201, 95, 96, 53, 194, 233, 7, 225, 140, 36,
+    103, 30, 69, 142, 8, 99, 37, 240, 21, 10, 23, 190, 6, 148, 247, 120, 234, 75, 0, 26, 197, 62, 94, 252, 219, 203,
+    117, 35, 11, 32, 57, 177, 33, 88, 237, 149, 56, 87, 174, 20, 125, 136, 171, 168, 68, 175, 74, 165, 71, 134, 139,
+    48, 27, 166, 77, 146, 158, 231, 83, 111, 229, 122, 60, 211, 133, 230, 220, 105, 92, 41, 55, 46, 245, 40, 244, 102,
+    143, 54, 65, 25, 63, 161, 1, 216, 80, 73, 209, 76, 132, 187, 208, 89, 18, 169, 200, 196, 135, 130, 116, 188, 159,
+    86, 164, 100, 109, 198, 173, 186, 3, 64, 52, 217, 226, 250, 124, 123, 5, 202, 38, 147, 118, 126, 255, 82, 85, 212,
+    207, 206, 59, 227, 47, 16, 58, 17, 182, 189, 28, 42, 223, 183, 170, 213, 119, 248, 152, 2, 44, 154, 163, 70, 221,
+    153, 101, 155, 167, 43, 172, 9, 129, 22, 39, 253, 19, 98, 108, 110, 79, 113, 224, 232, 178, 185, 112, 104, 218,
+    246, 97, 228, 251, 34, 242, 193, 238, 210, 144, 12, 191, 179, 162, 241, 81, 51, 145, 235, 249, 14, 239, 107, 49,
+    192, 214, 31, 181, 199, 106, 157, 184, 84, 204, 176, 115, 121, 50, 45, 127, 4, 150, 254, 138, 236, 205, 93, 222,
+    114, 67, 29, 24, 72, 243, 141, 128, 195, 78, 66, 215, 61, 156, 180};
+
+/* pbrt-v4's Grad, NoiseWeight and Noise (util/noise.cpp), as its source writes them. */
+static double Grad(int x, int y, int z, double dx, double dy, double dz)
+{
+    int h = NoisePerm[NoisePerm[NoisePerm[x] + y] + z];
+    h &= 15;
+    double u = h < 8 || h == 12 || h == 13 ? dx : dy;
+    double v = h < 4 || h == 12 || h == 13 ? dy : dz;
+    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+static double NoiseWeight(double t) { return 6 * pow(t, 5) - 15 * pow(t, 4) + 10 * pow(t, 3); }
+static double Lerp(double t, double a, double b) { return (1 - t) * a + t * b; }
+static double Noise(double x, double y, double z)
+{
+    x = fmod(x, (double)(1 << 30)), y = fmod(y, (double)(1 << 30)), z = fmod(z, (double)(1 << 30));
+    int ix = (int)floor(x), iy = (int)floor(y), iz = (int)floor(z);
+    double dx = x - ix, dy = y - iy, dz = z - iz;
+    ix &= 255, iy &= 255, iz &= 255;
+    double w000 = Grad(ix, iy, iz, dx, dy, dz), w100 = Grad(ix + 1, iy, iz, dx - 1, dy, dz);
+    double w010 = Grad(ix, iy + 1, iz, dx, dy - 1, dz), w110 = Grad(ix + 1, iy + 1, iz, dx - 1, dy - 1, dz);
+    double w001 = Grad(ix, iy, iz + 1, dx, dy, dz - 1), w101 = Grad(ix + 1, iy, iz + 1, dx - 1, dy, dz - 1);
+    double w011 = Grad(ix, iy + 1, iz + 1, dx, dy - 1, dz - 1), w111 = Grad(ix + 1, iy + 1, iz + 1, dx - 1, dy - 1, dz - 1);
+    double wx = NoiseWeight(dx), wy = NoiseWeight(dy), wz = NoiseWeight(dz);
+    double x00 = Lerp(wx, w000, w100), x10 = Lerp(wx, w010, w110), x01 = Lerp(wx, w001, w101), x11 = Lerp(wx, w011, w111);
+    return Lerp(wz, Lerp(wy, x00, x10), Lerp(wy, x01, x11));
+}
+
+/* pbrt-v4's CloudMedium::Density at p in the medium's space (DNoise: forward differences of
+ * step 0.01); the constants are pbrt-v4's floats. */
+static double cloud_density(double dens, double wispiness, double frequency, const double p[3])
+{
+    double pp[3] = {frequency * p[0], frequency * p[1], frequency * p[2]};
+    if (wispiness > 0) {
+        double vomega = (double)0.05f * wispiness, vlambda = 10;
+        for (int i = 0; i < 2; ++i) {
+            double q[3] = {vlambda * pp[0], vlambda * pp[1], vlambda * pp[2]}, delta = (double)0.01f;
+            double n = Noise(q[0], q[1], q[2]);
+            double dn[3] = {(Noise(q[0] + delta, q[1], q[2]) - n) / delta, (Noise(q[0], q[1] + delta, q[2]) - n) / delta,
+                            (Noise(q[0], q[1], q[2] + delta) - n) / delta};
+            for (int a = 0; a < 3; a++)
+                pp[a] += vomega * dn[a];
+            vomega *= 0.5;
+            vlambda *= (double)1.99f;
+        }
+    }
+    double d = 0, omega = 0.5, lambda = 1;
+    for (int i = 0; i < 5; ++i) {
+        d += omega * Noise(lambda * pp[0], lambda * pp[1], lambda * pp[2]);
+        omega *= 0.5;
+        lambda *= (double)1.99f;
+    }
+    d = fmin(1.0, fmax(0.0, (1 - p[1]) * 4.5 * dens * d));
+    d += 2 * fmax(0.0, 0.5 - p[1]);
+    return fmin(1.0, fmax(0.0, d));
+}
+
+/* brume's pbrt_cloud density, placed as pbrt's MakeNamedMedium places it (Translate, Scale
+ * through the JSON transform after the box), against pbrt-v4's Density at 400 points of the
+ * box [p0, p1] (some near y = 0.5 and 1, where the fall-off bends) and 0 outside it. */
+TEST(pbrt_cloud_density_is_pbrt)
+{
+    const double params[3][3] = {{1, 1, 5}, {3, 0, 2}, {0.5, 2.5, 7}}; /* density, wispiness, frequency */
+    for (int k = 0; k < 3; k++) {
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"camera\": {\"position\": [0, 0, 9], \"look_at\": [0, 0, 0]}, \"media\": [{\"sigma_a\": 1, \"sigma_s\": 1, \"density\": {\"type\": \"pbrt_cloud\", \"density\": %g,"
+                 " \"wispiness\": %g, \"frequency\": %g, \"bounds\": [[-1, 0, -2], [2, 1.5, 1]],"
+                 " \"transform\": {\"translate\": [5, -1, 2], \"scale\": [2, -1, 0.5]}}}]}",
+                 params[k][0], params[k][1], params[k][2]);
+        brume_scene *s = test_scene_json(json);
+        const density *d = s->media[0].rho;
+        unsigned long long h = 12345 + (unsigned long long)k;
+        int between = 0;
+        for (int i = 0; i < 400; i++) {
+            double p[3];
+            for (int a = 0; a < 3; a++) {
+                h = h * 6364136223846793005ULL + 1442695040888963407ULL;
+                p[a] = (double)(h >> 11) * 0x1.0p-53;
+            }
+            p[0] = -1 + 3 * p[0], p[1] = i % 4 == 0 ? 0.5 + 0.02 * (p[1] - 0.5) : 1.5 * p[1], p[2] = -2 + 3 * p[2];
+            vec3 w = v3(5 + 2 * p[0], -1 - p[1], 2 + 0.5 * p[2]);
+            double want = cloud_density(params[k][0], params[k][1], params[k][2], p);
+            ASSERT_NEAR(density_eval(d, w), want, 1e-9);
+            between += want > 0.05 && want < 0.95;
+        }
+        ASSERT_TRUE(between > 40); /* the noise's range, not only the clamps' 0 and 1 */
+        ASSERT_NEAR(density_eval(d, v3(5 + 2 * 2.1, -1 - 0.7, 2)), 0.0, 0); /* beyond p1.x */
+        ASSERT_NEAR(density_eval(d, v3(5, -1 + 0.1, 2)), 0.0, 0);          /* below p0.y */
+        brume_scene_release(s);
+    }
+}
+
+/* MakeNamedMedium "cloud" becomes a medium of sigma_a, sigma_s and HG g with a pbrt_cloud
+ * density of pbrt's parameters over [p0, p1], placed by the transform at the directive;
+ * pbrt-v4's cloud reads no scale or emission: those are refused by name with the line. */
+TEST(pbrt_cloud_medium_translates)
+{
+    char msg[2048];
+    cJSON *root = translate("Film \"rgb\"\n" VIEW "WorldBegin\nAttributeBegin\nTranslate 1 2 3\n"
+                            "MakeNamedMedium \"c\" \"string type\" \"cloud\" \"float density\" [2] \"float wispiness\" [0.5]\n"
+                            "  \"float frequency\" [3] \"rgb sigma_a\" [0.1 0.2 0.3] \"rgb sigma_s\" [4 5 6] \"float g\" [0.3]\n"
+                            "  \"point3 p0\" [-1 -1 -1] \"point3 p1\" [1 2 1]\n"
+                            "Material \"interface\"\nMediumInterface \"c\" \"\"\nShape \"sphere\" \"float radius\" [3]\nAttributeEnd\n",
+                            msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *m = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "media"), 0);
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(m, "density");
+    ASSERT_EQ_STR(cJSON_GetObjectItemCaseSensitive(d, "type")->valuestring, "pbrt_cloud");
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(d, "density")->valuedouble, 2, 0);
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(d, "wispiness")->valuedouble, 0.5, 0);
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(d, "frequency")->valuedouble, 3, 0);
+    ASSERT_NEAR(cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(d, "bounds"), 1), 1)->valuedouble, 2, 0);
+    ASSERT_NEAR(cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(
+                    cJSON_GetObjectItemCaseSensitive(d, "transform"), "translate"), 2)->valuedouble, 3, 1e-12);
+    ASSERT_NEAR(cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(m, "sigma_s"), 1)->valuedouble, 5, 0);
+    ASSERT_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(m, "phase"), "g")->valuedouble, 0.3, 0);
+    cJSON_Delete(root);
+    const char *bad[2] = {"\"float scale\" [2]", "\"float Lescale\" [2]"};
+    for (int i = 0; i < 2; i++) {
+        char text[512];
+        snprintf(text, sizeof text, "Film \"rgb\"\n" VIEW "WorldBegin\nMakeNamedMedium \"c\" \"string type\" \"cloud\"\n  %s\n",
+                 bad[i]);
+        ASSERT_TRUE(translate(text, msg, sizeof msg) == NULL);
+        ASSERT_CONTAINS(msg, "left.pbrt:");
+        ASSERT_CONTAINS(msg, i == 0 ? "scale" : "Lescale");
+    }
+}
+
 TEST_MAIN(max_component_clamps_largest_xyz, max_component_renders_clamped_samples, maxcomponentvalue_read_from_film,
           white_balance_source_white_is_cie_daylight, white_balance_maps_source_white_to_d65,
-          white_balance_renders_and_reads_from_film,
-          plymesh_under_mirror_placed_and_facing_as_pbrt)
+          white_balance_renders_and_reads_from_film, plymesh_under_mirror_placed_and_facing_as_pbrt,
+          pbrt_cloud_density_is_pbrt, pbrt_cloud_medium_translates)

@@ -401,7 +401,7 @@ TEST(pbrt_refuses_what_it_cannot_honour)
     expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"float power\" 3\n", "20", "parameter \"float power\"");
     expect_refusal("Scale -1 1 1\n", "LightSource \"distant\" \"spectrum L\" [400 1 700 2]\n", "20",
                    "varies with wavelength");
-    expect_refusal("Scale -1 1 1\n", "MakeNamedMedium \"f\" \"string type\" \"cloud\"\n", "20", "type \"cloud\"");
+    expect_refusal("Scale -1 1 1\n", "MakeNamedMedium \"f\" \"string type\" \"fog\"\n", "20", "type \"fog\"");
     expect_refusal("Scale -1 1 1\n", "CoordinateSystem \"c\"\n", "20", "CoordinateSystem: not supported");
     remove(test_tmp_path("pbrt-grid.nvdb"));
 }

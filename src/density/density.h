@@ -22,8 +22,15 @@
 typedef enum density_kind {
     DENSITY_GRID,   /* dense float32 voxel grid (grid.c) */
     DENSITY_NANOVDB, /* sparse float grid in a NanoVDB buffer, read through PNanoVDB (nanovdb.c) */
-    DENSITY_BLOBS    /* the mean of a sum of gaussian blobs, Stam 1994 Eq. 3 (blobs.c) */
+    DENSITY_BLOBS,   /* the mean of a sum of gaussian blobs, Stam 1994 Eq. 3 (blobs.c) */
+    DENSITY_PBRT_CLOUD /* pbrt-v4's procedural cloud, evaluated where looked up (pbrt_cloud.c) */
 } density_kind;
+
+/* pbrt-v4's CloudMedium density: its parameters, the box [p0, p1] in the cloud's own space. */
+typedef struct pbrt_cloud {
+    double density, wispiness, frequency; /* pbrt's defaults: 1, 1, 5 */
+    double p0[3], p1[3];                  /* pbrt's defaults: (0, 0, 0), (1, 1, 1) */
+} pbrt_cloud;
 
 
 
@@ -253,5 +260,12 @@ size_t density_device_put(const density *d, struct dev_arena *a);
 /* A procedural cloud for the default scene: fBm value noise (seeded) carved by an
  * ellipsoidal falloff and a threshold, sampled on an n^3 grid over `bounds`, max rho 1. */
 density *density_new_procedural_cloud(int n, uint64_t seed, box3 bounds);
+/* pbrt-v4's cloud (pbrt_cloud.c) over its box [p0, p1], placed at first with the box where
+ * it is (density_place moves it); NULL (err_set) for an empty box or an out-of-range value. */
+density *density_new_pbrt_cloud(const pbrt_cloud *c);
+/* pbrt-v4's Perlin noise (util/noise.cpp) with a permutation of 0 .. 255, and the cloud's
+ * density at p in its own space: what density_eval gives, for the tests. */
+double pbrt_noise(const unsigned char *perm, vec3 p);
+double pbrt_cloud_eval(const pbrt_cloud *c, const unsigned char *perm, vec3 p);
 
 #endif

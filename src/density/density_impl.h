@@ -63,7 +63,13 @@ struct density {
     nanovdb_state *nano;
     /* DENSITY_BLOBS: voxels are the majorant cells (mcell = 1) */
     blob_field *blobs;
+    /* DENSITY_PBRT_CLOUD: voxels are the majorant cells (mcell = 1) over the box [p0, p1] */
+    pbrt_cloud cloud;
+    unsigned char cloud_perm[256]; /* Perlin's permutation, carried by the GPU's byte copy */
 };
+
+/* pbrt_cloud.c: the cloud's density at u in voxel space */
+double pbrt_cloud_at(const density *d, vec3 u);
 
 /* Bricked voxel arrays: voxel (i, j, k) of brick (i / 4, j / 2, k / 2) sits at
  * 16 brick + (i % 4) + 4 (j % 2) + 8 (k % 2), bricks x fastest, each brick one 64-byte cache

@@ -26,6 +26,7 @@ void density_release(density *d)
         free(d->data); /* a small box's dense copy, or NULL */
         break;
     case DENSITY_BLOBS: blob_field_release(d->blobs); break;
+    case DENSITY_PBRT_CLOUD: break;
     }
     free(d->maj);
     free(d->mino);
@@ -78,6 +79,7 @@ double density_voxel(const density *d, int i, int j, int k)
     case DENSITY_GRID: return dense_at(d, i, j, k);
     case DENSITY_NANOVDB: return d->data ? dense_at(d, i, j, k) : nanovdb_voxel(d, i, j, k);
     case DENSITY_BLOBS: return blob_field_mean(d->blobs, affine3_apply(&d->v2w, v3(i + 0.5, j + 0.5, k + 0.5)));
+    case DENSITY_PBRT_CLOUD: return pbrt_cloud_at(d, v3(i + 0.5, j + 0.5, k + 0.5));
     }
     return 0.0;
 }
@@ -100,6 +102,7 @@ double density_eval(const density *d, vec3 p)
     case DENSITY_GRID: return 0.0; /* has data */
     case DENSITY_NANOVDB: return nanovdb_eval_voxel(d, u);
     case DENSITY_BLOBS: return blob_field_mean(d->blobs, p);
+    case DENSITY_PBRT_CLOUD: return pbrt_cloud_at(d, u);
     }
     return 0.0;
 }

@@ -115,6 +115,7 @@ static inline void *memset(void *d, int c, size_t n) { return __builtin_memset(d
 #include "density/dense_grid.c"
 #include "density/nanovdb.c"
 #include "density/blobs.c"
+#include "density/pbrt_cloud.c"
 #include "medium/blackbody.c"
 #include "medium/medium.c"
 #include "medium/medium_eval.c"

@@ -312,6 +312,7 @@ static const char *kind_name(density_kind k)
     case DENSITY_GRID: return "dense voxel grid";
     case DENSITY_NANOVDB: return "NanoVDB grid";
     case DENSITY_BLOBS: return "blob field";
+    case DENSITY_PBRT_CLOUD: return "pbrt cloud";
     }
     return "density";
 }

@@ -1,4 +1,4 @@
-/* pbrt_media.c - pbrt's MakeNamedMedium (homogeneous, uniformgrid, rgbgrid, nanovdb) as
+/* pbrt_media.c - pbrt's MakeNamedMedium (homogeneous, uniformgrid, rgbgrid, nanovdb, cloud) as
  * brume's media; a medium is emitted when a shape first uses it (pbrt_shapes.c). */
 #include <ctype.h>
 #include <errno.h>
@@ -360,6 +360,45 @@ static brume_status medium_rgbgrid(pbrt_state *S, const char *name, params *ps)
 
 static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps);
 
+/* "cloud": pbrt-v4's CloudMedium, sigma(p) = sigma d(p) with d its procedural density over
+ * [p0, p1] (brume's pbrt_cloud density, docs/pbrt.md), placed by the transform at
+ * MakeNamedMedium. pbrt-v4 reads no scale and no emission for it: those are refused. */
+static brume_status medium_cloud(pbrt_state *S, const char *name, params *ps)
+{
+    lexer *L = &S->L;
+    brume_status st;
+    const char *what = "MakeNamedMedium \"cloud\"";
+    double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, g = 0.0, dens = 1.0, wisp = 1.0, freq = 5.0;
+    double p0[3] = {0, 0, 0}, p1[3] = {1, 1, 1};
+    if ((st = pbrt_get_color(L, ps, "sigma_a", sa)) || (st = pbrt_get_color(L, ps, "sigma_s", ss)) ||
+        (st = pbrt_get_float(L, ps, "g", &g)) || (st = pbrt_get_float(L, ps, "density", &dens)) ||
+        (st = pbrt_get_float(L, ps, "wispiness", &wisp)) || (st = pbrt_get_float(L, ps, "frequency", &freq)) ||
+        (st = pbrt_get_point(L, ps, "p0", p0)) || (st = pbrt_get_point(L, ps, "p1", p1)) ||
+        (st = pbrt_all_used(L, ps, what)))
+        return st;
+    for (int a = 0; a < 3; a++)
+        if (!(p1[a] > p0[a]))
+            return pbrt_fail(L, "%s: p1 must exceed p0 on every axis", what);
+    if (!(dens >= 0.0 && dens <= 1e30 && wisp >= 0.0 && wisp <= 1e30 && freq >= 0.0 && freq <= 1e30))
+        return pbrt_fail(L, "%s: density, wispiness and frequency must be in [0, 1e30]", what);
+    cJSON *m = medium_new(L, name, sa, ss, 1.0, g);
+    if (!m)
+        return err_status();
+    cJSON *dj = cJSON_AddObjectToObject(m, "density");
+    cJSON_AddStringToObject(dj, "type", "pbrt_cloud");
+    cJSON_AddNumberToObject(dj, "density", dens);
+    cJSON_AddNumberToObject(dj, "wispiness", wisp);
+    cJSON_AddNumberToObject(dj, "frequency", freq);
+    cJSON *bounds = cJSON_AddArrayToObject(dj, "bounds");
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(p0, 3));
+    cJSON_AddItemToArray(bounds, cJSON_CreateDoubleArray(p1, 3));
+    if (!medium_place(S, dj, name)) {
+        cJSON_Delete(m);
+        return err_status();
+    }
+    return medium_add(S, name, m, false);
+}
+
 brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps)
 {
     char type[64] = "";
@@ -374,8 +413,10 @@ brume_status pbrt_medium_directive(pbrt_state *S, const char *name, params *ps)
         return medium_uniformgrid(S, name, ps);
     if (strcmp(type, "rgbgrid") == 0)
         return medium_rgbgrid(S, name, ps);
+    if (strcmp(type, "cloud") == 0)
+        return medium_cloud(S, name, ps);
     return pbrt_unsupported(&S->L, "MakeNamedMedium type \"%s\": not supported by brume (homogeneous, uniformgrid, rgbgrid, "
-                                   "nanovdb)", type);
+                                   "nanovdb, cloud)", type);
 }
 
 /* The nanovdb medium's emission scale: pbrt-v4 reads "Lescale", as for its other media;

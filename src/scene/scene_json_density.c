@@ -341,6 +341,38 @@ static brume_status parse_fractal_density(const cJSON *j, jloc at, const brume_s
     return scene_json_built(brume_density_new_fractal(NULL, &p, out), at);
 }
 
+/* pbrt-v4's cloud: its parameters, `bounds` its box [p0, p1], placed by `transform` after it
+ * (pbrt's renderFromMedium), as an array's bounds and transform. */
+static brume_status parse_pbrt_cloud(const cJSON *j, jloc at, brume_density **out)
+{
+    static const char *const keys[] = {"type", "density", "wispiness", "frequency", "bounds", "transform", NULL};
+    brume_status st = json_check_object(j, at, keys);
+    if (st) return st;
+    double dens = 1.0, wispiness = 1.0, frequency = 5.0, b[6] = {0, 0, 0, 1, 1, 1};
+    if ((st = json_number(j, at, "density", 0, 0.0, 1e30, &dens))) return st;
+    if ((st = json_number(j, at, "wispiness", 0, 0.0, 1e30, &wispiness))) return st;
+    if ((st = json_number(j, at, "frequency", 0, 0.0, 1e30, &frequency))) return st;
+    if ((st = parse_box(j, at, "bounds", b))) return st;
+    affine3 xf;
+    char kp[256];
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "transform");
+    if (tr && (st = json_transform(tr, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")}, true, &xf)))
+        return st;
+    if ((st = scene_json_built(brume_density_new_pbrt_cloud(NULL, dens, wispiness, frequency, b, out), at)))
+        return st;
+    if (tr) {
+        density_info info;
+        density_get_info((*out)->d, &info);
+        affine3 v2w = affine3_compose(&xf, &info.voxel_to_world);
+        if (!density_place((*out)->d, &v2w)) {
+            brume_density_release(*out);
+            *out = NULL;
+            return err_prefix("%s: %s.transform", at.file, at.path);
+        }
+    }
+    return BRUME_OK;
+}
+
 brume_status scene_parse_density(const cJSON *j, jloc at, const brume_scene *s, brume_density **out)
 {
     char type[32];
@@ -374,7 +406,10 @@ brume_status scene_parse_density(const cJSON *j, jloc at, const brume_scene *s, 
         return parse_array_density(j, at, out);
     if (strcmp(type, "fractal_cloud") == 0)
         return parse_fractal_density(j, at, s, out);
+    if (strcmp(type, "pbrt_cloud") == 0)
+        return parse_pbrt_cloud(j, at, out);
     return err_set(BRUME_ERROR_PARSE,
-                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, array, fractal_cloud, blobs)",
+                   "%s: %s.type: unknown density type '%s' (known: constant, procedural_cloud, grid, array, fractal_cloud, "
+                   "blobs, pbrt_cloud)",
                    at.file, at.path, type);
 }

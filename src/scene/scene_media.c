@@ -126,6 +126,24 @@ brume_status brume_density_new_procedural_cloud(brume_context *ctx, int resoluti
     return ctx_report(ctx, wrap(fn, density_new_procedural_cloud(resolution, seed, b), false, out));
 }
 
+brume_status brume_density_new_pbrt_cloud(brume_context *ctx, double dens, double wispiness, double frequency,
+                                          const double bounds[6], brume_density **out)
+{
+    static const char fn[] = "brume_density_new_pbrt_cloud";
+    err_clear();
+    if (!out)
+        return ctx_report(ctx, build_null(fn, "out"));
+    *out = NULL;
+    box3 b;
+    brume_status st;
+    if ((st = build_need(fn, 1, "bounds", (const void *)bounds)) || (st = build_number(fn, "density", dens, 0.0, BIG)) ||
+        (st = build_number(fn, "wispiness", wispiness, 0.0, BIG)) ||
+        (st = build_number(fn, "frequency", frequency, 0.0, BIG)) || (st = build_box(fn, "bounds", bounds, &b)))
+        return ctx_report(ctx, st);
+    pbrt_cloud c = {dens, wispiness, frequency, {b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}};
+    return ctx_report(ctx, wrap(fn, density_new_pbrt_cloud(&c), false, out));
+}
+
 brume_status brume_density_new_nanovdb(brume_context *ctx, const void *buffer, size_t size,
                                        brume_grid_filter filter, double scale, brume_density **out)
 {
