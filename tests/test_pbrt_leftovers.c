@@ -182,6 +182,30 @@ TEST(white_balance_renders_and_reads_from_film)
     cJSON_Delete(root);
 }
 
+/* pbrt-v4's "power" on point and spot lights: I scale phi_v / k_e, k_e = 4 pi for a point and
+ * 2 pi ((1 - cos start) + (cos start - cos end) / 2) for a spot (its falloff counted half),
+ * start = coneangle - conedeltaangle and end = coneangle; I of luminance 1 (rgb is read as
+ * it is). */
+TEST(point_and_spot_power_as_pbrt)
+{
+    char msg[2048];
+    cJSON *root = translate("Film \"rgb\"\n" VIEW "WorldBegin\n"
+                            "LightSource \"point\" \"rgb I\" [1 2 3] \"float power\" [100] \"float scale\" [2]\n"
+                            "LightSource \"spot\" \"rgb I\" [1 1 1] \"float power\" [50] \"float coneangle\" [40]"
+                            " \"float conedeltaangle\" [10]\n",
+                            msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    const cJSON *Ip = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(lights, 0), "intensity");
+    const cJSON *Is = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(lights, 1), "intensity");
+    for (int c = 0; c < 3; c++)
+        ASSERT_NEAR(cJSON_GetArrayItem(Ip, c)->valuedouble, (c + 1) * 2 * 100 / (4 * PI), 1e-9);
+    const double d2r = PI / 180, cs = cos(30 * d2r), ce = cos(40 * d2r);
+    ASSERT_NEAR(cJSON_GetArrayItem(Is, 1)->valuedouble, 50 / (2 * PI * ((1 - cs) + (cs - ce) / 2)), 1e-9);
+    cJSON_Delete(root);
+}
+
 /* A PLY triangle (0,0,0) (1,0,0) (0,1,0), counter-clockwise seen from +z, placed by
  * Translate 2 0 0 and Scale -1 1 1 lies at (2,0,0) (1,0,0) (2,1,0), where pbrt-v4 puts it, and
  * faces +z: pbrt-v4's normal cross(p0 - p2, p1 - p2), negated as the transform swaps
@@ -379,5 +403,6 @@ TEST(pbrt_cloud_medium_translates)
 
 TEST_MAIN(max_component_clamps_largest_xyz, max_component_renders_clamped_samples, maxcomponentvalue_read_from_film,
           white_balance_source_white_is_cie_daylight, white_balance_maps_source_white_to_d65,
-          white_balance_renders_and_reads_from_film, plymesh_under_mirror_placed_and_facing_as_pbrt,
+          white_balance_renders_and_reads_from_film, point_and_spot_power_as_pbrt,
+          plymesh_under_mirror_placed_and_facing_as_pbrt,
           pbrt_cloud_density_is_pbrt, pbrt_cloud_medium_translates)

@@ -126,13 +126,18 @@ static brume_status light_spot(pbrt_state *S, params *ps, double scale)
 {
     lexer *L = &S->L;
     brume_status st;
-    double I[3] = {1, 1, 1}, from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, cone = 30.0, delta = 5.0;
+    double I[3] = {1, 1, 1}, from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, cone = 30.0, delta = 5.0, phi_v = -1.0;
     if ((st = pbrt_illuminant(L, ps, "I", I)) || (st = pbrt_get_point(L, ps, "from", from)) ||
         (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_get_float(L, ps, "coneangle", &cone)) ||
-        (st = pbrt_get_float(L, ps, "conedeltaangle", &delta)) || (st = pbrt_all_used(L, ps, "LightSource \"spot\"")))
+        (st = pbrt_get_float(L, ps, "conedeltaangle", &delta)) || (st = pbrt_get_float(L, ps, "power", &phi_v)) ||
+        (st = pbrt_all_used(L, ps, "LightSource \"spot\"")))
         return st;
     if (!(cone >= 0.01 && cone <= 180.0 && delta >= 0.0 && delta <= cone))
         return pbrt_fail(L, "LightSource \"spot\": need coneangle in [0.01, 180] and conedeltaangle in [0, coneangle]");
+    if (phi_v > 0.0) { /* pbrt-v4: the power over the cone, its falloff counted half */
+        double cos_end = cos(cone * PI / 180.0), cos_start = cos((cone - delta) * PI / 180.0);
+        scale *= phi_v / (2.0 * PI * ((1.0 - cos_start) + (cos_start - cos_end) / 2.0));
+    }
     m4 ctm = S->a[S->depth].ctm;
     vec3 c[3] = {pbrt_m4_vector(ctm, v3(1, 0, 0)), pbrt_m4_vector(ctm, v3(0, 1, 0)), pbrt_m4_vector(ctm, v3(0, 0, 1))};
     double n0 = v3_length(c[0]);
@@ -310,10 +315,12 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         cJSON_AddItemToObject(l, "irradiance", cJSON_CreateDoubleArray(E, 3));
         cJSON_AddItemToArray(S->lights, l);
     } else if (strcmp(type, "point") == 0) {
-        double from[3] = {0, 0, 0};
+        double from[3] = {0, 0, 0}, phi_v = -1.0;
         if ((st = pbrt_illuminant(L, ps, "I", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
-            (st = pbrt_all_used(L, ps, "LightSource \"point\"")))
+            (st = pbrt_get_float(L, ps, "power", &phi_v)) || (st = pbrt_all_used(L, ps, "LightSource \"point\"")))
             return st;
+        if (phi_v > 0.0) /* pbrt-v4: a power phi_v > 0 spread over the sphere, I being of luminance 1 */
+            scale *= phi_v / (4.0 * PI);
         vec3 p = pbrt_m4_point(ctm, v3(from[0], from[1], from[2]));
         cJSON *l = cJSON_CreateObject();
         double pv[3] = {p.x, p.y, p.z}, I[3] = {Lrgb[0] * scale, Lrgb[1] * scale, Lrgb[2] * scale};
