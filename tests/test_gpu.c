@@ -255,6 +255,37 @@ TEST(device_copy_blobs_kernel_table)
     remove(path);
 }
 
+
+/* pbrt-v4's cloud (its permutation carried inside the density) and an equal-area sky turned
+ * and mirrored (its frame and mapping inside the background), as the GPU's copy has them. */
+TEST(device_copy_pbrt_cloud_and_equal_area_sky)
+{
+    char env[512];
+    snprintf(env, sizeof env, "%s", test_tmp_path("sky.pfm"));
+    {
+        FILE *f = fopen(env, "wb");
+        ASSERT_TRUE(f != NULL);
+        fprintf(f, "PF\n8 8\n-1\n");
+        for (int i = 0; i < 8 * 8 * 3; i++) {
+            float v = 0.1f + 0.3f * (float)(i % 5);
+            fwrite(&v, sizeof v, 1, f);
+        }
+        fclose(f);
+    }
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 30},"
+             " \"background\": {\"file\": \"%s\", \"mapping\": \"equal_area\","
+             "   \"transform\": {\"rotate\": {\"axis\": [1, 0, 0], \"angle\": -90}, \"scale\": [-1, 1, 1]}},"
+             " \"media\": [{\"sigma_a\": 0.2, \"sigma_s\": 5.0,"
+             "   \"density\": {\"type\": \"pbrt_cloud\", \"bounds\": [[-1, -1, -1], [1, 1, 1]]},"
+             "   \"phase\": {\"type\": \"hg\", \"g\": 0.6}}],"
+             " \"render\": {\"max_depth\": 32}}",
+             env);
+    copy_renders_the_same(json, 400);
+    remove(env);
+}
+
 /* A triangle soup, a box, spheres and moving objects: brume's hierarchy (the GPU's) and
  * Embree (the CPU's) agree on the nearest hit (object, primitive, distance and normal) and on
  * occlusion, ray for ray. Embree intersects in single precision and brume's hierarchy in
@@ -426,4 +457,5 @@ TEST(device_without_driver)
 
 TEST_MAIN(device_math_against_libm, device_copy_dense_media, device_copy_nanovdb_and_environment,
           device_copy_surfaces, device_copy_blobs, device_copy_blobs_kernel_table, bvh_matches_embree,
-          device_copy_velocity_blur, device_refuses_with_one_line, device_without_driver)
+          device_copy_velocity_blur, device_refuses_with_one_line, device_without_driver,
+          device_copy_pbrt_cloud_and_equal_area_sky)
