@@ -318,7 +318,8 @@ static void ratio_row(size_t task, int thread, void *user)
                 den += DENOISE_NOISE * lum_var(j->v + 3 * q);
             }
         }
-        /* a filter cannot add variance: below 1 is the estimate's own noise */
+        /* the weights are positive, so the covariances the carried variance leaves out are
+         * too: a ratio below 1 is the estimate's own noise */
         rj->ratio[(size_t)y * (size_t)w + (size_t)x] = den > 0.0 ? (float)fmax(1.0, num / den) : 1.0f;
     }
 }
