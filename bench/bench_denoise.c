@@ -20,7 +20,11 @@
  *   bench_denoise [SECONDS [REFERENCE_SPP [SCENES]]]   (default 5 and 1024; references cached in
  *                   the working folder as denoise-ref-NAME-SPP.exr; run from the build
  *                   folder of a checkout (the scenes read the grids in data/), or set
- *                   BRUME_SCENES to the scenes folder) */
+ *                   BRUME_SCENES to the scenes folder)
+ *   bench_denoise IMAGE.exr [RUNS [THREADS]]   (the denoiser alone on a render with its layers:
+ *                   CPU and wall seconds of each of RUNS calls (default 5) on THREADS threads
+ *                   (default 1: the CPU time of one thread is the figure that a loaded machine
+ *                   disturbs least), and their minimum) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -123,8 +127,39 @@ static void bias(const brume_image *img, const brume_image *ref, double *whole, 
         }
 }
 
+/* The denoiser alone: `runs` calls of brume_denoise on the image at path, timed. */
+static int time_denoiser(const char *path, int runs, int threads)
+{
+    brume_context *ctx = brume_context_new();
+    brume_image *in = NULL;
+    if (brume_image_read(ctx, path, &in) != BRUME_OK)
+        die(ctx, path);
+    bench_machine();
+    printf("brume_denoise of %s (%d x %d), %d thread(s)\n", path, brume_image_width(in), brume_image_height(in),
+           threads);
+    double best_cpu = 1e30, best_wall = 1e30;
+    for (int i = 0; i < runs; i++) {
+        brume_image *out = NULL;
+        clock_t c0 = clock();
+        double t0 = now();
+        if (brume_denoise(ctx, in, threads, &out) != BRUME_OK)
+            die(ctx, "brume_denoise");
+        double wall = now() - t0, cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;
+        printf("run %d: %.3f CPU s, %.3f s wall\n", i + 1, cpu, wall);
+        best_cpu = fmin(best_cpu, cpu);
+        best_wall = fmin(best_wall, wall);
+        brume_image_release(out);
+    }
+    printf("minimum: %.3f CPU s, %.3f s wall\n", best_cpu, best_wall);
+    brume_image_release(in);
+    brume_context_release(ctx);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && strstr(argv[1], ".exr"))
+        return time_denoiser(argv[1], argc > 2 ? atoi(argv[2]) : 5, argc > 3 ? atoi(argv[3]) : 1);
     double seconds = argc > 1 ? atof(argv[1]) : 5.0;
     int ref_spp = argc > 2 ? atoi(argv[2]) : 1024;
     const char *dir = getenv("BRUME_SCENES") ? getenv("BRUME_SCENES") : "../scenes";

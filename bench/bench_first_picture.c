@@ -1,7 +1,7 @@
 /* bench_first_picture.c - the error of a picture of the default scene against a converged
  * reference, as bench/first_picture.sh measures `make render`'s 15-second picture.
  *
- *   bench_first_picture REFERENCE.exr IMAGE.exr...
+ *   bench_first_picture [--mean] REFERENCE.exr IMAGE.exr...
  *
  * REFERENCE is a long render with the "variance" and "depth" layers (first_picture.sh makes
  * it); each IMAGE an EXR of brume render, denoised or not (a denoised one is measured twice:
@@ -16,8 +16,15 @@
  *
  * V_ref is the reference's own variance of L (from its variance layer, the channels taken as
  * fully correlated: an upper bound), subtracted so that a finite reference does not inflate
- * the figures; each figure is then the error against the converged picture. */
+ * the figures; each figure is then the error against the converged picture.
+ *
+ * --mean: the IMAGEs are renders of the same samples per pixel with different seeds; the
+ * figures of their mean follow, and the split of the block error that they give: the noise
+ * is independent between the seeds and the bias is not, so with N images of block errors e_i
+ * and their mean's e_m, noise^2 = (mean e_i^2 - e_m^2) N / (N - 1) and bias^2 = e_m^2 -
+ * noise^2 / N. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -99,10 +106,69 @@ static void print(const char *name, const char *what, figures f)
            100.0 * f.mean);
 }
 
+/* The images measured so far, for --mean: their pixels' sums (denoised or plain RGBA, and
+ * their raw layers) and the sums of their squared block errors. */
+typedef struct tally {
+    const brume_image *ref;
+    const float *var;
+    const unsigned char *mask;
+    float *sum, *sum_raw;
+    double block2, block2_raw;
+    int n;
+    bool raws; /* every image so far had a raw layer */
+} tally;
+
+/* Measures and prints the image at path, and adds it to t; 0, or 1 when it cannot be read. */
+static int measure_file(brume_context *ctx, const char *path, tally *t)
+{
+    const int w = brume_image_width(t->ref), h = brume_image_height(t->ref);
+    brume_image *img = NULL;
+    if (brume_image_read(ctx, path, &img) != BRUME_OK || brume_image_width(img) != w || brume_image_height(img) != h) {
+        fprintf(stderr, "bench_first_picture: %s: %s\n", path, img ? "not the reference's size" : brume_context_last_error(ctx));
+        brume_image_release(img);
+        return 1;
+    }
+    const float *raw = layer(img, "raw", 3), *px = brume_image_pixels(img);
+    figures f = measure(t->ref, t->var, t->mask, px, 4);
+    print(path, raw ? "denoised" : "image", f);
+    t->block2 += f.block * f.block;
+    if (raw) {
+        figures fr = measure(t->ref, t->var, t->mask, raw, 3);
+        print(path, "raw", fr);
+        t->block2_raw += fr.block * fr.block;
+    }
+    t->raws = t->raws && raw;
+    for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
+        for (size_t c = 0; c < 3; c++) {
+            t->sum[4 * p + c] += px[4 * p + c];
+            t->sum_raw[3 * p + c] += raw ? raw[3 * p + c] : 0.0f;
+        }
+    t->n++;
+    brume_image_release(img);
+    return 0;
+}
+
+/* The mean's figures and the block error's split into noise and bias (--mean). */
+static void print_split(const tally *t, const char *what, const float *mean, size_t step, double sum_block2)
+{
+    figures f = measure(t->ref, t->var, t->mask, mean, step);
+    print("the mean of the images", what, f);
+    const int n = t->n;
+    double e2 = sum_block2 / n, m2 = f.block * f.block;
+    double noise2 = fmax(0.0, (e2 - m2) * n / (n - 1.0)), bias2 = fmax(0.0, m2 - noise2 / n);
+    printf("%-40s %-8s block error of one image: noise %6.3f %%, bias %6.3f %%\n", "", what, 100.0 * sqrt(noise2),
+           100.0 * sqrt(bias2));
+}
+
 int main(int argc, char **argv)
 {
+    const bool mean = argc > 1 && strcmp(argv[1], "--mean") == 0;
+    if (mean) {
+        argv++;
+        argc--;
+    }
     if (argc < 3) {
-        fprintf(stderr, "usage: bench_first_picture REFERENCE.exr IMAGE.exr...\n");
+        fprintf(stderr, "usage: bench_first_picture [--mean] REFERENCE.exr IMAGE.exr...\n");
         return 2;
     }
     brume_context *ctx = brume_context_new();
@@ -118,33 +184,33 @@ int main(int argc, char **argv)
         return 1;
     }
     const int w = brume_image_width(ref), h = brume_image_height(ref);
-    unsigned char *mask = malloc((size_t)w * (size_t)h);
-    if (!mask)
+    const size_t npix = (size_t)w * (size_t)h;
+    unsigned char *mask = malloc(npix);
+    tally t = {ref, var, mask, calloc(npix * 4, sizeof(float)), calloc(npix * 3, sizeof(float)), 0.0, 0.0, 0, true};
+    if (!mask || !t.sum || !t.sum_raw)
         return 1;
     size_t region = 0;
-    for (size_t p = 0; p < (size_t)w * (size_t)h; p++) {
+    for (size_t p = 0; p < npix; p++) {
         mask[p] = isfinite(depth[p]) && depth[p] > 0.0f;
         region += mask[p];
     }
     printf("reference %s: %d x %d, %zu pixels not sky (%.1f %%)\n", argv[1], w, h, region,
            100.0 * (double)region / ((double)w * h));
     int rc = 0;
-    for (int i = 2; i < argc; i++) {
-        brume_image *img = NULL;
-        if (brume_image_read(ctx, argv[i], &img) != BRUME_OK || brume_image_width(img) != w ||
-            brume_image_height(img) != h) {
-            fprintf(stderr, "bench_first_picture: %s: %s\n", argv[i],
-                    img ? "not the reference's size" : brume_context_last_error(ctx));
-            brume_image_release(img);
-            rc = 1;
-            continue;
-        }
-        const float *raw = layer(img, "raw", 3);
-        print(argv[i], raw ? "denoised" : "image", measure(ref, var, mask, brume_image_pixels(img), 4));
-        if (raw)
-            print(argv[i], "raw", measure(ref, var, mask, raw, 3));
-        brume_image_release(img);
+    for (int i = 2; i < argc; i++)
+        rc |= measure_file(ctx, argv[i], &t);
+    if (mean && t.n > 1) {
+        for (size_t p = 0; p < npix; p++)
+            for (size_t c = 0; c < 3; c++) {
+                t.sum[4 * p + c] /= (float)t.n;
+                t.sum_raw[3 * p + c] /= (float)t.n;
+            }
+        print_split(&t, t.raws ? "denoised" : "image", t.sum, 4, t.block2);
+        if (t.raws)
+            print_split(&t, "raw", t.sum_raw, 3, t.block2_raw);
     }
+    free(t.sum);
+    free(t.sum_raw);
     free(mask);
     brume_image_release(ref);
     brume_context_release(ctx);

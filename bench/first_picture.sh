@@ -4,9 +4,12 @@
 # at a fixed spp (independent of the machine's load).
 #
 #   sh bench/first_picture.sh [BUILD_DIR]
-#   SPP="17 28" sh bench/first_picture.sh       # the fixed spp (default 17 and 28: what 15 s gave
+#   SPP="17 27" sh bench/first_picture.sh       # the fixed spp (default 17 and 27: what 15 s gave
 #                                                # on 2 loaded and 2 quiet cores, issue 49)
 #   TIME=0 sh bench/first_picture.sh            # the fixed spp only
+#   SEEDS="1 2" sh bench/first_picture.sh       # each fixed spp with these seeds (default 1); with
+#                                                # two or more, the figures of their mean too, and
+#                                                # the block error split into noise and bias
 #   REF=/tmp/first-picture-ref.exr              # the reference (default); made when missing:
 #                                                # 1024 spp, seed 1001, no noise target, with the
 #                                                # variance and depth layers (about 1.6 CPU s per
@@ -23,7 +26,8 @@ set -eu
 BUILD=${1:-build}
 REF=${REF:-/tmp/first-picture-ref.exr}
 OUT=${OUT:-/tmp/first-picture}
-SPP=${SPP:-17 28}
+SPP=${SPP:-17 27}
+SEEDS=${SEEDS:-1}
 TIME=${TIME:-15}
 REF_SPP=${REF_SPP:-1024}
 BRUME=$BUILD/brume
@@ -44,10 +48,21 @@ if [ "$TIME" != 0 ]; then
     IMAGES="$OUT/time$TIME.exr"
 fi
 for n in $SPP; do
-    /usr/bin/time -f "spp $n: %U s user, %S s system, %e s wall" \
-        "$BRUME" render --spp "$n" --set render.noise=0 --denoise --quiet -o "$OUT/spp$n.exr"
-    IMAGES="$IMAGES $OUT/spp$n.exr"
+    for s in $SEEDS; do
+        /usr/bin/time -f "spp $n, seed $s: %U s user, %S s system, %e s wall" \
+            "$BRUME" render --spp "$n" --seed "$s" --set render.noise=0 --denoise --quiet -o "$OUT/spp$n-seed$s.exr"
+    done
 done
 echo "load: $(cat /proc/loadavg)"
-# shellcheck disable=SC2086
-"$CMP" "$REF" $IMAGES
+if [ -n "$IMAGES" ]; then
+    # shellcheck disable=SC2086
+    "$CMP" "$REF" $IMAGES
+fi
+for n in $SPP; do
+    SAME=""
+    for s in $SEEDS; do
+        SAME="$SAME $OUT/spp$n-seed$s.exr"
+    done
+    # shellcheck disable=SC2086
+    "$CMP" --mean "$REF" $SAME
+done

@@ -1256,7 +1256,7 @@ brume_status brume_image_check_values(brume_context *ctx, const brume_image *ima
 brume_status brume_denoise(brume_context *ctx, const brume_image *in, int threads, brume_image **out);
 /* Bytes brume_denoise allocates for a width x height image whose layers hold layer_channels
  * channels in all (depth and samples 1 each, variance, albedo and normal 3 each): its output
- * and its working buffers, (7 + layer_channels) floats and 12 doubles a pixel; 0 for a side
+ * and its working buffers, (12 + layer_channels) floats and 12 doubles a pixel; 0 for a side
  * <= 0. brume_denoise refuses (BRUME_ERROR_OUT_OF_MEMORY, one line) an image whose figure is
  * over the default memory limit (render.max_memory_mb's 4096 MiB) before allocating;
  * `brume render --denoise` checks it against the scene's render.max_memory_mb before

@@ -325,16 +325,17 @@ TEST(ctrl_c_during_denoise_command)
 }
 
 /* brume_denoise_memory by hand: a 100 x 50 image with the four layers --denoise asks for
- * (10 channels) takes (4 + 10 + 3) floats of output and 12 doubles of buffers a pixel. */
+ * (10 channels) takes (4 + 10 + 3) floats of output, 12 doubles of buffers and 5 floats of
+ * noise and variance ratio a pixel. */
 TEST(denoise_memory_figure)
 {
-    ASSERT_EQ_INT(brume_denoise_memory(100, 50, 10), 5000 * (17 * 4 + 12 * 8));
+    ASSERT_EQ_INT(brume_denoise_memory(100, 50, 10), 5000 * (22 * 4 + 12 * 8));
     ASSERT_EQ_INT(brume_denoise_memory(0, 50, 10), 0);
 }
 
 /* render.max_memory_mb of 22 MiB holds a 400 x 300 film (177 bytes a pixel with the
- * denoiser's layers: 20.3 MiB) but not the denoiser's 164 bytes a pixel with the 56 of the
- * image it reads (25.2 MiB): refused in one line naming the limit, before rendering, nothing
+ * denoiser's layers: 20.3 MiB) but not the denoiser's 184 bytes a pixel with the 56 of the
+ * image it reads (27.5 MiB): refused in one line naming the limit, before rendering, nothing
  * written; with 32 MiB the same render is denoised. */
 TEST(denoise_counts_against_max_memory)
 {
@@ -351,7 +352,7 @@ TEST(denoise_counts_against_max_memory)
     char *msg = test_slurp(err, &n);
     fprintf(stderr, "stderr: %s", msg);
     ASSERT_CONTAINS(msg, "render.max_memory_mb");
-    ASSERT_CONTAINS(msg, "25.2 MiB");
+    ASSERT_CONTAINS(msg, "27.5 MiB");
     ASSERT_TRUE(n > 0 && strchr(msg, '\n') == msg + n - 1);
     free(msg);
     ASSERT_TRUE(!test_exists(out) && !test_exists(raw));

@@ -18,6 +18,10 @@
  *                (o over the 3 x 3 patch's offsets, spaced 2^i as the level's taps)
  *     w_feature = exp(-|f_p - f_q|^2 / sigma_f^2)   (depth: relative to the larger depth)
  *
+ * At the last level v in w_colour is the true variance of the level's input: the carried one
+ * times the ratio measured on synthetic noise that went through the same weights (a function
+ * of the pixel index alone; denoise_levels).
+ *
  * Every output pixel is a fixed sum over the level's input, in one order, written to a
  * separate buffer: the result is the same bits whatever the number of threads.
  * docs/denoise.md gives the measured error and bias. */
@@ -35,7 +39,7 @@
 #include "core/pool.h"
 #include "image/image.h"
 
-#define DENOISE_LEVELS 5 /* kernel footprint 1 + 4 (2^5 - 1) = 125 pixels */
+#define DENOISE_LEVELS 6 /* kernel footprint 1 + 4 (2^6 - 1) = 253 pixels */
 #define DENOISE_K 2.0    /* colour weight: a mean difference of k standard deviations over the
                             patch costs e^-1 (the default scene at 17 spp, sigma_albedo 0.3: k = 2
                             left 1.63 % error per pixel, k = 3 1.69 %, k = 1.5 1.72 %;
@@ -46,12 +50,19 @@
                                     1.49 % (docs/denoise.md) */
 #define DENOISE_SIGMA_NORMAL 0.3 /* |n_p - n_q|: 0.3 is about 17 degrees */
 #define DENOISE_SIGMA_DEPTH 0.3  /* relative depth difference; loose, as a medium's first collision is random */
+#define DENOISE_NOISE 2 /* realisations of synthetic luminance noise carried through the levels (4 gave
+                            the same figures on the default scene) */
+#define DENOISE_RATIO_WINDOW 2 /* the true variance is the noise's mean square over 5 x 5 taps */
 #define DENOISE_E_MAX 30.0       /* a neighbour of weight below e^-30 (1e-13 of the centre's) is skipped */
 
 typedef struct denoise_job {
     int w, h, step;
     const double *c, *v;   /* level input: RGB colour, RGB variance, 3 per pixel */
     double *c_out, *v_out; /* level output */
+    const float *n;        /* level input: DENOISE_NOISE realisations of luminance noise a pixel */
+    float *n_out;          /* level output */
+    const float *ratio;    /* the level input's true luminance variance over the carried one, a
+                              pixel (>= 1), or NULL: 1 */
     const float *albedo, *normal, *depth; /* features, or NULL */
     double k2, ia, in, iz; /* k^2 and 1 / sigma^2 of the features */
     const atomic_uint *cancels; /* the context's brume_context_cancel_loads count, or NULL */
@@ -97,7 +108,8 @@ static double colour_exponent(const denoise_job *j, int x, int y, int xq, int yq
                 continue;
             const size_t a = 3 * ((size_t)ya * (size_t)w + (size_t)xa), b = 3 * ((size_t)yb * (size_t)w + (size_t)xb);
             for (size_t c = 0; c < 3; c++) {
-                double vs = j->v[a + c] + j->v[b + c];
+                double vs = j->ratio ? j->v[a + c] * (double)j->ratio[a / 3] + j->v[b + c] * (double)j->ratio[b / 3]
+                                     : j->v[a + c] + j->v[b + c];
                 d += (sq(j->c[a + c] - j->c[b + c]) - vs) / (1e-10 + j->k2 * vs);
             }
             n += 1.0;
@@ -118,7 +130,7 @@ static void denoise_row(size_t task, int thread, void *user)
     const int y = (int)task, w = j->w, h = j->h, step = j->step;
     for (int x = 0; x < w; x++) {
         const size_t p = (size_t)y * (size_t)w + (size_t)x;
-        double sw = 0.0, acc[3] = {0.0, 0.0, 0.0}, accv[3] = {0.0, 0.0, 0.0};
+        double sw = 0.0, acc[3] = {0.0, 0.0, 0.0}, accv[3] = {0.0, 0.0, 0.0}, accn[DENOISE_NOISE] = {0.0};
         for (int dy = -2; dy <= 2; dy++) {
             int yq = y + dy * step;
             if (yq < 0 || yq >= h)
@@ -153,8 +165,12 @@ static void denoise_row(size_t task, int thread, void *user)
                     acc[c] += wq * cq[c];
                     accv[c] += wq * wq * vq[c];
                 }
+                for (size_t r = 0; r < DENOISE_NOISE; r++)
+                    accn[r] += wq * (double)j->n[DENOISE_NOISE * q + r];
             }
         }
+        for (size_t r = 0; r < DENOISE_NOISE; r++)
+            j->n_out[DENOISE_NOISE * p + r] = (float)(accn[r] / sw);
         /* sw > 0: the centre's own weight is B3[2]^2 exp(-e) with e from the features only,
          * which are equal to themselves */
         for (size_t c = 0; c < 3; c++) {
@@ -246,30 +262,112 @@ static void steady_variance(denoise_job *j, int w, int h, const double *c0, doub
     memcpy(v0, v1, npix * 3 * sizeof *v0);
 }
 
+/* The variance of a pixel's luminance from its channels' (taken as independent). */
+static double lum_var(const double *v)
+{
+    return 0.2126 * 0.2126 * v[0] + 0.7152 * 0.7152 * v[1] + 0.0722 * 0.0722 * v[2];
+}
+
+/* A standard normal number that is a function of (p, r) alone (splitmix64, Box-Muller). */
+static double noise_gauss(size_t p, size_t r)
+{
+    uint64_t z = (uint64_t)p * 0x9e3779b97f4a7c15ULL + (uint64_t)r * 0xd1b54a32d192ed03ULL + 0x632be59bd9b4e019ULL;
+    double u[2];
+    for (int i = 0; i < 2; i++) {
+        z += 0x9e3779b97f4a7c15ULL;
+        uint64_t x = z;
+        x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+        x ^= x >> 31;
+        u[i] = ((double)(x >> 11) + 0.5) / 9007199254740992.0;
+    }
+    return sqrt(-2.0 * log(u[0])) * cos(6.283185307179586 * u[1]);
+}
+
+typedef struct ratio_job {
+    const denoise_job *j; /* its level output: n and v */
+    float *ratio;
+    int step; /* the window's tap spacing: the level's */
+} ratio_job;
+
+/* One row of the ratio of the level output's true luminance variance to the carried one: the
+ * mean square of the noise carried through the level's weights over the carried variance,
+ * both summed over (2 DENOISE_RATIO_WINDOW + 1)^2 taps spaced as the level's. The carried
+ * variance treats the level's input pixels as independent, which they are not after the
+ * first level (their kernels overlap); the noise went through the same weights, so it holds
+ * the covariances the carried variance leaves out. */
+static void ratio_row(size_t task, int thread, void *user)
+{
+    (void)thread;
+    const ratio_job *rj = user;
+    const denoise_job *j = rj->j;
+    const int y = (int)task, w = j->w, h = j->h, m = DENOISE_RATIO_WINDOW;
+    for (int x = 0; x < w; x++) {
+        double num = 0.0, den = 0.0;
+        for (int dy = -m; dy <= m; dy++) {
+            int yq = y + dy * rj->step;
+            if (yq < 0 || yq >= h)
+                continue;
+            for (int dx = -m; dx <= m; dx++) {
+                int xq = x + dx * rj->step;
+                if (xq < 0 || xq >= w)
+                    continue;
+                const size_t q = (size_t)yq * (size_t)w + (size_t)xq;
+                for (size_t r = 0; r < DENOISE_NOISE; r++)
+                    num += sq((double)j->n[DENOISE_NOISE * q + r]);
+                den += DENOISE_NOISE * lum_var(j->v + 3 * q);
+            }
+        }
+        /* the weights are positive, so the covariances the carried variance leaves out are
+         * too: a ratio below 1 is the estimate's own noise */
+        rj->ratio[(size_t)y * (size_t)w + (size_t)x] = den > 0.0 ? (float)fmax(1.0, num / den) : 1.0f;
+    }
+}
+
 size_t brume_denoise_memory(int width, int height, int layer_channels)
 {
     if (width <= 0 || height <= 0 || layer_channels < 0)
         return 0;
     /* the output: RGBA, the layers and the "raw" layer in float; the levels' colour and
-     * variance, input and output, in double */
-    double per_pixel = (4.0 + layer_channels + 3.0) * sizeof(float) + 12.0 * sizeof(double);
+     * variance, input and output, in double; the noise, input and output, and the variance
+     * ratio in float */
+    double per_pixel = (4.0 + layer_channels + 3.0 + 2.0 * DENOISE_NOISE + 1.0) * sizeof(float) + 12.0 * sizeof(double);
     double bytes = per_pixel * (double)width * (double)height;
     return bytes < (double)SIZE_MAX ? (size_t)bytes : SIZE_MAX;
 }
 
-/* The levels over j's buffers (c0, v0 into c1, v1 and back), then the result into img. */
-static void denoise_levels(denoise_job *j, int threads, brume_image *img)
+/* The levels over j's buffers (c0, v0, n0 into c1, v1, n1 and back), then the result into img.
+ * The noise starts as DENOISE_NOISE realisations of white gaussian noise of each pixel's
+ * luminance variance, a function of the pixel's index alone; it goes through every level's
+ * weights as the colour does. The last level, the coarsest (taps 32 pixels apart), weighs its
+ * colour distance with the true variance of its input (the carried one times the ratio
+ * ratio_row measures): with the carried one alone, 29 to 96 times too small there, it took its
+ * input's low-frequency noise for structure and kept it. At the finer levels the carried
+ * variance is kept: there the true one averaged across the cloud's structure
+ * (docs/denoise.md, "Low-frequency noise"). */
+static void denoise_levels(denoise_job *j, int threads, brume_image *img, float *ratio)
 {
+    const size_t npix = (size_t)j->w * (size_t)j->h;
+    for (size_t p = 0; p < npix; p++)
+        for (size_t r = 0; r < DENOISE_NOISE; r++)
+            ((float *)j->n)[DENOISE_NOISE * p + r] = (float)(sqrt(lum_var(j->v + 3 * p)) * noise_gauss(p, r));
     for (int level = 0; level < DENOISE_LEVELS && !cancelled(j); level++) {
         j->step = 1 << level;
+        if (level == DENOISE_LEVELS - 1) {
+            ratio_job rj = {j, ratio, 1 << (level - 1)};
+            pool_run(threads, (size_t)j->h, ratio_row, &rj);
+            j->ratio = ratio;
+        }
         pool_run(threads, (size_t)j->h, denoise_row, j);
         double *tc = (double *)j->c, *tv = (double *)j->v; /* the output is the next level's input */
+        float *tn = (float *)j->n;
         j->c = j->c_out;
         j->v = j->v_out;
+        j->n = j->n_out;
         j->c_out = tc;
         j->v_out = tv;
+        j->n_out = tn;
     }
-    const size_t npix = (size_t)j->w * (size_t)j->h;
     for (size_t p = 0; p < npix; p++)
         for (size_t c = 0; c < 3; c++)
             img->rgba[4 * p + c] = (float)j->c[3 * p + c];
@@ -306,7 +404,7 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
         *out = NULL;
     if (denoise_check(in, out) != BRUME_OK)
         return ctx_report(ctx, err_status());
-    denoise_job j = {in->width, in->height, 1, NULL, NULL, NULL, NULL, layer_of(in, "albedo", 3),
+    denoise_job j = {in->width, in->height, 1, NULL, NULL, NULL, NULL, NULL, NULL, NULL, layer_of(in, "albedo", 3),
                      layer_of(in, "normal", 3), layer_of(in, "depth", 1), DENOISE_K * DENOISE_K,
                      1.0 / sq(DENOISE_SIGMA_ALBEDO), 1.0 / sq(DENOISE_SIGMA_NORMAL), 1.0 / sq(DENOISE_SIGMA_DEPTH),
                      ctx ? &ctx->load_cancels : NULL, ctx ? atomic_load(&ctx->load_cancels) : 0u, false};
@@ -315,11 +413,13 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
     const float *var = layer_of(in, "variance", 3);
     brume_image *img = image_copy(in);
     double *buf = malloc(npix * 12 * sizeof *buf);
+    float *fbuf = malloc(npix * (2 * DENOISE_NOISE + 1) * sizeof *fbuf); /* the noise, in and out; the ratio */
     static const char *const rgb[3] = {"R", "G", "B"};
     float *raw = img ? image_add_layer(img, "raw", 3, rgb) : NULL;
-    if (!img || !buf || !raw) {
+    if (!img || !buf || !fbuf || !raw) {
         brume_image_release(img);
         free(buf);
+        free(fbuf);
         return ctx_report(ctx, err_set(BRUME_ERROR_OUT_OF_MEMORY, "brume_denoise: out of memory for a %d x %d image", w, h));
     }
     double *c0 = buf, *v0 = buf + 3 * npix, *c1 = buf + 6 * npix, *v1 = buf + 9 * npix;
@@ -331,14 +431,16 @@ brume_status brume_denoise(brume_context *ctx, const brume_image *in, int thread
             v0[3 * p + c] = isfinite(v) && v > 0.0f ? (double)v : 0.0;
         }
     j.c = c0, j.v = v0, j.c_out = c1, j.v_out = v1;
+    j.n = fbuf, j.n_out = fbuf + DENOISE_NOISE * npix;
     steady_variance(&j, w, h, c0, v0, v1);
-    denoise_levels(&j, threads, img);
+    denoise_levels(&j, threads, img, fbuf + 2 * DENOISE_NOISE * npix);
     free(buf);
+    free(fbuf);
     if (cancelled(&j)) {
         brume_image_release(img);
         return ctx_report(ctx, err_set(BRUME_ERROR_CANCELLED, "brume_denoise: cancelled (brume_context_cancel_loads)"));
     }
-    image_set_meta(img, "brume.denoised", "a-trous, variance-guided, 3 x 3 patches, 5 levels (docs/denoise.md); raw image: layer raw");
+    image_set_meta(img, "brume.denoised", "a-trous, variance-guided, 3 x 3 patches, 6 levels, the last weighed by the true variance (docs/denoise.md); raw image: layer raw");
     *out = img;
     return ctx_report(ctx, BRUME_OK);
 }
