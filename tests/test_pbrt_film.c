@@ -255,6 +255,31 @@ TEST(include_and_import_read_in_place)
     remove(test_tmp_path("bad-inc.pbrt"));
 }
 
+/* pbrt-v4-scenes' smoke-plume: an Include whose file ends in a directive's parameter list, the
+ * list going on after the Include (pbrt-v4's tokenizer reads on into the including file); as
+ * well when the included directive has no parameter of its own yet. An Import does not. */
+TEST(include_continues_parameter_lists)
+{
+    test_write_file(test_tmp_path("cont1.pbrt"), "LightSource \"point\" \"rgb I\" [1 2 3]");
+    test_write_file(test_tmp_path("cont2.pbrt"), "LightSource \"point\"\n");
+    char text[4096];
+    snprintf(text, sizeof text, "Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\nInclude \"%s\"\n"
+             "  \"point3 from\" [0 5 0]\nInclude \"%s\" \"rgb I\" [4 4 4]\nLightSource \"point\" \"rgb I\" [7 7 7]\n",
+             test_tmp_path("cont1.pbrt"), test_tmp_path("cont2.pbrt"));
+    cJSON *root = translate_ok(text);
+    ASSERT_EQ_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "lights")), 3);
+    ASSERT_NEAR(item(light(root, 0), "position", 1), 5.0, 1e-12); /* the continued "from" */
+    ASSERT_NEAR(item(light(root, 0), "intensity", 2), 3.0, 1e-12); /* the included "I" */
+    ASSERT_NEAR(item(light(root, 1), "intensity", 0), 4.0, 1e-12);
+    ASSERT_NEAR(item(light(root, 2), "intensity", 0), 7.0, 1e-12);
+    cJSON_Delete(root);
+    snprintf(text, sizeof text, "Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\nImport \"%s\" \"rgb I\" [4 4 4]\n",
+             test_tmp_path("cont2.pbrt"));
+    expect_refusal(text, 6, "expected a directive");
+    remove(test_tmp_path("cont1.pbrt"));
+    remove(test_tmp_path("cont2.pbrt"));
+}
+
 /* scenes/fire-vdb.json read where its fire.vdb is not: the error names the file and the
  * command that makes it. */
 TEST(missing_grid_names_its_command)
@@ -279,4 +304,4 @@ TEST(missing_grid_names_its_command)
 }
 
 TEST_MAIN(film_imaging_ratio_scales_sources, box_pixel_filter_read, film_sensor_and_whitebalance_refused_by_name, blackbody_lights_as_pbrt,
-          spot_light_as_pbrt, constant_spectrum_sources_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, missing_grid_names_its_command)
+          spot_light_as_pbrt, constant_spectrum_sources_as_pbrt, nanovdb_emission_scale_spellings, include_and_import_read_in_place, include_continues_parameter_lists, missing_grid_names_its_command)

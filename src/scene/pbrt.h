@@ -39,6 +39,13 @@ typedef struct lexer {
     int tok_line;
     int dir_line;  /* the line of the directive being read: what refusals name */
     const char *bad; /* why the current token is TOK_BAD */
+    /* Include's continued parameter lists: the including file's lexer, past the file's name
+     * (owned by include_directive's frame while the included file is read; NULL in the main
+     * file, in an Import and in a replayed object). A parameter list that reaches the end of
+     * the included file goes on in the including one, as pbrt-v4's tokenizer does, and
+     * `resumed` tells include_directive that the lexer is now the including file's. */
+    const struct lexer *outer;
+    bool in_params, resumed;
 } lexer;
 
 /* ---- parameter lists --------------------------------------------------------------------- */

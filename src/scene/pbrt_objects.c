@@ -81,6 +81,7 @@ static brume_status object_instance(pbrt_state *S, params *ps, brume_status (*di
     S->depth++;
     S->instancing = true;
     *L = o->at;
+    L->outer = NULL; /* the Include that read the object has returned */
     brume_status st = BRUME_OK;
     while (st == BRUME_OK && !(L->kind == TOK_WORD && strcmp(L->text, "ObjectEnd") == 0)) {
         const attrs *a = &S->a[S->depth];

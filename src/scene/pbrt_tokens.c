@@ -62,6 +62,17 @@ static void string_token(lexer *L)
     L->text[n] = '\0';
 }
 
+/* The end of an included file inside a parameter list, where the including file goes on
+ * with a parameter (a string: no directive starts with one): the list goes on there, whose
+ * lexer stands on the token after the Include's file name. Refusals of the directive then
+ * name the including file and the Include's line. */
+static void resume_outer(lexer *L)
+{
+    *L = *L->outer;
+    L->in_params = true;
+    L->resumed = true;
+}
+
 void pbrt_next(lexer *L)
 {
     if (L->kind == TOK_BAD)
@@ -80,6 +91,10 @@ void pbrt_next(lexer *L)
     L->tok_line = L->line;
     char c = *L->p;
     size_t n = 0;
+    if (!c && L->in_params && L->outer && L->outer->kind == TOK_STRING) {
+        resume_outer(L); /* stands on the including file's token */
+        return;
+    }
     if (!c) {
         L->kind = TOK_END;
     } else if (c == '[' || c == ']') {
@@ -312,10 +327,22 @@ static brume_status param_value(lexer *L, params *ps, param *q)
 
 /* Reads "type name" value pairs after a directive; L is on the first token after the
  * directive's own arguments and is left on the next directive. */
+static brume_status read_params(lexer *L, params *ps);
+
 brume_status pbrt_read_params(lexer *L, params *ps)
 {
-    brume_status st;
     pbrt_params_clear(ps);
+    if (L->kind == TOK_END && L->outer && L->outer->kind == TOK_STRING)
+        resume_outer(L);
+    L->in_params = true;
+    brume_status st = read_params(L, ps);
+    L->in_params = false;
+    return st;
+}
+
+static brume_status read_params(lexer *L, params *ps)
+{
+    brume_status st;
     while (L->kind == TOK_STRING) {
         if (ps->n == PBRT_MAX_PARAMS)
             return pbrt_fail(L, "more than %d parameters", PBRT_MAX_PARAMS);

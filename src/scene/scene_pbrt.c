@@ -106,13 +106,16 @@ static brume_status include_directive(pbrt_state *S, params *ps, const char *dir
     attrs *saved = strcmp(dir, "Import") == 0 ? malloc(sizeof S->a) : NULL;
     if (saved)
         memcpy(saved, S->a, sizeof S->a);
-    *L = (lexer){abs, text, 1, TOK_END, "", 1, 1, NULL};
+    *L = (lexer){abs, text, 1, TOK_END, "", 1, 1, NULL, NULL, false, false};
+    L->outer = saved ? NULL : &outer; /* Include only: its last parameter list may go on */
     S->includes++;
     pbrt_next(L);
-    while (st == BRUME_OK && L->kind != TOK_END)
+    while (st == BRUME_OK && L->kind != TOK_END && !L->resumed)
         st = lenient_directive(S, ps);
     S->includes--;
-    if (st == BRUME_OK && *L->p)
+    bool resumed = L->resumed; /* L already reads on in the including file */
+    L->resumed = false;
+    if (st == BRUME_OK && !resumed && *L->p)
         st = pbrt_fail(L, "syntax error near \"%.64s\"", L->text);
     if (st == BRUME_OK && S->depth != depth)
         st = pbrt_fail(L, "%s: AttributeBegin and AttributeEnd do not balance in this file", dir);
@@ -120,7 +123,8 @@ static brume_status include_directive(pbrt_state *S, params *ps, const char *dir
         memcpy(S->a, saved, sizeof S->a);
         free(saved);
     }
-    *L = outer;
+    if (!resumed)
+        *L = outer;
     if (st == BRUME_OK && S->ntexts == PBRT_MAX_TEXTS)
         st = pbrt_fail(L, "%s: more than %d included files", dir, PBRT_MAX_TEXTS);
     if (st == BRUME_OK)
@@ -336,7 +340,7 @@ brume_status scene_pbrt_read(const char *path, bool lenient, char **json)
         free(text);
         return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
-    S->L = (lexer){path, text, 1, TOK_END, "", 1, 1, NULL};
+    S->L = (lexer){path, text, 1, TOK_END, "", 1, 1, NULL, NULL, false, false};
     S->path = path;
     S->text_bytes = text_bytes;
     char tmp[PATH_MAX];
