@@ -205,6 +205,20 @@ TEST(refusals_name_the_key)
     expect_refusal("{" CAM "\"lights\": [], \"surfaces\": [{\"type\": \"sphere\", \"material\": {\"type\": \"interface\","
                    " \"albedo\": 0.5}, \"medium_inside\": \"fog\"}]}",
                    "surfaces[0].material");
+    /* the C builder checks its arguments at once */
+    brume_context *cb = brume_context_new();
+    brume_scene *sc = NULL;
+    ASSERT_EQ_INT(brume_scene_new(cb, "api", &sc), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_add_sphere(cb, sc, (double[3]){0, 0, 0}, 1.0, NULL, NULL, NULL), BRUME_OK);
+    ASSERT_TRUE(brume_scene_set_surface_media(cb, sc, 1, "fog", NULL, true) != BRUME_OK);
+    ASSERT_CONTAINS(brume_context_last_error(cb), "brume_scene_set_surface_media: surface: 1 is not a surface");
+    ASSERT_TRUE(brume_scene_set_surface_media(cb, sc, 0, NULL, "", true) != BRUME_OK);
+    ASSERT_CONTAINS(brume_context_last_error(cb), "an interface bounds a medium");
+    ASSERT_EQ_INT(brume_scene_set_surface_media(cb, sc, 0, "fog", NULL, true), BRUME_OK);
+    ASSERT_TRUE(brume_scene_commit(cb, sc) != BRUME_OK); /* names are resolved at commit */
+    ASSERT_CONTAINS(brume_context_last_error(cb), "medium_inside: no medium named \"fog\"");
+    brume_scene_release(sc);
+    brume_context_release(cb);
     /* blasi and stam, and the GPU, refuse a bounded medium by name */
     brume_context *ctx = brume_context_new();
     brume_scene *s = committed(
