@@ -104,9 +104,16 @@ color scene_transmittance(const brume_scene *s, uint32_t absent, vec3 p, vec3 wi
 
 uint32_t path_camera_absent(const brume_scene *s, ray r)
 {
+#if defined(__CUDA_ARCH__)
+    (void)r; /* bounded media render on the CPU only (device_scene_check): no frame for this here */
+    return s->bounded;
+#else
     if (!s->bounded)
         return 0;
-    surface_hit h[CAMERA_MAX_CROSSINGS];
+    struct {
+        surface_media media;
+        vec3 ng;
+    } h[CAMERA_MAX_CROSSINGS];
     int n = 0;
     ray q = r;
     double tmin = 0.0;
@@ -114,16 +121,19 @@ uint32_t path_camera_absent(const brume_scene *s, ray r)
         surface_hit sh;
         if (!surfaces_intersect(s->surf, q, tmin, INFINITY, &sh))
             break;
-        if (sh.media.inside >= 0 || sh.media.outside >= 0)
-            h[n++] = sh;
+        if (sh.media.inside >= 0 || sh.media.outside >= 0) {
+            h[n].media = sh.media;
+            h[n++].ng = sh.ng;
+        }
         q.o = sh.p;
         tmin = surface_cross_tmin(q.o);
     }
     /* from infinity, where no bounded medium is, back along the line to the camera */
     uint32_t absent = s->bounded;
     for (int i = n - 1; i >= 0; i--)
-        absent = path_cross_surface(&h[i], v3_neg(r.d), absent);
+        absent = surface_media_cross(h[i].media, h[i].ng, v3_neg(r.d), absent);
     return absent & ~s->camera_members;
+#endif
 }
 
 /* Flight f (flight_begin, f->absent set) along r up to tmax (the nearest area light, or

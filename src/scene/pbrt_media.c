@@ -124,7 +124,15 @@ brume_status pbrt_medium_use(pbrt_state *S, const char *name, const double box[6
     if (!nm)
         return pbrt_fail(&S->L, "MediumInterface: no medium named \"%s\"", name);
     double sigma_t = nm->homogeneous ? medium_sigma_t_min(nm->json) : (double)INFINITY;
-    medium_emit(S, nm, box, outside && isfinite(sigma_t) ? 64.0 / sigma_t : 0.0);
+    /* a margin: the shape's facets and points lie inside the box, not on its faces (and a
+     * flat shape's box has some depth) */
+    double b[6], size = box ? fmax(box[3] - box[0], fmax(box[4] - box[1], box[5] - box[2])) : 0.0;
+    for (int k = 0; box && k < 3; k++) {
+        double pad = 1e-4 * size + 1e-9 * fmax(fabs(box[k]), fabs(box[3 + k])) + 1e-300;
+        b[k] = box[k] - pad;
+        b[3 + k] = box[3 + k] + pad;
+    }
+    medium_emit(S, nm, box ? b : NULL, outside && isfinite(sigma_t) ? 64.0 / sigma_t : 0.0);
     return BRUME_OK;
 }
 
@@ -137,14 +145,7 @@ brume_status pbrt_media_finish(pbrt_state *S)
         double *b = nm->box;
         if (!(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5])) /* no extent asked: no extinction either */
             b[0] = b[1] = b[2] = -1.0, b[3] = b[4] = b[5] = 1.0;
-        /* a margin: the shapes' facets and points lie inside the box, not on its faces (a flat
-         * shape's box has some depth) */
-        double size = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2])), reach = 0.0;
-        for (int k = 0; k < 3; k++) {
-            double pad = 1e-4 * size + 1e-9 * fmax(fabs(b[k]), fabs(b[3 + k])) + 1e-300;
-            b[k] -= pad;
-            b[3 + k] += pad;
-        }
+        double reach = 0.0;
         for (int k = 0; k < 6; k++)
             reach = fmax(reach, fabs(b[k]));
         if (!(reach <= 1e17))

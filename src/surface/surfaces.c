@@ -375,8 +375,10 @@ void surfaces_set_media(surfaces *s, int index, surface_media m)
     if (index < 0 || index >= s->n)
         return;
     s->obj[index].media = m;
-    if (m.interface) /* no material: nothing reflects or emits there */
-        s->obj[index].mat = (material){.albedo = {{0}}};
+    if (m.interface) { /* no material: nothing reflects or emits there */
+        texture_free(s->obj[index].mat.albedo_tex);
+        s->obj[index].mat = (material){.albedo = {{0}}, .albedo_tex = NULL};
+    }
 }
 
 /* A directed edge a -> b of a mesh, as the ordered pair (lo, hi) and the direction. */
