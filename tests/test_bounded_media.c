@@ -301,6 +301,38 @@ TEST(pbrt_nested_fog_replaces)
     brume_context_release(ctx);
 }
 
+/* pbrt-v4-scenes' disney-cloud bounds its grid by a sphere under a non-uniform scale: an
+ * ellipsoid, which brume bounds by its triangles (corners on the surface). An absorbing fog
+ * (sigma_a 0.2) in the sphere of radius 1 scaled by 3 along the view (z) is crossed over a
+ * chord of 6 through the poles, where the triangles meet the surface exactly: each pixel
+ * (a 0.2-degree view: chords shorter by 2e-3 at most) is exp(-1.2) of the sky, where the
+ * unscaled sphere would give exp(-0.4). Within 5 standard errors plus that 2e-3 of the mean. */
+TEST(pbrt_ellipsoid_bounds_fog)
+{
+    const char *text = PBRT_VIEW
+        "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\n"
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [0.2 0.2 0.2]"
+        " \"rgb sigma_s\" [0 0 0]\n"
+        "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\nScale 1 1 3\n"
+        "Shape \"sphere\" \"float radius\" [1]\nAttributeEnd\n";
+    char msg[2048];
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = pbrt_scene(ctx, text, false, msg, sizeof msg);
+    if (!s)
+        TEST_FAIL("%s", msg);
+    brume_image *img = test_render_scene(s, -1, 3);
+    int n = brume_image_width(img) * brume_image_height(img);
+    for (int c = 0; c < 3; c++) {
+        double mean, se, want = exp(-1.2);
+        test_channel_mean(brume_image_pixels(img), n, c, &mean, &se);
+        fprintf(stderr, "channel %d: %.5f (se %.2g), want %.5f (unscaled: %.5f)\n", c, mean, se, want, exp(-0.4));
+        ASSERT_NEAR(mean, want, 5.0 * se + 2e-3 * want);
+    }
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
 /* The camera in pbrt-v4's unbounded fog (sigma_a 0.1, the camera's medium) looks through a
  * sphere of radius 1 whose MediumInterface "cloud" "fog" replaces the fog by a cloud
  * (sigma_a 1) inside it, at a two-sided emitting wall (radiance 1) at z = 3: the line from
@@ -353,6 +385,7 @@ TEST(pbrt_refusals_name_line)
          " \"integer indices\" [0 1 2]\n", "bounded.pbrt:9': medium_inside/medium_outside: the shape is not closed"},
         {"Material \"interface\"\nMediumInterface \"smoke\" \"\"\nShape \"sphere\"\n", ":9: MediumInterface: no medium "
                                                                                        "named \"smoke\""},
+        {"Scale 1 1 3\nShape \"sphere\"\n", ":8: Shape \"sphere\": a sphere under a non-uniform scale"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char text[2048], msg[2048];
@@ -372,4 +405,4 @@ TEST(pbrt_refusals_name_line)
 
 TEST_MAIN(sphere_of_fog_transmittance, nested_spheres_add_or_replace, camera_inside_fog_sphere,
           slab_bounded_by_mesh_matches_box, refusals_name_the_key, pbrt_nested_fog_replaces,
-          pbrt_camera_fog_outside_medium, pbrt_refusals_name_line)
+          pbrt_camera_fog_outside_medium, pbrt_refusals_name_line, pbrt_ellipsoid_bounds_fog)

@@ -364,6 +364,58 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
     return shape_interface(S, s, b);
 }
 
+/* Whether the current transform is a similarity (rotation, mirror, uniform scale,
+ * translation): what keeps a sphere a sphere. */
+static bool ctm_similar(const pbrt_state *S)
+{
+    const double *m = S->a[S->depth].ctm.m;
+    double g[3][3]; /* the columns' Gram matrix */
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            g[i][j] = m[i] * m[j] + m[4 + i] * m[4 + j] + m[8 + i] * m[8 + j];
+    double s2 = (g[0][0] + g[1][1] + g[2][2]) / 3.0, tol = 1e-9 * s2;
+    return s2 > 0.0 && fabs(g[0][0] - s2) <= tol && fabs(g[1][1] - s2) <= tol && fabs(g[2][2] - s2) <= tol &&
+           fabs(g[0][1]) <= tol && fabs(g[0][2]) <= tol && fabs(g[1][2]) <= tol;
+}
+
+/* A sphere under a transform that makes it an ellipsoid, as the interface pbrt-v4's
+ * disney-cloud bounds its grid with: the triangles of SPHERE_LON x SPHERE_LAT cells between
+ * meridians and parallels, corners on the sphere, facing out in object space (tris_json
+ * reverses them under a mirror). The facets lie inside the surface by at most
+ * r (1 - cos(pi / SPHERE_LON)) = 7.5e-5 r, before the transform. */
+#define SPHERE_LON 256
+#define SPHERE_LAT 128
+static brume_status sphere_tris(pbrt_state *S, const char *what, double r, tris *t)
+{
+    t->nv = 2 + (SPHERE_LAT - 1) * SPHERE_LON;
+    t->nt = 2 * SPHERE_LON * (SPHERE_LAT - 1);
+    t->P = malloc((size_t)t->nv * 3 * sizeof *t->P);
+    t->idx = malloc((size_t)t->nt * 3 * sizeof *t->idx);
+    if (!t->P || !t->idx)
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: %s: out of memory", S->L.file, S->L.dir_line, what);
+    m4 ctm = S->a[S->depth].ctm;
+    for (int v = 0; v < t->nv; v++) { /* 0: the north pole, 1: the south pole, then ring by ring */
+        int j = v < 2 ? 0 : (v - 2) / SPHERE_LON + 1, i = v < 2 ? 0 : (v - 2) % SPHERE_LON;
+        double theta = v == 0 ? 0.0 : v == 1 ? PI : PI * j / SPHERE_LAT, phi = 2.0 * PI * i / SPHERE_LON;
+        vec3 w = pbrt_m4_point(ctm, v3(r * sin(theta) * cos(phi), r * sin(theta) * sin(phi), r * cos(theta)));
+        t->P[3 * v] = w.x, t->P[3 * v + 1] = w.y, t->P[3 * v + 2] = w.z;
+    }
+    int *q = t->idx;
+    for (int j = 0; j < SPHERE_LAT; j++) /* band j between parallels j and j + 1 */
+        for (int i = 0; i < SPHERE_LON; i++) {
+            int i1 = (i + 1) % SPHERE_LON;
+            int a = j == 0 ? 0 : 2 + (j - 1) * SPHERE_LON + i, b = j == 0 ? 0 : 2 + (j - 1) * SPHERE_LON + i1;
+            int c = j == SPHERE_LAT - 1 ? 1 : 2 + j * SPHERE_LON + i, d = j == SPHERE_LAT - 1 ? 1 : 2 + j * SPHERE_LON + i1;
+            /* (a, c, d) and (a, d, b) face out: c lies south of a, d east of c */
+            if (j < SPHERE_LAT - 1) /* not at the south pole, where c = d */
+                *q++ = a, *q++ = c, *q++ = d;
+            if (j > 0) /* not at the north pole, where a = b */
+                *q++ = a, *q++ = d, *q++ = b;
+        }
+    t->nt = (int)(q - t->idx) / 3;
+    return BRUME_OK;
+}
+
 /* "sphere": a brume sphere, or the box of an "interface" sphere's media. */
 static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bool interface)
 {
@@ -379,6 +431,22 @@ static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bo
           c[9] == 0.0 && c[10] == c[0]))
         return pbrt_unsupported(L, "%s: a textured sphere turned or mirrored (brume maps a sphere's (u, v) in "
                                    "world axes; a pbrt view without \"Scale -1 1 1\" mirrors the world)", what);
+    if (!ctm_similar(S) && !interface)
+        return pbrt_unsupported(L, "%s: a sphere under a non-uniform scale or shear (an ellipsoid: brume draws "
+                                   "spheres; as an interface it bounds media)", what);
+    if (!ctm_similar(S)) {
+        if (!(radius > 0.0 && radius <= 1e18))
+            return pbrt_fail(L, "%s: \"float radius\" %g is not in (0, 1e18]", what, radius);
+        tris t = {0};
+        double b[6];
+        if ((st = sphere_tris(S, what, radius, &t)) == BRUME_OK &&
+            (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt)) == BRUME_OK) {
+            points_box(t.P, t.nv, b);
+            st = shape_interface(S, tris_json(&t, ctm_mirrors(S)), b);
+        }
+        tris_free(&t);
+        return st;
+    }
     cJSON *s = placed_surface(S, what, "sphere");
     if (!s)
         return err_status();
