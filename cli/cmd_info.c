@@ -72,12 +72,15 @@ static int print_list(brume_context *ctx, const char *path, const brume_grid_fil
     }
     printf("file:           %s\n", path);
     printf("grids:          %d\n", n);
-    for (int g = 0; g < n; g++)
+    for (int g = 0; g < n; g++) {
+        /* the role a medium's field takes it in when the scene names no grid (docs/grids.md) */
+        const char *role = brume_grid_role(e, n, g);
         printf("  grid \"%s\": %s, %s, index box (%d, %d, %d) to (%d, %d, %d), %llu active voxels, values %.6g to "
-               "%.6g, NanoVDB %.2f MiB\n",
+               "%.6g, NanoVDB %.2f MiB, role %s\n",
                e[g].name, e[g].type, e[g].grid_class, e[g].index_min[0], e[g].index_min[1], e[g].index_min[2],
                e[g].index_max[0], e[g].index_max[1], e[g].index_max[2], e[g].active_voxels, e[g].value_min,
-               e[g].value_max, (double)e[g].nanovdb_bytes / 1048576.0);
+               e[g].value_max, (double)e[g].nanovdb_bytes / 1048576.0, role[0] ? role : "none");
+    }
     free(e);
     *count = n;
     return 0;

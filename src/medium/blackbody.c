@@ -84,6 +84,13 @@ color blackbody_rgb(double T)
     return col_add(col_scale(table[i], 1.0 - f), col_scale(table[i + 1], f));
 }
 
+color blackbody_rgb_blender(double T)
+{
+    color c = blackbody_rgb(T < 800.0 ? 800.0 : (T > 12000.0 ? 12000.0 : T));
+    double Y = 0.2126729 * c.c[0] + 0.7151522 * c.c[1] + 0.0721750 * c.c[2];
+    return col_scale(c, 1.0 / Y);
+}
+
 const color *blackbody_table(void)
 {
     blackbody_init();

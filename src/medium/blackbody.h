@@ -22,6 +22,11 @@ color blackbody_rgb_exact(double T);
  * between; clamped outside): for rendering. blackbody_init() must have run (thread-safe). */
 color blackbody_rgb(double T);
 void blackbody_init(void);
+/* Cycles' blackbody colour (Blender's Blackbody node and Principled Volume): the same
+ * Planck colour scaled to a luminance (Rec. 709 Y) of 1, with T held within [800 K,
+ * 12000 K] as Cycles holds it; negative components below about 1800 K, as in Cycles,
+ * which does not clamp them in a volume. After blackbody_init. */
+color blackbody_rgb_blender(double T);
 /* The table blackbody_rgb interpolates (BLACKBODY_TABLE_N colors, after blackbody_init):
  * the GPU gets a copy (gpu/device_scene.c). */
 #define BLACKBODY_TABLE_N 1024
