@@ -4,8 +4,8 @@
  * radiance B(lambda, T) normalized by its own peak, so the spectrum's maximum is 1 at every
  * temperature; integrated against the CIE 1931 2-degree observer over 360-830 nm and
  * divided by the integral of y-bar (a flat spectrum of 1 has Y = 1), then converted to
- * linear Rec. 709 RGB (D65 white). The colour matching functions are Wyman, Sloan and
- * Shirley's multi-lobe fit (JCGT 2(2), 2013). Units: T in kelvin; the result is a radiance
+ * linear Rec. 709 RGB (D65 white). The colour matching functions are the CIE's table
+ * (5 nm steps, read linearly in between). Units: T in kelvin; the result is a radiance
  * factor (dimensionless), multiplied by the medium's blackbody scale (radiance units).
  * Derivation and checks: docs/grids.md, "Fire: temperature and blackbody emission". */
 #ifndef BRUME_MEDIUM_BLACKBODY_H
