@@ -266,6 +266,69 @@ TEST(fire_grid_names)
     unlink(path2);
 }
 
+/* A fire for pbrt's nanovdb medium: "density" 0.5 and "temperature" 2000 K over voxels
+ * [0, 11]^3, 430 K over [40, 51]^3, voxels of 0.1. */
+static void fill_pbrt_fire(gridvdb_writer *w, const void *user)
+{
+    (void)user;
+    int d = gridvdb_writer_add(w, "density", 0, 0.1, origin0), t = gridvdb_writer_add(w, "temperature", 0, 0.1, origin0);
+    const float rho = 0.5f, hot = 2000.0f, cool = 430.0f;
+    for (int b = 0; b < 2; b++)
+        for (int k = 40 * b; k < 40 * b + 12; k++)
+            for (int j = 40 * b; j < 40 * b + 12; j++)
+                for (int i = 40 * b; i < 40 * b + 12; i++) {
+                    gridvdb_writer_set(w, d, i, j, k, &rho);
+                    gridvdb_writer_set(w, t, i, j, k, b ? &cool : &hot);
+                }
+}
+
+/* pbrt-v4's NanoVDBMedium, written out: sigma_a(x) = sigma_a scale rho(x); the temperature
+ * T' = (T(x) - temperatureoffset) temperaturescale, temperatureoffset defaulting to
+ * temperaturecutoff; Le(x) = LeScale B(T') where T' > 100 K (else 0), B the peak-normalized
+ * blackbody; emitted at the rate sigma_a(x) Le(x). Here scale 2, sigma_a 1.5, LeScale 3
+ * ("Lescale", pbrt-v4's spelling), temperaturescale 2, temperaturecutoff 400: 2000 K gives
+ * T' = 3200 K and emits 1.5 x 2 x 0.5 x 3 B(3200 K); 430 K gives 60 K, nothing. */
+TEST(pbrt_nanovdb_temperature)
+{
+    if (!grid_have_openvdb())
+        return;
+    const char *grid = test_tmp_path("pbrt-fire.nvdb");
+    write_vdb(grid, 1, fill_pbrt_fire, NULL);
+    char text[2048], scene[1100];
+    snprintf(scene, sizeof scene, "%s", test_tmp_path("fire.pbrt"));
+    snprintf(text, sizeof text,
+             "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+             "MakeNamedMedium \"f\" \"string type\" \"nanovdb\" \"string filename\" \"%s\" \"float scale\" 2\n"
+             "  \"rgb sigma_a\" [1.5 1.5 1.5] \"rgb sigma_s\" [0 0 0] \"float Lescale\" 3\n"
+             "  \"float temperaturescale\" 2 \"float temperaturecutoff\" 400\n"
+             "MediumInterface \"f\" \"\"\nMaterial \"interface\"\nShape \"sphere\" \"float radius\" 50\n",
+             grid);
+    test_write_file(scene, text);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = scene}, NULL, &s) != BRUME_OK ||
+        brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    blackbody_init();
+    color B = blackbody_rgb(3200.0);
+    medium_sample hot, cool;
+    media_at(s, v3(-0.55, 0.55, 0.55), 0.0, &hot); /* a bare LookAt mirrors x (docs/pbrt.md) */
+    media_at(s, v3(-4.55, 4.55, 4.55), 0.0, &cool);
+    for (int c = 0; c < 3; c++) {
+        double want = 1.5 * 2.0 * 0.5 * 3.0 * B.c[c];
+        fprintf(stderr, "channel %d: %.6g expected %.6g; at 430 K %.3g\n", c, hot.emission.c[c], want,
+                cool.emission.c[c]);
+        ASSERT_NEAR(hot.emission.c[c], want, 1e-6 * fabs(want) + 1e-12);
+        ASSERT_NEAR(hot.sigma_a.c[c], 1.5, 1e-6);
+        ASSERT_NEAR(cool.sigma_a.c[c], 1.5, 1e-6);
+        ASSERT_TRUE(cool.emission.c[c] == 0.0);
+    }
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    unlink(scene);
+    unlink(grid);
+}
+
 /* Bad emission keys: one line naming the file and the key. */
 TEST(bad_emission_keys)
 {
@@ -304,4 +367,4 @@ TEST(bad_emission_keys)
 }
 
 TEST_MAIN(per_length_slab_clear, per_length_slab_absorbing, blackbody_blender_convention, fire_grid_names,
-          bad_emission_keys)
+          pbrt_nanovdb_temperature, bad_emission_keys)
