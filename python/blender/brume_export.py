@@ -269,8 +269,9 @@ def fluid_domain(obj):
 
 def fluid_json(obj, scene, d):
     """A smoke/fire domain with a Principled Volume: the domain's cached OpenVDB frame at the
-    scene's current frame, placed as Cycles places it (the cache's own transform, then the
-    domain object's), its Cycles attributes mapped to the cache's grids."""
+    scene's current frame, placed as Cycles places a domain's voxels (over the domain mesh's
+    bounding box, then the object's matrix), its Cycles attributes mapped to the cache's
+    grids. Not checked against a Cycles render: Debian's Blender 3.4 does not bake here."""
     if d.domain_type != "GAS":
         raise ExportError("mesh %s: a %s fluid domain (brume exports smoke and fire, GAS, domains)" %
                           (obj.name, d.domain_type))
@@ -291,7 +292,7 @@ def fluid_json(obj, scene, d):
         grid = vol.grids.get("density")
         if grid is None:
             raise ExportError("mesh %s: the fluid cache %s has no density grid" % (obj.name, path))
-        half_obj = grid.matrix_object.to_3x3() @ Vector((0.5, 0.5, 0.5))
+        to_index = grid.matrix_object.inverted()  # the cache's own placement, undone
     finally:
         bpy.data.volumes.remove(vol)
     pv = principled_volume(obj, obj.active_material)
@@ -299,12 +300,27 @@ def fluid_json(obj, scene, d):
     if attr != "density":
         raise ExportError("mesh %s: Density Attribute %r (a smoke domain's density is its density grid)" %
                           (obj.name, attr))
-    density = {"type": "grid", "file": path, "grid": "density", "filter": "trilinear"}
+    # Cycles spreads the domain's res voxels over the domain mesh's bounding box, voxel i's
+    # value at the centre of the i-th of res cells: object p = p0 + (i + 1/2) (p1 - p0) / res
+    corners = [Vector(c) for c in obj.bound_box]
+    p0 = Vector([min(c[i] for c in corners) for i in range(3)])
+    p1 = Vector([max(c[i] for c in corners) for i in range(3)])
+    res = d.domain_resolution
+    cell = Vector([(p1[i] - p0[i]) / res[i] for i in range(3)])
+    lin = to_index.to_3x3()
+    if any(abs(lin[r][c]) > 1e-9 * abs(lin[r][r]) for r in range(3) for c in range(3) if r != c):
+        raise ExportError("mesh %s: the fluid cache %s is not axis-aligned in its own frame" % (obj.name, path))
     loc, rot, scl = obj.matrix_world.decompose()
     axis, angle = rot.to_axis_angle()
-    half = obj.matrix_world.to_3x3() @ half_obj
-    density["transform"] = {"translate": vec(loc + half), "rotate": {"axis": vec(axis), "angle": math.degrees(angle)},
-                            "scale": vec(scl)}
+    # the file's point x is index to_index x; object p0 + (index + 1/2) cell; then the object's
+    # matrix: scale by its scale times cell / (the file's voxel size), rotate, translate
+    s_file = Vector([lin[i][i] for i in range(3)])
+    t_file = to_index.to_translation()
+    o_obj = Vector([p0[i] + (t_file[i] + 0.5) * cell[i] for i in range(3)])
+    density = {"type": "grid", "file": path, "grid": "density", "filter": "trilinear",
+               "transform": {"scale": [scl[i] * cell[i] * s_file[i] for i in range(3)],
+                             "rotate": {"axis": vec(axis), "angle": math.degrees(angle)},
+                             "translate": vec(loc + rot @ Vector([scl[i] * o_obj[i] for i in range(3)]))}}
     m = {"name": obj.name, "density": density}
     m.update(medium_coefficients(pv))
     # Cycles' smoke attributes: "flame" is the flame grid, "temperature" the flame mapped to
