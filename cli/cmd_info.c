@@ -1,6 +1,7 @@
 /* cmd_info.c - `brume info FILE`: every grid of a .vdb/.nvdb (name, value type, class,
- * index box, active voxels, value range, NanoVDB memory), then the grid brume reads (or the
- * one of --grid): format, dimensions, world bounds, value range, memory and active voxels. */
+ * index box, active voxels, value range, NanoVDB memory, role by name), then the grid brume
+ * reads (or the one of --grid): format, dimensions, world bounds, value range, memory and
+ * active voxels. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,9 +21,10 @@ const cli_command cli_info_command = {
     "info", "a grid file's format, dimensions, bounds, values and memory",
     "[options] FILE",
     "Prints every grid of a .vdb/.nvdb (name, value type, class, index box, active voxels, value\n"
-    "range, NanoVDB memory), then the grid brume reads: format, dimensions, world bounds, values,\n"
-    "memory and active voxels. FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the\n"
-    "range and the bounds over it.\n",
+    "range, NanoVDB memory, and the role a medium's field takes it in by its name: density,\n"
+    "temperature, emission, albedo, velocity or none), then the grid brume reads: format,\n"
+    "dimensions, world bounds, values, memory and active voxels. FILE may be a frame pattern\n"
+    "(smoke_%04d.vdb, smoke_####.vdb): the range and the bounds over it.\n",
     info_flags, CLI_NFLAGS(info_flags), NULL, NULL};
 
 /* A frame pattern: the range of files present and the world box over all of them (each
