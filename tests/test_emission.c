@@ -266,12 +266,12 @@ TEST(fire_grid_names)
     unlink(path2);
 }
 
-/* A fire for pbrt's nanovdb medium: "density" 0.5 and "temperature" 2000 K over voxels
- * [0, 11]^3, 430 K over [40, 51]^3, voxels of 0.1. */
+/* A fire for pbrt's nanovdb medium: density 0.5 and temperature 2000 K over voxels
+ * [0, 11]^3, 430 K over [40, 51]^3, voxels of 0.1, in the grids named user[0] and user[1]. */
 static void fill_pbrt_fire(gridvdb_writer *w, const void *user)
 {
-    (void)user;
-    int d = gridvdb_writer_add(w, "density", 0, 0.1, origin0), t = gridvdb_writer_add(w, "temperature", 0, 0.1, origin0);
+    const char *const *names = user;
+    int d = gridvdb_writer_add(w, names[0], 0, 0.1, origin0), t = gridvdb_writer_add(w, names[1], 0, 0.1, origin0);
     const float rho = 0.5f, hot = 2000.0f, cool = 430.0f;
     for (int b = 0; b < 2; b++)
         for (int k = 40 * b; k < 40 * b + 12; k++)
@@ -287,22 +287,22 @@ static void fill_pbrt_fire(gridvdb_writer *w, const void *user)
  * temperaturecutoff; Le(x) = LeScale B(T') where T' > 100 K (else 0), B the peak-normalized
  * blackbody; emitted at the rate sigma_a(x) Le(x). Here scale 2, sigma_a 1.5, LeScale 3
  * ("Lescale", pbrt-v4's spelling), temperaturescale 2, temperaturecutoff 400: 2000 K gives
- * T' = 3200 K and emits 1.5 x 2 x 0.5 x 3 B(3200 K); 430 K gives 60 K, nothing. */
-TEST(pbrt_nanovdb_temperature)
+ * T' = 3200 K and emits 1.5 x 2 x 0.5 x 3 B(3200 K); 430 K gives 60 K, nothing. The grids
+ * are "density" and "temperature", or as pbrt-v4's "gridname" and "temperaturename" name
+ * them. */
+static void pbrt_nanovdb_case(const char *const names[2], const char *naming)
 {
-    if (!grid_have_openvdb())
-        return;
     const char *grid = test_tmp_path("pbrt-fire.nvdb");
-    write_vdb(grid, 1, fill_pbrt_fire, NULL);
+    write_vdb(grid, 1, fill_pbrt_fire, names);
     char text[2048], scene[1100];
     snprintf(scene, sizeof scene, "%s", test_tmp_path("fire.pbrt"));
     snprintf(text, sizeof text,
              "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
              "MakeNamedMedium \"f\" \"string type\" \"nanovdb\" \"string filename\" \"%s\" \"float scale\" 2\n"
              "  \"rgb sigma_a\" [1.5 1.5 1.5] \"rgb sigma_s\" [0 0 0] \"float Lescale\" 3\n"
-             "  \"float temperaturescale\" 2 \"float temperaturecutoff\" 400\n"
+             "  \"float temperaturescale\" 2 \"float temperaturecutoff\" 400 %s\n"
              "MediumInterface \"f\" \"\"\nMaterial \"interface\"\nShape \"sphere\" \"float radius\" 50\n",
-             grid);
+             grid, naming);
     test_write_file(scene, text);
     brume_context *ctx = brume_context_new();
     brume_scene *s = NULL;
@@ -327,6 +327,15 @@ TEST(pbrt_nanovdb_temperature)
     brume_context_release(ctx);
     unlink(scene);
     unlink(grid);
+}
+
+TEST(pbrt_nanovdb_temperature)
+{
+    if (!grid_have_openvdb())
+        return;
+    static const char *const plain[2] = {"density", "temperature"}, *const named[2] = {"smoke", "T_kelvin"};
+    pbrt_nanovdb_case(plain, "");
+    pbrt_nanovdb_case(named, "\"string gridname\" \"smoke\" \"string temperaturename\" \"T_kelvin\"");
 }
 
 /* Bad emission keys: one line naming the file and the key. */
