@@ -4,8 +4,8 @@
 # flame grids; a Principled Volume with Emission Strength from the flame, an Emission Color
 # and blackbody from the temperature) is rendered by Cycles and, exported, by brume; the
 # mean radiances must agree to their standard error (tests/blender/mean.py). And the
-# exporter's volume-only meshes (tests/blender/export_checks.py): a box exported, a sphere
-# refused by name.
+# exporter's volume-only meshes (tests/blender/export_checks.py): a box as a box medium, a
+# sphere as a mesh bounding its medium.
 # Skips (77) without the `blender` command or without pyopenvdb.
 #   sh tests/blender_fire_test.sh BRUME_EXE SOURCE_DIR
 brume=$1 src=$2
@@ -19,8 +19,8 @@ grep -q '^skipped: no pyopenvdb' "$d/cycles.log" && { echo "skipped: no pyopenvd
 [ "$rc" = 0 ] || { cat "$d/cycles.log"; exit 1; }
 set -e
 blender -b --factory-startup --python-exit-code 1 --python "$src/tests/blender/export_checks.py" -- \
-    "$src/python/blender/brume_export.py" "$d" > "$d/checks.log" 2>&1 || { cat "$d/checks.log"; exit 1; }
-grep -E '^(box medium|sphere volume)' "$d/checks.log"
+    "$src/python/blender/brume_export.py" "$d" "$brume" > "$d/checks.log" 2>&1 || { cat "$d/checks.log"; exit 1; }
+grep -E '^(box medium|sphere medium|brume renders)' "$d/checks.log"
 blender -b "$d/scene.blend" --factory-startup --python-exit-code 1 --python "$src/python/blender/brume_export.py" -- \
     "$d/scene.json" "$brume" render --spp 256 --seed 3 -q -o "$d/brume.exr" > "$d/export.log" 2>&1 || { cat "$d/export.log"; exit 1; }
 grep -q '"emission_units": "radiance_per_length"' "$d/scene.json"

@@ -112,7 +112,7 @@ static color blackbody_at(const char *vdb, const char *blackbody)
     if (brume_scene_commit(ctx, s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     medium_sample ms;
-    media_at(s, v3(0.2, 0.1, -0.3), 0.0, &ms);
+    media_at(s, 0, v3(0.2, 0.1, -0.3), 0.0, &ms);
     brume_scene_release(s);
     brume_context_release(ctx);
     return ms.emission;
@@ -238,7 +238,7 @@ TEST(fire_grid_names)
     if (brume_scene_commit(ctx, s) != BRUME_OK)
         TEST_FAIL("%s", brume_context_last_error(ctx));
     medium_sample ms;
-    media_at(s, v3(0.1, 0.0, 0.0), 0.0, &ms);
+    media_at(s, 0, v3(0.1, 0.0, 0.0), 0.0, &ms);
     blackbody_init();
     color want = col_scale(blackbody_rgb_blender(6000.0), 5.670373e-14 / 3.14159265358979323846 * pow(6000.0, 4));
     want.c[2] += 2.0 * 3.0;
@@ -312,8 +312,8 @@ static void pbrt_nanovdb_case(const char *const names[2], const char *naming)
     blackbody_init();
     color B = blackbody_rgb(3200.0);
     medium_sample hot, cool;
-    media_at(s, v3(-0.55, 0.55, 0.55), 0.0, &hot); /* a bare LookAt mirrors x (docs/pbrt.md) */
-    media_at(s, v3(-4.55, 4.55, 4.55), 0.0, &cool);
+    media_at(s, 0, v3(-0.55, 0.55, 0.55), 0.0, &hot); /* a bare LookAt mirrors x (docs/pbrt.md) */
+    media_at(s, 0, v3(-4.55, 4.55, 4.55), 0.0, &cool);
     for (int c = 0; c < 3; c++) {
         double want = 1.5 * 2.0 * 0.5 * 3.0 * B.c[c];
         fprintf(stderr, "channel %d: %.6g expected %.6g; at 430 K %.3g\n", c, hot.emission.c[c], want,

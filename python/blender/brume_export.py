@@ -329,36 +329,47 @@ def fluid_json(obj, scene, d):
     return m
 
 
-def box_medium_json(obj, mat):
-    """A mesh whose material is a volume only: a homogeneous medium filling it, which brume
-    bounds by a box: the mesh must be an axis-aligned box in world space."""
+def volume_mesh_json(obj, mat, folder):
+    """A mesh whose material is a volume only: a homogeneous medium filling the mesh, as
+    Cycles fills it, emitting per unit length inside it. An axis-aligned box in world space
+    is the medium's own box (a free medium: CPU and GPU); any other closed mesh bounds the
+    medium (docs/surfaces.md, "Bounded media": the mesh, with an interface material, names it
+    as medium_inside; path and single on the CPU). (medium, surface or None)."""
     pv = principled_volume(obj, mat)
     if pv.inputs["Emission Strength"].is_linked or pv.inputs["Blackbody Intensity"].default_value > 0:
         raise ExportError("mesh %s: emission from an attribute or a blackbody in a mesh's volume (no grid to read)" %
                           obj.name)
     world = [obj.matrix_world @ v.co for v in obj.data.vertices]
+    if not world:
+        raise ExportError("mesh %s: a volume material on a mesh without vertices" % obj.name)
     lo = Vector([min(p[i] for p in world) for i in range(3)])
     hi = Vector([max(p[i] for p in world) for i in range(3)])
     size = (hi - lo).length
     corner = lambda p: all(min(abs(p[i] - lo[i]), abs(p[i] - hi[i])) <= 1e-6 * size for i in range(3))
-    if len(world) != 8 or not all(corner(p) for p in world) or len({tuple(round(x, 9) for x in p) for p in world}) != 8:
-        raise ExportError("mesh %s: a volume material on a mesh that is not an axis-aligned box (brume bounds a "
-                          "mesh's volume by its box only)" % obj.name)
-    m = {"name": obj.name, "density": {"type": "constant", "value": 1, "bounds": [vec(lo), vec(hi)]}}
+    is_box = len(world) == 8 and all(corner(p) for p in world) and \
+        len({tuple(round(x, 9) for x in p) for p in world}) == 8
+    # the density's box: the mesh's, a little larger when the mesh bounds the medium
+    pad = 0.0 if is_box else 1e-4 * size
+    m = {"name": obj.name, "density": {"type": "constant", "value": 1,
+                                       "bounds": [vec(lo - Vector((pad,) * 3)), vec(hi + Vector((pad,) * 3))]}}
     m.update(medium_coefficients(pv))
-    # Cycles: a mesh's volume is bounded by the mesh, emitting per unit length inside it
     m.update(emission_keys(obj, pv, []))
-    return m
+    if is_box:
+        return m, None
+    surf = mesh_json(obj, folder, material=False)
+    surf["material"] = {"type": "interface"}
+    surf["medium_inside"] = obj.name
+    return m, surf
 
 
-def mesh_json(obj, folder):
+def mesh_json(obj, folder, material=True):
     path = os.path.join(folder, "%s.glb" % re.sub(r"[^A-Za-z0-9_.-]", "_", obj.name))
     bpy.ops.object.select_all(action="DESELECT")
     obj.select_set(True)
     bpy.ops.export_scene.gltf(filepath=path, use_selection=True, export_format="GLB", export_apply=True)
     albedo = [0.8, 0.8, 0.8]  # Cycles renders a mesh without material as a 0.8 grey diffuse
     mat = obj.active_material
-    if mat is not None:
+    if mat is not None and material:
         out = next((n for n in mat.node_tree.nodes if n.type == "OUTPUT_MATERIAL"), None) if mat.use_nodes else None
         bsdf = out.inputs["Surface"].links[0].from_node if out and out.inputs["Surface"].is_linked else None
         # brume's surfaces are Lambertian: a Diffuse BSDF of roughness 0 maps exactly (a
@@ -402,7 +413,10 @@ def export(scene, out_path):
         elif obj.type == "MESH" and fluid_domain(obj) is not None:
             desc["media"].append(fluid_json(obj, scene, fluid_domain(obj)))
         elif obj.type == "MESH" and volume_material(obj) is not None:
-            desc["media"].append(box_medium_json(obj, volume_material(obj)))
+            medium, surf = volume_mesh_json(obj, volume_material(obj), folder)
+            desc["media"].append(medium)
+            if surf is not None:
+                desc["surfaces"].append(surf)
         elif obj.type == "MESH":
             desc["surfaces"].append(mesh_json(obj, folder))
         elif obj.type not in ("CAMERA", "EMPTY"):
