@@ -740,8 +740,9 @@ brume_status brume_grid_file_list(brume_context *ctx, const char *path, const br
  * first grid of its list of names, in the list's order, that the file has with a fitting
  * value type (density and temperature: float; emission: float or vec3; albedo and velocity:
  * vec3). brume_grid_pick: the index of the role's grid in grids, or -1 (none, or an unknown
- * role). brume_grid_role: the role of grid `index` ("" when none). brume_grid_role_names: the
- * role's names in order, comma-separated ("" for an unknown role). */
+ * role). brume_grid_role: the role of grid `index` ("" when none; NULL when grids is NULL).
+ * brume_grid_role_names: the role's names in order, comma-separated ("" for an unknown role,
+ * NULL for a NULL one). */
 int brume_grid_pick(const brume_grid_entry *grids, int count, const char *role);
 const char *brume_grid_role(const brume_grid_entry *grids, int count, int index);
 const char *brume_grid_role_names(const char *role);

@@ -57,7 +57,9 @@ int brume_grid_pick(const brume_grid_entry *grids, int count, const char *role)
 
 const char *brume_grid_role(const brume_grid_entry *grids, int count, int index)
 {
-    if (!grids || index < 0 || index >= count)
+    if (!grids)
+        return NULL;
+    if (index < 0 || index >= count)
         return "";
     for (int r = 0; r < (int)(sizeof roles / sizeof roles[0]); r++)
         if (brume_grid_pick(grids, count, roles[r].role) == index)
@@ -75,6 +77,8 @@ const char *brume_grid_role_names(const char *role)
 {
     static const char *const lists[] = {"density, smoke, soot", "temperature, temp, heat",
                                         "flame, flames, fire, emission", "Cd, color, albedo", "vel, v, velocity"};
-    int r = role ? role_index(role) : -1;
+    if (!role)
+        return NULL;
+    int r = role_index(role);
     return r < 0 ? "" : lists[r];
 }
