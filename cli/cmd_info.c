@@ -1,6 +1,7 @@
 /* cmd_info.c - `brume info FILE`: every grid of a .vdb/.nvdb (name, value type, class,
- * index box, active voxels, value range, NanoVDB memory), then the grid brume reads (or the
- * one of --grid): format, dimensions, world bounds, value range, memory and active voxels. */
+ * index box, active voxels, value range, NanoVDB memory, role by name), then the grid brume
+ * reads (or the one of --grid): format, dimensions, world bounds, value range, memory and
+ * active voxels. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,9 +21,10 @@ const cli_command cli_info_command = {
     "info", "a grid file's format, dimensions, bounds, values and memory",
     "[options] FILE",
     "Prints every grid of a .vdb/.nvdb (name, value type, class, index box, active voxels, value\n"
-    "range, NanoVDB memory), then the grid brume reads: format, dimensions, world bounds, values,\n"
-    "memory and active voxels. FILE may be a frame pattern (smoke_%04d.vdb, smoke_####.vdb): the\n"
-    "range and the bounds over it.\n",
+    "range, NanoVDB memory, and the role a medium's field takes it in by its name: density,\n"
+    "temperature, emission, albedo, velocity or none), then the grid brume reads: format,\n"
+    "dimensions, world bounds, values, memory and active voxels. FILE may be a frame pattern\n"
+    "(smoke_%04d.vdb, smoke_####.vdb): the range and the bounds over it.\n",
     info_flags, CLI_NFLAGS(info_flags), NULL, NULL};
 
 /* A frame pattern: the range of files present and the world box over all of them (each
@@ -72,12 +74,15 @@ static int print_list(brume_context *ctx, const char *path, const brume_grid_fil
     }
     printf("file:           %s\n", path);
     printf("grids:          %d\n", n);
-    for (int g = 0; g < n; g++)
+    for (int g = 0; g < n; g++) {
+        /* the role a medium's field takes it in when the scene names no grid (docs/grids.md) */
+        const char *role = brume_grid_role(e, n, g);
         printf("  grid \"%s\": %s, %s, index box (%d, %d, %d) to (%d, %d, %d), %llu active voxels, values %.6g to "
-               "%.6g, NanoVDB %.2f MiB\n",
+               "%.6g, NanoVDB %.2f MiB, role %s\n",
                e[g].name, e[g].type, e[g].grid_class, e[g].index_min[0], e[g].index_min[1], e[g].index_min[2],
                e[g].index_max[0], e[g].index_max[1], e[g].index_max[2], e[g].active_voxels, e[g].value_min,
-               e[g].value_max, (double)e[g].nanovdb_bytes / 1048576.0);
+               e[g].value_max, (double)e[g].nanovdb_bytes / 1048576.0, role[0] ? role : "none");
+    }
     free(e);
     *count = n;
     return 0;

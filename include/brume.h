@@ -735,6 +735,17 @@ typedef struct brume_grid_entry {
  * what is read. */
 brume_status brume_grid_file_list(brume_context *ctx, const char *path, const brume_grid_file_options *opts,
                                   brume_grid_entry *out, int max, int *count);
+/* Grids by the names fire and smoke tools write (docs/grids.md, "Fire files: grids by
+ * name"): the role ("density", "temperature", "emission", "albedo", "velocity") takes the
+ * first grid of its list of names, in the list's order, that the file has with a fitting
+ * value type (density and temperature: float; emission: float or vec3; albedo and velocity:
+ * vec3). brume_grid_pick: the index of the role's grid in grids, or -1 (none, or an unknown
+ * role). brume_grid_role: the role of grid `index` ("" when none; NULL when grids is NULL).
+ * brume_grid_role_names: the role's names in order, comma-separated ("" for an unknown role,
+ * NULL for a NULL one). */
+int brume_grid_pick(const brume_grid_entry *grids, int count, const char *role);
+const char *brume_grid_role(const brume_grid_entry *grids, int count, int index);
+const char *brume_grid_role_names(const char *role);
 
 /* What a density holds, as `brume info` prints it. */
 typedef struct brume_density_info {
@@ -893,12 +904,24 @@ typedef struct brume_slab_result {
 brume_status brume_slab_run(brume_context *ctx, const brume_slab_params *params, brume_slab_result *out);
 
 
+/* How a medium's emission (its constant, blackbody and emission field alike) is emitted
+ * (docs/scene-format.md, "Emission"). */
+typedef enum brume_emission_units {
+    /* pbrt-v4's: Le is a radiance (W m^-2 sr^-1) emitted at the rate sigma_a rho(x) Le per
+     * unit length, so it follows the density */
+    BRUME_EMISSION_RADIANCE = 0,
+    /* Cycles' Principled Volume: Le is a radiance per unit length (W m^-2 sr^-1 per world
+     * unit) emitted wherever rho(x) > 0, whatever the density */
+    BRUME_EMISSION_PER_LENGTH = 1
+} brume_emission_units;
+
 /* A participating medium: sigma_t(x) = (sigma_a + sigma_s) rho(x) per world unit. At most 16. */
 typedef struct brume_medium {
     char name[64];      /* "" or a name for messages */
     double sigma_a[3];  /* absorption per world unit per unit density, each in [0, 1e12] */
     double sigma_s[3];  /* scattering per world unit per unit density, each in [0, 1e12] */
-    double emission[3]; /* radiance Le emitted at the rate sigma_a rho Le per unit length, >= 0 */
+    double emission[3]; /* constant emission Le, >= 0, in emission_units */
+    int emission_units; /* a brume_emission_units; 0 (the default) = BRUME_EMISSION_RADIANCE */
 } brume_medium;
 /* On success the scene takes over density and phase (phase NULL = isotropic): do not use or
  * release them again. On failure the caller keeps both. */
@@ -917,23 +940,30 @@ brume_status brume_scene_set_medium_density(brume_context *ctx, brume_scene *sce
  * Albedo A(x) per channel (albedo: an array of 3): sigma_s(x) = sigma_s rho(x) A(x) (values >= 0). */
 brume_status brume_scene_set_medium_albedo(brume_context *ctx, brume_scene *scene, int medium,
                                            brume_density *const *albedo);
-/* Blackbody emission from a temperature grid, pbrt-v4's convention: where
- * T' = (T(x) - temperature_offset) temperature_scale exceeds cutoff, the medium emits
- * Le(x) = scale * blackbody(T'), the peak-normalized Planck spectrum in linear Rec. 709,
- * at the rate sigma_a rho(x) Le(x) per unit length. */
+/* Blackbody emission from a temperature grid: where T' = (T(x) - temperature_offset)
+ * temperature_scale exceeds cutoff, the medium emits, in its emission_units,
+ * - BRUME_BLACKBODY_PBRT (pbrt-v4's): Le(x) = scale * B(T'), B the peak-normalized Planck
+ *   spectrum in linear Rec. 709;
+ * - BRUME_BLACKBODY_BLENDER (Cycles' Principled Volume): Le(x) = tint * (5.670373e-14 / pi)
+ *   * ((1 - intensity) + intensity T'^4) * C(T'), C the Planck colour of luminance 1 with
+ *   T' held within [800, 12000] K (Cycles' Blackbody node, unclamped). */
+typedef enum brume_blackbody_model { BRUME_BLACKBODY_PBRT = 0, BRUME_BLACKBODY_BLENDER = 1 } brume_blackbody_model;
 typedef struct brume_blackbody {
-    double scale;              /* radiance scale (W m^-2 sr^-1), > 0; default 1 */
-    double temperature_scale;  /* > 0; default 1 */
+    double scale;              /* PBRT: radiance scale (W m^-2 sr^-1), > 0; default 1 */
+    double temperature_scale;  /* > 0; default 1 (Blender's Temperature input) */
     double temperature_offset; /* kelvin; default 0 */
     double cutoff;             /* kelvin, >= 0; default 100 */
+    int model;                 /* a brume_blackbody_model; default BRUME_BLACKBODY_PBRT */
+    double intensity;          /* BLENDER: Blackbody Intensity, in [0, 1]; default 1 */
+    double tint[3];            /* BLENDER: Blackbody Tint, >= 0; default 1 */
 } brume_blackbody;
 void brume_blackbody_default(brume_blackbody *bb);
 /* bb NULL = the defaults. */
 brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene *scene, int medium,
                                                 brume_density *temperature, const brume_blackbody *bb);
 /* An emission field E(x): n = 1 (a float grid) or 3 (per channel, e.g. from
- * brume_density_load_rgb); the medium emits color * E(x) (W m^-2 sr^-1, >= 0) at the rate
- * sigma_a rho(x), besides its constant emission. */
+ * brume_density_load_rgb); the medium emits color * E(x) (>= 0) in its emission_units,
+ * besides its constant emission. */
 brume_status brume_scene_set_medium_emission_field(brume_context *ctx, brume_scene *scene, int medium,
                                                    brume_density *const *fields, int n, const double color[3]);
 /* Velocity motion blur (docs/animation.md, "Velocity motion blur"): a velocity field v(x) =

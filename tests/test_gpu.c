@@ -392,6 +392,30 @@ TEST(device_copy_velocity_blur)
     copy_renders_the_same(json, 400);
 }
 
+/* Emission as Cycles sets it (per unit length, an emission grid, Blender's blackbody) is the
+ * same medium code on the device: its copy renders the same path values. */
+TEST(device_copy_emission_per_length)
+{
+    if (!grid_have_openvdb()) {
+        printf("skipped: no OpenVDB (writing .nvdb)\n");
+        exit(77);
+    }
+    const char *fire = test_tmp_path("gpu-fire-emit.nvdb");
+    char cmd[1024], json[2048];
+    snprintf(cmd, sizeof cmd, "%s gen fire --resolution 32 --height 1 -o %s >/dev/null", BRUME_EXE, fire);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"fov\": 20},"
+             " \"media\": [{\"sigma_a\": 0.5, \"sigma_s\": 2.0, \"emission_units\": \"radiance_per_length\","
+             "   \"density\": {\"type\": \"grid\", \"file\": \"%s\", \"transform\": {\"scale\": [4, 1.5, 4], \"translate\": [0, -0.75, 0]}},"
+             "   \"emission_field\": {\"grid\": \"density\", \"color\": [1, 0.4, 0.1]},"
+             "   \"temperature\": {}, \"blackbody\": {\"model\": \"blender\", \"intensity\": 0.8, \"tint\": [1, 0.9, 0.8]}}],"
+             " \"render\": {\"max_depth\": 16}}",
+             fire);
+    copy_renders_the_same(json, 400);
+    remove(fire);
+}
+
 /* What the GPU does not render yet is refused with one line naming it. */
 TEST(device_refuses_with_one_line)
 {
@@ -457,5 +481,5 @@ TEST(device_without_driver)
 
 TEST_MAIN(device_math_against_libm, device_copy_dense_media, device_copy_nanovdb_and_environment,
           device_copy_surfaces, device_copy_blobs, device_copy_blobs_kernel_table, bvh_matches_embree,
-          device_copy_velocity_blur, device_refuses_with_one_line, device_without_driver,
-          device_copy_pbrt_cloud_and_equal_area_sky)
+          device_copy_velocity_blur, device_copy_emission_per_length, device_refuses_with_one_line,
+          device_without_driver, device_copy_pbrt_cloud_and_equal_area_sky)

@@ -120,8 +120,8 @@ static void rec709_xyY(const cJSON *o, const char *key, double *x, double *y, do
 /* "blackbody L" [T] as pbrt-v4 gives an RGB film: luminance Y = scale (pbrt-v4 divides every
  * light's scale by its spectrum's luminance) and the chromaticity of the Planckian locus at
  * T: CIE 1931 2-degree tables give (0.5267, 0.4133) at 2000 K and (0.3135, 0.3237) at
- * 6500 K. brume's colour matching functions are Wyman, Sloan and Shirley's fit
- * (docs/grids.md): within 4e-3 of the tables' chromaticities (2.5e-3 off at 2000 K). */
+ * 6500 K. brume's colour matching functions are those tables every 5 nm (docs/grids.md):
+ * within 4e-3 of the tables' chromaticities. */
 TEST(blackbody_lights_as_pbrt)
 {
     cJSON *root = translate_ok("Film \"rgb\"\n" VIEW "Camera \"perspective\"\nWorldBegin\n"

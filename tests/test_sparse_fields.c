@@ -34,8 +34,8 @@ static void xy_of(double T, double *x, double *y)
  * the check is in (u, v): within 0.005. Published points (CIE 15:2004 and Wyszecki &
  * Stiles, table 1(3.11)): illuminant A, defined as Planck's law with c2 = 1.435e-2 m K at
  * 2848 K, (0.44757, 0.40745); the locus at 3000 K (0.4369, 0.4041), 5000 K (0.3451,
- * 0.3516), 10000 K (0.2807, 0.2884). Tolerance 0.0015: the colour matching functions are
- * an analytic fit (Wyman et al. 2013), good to about 1e-3 in chromaticity. */
+ * 0.3516), 10000 K (0.2807, 0.2884). Tolerance 0.0015: the published points carry four
+ * digits, and the colour matching functions are the CIE's table every 5 nm. */
 TEST(blackbody_chromaticity)
 {
     double x, y;

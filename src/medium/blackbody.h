@@ -4,8 +4,8 @@
  * radiance B(lambda, T) normalized by its own peak, so the spectrum's maximum is 1 at every
  * temperature; integrated against the CIE 1931 2-degree observer over 360-830 nm and
  * divided by the integral of y-bar (a flat spectrum of 1 has Y = 1), then converted to
- * linear Rec. 709 RGB (D65 white). The colour matching functions are Wyman, Sloan and
- * Shirley's multi-lobe fit (JCGT 2(2), 2013). Units: T in kelvin; the result is a radiance
+ * linear Rec. 709 RGB (D65 white). The colour matching functions are the CIE's table
+ * (5 nm steps, read linearly in between). Units: T in kelvin; the result is a radiance
  * factor (dimensionless), multiplied by the medium's blackbody scale (radiance units).
  * Derivation and checks: docs/grids.md, "Fire: temperature and blackbody emission". */
 #ifndef BRUME_MEDIUM_BLACKBODY_H
@@ -22,6 +22,11 @@ color blackbody_rgb_exact(double T);
  * between; clamped outside): for rendering. blackbody_init() must have run (thread-safe). */
 color blackbody_rgb(double T);
 void blackbody_init(void);
+/* Cycles' blackbody colour (Blender's Blackbody node and Principled Volume): the same
+ * Planck colour scaled to a luminance (Rec. 709 Y) of 1, with T held within [800 K,
+ * 12000 K] as Cycles holds it; negative components below about 1800 K, as in Cycles,
+ * which does not clamp them in a volume. After blackbody_init. */
+color blackbody_rgb_blender(double T);
 /* The table blackbody_rgb interpolates (BLACKBODY_TABLE_N colors, after blackbody_init):
  * the GPU gets a copy (gpu/device_scene.c). */
 #define BLACKBODY_TABLE_N 1024

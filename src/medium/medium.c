@@ -8,7 +8,7 @@
 
 bool medium_emits(const medium *m)
 {
-    if (col_is_black(m->sigma_a))
+    if (col_is_black(m->sigma_a) && !m->emit_per_length)
         return false;
     return !col_is_black(m->Le) || m->temperature || (m->emission[0] && !col_is_black(m->emission_color));
 }
@@ -24,6 +24,19 @@ void medium_init(medium *m)
     m->sigma_t_min = m->albedo[0] ? 0.0 : col_min(col_add(m->sigma_a, m->sigma_s));
     if (m->temperature)
         blackbody_init();
+    m->sigma_flight = m->sigma_t_max;
+    if (m->emit_per_length && m->rho && medium_emits(m)) {
+        /* Emission per unit length is gathered at a flight's tentative collisions, which
+         * must come where the medium is, however clear: at least some 16 along the field's
+         * diagonal where the density is at its maximum (the estimate's relative deviation
+         * over a path of n expected collisions is 1 / sqrt(n)). */
+        density_info in;
+        density_get_info(m->rho, &in);
+        double diag = v3_length(v3_sub(in.bounds.hi, in.bounds.lo));
+        double rate = in.rho_max > 0.0 && diag > 0.0 ? 16.0 / (in.rho_max * diag) : 0.0;
+        if (isfinite(rate) && rate > m->sigma_flight)
+            m->sigma_flight = rate;
+    }
     /* |v| = |M u| <= medium_velocity_map_norm |u|, and |u| <= the norm of the components'
      * bounds: a lookup (nearest, or trilinear: a convex combination of voxels) lies within
      * each component's range of values */

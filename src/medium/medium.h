@@ -2,18 +2,25 @@
  *
  * Units: sigma_a and sigma_s are per world unit of length per unit density, so at x
  *   sigma_t(x) = (sigma_a + sigma_s) rho(x)   [1 / world unit]
- * and the albedo is sigma_s / (sigma_a + sigma_s). Emission Le is a radiance added along a
- * ray at the rate sigma_a rho(x) Le per unit length (Stam's (1 - Omega) E term).
- * Blasi's alpha and sigma are sigma_a and sigma_s; Stam's kappa_t is sigma_a + sigma_s.
+ * and the albedo is sigma_s / (sigma_a + sigma_s). Blasi's alpha and sigma are sigma_a and
+ * sigma_s; Stam's kappa_t is sigma_a + sigma_s.
+ *
+ * Emission, in one of two units for the whole medium (emit_per_length):
+ *   false (pbrt-v4's): Le is a radiance [W m^-2 sr^-1] added along a ray at the rate
+ *     sigma_a rho(x) Le(x) per unit length (Stam's (1 - Omega) E term);
+ *   true (Cycles'): Le is a radiance per unit length [W m^-2 sr^-1 / world unit] added as it
+ *     is wherever rho(x) > 0, whatever the density (Principled Volume's emission).
  *
  * Optional fields (docs/grids.md, "Media with several fields"), each a grid with its own
  * placement, evaluated at the same medium-local point as rho:
  *   albedo A(x) (3 fields, one per channel): sigma_s(x) = sigma_s rho(x) A(x) per channel;
- *   temperature T(x) (kelvin): adds Le_bb(x) = bb_scale blackbody((T(x) - bb_offset) bb_tscale)
- *     where that temperature exceeds bb_cutoff (medium/blackbody.h, pbrt-v4's convention);
+ *   temperature T(x) (kelvin): with T' = (T(x) - bb_offset) bb_tscale > bb_cutoff, adds
+ *     pbrt-v4's  Le_bb = bb_scale blackbody(T')  (peak-normalized, medium/blackbody.h), or
+ *     Cycles'    Le_bb = bb_tint (sigma_SB 1e-6 / pi) ((1 - bb_intensity) + bb_intensity T'^4)
+ *                        blackbody_rgb_blender(T')  (luminance 1, Principled Volume's);
  *   emission E(x) (1 field, or 3 for a vec3 grid): adds emission_color E(x).
- * The emitted radiance Le(x) = Le + Le_bb(x) + emission_color E(x) is added at the rate
- * sigma_a rho(x) Le(x), as the constant Le is. */
+ * The emitted Le(x) = Le + Le_bb(x) + emission_color E(x) is added in the medium's units,
+ * as the constant Le is. */
 #ifndef BRUME_MEDIUM_MEDIUM_H
 #define BRUME_MEDIUM_MEDIUM_H
 
@@ -27,13 +34,20 @@ typedef struct medium {
     phase *ph;          /* owned */
     color sigma_a;      /* absorption per unit length per unit density, >= 0 */
     color sigma_s;      /* scattering per unit length per unit density, >= 0 */
-    color Le;           /* emitted radiance (W sr^-1 m^-2 in world units), >= 0 */
+    color Le;           /* emitted radiance, or radiance per unit length (emit_per_length), >= 0 */
+    bool emit_per_length; /* every Le term is a radiance per unit length, emitted where rho > 0 */
     double sigma_t_max; /* max over channels of sigma_a + sigma_s (set by medium_init) */
+    double sigma_flight; /* the rate per unit density of a flight's tentative collisions: sigma_t_max,
+                            or more for a medium emitting per unit length, whose emission the
+                            collisions gather where sigma_t is small or 0 (medium_init) */
     double sigma_t_min; /* min over channels of sigma_a + sigma_s, the control's scale; 0 with an
                            albedo field, whose sigma_t varies otherwise than rho (medium_init) */
     density *albedo[3];      /* NULL, or per-channel factors of sigma_s (owned, >= 0) */
     density *temperature;    /* NULL, or the temperature grid (owned), kelvin before scale/offset */
-    double bb_scale;         /* blackbody radiance scale, > 0 (radiance units) */
+    bool bb_blender;         /* Cycles' blackbody (intensity, tint, Stefan-Boltzmann) instead of pbrt-v4's */
+    double bb_scale;         /* pbrt-v4's blackbody radiance scale, > 0 (radiance units) */
+    double bb_intensity;     /* Cycles' blackbody intensity in [0, 1]: the weight of T'^4 */
+    color bb_tint;           /* Cycles' blackbody tint, >= 0 */
     double bb_tscale;        /* temperature scale, > 0 */
     double bb_offset;        /* temperature offset, kelvin */
     double bb_cutoff;        /* kelvin: nothing glows at or below it, >= 0 */
@@ -58,9 +72,13 @@ typedef struct medium {
                            rays are moved into the field's frame at their own time */
 } medium;
 
-/* Whether the medium has any field besides rho (albedo, temperature, emission); a velocity
- * moves them all and is not counted. */
-static inline bool medium_has_fields(const medium *m) { return m->albedo[0] || m->temperature || m->emission[0]; }
+/* Whether the medium has any field besides rho (albedo, temperature, emission) or emits per
+ * unit length: what only the path tracer's general lookup renders; a velocity moves the
+ * fields and is not counted. */
+static inline bool medium_has_fields(const medium *m)
+{
+    return m->albedo[0] || m->temperature || m->emission[0] || m->emit_per_length;
+}
 /* A bound of the velocity map's norm |M|_2 <= sqrt(|M|_1 |M|_inf), exact for the identity,
  * axis scalings and axis swaps: |v| = |M u| <= it times |u|. */
 static inline double medium_velocity_map_norm(const medium *m)
@@ -73,7 +91,8 @@ static inline double medium_velocity_map_norm(const medium *m)
     }
     return sqrt(col_max * row_max);
 }
-/* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0). */
+/* Whether it can emit: constant Le, a temperature or an emission field (with sigma_a > 0,
+ * or per unit length). */
 bool medium_emits(const medium *m);
 /* Fills the derived fields; call after setting the others. */
 void medium_init(medium *m);
@@ -92,7 +111,8 @@ void medium_release(medium *m);
 /* The medium's coefficients at a point [1 / world unit] and its emitted radiance there. */
 typedef struct medium_coeffs {
     color sigma_a, sigma_s; /* sigma_t = sigma_a + sigma_s */
-    color Le;               /* added along a ray at the rate sigma_a Le */
+    color emission;         /* emitted radiance per unit length [radiance / world unit]: sigma_a Le,
+                               or Le for a medium emitting per unit length */
 } medium_coeffs;
 
 /* At the world point p at time `time` (seconds; a moving medium is taken where it is

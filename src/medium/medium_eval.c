@@ -5,6 +5,19 @@
 
 #include "medium/blackbody.h"
 
+/* The blackbody radiance at the mapped temperature T (kelvin, > 0) in the medium's
+ * convention (medium.h): pbrt-v4's peak-normalized colour times its scale, or Cycles'
+ * Stefan-Boltzmann intensity sigma T^4 (sigma = 5.670373e-8 W m^-2 K^-4, in Cycles' 1e-6
+ * per steradian: 5.670373e-14 / pi) mixed with 1 by the intensity, times tint and colour. */
+static color medium_blackbody(const medium *md, double T)
+{
+    if (!md->bb_blender)
+        return col_scale(blackbody_rgb(T), md->bb_scale);
+    const double sigma = 5.670373e-8 * 1e-6 / 3.14159265358979323846, T2 = T * T;
+    double intensity = sigma * ((1.0 - md->bb_intensity) + md->bb_intensity * T2 * T2);
+    return col_scale(col_mul(md->bb_tint, blackbody_rgb_blender(T)), intensity);
+}
+
 /* The optional fields of a medium at its local point p: albedo scales sigma_s per
  * channel; temperature and emission fields add to Le (medium.h). */
 static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
@@ -15,7 +28,7 @@ static void medium_fields_at(const medium *md, vec3 p, color *ss, color *Le)
     if (md->temperature) {
         double T = (density_eval(md->temperature, p) - md->bb_offset) * md->bb_tscale;
         if (T > md->bb_cutoff)
-            *Le = col_madd(*Le, blackbody_rgb(T), md->bb_scale);
+            *Le = col_add(*Le, medium_blackbody(md, T));
     }
     if (md->emission[0]) {
         if (md->emission[1])
@@ -57,9 +70,10 @@ bool medium_coeffs_at(const medium *md, vec3 p, double time, double dt, medium_c
         return false;
     mc->sigma_a = col_scale(md->sigma_a, rho);
     mc->sigma_s = col_scale(md->sigma_s, rho);
-    mc->Le = md->Le;
+    color Le = md->Le;
     if (medium_has_fields(md))
-        medium_fields_at(md, pm, &mc->sigma_s, &mc->Le);
+        medium_fields_at(md, pm, &mc->sigma_s, &Le);
+    mc->emission = md->emit_per_length ? Le : col_mul(mc->sigma_a, Le);
     return true;
 }
 

@@ -23,7 +23,7 @@ void media_at(const brume_scene *s, uint32_t absent, vec3 p, double time, medium
             continue;
         ms->sigma_a = col_add(ms->sigma_a, mc.sigma_a);
         ms->sigma_s = col_add(ms->sigma_s, mc.sigma_s);
-        ms->emission = col_add(ms->emission, col_mul(mc.sigma_a, mc.Le));
+        ms->emission = col_add(ms->emission, mc.emission);
         ms->index[ms->n] = m;
         ms->weight[ms->n] = col_avg(mc.sigma_s);
         ms->n++;

@@ -49,7 +49,7 @@ static inline bool track_collisions(const brume_scene *s, uint32_t absent, ray r
 /* Optical coefficients at p summed over the media [1 / world unit]. */
 typedef struct medium_sample {
     color sigma_a, sigma_s;
-    color emission;         /* sum of sigma_a rho Le [radiance / world unit] */
+    color emission;         /* sum of the emitted radiance per unit length [radiance / world unit] */
     int n;                  /* media with rho > 0 at p */
     int index[SCENE_MAX_MEDIA];
     double weight[SCENE_MAX_MEDIA]; /* avg sigma_s of each, for choosing a phase function */

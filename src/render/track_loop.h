@@ -23,7 +23,9 @@ static inline TRACK_INLINE bool TRACK_NAME(const brume_scene *s, const int n, ui
         }
         st[m].it.by_ctl = residual;
         st[m].live = majorant_next(&st[m].it, &st[m].seg);
-        st[m].sigma_t_max = s->media[m].sigma_t_max;
+        /* a flight gathers emission at its collisions: a medium emitting per unit length
+         * is walked at its own rate (medium.h); shadow rays need only sigma_t's */
+        st[m].sigma_t_max = residual ? s->media[m].sigma_t_max : s->media[m].sigma_flight;
         st[m].sigma_t_min = s->media[m].sigma_t_min;
     }
     track_event e = {0.0, 0.0, 0.0, 0.0, 0.0};

@@ -434,9 +434,13 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
 {
     lexer *L = &S->L;
     brume_status st;
-    char file[1024] = "";
+    char file[1024] = "", gname[128] = "density", tname[128] = "temperature";
     double sa[3] = {1, 1, 1}, ss[3] = {1, 1, 1}, scale = 1.0, g = 0.0, Lescale = 1.0, tscale = 1.0, toff = 0.0,
            tcut = 0.0;
+    /* pbrt-v4 names the grids it reads: "gridname" (density) and "temperaturename" */
+    if ((st = pbrt_get_string(L, ps, "gridname", gname, sizeof gname)) ||
+        (st = pbrt_get_string(L, ps, "temperaturename", tname, sizeof tname)))
+        return st;
     if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_get_color(L, ps, "sigma_a", sa)) ||
         (st = pbrt_get_color(L, ps, "sigma_s", ss)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
         (st = pbrt_get_float(L, ps, "g", &g)) || (st = nanovdb_lescale(L, ps, &Lescale)) ||
@@ -452,14 +456,14 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
     snprintf(what, sizeof what, "MakeNamedMedium \"%s\"", name);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
-    /* pbrt reads the file's "temperature" grid when it has one */
+    /* pbrt reads the file's temperature grid ("temperaturename") when it has one */
     bool has_temp = false;
     gridvdb_info *gi = NULL;
     int ng = 0;
     if (grid_list_file(abs, 0, &gi, &ng) != BRUME_OK)
         return err_prefix("%s:%d: MakeNamedMedium \"%s\"", L->file, L->dir_line, name);
     for (int i = 0; i < ng; i++)
-        has_temp |= strcmp(gi[i].name, "temperature") == 0;
+        has_temp |= strcmp(gi[i].name, tname) == 0;
     free(gi);
     cJSON *m = medium_new(L, name, sa, ss, scale, g);
     if (!m)
@@ -467,7 +471,7 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
     cJSON *d = cJSON_AddObjectToObject(m, "density");
     cJSON_AddStringToObject(d, "type", "grid");
     cJSON_AddStringToObject(d, "file", abs);
-    cJSON_AddStringToObject(d, "grid", "density");
+    cJSON_AddStringToObject(d, "grid", gname);
     if (!medium_place(S, d, name)) {
         cJSON_Delete(m);
         return err_status();
@@ -476,7 +480,7 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
         /* pbrt-v4: T' = (T - offset) scale; above 100 K, Le = Lescale B(T') with B the
            peak-normalized blackbody, emitted at the rate sigma_a rho Le: brume's model */
         cJSON *t = cJSON_AddObjectToObject(m, "temperature");
-        cJSON_AddStringToObject(t, "grid", "temperature");
+        cJSON_AddStringToObject(t, "grid", tname);
         cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
         cJSON_AddNumberToObject(bb, "scale", Lescale);
         cJSON_AddNumberToObject(bb, "temperature_scale", tscale);

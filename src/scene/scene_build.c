@@ -526,6 +526,10 @@ brume_status brume_scene_add_medium(brume_context *ctx, brume_scene *s, const br
         (st = build_color(fn, "medium.sigma_s", m->sigma_s, 1e12, &md.sigma_s)) ||
         (st = build_color(fn, "medium.emission", m->emission, BIG, &md.Le)))
         return ctx_report(ctx, st);
+    if (m->emission_units != BRUME_EMISSION_RADIANCE && m->emission_units != BRUME_EMISSION_PER_LENGTH)
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: medium.emission_units: %d is not a "
+                                       "brume_emission_units", fn, m->emission_units));
+    md.emit_per_length = m->emission_units == BRUME_EMISSION_PER_LENGTH;
     if (!ph) {
         md.ph = phase_new_isotropic();
         if (!md.ph)

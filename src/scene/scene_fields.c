@@ -57,6 +57,10 @@ void brume_blackbody_default(brume_blackbody *bb)
     bb->temperature_scale = 1.0;
     bb->temperature_offset = 0.0;
     bb->cutoff = 100.0;
+    bb->model = BRUME_BLACKBODY_PBRT;
+    bb->intensity = 1.0;
+    for (int c = 0; c < 3; c++)
+        bb->tint[c] = 1.0;
 }
 
 brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene *s, int index,
@@ -76,10 +80,20 @@ brume_status brume_scene_set_medium_temperature(brume_context *ctx, brume_scene 
     if ((st = build_number(fn, "blackbody.scale", bb->scale, 1e-30, 1e30)) ||
         (st = build_number(fn, "blackbody.temperature_scale", bb->temperature_scale, 1e-30, 1e30)) ||
         (st = build_number(fn, "blackbody.temperature_offset", bb->temperature_offset, -1e30, 1e30)) ||
-        (st = build_number(fn, "blackbody.cutoff", bb->cutoff, 0.0, 1e30)))
+        (st = build_number(fn, "blackbody.cutoff", bb->cutoff, 0.0, 1e30)) ||
+        (st = build_number(fn, "blackbody.intensity", bb->intensity, 0.0, 1.0)))
         return ctx_report(ctx, st);
+    color tint;
+    if ((st = build_color(fn, "blackbody.tint", bb->tint, 1e30, &tint)))
+        return ctx_report(ctx, st);
+    if (bb->model != BRUME_BLACKBODY_PBRT && bb->model != BRUME_BLACKBODY_BLENDER)
+        return ctx_report(ctx, err_set(BRUME_ERROR_RANGE, "%s: blackbody.model: %d is not a brume_blackbody_model",
+                                       fn, bb->model));
     medium *m = &s->media[index];
     take(s, &m->temperature, temperature);
+    m->bb_blender = bb->model == BRUME_BLACKBODY_BLENDER;
+    m->bb_intensity = bb->intensity;
+    m->bb_tint = tint;
     m->bb_scale = bb->scale;
     m->bb_tscale = bb->temperature_scale;
     m->bb_offset = bb->temperature_offset;

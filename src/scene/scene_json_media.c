@@ -129,6 +129,37 @@ static brume_status parse_phase(const cJSON *j, jloc at, brume_phase **out)
  * (three). */
 typedef brume_status (*field_loader)(brume_context *, const char *, const brume_grid_file_options *, brume_density **);
 
+/* A field that names no grid, of a .vdb/.nvdb: its role's grid by the names fire tools write
+ * (brume_grid_pick: "temperature" a temperature grid, "emission_field" an emission grid,
+ * "albedo" an albedo grid), set in o->grid; when the file has none of those names, or for
+ * other fields and formats, the loader's default grid. */
+static brume_status pick_by_role(jloc fat, const char *key, const char *path, brume_grid_file_options *o)
+{
+    const char *role = strcmp(key, "temperature") == 0      ? "temperature"
+                       : strcmp(key, "emission_field") == 0 ? "emission"
+                       : strcmp(key, "albedo") == 0         ? "albedo"
+                                                            : NULL;
+    brume_grid_format f = o->format != BRUME_GRID_FORMAT_AUTO ? o->format : brume_grid_format_of(path);
+    if (!role || (f != BRUME_GRID_FORMAT_VDB && f != BRUME_GRID_FORMAT_NVDB))
+        return BRUME_OK;
+    int n = 0;
+    brume_grid_entry *e = NULL;
+    brume_status st = brume_grid_file_list(NULL, path, o, NULL, 0, &n);
+    if (st == BRUME_OK && n > 0 && !(e = calloc((size_t)n, sizeof *e)))
+        st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fat.file);
+    if (st == BRUME_OK && n > 0)
+        st = brume_grid_file_list(NULL, path, o, e, n, &n);
+    if (st) {
+        free(e);
+        return err_prefix("%s: %s", fat.file, fat.path);
+    }
+    int i = brume_grid_pick(e, n, role);
+    if (i >= 0) /* else the file's default grid, as for the density (brume_density_load) */
+        snprintf(o->grid, sizeof o->grid, "%s", e[i].name);
+    free(e);
+    return BRUME_OK;
+}
+
 /* A medium's field object ("albedo", "temperature", "emission_field", "velocity"): a grid
  * object whose keys default to the medium's grid density's (same file, placement, filter),
  * so that {"grid": "temperature"} is the temperature grid of the density's file. Loads the
@@ -164,12 +195,47 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scen
     brume_status st = scene_parse_grid_options(merged, fat, extra, scene_frame_number(s), path, sizeof path, &o, &sequence);
     cJSON_Delete(merged);
     if (st) return st;
+    if (!cJSON_HasObjectItem(f, "grid") && (st = pick_by_role(fat, key, path, &o))) return st;
     st = load(NULL, path, &o, out);
     if (used)
         *used = o;
     if (st == BRUME_OK && sequence)
         (*out)->evolves = true; /* the scene's builder marks the world moving (scene_build.c) */
     return st ? err_prefix("%s: %s", at.file, kp) : BRUME_OK;
+}
+
+/* The "blackbody" object j (NULL: the defaults) of a medium: pbrt-v4's model (scale) or
+ * Cycles' ("model": "blender": intensity, tint), with the temperature's mapping shared
+ * (docs/scene-format.md, "Emission"). */
+static brume_status parse_blackbody(const cJSON *j, jloc at, brume_blackbody *bb)
+{
+    brume_blackbody_default(bb);
+    if (!j)
+        return BRUME_OK;
+    static const char *const pbrt_keys[] = {"model", "scale", "temperature_scale", "temperature_offset", "cutoff", NULL};
+    static const char *const blender_keys[] = {"model", "intensity", "tint", "temperature_scale", "temperature_offset",
+                                               "cutoff", NULL};
+    char model[16] = "pbrt";
+    if (!cJSON_IsObject(j))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s: expected an object", at.file, at.path);
+    brume_status st = json_string(j, at, "model", 0, model, sizeof model);
+    if (st) return st;
+    bool blender = strcmp(model, "blender") == 0;
+    if (!blender && strcmp(model, "pbrt") != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.model: unknown blackbody model '%s' (known: pbrt, blender)", at.file,
+                       at.path, model);
+    if ((st = json_check_object(j, at, blender ? blender_keys : pbrt_keys))) return st;
+    if (blender) {
+        bb->model = BRUME_BLACKBODY_BLENDER;
+        bb->cutoff = 0.0; /* Cycles: every temperature above 0 K glows */
+        if ((st = json_number(j, at, "intensity", 0, 0.0, 1.0, &bb->intensity))) return st;
+        if ((st = scene_json_color(j, at, "tint", 0, BIG, bb->tint))) return st;
+    } else if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &bb->scale))) {
+        return st;
+    }
+    if ((st = json_number(j, at, "temperature_scale", 0, 1e-30, 1e30, &bb->temperature_scale))) return st;
+    if ((st = json_number(j, at, "temperature_offset", 0, -1e30, 1e30, &bb->temperature_offset))) return st;
+    return json_number(j, at, "cutoff", 0, 0.0, 1e30, &bb->cutoff);
 }
 
 /* "albedo", "temperature" + "blackbody", "emission_field", "velocity": the medium's optional
@@ -193,16 +259,8 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
         return err_set(BRUME_ERROR_PARSE, "%s: %s.blackbody: needs a \"temperature\" grid", at.file, at.path);
     if (cJSON_HasObjectItem(j, "temperature")) {
         brume_blackbody bb;
-        brume_blackbody_default(&bb);
-        if (bbj) {
-            static const char *const bkeys[] = {"scale", "temperature_scale", "temperature_offset", "cutoff", NULL};
-            jloc bat = {at.file, json_key_path(kp, sizeof kp, at.path, "blackbody")};
-            if ((st = json_check_object(bbj, bat, bkeys))) return st;
-            if ((st = json_number(bbj, bat, "scale", 0, 1e-30, 1e30, &bb.scale))) return st;
-            if ((st = json_number(bbj, bat, "temperature_scale", 0, 1e-30, 1e30, &bb.temperature_scale))) return st;
-            if ((st = json_number(bbj, bat, "temperature_offset", 0, -1e30, 1e30, &bb.temperature_offset))) return st;
-            if ((st = json_number(bbj, bat, "cutoff", 0, 0.0, 1e30, &bb.cutoff))) return st;
-        }
+        if ((st = parse_blackbody(bbj, (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "blackbody")}, &bb)))
+            return st;
         brume_density *t = NULL;
         if ((st = parse_field(j, at, s, "temperature", NULL, brume_density_load, &t, NULL))) return st;
         if ((st = scene_json_built(brume_scene_set_medium_temperature(NULL, s, index, t, &bb),
@@ -248,8 +306,9 @@ static brume_status parse_medium_fields(const cJSON *j, jloc at, brume_scene *s,
 
 brume_status scene_parse_medium(const cJSON *j, jloc at, brume_scene *s)
 {
-    static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "keyframes",
-                                       "albedo", "temperature", "blackbody", "emission_field", "velocity", NULL};
+    static const char *const keys[] = {"name", "density", "sigma_a", "sigma_s", "phase", "emission", "emission_units",
+                                       "keyframes", "albedo", "temperature", "blackbody", "emission_field", "velocity",
+                                       NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     brume_medium m = {0};
@@ -257,7 +316,13 @@ brume_status scene_parse_medium(const cJSON *j, jloc at, brume_scene *s)
     if ((st = scene_json_color(j, at, "sigma_a", 1, 1e12, m.sigma_a))) return st;
     if ((st = scene_json_color(j, at, "sigma_s", 1, 1e12, m.sigma_s))) return st;
     if ((st = scene_json_color(j, at, "emission", 0, BIG, m.emission))) return st;
-    char kp[256];
+    char kp[256], units[32] = "radiance";
+    if ((st = json_string(j, at, "emission_units", 0, units, sizeof units))) return st;
+    if (strcmp(units, "radiance_per_length") == 0)
+        m.emission_units = BRUME_EMISSION_PER_LENGTH;
+    else if (strcmp(units, "radiance") != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.emission_units: unknown units '%s' (known: radiance, "
+                       "radiance_per_length)", at.file, at.path, units);
     const cJSON *d = cJSON_GetObjectItemCaseSensitive(j, "density");
     if (!d)
         return err_set(BRUME_ERROR_PARSE, "%s: %s.density: required key missing", at.file, at.path);

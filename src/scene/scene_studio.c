@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "io/grid_io.h"
+#include "io/grid_roles.h"
 #include "io/grid_sequence.h"
 #include "io/json.h"
 #include "scene/scene_studio.h"
@@ -82,8 +83,8 @@ static brume_status pick_grids(const char *path, const char *want, char *density
     int count = 0;
     if (grid_list_file(path, 0, &g, &count) != BRUME_OK)
         return err_status();
-    static const char *const dens[] = {"density", "smoke", "soot", NULL};
-    static const char *const temp[] = {"temperature", "heat", "temp", NULL};
+    /* the names fire and smoke tools write (docs/grids.md, "Fire files: grids by name") */
+    const char *const *dens = grid_role_list("density"), *const *temp = grid_role_list("temperature");
     const gridvdb_info *d = NULL;
     if (want && want[0]) {
         const char *one[] = {want, NULL};

@@ -83,6 +83,7 @@ check chromatic-ground 256 tests/gpu/chromatic-emissive.json
 check default 128 scenes/default.json --width 240 --height 160 --set render.noise=0
 check blobs 256 scenes/stam-fig5-a.json --set render.method=path --width 160 --height 120
 check velocity-fire 256 tests/gpu/velocity-fire.json --set "media.0.density.file=$data/fire-vel.nvdb"
+check cycles-fire 256 tests/gpu/cycles-fire.json --set "media.0.density.file=$data/fire-vel.nvdb"
 check pbrt-media 128 scenes/pbrt-media.pbrt --width 160 --height 100
 
 # The job system on the GPU: an interrupted and resumed render is the uninterrupted one, byte
