@@ -197,9 +197,14 @@ static brume_status shape_uv(pbrt_state *S, const char *what, const param *uv, b
 static brume_status shape_surface(pbrt_state *S, cJSON *s)
 {
     attrs *a = &S->a[S->depth];
-    cJSON *mat = cJSON_AddObjectToObject(s, "material");
-    cJSON_AddItemToObject(mat, "albedo", a->albedo_tex ? cJSON_Duplicate(a->albedo_tex, 1)
-                                                       : cJSON_CreateDoubleArray(a->albedo, 3));
+    cJSON *mat = cJSON_Parse(a->mat_json);
+    if (!mat) {
+        cJSON_Delete(s);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", S->path);
+    }
+    if (a->albedo_tex)
+        cJSON_ReplaceItemInObject(mat, "albedo", cJSON_Duplicate(a->albedo_tex, 1));
+    cJSON_AddItemToObject(s, "material", mat);
     if (a->area) {
         cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
         if (a->area_two_sided)
