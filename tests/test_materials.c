@@ -421,6 +421,32 @@ TEST(metal_sphere_furnace_is_the_fresnel_average)
     brume_image_release(metal);
 }
 
+/* Light reached after a delta bounce counts in full: a smooth mirror of normal reflectance
+ * 0.5 (pbrt-v4's reflectance form: eta 1, k = 2 sqrt(0.5) / sqrt(0.5)) seen head-on through
+ * a 2 degree view reflects a 20 x 20 emitter 10 above it, behind the camera (Le = 2), which
+ * fills the reflected view: every pixel is F Le, F within 2e-5 of 0.5 over the view (the
+ * test's Fresnel). Weighing the hit against light sampling (the emitter's solid-angle pdf is
+ * 10^2 / 20^2 = 0.25) takes 6 % off; sampling the emitter at the mirror as well adds to it. */
+TEST(delta_bounce_sees_emitter_in_full)
+{
+    brume_image *img = test_render_json(
+        "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"fov\": 2}, \"lights\": [],"
+        " \"surfaces\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 0, 1], \"size\": 100,"
+        "   \"material\": {\"type\": \"conductor\", \"reflectance\": 0.5}},"
+        "  {\"type\": \"quad\", \"corner\": [-10, -10, 10], \"edge_u\": [0, 20, 0], \"edge_v\": [20, 0, 0],"
+        "   \"material\": {\"albedo\": 0, \"emission\": 2}}],"
+        " \"render\": {\"width\": 16, \"height\": 16, \"spp\": 8, \"method\": \"path\"}}",
+        8);
+    const double F = fresnel_test(1.0 + I * 2.0, 1.0), F_edge = fresnel_test(1.0 + I * 2.0, cos(1.5 * PI_D / 180.0));
+    ASSERT_NEAR(F, 0.5, 1e-12);
+    const float *px = brume_image_pixels(img);
+    for (int i = 0; i < 16 * 16; i++)
+        for (int c = 0; c < 3; c++)
+            if (!(fabs(px[4 * i + c] - 2.0 * F) <= 2.0 * fabs(F_edge - F) + 1e-5))
+                TEST_FAIL("pixel %d channel %d: %.7f, want F Le = %.7f", i, c, px[4 * i + c], 2.0 * F);
+    brume_image_release(img);
+}
+
 /* ---- the readers: what they accept and what they refuse, by name -------------------------- */
 
 static brume_status load(const char *path, const char *text, brume_scene **out, char *msg, size_t cap)
@@ -560,6 +586,36 @@ TEST(pbrt_materials_read)
     brume_scene_release(s);
 }
 
+/* A dielectric's inside is behind pbrt's normal, (p1 - p0) x (p2 - p0) for a triangle (+z
+ * here), also where the reader mirrors the world (a view without "Scale -1 1 1") or the
+ * transform does (mirroring x keeps z): brume's front normal, the counter-clockwise side in
+ * world space, must point along +z in every case. */
+TEST(pbrt_dielectric_mesh_faces_pbrt_normal)
+{
+    const char *views[] = {"", "Scale -1 1 1\n"};
+    const char *xforms[] = {"", "Scale -1 1 1\n"};
+    for (int v = 0; v < 2; v++)
+        for (int x = 0; x < 2; x++) {
+            char text[1024], msg[2048];
+            snprintf(text, sizeof text,
+                     "%sLookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [30]\nWorldBegin\n%s"
+                     "Material \"dielectric\"\nShape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0]"
+                     " \"integer indices\" [0 1 2]\n",
+                     views[v], xforms[x]);
+            test_write_file(pbrt_path(), text);
+            brume_scene *s = NULL;
+            ASSERT_EQ_INT(load(pbrt_path(), NULL, &s, msg, sizeof msg), BRUME_OK);
+            const surface_object *o = &s->surf->obj[0];
+            vec3 p[3];
+            for (int k = 0; k < 3; k++)
+                p[k] = v3(o->pos[3 * o->idx[k]], o->pos[3 * o->idx[k] + 1], o->pos[3 * o->idx[k] + 2]);
+            vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+            if (!(n.z > 0.0))
+                TEST_FAIL("view %d, transform %d: front normal (%g, %g, %g), pbrt's is +z", v, x, n.x, n.y, n.z);
+            brume_scene_release(s);
+        }
+}
+
 /* The GPU and the methods without BSDF sampling refuse the new types by name. */
 TEST(gpu_and_blasi_refuse_the_new_types)
 {
@@ -590,6 +646,7 @@ TEST(gpu_and_blasi_refuse_the_new_types)
 
 TEST_MAIN(samplers_follow_their_pdf, albedo_matches_integral_of_f_cos, reflection_is_reciprocal,
           smooth_dielectric_is_fresnel_and_snell, coated_diffuse_samples_match_its_f, glass_sphere_furnace_is_the_sky,
-          metal_sphere_furnace_is_the_fresnel_average, json_material_refusals_name_the_key,
+          metal_sphere_furnace_is_the_fresnel_average, delta_bounce_sees_emitter_in_full,
+          json_material_refusals_name_the_key,
           json_materials_read_with_pbrt_defaults, pbrt_materials_refused_by_name, pbrt_materials_read,
-          gpu_and_blasi_refuse_the_new_types)
+          pbrt_dielectric_mesh_faces_pbrt_normal, gpu_and_blasi_refuse_the_new_types)

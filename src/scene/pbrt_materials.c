@@ -17,7 +17,8 @@ static brume_status refuse_common(pbrt_state *S, params *ps, const char *what)
     static const char *const no[] = {"displacement", "normalmap"};
     for (size_t i = 0; i < sizeof no / sizeof no[0]; i++)
         if (pbrt_get(ps, no[i]))
-            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": brume neither displaces nor bumps surfaces", what, no[i]);
+            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": brume neither displaces nor bumps surfaces", what,
+                                    no[i]);
     return BRUME_OK;
 }
 
@@ -61,8 +62,8 @@ static brume_status mat_index(pbrt_state *S, params *ps, const char *what, const
     if (strcmp(q->type, "spectrum") == 0 && q->is_string && q->n == 1) {
         q->used = true;
         if (!named_spectrum_rgb(q->s, c))
-            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": unknown named spectrum \"%s\" (brume knows %s)", what, name,
-                             q->s, named_spectrum_list());
+            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": unknown named spectrum \"%s\" (brume knows %s)",
+                                    what, name, q->s, named_spectrum_list());
         if (scalar && strncmp(q->s, "glass-", 6) != 0)
             return pbrt_unsupported(&S->L, "%s: parameter \"%s\": \"%s\" is not a glass", what, name, q->s);
         cJSON_AddStringToObject(o, name, q->s);
@@ -71,8 +72,8 @@ static brume_status mat_index(pbrt_state *S, params *ps, const char *what, const
     if ((st = pbrt_get_color(&S->L, ps, name, c)))
         return st;
     if (scalar && !(c[0] == c[1] && c[1] == c[2]))
-        return pbrt_unsupported(&S->L, "%s: parameter \"%s\": one index for every wavelength (brume does not disperse light)",
-                         what, name);
+        return pbrt_unsupported(&S->L, "%s: parameter \"%s\": one index for every wavelength (brume does not "
+                                       "disperse light)", what, name);
     for (int i = 0; i < 3; i++)
         if (!((scalar ? c[i] > 0.0 : c[i] >= 0.0) && c[i] <= 100.0))
             return pbrt_fail(&S->L, "%s: parameter \"%s\": %g outside %s0, 100]", what, name, c[i], scalar ? "(" : "[");
@@ -126,8 +127,8 @@ static brume_status mat_roughness(pbrt_state *S, params *ps, const char *what, c
                 *r = cJSON_GetObjectItem(o, "roughness");
     double ru = u ? u->valuedouble : (r ? r->valuedouble : 0.0), rv = v ? v->valuedouble : (r ? r->valuedouble : 0.0);
     if (ru != rv)
-        return pbrt_unsupported(&S->L, "%s: uroughness %g and vroughness %g differ: brume's microfacets are isotropic", what,
-                         ru, rv);
+        return pbrt_unsupported(&S->L, "%s: uroughness %g and vroughness %g differ: brume's microfacets are "
+                                       "isotropic", what, ru, rv);
     return BRUME_OK;
 }
 
@@ -183,8 +184,8 @@ brume_status pbrt_material_read(pbrt_state *S, const char *type, const char *wha
     for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
         ok = ok || strcmp(t, known[i]) == 0;
     if (!ok)
-        return pbrt_unsupported(&S->L, "%s: not supported by brume (diffuse, dielectric, conductor, coateddiffuse, interface)",
-                         what);
+        return pbrt_unsupported(&S->L, "%s: not supported by brume (diffuse, dielectric, conductor, coateddiffuse, "
+                                       "interface)", what);
     brume_status st = refuse_common(S, ps, what);
     if (st)
         return st;

@@ -214,17 +214,19 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     return BRUME_OK;
 }
 
-/* An emitting shape's triangles face pbrt's normal: the object's winding carried through the
- * transform, which a mirroring transform (the reader's mirrored world included) reverses in
- * world space, so the winding is reversed back. One-sided emission from a mesh with shading
- * normals N faces them in pbrt-v4 (FaceForward), which brume does not read: refused. */
+/* An emitting shape's triangles, and a dielectric's (whose inside is behind its normal), face
+ * pbrt's normal: the object's winding carried through the transform, which a mirroring
+ * transform (the reader's mirrored world included) reverses in world space, so the winding is
+ * reversed back. One-sided emission from a mesh with shading normals N faces them in pbrt-v4
+ * (FaceForward), which brume does not read: refused. */
 static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, tris *t)
 {
     const attrs *a = &S->a[S->depth];
-    if (!a->area || a->area_two_sided)
+    const bool sided = strcmp(a->material, "dielectric") == 0;
+    if ((!a->area || a->area_two_sided) && !sided)
         return BRUME_OK;
     param *N = pbrt_get(ps, "N");
-    if (N && N->n > 0)
+    if (a->area && !a->area_two_sided && N && N->n > 0)
         return pbrt_unsupported(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
                                        "side toward N; give \"bool twosided\" true)", what);
     const double *c = a->ctm.m;
