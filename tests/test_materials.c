@@ -447,6 +447,49 @@ TEST(delta_bounce_sees_emitter_in_full)
     brume_image_release(img);
 }
 
+/* A refracting surface changes the path's media: an index-matched (eta 1: every ray goes
+ * straight through, weight 1) dielectric sphere of radius 1 holding an absorbing ink
+ * (sigma_a 0.7, bounded by the sphere: medium_inside) in a box of it 8 wide, under a sky of 1.
+ * Through the disk, at impact parameter b, the ink's chord is 2 sqrt(1 - b^2): over the disk
+ * (mu = sqrt(1 - b^2) with density 2 mu, far view) the mean is 2 int exp(-2 sigma mu) mu d mu,
+ * integrated here; the disk's share from a black sphere, as above; within 5 standard errors
+ * of the image's mean (from the pixels' spread, which the chords' range across the disk
+ * dominates: 0.07) plus 1e-3. A path that kept the outside's media inside sees no ink (mean
+ * 1); one that kept the ink outside sees the whole box (about 0). */
+TEST(refraction_changes_the_media)
+{
+    const char *ink = "\"media\": [{\"name\": \"ink\", \"sigma_a\": 0.7, \"sigma_s\": 0, \"density\": {\"type\":"
+                      " \"constant\", \"value\": 1, \"bounds\": [[-4, -4, -4], [4, 4, 4]]}}],";
+    char json[2048];
+    const char *mats[] = {"{\"albedo\": 0}", "{\"type\": \"dielectric\", \"eta\": 1}"};
+    double mean[2], se[2];
+    int n = 0;
+    for (int k = 0; k < 2; k++) {
+        snprintf(json, sizeof json,
+                 "{\"camera\": {\"position\": [0, 0, 1000], \"look_at\": [0, 0, 0], \"fov\": 0.15},"
+                 " \"background\": [1, 1, 1], \"lights\": [], %s"
+                 " \"surfaces\": [{\"type\": \"sphere\", \"radius\": 1, \"material\": %s, \"medium_inside\": \"ink\"}],"
+                 " \"render\": {\"width\": 48, \"height\": 48, \"spp\": 64, \"method\": \"path\"}}",
+                 ink, mats[k]);
+        brume_image *img = test_render_json(json, 9);
+        n = brume_image_width(img) * brume_image_height(img);
+        test_channel_mean(brume_image_pixels(img), n, 0, &mean[k], &se[k]);
+        brume_image_release(img);
+    }
+    double share = 1.0 - mean[0], want = 0.0;
+    const int steps = 2000;
+    for (int i = 0; i <= steps; i++) {
+        double mu = (double)i / steps, w = (i == 0 || i == steps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        want += w * 2.0 * mu * exp(-2.0 * 0.7 * mu);
+    }
+    want /= 3.0 * steps;
+    double got = (mean[1] - (1.0 - share)) / share;
+    printf("  disk share %.4f: mean transmittance through the inked sphere %.5f +- %.5f, want %.5f\n", share, got,
+           se[1] / share, want);
+    ASSERT_TRUE(share > 0.3);
+    ASSERT_NEAR(got, want, 5.0 * se[1] / share + 1e-3);
+}
+
 /* ---- the readers: what they accept and what they refuse, by name -------------------------- */
 
 static brume_status load(const char *path, const char *text, brume_scene **out, char *msg, size_t cap)
@@ -646,7 +689,7 @@ TEST(gpu_and_blasi_refuse_the_new_types)
 
 TEST_MAIN(samplers_follow_their_pdf, albedo_matches_integral_of_f_cos, reflection_is_reciprocal,
           smooth_dielectric_is_fresnel_and_snell, coated_diffuse_samples_match_its_f, glass_sphere_furnace_is_the_sky,
-          metal_sphere_furnace_is_the_fresnel_average, delta_bounce_sees_emitter_in_full,
+          metal_sphere_furnace_is_the_fresnel_average, delta_bounce_sees_emitter_in_full, refraction_changes_the_media,
           json_material_refusals_name_the_key,
           json_materials_read_with_pbrt_defaults, pbrt_materials_refused_by_name, pbrt_materials_read,
           pbrt_dielectric_mesh_faces_pbrt_normal, gpu_and_blasi_refuse_the_new_types)

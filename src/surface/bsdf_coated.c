@@ -90,8 +90,8 @@ static bool base_sample(const material *m, vec3 wo, rng *g, bxdf_sample *s)
  * base: what the walk's own sample is weighed against. pbrt-v4 weighs it against the pdf of
  * wi given -d instead, which is not the connection's density (the coat's transmission pdf is
  * not symmetric): its f's two estimates then do not sum to one and f departs from what its
- * samples carry (by 7 % for a coat of roughness 0.09, tests/test_materials.c; pbrt-v4 issue
- * 187 reports f and Sample disagreeing). */
+ * samples carry (by 7 % for a coat of roughness 0.09, tests/test_materials.c; pbrt-v4's own
+ * tracker reports its f and Sample disagreeing for coateddiffuse). */
 static double exit_pdf(const material *m, vec3 wi, vec3 d)
 {
     return dielectric_pdf(m->eta, m->alpha, wi, v3_neg(d), BXDF_TRANSMISSION);
