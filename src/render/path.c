@@ -537,7 +537,7 @@ static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color b
     if (sc)
         sc->path_vertices++;
     f->beta = beta;
-    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .ng = sh->ng, .absent = f->absent, .time = w->r.time};
+    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .ng = sh->ng, .time = w->r.time};
     v.n = v3_dot(sh->ng, w->r.d) < 0.0 ? sh->ng : v3_neg(sh->ng);
     v.p = surface_offset(sh, v.n);
     v.p_back = surface_offset(sh, v3_neg(v.n));
