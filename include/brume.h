@@ -1035,7 +1035,16 @@ typedef struct brume_texture {
     int n;                           /* 1 to BRUME_TEXTURE_MAX_NODES */
 } brume_texture;
 
-/* Surfaces: a Lambertian lobe plus a normalized Phong lobe, and emission. */
+/* Surfaces: a material of one type (docs/surfaces.md, "Materials") and emission. The
+ * default type, diffuse, is a Lambertian lobe plus a normalized Phong lobe; the others are
+ * pbrt-v4's dielectric, conductor and coateddiffuse. Each type reads its own fields. */
+typedef enum brume_material_type {
+    BRUME_MATERIAL_DIFFUSE = 0,   /* albedo, specular, exponent */
+    BRUME_MATERIAL_DIELECTRIC,    /* eta, roughness */
+    BRUME_MATERIAL_CONDUCTOR,     /* conductor_eta, conductor_k, roughness */
+    BRUME_MATERIAL_COATEDDIFFUSE, /* albedo (the base's reflectance), eta, roughness, thickness,
+                                     layer_albedo, g, max_depth, nsamples */
+} brume_material_type;
 typedef struct brume_material {
     double albedo[3];   /* diffuse reflectance, each in [0, 1] */
     double specular[3]; /* Phong reflectance, each in [0, 1], albedo + specular <= 1 */
@@ -1046,8 +1055,18 @@ typedef struct brume_material {
      * in place of albedo; its values are clamped to [0, 1 - specular] per channel. Rendered
      * on the CPU (the GPU refuses it by name). */
     const brume_texture *albedo_texture;
+    brume_material_type type;
+    double eta;         /* index of refraction behind the front side over in front, (0, 100]; 1.5 */
+    double conductor_eta[3], conductor_k[3]; /* complex index per channel, [0, 100]; copper's */
+    double roughness;   /* Trowbridge-Reitz alpha in [0, 100] (pbrt-v4's after its remap); 0 smooth */
+    double thickness;   /* coateddiffuse: the layer's optical thickness, (0, 1e6]; 0.01 */
+    double layer_albedo[3]; /* coateddiffuse: scattering albedo in the layer, [0, 1]; 0 */
+    double g;           /* coateddiffuse: the layer's Henyey-Greenstein g, (-1, 1); 0 */
+    int max_depth;      /* coateddiffuse: most events of a walk between the layers, [1, 1000]; 10 */
+    int nsamples;       /* coateddiffuse: walks per evaluation, [1, 1000]; 1 */
 } brume_material;
-/* albedo 0.8, no specular (exponent 50), no emission. */
+/* albedo 0.8, no specular (exponent 50), no emission; the other types' pbrt-v4 defaults
+ * (eta 1.5, copper, thickness 0.01, max_depth 10, nsamples 1). */
 void brume_material_default(brume_material *material);
 /* Every shape takes an optional transform (NULL = identity): 12 doubles, a 3 x 4 row-major
  * affine map [R | t] applied to the shape's points; material NULL = brume_material_default;

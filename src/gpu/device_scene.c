@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/integrator.h"
+#include "surface/surface_materials.h"
 #include "surface/surfaces.h"
 
 brume_status device_scene_check(const brume_scene *s, int kind)
@@ -23,6 +24,13 @@ brume_status device_scene_check(const brume_scene *s, int kind)
     if (textured)
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: textures render on the CPU only (surface '%s') (--device cpu)",
                        s->source, textured);
+    {   /* pbrt-v4's BSDFs compile for the GPU but have not been checked there */
+        const char *name = NULL;
+        material_type t = MATERIAL_DIFFUSE;
+        if (surfaces_first_bsdf(s->surf, &name, &t) >= 0)
+            return err_set(BRUME_ERROR_UNSUPPORTED, "%s: %s: material '%s' renders on the CPU only (--device cpu)",
+                           s->source, name, material_type_name(t));
+    }
     return BRUME_OK;
 }
 

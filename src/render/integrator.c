@@ -9,6 +9,7 @@
 #include "render/blasi.h"
 #include "render/path_impl.h"
 #include "render/stam.h"
+#include "surface/surface_materials.h"
 
 brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void **state)
 {
@@ -25,6 +26,12 @@ brume_status integrator_prepare(integrator_kind kind, const brume_scene *s, void
                 return err_set(BRUME_ERROR_UNSUPPORTED,
                                "%s: media[%d] '%s': a medium bounded by a surface (medium_inside/medium_outside) "
                                "renders with path and single only", s->source, m, s->media[m].name);
+    /* blasi and stam gather direct light at surfaces through brume's diffuse material only */
+    const char *name = NULL;
+    material_type t = MATERIAL_DIFFUSE;
+    if ((kind == INTEGRATOR_BLASI || kind == INTEGRATOR_STAM) && surfaces_first_bsdf(s->surf, &name, &t) >= 0)
+        return err_set(BRUME_ERROR_UNSUPPORTED, "%s: %s: material '%s' needs the path or single method", s->source,
+                       name, material_type_name(t));
     switch (kind) {
     case INTEGRATOR_PATH:
     case INTEGRATOR_SINGLE: {

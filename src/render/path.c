@@ -41,6 +41,9 @@ typedef struct vertex {
     const material *m; /* surface vertex */
     vec3 n;          /* surface: unit normal on the side of -d */
     uint32_t absent; /* the bounded media the vertex is not in (track_collisions') */
+    vec3 ng;         /* surface: its front normal (the material's sides) */
+    vec3 p_back;     /* surface: p's twin on the far side, where transmitted light is gathered */
+    uint32_t absent_back; /* surface: the bounded media not on the far side */
     double time;     /* the path's instant: shadow rays see moving things where they are then */
 } vertex;
 
@@ -50,14 +53,25 @@ static color vertex_f(const vertex *v, vec3 wi)
 {
     if (v->ph)
         return col(phase_eval(v->ph, v3_dot(wi, v->d)));
-    return col_scale(material_eval(v->m, v->n, v3_neg(v->d), wi), fabs(v3_dot(wi, v->n)));
+    return col_scale(material_eval(v->m, v->ng, v3_neg(v->d), wi), fabs(v3_dot(wi, v->n)));
+}
+
+/* Where a shadow ray towards wi starts, and the bounded media it starts outside of: on the
+ * side of the surface wi leaves by. */
+static vec3 vertex_origin(const vertex *v, vec3 wi)
+{
+    return v->m && v3_dot(wi, v->n) < 0.0 ? v->p_back : v->p;
+}
+static uint32_t vertex_absent(const vertex *v, vec3 wi)
+{
+    return v->m && v3_dot(wi, v->n) < 0.0 ? v->absent_back : v->absent;
 }
 
 static double vertex_pdf(const vertex *v, vec3 wi)
 {
     if (v->ph)
         return phase_pdf(v->ph, v3_dot(wi, v->d));
-    return material_pdf(v->m, v->n, v3_neg(v->d), wi);
+    return material_pdf(v->m, v->ng, v3_neg(v->d), wi);
 }
 
 /* Surfaces a flight or a shadow ray crosses at most: past them, the next one counts as
@@ -267,7 +281,8 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
         double q = nee_roulette(f, sun_roulette(st, sun, v->p), g);
         if (q == 0.0)
             continue;
-        color Tr = scene_transmittance(s, v->absent, v->p, ls.wi, ls.dist, v->time, g);
+        color Tr =
+            scene_transmittance(s, vertex_absent(v, ls.wi), vertex_origin(v, ls.wi), ls.wi, ls.dist, v->time, g);
         Ld = col_add(Ld, col_scale(col_mul(col_mul(ls.Li, Tr), f), w / (q * ls.pdf)));
     }
     if (surfaces_has_emitters(s->surf)) {
@@ -281,7 +296,8 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
                 double q = nee_roulette(f, 1.0, g);
                 if (q > 0.0) {
-                    color Tr = scene_transmittance(s, v->absent, v->p, wi, dist * (1.0 - 1e-5), v->time, g);
+                    color Tr = scene_transmittance(s, vertex_absent(v, wi), vertex_origin(v, wi), wi,
+                                                   dist * (1.0 - 1e-5), v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Le, Tr), f), w / (q * pdf)));
                 }
             }
@@ -297,7 +313,8 @@ static color direct_light(const brume_scene *s, const path_state *st, const lobe
                 double w = mis_weight(pdf, vertex_pdf(v, wi));
                 double q = nee_roulette(f, 1.0, g);
                 if (q > 0.0) {
-                    color Tr = scene_transmittance(s, v->absent, v->p, wi, INFINITY, v->time, g);
+                    color Tr =
+                        scene_transmittance(s, vertex_absent(v, wi), vertex_origin(v, wi), wi, INFINITY, v->time, g);
                     Ld = col_add(Ld, col_scale(col_mul(col_mul(Lb, Tr), f), w / (q * pdf)));
                 }
             }
@@ -518,8 +535,10 @@ static bool path_past(path_walk *w, int depth, const surface_hit *sh, int hit, c
     return false;
 }
 
-/* A bounce off the surface sh with throughput beta: next-event estimation, then a direction
- * from the material. false: the path ends. */
+/* A bounce off (or through) the surface sh with throughput beta: next-event estimation
+ * unless the material has only delta lobes, then a direction from the material. After a
+ * delta lobe pdf_dir is 0: the light the path then reaches is not weighed against light
+ * sampling, which could not have found it. false: the path ends. */
 static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color beta)
 {
     const brume_scene *s = w->s;
@@ -528,18 +547,28 @@ static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color b
     if (sc)
         sc->path_vertices++;
     f->beta = beta;
-    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .time = w->r.time};
+    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .ng = sh->ng, .time = w->r.time};
     v.n = v3_dot(sh->ng, w->r.d) < 0.0 ? sh->ng : v3_neg(sh->ng);
     v.p = surface_offset(sh, v.n);
-    f->L = col_add(f->L, col_mul(f->beta, direct_light_counted(s, w->st, NULL, &v, &w->gt)));
+    v.p_back = surface_offset(sh, v3_neg(v.n));
+    v.absent_back = path_cross_surface(sh, v3_neg(v.n), v.absent);
+    if (!material_is_delta(sh->mat))
+        f->L = col_add(f->L, col_mul(f->beta, direct_light_counted(s, w->st, NULL, &v, &w->gt)));
     w->prev.ph = NULL; /* a surface vertex: no lobe samples, nothing to weigh */
-    vec3 wi;
+    bsdf_sample bs;
     w->g->counter = w->dim0 + 4 * (uint64_t)depth + 2;
+    const vec3 wo = v3_neg(w->r.d);
     double u0 = rng_next(&w->gt), u1 = rng_next(w->g), u2 = rng_next(w->g);
-    if (!material_sample(sh->mat, v.n, v3_neg(w->r.d), u0, u1, u2, &wi, &w->pdf_dir))
+    if (!material_sample(sh->mat, sh->ng, wo, u0, u1, u2, &bs))
         return false;
-    f->beta = col_mul(f->beta, col_scale(vertex_f(&v, wi), 1.0 / w->pdf_dir));
-    w->r = (ray){v.p, wi, w->r.time};
+    f->beta = col_mul(f->beta, col_scale(col_scale(bs.f, fabs(v3_dot(bs.wi, v.n))), 1.0 / bs.pdf));
+    w->pdf_dir = bs.delta ? 0.0 : (bs.pdf_is_walk ? material_pdf(sh->mat, sh->ng, wo, bs.wi) : bs.pdf);
+    /* through the surface (a refraction): the path goes on from its far side, in the media
+       there (path_cross_surface) */
+    const bool through = v3_dot(bs.wi, v.n) < 0.0;
+    if (through)
+        f->absent = v.absent_back;
+    w->r = (ray){through ? v.p_back : v.p, bs.wi, w->r.time};
     return path_roulette_share(&f->beta, w->share, depth, &w->gt);
 }
 

@@ -83,11 +83,16 @@ typedef struct named_medium {
     double box[6];    /* homogeneous: lo, hi of what its uses need (empty: lo > hi) */
 } named_medium;
 
+/* A drawn shape's material as the JSON of a brume material (pbrt_materials.c); "" for an
+ * interface. */
+#define PBRT_MATERIAL_JSON 640
+
 typedef struct attrs {
     m4 ctm;
-    char material[32]; /* "diffuse" or "interface" */
-    double albedo[3];
-    const cJSON *albedo_tex; /* NULL, or the reflectance's texture (brume's JSON, owned by pbrt_state.textures) */
+    char material[32]; /* its pbrt type: "diffuse", "dielectric", ... or "interface" */
+    char mat_json[PBRT_MATERIAL_JSON];
+    const cJSON *albedo_tex; /* NULL, or the reflectance's texture (brume's JSON, owned by pbrt_state.textures):
+                                it replaces mat_json's albedo */
     char inside[128], outside[128];
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
     bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
@@ -96,8 +101,8 @@ typedef struct attrs {
 
 typedef struct named_material {
     char name[128];
-    char material[32]; /* "diffuse" or "interface" */
-    double albedo[3];
+    char material[32]; /* as attrs' */
+    char mat_json[PBRT_MATERIAL_JSON];
     const cJSON *albedo_tex;
 } named_material;
 
@@ -198,6 +203,12 @@ brume_status pbrt_structure_directive(pbrt_state *S, const char *dir);
 brume_status pbrt_attribute_begin(pbrt_state *S, const char *dir);
 brume_status pbrt_attribute_end(pbrt_state *S, const char *dir);
 brume_status pbrt_structure_end(pbrt_state *S);
+
+/* pbrt_materials.c: a Material or MakeNamedMaterial of the type, its parameters read, into
+ * its pbrt type name (material) and brume's material JSON (json); a diffuse reflectance's
+ * texture into *albedo_tex (else NULL) */
+brume_status pbrt_material_read(pbrt_state *S, const char *type, const char *what, params *ps, char material[32],
+                                char json[PBRT_MATERIAL_JSON], const cJSON **albedo_tex);
 
 /* pbrt_transform.c */
 m4 pbrt_m4_identity(void);

@@ -1,5 +1,5 @@
 /* pbrt_camera.c - the pbrt directives that set the view and the render: Camera, and Film,
- * Sampler, Integrator, ColorSpace and Material. */
+ * Sampler, Integrator, ColorSpace and Material (read by pbrt_materials.c). */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -61,21 +61,6 @@ brume_status pbrt_camera_directive(pbrt_state *S, const char *type, params *ps)
     return BRUME_OK;
 }
 
-/* A material of the type (pbrt's "" is "interface") into material and albedo, its parameters
- * read: diffuse (reflectance, default 0.5) and interface. */
-static brume_status material_read(pbrt_state *S, const char *type, const char *what, params *ps, char material[32],
-                                  double albedo[3], const cJSON **albedo_tex)
-{
-    *albedo_tex = NULL;
-    if (strcmp(type, "interface") != 0 && strcmp(type, "diffuse") != 0 && type[0])
-        return pbrt_unsupported(&S->L, "%s: not supported by brume (diffuse, interface)", what);
-    pbrt_copy(material, 32, type[0] ? type : "interface");
-    albedo[0] = albedo[1] = albedo[2] = 0.5;
-    if (strcmp(type, "diffuse") == 0)
-        return pbrt_spectrum_or_texture(S, ps, "reflectance", albedo, albedo_tex);
-    return BRUME_OK;
-}
-
 /* MakeNamedMaterial "name" "string type" ... and NamedMaterial "name": a material kept by
  * name (a later one of the same name replaces it, as in pbrt-v4), and set as the current. */
 static brume_status named_material_directive(pbrt_state *S, attrs *a, const char *dir, const char *name,
@@ -92,7 +77,7 @@ static brume_status named_material_directive(pbrt_state *S, attrs *a, const char
         if (i == S->nmaterials)
             return pbrt_fail(L, "%s: no MakeNamedMaterial of that name before it", what);
         pbrt_copy(a->material, sizeof a->material, S->materials[i].material);
-        memcpy(a->albedo, S->materials[i].albedo, sizeof a->albedo);
+        pbrt_copy(a->mat_json, sizeof a->mat_json, S->materials[i].mat_json);
         a->albedo_tex = S->materials[i].albedo_tex;
         return BRUME_OK;
     }
@@ -104,7 +89,7 @@ static brume_status named_material_directive(pbrt_state *S, attrs *a, const char
         return st;
     if (!pbrt_get(ps, "type"))
         return pbrt_fail(L, "%s: no \"string type\"", what);
-    if ((st = material_read(S, type, what, ps, m.material, m.albedo, &m.albedo_tex)) ||
+    if ((st = pbrt_material_read(S, type, what, ps, m.material, m.mat_json, &m.albedo_tex)) ||
         (st = pbrt_all_used(L, ps, what)))
         return st;
     pbrt_copy(m.name, sizeof m.name, name);
@@ -184,7 +169,7 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
             return pbrt_fail(L, "%s: xradius and yradius must be equal, in [0.05, 8]", what);
         S->box_filter = 2.0 * rx;
     } else if (strcmp(dir, "Material") == 0) {
-        if ((st = material_read(S, type, what, ps, a->material, a->albedo, &a->albedo_tex)))
+        if ((st = pbrt_material_read(S, type, what, ps, a->material, a->mat_json, &a->albedo_tex)))
             return st;
     } else {
         return named_material_directive(S, a, dir, type, what, ps);

@@ -197,9 +197,14 @@ static brume_status shape_uv(pbrt_state *S, const char *what, const param *uv, b
 static brume_status shape_surface(pbrt_state *S, cJSON *s)
 {
     attrs *a = &S->a[S->depth];
-    cJSON *mat = cJSON_AddObjectToObject(s, "material");
-    cJSON_AddItemToObject(mat, "albedo", a->albedo_tex ? cJSON_Duplicate(a->albedo_tex, 1)
-                                                       : cJSON_CreateDoubleArray(a->albedo, 3));
+    cJSON *mat = cJSON_Parse(a->mat_json);
+    if (!mat) {
+        cJSON_Delete(s);
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", S->path);
+    }
+    if (a->albedo_tex)
+        cJSON_ReplaceItemInObject(mat, "albedo", cJSON_Duplicate(a->albedo_tex, 1));
+    cJSON_AddItemToObject(s, "material", mat);
     if (a->area) {
         cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
         if (a->area_two_sided)
@@ -209,17 +214,19 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     return BRUME_OK;
 }
 
-/* An emitting shape's triangles face pbrt's normal: the object's winding carried through the
- * transform, which a mirroring transform (the reader's mirrored world included) reverses in
- * world space, so the winding is reversed back. One-sided emission from a mesh with shading
- * normals N faces them in pbrt-v4 (FaceForward), which brume does not read: refused. */
+/* An emitting shape's triangles, and a dielectric's (whose inside is behind its normal), face
+ * pbrt's normal: the object's winding carried through the transform, which a mirroring
+ * transform (the reader's mirrored world included) reverses in world space, so the winding is
+ * reversed back. One-sided emission from a mesh with shading normals N faces them in pbrt-v4
+ * (FaceForward), which brume does not read: refused. */
 static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, tris *t)
 {
     const attrs *a = &S->a[S->depth];
-    if (!a->area || a->area_two_sided)
+    const bool sided = strcmp(a->material, "dielectric") == 0;
+    if ((!a->area || a->area_two_sided) && !sided)
         return BRUME_OK;
     param *N = pbrt_get(ps, "N");
-    if (N && N->n > 0)
+    if (a->area && !a->area_two_sided && N && N->n > 0)
         return pbrt_unsupported(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
                                        "side toward N; give \"bool twosided\" true)", what);
     const double *c = a->ctm.m;

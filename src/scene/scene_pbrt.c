@@ -349,7 +349,7 @@ brume_status scene_pbrt_read(const char *path, bool lenient, char **json)
     snprintf(S->dir, sizeof S->dir, "%s", slash ? (*slash = '\0', tmp[0] ? tmp : "/") : ".");
     S->a[0].ctm = pbrt_m4_identity();
     snprintf(S->a[0].material, sizeof S->a[0].material, "diffuse");
-    S->a[0].albedo[0] = S->a[0].albedo[1] = S->a[0].albedo[2] = 0.5;
+    pbrt_copy(S->a[0].mat_json, sizeof S->a[0].mat_json, "{\"albedo\":[0.5,0.5,0.5]}");
     S->xres = 1280;
     S->yres = 720;
     S->spp = 16;

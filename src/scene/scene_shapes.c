@@ -17,7 +17,56 @@ void brume_material_default(brume_material *m)
 {
     if (!m)
         return;
-    *m = (brume_material){.albedo = {0.8, 0.8, 0.8}, .exponent = 50.0};
+    *m = (brume_material){.albedo = {0.8, 0.8, 0.8}, .exponent = 50.0, .type = BRUME_MATERIAL_DIFFUSE, .eta = 1.5,
+                          .conductor_eta = {MATERIAL_CU_ETA}, .conductor_k = {MATERIAL_CU_K}, .thickness = 0.01,
+                          .max_depth = 10, .nsamples = 1};
+}
+
+static brume_status material_eta(const char *fn, const brume_material *bm, material *m)
+{
+    brume_status st = build_number(fn, "material.eta", bm->eta, 1e-3, 100.0);
+    m->eta = bm->eta;
+    return st;
+}
+
+/* The fields of bm's type, checked, into *m (albedo, specular, exponent and emission are
+ * shape_begin's). */
+static brume_status material_of_type(const char *fn, const brume_material *bm, material *m)
+{
+    brume_status st;
+    m->type = (material_type)bm->type;
+    switch (bm->type) {
+    case BRUME_MATERIAL_DIFFUSE: return BRUME_OK;
+    case BRUME_MATERIAL_CONDUCTOR:
+        if ((st = build_color(fn, "material.conductor_eta", bm->conductor_eta, 100.0, &m->eta_c)) ||
+            (st = build_color(fn, "material.conductor_k", bm->conductor_k, 100.0, &m->k_c)))
+            return st;
+        break;
+    case BRUME_MATERIAL_COATEDDIFFUSE:
+        if ((st = build_number(fn, "material.thickness", bm->thickness, 1e-300, 1e6)) ||
+            (st = build_color(fn, "material.layer_albedo", bm->layer_albedo, 1.0, &m->layer_albedo)) ||
+            (st = build_number(fn, "material.g", bm->g, -0.999, 0.999)) ||
+            (st = build_number(fn, "material.max_depth", bm->max_depth, 1, 1000)) ||
+            (st = build_number(fn, "material.nsamples", bm->nsamples, 1, 1000)))
+            return st;
+        m->thickness = bm->thickness;
+        m->g = bm->g;
+        m->max_depth = bm->max_depth;
+        m->nsamples = bm->nsamples;
+        if ((st = material_eta(fn, bm, m))) /* the coat's */
+            return st;
+        break;
+    case BRUME_MATERIAL_DIELECTRIC:
+        if ((st = material_eta(fn, bm, m)))
+            return st;
+        break;
+    default:
+        return err_set(BRUME_ERROR_RANGE, "%s: material.type: %d is not a brume_material_type", fn, (int)bm->type);
+    }
+    if ((st = build_number(fn, "material.roughness", bm->roughness, 0.0, 100.0)))
+        return st;
+    m->alpha = bm->roughness;
+    return BRUME_OK;
 }
 
 /* A material's texture built, its imagemaps' files read here (the scene layer reads files;
@@ -60,6 +109,7 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
             return err_set(BRUME_ERROR_RANGE, "%s: transform: not finite and invertible", fn);
     }
     brume_material def;
+    a->m = (material){.type = MATERIAL_DIFFUSE};
     if (!bm) {
         brume_material_default(&def);
         bm = &def;
@@ -75,6 +125,8 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
                            bm->albedo[c] + bm->specular[c]);
     a->m.exponent = bm->exponent;
     a->m.two_sided_emission = bm->two_sided;
+    if ((st = material_of_type(fn, bm, &a->m)))
+        return st;
     if (name && strlen(name) >= sizeof a->name)
         return err_set(BRUME_ERROR_RANGE, "%s: name: longer than %zu bytes", fn, sizeof a->name - 1);
     if (name)

@@ -24,43 +24,6 @@ static brume_status jvec(const cJSON *j, jloc at, const char *key, int required,
     return st;
 }
 
-static brume_status jcolor(const cJSON *j, jloc at, const char *key, double hi, double out[3])
-{
-    color c = col_rgb(out[0], out[1], out[2]);
-    brume_status st = json_color(j, at, key, 0, 0.0, hi, &c);
-    for (int i = 0; st == BRUME_OK && i < 3; i++)
-        out[i] = c.c[i];
-    return st;
-}
-
-/* The material j into m; an "albedo" texture object into *tex (the caller frees it), which
- * m->albedo_texture then points to. */
-static brume_status parse_material(const cJSON *j, jloc at, brume_material *m, json_texture **tex)
-{
-    static const char *const keys[] = {"albedo", "specular", "exponent", "emission", "two_sided", NULL};
-    brume_material_default(m);
-    if (!j)
-        return BRUME_OK;
-    brume_status st = json_check_object(j, at, keys);
-    if (st) return st;
-    if (cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(j, "albedo"))) {
-        if ((st = scene_json_texture(j, at, "albedo", tex))) return st;
-        m->albedo_texture = &(*tex)->tex;
-        m->albedo[0] = m->albedo[1] = m->albedo[2] = 0.0;
-    } else if ((st = jcolor(j, at, "albedo", 1.0, m->albedo))) {
-        return st;
-    }
-    if ((st = jcolor(j, at, "specular", 1.0, m->specular))) return st;
-    if ((st = json_number(j, at, "exponent", 0, 0.0, 1e6, &m->exponent))) return st;
-    if ((st = jcolor(j, at, "emission", BIG, m->emission))) return st;
-    if ((st = json_bool(j, at, "two_sided", 0, &m->two_sided))) return st;
-    for (int c = 0; c < 3; c++)
-        if (m->albedo[c] + m->specular[c] > 1.0)
-            return err_set(BRUME_ERROR_RANGE, "%s: %s: albedo + specular = %g > 1 would create energy", at.file,
-                           at.path, m->albedo[c] + m->specular[c]);
-    return BRUME_OK;
-}
-
 /* The numbers of the array j[key] (at most SCENE_INLINE_MAX_VALUES, a multiple of 3) into
  * *out (malloc'd, the caller frees); *n their count. Integers in [0, imax) when imax > 0. */
 static brume_status inline_numbers(const cJSON *j, jloc at, const char *key, double imax, double **out, int *n)
@@ -262,7 +225,7 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
     if (mj && (st = parse_interface(mj, mat, &interface))) return st;
     json_texture *tex = NULL;
     affine3 xf; /* a mesh may be mirrored (negative scales): its winding is reversed with it */
-    if ((st = parse_material(interface ? NULL : mj, mat, &m, &tex)) ||
+    if ((st = scene_parse_material(interface ? NULL : mj, mat, &m, &tex)) ||
         (st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")},
                              strcmp(type, "mesh") == 0, &xf)) ||
