@@ -1,6 +1,7 @@
 /* scene_json_media.c - the scene file's media: phase function, coefficients and the fields
  * (albedo, temperature, emission, velocity) read beside the density. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -139,20 +140,29 @@ static brume_status pick_by_role(jloc fat, const char *key, const char *path, br
                        : strcmp(key, "emission_field") == 0 ? "emission"
                        : strcmp(key, "albedo") == 0         ? "albedo"
                                                             : NULL;
-    brume_grid_format f = o->format != BRUME_GRID_FORMAT_AUTO ? o->format : brume_grid_format_of(path);
-    if (!role || (f != BRUME_GRID_FORMAT_VDB && f != BRUME_GRID_FORMAT_NVDB))
+    grid_format f = o->format != BRUME_GRID_FORMAT_AUTO ? (grid_format)o->format : grid_format_detect(path, NULL, 0);
+    if (!role || (f != GRID_FORMAT_VDB && f != GRID_FORMAT_NVDB))
         return BRUME_OK;
+    density_load_options lo; /* the listing's memory bound, as the load's */
+    density_load_options_default(&lo);
+    if (o->max_memory_mb > 0.0)
+        lo.max_memory = (size_t)fmax(1.0, o->max_memory_mb * 1048576.0);
     int n = 0;
+    gridvdb_info *gi = NULL;
     brume_grid_entry *e = NULL;
-    brume_status st = brume_grid_file_list(NULL, path, o, NULL, 0, &n);
+    brume_status st = grid_list_file(path, lo.max_memory, &gi, &n);
     if (st == BRUME_OK && n > 0 && !(e = calloc((size_t)n, sizeof *e)))
         st = err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", fat.file);
-    if (st == BRUME_OK && n > 0)
-        st = brume_grid_file_list(NULL, path, o, e, n, &n);
     if (st) {
-        free(e);
+        free(gi);
         return err_prefix("%s: %s", fat.file, fat.path);
     }
+    for (int g = 0; g < n; g++) { /* what brume_grid_pick weighs: the names and value types */
+        snprintf(e[g].name, sizeof e[g].name, "%s", gi[g].name);
+        snprintf(e[g].type, sizeof e[g].type, "%s", gi[g].type);
+        snprintf(e[g].grid_class, sizeof e[g].grid_class, "%s", gi[g].cls);
+    }
+    free(gi);
     int i = brume_grid_pick(e, n, role);
     if (i >= 0) /* else the file's default grid, as for the density (brume_density_load) */
         snprintf(o->grid, sizeof o->grid, "%s", e[i].name);

@@ -7,7 +7,7 @@
 #include "io/json.h"
 #include "scene/named_spectra.h"
 #include "scene/scene_json_texture.h"
-#include "scene/scene_surfaces.h"
+#include "scene/scene_material.h"
 
 static const double BIG = 1e30;
 

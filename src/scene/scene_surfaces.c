@@ -11,6 +11,7 @@
 #include "scene/scene_build.h"
 #include "scene/scene_json_texture.h"
 #include "scene/scene_keys.h"
+#include "scene/scene_material.h"
 #include "scene/scene_surfaces.h"
 
 static const double BIG = 1e30;

@@ -9,7 +9,7 @@
 
 #include "core/color.h"
 #include "core/vec.h"
-#include "surface/material.h"
+#include "surface/material_params.h"
 
 /* Which lobes a sample may take (layered sampling asks for one kind). */
 enum { BXDF_REFLECTION = 1, BXDF_TRANSMISSION = 2, BXDF_ALL = 3 };

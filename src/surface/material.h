@@ -24,41 +24,8 @@
 
 #include "core/color.h"
 #include "core/vec.h"
+#include "surface/material_params.h"
 
-typedef enum material_type {
-    MATERIAL_DIFFUSE = 0, /* Lambert plus Phong: brume's own, the default */
-    MATERIAL_DIELECTRIC,
-    MATERIAL_CONDUCTOR,
-    MATERIAL_COATEDDIFFUSE,
-} material_type;
-
-/* Copper's complex index as an RGB film sees it (conductor's default, pbrt-v4's metal-Cu):
- * scene/named_spectra.c says how it is made. */
-#define MATERIAL_CU_ETA 0.104495, 0.978170, 1.204670
-#define MATERIAL_CU_K 3.273344, 2.592350, 2.369242
-
-/* A roughness alpha below this is a smooth (delta) interface, as in pbrt-v4. */
-#define MATERIAL_SMOOTH_ALPHA 1e-3
-
-typedef struct material {
-    material_type type;
-    color albedo;    /* diffuse reflectance in [0, 1] (diffuse; coateddiffuse's base) */
-    color specular;  /* Phong lobe reflectance in [0, 1]; 0 = matte (diffuse) */
-    double exponent; /* Phong exponent e >= 0 (larger = sharper) (diffuse) */
-    color emission;  /* emitted radiance, W m^-2 sr^-1, from the front side(s) */
-    bool two_sided_emission;
-    /* NULL, or the albedo as a texture of the hit's (u, v) (surface/texture.h): owned by the
-     * surfaces object, evaluated into the hit's own copy of the material (surface_hit.shade) */
-    struct texture *albedo_tex;
-    double eta;      /* dielectric, coateddiffuse's coat: index behind ng over in front, > 0 */
-    color eta_c, k_c; /* conductor: complex index of refraction eta + i k per channel */
-    double alpha;    /* Trowbridge-Reitz alpha (isotropic); < MATERIAL_SMOOTH_ALPHA: smooth */
-    double thickness;    /* coateddiffuse: the layer's optical thickness (sigma_t = 1) */
-    color layer_albedo;  /* coateddiffuse: single-scattering albedo in the layer; 0 = none */
-    double g;            /* coateddiffuse: Henyey-Greenstein g in the layer */
-    int max_depth;       /* coateddiffuse: the random walk's most events */
-    int nsamples;        /* coateddiffuse: walks per evaluation */
-} material;
 
 /* A sampled direction: f (no cosine; for a delta lobe f |cos| / pdf is the lobe's weight),
  * its pdf (solid angle; for a delta lobe the lobe's discrete probability), whether the
