@@ -40,7 +40,8 @@ static size_t chunk(unsigned char *out, const char *type, const unsigned char *d
 {
     put32(out, (uint32_t)n);
     memcpy(out + 4, type, 4);
-    memcpy(out + 8, data, n);
+    if (n) /* IEND has no data (and NULL for it) */
+        memcpy(out + 8, data, n);
     put32(out + 8 + n, crc32_of(out + 4, n + 4));
     return n + 12;
 }
