@@ -118,33 +118,37 @@ void pbrt_next(lexer *L)
     L->text[n] = '\0';
 }
 
-/* A refusal of malformed input: "FILE:LINE: " and the message (BRUME_ERROR_PARSE); on a
- * token the file cannot hold, that token's fault at its own line instead (the directive
- * read cannot be complete). */
-brume_status pbrt_fail(const lexer *L, const char *fmt, ...)
+/* "FILE:LINE: " and the message, with the status; on a token the file cannot hold, that
+ * token's fault at its own line instead (the directive read cannot be complete). */
+__attribute__((format(printf, 3, 0))) static brume_status refuse(const lexer *L, brume_status code, const char *fmt,
+                                                                  va_list ap)
 {
     if (L->kind == TOK_BAD)
         return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->tok_line, L->bad);
     char msg[600];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    return err_set(code, "%s:%d: %s", L->file, L->dir_line, msg);
+}
+
+/* A refusal of malformed input (BRUME_ERROR_PARSE). */
+brume_status pbrt_fail(const lexer *L, const char *fmt, ...)
+{
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    brume_status st = refuse(L, BRUME_ERROR_PARSE, fmt, ap);
     va_end(ap);
-    return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->dir_line, msg);
+    return st;
 }
 
 /* A refusal of what is well formed but brume cannot honour (a type, a parameter, a value):
  * BRUME_ERROR_UNSUPPORTED, which --lenient turns into a warning and a skipped directive. */
 brume_status pbrt_unsupported(const lexer *L, const char *fmt, ...)
 {
-    if (L->kind == TOK_BAD)
-        return err_set(BRUME_ERROR_PARSE, "%s:%d: %s", L->file, L->tok_line, L->bad);
-    char msg[600];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    brume_status st = refuse(L, BRUME_ERROR_UNSUPPORTED, fmt, ap);
     va_end(ap);
-    return err_set(BRUME_ERROR_UNSUPPORTED, "%s:%d: %s", L->file, L->dir_line, msg);
+    return st;
 }
 
 brume_status pbrt_expected(const lexer *L, const char *fmt, ...)
