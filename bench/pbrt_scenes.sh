@@ -79,7 +79,7 @@ scene_file() {
 now() { date +%s.%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", b - a }'; }
 
-tmp=$(mktemp -d /tmp/pbrt_scenes.XXXXXX)
+tmp=$(mktemp -d)
 [ -n "${KEEP:-}" ] || trap 'rm -rf "$tmp"' EXIT INT TERM
 
 brume_rev=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "?")

@@ -4,6 +4,7 @@
  * the nanovdb emission scale's two spellings, Include/Import; and a scene whose grid file
  * brume makes saying so when the file is missing. */
 #include "test.h"
+#include "pbrt_translate.h"
 
 #include <math.h>
 
@@ -17,18 +18,7 @@
 /* The translation of text (a whole file), parsed; NULL and *msg set when it is refused. */
 static cJSON *translate(const char *name, const char *text, char *msg, size_t cap)
 {
-    const char *path = test_tmp_path(name);
-    test_write_file(path, text);
-    char *json = NULL;
-    msg[0] = '\0';
-    if (scene_pbrt_json(path, &json) != BRUME_OK) {
-        snprintf(msg, cap, "%s", err_message());
-        return NULL;
-    }
-    cJSON *root = cJSON_Parse(json);
-    free(json);
-    ASSERT_TRUE(root != NULL);
-    return root;
+    return pbrt_translate(name, text, msg, cap);
 }
 
 static cJSON *translate_ok(const char *text)

@@ -8,6 +8,7 @@
  * cloud's density against pbrt-v4's CloudMedium::Density and Perlin noise written out here
  * from pbrt-v4's source. */
 #include "test.h"
+#include "pbrt_translate.h"
 
 #include <math.h>
 
@@ -82,18 +83,7 @@ TEST(max_component_renders_clamped_samples)
 /* The translation of a .pbrt text; NULL and *msg set when it is refused. */
 static cJSON *translate(const char *text, char *msg, size_t cap)
 {
-    const char *path = test_tmp_path("left.pbrt");
-    test_write_file(path, text);
-    char *json = NULL;
-    msg[0] = '\0';
-    if (scene_pbrt_json(path, &json) != BRUME_OK) {
-        snprintf(msg, cap, "%s", err_message());
-        return NULL;
-    }
-    cJSON *root = cJSON_Parse(json);
-    free(json);
-    ASSERT_TRUE(root != NULL);
-    return root;
+    return pbrt_translate("left.pbrt", text, msg, cap);
 }
 
 #define VIEW "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"

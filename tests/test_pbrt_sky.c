@@ -5,6 +5,7 @@
  * against the irradiance integrated here over the texel; pbrt-v4's "illuminance"
  * normalisation; sampling against evaluation (chi-square); the refusals. */
 #include "test.h"
+#include "pbrt_translate.h"
 
 #include <math.h>
 
@@ -258,18 +259,7 @@ TEST(sampling_pdf_matches_eval)
 /* The translation of a .pbrt text; NULL and *msg set when it is refused. */
 static cJSON *translate(const char *text, char *msg, size_t cap)
 {
-    const char *path = test_tmp_path("sky.pbrt");
-    test_write_file(path, text);
-    char *json = NULL;
-    msg[0] = '\0';
-    if (scene_pbrt_json(path, &json) != BRUME_OK) {
-        snprintf(msg, cap, "%s", err_message());
-        return NULL;
-    }
-    cJSON *root = cJSON_Parse(json);
-    free(json);
-    ASSERT_TRUE(root != NULL);
-    return root;
+    return pbrt_translate("sky.pbrt", text, msg, cap);
 }
 
 #define SKY_VIEW                                                                                 \
