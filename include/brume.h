@@ -255,14 +255,24 @@ typedef struct brume_render_settings {
     int device;          /* where path and single run: -1 the CPU (default), N >= 0 the CUDA GPU N
                             (render.device "cpu", "cuda" or "cuda:N"; docs/gpu.md) */
     double max_component; /* 0 = none; else each camera sample's radiance is scaled so that the
-                             largest of its CIE X, Y, Z is at most this (pbrt-v4's Film
-                             "maxcomponentvalue" with its cie1931 sensor): a clamp, biased low,
-                             in [0, 1e30] (render.max_component) */
+                             largest of its sensor values (CIE X, Y, Z with the cie1931 sensor,
+                             a camera's raw r, g, b with a named one) is at most this (pbrt-v4's
+                             Film "maxcomponentvalue"): a clamp, biased low, in [0, 1e30]
+                             (render.max_component) */
     double white_balance; /* 0 = none; else kelvin in [1000, 100000]: each sample's colour is
                              mapped from the daylight white of that temperature to D65's, as
-                             pbrt-v4's Film "whitebalance" does for its cie1931 sensor
-                             (render.white_balance) */
+                             pbrt-v4's Film "whitebalance" does (render.white_balance); with a
+                             camera sensor 0 stands for 6500 K, as in pbrt-v4 */
+    int sensor;           /* the film's sensor, pbrt-v4's Film "sensor" (render.sensor): 0 its
+                             "cie1931", the CIE observer, whose values are brume's linear Rec. 709
+                             (default); 1 .. 17 the cameras pbrt-v4 names, in the order of
+                             brume_sensor_name, whose measured responses map each sample's colour
+                             (docs/pbrt.md, Film) */
 } brume_render_settings;
+
+/* The name of render.sensor's number sensor ("cie1931", "canon_eos_100d", ...), NULL for a
+ * number without one: brume_sensor_name(0), (1), ... until NULL lists them. */
+const char *brume_sensor_name(int sensor);
 
 /* Parses a device name, "cpu" (-1), "cuda" (0) or "cuda:N" (N, 0 <= N < 64), into *device.
  * BRUME_OK, or BRUME_ERROR_INVALID_ARGUMENT with the context's message naming the text. */

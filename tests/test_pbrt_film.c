@@ -71,13 +71,13 @@ TEST(film_imaging_ratio_scales_sources)
     cJSON_Delete(root);
 }
 
-/* A camera's own sensor changes the image in ways brume does not follow, and a white balance
- * outside [1000, 100000] K is none brume makes: each refused by name with the Film's line
- * (a white balance inside it is read: tests/test_pbrt_leftovers.c). */
+/* A sensor pbrt-v4 does not name, and a white balance outside [1000, 100000] K, which is none
+ * brume makes: each refused by name with the Film's line (the sensors pbrt-v4 names are read:
+ * tests/test_pbrt_sensor.c; a white balance inside the range: tests/test_pbrt_leftovers.c). */
 TEST(film_sensor_and_whitebalance_refused_by_name)
 {
-    expect_refusal("Film \"rgb\" \"string sensor\" \"nikon_d850\"\n" VIEW "Camera \"perspective\"\nWorldBegin\n", 1,
-                   "\"sensor\": \"nikon_d850\"");
+    expect_refusal("Film \"rgb\" \"string sensor\" \"nikon_d9000\"\n" VIEW "Camera \"perspective\"\nWorldBegin\n", 1,
+                   "\"sensor\": \"nikon_d9000\"");
     expect_refusal("Film \"rgb\" \"float whitebalance\" 500\n" VIEW "Camera \"perspective\"\nWorldBegin\n", 1,
                    "\"whitebalance\": 500 K");
 }

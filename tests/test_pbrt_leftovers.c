@@ -22,6 +22,10 @@
 #include "scene/scene_pbrt.h"
 #include "surface/surfaces.h"
 
+/* the cie1931 sensor's values: CIE XYZ from linear Rec. 709 (render/sample.h, sample_clamp) */
+static const double xyz_from_rgb[9] = {0.4124564, 0.3575761, 0.1804375, 0.2126729, 0.7151522,
+                                       0.0721750, 0.0193339, 0.1191920, 0.9503041};
+
 /* pbrt-v4's clamp with its cie1931 sensor: the sample's XYZ (from linear Rec. 709 by the
  * standard D65 matrix) scaled by m / max(X, Y, Z) when that exceeds m. */
 static void pbrt_clamp(const double rgb[3], double m, double out[3])
@@ -45,12 +49,12 @@ TEST(max_component_clamps_largest_xyz)
     for (int i = 0; i < 5; i++) {
         double want[3];
         pbrt_clamp(cases[i], cases[i][3] > 0 ? cases[i][3] : INFINITY, want);
-        color got = sample_clamp(col_rgb(cases[i][0], cases[i][1], cases[i][2]), cases[i][3]);
+        color got = sample_clamp(col_rgb(cases[i][0], cases[i][1], cases[i][2]), cases[i][3], xyz_from_rgb);
         for (int c = 0; c < 3; c++)
             ASSERT_NEAR(got.c[c], want[c], 1e-12 * (1 + want[c]));
     }
-    ASSERT_NEAR(sample_clamp(col_rgb(10, 10, 10), 5).c[0], 10 * 5 / (10 * (0.0193339 + 0.1191920 + 0.9503041)), 1e-12);
-    ASSERT_TRUE(isnan(sample_clamp(col_rgb(NAN, 1, 1), 1).c[0]));
+    ASSERT_NEAR(sample_clamp(col_rgb(10, 10, 10), 5, xyz_from_rgb).c[0], 10 * 5 / (10 * (0.0193339 + 0.1191920 + 0.9503041)), 1e-12);
+    ASSERT_TRUE(isnan(sample_clamp(col_rgb(NAN, 1, 1), 1, xyz_from_rgb).c[0]));
     sample_value v;
     sample_params sp = {.max_component = 1};
     sample_set(&v, &sp, col_rgb(INFINITY, 1, 1), true, col(1.0));

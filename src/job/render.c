@@ -252,14 +252,12 @@ static render_pass job_pass_shape(const brume_render_job *job)
                         .filter = rs->filter,
                         .filter_width = rs->filter_width,
                         .max_component = rs->max_component,
-                        .white_balance = rs->white_balance > 0.0,
                         .qmc_dims = rs->sampler == BRUME_SAMPLER_SOBOL ? RENDER_SOBOL_DIMS : 0,
                         .lens = cam->aperture_radius > 0.0,
                         .shutter = cam->shutter_close > cam->shutter_open,
                         .trace_aovs = job->trace_aovs,
                         .squares = job->sq != NULL};
-    if (sp.white_balance)
-        film_white_balance(rs->white_balance, sp.wb);
+    sp.film_map = film_sensor_maps(rs->sensor, rs->white_balance, sp.sensor, sp.film);
     return (render_pass){.s = job->s, .state = job->state, .sp = sp, .target = (uint32_t)job->target};
 }
 

@@ -9,12 +9,7 @@
 
 #include "brume.h"
 #include "core/rng.h"
-
-/* pbrt-v4's white balance of its cie1931 sensor (film_white.c): the chromaticity (x, y) of
- * its source white at `kelvin`, and the 3 x 3 (row-major) that maps linear Rec. 709 colours
- * from that white to D65's. */
-void film_daylight_xy(double kelvin, double xy[2]);
-void film_white_balance(double kelvin, double m[9]);
+#include "scene/film_sensor.h" /* the film's sensor and white balance */
 
 /* film_sample_filter's Gaussian filter (film.c). */
 void film_sample_gaussian(double width, rng *g, double *dx, double *dy);

@@ -23,9 +23,10 @@ typedef struct sample_params {
     uint64_t seed;
     brume_filter filter;
     double filter_width;   /* pixels */
-    double max_component;  /* 0, or the clamp of a sample's largest XYZ component (sample_clamp) */
-    bool white_balance;    /* wb applies (render.white_balance) */
-    double wb[9];          /* film_white_balance's map, row-major, after the clamp */
+    double max_component;  /* 0, or the clamp of a sample's largest sensor value (sample_clamp) */
+    double sensor[9];      /* the sensor's values from linear Rec. 709, row-major (film_sensor_maps) */
+    bool film_map;         /* film applies (a camera sensor or render.white_balance) */
+    double film[9];        /* film_sensor_maps' output RGB from linear Rec. 709, after the clamp */
     uint32_t qmc_dims;     /* RENDER_SOBOL_DIMS with the Sobol sampler, else 0 */
     bool lens, shutter;    /* the camera has a lens aperture, a shutter interval */
     bool trace_aovs;       /* depth, albedo or normal layers */
@@ -81,32 +82,31 @@ static inline void sample_aovs(const brume_scene *s, const sample_params *sp, ra
 }
 
 /* pbrt-v4's maxcomponentvalue (RGBFilm::AddSample): a sample whose largest sensor value
- * exceeds max_component is scaled down to it, before the pixel filter's weight. pbrt-v4's
- * default cie1931 sensor's values are CIE X, Y, Z, so the largest of those is clamped: of
- * brume's linear Rec. 709 (the standard RGB to XYZ matrix, D65), the whole colour scaled
- * alike. A clamp: it lowers the mean of every pixel whose samples exceed it (a bias), in
- * exchange for the fireflies. A NaN or an infinity stays non-finite (sample_set counts it). */
-static inline color sample_clamp(color L, double max_component)
+ * exceeds max_component is scaled down to it, before the pixel filter's weight. The sensor's
+ * values are sensor (3 x 3, row-major) times brume's linear Rec. 709: CIE X, Y, Z for pbrt-v4's
+ * default cie1931 sensor, a camera's raw r, g, b for a named one (render/film_sensor.c); the
+ * whole colour is scaled alike. A clamp: it lowers the mean of every pixel whose samples exceed
+ * it (a bias), in exchange for the fireflies. A NaN or an infinity stays non-finite (sample_set
+ * counts it). */
+static inline color sample_clamp(color L, double max_component, const double sensor[9])
 {
     if (!(max_component > 0.0))
         return L;
-    double r = L.c[0], g = L.c[1], b = L.c[2];
-    double X = 0.4124564 * r + 0.3575761 * g + 0.1804375 * b;
-    double Y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
-    double Z = 0.0193339 * r + 0.1191920 * g + 0.9503041 * b;
-    double m = fmax(X, fmax(Y, Z));
+    double r = L.c[0], g = L.c[1], b = L.c[2], m = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        m = fmax(m, sensor[3 * k] * r + sensor[3 * k + 1] * g + sensor[3 * k + 2] * b);
     return m > max_component ? col_scale(L, max_component / m) : L;
 }
 
-/* The estimator's radiance L, clamped and white-balanced as sp says, whether the camera ray ended
- * on a surface (opaque) and its transmittance T, as the sample's value. */
+/* The estimator's radiance L, clamped and mapped by the film as sp says, whether the camera
+ * ray ended on a surface (opaque) and its transmittance T, as the sample's value. */
 static inline void sample_set(sample_value *v, const sample_params *sp, color L, bool opaque, color T)
 {
-    L = sample_clamp(L, sp->max_component);
-    if (sp->white_balance) /* pbrt-v4 balances the sensor's values after clamping them */
-        L = col_rgb(sp->wb[0] * L.c[0] + sp->wb[1] * L.c[1] + sp->wb[2] * L.c[2],
-                    sp->wb[3] * L.c[0] + sp->wb[4] * L.c[1] + sp->wb[5] * L.c[2],
-                    sp->wb[6] * L.c[0] + sp->wb[7] * L.c[1] + sp->wb[8] * L.c[2]);
+    L = sample_clamp(L, sp->max_component, sp->sensor);
+    if (sp->film_map) /* pbrt-v4 maps the sensor's values to its output after clamping them */
+        L = col_rgb(sp->film[0] * L.c[0] + sp->film[1] * L.c[1] + sp->film[2] * L.c[2],
+                    sp->film[3] * L.c[0] + sp->film[4] * L.c[1] + sp->film[5] * L.c[2],
+                    sp->film[6] * L.c[0] + sp->film[7] * L.c[1] + sp->film[8] * L.c[2]);
     v->nonfinite = !col_isfinite(L);
     v->L = v->nonfinite ? col(0.0) : L; /* a failed sample counts as black */
     v->alpha = opaque ? 1.0 : 1.0 - col_avg(T);

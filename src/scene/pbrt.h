@@ -140,7 +140,8 @@ typedef struct pbrt_state {
     char far_light[16];      /* and its type */
     double box_filter;       /* PixelFilter "box": its width in pixels (0: none given) */
     double max_component;    /* Film "maxcomponentvalue" (0: none given) */
-    double white_balance;    /* Film "whitebalance" with the cie1931 sensor, kelvin (0: none) */
+    double white_balance;    /* Film "whitebalance", kelvin (0: none; a camera's 6500 K) */
+    int sensor;              /* Film "sensor": film_sensor_find's number (0: cie1931) */
     double iso, exposure_time; /* Film "iso" and the Camera's shutterclose - shutteropen (pbrt_imaging) */
     m4 world_from_camera;
     double fov, lens_radius, focal_distance;

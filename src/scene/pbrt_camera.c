@@ -13,6 +13,7 @@
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
+#include "scene/film_sensor.h"
 #include "scene/scene_build.h"
 #include "scene/pbrt.h"
 
@@ -124,12 +125,14 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
             return pbrt_fail(L, "%s: parameter \"maxcomponentvalue\": %g must be > 0", what, mc);
         S->max_component = mc <= 1e30 ? mc : 0.0;
         /* pbrt-v4's cie1931 sensor is the XYZ observer, which an RGB film turns into the colour
-           space's RGB: brume's own values. Camera sensors weigh the spectrum with their own curves */
-        if (strcmp(sensor, "cie1931") != 0)
-            return pbrt_unsupported(L, "%s: parameter \"sensor\": \"%s\": brume renders RGB, as pbrt-v4's \"cie1931\" "
-                                       "sensor sees it; a camera's spectral response is not read", what, sensor);
-        /* pbrt-v4 adapts the cie1931 sensor's values from the daylight white of that temperature
-           to the colour space's: brume's render.white_balance */
+           space's RGB: brume's own values; a camera it names weighs the spectrum with its measured
+           curves: brume's render.sensor (scene/film_sensor.c) */
+        S->sensor = film_sensor_find(sensor);
+        if (S->sensor < 0)
+            return pbrt_unsupported(L, "%s: parameter \"sensor\": \"%s\": no sensor pbrt-v4 names (cie1931 or a camera: "
+                                       "docs/pbrt.md, Film)", what, sensor);
+        /* pbrt-v4 adapts the sensor's values from the daylight white of that temperature to the
+           colour space's (a camera's to 6500 K's by default): brume's render.white_balance */
         if (!(wb == 0.0 || (wb >= 1000.0 && wb <= 1e5)))
             return pbrt_unsupported(L, "%s: parameter \"whitebalance\": %g K: 0 (none) or in [1000, 100000]", what, wb);
         S->white_balance = wb;

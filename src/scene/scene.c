@@ -9,6 +9,7 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "method/method.h"
+#include "scene/film_sensor.h"
 
 void scene_default_settings(brume_render_settings *rs)
 {
@@ -88,6 +89,9 @@ brume_status scene_check_settings(const char *source, const brume_render_setting
     if (!(rs->white_balance == 0.0 || (rs->white_balance >= 1000.0 && rs->white_balance <= 1e5)))
         return err_set(BRUME_ERROR_RANGE, "%s: render.white_balance: %.17g K: 0 (none) or in [1000, 100000]", source,
                        rs->white_balance);
+    if (!film_sensor_name(rs->sensor))
+        return err_set(BRUME_ERROR_RANGE, "%s: render.sensor: %d is not a sensor's number (brume_sensor_name)", source,
+                       rs->sensor);
     if (!(rs->fps > 0.0 && rs->fps <= 1e6))
         return err_set(BRUME_ERROR_RANGE, "%s: render.fps: %.17g outside (0, 1e6]", source, rs->fps);
     if (!(rs->time_budget >= 0.0 && rs->time_budget <= 1e9))

@@ -24,11 +24,12 @@
 #include "scene/scene.h"
 #include "scene/scene_build.h"
 #include "scene/scene_json_common.h"
+#include "scene/film_sensor.h"
 
 static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
 {
     static const char *const keys[] = {"width", "height", "spp", "seed", "threads", "method", "max_depth", "filter",
-                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", "device", "max_component", "white_balance", NULL};
+                                       "fps", "max_memory_mb", "max_work", "noise", "time", "min_spp", "sampler", "device", "max_component", "white_balance", "sensor", NULL};
     brume_status st = json_check_object(j, at, keys);
     if (st) return st;
     /* the one memory limit of everything the scene makes brume read or generate (core/budget.h) */
@@ -59,6 +60,11 @@ static brume_status parse_render(const cJSON *j, jloc at, brume_scene *s)
     if ((st = json_int(j, at, "min_spp", 0, 1, 1 << 24, &rs.min_spp))) return st;
     if ((st = json_number(j, at, "max_component", 0, 0.0, 1e30, &rs.max_component))) return st;
     if ((st = json_number(j, at, "white_balance", 0, 0.0, 1e5, &rs.white_balance))) return st;
+    char sensor[64] = "";
+    if ((st = json_string(j, at, "sensor", 0, sensor, sizeof sensor))) return st;
+    if (sensor[0] && (rs.sensor = film_sensor_find(sensor)) < 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: render.sensor: unknown sensor '%s' (known: cie1931 and pbrt-v4's cameras, "
+                       "docs/scene-format.md)", at.file, sensor);
     char device[32] = "";
     if ((st = json_string(j, at, "device", 0, device, sizeof device))) return st;
     if (device[0] && brume_device_from_name(NULL, device, &rs.device) != BRUME_OK)

@@ -19,6 +19,7 @@
 #include "core/vec.h"
 #include "io/grid_io.h"
 #include "io/json.h"
+#include "scene/film_sensor.h"
 #include "scene/scene_build.h"
 #include "scene/scene_pbrt.h"
 #include "scene/pbrt.h"
@@ -313,6 +314,8 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
         cJSON_AddNumberToObject(r, "max_component", S->max_component);
     if (S->white_balance > 0.0)
         cJSON_AddNumberToObject(r, "white_balance", S->white_balance);
+    if (S->sensor > 0)
+        cJSON_AddStringToObject(r, "sensor", film_sensor_name(S->sensor));
     if (S->box_filter > 0.0) {
         cJSON *f = cJSON_AddObjectToObject(r, "filter");
         cJSON_AddStringToObject(f, "type", "box");
