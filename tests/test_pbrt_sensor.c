@@ -202,6 +202,35 @@ TEST(nikon_d850_renders_grey_sky_as_pbrt)
     brume_image_release(img);
 }
 
+/* A grey diffuse quad (pbrt's default reflectance 0.5) facing a distant light of irradiance pi
+ * (rgb L [1 1 1], scale pi) has radiance 0.5: through the nikon_d850 at 5000 K with iso 400
+ * every pixel is pbrt-v4's film white times 0.5 x 4. The light is sampled exactly and the
+ * paths that leave the quad find nothing, so the pixels carry no noise; the "gbuffer" film is
+ * the same film. */
+TEST(nikon_d850_renders_lit_grey_quad_as_pbrt)
+{
+    char msg[2048];
+    cJSON *root = pbrt_translate("quad.pbrt",
+                                 "Film \"gbuffer\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string sensor\" "
+                                 "\"nikon_d850\" \"float whitebalance\" 5000 \"float iso\" 400\nSampler \"independent\" "
+                                 "\"integer pixelsamples\" 4\n" VIEW "Camera \"perspective\" \"float fov\" 20\nWorldBegin\n"
+                                 "LightSource \"distant\" \"point3 from\" [0 0 -1] \"point3 to\" [0 0 0] \"rgb L\" [1 1 1] "
+                                 "\"float scale\" 3.14159265358979\nMaterial \"diffuse\"\nShape \"bilinearmesh\" "
+                                 "\"point3 P\" [-10 -10 0  10 -10 0  -10 10 0  10 10 0]\n",
+                                 msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    char *json = cJSON_PrintUnformatted(root);
+    cJSON_Delete(root);
+    brume_image *img = test_render_json(json, 3);
+    free(json);
+    const float *px = brume_image_pixels(img);
+    for (int p = 0; p < 16; p++)
+        for (int c = 0; c < 3; c++)
+            ASSERT_NEAR(px[4 * p + c], 2.0 * refs[0].film_white[c], 1e-4);
+    brume_image_release(img);
+}
+
 /* render.max_component clamps a camera's raw values, not XYZ: a sky of (1, 1, 1) through the
  * canon_eos_100d (raw white 0.417, 0.968, 0.722 in pbrt-v4) clamped at 0.5 is pbrt-v4's film
  * white times 0.5 / 0.967898 (the clamp at Z = 1.089 would give 0.5 / 1.089). */
@@ -236,4 +265,5 @@ TEST(unknown_sensor_refused_by_name)
 
 TEST_MAIN(cie1931_is_the_identity_case, every_pbrt_camera_is_named, camera_film_is_pbrt_v4s,
           camera_uplift_is_constrained_least_squares, nikon_d850_renders_grey_sky_as_pbrt,
+          nikon_d850_renders_lit_grey_quad_as_pbrt,
           max_component_clamps_camera_values, unknown_sensor_refused_by_name)
