@@ -50,7 +50,7 @@ LightSource "infinite" "rgb L" [$r $g $b]
 EOF
         "$pbrt" --nthreads 1 --quiet "$tmp/s.pbrt" > /dev/null 2>&1
         grep -v savefp16 "$tmp/s.pbrt" > "$tmp/b.pbrt" # pbrt-v4's output format: brume's is -o
-        "$brume" render "$tmp/b.pbrt" --spp 1 --threads 1 -o "$tmp/b.pfm" > /dev/null
+        "$brume" render "$tmp/b.pbrt" --spp 1 --threads 1 -o "$tmp/b.pfm" > /dev/null 2>&1
         p=$(mean "$tmp/p.pfm")
         q=$(mean "$tmp/b.pfm")
         echo "$r $g $b | $p | $q | $(echo "$p $q" | awk '{printf "%.4f %.4f %.4f", $4 / $1, $5 / $2, $6 / $3}')"
