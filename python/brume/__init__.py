@@ -387,6 +387,10 @@ _SETTINGS = tuple(n for n, _ in ffi.typeof("brume_render_settings").fields if n 
 _ENUMS = {"filter": {"box": lib.BRUME_FILTER_BOX, "gaussian": lib.BRUME_FILTER_GAUSSIAN}}
 if has("BRUME_SAMPLER_SOBOL"):
     _ENUMS["sampler"] = {"independent": lib.BRUME_SAMPLER_INDEPENDENT, "sobol": lib.BRUME_SAMPLER_SOBOL}
+if has("brume_sensor_name"):  # the film's sensors by name: "cie1931" and pbrt-v4's cameras
+    _ENUMS["sensor"] = {}
+    while lib.brume_sensor_name(len(_ENUMS["sensor"])) != ffi.NULL:
+        _ENUMS["sensor"][ffi.string(lib.brume_sensor_name(len(_ENUMS["sensor"]))).decode()] = len(_ENUMS["sensor"])
 _EXTRA = ("options", "frame_time")
 _SETTING_TYPES = dict(ffi.typeof("brume_render_settings").fields)
 

@@ -326,6 +326,11 @@ class PackageTest(unittest.TestCase):
             self.assertEqual((got["width"], got["height"], got["method"]), (20, 10, "single"))
         with brume.Scene(None, filter="gaussian") as s:
             self.assertEqual(s.settings["filter"], "gaussian")
+        if has("brume_sensor_name"):
+            with brume.Scene(None, sensor="nikon_d850") as s:
+                self.assertEqual(s.settings["sensor"], "nikon_d850")
+            with self.assertRaises(brume.KeywordError):
+                brume.Scene(None, sensor="nikon_d9000")
         if "depth" in brume.AOVS:
             with brume.Scene(None, aovs=["depth"]) as s:
                 self.assertEqual(s.settings["aovs"], ["depth"])
