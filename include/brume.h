@@ -1054,6 +1054,7 @@ typedef enum brume_material_type {
     BRUME_MATERIAL_CONDUCTOR,     /* conductor_eta, conductor_k, roughness */
     BRUME_MATERIAL_COATEDDIFFUSE, /* albedo (the base's reflectance), eta, roughness, thickness,
                                      layer_albedo, g, max_depth, nsamples */
+    BRUME_MATERIAL_MIX,           /* materials, amount (pbrt-v4's MixMaterial) */
 } brume_material_type;
 typedef struct brume_material {
     double albedo[3];   /* diffuse reflectance, each in [0, 1] */
@@ -1061,9 +1062,11 @@ typedef struct brume_material {
     double exponent;    /* Phong exponent, [0, 1e6] */
     double emission[3]; /* emitted radiance W m^-2 sr^-1 from the front side, >= 0 */
     bool two_sided;     /* emit from both sides */
-    /* NULL, or the diffuse reflectance as a texture (copied; its images read once per shape),
-     * in place of albedo; its values are clamped to [0, 1 - specular] per channel. Rendered
-     * on the CPU (the GPU refuses it by name). */
+    /* NULL, or the reflectance as a texture (copied; its images read once per shape), in
+     * place of albedo (diffuse: clamped to [0, 1 - specular] per channel; coateddiffuse: the
+     * base's, clamped to [0, 1]) or of conductor_eta and conductor_k (conductor: pbrt-v4's
+     * "reflectance", eta 1 and the k of that normal reflectance). Rendered on the CPU (the
+     * GPU refuses textures by name). */
     const brume_texture *albedo_texture;
     brume_material_type type;
     double eta;         /* index of refraction behind the front side over in front, (0, 100]; 1.5 */
@@ -1074,9 +1077,22 @@ typedef struct brume_material {
     double g;           /* coateddiffuse: the layer's Henyey-Greenstein g, (-1, 1); 0 */
     int max_depth;      /* coateddiffuse: most events of a walk between the layers, [1, 1000]; 10 */
     int nsamples;       /* coateddiffuse: walks per evaluation, [1, 1000]; 1 */
+    /* NULL, or a float texture in place of roughness (dielectric, conductor, coateddiffuse):
+     * pbrt-v4's roughness r at the hit, alpha = sqrt(r) when remap_roughness, else r */
+    const brume_texture *roughness_texture;
+    bool remap_roughness;
+    /* mix: materials[1] with probability amount (amount_texture's value at the hit when not
+     * NULL), else materials[0], chosen per shading point by a hash of the point and the
+     * direction as pbrt-v4's MixMaterial does, so that the image is the amount-weighted mix.
+     * The two are copied (mixes nest, BRUME_MATERIAL_MAX_MIX deep); their emission is not
+     * read (the mix's own is). Rendered on the CPU. */
+    const struct brume_material *materials[2];
+    double amount;      /* [0, 1]; 0.5 */
+    const brume_texture *amount_texture;
 } brume_material;
+#define BRUME_MATERIAL_MAX_MIX 8
 /* albedo 0.8, no specular (exponent 50), no emission; the other types' pbrt-v4 defaults
- * (eta 1.5, copper, thickness 0.01, max_depth 10, nsamples 1). */
+ * (eta 1.5, copper, thickness 0.01, max_depth 10, nsamples 1, amount 0.5, remap_roughness). */
 void brume_material_default(brume_material *material);
 /* Every shape takes an optional transform (NULL = identity): 12 doubles, a 3 x 4 row-major
  * affine map [R | t] applied to the shape's points; material NULL = brume_material_default;

@@ -587,11 +587,12 @@ static void pbrt_refused(const char *world, int line, const char *frag)
 
 TEST(pbrt_materials_refused_by_name)
 {
-    pbrt_refused("Material \"mix\"\n", 4, "Material \"mix\": not supported by brume");
+    pbrt_refused("Material \"coatedconductor\"\n", 4, "Material \"coatedconductor\": not supported by brume");
     pbrt_refused("Material \"conductor\" \"spectrum eta\" \"metal-Zz-eta\"\n", 4, "unknown named spectrum \"metal-Zz-eta\"");
     pbrt_refused("Material \"diffuse\" \"string normalmap\" \"n.png\"\n", 4, "\"normalmap\"");
     pbrt_refused("Material \"coateddiffuse\" \"texture displacement\" \"d\"\n", 4, "\"displacement\"");
-    pbrt_refused("Material \"dielectric\" \"texture roughness\" \"t\"\n", 4, "\"roughness\": a texture");
+    pbrt_refused("Material \"dielectric\" \"texture roughness\" \"t\"\n", 4, "no float Texture named \"t\"");
+    pbrt_refused("Material \"dielectric\" \"texture eta\" \"t\"\n", 4, "\"eta\": a texture");
     pbrt_refused("Material \"dielectric\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n", 4, "isotropic");
     pbrt_refused("Material \"dielectric\" \"rgb eta\" [1.4 1.5 1.6]\n", 4, "does not disperse");
     pbrt_refused("MakeNamedMaterial \"m\" \"string type\" \"conductor\" \"float shininess\" 3\n", 4, "shininess");

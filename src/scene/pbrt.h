@@ -54,7 +54,7 @@ typedef struct param {
     char type[16], name[64];
     int n, cap;                      /* values; numbers allocated in v */
     double *v;                       /* numbers (malloc'd; an array's values) */
-    char s[1024];                    /* the first string value (a token's text fits) */
+    char s[1024];                    /* the string values, each ended by its NUL, one after another */
     bool is_string, used;
     int line;
 } param;
@@ -83,16 +83,16 @@ typedef struct named_medium {
     double box[6];    /* homogeneous: lo, hi of what its uses need (empty: lo > hi) */
 } named_medium;
 
-/* A drawn shape's material as the JSON of a brume material (pbrt_materials.c); "" for an
+/* A drawn shape's material as the JSON of a brume material (pbrt_materials.c), its textures
+ * as {"$tex": index in pbrt_state.textures} (pbrt_material_json puts them in); "" for an
  * interface. */
-#define PBRT_MATERIAL_JSON 640
+#define PBRT_MATERIAL_JSON 2048
 
 typedef struct attrs {
     m4 ctm;
     char material[32]; /* its pbrt type: "diffuse", "dielectric", ... or "interface" */
     char mat_json[PBRT_MATERIAL_JSON];
-    const cJSON *albedo_tex; /* NULL, or the reflectance's texture (brume's JSON, owned by pbrt_state.textures):
-                                it replaces mat_json's albedo */
+    bool textured; /* mat_json names a texture: the shape needs (u, v) */
     char inside[128], outside[128];
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
     bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
@@ -103,7 +103,7 @@ typedef struct named_material {
     char name[128];
     char material[32]; /* as attrs' */
     char mat_json[PBRT_MATERIAL_JSON];
-    const cJSON *albedo_tex;
+    bool textured;
 } named_material;
 
 /* Texture "name" "float"|"spectrum" "class": its brume JSON tree, kept to the end (a later
@@ -206,10 +206,12 @@ brume_status pbrt_attribute_end(pbrt_state *S, const char *dir);
 brume_status pbrt_structure_end(pbrt_state *S);
 
 /* pbrt_materials.c: a Material or MakeNamedMaterial of the type, its parameters read, into
- * its pbrt type name (material) and brume's material JSON (json); a diffuse reflectance's
- * texture into *albedo_tex (else NULL) */
+ * its pbrt type name (material) and brume's material JSON (json); *textured whether it names
+ * a texture */
 brume_status pbrt_material_read(pbrt_state *S, const char *type, const char *what, params *ps, char material[32],
-                                char json[PBRT_MATERIAL_JSON], const cJSON **albedo_tex);
+                                char json[PBRT_MATERIAL_JSON], bool *textured);
+/* The current material a's JSON with its textures put in (NULL when out of memory, err_set). */
+cJSON *pbrt_material_json(const pbrt_state *S, const attrs *a);
 
 /* pbrt_transform.c */
 m4 pbrt_m4_identity(void);
@@ -252,9 +254,8 @@ brume_status pbrt_object_directive(pbrt_state *S, params *ps, const char *dir,
 
 /* pbrt_textures.c */
 brume_status pbrt_texture_directive(pbrt_state *S, params *ps);
-/* A material's spectrum parameter `name`: a colour into rgb, or a "texture" naming a
- * spectrum Texture into *tex (else NULL). */
-brume_status pbrt_spectrum_or_texture(pbrt_state *S, params *ps, const char *name, double rgb[3], const cJSON **tex);
+/* The latest Texture of that name and kind: its index in S->textures, or -1. */
+int pbrt_find_texture(const pbrt_state *S, const char *name, bool is_float);
 void pbrt_textures_free(pbrt_state *S);
 /* A mesh's "uv" parameter q (u v per point of nv) into *uv (malloc'd). */
 brume_status pbrt_mesh_uv(pbrt_state *S, const param *q, const char *what, int nv, double **uv);

@@ -79,7 +79,7 @@ static brume_status named_material_directive(pbrt_state *S, attrs *a, const char
             return pbrt_fail(L, "%s: no MakeNamedMaterial of that name before it", what);
         pbrt_copy(a->material, sizeof a->material, S->materials[i].material);
         pbrt_copy(a->mat_json, sizeof a->mat_json, S->materials[i].mat_json);
-        a->albedo_tex = S->materials[i].albedo_tex;
+        a->textured = S->materials[i].textured;
         return BRUME_OK;
     }
     if (i == PBRT_MAX_MATERIALS)
@@ -90,7 +90,7 @@ static brume_status named_material_directive(pbrt_state *S, attrs *a, const char
         return st;
     if (!pbrt_get(ps, "type"))
         return pbrt_fail(L, "%s: no \"string type\"", what);
-    if ((st = pbrt_material_read(S, type, what, ps, m.material, m.mat_json, &m.albedo_tex)) ||
+    if ((st = pbrt_material_read(S, type, what, ps, m.material, m.mat_json, &m.textured)) ||
         (st = pbrt_all_used(L, ps, what)))
         return st;
     pbrt_copy(m.name, sizeof m.name, name);
@@ -172,7 +172,7 @@ brume_status pbrt_setting_directive(pbrt_state *S, attrs *a, const char *dir, co
             return pbrt_fail(L, "%s: xradius and yradius must be equal, in [0.05, 8]", what);
         S->box_filter = 2.0 * rx;
     } else if (strcmp(dir, "Material") == 0) {
-        if ((st = pbrt_material_read(S, type, what, ps, a->material, a->mat_json, &a->albedo_tex)))
+        if ((st = pbrt_material_read(S, type, what, ps, a->material, a->mat_json, &a->textured)))
             return st;
     } else {
         return named_material_directive(S, a, dir, type, what, ps);

@@ -197,13 +197,11 @@ static brume_status shape_uv(pbrt_state *S, const char *what, const param *uv, b
 static brume_status shape_surface(pbrt_state *S, cJSON *s)
 {
     attrs *a = &S->a[S->depth];
-    cJSON *mat = cJSON_Parse(a->mat_json);
+    cJSON *mat = pbrt_material_json(S, a);
     if (!mat) {
         cJSON_Delete(s);
-        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory", S->path);
+        return err_status();
     }
-    if (a->albedo_tex)
-        cJSON_ReplaceItemInObject(mat, "albedo", cJSON_Duplicate(a->albedo_tex, 1));
     cJSON_AddItemToObject(s, "material", mat);
     if (a->area) {
         cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
@@ -343,7 +341,7 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: no \"string filename\"", what);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
-    if (!interface && S->a[S->depth].albedo_tex)
+    if (!interface && S->a[S->depth].textured)
         return pbrt_unsupported(L, "%s: a textured PLY mesh (brume reads no texture coordinates from mesh files)", what);
     if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
         return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
@@ -433,7 +431,7 @@ static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bo
     if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
         return st;
     const double *c = a->ctm.m;
-    if (!interface && a->albedo_tex &&
+    if (!interface && a->textured &&
         !(c[0] > 0.0 && c[1] == 0.0 && c[2] == 0.0 && c[4] == 0.0 && c[5] == c[0] && c[6] == 0.0 && c[8] == 0.0 &&
           c[9] == 0.0 && c[10] == c[0]))
         return pbrt_unsupported(L, "%s: a textured sphere turned or mirrored (brume maps a sphere's (u, v) in "
@@ -512,7 +510,7 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         return st;
     }
     free(quad);
-    if (!interface && !round && a->albedo_tex && (st = shape_uv(S, what, uv, tri, &t))) {
+    if (!interface && !round && a->textured && (st = shape_uv(S, what, uv, tri, &t))) {
         tris_free(&t);
         return st;
     }
@@ -529,7 +527,7 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
         return st;
     }
     cJSON *s = tris_json(&t, false);
-    if (a->albedo_tex)
+    if (a->textured)
         cJSON_AddItemToObject(s, "uvs", cJSON_CreateDoubleArray(t.uv, 2 * t.nv));
     tris_free(&t);
     return shape_surface(S, s);

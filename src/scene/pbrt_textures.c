@@ -215,18 +215,10 @@ brume_status pbrt_texture_directive(pbrt_state *S, params *ps)
     return BRUME_OK;
 }
 
-brume_status pbrt_spectrum_or_texture(pbrt_state *S, params *ps, const char *name, double rgb[3], const cJSON **tex)
+int pbrt_find_texture(const pbrt_state *S, const char *name, bool is_float)
 {
-    *tex = NULL;
-    param *q = pbrt_get(ps, name);
-    if (!q || strcmp(q->type, "texture") != 0)
-        return pbrt_get_color(&S->L, ps, name, rgb);
-    const named_texture *t = q->is_string && q->n == 1 ? find_texture(S, q->s, false) : NULL;
-    if (!t)
-        return pbrt_fail(&S->L, "parameter \"texture %s\": no spectrum Texture named \"%s\" before it", name,
-                         q->is_string ? q->s : "");
-    *tex = t->json;
-    return BRUME_OK;
+    const named_texture *t = find_texture(S, name, is_float);
+    return t ? (int)(t - S->textures) : -1;
 }
 
 /* ---- texture coordinates of drawn shapes ---------------------------------------------------- */

@@ -307,8 +307,13 @@ static brume_status param_value(lexer *L, params *ps, param *q)
     if (L->kind == TOK_STRING) {
         if (q->n > 0 && !q->is_string)
             return pbrt_fail(L, "parameter \"%s\": mixes strings and numbers", q->name);
-        if (q->n == 0)
-            pbrt_copy(q->s, sizeof q->s, L->text);
+        size_t at = 0; /* after the strings before it, each ended by its NUL */
+        for (int k = 0; k < q->n; k++)
+            at += strlen(q->s + at) + 1;
+        if (at + strlen(L->text) + 1 > sizeof q->s)
+            return pbrt_fail(L, "parameter \"%s\": its strings are longer than %zu bytes in all", q->name,
+                             sizeof q->s - 1);
+        memcpy(q->s + at, L->text, strlen(L->text) + 1);
         q->is_string = true;
     } else if (L->kind == TOK_WORD && q->is_string) {
         return pbrt_fail(L, "parameter \"%s\": mixes strings and numbers", q->name);

@@ -137,7 +137,7 @@ static brume_status add_node(json_texture *t, const cJSON *j, jloc at, bool is_f
     return BRUME_OK;
 }
 
-brume_status scene_json_texture(const cJSON *j, jloc at, const char *key, json_texture **out)
+brume_status scene_json_texture(const cJSON *j, jloc at, const char *key, bool is_float, json_texture **out)
 {
     *out = calloc(1, sizeof **out);
     if (!*out)
@@ -146,7 +146,7 @@ brume_status scene_json_texture(const cJSON *j, jloc at, const char *key, json_t
     char kp[512];
     int root;
     brume_status st = add_node(*out, cJSON_GetObjectItemCaseSensitive(j, key),
-                               (jloc){at.file, json_key_path(kp, sizeof kp, at.path, key)}, false, 0, &root);
+                               (jloc){at.file, json_key_path(kp, sizeof kp, at.path, key)}, is_float, 0, &root);
     if (st) {
         scene_json_texture_free(*out);
         *out = NULL;

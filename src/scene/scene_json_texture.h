@@ -13,8 +13,9 @@ typedef struct json_texture {
     char *file[BRUME_TEXTURE_MAX_NODES]; /* the imagemaps' resolved paths, owned */
 } json_texture;
 
-/* The texture object j[key] (at names j) into *out (malloc'd: scene_json_texture_free). */
-brume_status scene_json_texture(const cJSON *j, jloc at, const char *key, json_texture **out);
+/* The texture object j[key] (at names j), a float texture when is_float, into *out
+ * (malloc'd: scene_json_texture_free). */
+brume_status scene_json_texture(const cJSON *j, jloc at, const char *key, bool is_float, json_texture **out);
 void scene_json_texture_free(json_texture *t);
 
 #endif

@@ -7,10 +7,29 @@
 #include "brume.h"
 #include "io/json.h"
 
-/* A surface's "material" object j (NULL: the default) into *m (scene_material.c); an "albedo"
- * texture object into *tex (the caller frees it: scene_json_texture_free), which
- * m->albedo_texture then points to. */
+/* What a material object's textures and mixed materials are kept in while its brume_material
+ * is used (brume_material points into it). */
+#define SCENE_MATERIAL_MAX_TEXTURES 32
+#define SCENE_MATERIAL_MAX_PARTS 32
 struct json_texture;
-brume_status scene_parse_material(const cJSON *j, jloc at, brume_material *m, struct json_texture **tex);
+typedef struct scene_material_store {
+    struct json_texture *tex[SCENE_MATERIAL_MAX_TEXTURES];
+    int ntex;
+    brume_material mat[SCENE_MATERIAL_MAX_PARTS];
+    int nmat;
+} scene_material_store;
+
+/* A surface's "material" object j (NULL: the default) into *m (scene_material.c), its texture
+ * objects and mixed materials into *sm (the caller frees it, on failure too:
+ * scene_material_store_free). */
+brume_status scene_parse_material(const cJSON *j, jloc at, brume_material *m, scene_material_store *sm);
+void scene_material_store_free(scene_material_store *sm);
+
+/* bm checked and built into *m (its textures' images read, its mixed materials allocated:
+ * surface_materials.h's material_release frees them); depth counts the mixes above it, what
+ * names it in messages ("material", "material.materials[1]"). On failure nothing is kept. */
+struct material;
+brume_status material_build(const char *fn, const char *what, const brume_material *bm, int depth,
+                            struct material *m);
 
 #endif

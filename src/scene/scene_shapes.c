@@ -11,7 +11,8 @@
 #include "io/mesh.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
-#include "surface/texture.h"
+#include "scene/scene_material.h"
+#include "surface/surface_materials.h"
 
 void brume_material_default(brume_material *m)
 {
@@ -19,73 +20,7 @@ void brume_material_default(brume_material *m)
         return;
     *m = (brume_material){.albedo = {0.8, 0.8, 0.8}, .exponent = 50.0, .type = BRUME_MATERIAL_DIFFUSE, .eta = 1.5,
                           .conductor_eta = {MATERIAL_CU_ETA}, .conductor_k = {MATERIAL_CU_K}, .thickness = 0.01,
-                          .max_depth = 10, .nsamples = 1};
-}
-
-static brume_status material_eta(const char *fn, const brume_material *bm, material *m)
-{
-    brume_status st = build_number(fn, "material.eta", bm->eta, 1e-3, 100.0);
-    m->eta = bm->eta;
-    return st;
-}
-
-/* The fields of bm's type, checked, into *m (albedo, specular, exponent and emission are
- * shape_begin's). */
-static brume_status material_of_type(const char *fn, const brume_material *bm, material *m)
-{
-    brume_status st;
-    m->type = (material_type)bm->type;
-    switch (bm->type) {
-    case BRUME_MATERIAL_DIFFUSE: return BRUME_OK;
-    case BRUME_MATERIAL_CONDUCTOR:
-        if ((st = build_color(fn, "material.conductor_eta", bm->conductor_eta, 100.0, &m->eta_c)) ||
-            (st = build_color(fn, "material.conductor_k", bm->conductor_k, 100.0, &m->k_c)))
-            return st;
-        break;
-    case BRUME_MATERIAL_COATEDDIFFUSE:
-        if ((st = build_number(fn, "material.thickness", bm->thickness, 1e-300, 1e6)) ||
-            (st = build_color(fn, "material.layer_albedo", bm->layer_albedo, 1.0, &m->layer_albedo)) ||
-            (st = build_number(fn, "material.g", bm->g, -0.999, 0.999)) ||
-            (st = build_number(fn, "material.max_depth", bm->max_depth, 1, 1000)) ||
-            (st = build_number(fn, "material.nsamples", bm->nsamples, 1, 1000)))
-            return st;
-        m->thickness = bm->thickness;
-        m->g = bm->g;
-        m->max_depth = bm->max_depth;
-        m->nsamples = bm->nsamples;
-        if ((st = material_eta(fn, bm, m))) /* the coat's */
-            return st;
-        break;
-    case BRUME_MATERIAL_DIELECTRIC:
-        if ((st = material_eta(fn, bm, m)))
-            return st;
-        break;
-    default:
-        return err_set(BRUME_ERROR_RANGE, "%s: material.type: %d is not a brume_material_type", fn, (int)bm->type);
-    }
-    if ((st = build_number(fn, "material.roughness", bm->roughness, 0.0, 100.0)))
-        return st;
-    m->alpha = bm->roughness;
-    return BRUME_OK;
-}
-
-/* A material's texture built, its imagemaps' files read here (the scene layer reads files;
- * surface/texture.c decodes them). NULL after err_set. */
-static texture *build_texture(const char *fn, const brume_texture *bt)
-{
-    brume_image *img[BRUME_TEXTURE_MAX_NODES] = {NULL};
-    int n = bt->nodes && bt->n >= 1 && bt->n <= BRUME_TEXTURE_MAX_NODES ? bt->n : 0;
-    brume_status st = BRUME_OK;
-    for (int i = 0; i < n && st == BRUME_OK; i++) {
-        const brume_texture_node *node = &bt->nodes[i];
-        if (node->type == BRUME_TEXTURE_IMAGEMAP && node->filename && node->filename[0] &&
-            brume_image_read(NULL, node->filename, &img[i]) != BRUME_OK)
-            st = err_prefix("%s: material.albedo_texture.nodes[%d]", fn, i);
-    }
-    texture *t = st == BRUME_OK ? texture_build(bt, img, fn, "material.albedo_texture") : NULL;
-    for (int i = 0; i < n; i++)
-        brume_image_release(img[i]);
-    return t;
+                          .max_depth = 10, .nsamples = 1, .remap_roughness = true, .amount = 0.5};
 }
 
 /* What every shape builder checks: the scene, the transform, the material and the name. */
@@ -114,30 +49,19 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
         brume_material_default(&def);
         bm = &def;
     }
-    if ((st = build_color(fn, "material.albedo", bm->albedo, 1.0, &a->m.albedo)) ||
-        (st = build_color(fn, "material.specular", bm->specular, 1.0, &a->m.specular)) ||
-        (st = build_number(fn, "material.exponent", bm->exponent, 0.0, 1e6)) ||
-        (st = build_color(fn, "material.emission", bm->emission, 1e30, &a->m.emission)))
-        return st;
-    for (int c = 0; c < 3 && !bm->albedo_texture; c++)
-        if (bm->albedo[c] + bm->specular[c] > 1.0)
-            return err_set(BRUME_ERROR_RANGE, "%s: material: albedo + specular = %g > 1 would create energy", fn,
-                           bm->albedo[c] + bm->specular[c]);
-    a->m.exponent = bm->exponent;
-    a->m.two_sided_emission = bm->two_sided;
-    if ((st = material_of_type(fn, bm, &a->m)))
-        return st;
     if (name && strlen(name) >= sizeof a->name)
         return err_set(BRUME_ERROR_RANGE, "%s: name: longer than %zu bytes", fn, sizeof a->name - 1);
     if (name)
         snprintf(a->name, sizeof a->name, "%s", name);
     else
         snprintf(a->name, sizeof a->name, "surfaces[%d]", s->surf ? surfaces_count(s->surf) : 0);
-    if (!s->surf && !(s->surf = surfaces_new()))
+    if ((st = material_build(fn, "material", bm, 0, &a->m)))
+        return st;
+    if (!s->surf && !(s->surf = surfaces_new())) {
+        budget_give(material_bytes(&a->m));
+        material_release(&a->m);
         return err_prefix("%s", fn);
-    a->m.albedo_tex = NULL;
-    if (bm->albedo_texture && !(a->m.albedo_tex = build_texture(fn, bm->albedo_texture)))
-        return err_status();
+    }
     return BRUME_OK;
 }
 
@@ -145,9 +69,9 @@ static brume_status shape_begin(const char *fn, brume_scene *s, const double *tr
  * texture built for the shape. */
 static brume_status shape_end(const char *fn, brume_scene *s, shape_args *a, brume_status st)
 {
-    if (st) { /* the surfaces took the texture only on success */
-        budget_give(texture_bytes(a->m.albedo_tex));
-        texture_free(a->m.albedo_tex);
+    if (st) { /* the surfaces took the textures only on success */
+        budget_give(material_bytes(&a->m));
+        material_release(&a->m);
     }
     if (st && surfaces_count(s->surf) == 0) {
         surfaces_release(s->surf);

@@ -224,17 +224,17 @@ static brume_status parse_surface(const cJSON *j, jloc at, brume_scene *s)
     jloc mat = {at.file, json_key_path(kp, sizeof kp, at.path, "material")};
     bool interface = false;
     if (mj && (st = parse_interface(mj, mat, &interface))) return st;
-    json_texture *tex = NULL;
+    scene_material_store sm;
     affine3 xf; /* a mesh may be mirrored (negative scales): its winding is reversed with it */
-    if ((st = scene_parse_material(interface ? NULL : mj, mat, &m, &tex)) ||
+    if ((st = scene_parse_material(interface ? NULL : mj, mat, &m, &sm)) ||
         (st = json_transform(cJSON_GetObjectItemCaseSensitive(j, "transform"),
                              (jloc){at.file, json_key_path(kp, sizeof kp, at.path, "transform")},
                              strcmp(type, "mesh") == 0, &xf)) ||
         (st = add_shape(j, at, s, type, &xf, &m, name))) {
-        scene_json_texture_free(tex);
+        scene_material_store_free(&sm);
         return st;
     }
-    scene_json_texture_free(tex);
+    scene_material_store_free(&sm);
     if ((st = parse_surface_media(j, at, s, interface)))
         return st;
     const cJSON *keys_j = cJSON_GetObjectItemCaseSensitive(j, "keyframes");

@@ -76,6 +76,7 @@ const char *material_type_name(material_type t)
     case MATERIAL_DIELECTRIC: return "dielectric";
     case MATERIAL_CONDUCTOR: return "conductor";
     case MATERIAL_COATEDDIFFUSE: return "coateddiffuse";
+    case MATERIAL_MIX: return "mix";
     }
     return "?";
 }
@@ -87,6 +88,7 @@ bool material_is_black(const material *m)
     case MATERIAL_DIELECTRIC: return false;
     case MATERIAL_CONDUCTOR: return false;
     case MATERIAL_COATEDDIFFUSE: return false; /* the coat reflects whatever the base */
+    case MATERIAL_MIX: return false;           /* resolved per hit before it is shaded */
     }
     return true;
 }

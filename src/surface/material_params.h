@@ -13,6 +13,7 @@ typedef enum material_type {
     MATERIAL_DIELECTRIC,
     MATERIAL_CONDUCTOR,
     MATERIAL_COATEDDIFFUSE,
+    MATERIAL_MIX, /* pbrt-v4's MixMaterial: one of mix[] per shading point, never shaded itself */
 } material_type;
 
 /* Copper's complex index as an RGB film sees it (conductor's default, pbrt-v4's metal-Cu):
@@ -30,9 +31,19 @@ typedef struct material {
     double exponent; /* Phong exponent e >= 0 (larger = sharper) (diffuse) */
     color emission;  /* emitted radiance, W m^-2 sr^-1, from the front side(s) */
     bool two_sided_emission;
-    /* NULL, or the albedo as a texture of the hit's (u, v) (surface/texture.h): owned by the
-     * surfaces object, evaluated into the hit's own copy of the material (surface_hit.shade) */
+    /* NULL, or the albedo as a texture of the hit's (u, v) (surface/texture.h): diffuse's
+     * albedo, coateddiffuse's reflectance, conductor's reflectance (then eta 1 and the k of
+     * that normal reflectance). Owned by the surfaces object, evaluated into the hit's own
+     * copy of the material (surface_hit.shade, surface_materials.h's material_at) */
     struct texture *albedo_tex;
+    /* NULL, or pbrt-v4's roughness r as a float texture: alpha = sqrt(r) when remap, else r */
+    struct texture *alpha_tex;
+    bool remap;
+    /* MATERIAL_MIX: mix[1] with probability amount (amount_tex's value when not NULL, at the
+     * hit's (u, v)), else mix[0]; both owned */
+    struct material *mix[2];
+    double amount;
+    struct texture *amount_tex;
     double eta;      /* dielectric, coateddiffuse's coat: index behind ng over in front, > 0 */
     color eta_c, k_c; /* conductor: complex index of refraction eta + i k per channel */
     double alpha;    /* Trowbridge-Reitz alpha (isotropic); < MATERIAL_SMOOTH_ALPHA: smooth */

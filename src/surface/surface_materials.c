@@ -1,7 +1,14 @@
-/* surface_materials.c - a scene's materials, as the estimators and the GPU ask for them. */
+/* surface_materials.c - a scene's materials, as the estimators and the GPU ask for them, and
+ * their textures and mixes resolved at a hit. */
 #include "surface/surface_materials.h"
 
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/hash.h"
 #include "surface/surfaces_impl.h"
+#include "surface/texture.h"
 
 int surfaces_first_bsdf(const surfaces *s, const char **name, material_type *type)
 {
@@ -12,4 +19,87 @@ int surfaces_first_bsdf(const surfaces *s, const char **name, material_type *typ
             return i;
         }
     return -1;
+}
+
+bool material_textured(const material *m)
+{
+    if (m->albedo_tex || m->alpha_tex || m->amount_tex)
+        return true;
+    return m->type == MATERIAL_MIX && (material_textured(m->mix[0]) || material_textured(m->mix[1]));
+}
+
+bool material_varies(const material *m) { return m->type == MATERIAL_MIX || m->albedo_tex || m->alpha_tex; }
+
+size_t material_bytes(const material *m)
+{
+    size_t n = texture_bytes(m->albedo_tex) + texture_bytes(m->alpha_tex) + texture_bytes(m->amount_tex);
+    for (int k = 0; k < 2; k++)
+        n += m->mix[k] ? material_bytes(m->mix[k]) : 0;
+    return n;
+}
+
+void material_release(material *m)
+{
+    texture_free(m->albedo_tex);
+    texture_free(m->alpha_tex);
+    texture_free(m->amount_tex);
+    m->albedo_tex = m->alpha_tex = m->amount_tex = NULL;
+    for (int k = 0; k < 2; k++) {
+        if (m->mix[k]) {
+            material_release(m->mix[k]);
+            free(m->mix[k]);
+        }
+        m->mix[k] = NULL;
+    }
+}
+
+static uint64_t bits(double x)
+{
+    uint64_t b;
+    x = x == 0.0 ? 0.0 : x; /* -0 hashes as +0 */
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+/* A number in [0, 1) from the point, the direction and the mix's depth (so that nested mixes
+ * choose independently), the same for the same arguments on every run and thread. */
+static double mix_hash(vec3 p, vec3 wo, int depth)
+{
+    const double in[6] = {p.x, p.y, p.z, wo.x, wo.y, wo.z};
+    uint64_t h = hash_mix64((uint64_t)0x6d69786d6174u + (uint64_t)depth);
+    for (int i = 0; i < 6; i++)
+        h = hash_mix64(h ^ bits(in[i]));
+    return (double)(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+void material_at(const material *m, vec3 p, vec3 wo, double u, double v, material *out)
+{
+    const material *c = m;
+    for (int depth = 0; c->type == MATERIAL_MIX; depth++) {
+        double a = c->amount_tex ? texture_eval(c->amount_tex, u, v).c[0] : c->amount;
+        /* pbrt-v4: materials[0] when amount <= 0, materials[1] when >= 1, else by the hash */
+        c = a <= 0.0 ? c->mix[0] : a >= 1.0 ? c->mix[1] : (mix_hash(p, wo, depth) < a ? c->mix[1] : c->mix[0]);
+    }
+    *out = *c;
+    out->emission = m->emission;
+    out->two_sided_emission = m->two_sided_emission;
+    if (c->albedo_tex) {
+        color a = texture_eval(c->albedo_tex, u, v);
+        for (int k = 0; k < 3; k++) {
+            double x = a.c[k] > 0.0 ? fmin(a.c[k], 1.0) : 0.0;
+            if (c->type == MATERIAL_DIFFUSE)
+                out->albedo.c[k] = fmin(x, 1.0 - c->specular.c[k]);
+            else if (c->type == MATERIAL_CONDUCTOR) { /* pbrt-v4: eta 1, k of normal reflectance r */
+                double r = fmin(x, 0.9999);
+                out->eta_c.c[k] = 1.0;
+                out->k_c.c[k] = 2.0 * sqrt(r) / sqrt(1.0 - r);
+            } else
+                out->albedo.c[k] = x;
+        }
+    }
+    if (c->alpha_tex) {
+        double r = fmax(texture_eval(c->alpha_tex, u, v).c[0], 0.0);
+        out->alpha = c->remap ? sqrt(r) : r;
+    }
+    out->albedo_tex = out->alpha_tex = out->amount_tex = NULL;
 }

@@ -4,7 +4,9 @@
  * scene given brume's own hierarchy by surfaces_use_bvh) they come from core/bvh.h, with
  * each primitive intersected in double precision at the ray's time. */
 #include "surface/surfaces_impl.h"
-#include "surface/texture.h"
+#if !defined(__CUDA_ARCH__)
+#include "surface/surface_materials.h"
+#endif
 
 /* ---- brume's own hierarchy -------------------------------------------------------------- */
 
@@ -107,18 +109,15 @@ static void hit_uv(const surfaces *s, const surface_object *o, const surface_hit
     }
 }
 
-/* A textured object's material at the hit, in h->shade: the albedo evaluated at (u, v) and
- * kept in [0, 1 - specular] per channel, so that the surface creates no energy. */
-static void shade_hit(const surfaces *s, surface_hit *h)
+/* A textured or mixed object's material at the hit, seen from direction wo, in h->shade
+ * (surface_materials.h's material_at). */
+static void shade_hit(const surfaces *s, surface_hit *h, vec3 wo)
 {
     const surface_object *o = &s->obj[h->object];
-    if (!o->mat.albedo_tex)
+    if (!material_varies(&o->mat))
         return;
     hit_uv(s, o, h, &h->uv[0], &h->uv[1]);
-    h->shade = o->mat;
-    color a = texture_eval(o->mat.albedo_tex, h->uv[0], h->uv[1]);
-    for (int c = 0; c < 3; c++)
-        h->shade.albedo.c[c] = a.c[c] > 0.0 ? fmin(a.c[c], 1.0 - o->mat.specular.c[c]) : 0.0;
+    material_at(&o->mat, h->p, wo, h->uv[0], h->uv[1], &h->shade);
     h->mat = &h->shade;
 }
 #endif
@@ -131,7 +130,7 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     if (!s->hier.nnodes) {
         bool hit = surfaces_embree_intersect(s, r, tmin, tmax, h);
         if (hit)
-            shade_hit(s, h);
+            shade_hit(s, h, v3_neg(r.d));
         return hit;
     }
 #endif
@@ -150,7 +149,7 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     h->media = s->obj[f->object].media;
     h->time = r.time;
 #if !defined(__CUDA_ARCH__)
-    shade_hit(s, h);
+    shade_hit(s, h, v3_neg(r.d));
 #endif
     return true;
 }

@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "core/lazylib.h"
 #include "surface/surfaces_impl.h"
+#include "surface/surface_materials.h"
 #include "surface/texture.h"
 
 #ifndef BRUME_EMBREE_SONAME
@@ -76,7 +77,7 @@ void surfaces_release(surfaces *s)
         free(s->obj[i].mo);
         free(s->obj[i].step);
         free(s->obj[i].uv);
-        texture_free(s->obj[i].mat.albedo_tex);
+        material_release(&s->obj[i].mat);
     }
     free(s->obj);
     free(s->em);
@@ -162,7 +163,7 @@ brume_status surfaces_add_mesh(surfaces *s, const double *pos, int nv, const int
 const char *surfaces_textured(const surfaces *s)
 {
     for (int i = 0; s && i < s->n; i++)
-        if (s->obj[i].mat.albedo_tex)
+        if (material_textured(&s->obj[i].mat))
             return s->obj[i].name;
     return NULL;
 }
@@ -376,7 +377,7 @@ void surfaces_set_media(surfaces *s, int index, surface_media m)
         return;
     s->obj[index].media = m;
     if (m.interface) { /* no material: nothing reflects or emits there */
-        texture_free(s->obj[index].mat.albedo_tex);
+        material_release(&s->obj[index].mat);
         s->obj[index].mat = (material){.albedo = {{0}}, .albedo_tex = NULL};
     }
 }
