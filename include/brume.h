@@ -1089,6 +1089,11 @@ typedef struct brume_material {
     const struct brume_material *materials[2];
     double amount;      /* [0, 1]; 0.5 */
     const brume_texture *amount_texture;
+    /* NULL, or pbrt-v4's displacement d(u, v), a float texture in world units along the front
+     * normal (any type but mix): bump mapping as pbrt-v4's BumpMap, the shading normal of
+     * dp/du + dd/du n and dp/dv + dd/dv n by finite differences over 0.0005 in u and v (pbrt-v4's
+     * offsets where it has no ray differentials, which brume has not). Rendered on the CPU. */
+    const brume_texture *displacement_texture;
 } brume_material;
 #define BRUME_MATERIAL_MAX_MIX 8
 /* albedo 0.8, no specular (exponent 50), no emission; the other types' pbrt-v4 defaults
@@ -1119,7 +1124,8 @@ brume_status brume_scene_add_mesh(brume_context *ctx, brume_scene *scene, const 
  * (u, v) per vertex, finite, copied. A mesh without them gives each triangle (0, 0),
  * (1, 0), (1, 1) at its corners, as pbrt-v4 does. */
 brume_status brume_scene_set_mesh_uv(brume_context *ctx, brume_scene *scene, int index, const double *uv, int nv);
-/* A mesh file (OBJ, PLY, ... through assimp). */
+/* A mesh file (OBJ, PLY, ... through assimp), with its texture coordinates when every mesh
+ * of the file has them (else pbrt-v4's per triangle, as for an inline mesh without uv). */
 brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *scene, const char *path,
                                        const double *transform, const brume_material *material, const char *name);
 int brume_scene_surface_count(const brume_scene *scene);

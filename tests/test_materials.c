@@ -590,7 +590,7 @@ TEST(pbrt_materials_refused_by_name)
     pbrt_refused("Material \"coatedconductor\"\n", 4, "Material \"coatedconductor\": not supported by brume");
     pbrt_refused("Material \"conductor\" \"spectrum eta\" \"metal-Zz-eta\"\n", 4, "unknown named spectrum \"metal-Zz-eta\"");
     pbrt_refused("Material \"diffuse\" \"string normalmap\" \"n.png\"\n", 4, "\"normalmap\"");
-    pbrt_refused("Material \"coateddiffuse\" \"texture displacement\" \"d\"\n", 4, "\"displacement\"");
+    pbrt_refused("Material \"coateddiffuse\" \"texture displacement\" \"d\"\n", 4, "no float Texture named \"d\"");
     pbrt_refused("Material \"dielectric\" \"texture roughness\" \"t\"\n", 4, "no float Texture named \"t\"");
     pbrt_refused("Material \"dielectric\" \"texture eta\" \"t\"\n", 4, "\"eta\": a texture");
     pbrt_refused("Material \"dielectric\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n", 4, "isotropic");

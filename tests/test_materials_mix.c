@@ -187,7 +187,7 @@ TEST(pbrt_mix_and_textured_parameters_translate)
                   "MakeNamedMaterial \"red\" \"string type\" \"coateddiffuse\" \"texture reflectance\" \"kd\"\n"
                   "  \"texture uroughness\" \"rough\" \"texture vroughness\" \"rough\"\n"
                   "MakeNamedMaterial \"gold\" \"string type\" \"conductor\" \"spectrum eta\" \"metal-Au-eta\"\n"
-                  "  \"spectrum k\" \"metal-Au-k\" \"texture roughness\" \"rough\"\n"
+                  "  \"spectrum k\" \"metal-Au-k\" \"texture roughness\" \"rough\" \"texture displacement\" \"mask\"\n"
                   "MakeNamedMaterial \"both\" \"string type\" \"mix\" \"string materials\" [\"red\" \"gold\"]\n"
                   "  \"texture amount\" \"mask\"\n"
                   "NamedMaterial \"both\"\n" PBRT_PATCH,
@@ -206,6 +206,7 @@ TEST(pbrt_mix_and_textured_parameters_translate)
     ASSERT_EQ_STR(cJSON_GetObjectItem(cJSON_GetObjectItem(red, "roughness"), "type")->valuestring, "scale");
     ASSERT_EQ_STR(cJSON_GetObjectItem(gold, "eta")->valuestring, "metal-Au-eta");
     ASSERT_EQ_STR(cJSON_GetObjectItem(cJSON_GetObjectItem(gold, "roughness"), "type")->valuestring, "scale");
+    ASSERT_EQ_STR(cJSON_GetObjectItem(cJSON_GetObjectItem(gold, "displacement"), "type")->valuestring, "constant");
     cJSON_Delete(root);
     /* and the scene it makes loads, its roughness texture 0.1 x 0.4 remapped to sqrt(0.04) */
     brume_context *ctx = brume_context_new();
@@ -221,6 +222,95 @@ TEST(pbrt_mix_and_textured_parameters_translate)
     brume_context_release(ctx);
 }
 
+/* A 2 x 1 RGB PFM ramp: 0 then 1 (pixel centres at u = 0.25 and 0.75), read bilinearly with
+ * wrap clamp: d(u) = 2 scale (u - 0.25) over [0.25, 0.75]. */
+static const char *ramp_pfm(void)
+{
+    const char *path = test_tmp_path("ramp.pfm");
+    unsigned char bytes[64];
+    const char head[] = "PF\n2 1\n-1.0\n";
+    size_t n = sizeof head - 1;
+    memcpy(bytes, head, n);
+    const float px[6] = {0, 0, 0, 1, 1, 1}; /* little-endian floats, this machine's order */
+    memcpy(bytes + n, px, sizeof px);
+    test_write_bytes(path, bytes, n + sizeof px);
+    return path;
+}
+
+/* pbrt-v4's BumpMap on a plate whose displacement rises along u: the quad's dp/du = (2, 0, 0)
+ * and dp/dv = (0, 2, 0) (u and v run over 2 units), d(u) = g u + c with g = 2 x 0.5 = 1, so
+ * dp/du' = (2, 0, g), dp/dv' = (0, 2, 0) and the shading normal (-2 g, 0, 4) / |.| leans
+ * towards -x by atan(g / 2). Under a sun arriving from 30 degrees towards -x (direction of
+ * travel (sin 30, 0, -cos 30)) the diffuse plate reflects albedo / pi x E x cos(theta'),
+ * cos(theta') = (g sin 30 x 2 + 4 cos 30) / sqrt(4 g^2 + 16); unbumped it would be cos 30.
+ * Pixels with |x| < 0.4 (u in [0.3, 0.7], off the ramp's kinks), 4 standard errors. */
+TEST(bump_tilts_the_shading_normal_as_pbrt)
+{
+    char json[4096];
+    const char *ramp = ramp_pfm();
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 2], \"look_at\": [0, 0, 0], \"up\": [0, 1, 0], \"fov\": 48.4555},"
+             " \"lights\": [{\"type\": \"distant\", \"direction\": [0.5, 0, -0.8660254037844386], \"irradiance\": [3, 3, 3]}],"
+             " \"surfaces\": [{\"type\": \"quad\", \"name\": \"plate\", \"corner\": [-1, -1, 0], \"edge_u\": [2, 0, 0],"
+             " \"edge_v\": [0, 2, 0], \"material\": {\"albedo\": [0.8, 0.8, 0.8], \"displacement\": {\"type\": \"imagemap\","
+             " \"file\": \"%s\", \"scale\": 0.5, \"wrap\": \"clamp\"}}}],"
+             " \"render\": {\"width\": 40, \"height\": 40, \"spp\": 4, \"method\": \"path\"}}",
+             ramp);
+    const double g = 1.0, s30 = 0.5, c30 = 0.8660254037844386;
+    const double cos_t = (2 * g * s30 + 4 * c30) / sqrt(4 * g * g + 16);
+    brume_scene *s = committed(json);
+    surface_hit h;
+    ASSERT_TRUE(surfaces_intersect(s->surf, (ray){v3(0.1, 0.2, 2), v3(0, 0, -1), 0.0}, 1e-6, 1e30, &h));
+    ASSERT_NEAR(h.ns.x, -2 * g / sqrt(4 * g * g + 16), 1e-4);
+    ASSERT_NEAR(h.ns.y, 0.0, 1e-9);
+    ASSERT_NEAR(h.ns.z, 4 / sqrt(4 * g * g + 16), 1e-4);
+    brume_scene_release(s);
+    brume_image *img = test_render_json(json, 3);
+    int w = brume_image_width(img), ht = brume_image_height(img);
+    const float *px = brume_image_pixels(img);
+    double sum = 0, sq = 0;
+    int n = 0;
+    for (int j = 0; j < ht; j++)
+        for (int i = 0; i < w; i++) {
+            double x = 0.9 * (2.0 * (i + 0.5) / w - 1.0);
+            if (fabs(x) >= 0.4)
+                continue;
+            double v = px[4 * ((size_t)j * (size_t)w + (size_t)i) + 1];
+            sum += v, sq += v * v, n++;
+        }
+    double mean = sum / n, se = sqrt(fmax(sq / n - mean * mean, 0.0) / n);
+    double want = 0.8 / PI_ * 3 * cos_t;
+    if (!(fabs(mean - want) <= 4 * se + 1e-5 * want))
+        TEST_FAIL("bumped plate: mean %.6f, want %.6f (cos %.5f; unbumped %.6f), se %g", mean, want, cos_t,
+                  0.8 / PI_ * 3 * c30, se);
+    brume_image_release(img);
+}
+
+/* A PLY file's texture coordinates are read (pbrt-v4's plymesh "u" "v"): a square of two
+ * triangles whose (u, v) run from (0, 0) to (1, 1) over [-1, 1]^2, where pbrt-v4's default per
+ * triangle would give the second triangle other values ((0.75, 0.5) at (-0.5, 0.5)). */
+TEST(mesh_file_texture_coordinates_read)
+{
+    const char *ply = test_tmp_path("uv.ply");
+    test_write_file(ply, "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                         "property float z\nproperty float u\nproperty float v\nelement face 2\n"
+                         "property list uchar int vertex_indices\nend_header\n"
+                         "-1 -1 0 0 0\n1 -1 0 1 0\n1 1 0 1 1\n-1 1 0 0 1\n3 0 1 2\n3 0 2 3\n");
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"camera\": {\"position\": [0, 0, 2], \"look_at\": [0, 0, 0]}, \"surfaces\": [{\"type\": \"mesh\","
+             " \"file\": \"%s\", \"material\": {\"albedo\": {\"type\": \"checkerboard\", \"tex1\": 0.8,"
+             " \"tex2\": 0.2, \"uscale\": 2, \"vscale\": 2}}}]}",
+             ply);
+    brume_scene *s = committed(json);
+    surface_hit h;
+    ASSERT_TRUE(surfaces_intersect(s->surf, (ray){v3(-0.5, 0.5, 2), v3(0, 0, -1), 0.0}, 1e-6, 1e30, &h));
+    ASSERT_NEAR(h.uv[0], 0.25, 1e-6);
+    ASSERT_NEAR(h.uv[1], 0.75, 1e-6);
+    ASSERT_NEAR(h.mat->albedo.c[0], 0.2, 1e-6); /* floor(0.5) + floor(1.5) is odd */
+    brume_scene_release(s);
+}
+
 static void pbrt_refused(const char *text, const char *frag)
 {
     char msg[1024];
@@ -233,9 +323,9 @@ static void pbrt_refused(const char *text, const char *frag)
 
 TEST(pbrt_mix_and_texture_refusals_name_them)
 {
-    pbrt_refused(PBRT_HEAD "Texture \"b\" \"float\" \"constant\" \"float value\" [0.1]\n"
-                           "Material \"conductor\" \"texture displacement\" \"b\"\n" PBRT_PATCH,
-                 "\"displacement\"");
+    pbrt_refused(PBRT_HEAD "Material \"conductor\" \"texture displacement\" \"b\"\n" PBRT_PATCH,
+                 "\"texture displacement\": no float Texture named \"b\"");
+    pbrt_refused(PBRT_HEAD "Material \"conductor\" \"string normalmap\" \"n.png\"\n" PBRT_PATCH, "\"normalmap\"");
     pbrt_refused(PBRT_HEAD "Texture \"a\" \"float\" \"constant\" \"float value\" [0.1]\n"
                            "Texture \"b\" \"float\" \"constant\" \"float value\" [0.2]\n"
                            "Material \"dielectric\" \"texture uroughness\" \"a\" \"texture vroughness\" \"b\"\n" PBRT_PATCH,
@@ -250,7 +340,7 @@ TEST(pbrt_mix_and_texture_refusals_name_them)
                  "\"eta\": a texture");
 }
 
-/* The GPU refuses a mix by name, and a textured roughness as a texture. */
+/* The GPU refuses a mix by name, and a textured roughness or a bump map as a texture. */
 TEST(gpu_refuses_mix_and_textured_parameters)
 {
     brume_scene *s = test_scene_json(SUN_SCENE("{\"type\": \"mix\", \"materials\": [" WHITE ", " BLACK "]}"));
@@ -261,8 +351,13 @@ TEST(gpu_refuses_mix_and_textured_parameters)
     ASSERT_EQ_INT(device_scene_check(s, INTEGRATOR_PATH), BRUME_ERROR_UNSUPPORTED);
     ASSERT_CONTAINS(err_message(), "textures render on the CPU only (surface 'plate')");
     brume_scene_release(s);
+    s = test_scene_json(SUN_SCENE("{\"displacement\": {\"type\": \"constant\", \"value\": 0.1}}"));
+    ASSERT_EQ_INT(device_scene_check(s, INTEGRATOR_PATH), BRUME_ERROR_UNSUPPORTED);
+    ASSERT_CONTAINS(err_message(), "textures render on the CPU only (surface 'plate')");
+    brume_scene_release(s);
 }
 
 TEST_MAIN(mix_renders_the_amount_weighted_mix, nested_mix_with_a_textured_amount, roughness_texture_is_read_at_the_hit,
           textured_reflectance_and_mix_bounds, json_mix_and_textures_checked, pbrt_mix_and_textured_parameters_translate,
-          pbrt_mix_and_texture_refusals_name_them, gpu_refuses_mix_and_textured_parameters)
+          pbrt_mix_and_texture_refusals_name_them, gpu_refuses_mix_and_textured_parameters,
+          bump_tilts_the_shading_normal_as_pbrt, mesh_file_texture_coordinates_read)

@@ -329,8 +329,25 @@ static brume_status gltf_check(FILE *f, const char *path, long file_size)
 }
 
 /* In the child: assimp's import of path flattened to one triangle list (malloc'd). */
+/* The texture coordinates (u, v) of every vertex, in mesh_import's order (2 nv, malloc'd), when
+ * every mesh of the file has a first set of them; else NULL. */
+static double *mesh_uv(const struct aiScene *sc, long nv)
+{
+    for (unsigned m = 0; m < sc->mNumMeshes; m++)
+        if (!sc->mMeshes[m]->mTextureCoords[0])
+            return NULL;
+    double *uv = malloc(sizeof *uv * 2 * (size_t)nv);
+    long k = 0;
+    for (unsigned m = 0; uv && m < sc->mNumMeshes; m++)
+        for (unsigned v = 0; v < sc->mMeshes[m]->mNumVertices; v++, k++) {
+            uv[2 * k] = (double)sc->mMeshes[m]->mTextureCoords[0][v].x;
+            uv[2 * k + 1] = (double)sc->mMeshes[m]->mTextureCoords[0][v].y;
+        }
+    return uv;
+}
+
 static brume_status mesh_import(const char *path, long file_size, double **pos_out, long *nv_out, int **idx_out,
-                                long *ntri_out)
+                                long *ntri_out, double **uv_out)
 {
     if (!lazylib_open(&ai_lib))
         return err_set(BRUME_ERROR_UNSUPPORTED, "%s: mesh files need assimp: %s", path, ai_lib.error);
@@ -398,6 +415,7 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
         }
         vbase += me->mNumVertices;
     }
+    *uv_out = mesh_uv(sc, nv);
     ai.aiReleaseImport(sc);
     *pos_out = pos;
     *idx_out = idx;
@@ -410,30 +428,32 @@ static brume_status mesh_import(const char *path, long file_size, double **pos_o
 static void mesh_child(const char *path, long file_size, int fd, double cpu, size_t max_memory)
 {
     sandbox_child_limits(cpu, ((size_t)512 << 20) + max_memory);
-    double *pos = NULL;
+    double *pos = NULL, *uv = NULL;
     int *idx = NULL;
     long nv = 0, ntri = 0;
-    if (mesh_import(path, file_size, &pos, &nv, &idx, &ntri) != BRUME_OK) {
+    if (mesh_import(path, file_size, &pos, &nv, &idx, &ntri, &uv) != BRUME_OK) {
         sandbox_child_error(fd);
         _exit(0);
     }
-    int64_t counts[2] = {nv, ntri};
+    int64_t counts[3] = {nv, ntri, uv != NULL};
     if (sandbox_write_all(fd, "M", 1) || sandbox_write_all(fd, counts, sizeof counts) ||
-        sandbox_write_all(fd, pos, sizeof *pos * 3 * (size_t)nv) || sandbox_write_all(fd, idx, sizeof *idx * 3 * (size_t)ntri))
+        sandbox_write_all(fd, pos, sizeof *pos * 3 * (size_t)nv) || sandbox_write_all(fd, idx, sizeof *idx * 3 * (size_t)ntri) ||
+        (uv && sandbox_write_all(fd, uv, sizeof *uv * 2 * (size_t)nv)))
         _exit(3);
     _exit(0);
 }
 
-/* The parent: reads the child's answer into *pos, *idx (malloc'd, counted in the budget). */
+/* The parent: reads the child's answer into *pos, *idx (malloc'd, counted in the budget) and,
+ * when the file has them, the texture coordinates into *uv (else NULL). */
 static brume_status mesh_receive(const char *path, int fd, double deadline, double **pos, long *nv, int **idx,
-                                 long *ntri, int *rr)
+                                 long *ntri, double **uv, int *rr)
 {
     char tag = 0;
     if ((*rr = sandbox_read_all(fd, &tag, 1, deadline)) != 0)
         return BRUME_OK; /* sandbox_reap says what happened */
     if (tag == 'E')
         return (*rr = sandbox_read_error(fd, deadline)) == 0 ? err_status() : BRUME_OK;
-    int64_t counts[2];
+    int64_t counts[3];
     if (tag != 'M' || (*rr = sandbox_read_all(fd, counts, sizeof counts, deadline)) != 0) {
         *rr = *rr ? *rr : -1;
         return BRUME_OK;
@@ -459,13 +479,30 @@ static brume_status mesh_receive(const char *path, int fd, double deadline, doub
     for (size_t i = 0; i < 3 * (size_t)*ntri; i++)
         if ((*idx)[i] < 0 || (*idx)[i] >= *nv)
             return err_set(BRUME_ERROR_PARSE, "%s: triangle %zu names a missing vertex", path, i / 3);
+    if (!counts[2])
+        return BRUME_OK;
+    if (!(*uv = malloc(sizeof **uv * 2 * (size_t)*nv)))
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld texture coordinates", path, *nv);
+    if ((*rr = sandbox_read_all(fd, *uv, sizeof **uv * 2 * (size_t)*nv, deadline)) != 0)
+        return BRUME_OK;
+    for (size_t i = 0; i < 2 * (size_t)*nv; i++)
+        if (!((*uv)[i] >= -1e12 && (*uv)[i] <= 1e12))
+            return err_set(BRUME_ERROR_RANGE, "%s: vertex %zu's texture coordinates are not finite", path, i / 2);
     return BRUME_OK;
 }
 
 brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out)
 {
+    return mesh_load_uv(path, pos_out, nv_out, idx_out, ntri_out, NULL);
+}
+
+brume_status mesh_load_uv(const char *path, double **pos_out, int *nv_out, int **idx_out, int *ntri_out,
+                          double **uv_out)
+{
     *pos_out = NULL;
     *idx_out = NULL;
+    if (uv_out)
+        *uv_out = NULL;
     FILE *probe = NULL; /* a regular file: assimp would block on a pipe */
     if (io_open_regular(path, &probe) != BRUME_OK)
         return err_status();
@@ -501,11 +538,11 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
         mesh_child(path, file_size, fds[1], cpu, max_memory);
     }
     close(fds[1]);
-    double *pos = NULL;
+    double *pos = NULL, *uv = NULL;
     int *idx = NULL;
     long nv = 0, ntri = 0;
     int rr = 0;
-    st = mesh_receive(path, fds[0], deadline, &pos, &nv, &idx, &ntri, &rr);
+    st = mesh_receive(path, fds[0], deadline, &pos, &nv, &idx, &ntri, &uv, &rr);
     close(fds[0]);
     brume_status reaped = sandbox_reap(pid, st == BRUME_OK ? rr : (rr == -2 || rr == -3 ? rr : 0), path, "the mesh reader",
                                        "a malformed or hostile mesh file", cpu, wall);
@@ -514,8 +551,13 @@ brume_status mesh_load(const char *path, double **pos_out, int *nv_out, int **id
     if (st != BRUME_OK) {
         free(pos);
         free(idx);
+        free(uv);
         return st;
     }
+    if (uv_out)
+        *uv_out = uv;
+    else
+        free(uv);
     *pos_out = pos;
     *idx_out = idx;
     *nv_out = (int)nv;

@@ -8,5 +8,8 @@
  * doubles) and ntri triangles of three indices, in new malloc'd arrays the caller frees.
  * On failure nothing is allocated and err_set names the file and the reason. */
 brume_status mesh_load(const char *path, double **pos, int *nv, int **idx, int *ntri);
+/* The same, and *uv: the file's texture coordinates (u, v) per vertex (2 nv, malloc'd), or NULL
+ * when some mesh of the file has none. */
+brume_status mesh_load_uv(const char *path, double **pos, int *nv, int **idx, int *ntri, double **uv);
 
 #endif

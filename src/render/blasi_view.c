@@ -52,7 +52,7 @@ static color shade_surface(const brume_scene *s, const blasi_state *st, ray r, c
     color L = surface_emission(h, wo);
     if (material_is_black(h->mat))
         return L;
-    vec3 n = v3_dot(h->ng, r.d) < 0.0 ? h->ng : v3_neg(h->ng);
+    vec3 n = v3_dot(h->ng, r.d) < 0.0 ? h->ns : v3_neg(h->ns); /* the shading normal, on r's side */
     vec3 p = surface_offset(h, n);
     for (int i = 0; i < s->nlights; i++) {
         light_sample ls;

@@ -41,7 +41,9 @@ typedef struct vertex {
     const material *m; /* surface vertex */
     vec3 n;          /* surface: unit normal on the side of -d */
     uint32_t absent; /* the bounded media the vertex is not in (track_collisions') */
-    vec3 ng;         /* surface: its front normal (the material's sides) */
+    vec3 ng;         /* surface: its front normal (the media's sides) */
+    vec3 ns;         /* surface: its shading normal on ng's side (the BSDF's frame; ng unless bumped) */
+    vec3 nsw;        /* surface: ns on the side of -d (the cosine's) */
     vec3 p_back;     /* surface: p's twin on the far side, where transmitted light is gathered */
     uint32_t absent_back; /* surface: the bounded media not on the far side */
     double time;     /* the path's instant: shadow rays see moving things where they are then */
@@ -53,7 +55,7 @@ static color vertex_f(const vertex *v, vec3 wi)
 {
     if (v->ph)
         return col(phase_eval(v->ph, v3_dot(wi, v->d)));
-    return col_scale(material_eval(v->m, v->ng, v3_neg(v->d), wi), fabs(v3_dot(wi, v->n)));
+    return col_scale(material_eval(v->m, v->ns, v3_neg(v->d), wi), fabs(v3_dot(wi, v->nsw)));
 }
 
 /* Where a shadow ray towards wi starts, and the bounded media it starts outside of: on the
@@ -71,7 +73,7 @@ static double vertex_pdf(const vertex *v, vec3 wi)
 {
     if (v->ph)
         return phase_pdf(v->ph, v3_dot(wi, v->d));
-    return material_pdf(v->m, v->ng, v3_neg(v->d), wi);
+    return material_pdf(v->m, v->ns, v3_neg(v->d), wi);
 }
 
 /* Surfaces a flight or a shadow ray crosses at most: past them, the next one counts as
@@ -547,8 +549,10 @@ static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color b
     if (sc)
         sc->path_vertices++;
     f->beta = beta;
-    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .ng = sh->ng, .time = w->r.time};
+    vertex v = {.d = w->r.d, .ph = NULL, .m = sh->mat, .absent = f->absent, .ng = sh->ng, .ns = sh->ns,
+                .time = w->r.time};
     v.n = v3_dot(sh->ng, w->r.d) < 0.0 ? sh->ng : v3_neg(sh->ng);
+    v.nsw = v3_dot(sh->ng, w->r.d) < 0.0 ? sh->ns : v3_neg(sh->ns);
     v.p = surface_offset(sh, v.n);
     v.p_back = surface_offset(sh, v3_neg(v.n));
     v.absent_back = path_cross_surface(sh, v3_neg(v.n), v.absent);
@@ -559,10 +563,10 @@ static bool path_reflect(path_walk *w, int depth, const surface_hit *sh, color b
     w->g->counter = w->dim0 + 4 * (uint64_t)depth + 2;
     const vec3 wo = v3_neg(w->r.d);
     double u0 = rng_next(&w->gt), u1 = rng_next(w->g), u2 = rng_next(w->g);
-    if (!material_sample(sh->mat, sh->ng, wo, u0, u1, u2, &bs))
+    if (!material_sample(sh->mat, sh->ns, wo, u0, u1, u2, &bs))
         return false;
-    f->beta = col_mul(f->beta, col_scale(col_scale(bs.f, fabs(v3_dot(bs.wi, v.n))), 1.0 / bs.pdf));
-    w->pdf_dir = bs.delta ? 0.0 : (bs.pdf_is_walk ? material_pdf(sh->mat, sh->ng, wo, bs.wi) : bs.pdf);
+    f->beta = col_mul(f->beta, col_scale(col_scale(bs.f, fabs(v3_dot(bs.wi, v.nsw))), 1.0 / bs.pdf));
+    w->pdf_dir = bs.delta ? 0.0 : (bs.pdf_is_walk ? material_pdf(sh->mat, sh->ns, wo, bs.wi) : bs.pdf);
     /* through the surface (a refraction): the path goes on from its far side, in the media
        there (path_cross_surface) */
     const bool through = v3_dot(bs.wi, v.n) < 0.0;

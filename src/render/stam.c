@@ -397,7 +397,7 @@ static color shade_surface(const stam_state *st, const surface_hit *sh, vec3 d, 
 {
     const brume_scene *s = st->s;
     vec3 wo = v3_neg(d);
-    vec3 n = v3_dot(sh->ng, d) < 0.0 ? sh->ng : v3_neg(sh->ng);
+    vec3 n = v3_dot(sh->ng, d) < 0.0 ? sh->ns : v3_neg(sh->ns); /* the shading normal, on d's side */
     vec3 p = surface_offset(sh, n);
     color L = surface_emission(sh, wo);
     const material *m = sh->mat;

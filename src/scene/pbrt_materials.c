@@ -15,11 +15,11 @@
 /* A parameter brume cannot honour on any material. */
 static brume_status refuse_common(pbrt_state *S, params *ps, const char *what)
 {
-    static const char *const no[] = {"displacement", "normalmap"};
+    static const char *const no[] = {"normalmap"};
     for (size_t i = 0; i < sizeof no / sizeof no[0]; i++)
         if (pbrt_get(ps, no[i]))
-            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": brume neither displaces nor bumps surfaces (no "
-                                    "bump or normal mapping)", what, no[i]);
+            return pbrt_unsupported(&S->L, "%s: parameter \"%s\": brume bumps surfaces by \"displacement\" only",
+                                    what, no[i]);
     return BRUME_OK;
 }
 
@@ -229,12 +229,27 @@ static brume_status mat_mix(pbrt_state *S, params *ps, const char *what, cJSON *
     return BRUME_OK;
 }
 
+/* "displacement": a float texture (bump mapping, o["displacement"]); a constant, which bumps
+ * nothing, is read and dropped. */
+static brume_status mat_displacement(pbrt_state *S, params *ps, const char *what, cJSON *o, bool *textured)
+{
+    param *q = pbrt_get(ps, "displacement");
+    double d;
+    if (!q)
+        return BRUME_OK;
+    if (strcmp(q->type, "texture") == 0)
+        return tex_ref(S, q, what, true, o, "displacement", textured);
+    return pbrt_get_float(&S->L, ps, "displacement", &d);
+}
+
 /* The parameters of each type into o (the "type" key set). */
 static brume_status material_params(pbrt_state *S, const char *type, const char *what, params *ps, cJSON *o,
                                     bool *tx)
 {
     brume_status st;
     if (strcmp(type, "diffuse") == 0) {
+        if ((st = mat_displacement(S, ps, what, o, tx)))
+            return st;
         if (!pbrt_get(ps, "reflectance"))
             cJSON_AddItemToObject(o, "albedo", cJSON_CreateDoubleArray((const double[3]){0.5, 0.5, 0.5}, 3));
         return mat_color(S, ps, what, "reflectance", o, "albedo", 1.0, tx);
@@ -242,6 +257,8 @@ static brume_status material_params(pbrt_state *S, const char *type, const char 
     cJSON_AddStringToObject(o, "type", type);
     if (strcmp(type, "mix") == 0)
         return mat_mix(S, ps, what, o, tx);
+    if ((st = mat_displacement(S, ps, what, o, tx)))
+        return st;
     if (strcmp(type, "dielectric") == 0) {
         if ((st = mat_index(S, ps, what, "eta", o, true)))
             return st;

@@ -341,8 +341,6 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: no \"string filename\"", what);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
-    if (!interface && S->a[S->depth].textured)
-        return pbrt_unsupported(L, "%s: a textured PLY mesh (brume reads no texture coordinates from mesh files)", what);
     if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
         return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
                                    "file's normals; give \"bool twosided\" true)", what);

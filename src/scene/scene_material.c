@@ -198,14 +198,15 @@ static brume_status parse_mix(const cJSON *j, jloc at, brume_material *m, scene_
 /* The keys of each type, the common ones (type, emission, two_sided) included. */
 static const char *const *material_keys(const char *type, brume_material_type *t)
 {
-    static const char *const diffuse[] = {"type", "emission", "two_sided", "albedo", "specular", "exponent", NULL};
+    static const char *const diffuse[] = {"type", "emission", "two_sided", "albedo", "specular", "exponent",
+                                          "displacement", NULL};
     static const char *const dielectric[] = {"type", "emission", "two_sided", "eta", "roughness", "uroughness",
-                                             "vroughness", "remaproughness", NULL};
+                                             "vroughness", "remaproughness", "displacement", NULL};
     static const char *const conductor[] = {"type", "emission", "two_sided", "eta", "k", "reflectance", "roughness",
-                                            "uroughness", "vroughness", "remaproughness", NULL};
+                                            "uroughness", "vroughness", "remaproughness", "displacement", NULL};
     static const char *const coated[] = {"type", "emission", "two_sided", "reflectance", "eta", "roughness",
                                          "uroughness", "vroughness", "remaproughness", "thickness", "layer_albedo",
-                                         "g", "max_depth", "nsamples", NULL};
+                                         "g", "max_depth", "nsamples", "displacement", NULL};
     static const char *const mix[] = {"type", "emission", "two_sided", "materials", "amount", NULL};
     static const struct {
         const char *name;
@@ -242,6 +243,10 @@ static brume_status parse_any(const cJSON *j, jloc at, brume_material *m, scene_
     if ((st = json_check_object(j, at, keys))) return st;
     if ((st = jcolor(j, at, "emission", BIG, m->emission))) return st;
     if ((st = json_bool(j, at, "two_sided", 0, &m->two_sided))) return st;
+    bool bump;
+    if ((st = texture_key(j, at, "displacement", true, sm, &m->displacement_texture, &bump))) return st;
+    if (!bump && cJSON_HasObjectItem(j, "displacement"))
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.displacement: expected a float texture object", at.file, at.path);
     switch (m->type) {
     case BRUME_MATERIAL_DIFFUSE: return parse_diffuse(j, at, m, sm);
     case BRUME_MATERIAL_DIELECTRIC:

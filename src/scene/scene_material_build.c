@@ -109,6 +109,9 @@ static brume_status material_textures(const char *fn, const char *what, const br
     if (bm->amount_texture && bm->type != BRUME_MATERIAL_MIX)
         return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s: only a mix has an amount", fn,
                        field(at, what, "amount_texture"));
+    if (bm->displacement_texture && bm->type == BRUME_MATERIAL_MIX)
+        return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s: a mix is not bumped (its materials are)", fn,
+                       field(at, what, "displacement_texture"));
     m->remap = bm->remap_roughness;
     if (bm->albedo_texture && !(m->albedo_tex = build_texture(fn, what, "albedo_texture", bm->albedo_texture)))
         return err_status();
@@ -116,6 +119,9 @@ static brume_status material_textures(const char *fn, const char *what, const br
         !(m->alpha_tex = build_texture(fn, what, "roughness_texture", bm->roughness_texture)))
         return err_status();
     if (bm->amount_texture && !(m->amount_tex = build_texture(fn, what, "amount_texture", bm->amount_texture)))
+        return err_status();
+    if (bm->displacement_texture &&
+        !(m->bump_tex = build_texture(fn, what, "displacement_texture", bm->displacement_texture)))
         return err_status();
     return BRUME_OK;
 }

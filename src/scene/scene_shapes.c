@@ -262,18 +262,18 @@ brume_status brume_scene_add_mesh_file(brume_context *ctx, brume_scene *s, const
         return ctx_report(ctx, st);
     if (!path)
         return ctx_report(ctx, build_null(fn, "path"));
-    if (mat && mat->albedo_texture)
-        return ctx_report(ctx, err_set(BRUME_ERROR_UNSUPPORTED, "%s: material.albedo_texture: brume reads no texture "
-                                       "coordinates from mesh files (an inline mesh takes uv)", fn));
     shape_args a;
     if ((st = shape_begin(fn, s, transform, mat, name, &a)))
         return ctx_report(ctx, st);
-    double *pos = NULL;
+    double *pos = NULL, *uv = NULL;
     int *idx = NULL, nv = 0, ntri = 0;
-    if ((st = mesh_load(path, &pos, &nv, &idx, &ntri)) == BRUME_OK)
+    if ((st = mesh_load_uv(path, &pos, &nv, &idx, &ntri, &uv)) == BRUME_OK)
         st = add_mesh(s->surf, pos, nv, idx, ntri, &a.xf, &a.m, a.name);
+    if (st == BRUME_OK && uv) /* the file's (u, v); without them pbrt-v4's per triangle */
+        st = surfaces_set_uv(s->surf, surfaces_count(s->surf) - 1, uv, nv);
     free(pos);
     free(idx);
+    free(uv);
     return ctx_report(ctx, shape_end(fn, s, &a, st));
 }
 

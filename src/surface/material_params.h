@@ -44,6 +44,9 @@ typedef struct material {
     struct material *mix[2];
     double amount;
     struct texture *amount_tex;
+    /* NULL, or pbrt-v4's displacement d(u, v) (a float texture, world units along the front
+     * normal): bump mapping, the hit's shading normal (surface_hit.ns) tilted by it */
+    struct texture *bump_tex;
     double eta;      /* dielectric, coateddiffuse's coat: index behind ng over in front, > 0 */
     color eta_c, k_c; /* conductor: complex index of refraction eta + i k per channel */
     double alpha;    /* Trowbridge-Reitz alpha (isotropic); < MATERIAL_SMOOTH_ALPHA: smooth */

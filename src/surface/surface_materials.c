@@ -23,16 +23,20 @@ int surfaces_first_bsdf(const surfaces *s, const char **name, material_type *typ
 
 bool material_textured(const material *m)
 {
-    if (m->albedo_tex || m->alpha_tex || m->amount_tex)
+    if (m->albedo_tex || m->alpha_tex || m->amount_tex || m->bump_tex)
         return true;
     return m->type == MATERIAL_MIX && (material_textured(m->mix[0]) || material_textured(m->mix[1]));
 }
 
-bool material_varies(const material *m) { return m->type == MATERIAL_MIX || m->albedo_tex || m->alpha_tex; }
+bool material_varies(const material *m)
+{
+    return m->type == MATERIAL_MIX || m->albedo_tex || m->alpha_tex || m->bump_tex;
+}
 
 size_t material_bytes(const material *m)
 {
-    size_t n = texture_bytes(m->albedo_tex) + texture_bytes(m->alpha_tex) + texture_bytes(m->amount_tex);
+    size_t n = texture_bytes(m->albedo_tex) + texture_bytes(m->alpha_tex) + texture_bytes(m->amount_tex) +
+               texture_bytes(m->bump_tex);
     for (int k = 0; k < 2; k++)
         n += m->mix[k] ? material_bytes(m->mix[k]) : 0;
     return n;
@@ -43,7 +47,8 @@ void material_release(material *m)
     texture_free(m->albedo_tex);
     texture_free(m->alpha_tex);
     texture_free(m->amount_tex);
-    m->albedo_tex = m->alpha_tex = m->amount_tex = NULL;
+    texture_free(m->bump_tex);
+    m->albedo_tex = m->alpha_tex = m->amount_tex = m->bump_tex = NULL;
     for (int k = 0; k < 2; k++) {
         if (m->mix[k]) {
             material_release(m->mix[k]);
@@ -101,5 +106,21 @@ void material_at(const material *m, vec3 p, vec3 wo, double u, double v, materia
         double r = fmax(texture_eval(c->alpha_tex, u, v).c[0], 0.0);
         out->alpha = c->remap ? sqrt(r) : r;
     }
-    out->albedo_tex = out->alpha_tex = out->amount_tex = NULL;
+    out->albedo_tex = out->alpha_tex = out->amount_tex = NULL; /* bump_tex stays: material_bump's */
+}
+
+vec3 material_bump(const struct texture *disp, double u, double v, const vec3 dp[2], const vec3 dn[2], vec3 ng)
+{
+    /* pbrt-v4's BumpMap with its fallback offsets (brume has no ray differentials) */
+    const double du = 0.0005, dv = 0.0005;
+    double d = texture_eval(disp, u, v).c[0], d_u = texture_eval(disp, u + du, v).c[0],
+           d_v = texture_eval(disp, u, v + dv).c[0];
+    vec3 dpdu = v3_add(v3_madd(dp[0], ng, (d_u - d) / du), v3_scale(dn[0], d)),
+         dpdv = v3_add(v3_madd(dp[1], ng, (d_v - d) / dv), v3_scale(dn[1], d));
+    vec3 ns = v3_cross(dpdu, dpdv);
+    double len = v3_length(ns);
+    if (!(len > 0.0) || !isfinite(len))
+        return ng;
+    ns = v3_scale(ns, 1.0 / len);
+    return v3_dot(ns, ng) < 0.0 ? v3_neg(ns) : ns; /* on ng's side, as pbrt-v4 turns it */
 }

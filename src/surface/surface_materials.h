@@ -20,7 +20,14 @@ void material_release(material *m);
 /* The material at a hit: a mix resolved as pbrt-v4's MixMaterial::ChooseMaterial does, by a
  * hash of the point p and the direction wo against the amount at (u, v) (so the image is the
  * amount-weighted mix of the two), then the chosen one's textures evaluated at (u, v) into
- * *out. The emission stays m's: a mix emits as the shape does. */
+ * *out (its bump_tex kept for material_bump). The emission stays m's: a mix emits as the
+ * shape does. */
 void material_at(const material *m, vec3 p, vec3 wo, double u, double v, material *out);
+/* The shading normal of pbrt-v4's BumpMap: the displacement texture disp at (u, v) and at
+ * (u + 0.0005, v), (u, v + 0.0005) (pbrt-v4's offsets without ray differentials) by finite
+ * differences, dp/du' = dp/du + (d(u + du, v) - d) / du ng + d dn/du (and for v), the normal
+ * normalize(dp/du' x dp/dv') turned to ng's side. dp and dn: the surface's derivatives. */
+struct texture;
+vec3 material_bump(const struct texture *disp, double u, double v, const vec3 dp[2], const vec3 dn[2], vec3 ng);
 
 #endif

@@ -109,6 +109,49 @@ static void hit_uv(const surfaces *s, const surface_object *o, const surface_hit
     }
 }
 
+/* dp/du, dp/dv at the hit (dp[0], dp[1]) and the front normal's dn/du, dn/dv, as pbrt-v4's
+ * shapes give them: a triangle's from its points and (u, v) (a frame about ng where the (u, v)
+ * are degenerate), flat (dn 0); a sphere's from its longitude phi = 2 pi u and colatitude
+ * theta = pi (1 - v), dn = dp / r. */
+static void hit_derivatives(const surfaces *s, const surface_object *o, const surface_hit *h, vec3 dp[2], vec3 dn[2])
+{
+    double when = shutter_time(s, h->time);
+    if (o->is_sphere) {
+        vec3 c;
+        double r;
+        sphere_at(o, when, &c, &r);
+        vec3 d = v3_sub(h->p, c);
+        double rho = hypot(d.x, d.y), cos_phi = rho > 0.0 ? d.x / rho : 1.0, sin_phi = rho > 0.0 ? d.y / rho : 0.0;
+        dp[0] = v3(-2.0 * PI * d.y, 2.0 * PI * d.x, 0.0);
+        dp[1] = v3_scale(v3(d.z * cos_phi, d.z * sin_phi, -rho), -PI); /* -r sin(theta) = -rho */
+        dn[0] = v3_scale(dp[0], 1.0 / r);
+        dn[1] = v3_scale(dp[1], 1.0 / r);
+        return;
+    }
+    static const double corner[6] = {0, 0, 1, 0, 1, 1};
+    vec3 p[3];
+    const double *t[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = tri_vertex(o, h->prim, k, when);
+        t[k] = o->uv ? o->uv + 2 * (size_t)o->idx[3 * h->prim + k] : corner + 2 * k;
+    }
+    double du02 = t[0][0] - t[2][0], dv02 = t[0][1] - t[2][1], du12 = t[1][0] - t[2][0], dv12 = t[1][1] - t[2][1];
+    vec3 dp02 = v3_sub(p[0], p[2]), dp12 = v3_sub(p[1], p[2]);
+    double det = du02 * dv12 - dv02 * du12;
+    dn[0] = dn[1] = v3(0, 0, 0);
+    bool degenerate = fabs(det) < 1e-9;
+    if (!degenerate) {
+        dp[0] = v3_scale(v3_sub(v3_scale(dp02, dv12), v3_scale(dp12, dv02)), 1.0 / det);
+        dp[1] = v3_scale(v3_sub(v3_scale(dp12, du02), v3_scale(dp02, du12)), 1.0 / det);
+        degenerate = !(v3_length(v3_cross(dp[0], dp[1])) > 0.0);
+    }
+    if (degenerate) { /* pbrt-v4: any frame about the normal */
+        frame f = frame_from_n(h->ng);
+        dp[0] = frame_to_world(&f, v3(1, 0, 0));
+        dp[1] = frame_to_world(&f, v3(0, 1, 0));
+    }
+}
+
 /* A textured or mixed object's material at the hit, seen from direction wo, in h->shade
  * (surface_materials.h's material_at). */
 static void shade_hit(const surfaces *s, surface_hit *h, vec3 wo)
@@ -119,6 +162,11 @@ static void shade_hit(const surfaces *s, surface_hit *h, vec3 wo)
     hit_uv(s, o, h, &h->uv[0], &h->uv[1]);
     material_at(&o->mat, h->p, wo, h->uv[0], h->uv[1], &h->shade);
     h->mat = &h->shade;
+    if (h->shade.bump_tex) {
+        vec3 dp[2], dn[2];
+        hit_derivatives(s, o, h, dp, dn);
+        h->ns = material_bump(h->shade.bump_tex, h->uv[0], h->uv[1], dp, dn, h->ng);
+    }
 }
 #endif
 
@@ -129,8 +177,10 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
 #if !defined(__CUDA_ARCH__)
     if (!s->hier.nnodes) {
         bool hit = surfaces_embree_intersect(s, r, tmin, tmax, h);
-        if (hit)
+        if (hit) {
+            h->ns = h->ng;
             shade_hit(s, h, v3_neg(r.d));
+        }
         return hit;
     }
 #endif
@@ -143,6 +193,7 @@ bool surfaces_intersect(const surfaces *s, ray r, double tmin, double tmax, surf
     h->t = t;
     h->p = ray_at(r, t);
     h->ng = q.ng;
+    h->ns = q.ng;
     h->object = f->object;
     h->prim = s->obj[f->object].is_sphere ? 0 : f->prim;
     h->mat = &s->obj[f->object].mat;

@@ -97,6 +97,7 @@ typedef struct surface_hit {
     double t;    /* ray parameter of the hit */
     vec3 p;      /* world position */
     vec3 ng;     /* unit geometric normal (front side: counter-clockwise, or outward) */
+    vec3 ns;     /* unit shading normal on ng's side: ng, or bump-mapped by the material (CPU) */
     const material *mat; /* the object's, or &shade when it has a texture */
     material shade;      /* a textured object's material at this hit (CPU only) */
     double uv[2];        /* texture coordinates at the hit (set for textured objects only) */
