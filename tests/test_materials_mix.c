@@ -70,6 +70,48 @@ TEST(nested_mix_with_a_textured_amount)
                     0.625);
 }
 
+/* The green mean and standard error of the .pbrt text's render (its own film: 32 x 32). */
+static void pbrt_mean(const char *name, const char *text, double *mean, double *se)
+{
+    const char *path = test_tmp_path(name);
+    test_write_file(path, text);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_image *img = test_render_scene(s, 2, 11);
+    test_channel_mean(brume_image_pixels(img), brume_image_width(img) * brume_image_height(img), 1, mean, se);
+    brume_image_release(img);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+#define DISK_HEAD                                                                                             \
+    "LookAt 0 0 2  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [48.4555]\n"                            \
+    "Film \"rgb\" \"integer xresolution\" [32] \"integer yresolution\" [32]\n"                                \
+    "Sampler \"sobol\" \"integer pixelsamples\" [4]\nWorldBegin\n"                                          \
+    "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] \"rgb L\" [3 3 3]\n"
+
+/* The brief's disk through pbrt-v4's own directives: a disk (filling the view) of
+ * MakeNamedMaterial "mix" of two named diffuse materials, white 0.8 and black, amount 0.3,
+ * against the white disk: 0.7 x its radiance, 4 standard errors of both means. */
+TEST(pbrt_mix_disk_is_the_amount_weighted_mix)
+{
+    double w, w_se, m, m_se;
+    pbrt_mean("white.pbrt", DISK_HEAD "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
+                                      "Shape \"disk\" \"float radius\" [2]\n", &w, &w_se);
+    ASSERT_NEAR(w, 0.8 * 3 / PI_, 4 * w_se + 1e-5);
+    pbrt_mean("mix.pbrt",
+              DISK_HEAD "MakeNamedMaterial \"white\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
+                        "MakeNamedMaterial \"black\" \"string type\" \"diffuse\" \"rgb reflectance\" [0 0 0]\n"
+                        "MakeNamedMaterial \"m\" \"string type\" \"mix\" \"string materials\" [\"white\" \"black\"]\n"
+                        "  \"float amount\" [0.3]\nNamedMaterial \"m\"\nShape \"disk\" \"float radius\" [2]\n",
+              &m, &m_se);
+    double tol = 4 * hypot(m_se, 0.7 * w_se) + 1e-5;
+    if (!(fabs(m - 0.7 * w) <= tol))
+        TEST_FAIL("mix disk: mean %.6f, want 0.7 x %.6f = %.6f (tolerance %.6f)", m, w, 0.7 * w, tol);
+}
+
 /* The material a ray straight down at (x, y) meets on the plate. */
 static material hit_material(brume_scene *s, double x, double y)
 {
@@ -360,4 +402,5 @@ TEST(gpu_refuses_mix_and_textured_parameters)
 TEST_MAIN(mix_renders_the_amount_weighted_mix, nested_mix_with_a_textured_amount, roughness_texture_is_read_at_the_hit,
           textured_reflectance_and_mix_bounds, json_mix_and_textures_checked, pbrt_mix_and_textured_parameters_translate,
           pbrt_mix_and_texture_refusals_name_them, gpu_refuses_mix_and_textured_parameters,
-          bump_tilts_the_shading_normal_as_pbrt, mesh_file_texture_coordinates_read)
+          bump_tilts_the_shading_normal_as_pbrt, mesh_file_texture_coordinates_read,
+          pbrt_mix_disk_is_the_amount_weighted_mix)
