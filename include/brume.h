@@ -1094,6 +1094,12 @@ typedef struct brume_material {
      * dp/du + dd/du n and dp/dv + dd/dv n by finite differences over 0.0005 in u and v (pbrt-v4's
      * offsets where it has no ray differentials, which brume has not). Rendered on the CPU. */
     const brume_texture *displacement_texture;
+    /* NULL, or textures in place of these, as pbrt-v4 textures them (CPU only): conductor's
+     * conductor_eta and conductor_k (spectrum textures, clamped to [0, 100]), coateddiffuse's
+     * thickness (float, at least 0), g (float, clamped to [-0.999, 0.999]) and layer_albedo
+     * (spectrum, clamped to [0, 1]) */
+    const brume_texture *conductor_eta_texture, *conductor_k_texture;
+    const brume_texture *thickness_texture, *g_texture, *layer_albedo_texture;
 } brume_material;
 #define BRUME_MATERIAL_MAX_MIX 8
 /* albedo 0.8, no specular (exponent 50), no emission; the other types' pbrt-v4 defaults

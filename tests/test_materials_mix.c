@@ -264,6 +264,56 @@ TEST(pbrt_mix_and_textured_parameters_translate)
     brume_context_release(ctx);
 }
 
+/* The other parameters pbrt-v4 textures: a conductor's eta and k (spectrum textures, kept in
+ * [0, 100]), a coated diffuse's thickness, g (kept in [-0.999, 0.999]) and layer albedo (kept
+ * in [0, 1]), each read at the hit from pbrt-v4's Texture directive. */
+TEST(index_and_layer_textures_read_at_the_hit)
+{
+    char msg[1024];
+    cJSON *root = pbrt_translate(
+        "layer.pbrt",
+        PBRT_HEAD "Texture \"eta\" \"spectrum\" \"constant\" \"rgb value\" [0.2 0.5 1.5]\n"
+                  "Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [3 2 200]\n"
+                  "Material \"conductor\" \"texture eta\" \"eta\" \"texture k\" \"k\"\n" PBRT_PATCH
+                  "Texture \"t\" \"float\" \"constant\" \"float value\" [0.3]\n"
+                  "Texture \"g\" \"float\" \"constant\" \"float value\" [1.5]\n"
+                  "Texture \"a\" \"spectrum\" \"constant\" \"rgb value\" [0.1 0.6 1.2]\n"
+                  "Material \"coateddiffuse\" \"texture thickness\" \"t\" \"texture g\" \"g\" \"texture albedo\" \"a\"\n"
+                  "AttributeBegin\nTranslate 0 0 -1\n" PBRT_PATCH "AttributeEnd\n",
+        msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *surfs = cJSON_GetObjectItem(root, "surfaces");
+    const cJSON *metal = cJSON_GetObjectItem(cJSON_GetArrayItem(surfs, 0), "material");
+    const cJSON *coat = cJSON_GetObjectItem(cJSON_GetArrayItem(surfs, 1), "material");
+    ASSERT_EQ_STR(cJSON_GetObjectItem(cJSON_GetObjectItem(metal, "eta"), "type")->valuestring, "constant");
+    ASSERT_EQ_STR(cJSON_GetObjectItem(cJSON_GetObjectItem(coat, "layer_albedo"), "type")->valuestring, "constant");
+    cJSON_Delete(root);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = test_tmp_path("layer.pbrt")}, NULL, &s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    material m = hit_material(s, 0.1, 0.2); /* the metal, at z = 0 */
+    ASSERT_EQ_INT(m.type, MATERIAL_CONDUCTOR);
+    const double eta[3] = {0.2, 0.5, 1.5}, k[3] = {3, 2, 100};
+    for (int c = 0; c < 3; c++) {
+        ASSERT_NEAR(m.eta_c.c[c], eta[c], 1e-9);
+        ASSERT_NEAR(m.k_c.c[c], k[c], 1e-9);
+    }
+    brume_scene_release(s);
+    brume_context_release(ctx);
+    s = committed(SUN_SCENE("{\"type\": \"coateddiffuse\", \"thickness\": {\"type\": \"constant\", \"value\": 0.3},"
+                            " \"g\": {\"type\": \"constant\", \"value\": 1.5}, \"layer_albedo\": {\"type\": \"constant\","
+                            " \"value\": [0.1, 0.6, 1.2]}}"));
+    m = hit_material(s, 0.1, 0.2);
+    ASSERT_NEAR(m.thickness, 0.3, 1e-12);
+    ASSERT_NEAR(m.g, 0.999, 1e-12);
+    ASSERT_NEAR(m.layer_albedo.c[0], 0.1, 1e-12);
+    ASSERT_NEAR(m.layer_albedo.c[2], 1.0, 1e-12);
+    brume_scene_release(s);
+}
+
 /* A 2 x 1 RGB PFM ramp: 0 then 1 (pixel centres at u = 0.25 and 0.75), read bilinearly with
  * wrap clamp: d(u) = 2 scale (u - 0.25) over [0.25, 0.75]. */
 static const char *ramp_pfm(void)
@@ -377,8 +427,8 @@ TEST(pbrt_mix_and_texture_refusals_name_them)
     pbrt_refused(PBRT_HEAD "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
                            "MakeNamedMaterial \"m\" \"string type\" \"mix\" \"string materials\" [\"a\"]\n",
                  "two names");
-    pbrt_refused(PBRT_HEAD "Texture \"e\" \"spectrum\" \"constant\" \"rgb value\" [1 1 1]\n"
-                           "Material \"conductor\" \"texture eta\" \"e\"\n" PBRT_PATCH,
+    pbrt_refused(PBRT_HEAD "Texture \"e\" \"float\" \"constant\" \"float value\" [1.5]\n"
+                           "Material \"dielectric\" \"texture eta\" \"e\"\n" PBRT_PATCH,
                  "\"eta\": a texture");
 }
 
@@ -403,4 +453,4 @@ TEST_MAIN(mix_renders_the_amount_weighted_mix, nested_mix_with_a_textured_amount
           textured_reflectance_and_mix_bounds, json_mix_and_textures_checked, pbrt_mix_and_textured_parameters_translate,
           pbrt_mix_and_texture_refusals_name_them, gpu_refuses_mix_and_textured_parameters,
           bump_tilts_the_shading_normal_as_pbrt, mesh_file_texture_coordinates_read,
-          pbrt_mix_disk_is_the_amount_weighted_mix)
+          pbrt_mix_disk_is_the_amount_weighted_mix, index_and_layer_textures_read_at_the_hit)

@@ -104,15 +104,27 @@ static brume_status mat_index(pbrt_state *S, params *ps, const char *what, const
     return BRUME_OK;
 }
 
-/* A float parameter in [lo, hi] into o[key]. */
+/* A conductor's eta or k: a spectrum texture, or as mat_index reads it. */
+static brume_status mat_index_tex(pbrt_state *S, params *ps, const char *what, const char *name, cJSON *o,
+                                  bool *textured)
+{
+    param *q = pbrt_get(ps, name);
+    if (q && strcmp(q->type, "texture") == 0)
+        return tex_ref(S, q, what, false, o, name, textured);
+    return mat_index(S, ps, what, name, o, false);
+}
+
+/* A float parameter in [lo, hi] into o[key]; a float texture too when textured is not NULL. */
 static brume_status mat_float(pbrt_state *S, params *ps, const char *what, const char *name, cJSON *o,
-                              const char *key, double lo, double hi)
+                              const char *key, double lo, double hi, bool *textured)
 {
     param *q = pbrt_get(ps, name);
     double v = 0.0;
     brume_status st;
     if (!q)
         return BRUME_OK;
+    if (textured && strcmp(q->type, "texture") == 0)
+        return tex_ref(S, q, what, true, o, key, textured);
     if ((st = no_texture(S, q, what)) || (st = pbrt_get_float(&S->L, ps, name, &v)))
         return st;
     if (!(v >= lo && v <= hi))
@@ -265,7 +277,7 @@ static brume_status material_params(pbrt_state *S, const char *type, const char 
         return mat_roughness(S, ps, what, o, tx);
     }
     if (strcmp(type, "conductor") == 0) {
-        if ((st = mat_index(S, ps, what, "eta", o, false)) || (st = mat_index(S, ps, what, "k", o, false)) ||
+        if ((st = mat_index_tex(S, ps, what, "eta", o, tx)) || (st = mat_index_tex(S, ps, what, "k", o, tx)) ||
             (st = mat_color(S, ps, what, "reflectance", o, "reflectance", 1.0, tx)))
             return st;
         if (pbrt_get(ps, "reflectance") && (pbrt_get(ps, "eta") || pbrt_get(ps, "k")))
@@ -276,9 +288,9 @@ static brume_status material_params(pbrt_state *S, const char *type, const char 
     double maxdepth = 10, nsamples = 1;
     if ((st = mat_color(S, ps, what, "reflectance", o, "reflectance", 1.0, tx)) ||
         (st = mat_index(S, ps, what, "eta", o, true)) || (st = mat_roughness(S, ps, what, o, tx)) ||
-        (st = mat_float(S, ps, what, "thickness", o, "thickness", 1e-300, 1e6)) ||
-        (st = mat_color(S, ps, what, "albedo", o, "layer_albedo", 1.0, NULL)) ||
-        (st = mat_float(S, ps, what, "g", o, "g", -0.999, 0.999)) ||
+        (st = mat_float(S, ps, what, "thickness", o, "thickness", 1e-300, 1e6, tx)) ||
+        (st = mat_color(S, ps, what, "albedo", o, "layer_albedo", 1.0, tx)) ||
+        (st = mat_float(S, ps, what, "g", o, "g", -0.999, 0.999, tx)) ||
         (st = pbrt_get_float(&S->L, ps, "maxdepth", &maxdepth)) || (st = pbrt_get_float(&S->L, ps, "nsamples", &nsamples)))
         return st;
     if (!(maxdepth >= 1 && maxdepth <= 1000 && nsamples >= 1 && nsamples <= 1000))

@@ -130,12 +130,18 @@ static brume_status parse_eta(const cJSON *j, jloc at, brume_material *m)
 
 static brume_status parse_conductor(const cJSON *j, jloc at, brume_material *m, scene_material_store *sm)
 {
-    bool has_eta, has_k, has_r;
+    bool has_eta = false, has_k = false, has_r;
     double r[3] = {0, 0, 0};
     brume_status st;
-    if ((st = spectrum(j, at, "eta", m->conductor_eta, &has_eta)) || (st = spectrum(j, at, "k", m->conductor_k, &has_k)) ||
+    bool eta_tex, k_tex;
+    if ((st = texture_key(j, at, "eta", false, sm, &m->conductor_eta_texture, &eta_tex)) ||
+        (st = texture_key(j, at, "k", false, sm, &m->conductor_k_texture, &k_tex)) ||
+        (!eta_tex && (st = spectrum(j, at, "eta", m->conductor_eta, &has_eta))) ||
+        (!k_tex && (st = spectrum(j, at, "k", m->conductor_k, &has_k))) ||
         (st = reflectance(j, at, "reflectance", r, m, sm, &has_r)))
         return st;
+    has_eta = has_eta || eta_tex;
+    has_k = has_k || k_tex;
     if (has_r && (has_eta || has_k))
         return err_set(BRUME_ERROR_PARSE, "%s: %s: give either eta and k or reflectance", at.file, at.path);
     if (has_r && !m->albedo_texture) { /* pbrt-v4: eta = 1 and the k whose normal reflectance is r (at most 0.9999) */
@@ -153,9 +159,16 @@ static brume_status parse_coated(const cJSON *j, jloc at, brume_material *m, sce
     brume_status st;
     bool given;
     m->albedo[0] = m->albedo[1] = m->albedo[2] = 0.5;
+    bool thick_tex, g_tex, layer_tex;
+    if ((st = texture_key(j, at, "thickness", true, sm, &m->thickness_texture, &thick_tex)) ||
+        (st = texture_key(j, at, "g", true, sm, &m->g_texture, &g_tex)) ||
+        (st = texture_key(j, at, "layer_albedo", false, sm, &m->layer_albedo_texture, &layer_tex)))
+        return st;
     if ((st = reflectance(j, at, "reflectance", m->albedo, m, sm, &given)) || (st = parse_eta(j, at, m)) ||
-        (st = roughness(j, at, m, sm)) || (st = json_number(j, at, "thickness", 0, 1e-300, 1e6, &m->thickness)) ||
-        (st = jcolor(j, at, "layer_albedo", 1.0, m->layer_albedo)) || (st = json_number(j, at, "g", 0, -0.999, 0.999, &m->g)) ||
+        (st = roughness(j, at, m, sm)) ||
+        (!thick_tex && (st = json_number(j, at, "thickness", 0, 1e-300, 1e6, &m->thickness))) ||
+        (!layer_tex && (st = jcolor(j, at, "layer_albedo", 1.0, m->layer_albedo))) ||
+        (!g_tex && (st = json_number(j, at, "g", 0, -0.999, 0.999, &m->g))) ||
         (st = json_int(j, at, "max_depth", 0, 1, 1000, &m->max_depth)) ||
         (st = json_int(j, at, "nsamples", 0, 1, 1000, &m->nsamples)))
         return st;

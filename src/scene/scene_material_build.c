@@ -92,6 +92,32 @@ static texture *build_texture(const char *fn, const char *what, const char *key,
 }
 
 
+/* The textures only one type reads: conductor's index, coateddiffuse's layer. */
+static brume_status type_textures(const char *fn, const char *what, const brume_material *bm, material *m)
+{
+    const struct {
+        const brume_texture *from;
+        texture **to;
+        const char *key;
+        brume_material_type type;
+    } t[] = {{bm->conductor_eta_texture, &m->eta_tex, "conductor_eta_texture", BRUME_MATERIAL_CONDUCTOR},
+             {bm->conductor_k_texture, &m->k_tex, "conductor_k_texture", BRUME_MATERIAL_CONDUCTOR},
+             {bm->thickness_texture, &m->thickness_tex, "thickness_texture", BRUME_MATERIAL_COATEDDIFFUSE},
+             {bm->g_texture, &m->g_tex, "g_texture", BRUME_MATERIAL_COATEDDIFFUSE},
+             {bm->layer_albedo_texture, &m->layer_albedo_tex, "layer_albedo_texture", BRUME_MATERIAL_COATEDDIFFUSE}};
+    char at[160];
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        if (!t[i].from)
+            continue;
+        if (bm->type != t[i].type)
+            return err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: %s: only a %s material reads it", fn,
+                           field(at, what, t[i].key), material_type_name((material_type)t[i].type));
+        if (!(*t[i].to = build_texture(fn, what, t[i].key, t[i].from)))
+            return err_status();
+    }
+    return BRUME_OK;
+}
+
 /* The textures bm gives, each where its type reads it, built into m. */
 static brume_status material_textures(const char *fn, const char *what, const brume_material *bm, material *m)
 {
@@ -123,7 +149,7 @@ static brume_status material_textures(const char *fn, const char *what, const br
     if (bm->displacement_texture &&
         !(m->bump_tex = build_texture(fn, what, "displacement_texture", bm->displacement_texture)))
         return err_status();
-    return BRUME_OK;
+    return type_textures(fn, what, bm, m);
 }
 
 /* A mix's amount and its two materials, built depth + 1 deep. */

@@ -47,6 +47,9 @@ typedef struct material {
     /* NULL, or pbrt-v4's displacement d(u, v) (a float texture, world units along the front
      * normal): bump mapping, the hit's shading normal (surface_hit.ns) tilted by it */
     struct texture *bump_tex;
+    /* NULL, or textures in place of eta_c, k_c (conductor), thickness, g, layer_albedo
+     * (coateddiffuse), evaluated at the hit as albedo_tex is */
+    struct texture *eta_tex, *k_tex, *thickness_tex, *g_tex, *layer_albedo_tex;
     double eta;      /* dielectric, coateddiffuse's coat: index behind ng over in front, > 0 */
     color eta_c, k_c; /* conductor: complex index of refraction eta + i k per channel */
     double alpha;    /* Trowbridge-Reitz alpha (isotropic); < MATERIAL_SMOOTH_ALPHA: smooth */

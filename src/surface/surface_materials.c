@@ -21,22 +21,29 @@ int surfaces_first_bsdf(const surfaces *s, const char **name, material_type *typ
     return -1;
 }
 
+/* m's texture fields, for what is done to each alike. */
+#define MATERIAL_TEXTURES(m)                                                                                   \
+    {&(m)->albedo_tex, &(m)->alpha_tex, &(m)->amount_tex, &(m)->bump_tex, &(m)->eta_tex, &(m)->k_tex,          \
+     &(m)->thickness_tex, &(m)->g_tex, &(m)->layer_albedo_tex}
+#define MATERIAL_NTEXTURES 9
+
 bool material_textured(const material *m)
 {
-    if (m->albedo_tex || m->alpha_tex || m->amount_tex || m->bump_tex)
-        return true;
+    texture *const *t[MATERIAL_NTEXTURES] = MATERIAL_TEXTURES(m);
+    for (int i = 0; i < MATERIAL_NTEXTURES; i++)
+        if (*t[i])
+            return true;
     return m->type == MATERIAL_MIX && (material_textured(m->mix[0]) || material_textured(m->mix[1]));
 }
 
-bool material_varies(const material *m)
-{
-    return m->type == MATERIAL_MIX || m->albedo_tex || m->alpha_tex || m->bump_tex;
-}
+bool material_varies(const material *m) { return m->type == MATERIAL_MIX || material_textured(m); }
 
 size_t material_bytes(const material *m)
 {
-    size_t n = texture_bytes(m->albedo_tex) + texture_bytes(m->alpha_tex) + texture_bytes(m->amount_tex) +
-               texture_bytes(m->bump_tex);
+    texture *const *t[MATERIAL_NTEXTURES] = MATERIAL_TEXTURES(m);
+    size_t n = 0;
+    for (int i = 0; i < MATERIAL_NTEXTURES; i++)
+        n += texture_bytes(*t[i]);
     for (int k = 0; k < 2; k++)
         n += m->mix[k] ? material_bytes(m->mix[k]) : 0;
     return n;
@@ -44,11 +51,11 @@ size_t material_bytes(const material *m)
 
 void material_release(material *m)
 {
-    texture_free(m->albedo_tex);
-    texture_free(m->alpha_tex);
-    texture_free(m->amount_tex);
-    texture_free(m->bump_tex);
-    m->albedo_tex = m->alpha_tex = m->amount_tex = m->bump_tex = NULL;
+    texture **t[MATERIAL_NTEXTURES] = MATERIAL_TEXTURES(m);
+    for (int i = 0; i < MATERIAL_NTEXTURES; i++) {
+        texture_free(*t[i]);
+        *t[i] = NULL;
+    }
     for (int k = 0; k < 2; k++) {
         if (m->mix[k]) {
             material_release(m->mix[k]);
@@ -75,6 +82,29 @@ static double mix_hash(vec3 p, vec3 wo, int depth)
     for (int i = 0; i < 6; i++)
         h = hash_mix64(h ^ bits(in[i]));
     return (double)(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static color clamped(const texture *t, double u, double v, double lo, double hi)
+{
+    color c = texture_eval(t, u, v);
+    for (int k = 0; k < 3; k++)
+        c.c[k] = c.c[k] > lo ? fmin(c.c[k], hi) : lo;
+    return c;
+}
+
+/* A conductor's textured complex index, a coated diffuse's textured layer. */
+static void layer_and_index_at(const material *c, double u, double v, material *out)
+{
+    if (c->eta_tex)
+        out->eta_c = clamped(c->eta_tex, u, v, 0.0, 100.0);
+    if (c->k_tex)
+        out->k_c = clamped(c->k_tex, u, v, 0.0, 100.0);
+    if (c->thickness_tex)
+        out->thickness = clamped(c->thickness_tex, u, v, 0.0, 1e6).c[0];
+    if (c->g_tex)
+        out->g = clamped(c->g_tex, u, v, -0.999, 0.999).c[0];
+    if (c->layer_albedo_tex)
+        out->layer_albedo = clamped(c->layer_albedo_tex, u, v, 0.0, 1.0);
 }
 
 void material_at(const material *m, vec3 p, vec3 wo, double u, double v, material *out)
@@ -106,7 +136,12 @@ void material_at(const material *m, vec3 p, vec3 wo, double u, double v, materia
         double r = fmax(texture_eval(c->alpha_tex, u, v).c[0], 0.0);
         out->alpha = c->remap ? sqrt(r) : r;
     }
-    out->albedo_tex = out->alpha_tex = out->amount_tex = NULL; /* bump_tex stays: material_bump's */
+    layer_and_index_at(c, u, v, out);
+    texture *bump = c->bump_tex; /* kept: material_bump's */
+    texture **t[MATERIAL_NTEXTURES] = MATERIAL_TEXTURES(out);
+    for (int i = 0; i < MATERIAL_NTEXTURES; i++)
+        *t[i] = NULL;
+    out->bump_tex = bump;
 }
 
 vec3 material_bump(const struct texture *disp, double u, double v, const vec3 dp[2], const vec3 dn[2], vec3 ng)
