@@ -25,11 +25,4 @@ typedef struct scene_material_store {
 brume_status scene_parse_material(const cJSON *j, jloc at, brume_material *m, scene_material_store *sm);
 void scene_material_store_free(scene_material_store *sm);
 
-/* bm checked and built into *m (its textures' images read, its mixed materials allocated:
- * surface_materials.h's material_release frees them); depth counts the mixes above it, what
- * names it in messages ("material", "material.materials[1]"). On failure nothing is kept. */
-struct material;
-brume_status material_build(const char *fn, const char *what, const brume_material *bm, int depth,
-                            struct material *m);
-
 #endif

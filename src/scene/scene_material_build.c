@@ -9,8 +9,8 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
-#include "scene/scene_material.h"
-#include "surface/surface_materials.h"
+#include "scene/scene_material_build.h"
+#include "surface/material_hit.h"
 #include "surface/material.h"
 #include "surface/texture.h"
 

@@ -11,8 +11,8 @@
 #include "io/mesh.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
-#include "scene/scene_material.h"
-#include "surface/surface_materials.h"
+#include "scene/scene_material_build.h"
+#include "surface/material_hit.h"
 
 void brume_material_default(brume_material *m)
 {

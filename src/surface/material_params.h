@@ -34,7 +34,7 @@ typedef struct material {
     /* NULL, or the albedo as a texture of the hit's (u, v) (surface/texture.h): diffuse's
      * albedo, coateddiffuse's reflectance, conductor's reflectance (then eta 1 and the k of
      * that normal reflectance). Owned by the surfaces object, evaluated into the hit's own
-     * copy of the material (surface_hit.shade, surface_materials.h's material_at) */
+     * copy of the material (surface_hit.shade, material_hit.h's material_at) */
     struct texture *albedo_tex;
     /* NULL, or pbrt-v4's roughness r as a float texture: alpha = sqrt(r) when remap, else r */
     struct texture *alpha_tex;

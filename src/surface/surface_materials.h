@@ -1,5 +1,4 @@
-/* surface_materials.h - what the estimators and the GPU ask of a scene's materials, and a
- * material's textures and mixes resolved at a hit (CPU only). */
+/* surface_materials.h - what the estimators and the GPU ask of a scene's materials. */
 #ifndef BRUME_SURFACE_SURFACE_MATERIALS_H
 #define BRUME_SURFACE_SURFACE_MATERIALS_H
 
@@ -8,26 +7,5 @@
 /* The first object (insertion order) whose material is not brume's diffuse one, or -1 (also
  * for s NULL); its name in *name, its type in *type. */
 int surfaces_first_bsdf(const surfaces *s, const char **name, material_type *type);
-
-/* Whether m, or a material it mixes, has a texture. */
-bool material_textured(const material *m);
-/* Whether m must be resolved per hit (material_at): a texture or a mix. */
-bool material_varies(const material *m);
-/* Bytes m's textures hold (the budget's share), its mixed materials' included. */
-size_t material_bytes(const material *m);
-/* Frees m's textures and mixed materials (m itself is the caller's). */
-void material_release(material *m);
-/* The material at a hit: a mix resolved as pbrt-v4's MixMaterial::ChooseMaterial does, by a
- * hash of the point p and the direction wo against the amount at (u, v) (so the image is the
- * amount-weighted mix of the two), then the chosen one's textures evaluated at (u, v) into
- * *out (its bump_tex kept for material_bump). The emission stays m's: a mix emits as the
- * shape does. */
-void material_at(const material *m, vec3 p, vec3 wo, double u, double v, material *out);
-/* The shading normal of pbrt-v4's BumpMap: the displacement texture disp at (u, v) and at
- * (u + 0.0005, v), (u, v + 0.0005) (pbrt-v4's offsets without ray differentials) by finite
- * differences, dp/du' = dp/du + (d(u + du, v) - d) / du ng + d dn/du (and for v), the normal
- * normalize(dp/du' x dp/dv') turned to ng's side. dp and dn: the surface's derivatives. */
-struct texture;
-vec3 material_bump(const struct texture *disp, double u, double v, const vec3 dp[2], const vec3 dn[2], vec3 ng);
 
 #endif

@@ -5,7 +5,7 @@
  * each primitive intersected in double precision at the ray's time. */
 #include "surface/surfaces_impl.h"
 #if !defined(__CUDA_ARCH__)
-#include "surface/surface_materials.h"
+#include "surface/material_hit.h"
 #endif
 
 /* ---- brume's own hierarchy -------------------------------------------------------------- */
@@ -153,7 +153,7 @@ static void hit_derivatives(const surfaces *s, const surface_object *o, const su
 }
 
 /* A textured or mixed object's material at the hit, seen from direction wo, in h->shade
- * (surface_materials.h's material_at). */
+ * (material_hit.h's material_at). */
 static void shade_hit(const surfaces *s, surface_hit *h, vec3 wo)
 {
     const surface_object *o = &s->obj[h->object];

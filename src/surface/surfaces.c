@@ -19,7 +19,7 @@
 #include "core/error.h"
 #include "core/lazylib.h"
 #include "surface/surfaces_impl.h"
-#include "surface/surface_materials.h"
+#include "surface/material_hit.h"
 #include "surface/texture.h"
 
 #ifndef BRUME_EMBREE_SONAME
