@@ -22,7 +22,7 @@ echo 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (voi
 clang -fsanitize=fuzzer "$probe" -o "$out/probe" 2>/dev/null || { echo "fuzz: no libFuzzer (libclang-rt-14-dev), skipped"; exit 77; }
 
 upper=$(echo "$fmt" | tr a-z A-Z)
-flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
+flags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I$src/src -I$src/include -I$src/data -DFUZZ_FORMAT=GRID_FORMAT_$upper -D_POSIX_C_SOURCE=200809L"
 
 # cached_objects NAME COMPILER "FLAGS" FILE...: compiles each FILE to an object once for
 # these flags and these sources (and every header of src/ and include/): the targets that
