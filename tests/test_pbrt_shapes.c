@@ -197,19 +197,22 @@ TEST(area_light_faces_pbrt_normal)
             }
 }
 
-/* What would emit from a side brume cannot tell, each refused by name. */
+/* What would emit from a side brume cannot tell, or with a power brume cannot spread as
+ * pbrt-v4 does, each refused by name. */
 TEST(area_light_refusals)
 {
     const char *cases[][2] = {
-        {"Shape \"plymesh\" \"string filename\" ", "a one-sided area light on a PLY mesh"},
-        {"Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"normal N\" [0 0 1 0 0 1 0 0 1]\n",
-         "a one-sided area light on a mesh with \"normal N\""},
+        {"Shape \"plymesh\" \"string filename\" ", "a one-sided area light from a PLY mesh with vertex normals"},
+        {"AreaLightSource \"diffuse\" \"float power\" 10\n"
+         "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 0 2 0] \"integer indices\" [0 1 2 0 2 3]\n",
+         "an area light's \"power\" on a shape whose triangles differ in area"},
         {"Material \"interface\"\nShape \"sphere\"\n", "an area light on an \"interface\" shape"},
         {"AreaLightSource \"goniometric\"\n", "AreaLightSource \"goniometric\""}};
     test_write_file(test_tmp_path("tri.ply"), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                              "property float y\nproperty float z\nelement face 1\n"
+                                              "property float y\nproperty float z\nproperty float nx\n"
+                                              "property float ny\nproperty float nz\nelement face 1\n"
                                               "property list uchar int vertex_indices\nend_header\n"
-                                              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+                                              "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
     for (int i = 0; i < 4; i++) {
         char world[1024], text[4096];
         snprintf(world, sizeof world, "%s", cases[i][0]);

@@ -97,6 +97,8 @@ typedef struct attrs {
     int begin_line; /* the line of the AttributeBegin that opened this level (depth > 0) */
     bool area, area_two_sided; /* AreaLightSource "diffuse" in effect: shapes emit area_L */
     double area_L[3];
+    double area_power; /* its "power", watts (0: none): area_L scaled per shape (pbrt_shapes.c) */
+    bool reverse; /* ReverseOrientation in effect: the shapes' normals reversed (pbrt_shapes.c) */
 } attrs;
 
 typedef struct named_material {
@@ -125,6 +127,16 @@ typedef struct pbrt_object {
 #define PBRT_MAX_OBJECTS 256
 #define PBRT_MAX_TEXTS 256
 
+/* A MediumInterface name a shape used before any MakeNamedMedium gave it: resolved at the
+ * end of the file (pbrt_medium_bind), as pbrt-v4 resolves names when it creates the scene. */
+typedef struct pbrt_pending_medium {
+    char name[128];
+    double box[6];
+    bool outside;
+    char *file; /* the Shape's file (malloc'd) and line */
+    int line;
+} pbrt_pending_medium;
+
 typedef struct pbrt_state {
     lexer L;
     const char *path;
@@ -148,6 +160,8 @@ typedef struct pbrt_state {
     int xres, yres, spp, max_depth;
     named_medium media[PBRT_MAX_MEDIA];
     int nmedia;
+    pbrt_pending_medium *pending; /* malloc'd */
+    int npending;
     named_material materials[PBRT_MAX_MATERIALS]; /* MakeNamedMaterial */
     int nmaterials;
     cJSON *root, *lights, *media_j, *surfaces;
@@ -244,6 +258,12 @@ brume_status pbrt_camera_medium(pbrt_state *S, cJSON *cam, vec3 position);
  * box grows to hold box (lo, hi; NULL: nothing), and with `outside` also 64 / sigma_t around
  * it, where pbrt-v4's unbounded medium has attenuated everything. Refuses an unknown name. */
 brume_status pbrt_medium_use(pbrt_state *S, const char *name, const double box[6], bool outside);
+/* pbrt_medium_use, or for a name not defined yet, kept to pbrt_media_resolve. */
+brume_status pbrt_medium_bind(pbrt_state *S, const char *name, const double box[6], bool outside);
+/* At the end of the file: each kept name's medium used, or a refusal naming the Shape's file
+ * and line; frees what pbrt_medium_bind kept (also after an error: pbrt_media_free). */
+brume_status pbrt_media_resolve(pbrt_state *S);
+void pbrt_media_free(pbrt_state *S);
 /* Gives each homogeneous medium used its `constant` density over its box, at the end of
  * the translation (after pbrt_camera_medium). */
 brume_status pbrt_media_finish(pbrt_state *S);
@@ -267,5 +287,20 @@ brume_status pbrt_uv_unshare(pbrt_state *S, const char *what, double **P, int *n
 
 /* pbrt_shapes.c */
 brume_status pbrt_shape_directive(pbrt_state *S, const char *type, params *ps);
+
+/* pbrt_facing.c: pbrt-v4's front side of a shape */
+bool pbrt_ctm_mirrors(const pbrt_state *S);
+/* Whether a quadric's (sphere, disk, cylinder) pbrt-v4 normal is its object normal carried to
+ * the world and reversed: ReverseOrientation xor a handedness-swapping transform. */
+bool pbrt_quadric_reversed(const pbrt_state *S);
+/* For each of the nt triangles idx over the world points P (nv, wound as the object's), 1
+ * where the winding must be reversed for brume's front to be pbrt-v4's geometric normal: the
+ * object's carried through the transform (a quadric's by pbrt_quadric_reversed), reversed by
+ * ReverseOrientation, and with shading normals N (a mesh's "normal N", or NULL) turned to
+ * their side. *flip is malloc'd. */
+brume_status pbrt_tris_facing(pbrt_state *S, const char *what, const param *N, bool quadric, const double *P, int nv,
+                              const int *idx, int nt, unsigned char **flip);
+void pbrt_tris_flip(int *idx, int nt, const unsigned char *flip);
+bool pbrt_ply_has_normals(const char *path);
 
 #endif

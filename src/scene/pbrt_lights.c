@@ -54,15 +54,18 @@ brume_status pbrt_illuminant(lexer *L, params *ps, const char *name, double out[
 
 /* "diffuse": the shapes that follow in the attribute block emit L scale from the side pbrt's
  * normal faces (both with twosided), as brume's surface emission does (pbrt_shapes.c faces
- * them); pbrt-v4 divides the scale by L's luminance, so rgb L is brume's radiance as it is. */
+ * them); pbrt-v4 divides the scale by L's luminance, so rgb L is brume's radiance as it is.
+ * With "power", pbrt-v4 (DiffuseAreaLight::Create) multiplies it by power / (pi A), A the
+ * shape's area (twice that when two-sided): pbrt_shapes.c applies it per shape. */
 brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type, params *ps)
 {
     lexer *L = &S->L;
     brume_status st;
     if (strcmp(type, "diffuse") != 0)
         return pbrt_unsupported(L, "AreaLightSource \"%s\": not supported by brume (diffuse)", type);
-    double Lrgb[3] = {1, 1, 1}, scale = 1.0;
-    if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)))
+    double Lrgb[3] = {1, 1, 1}, scale = 1.0, power = 0.0;
+    if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_float(L, ps, "scale", &scale)) ||
+        (st = pbrt_get_float(L, ps, "power", &power)))
         return st;
     param *two = pbrt_get(ps, "twosided");
     bool two_sided = false;
@@ -76,8 +79,11 @@ brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type
         return st;
     if (!(scale >= 0.0 && scale <= 1e30))
         return pbrt_fail(L, "AreaLightSource: parameter \"scale\": %g outside [0, 1e30]", scale);
+    if (!(power <= 1e30))
+        return pbrt_fail(L, "AreaLightSource: parameter \"power\": %g is not finite", power);
     a->area = true;
     a->area_two_sided = two_sided;
+    a->area_power = power > 0.0 ? power : 0.0; /* pbrt-v4 ignores a power that is not positive */
     for (int c = 0; c < 3; c++)
         a->area_L[c] = Lrgb[c] * scale;
     return BRUME_OK;

@@ -136,6 +136,57 @@ brume_status pbrt_medium_use(pbrt_state *S, const char *name, const double box[6
     return BRUME_OK;
 }
 
+brume_status pbrt_medium_bind(pbrt_state *S, const char *name, const double box[6], bool outside)
+{
+    if (medium_find(S, name))
+        return pbrt_medium_use(S, name, box, outside);
+    if (S->npending >= 1 << 20)
+        return pbrt_fail(&S->L, "MediumInterface: more than %d shapes name media not defined yet", 1 << 20);
+    pbrt_pending_medium *p = realloc(S->pending, sizeof *p * (size_t)(S->npending + 1));
+    size_t n = strlen(S->L.file) + 1;
+    char *file = malloc(n);
+    if (file)
+        memcpy(file, S->L.file, n);
+    if (!p || !file) {
+        free(file);
+        if (p)
+            S->pending = p;
+        return err_set(BRUME_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory", S->L.file, S->L.dir_line);
+    }
+    S->pending = p;
+    p = &S->pending[S->npending++];
+    pbrt_copy(p->name, sizeof p->name, name);
+    memcpy(p->box, box, sizeof p->box);
+    p->outside = outside;
+    p->file = file;
+    p->line = S->L.dir_line;
+    return BRUME_OK;
+}
+
+brume_status pbrt_media_resolve(pbrt_state *S)
+{
+    brume_status st = BRUME_OK;
+    for (int i = 0; i < S->npending && st == BRUME_OK; i++) {
+        const pbrt_pending_medium *p = &S->pending[i];
+        if (!medium_find(S, p->name))
+            st = err_set(BRUME_ERROR_PARSE, "%s:%d: MediumInterface: no medium named \"%s\" (no MakeNamedMedium in the "
+                         "scene gives it)", p->file, p->line, p->name);
+        else
+            st = pbrt_medium_use(S, p->name, p->box, p->outside);
+    }
+    pbrt_media_free(S);
+    return st;
+}
+
+void pbrt_media_free(pbrt_state *S)
+{
+    for (int i = 0; i < S->npending; i++)
+        free(S->pending[i].file);
+    free(S->pending);
+    S->pending = NULL;
+    S->npending = 0;
+}
+
 brume_status pbrt_media_finish(pbrt_state *S)
 {
     for (int i = 0; i < S->nmedia; i++) {

@@ -24,6 +24,7 @@ typedef struct tris {
     int *idx;  /* 3 nt */
     int nv, nt;
     double *uv; /* 2 nv texture coordinates, or NULL */
+    double area; /* pbrt-v4's Area() of each of the shapes these are (an area light's power) */
 } tris;
 
 static void tris_free(tris *t)
@@ -127,10 +128,29 @@ static void points_box(const double *P, int n, double b[6])
         }
 }
 
+/* The media of the MediumInterface in effect on the shape s (its world box b), which bounds
+ * them (docs/surfaces.md, "How surfaces meet media"): the inside one behind pbrt's normal,
+ * the outside one before it, which replaces whatever medium a ray was in, as in pbrt-v4. A
+ * name that no MakeNamedMedium has given yet is resolved at the end of the file
+ * (pbrt_medium_bind). The shape is named by its file and line: what commit's refusals (an
+ * open mesh) then say. */
+static brume_status shape_media(pbrt_state *S, cJSON *s, const double b[6])
+{
+    attrs *a = &S->a[S->depth];
+    const char *base = strrchr(S->L.file, '/');
+    char name[64];
+    snprintf(name, sizeof name, "%.50s:%d", base ? base + 1 : S->L.file, S->L.dir_line);
+    cJSON_AddStringToObject(s, "name", name);
+    brume_status st = BRUME_OK;
+    if (a->inside[0] && (st = pbrt_medium_bind(S, a->inside, b, false)) == BRUME_OK)
+        cJSON_AddStringToObject(s, "medium_inside", a->inside);
+    if (st == BRUME_OK && a->outside[0] && (st = pbrt_medium_bind(S, a->outside, b, true)) == BRUME_OK)
+        cJSON_AddStringToObject(s, "medium_outside", a->outside);
+    return st;
+}
+
 /* An "interface" shape s (owned from here; its box b in world space): a surface with no
- * material that bounds the media of its MediumInterface, crossed by every ray
- * (docs/surfaces.md, "How surfaces meet media"): the inside one behind pbrt's normal, the
- * outside one before it, which replaces whatever medium a ray was in, as in pbrt-v4. */
+ * material that bounds the media of its MediumInterface, crossed by every ray. */
 static brume_status shape_interface(pbrt_state *S, cJSON *s, const double b[6])
 {
     attrs *a = &S->a[S->depth];
@@ -138,17 +158,8 @@ static brume_status shape_interface(pbrt_state *S, cJSON *s, const double b[6])
         cJSON_Delete(s);
         return BRUME_OK;
     }
-    /* named by its file and line: what commit's refusals (an open mesh) then say */
-    const char *base = strrchr(S->L.file, '/');
-    char name[64];
-    snprintf(name, sizeof name, "%.50s:%d", base ? base + 1 : S->L.file, S->L.dir_line);
-    cJSON_AddStringToObject(s, "name", name);
     cJSON_AddStringToObject(cJSON_AddObjectToObject(s, "material"), "type", "interface");
-    brume_status st = BRUME_OK;
-    if (a->inside[0] && (st = pbrt_medium_use(S, a->inside, b, false)) == BRUME_OK)
-        cJSON_AddStringToObject(s, "medium_inside", a->inside);
-    if (st == BRUME_OK && a->outside[0] && (st = pbrt_medium_use(S, a->outside, b, true)) == BRUME_OK)
-        cJSON_AddStringToObject(s, "medium_outside", a->outside);
+    brume_status st = shape_media(S, s, b);
     if (st != BRUME_OK) {
         cJSON_Delete(s);
         return st;
@@ -157,16 +168,9 @@ static brume_status shape_interface(pbrt_state *S, cJSON *s, const double b[6])
     return BRUME_OK;
 }
 
-/* The inline mesh of the triangles t (world space), their winding made pbrt's normal: the
- * object's carried through the transform, which a mirroring one reverses (flip). */
-static cJSON *tris_json(const tris *t, bool flip)
+/* The inline mesh of the triangles t (world space), wound as brume's front (pbrt_tris_facing). */
+static cJSON *tris_json(const tris *t)
 {
-    if (flip)
-        for (int f = 0; f < t->nt; f++) {
-            int k = t->idx[3 * f + 1];
-            t->idx[3 * f + 1] = t->idx[3 * f + 2];
-            t->idx[3 * f + 2] = k;
-        }
     cJSON *s = cJSON_CreateObject();
     cJSON_AddStringToObject(s, "type", "mesh");
     cJSON_AddItemToObject(s, "positions", cJSON_CreateDoubleArray(t->P, 3 * t->nv));
@@ -174,12 +178,15 @@ static cJSON *tris_json(const tris *t, bool flip)
     return s;
 }
 
-/* Whether the current transform mirrors. */
-static bool ctm_mirrors(const pbrt_state *S)
+/* t's triangles turned to pbrt-v4's front (pbrt_tris_facing; N: the mesh's "normal N" or
+ * NULL; quadric: a sphere's, disk's or cylinder's). */
+static brume_status tris_face(pbrt_state *S, const char *what, const param *N, bool quadric, tris *t)
 {
-    const double *c = S->a[S->depth].ctm.m;
-    return c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
-               c[2] * (c[4] * c[9] - c[5] * c[8]) < 0.0;
+    unsigned char *flip = NULL;
+    brume_status st = pbrt_tris_facing(S, what, N, quadric, t->P, t->nv, t->idx, t->nt, &flip);
+    pbrt_tris_flip(t->idx, t->nt, flip);
+    free(flip);
+    return st;
 }
 
 /* A textured mesh's texture coordinates: its "uv", else pbrt-v4's defaults, (0, 0), (1, 0),
@@ -193,8 +200,11 @@ static brume_status shape_uv(pbrt_state *S, const char *what, const param *uv, b
     return pbrt_uv_unshare(S, what, &t->P, &t->nv, t->idx, t->nt, corners, tri ? 1 : 2, &t->uv);
 }
 
-/* A drawn shape: s (owned from here) with the current diffuse material. */
-static brume_status shape_surface(pbrt_state *S, cJSON *s)
+/* A drawn shape: s (owned from here) with the current material; b: its world box when it
+ * bounds the media of its MediumInterface (a dielectric's), else NULL; area: pbrt-v4's Area()
+ * of each shape it is, for an area light's power (not positive: unknown, or differing from
+ * one triangle to the next, and refused then). */
+static brume_status shape_surface(pbrt_state *S, cJSON *s, const double *b, double area)
 {
     attrs *a = &S->a[S->depth];
     cJSON *mat = pbrt_material_json(S, a);
@@ -204,37 +214,24 @@ static brume_status shape_surface(pbrt_state *S, cJSON *s)
     }
     cJSON_AddItemToObject(s, "material", mat);
     if (a->area) {
-        cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(a->area_L, 3));
+        double k = a->area_two_sided ? 0.5 : 1.0, Le[3];
+        if (a->area_power > 0.0 && !(area > 0.0)) {
+            cJSON_Delete(s);
+            return pbrt_unsupported(&S->L, "Shape: an area light's \"power\" on a shape whose triangles differ in area "
+                                           "or on a PLY mesh (pbrt-v4 gives each triangle, a shape of its own, that power)");
+        }
+        for (int c = 0; c < 3; c++)
+            Le[c] = a->area_power > 0.0 ? a->area_L[c] * k * a->area_power / (PI * area) : a->area_L[c];
+        cJSON_AddItemToObject(mat, "emission", cJSON_CreateDoubleArray(Le, 3));
         if (a->area_two_sided)
             cJSON_AddBoolToObject(mat, "two_sided", true);
     }
-    cJSON_AddItemToArray(S->surfaces, s);
-    return BRUME_OK;
-}
-
-/* An emitting shape's triangles, and a dielectric's (whose inside is behind its normal), face
- * pbrt's normal: the object's winding carried through the transform, which a mirroring
- * transform (the reader's mirrored world included) reverses in world space, so the winding is
- * reversed back. One-sided emission from a mesh with shading normals N faces them in pbrt-v4
- * (FaceForward), which brume does not read: refused. */
-static brume_status emitter_facing(pbrt_state *S, params *ps, const char *what, tris *t)
-{
-    const attrs *a = &S->a[S->depth];
-    const bool sided = strcmp(a->material, "dielectric") == 0;
-    if ((!a->area || a->area_two_sided) && !sided)
-        return BRUME_OK;
-    param *N = pbrt_get(ps, "N");
-    if (a->area && !a->area_two_sided && N && N->n > 0)
-        return pbrt_unsupported(&S->L, "%s: a one-sided area light on a mesh with \"normal N\" (pbrt-v4 turns the emitting "
-                                       "side toward N; give \"bool twosided\" true)", what);
-    const double *c = a->ctm.m;
-    double det = c[0] * (c[5] * c[10] - c[6] * c[9]) - c[1] * (c[4] * c[10] - c[6] * c[8]) +
-                 c[2] * (c[4] * c[9] - c[5] * c[8]);
-    for (int f = 0; det < 0.0 && f < t->nt; f++) {
-        int k = t->idx[3 * f + 1];
-        t->idx[3 * f + 1] = t->idx[3 * f + 2];
-        t->idx[3 * f + 2] = k;
+    brume_status st = b ? shape_media(S, s, b) : BRUME_OK;
+    if (st != BRUME_OK) {
+        cJSON_Delete(s);
+        return st;
     }
+    cJSON_AddItemToArray(S->surfaces, s);
     return BRUME_OK;
 }
 
@@ -289,6 +286,8 @@ static brume_status round_params(pbrt_state *S, params *ps, const char *what, bo
         return pbrt_fail(L, "%s: need 0 <= innerradius < radius, phimax in (0, 360] and zmin != zmax, finite", what);
     int n = (int)ceil(PBRT_ROUND_SEGMENTS * phimax / 360.0);
     double phi = phimax * PI / 180.0, rr[2] = {disk ? r_in : r, r}, zz[2] = {z0, z1};
+    /* pbrt-v4's Disk::Area() and Cylinder::Area(), in object space */
+    t->area = disk ? 0.5 * phi * (r * r - r_in * r_in) : fabs(z1 - z0) * r * phi;
     bool fan = disk && r_in == 0.0; /* the inner ring is the centre: one triangle a segment */
     t->nv = 2 * (n + 1);
     t->nt = fan ? n : 2 * n;
@@ -329,10 +328,22 @@ static brume_status round_params(pbrt_state *S, params *ps, const char *what, bo
     return BRUME_OK;
 }
 
-/* "plymesh": the file, read by assimp as any mesh file. */
-static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, bool interface)
+/* Whether a shape's front matters: it emits from one side, it is a dielectric (outside
+ * before its front) or it bounds media (bound). */
+static bool shape_sided(const attrs *a, bool bound)
+{
+    return (a->area && !a->area_two_sided) || strcmp(a->material, "dielectric") == 0 || bound;
+}
+
+/* "plymesh": the file, read by assimp as any mesh file; brume's mesh builder keeps the
+ * file's winding carried through the transform as its front (reversing it under a mirror),
+ * pbrt-v4's geometric normal of a mesh without normals; ReverseOrientation reverses it
+ * ("reverse_orientation"). A file with normals, whose triangles pbrt-v4 turns toward them,
+ * is refused where the side matters. */
+static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, bool interface, bool bound)
 {
     lexer *L = &S->L;
+    const attrs *a = &S->a[S->depth];
     brume_status st;
     char file[1024] = "", abs[PATH_MAX];
     if ((st = pbrt_get_string(L, ps, "filename", file, sizeof file)) || (st = pbrt_all_used(L, ps, what)))
@@ -341,15 +352,20 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: no \"string filename\"", what);
     if ((st = pbrt_resolve_file(S, what, file, abs)))
         return st;
-    if (S->a[S->depth].area && !S->a[S->depth].area_two_sided)
-        return pbrt_unsupported(L, "%s: a one-sided area light on a PLY mesh (pbrt-v4 turns the emitting side toward the "
-                                   "file's normals; give \"bool twosided\" true)", what);
+    if (shape_sided(a, bound || interface) && pbrt_ply_has_normals(abs))
+        return pbrt_unsupported(L, "%s: %s from a PLY mesh with vertex normals (pbrt-v4 turns each triangle's front toward "
+                                   "them; brume reads the winding)", what,
+                                a->area && !a->area_two_sided ? "a one-sided area light"
+                                : interface || bound      ? "media bounded"
+                                                          : "a dielectric");
     cJSON *s = placed_surface(S, what, "mesh");
     if (!s)
         return err_status();
     cJSON_AddStringToObject(s, "file", abs);
-    if (!interface)
-        return shape_surface(S, s);
+    if (a->reverse)
+        cJSON_AddBoolToObject(s, "reverse_orientation", true);
+    if (!interface && !bound)
+        return shape_surface(S, s, NULL, 0.0);
     /* the box a homogeneous medium needs: the file's points through the transform */
     double *P = NULL, b[6];
     int *idx = NULL, nv = 0, nt = 0;
@@ -358,13 +374,13 @@ static brume_status shape_plymesh(pbrt_state *S, params *ps, const char *what, b
         return pbrt_fail(L, "%s: %s", what, err_message());
     }
     for (int i = 0; i < nv; i++) {
-        vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(P[3 * i], P[3 * i + 1], P[3 * i + 2]));
+        vec3 w = pbrt_m4_point(a->ctm, v3(P[3 * i], P[3 * i + 1], P[3 * i + 2]));
         P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
     }
     points_box(P, nv, b);
     free(P);
     free(idx);
-    return shape_interface(S, s, b);
+    return interface ? shape_interface(S, s, b) : shape_surface(S, s, b, 0.0);
 }
 
 /* Whether the current transform is a similarity (rotation, mirror, uniform scale,
@@ -419,8 +435,28 @@ static brume_status sphere_tris(pbrt_state *S, const char *what, double r, tris 
     return BRUME_OK;
 }
 
+/* A sphere as SPHERE_LON x SPHERE_LAT cells of triangles turned to pbrt-v4's front: an
+ * ellipsoid, or a sphere whose front faces in (pbrt_quadric_reversed). */
+static brume_status sphere_mesh(pbrt_state *S, const char *what, double radius, bool interface, bool bound)
+{
+    if (!(radius > 0.0 && radius <= 1e18))
+        return pbrt_fail(&S->L, "%s: \"float radius\" %g is not in (0, 1e18]", what, radius);
+    tris t = {0};
+    double b[6];
+    brume_status st;
+    if ((st = sphere_tris(S, what, radius, &t)) == BRUME_OK &&
+        (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt)) == BRUME_OK &&
+        (st = tris_face(S, what, NULL, true, &t)) == BRUME_OK) {
+        points_box(t.P, t.nv, b);
+        st = interface ? shape_interface(S, tris_json(&t), b)
+                       : shape_surface(S, tris_json(&t), bound ? b : NULL, 4.0 * PI * radius * radius);
+    }
+    tris_free(&t);
+    return st;
+}
+
 /* "sphere": a brume sphere, or the box of an "interface" sphere's media. */
-static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bool interface)
+static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bool interface, bool bound)
 {
     lexer *L = &S->L;
     const attrs *a = &S->a[S->depth];
@@ -429,33 +465,24 @@ static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bo
     if ((st = pbrt_get_float(L, ps, "radius", &radius)) || (st = pbrt_all_used(L, ps, what)))
         return st;
     const double *c = a->ctm.m;
+    const bool inward = pbrt_quadric_reversed(S) && shape_sided(a, bound || interface);
     if (!interface && a->textured &&
-        !(c[0] > 0.0 && c[1] == 0.0 && c[2] == 0.0 && c[4] == 0.0 && c[5] == c[0] && c[6] == 0.0 && c[8] == 0.0 &&
-          c[9] == 0.0 && c[10] == c[0]))
-        return pbrt_unsupported(L, "%s: a textured sphere turned or mirrored (brume maps a sphere's (u, v) in "
+        (inward || !(c[0] > 0.0 && c[1] == 0.0 && c[2] == 0.0 && c[4] == 0.0 && c[5] == c[0] && c[6] == 0.0 &&
+                     c[8] == 0.0 && c[9] == 0.0 && c[10] == c[0])))
+        return pbrt_unsupported(L, "%s: a textured sphere turned, mirrored or reversed (brume maps a sphere's (u, v) in "
                                    "world axes; a pbrt view without \"Scale -1 1 1\" mirrors the world)", what);
     if (!ctm_similar(S) && !interface)
         return pbrt_unsupported(L, "%s: a sphere under a non-uniform scale or shear (an ellipsoid: brume draws "
                                    "spheres; as an interface it bounds media)", what);
-    if (!ctm_similar(S)) {
-        if (!(radius > 0.0 && radius <= 1e18))
-            return pbrt_fail(L, "%s: \"float radius\" %g is not in (0, 1e18]", what, radius);
-        tris t = {0};
-        double b[6];
-        if ((st = sphere_tris(S, what, radius, &t)) == BRUME_OK &&
-            (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt)) == BRUME_OK) {
-            points_box(t.P, t.nv, b);
-            st = shape_interface(S, tris_json(&t, ctm_mirrors(S)), b);
-        }
-        tris_free(&t);
-        return st;
-    }
+    if (!ctm_similar(S) || inward)
+        return sphere_mesh(S, what, radius, interface, bound);
     cJSON *s = placed_surface(S, what, "sphere");
     if (!s)
         return err_status();
     cJSON_AddNumberToObject(s, "radius", radius);
-    if (!interface)
-        return shape_surface(S, s);
+    const double area = 4.0 * PI * radius * radius; /* pbrt-v4's Sphere::Area(), in object space */
+    if (!interface && !bound)
+        return shape_surface(S, s, NULL, area);
     double P[24], b[6]; /* the box: the corners of the object's cube around it */
     for (int i = 0; i < 8; i++) {
         vec3 w = pbrt_m4_point(S->a[S->depth].ctm, v3(i & 1 ? radius : -radius, i & 2 ? radius : -radius,
@@ -463,7 +490,67 @@ static brume_status shape_sphere(pbrt_state *S, params *ps, const char *what, bo
         P[3 * i] = w.x, P[3 * i + 1] = w.y, P[3 * i + 2] = w.z;
     }
     points_box(P, 8, b);
-    return shape_interface(S, s, b);
+    return interface ? shape_interface(S, s, b) : shape_surface(S, s, b, area);
+}
+
+/* The world area of each group of `per` triangles of t (a triangle, or a bilinear patch's
+ * two), pbrt-v4's Triangle::Area() and BilinearPatch::Area() of a planar patch: one number when
+ * all are equal (to 1e-9 of it), else -1. */
+static double tris_area(const tris *t, int per)
+{
+    double first = -1.0;
+    for (int g = 0; g < t->nt / per; g++) {
+        double A = 0.0;
+        for (int k = 0; k < per; k++) {
+            const int *v = &t->idx[3 * (per * g + k)];
+            vec3 p0 = v3(t->P[3 * v[0]], t->P[3 * v[0] + 1], t->P[3 * v[0] + 2]);
+            vec3 p1 = v3(t->P[3 * v[1]], t->P[3 * v[1] + 1], t->P[3 * v[1] + 2]);
+            vec3 p2 = v3(t->P[3 * v[2]], t->P[3 * v[2] + 1], t->P[3 * v[2] + 2]);
+            A += 0.5 * v3_length(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
+        }
+        if (g == 0)
+            first = A;
+        else if (!(fabs(A - first) <= 1e-9 * first))
+            return -1.0;
+    }
+    return first;
+}
+
+/* A Shape's triangles (trianglemesh, bilinearmesh, disk, cylinder) into t, world space,
+ * turned to pbrt-v4's front, with their texture coordinates where the material is textured. */
+static brume_status shape_tris(pbrt_state *S, const char *type, params *ps, const char *what, tris *t)
+{
+    lexer *L = &S->L;
+    const attrs *a = &S->a[S->depth];
+    const bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
+    /* shading normals turn the front (pbrt_tris_facing); brume shades by the geometric normal.
+       Tangents do not change the geometry: read and not used; uv is read for a texture */
+    static const char *const normals[] = {"normal", "normal3", NULL};
+    param *N = NULL, *uv = round ? NULL : pbrt_get(ps, "uv");
+    brume_status st = round ? BRUME_OK : pbrt_get_array(L, ps, "N", normals, &N);
+    if (tri) {
+        pbrt_get(ps, "S");
+        pbrt_get(ps, "faceIndices");
+    }
+    int *quad = NULL;
+    if (st == BRUME_OK && round)
+        st = round_params(S, ps, what, strcmp(type, "disk") == 0, t);
+    else if (st == BRUME_OK && (st = mesh_params(S, ps, what, tri ? 3 : 4, t, &quad)) == BRUME_OK &&
+             (st = pbrt_all_used(L, ps, what)) == BRUME_OK && !tri)
+        st = bilinear_tris(L, quad, t);
+    free(quad);
+    if (st == BRUME_OK && !round)
+        t->area = tris_area(t, tri ? 1 : 2);
+    unsigned char *flip = NULL;
+    if (st == BRUME_OK)
+        st = pbrt_tris_facing(S, what, N && N->n > 0 ? N : NULL, round, t->P, t->nv, t->idx, t->nt, &flip);
+    /* texture coordinates before the turn: pbrt-v4's default (u, v) follow the file's order */
+    if (st == BRUME_OK && strcmp(a->material, "interface") != 0 && !round && a->textured)
+        st = shape_uv(S, what, uv, tri, t);
+    if (st == BRUME_OK)
+        pbrt_tris_flip(t->idx, t->nt, flip);
+    free(flip);
+    return st;
 }
 
 static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
@@ -473,69 +560,42 @@ static brume_status shape_read(pbrt_state *S, const char *type, params *ps)
     attrs *a = &S->a[S->depth];
     char what[160];
     snprintf(what, sizeof what, "Shape \"%s\"", type);
-    bool interface = strcmp(a->material, "interface") == 0;
+    const bool interface = strcmp(a->material, "interface") == 0;
+    /* a drawn shape a ray crosses (a dielectric) that bounds its MediumInterface's media */
+    const bool bound = !interface && (a->inside[0] || a->outside[0]);
     if (interface && S->a[S->depth].area)
         return pbrt_unsupported(L, "%s: an area light on an \"interface\" shape (brume does not draw it)", what);
     if (strcmp(type, "sphere") == 0)
-        return shape_sphere(S, ps, what, interface);
+        return shape_sphere(S, ps, what, interface, bound);
     if (strcmp(type, "plymesh") == 0)
-        return shape_plymesh(S, ps, what, interface);
+        return shape_plymesh(S, ps, what, interface, bound);
     bool tri = strcmp(type, "trianglemesh") == 0, round = strcmp(type, "disk") == 0 || strcmp(type, "cylinder") == 0;
     if (!tri && !round && strcmp(type, "bilinearmesh") != 0)
         return pbrt_unsupported(L, "%s: not supported by brume's pbrt reader (sphere, disk, cylinder, trianglemesh, "
                                    "bilinearmesh, plymesh)", what);
-    if (round && interface)
-        return pbrt_unsupported(L, "%s: an \"interface\" shape that bounds no volume (a medium needs a closed shape)", what);
-    /* shading normals and tangents do not change a diffuse surface's geometry: read and not
-       used (brume shades by the geometric normal); uv is read for a textured material */
-    if (!round)
-        pbrt_get(ps, "N");
-    param *uv = round ? NULL : pbrt_get(ps, "uv");
-    if (tri) {
-        pbrt_get(ps, "S");
-        pbrt_get(ps, "faceIndices");
-    }
+    if (round && (interface || bound))
+        return pbrt_unsupported(L, "%s: %s shape that bounds no volume (a medium needs a closed shape)", what,
+                                interface ? "an \"interface\"" : "a dielectric MediumInterface");
     tris t = {0};
-    int *quad = NULL;
-    if (round)
-        st = round_params(S, ps, what, strcmp(type, "disk") == 0, &t);
-    else if ((st = mesh_params(S, ps, what, tri ? 3 : 4, &t, &quad)) == BRUME_OK &&
-             (st = pbrt_all_used(L, ps, what)) == BRUME_OK && !tri)
-        st = bilinear_tris(L, quad, &t);
-    if (st) {
-        free(quad);
+    if ((st = shape_tris(S, type, ps, what, &t)) || (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
         tris_free(&t);
         return st;
     }
-    free(quad);
-    if (!interface && !round && a->textured && (st = shape_uv(S, what, uv, tri, &t))) {
-        tris_free(&t);
-        return st;
-    }
-    if (interface) {
-        double b[6];
-        points_box(t.P, t.nv, b);
-        if ((st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt)) == BRUME_OK)
-            st = shape_interface(S, tris_json(&t, ctm_mirrors(S)), b);
-        tris_free(&t);
-        return st;
-    }
-    if ((st = emitter_facing(S, ps, what, &t)) || (st = pbrt_count_inline(S, what, 3.0 * t.nv + 3.0 * t.nt))) {
-        tris_free(&t);
-        return st;
-    }
-    cJSON *s = tris_json(&t, false);
-    if (a->textured)
+    double b[6];
+    points_box(t.P, t.nv, b);
+    cJSON *s = tris_json(&t);
+    if (!interface && a->textured)
         cJSON_AddItemToObject(s, "uvs", cJSON_CreateDoubleArray(t.uv, 2 * t.nv));
     tris_free(&t);
-    return shape_surface(S, s);
+    return interface ? shape_interface(S, s, b) : shape_surface(S, s, bound ? b : NULL, t.area);
 }
 
 /* The media on a shape's two sides. In pbrt-v4 a MediumInterface whose sides are one medium
  * is no transition: rays keep their medium through the shape, as through one without it
  * (an "interface" shape of one medium on both sides is refused: it would change nothing). No
  * ray crosses an opaque shape, so its MediumInterface changes nothing either. What is left,
- * *media, is an "interface" shape with a transition: it bounds its media (shape_interface). */
+ * *media, is an "interface" or "dielectric" shape with a transition: it bounds its media
+ * (shape_media), the dielectric's inside behind its front as pbrt-v4's. */
 static brume_status shape_sides(pbrt_state *S, bool *media)
 {
     const attrs *a = &S->a[S->depth];
@@ -549,7 +609,7 @@ static brume_status shape_sides(pbrt_state *S, bool *media)
                              a->inside, a->outside, a->inside);
         return BRUME_OK;
     }
-    *media = interface;
+    *media = interface || strcmp(a->material, "dielectric") == 0;
     return BRUME_OK;
 }
 

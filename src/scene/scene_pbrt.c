@@ -194,6 +194,9 @@ static brume_status directive(pbrt_state *S, params *ps)
         return pbrt_attribute_end(S, dir);
     } else if (strcmp(dir, "MediumInterface") == 0) {
         return medium_interface(S, a, dir);
+    } else if (strcmp(dir, "ReverseOrientation") == 0) {
+        a->reverse = !a->reverse; /* pbrt-v4 toggles it for the shapes that follow in the block */
+        pbrt_next(L);
     } else {
         return pbrt_unsupported(L, "%s: not supported by brume's pbrt reader (docs/pbrt.md lists what is)", dir);
     }
@@ -287,7 +290,8 @@ static brume_status emit_scene(pbrt_state *S, const char *path, char **json)
     if (S->yres > S->xres)
         fov = 2.0 * atan(tan(0.5 * fov * PI / 180.0) * S->yres / S->xres) * 180.0 / PI;
     cJSON_AddNumberToObject(cam, "fov", fov);
-    if (pbrt_camera_medium(S, cam, P) != BRUME_OK || pbrt_media_finish(S) != BRUME_OK)
+    if (pbrt_media_resolve(S) != BRUME_OK || pbrt_camera_medium(S, cam, P) != BRUME_OK ||
+        pbrt_media_finish(S) != BRUME_OK)
         return err_status();
     pbrt_imaging(S);
     if (S->lens_radius > 0.0) {
@@ -379,6 +383,7 @@ brume_status scene_pbrt_read(const char *path, bool lenient, char **json)
     for (int i = 0; i < S->ntexts; i++)
         free(S->texts[i]);
     pbrt_textures_free(S);
+    pbrt_media_free(S);
     cJSON_Delete(S->lights);
     cJSON_Delete(S->media_j);
     cJSON_Delete(S->surfaces);

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/xform.h"
 #include "io/json.h"
+#include "io/mesh.h"
 #include "scene/scene_build.h"
 #include "scene/scene_json_texture.h"
 #include "scene/scene_keys.h"
@@ -82,10 +83,38 @@ static brume_status parse_uvs(const cJSON *j, jloc at, brume_scene *s, int nv)
     return st ? err_prefix("%s: %s.uvs", at.file, at.path) : BRUME_OK;
 }
 
+/* A mesh's "reverse_orientation": its front the other side, each triangle's winding reversed
+ * (pbrt-v4's ReverseOrientation). */
+static void reverse_winding(int *idx, int ntri)
+{
+    for (int t = 0; t < ntri; t++) {
+        int k = idx[3 * t + 1];
+        idx[3 * t + 1] = idx[3 * t + 2];
+        idx[3 * t + 2] = k;
+    }
+}
+
+/* A mesh file with "reverse_orientation": read here, its winding reversed, then built as an
+ * inline one (a file without it: brume_scene_add_mesh_file). */
+static brume_status add_reversed_mesh_file(brume_scene *s, const char *path, const double *xf,
+                                           const brume_material *m, const char *name)
+{
+    double *pos = NULL;
+    int *idx = NULL, nv = 0, ntri = 0;
+    brume_status st = mesh_load(path, &pos, &nv, &idx, &ntri);
+    if (st == BRUME_OK) {
+        reverse_winding(idx, ntri);
+        st = brume_scene_add_mesh(NULL, s, pos, nv, idx, ntri, xf, m, name);
+    }
+    free(pos);
+    free(idx);
+    return st;
+}
+
 /* A mesh given inline: `positions` [x, y, z, ...] and `indices` [i, j, k, ...] (counter-
  * clockwise seen from the front), built by brume_scene_add_mesh. */
 static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, const double *xf,
-                                      const brume_material *m, const char *name)
+                                      const brume_material *m, const char *name, bool reverse)
 {
     double *p = NULL, *t = NULL;
     int np = 0, nt = 0;
@@ -98,6 +127,8 @@ static brume_status parse_inline_mesh(const cJSON *j, jloc at, brume_scene *s, c
     if (st == BRUME_OK) {
         for (int i = 0; i < nt; i++)
             idx[i] = (int)t[i];
+        if (reverse)
+            reverse_winding(idx, nt / 3);
         if (brume_scene_add_mesh(NULL, s, p, np / 3, idx, nt / 3, xf, m, name))
             st = err_prefix("%s: %s", at.file, at.path);
     }
@@ -120,7 +151,8 @@ static const char *const *surface_keys(const char *type)
     static const char *const plane_keys[] = {"type", "name", "material", "transform", "keyframes", "point",
                                              "normal", "size", "medium_inside", "medium_outside", NULL};
     static const char *const mesh_keys[] = {"type", "name", "material", "transform", "keyframes", "file", "positions",
-                                            "indices", "medium_inside", "medium_outside", "uvs", NULL};
+                                            "indices", "medium_inside", "medium_outside", "uvs",
+                                            "reverse_orientation", NULL};
     return strcmp(type, "sphere") == 0  ? sphere_keys
            : strcmp(type, "box") == 0   ? box_keys
            : strcmp(type, "quad") == 0  ? quad_keys
@@ -162,16 +194,21 @@ static brume_status add_shape(const cJSON *j, jloc at, brume_scene *s, const cha
         if ((st = json_number(j, at, "size", 0, 1e-9, BIG, &size))) return st;
         st = brume_scene_add_plane(NULL, s, p, n, size, xf->m, m, name);
     } else if (cJSON_HasObjectItem(j, "positions") || cJSON_HasObjectItem(j, "indices")) {
+        bool reverse = false;
         if (cJSON_HasObjectItem(j, "file"))
             return err_set(BRUME_ERROR_PARSE, "%s: %s: give either file or positions and indices", at.file, at.path);
-        return parse_inline_mesh(j, at, s, xf->m, m, name);
+        if ((st = json_bool(j, at, "reverse_orientation", 0, &reverse))) return st;
+        return parse_inline_mesh(j, at, s, xf->m, m, name, reverse);
     } else {
         char file[1024], path[2048];
+        bool reverse = false;
+        if ((st = json_bool(j, at, "reverse_orientation", 0, &reverse))) return st;
         if (cJSON_HasObjectItem(j, "uvs"))
             return err_set(BRUME_ERROR_PARSE, "%s: %s.uvs: given with positions and indices only", at.file, at.path);
         if ((st = json_string(j, at, "file", 1, file, sizeof file))) return st;
         json_resolve_path(at.file, file, path, sizeof path);
-        st = brume_scene_add_mesh_file(NULL, s, path, xf->m, m, name);
+        st = reverse ? add_reversed_mesh_file(s, path, xf->m, m, name)
+                     : brume_scene_add_mesh_file(NULL, s, path, xf->m, m, name);
     }
     return st ? err_prefix("%s: %s", at.file, at.path) : BRUME_OK;
 }
