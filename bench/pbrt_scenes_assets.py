@@ -35,7 +35,14 @@ GRID_HINTS = {
     "fire.nvdb": ("fire", 50.0),
     # tests/pbrt_rehearsal/blackbody_slab.pbrt: density 1 on 8 x 4 x 8 voxels (its test).
     "slab.nvdb": ("slab", (-2.0, 1.0, -2.0, 2.0, 1.5, 2.0)),
+    # tests/pbrt_conventions/grid_nanovdb.pbrt: grid_uniform.pbrt's 4 x 4 x 4 densities.
+    "faces4.nvdb": ("faces4", (0.0, 0.0, 0.0, 1.0, 1.0, 1.0)),
 }
+
+
+def faces4_density(i, j, k):
+    """The densities of tests/pbrt_conventions/grid_uniform.pbrt (non-zero outer samples)."""
+    return 0.5 + 0.25 * ((i + 2 * j + 3 * k) % 5)
 
 
 def say(msg):
@@ -241,6 +248,13 @@ def standin_grid(path, brume):
             f.write(struct.pack("<256f", *([1.0] * 256)))
         cmd = [brume, "convert", raw, path, "--dims", "8x4x8", "--bounds", ",".join("%g" % v for v in arg)]
         what = "brume convert of a constant 8 x 4 x 8 grid in %s" % (arg,)
+    elif kind == "faces4":
+        raw = path + ".raw"
+        vals = [faces4_density(i, j, k) for k in range(4) for j in range(4) for i in range(4)]
+        with open(raw, "wb") as f:
+            f.write(struct.pack("<64f", *vals))
+        cmd = [brume, "convert", raw, path, "--dims", "4x4x4", "--bounds", ",".join("%g" % v for v in arg)]
+        what = "brume convert of grid_uniform.pbrt's 4 x 4 x 4 densities in %s" % (arg,)
     elif kind == "fire":
         cmd = [brume, "gen", "fire", "--resolution", "64", "--height", "%g" % arg, "-o", path]
         what = "brume gen fire, height %g" % arg
