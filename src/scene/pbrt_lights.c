@@ -300,10 +300,13 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         pbrt_copy(S->far_light, sizeof S->far_light, type);
     }
     if (strcmp(type, "distant") == 0) {
-        double from[3] = {0, 0, 0}, to[3] = {0, 0, 1};
+        double from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, E_v = -1.0;
         if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
-            (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
+            (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_get_float(L, ps, "illuminance", &E_v)) ||
+            (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
             return st;
+        if (E_v > 0.0) /* pbrt-v4: the scale times an illuminance E_v > 0, L being of luminance 1 */
+            scale *= E_v;
         vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
         if (!(v3_length(d) > 0.0))
             return pbrt_fail(L, "LightSource \"%s\": from equals to", type);
