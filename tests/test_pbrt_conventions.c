@@ -8,6 +8,8 @@
 #include <math.h>
 
 #include "brume.h"
+#include "density/density.h"
+#include "scene/scene.h"
 
 #define VIEW "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
 
@@ -35,4 +37,107 @@ TEST(distant_illuminance_as_pbrt)
     cJSON_Delete(root);
 }
 
-TEST_MAIN(distant_illuminance_as_pbrt)
+/* pbrt-v4's NanoVDBMedium density at the world point q of a grid of n[0] x n[1] x n[2]
+ * voxels v (x fastest) whose index-to-world map is q = b0 + (i + 1/2) h per axis (brume
+ * convert's placement on --bounds b0..b0 + n h): pIndex = worldToIndexF(q), then NanoVDB's
+ * SampleFromVoxels<1> (trilinear between the voxels at floor(pIndex) and the next, a voxel
+ * outside the grid reading the background 0), and 0 outside the medium's bounds, the
+ * grid's worldBBox: index [0, n] (NanoVDB's bounding box of voxels [0, n - 1] grown by one
+ * on the upper side). */
+static double nano_voxel(const double *v, const int n[3], int x, int y, int z)
+{
+    if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2])
+        return 0.0;
+    return v[((size_t)z * (size_t)n[1] + (size_t)y) * (size_t)n[0] + (size_t)x];
+}
+
+static double pbrt_nanovdb_density(const double *v, const int n[3], const double b0[3], const double h[3],
+                                   const double q[3])
+{
+    double s[3], d[3];
+    int i[3];
+    for (int k = 0; k < 3; k++) {
+        s[k] = (q[k] - b0[k]) / h[k] - 0.5;
+        if (s[k] < 0.0 || s[k] > n[k])
+            return 0.0;
+        i[k] = (int)floor(s[k]);
+        d[k] = s[k] - i[k];
+    }
+    double r = 0.0;
+    for (int c = 0; c < 8; c++) {
+        int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+        double w = (dx ? d[0] : 1 - d[0]) * (dy ? d[1] : 1 - d[1]) * (dz ? d[2] : 1 - d[2]);
+        r += w * nano_voxel(v, n, i[0] + dx, i[1] + dy, i[2] + dz);
+    }
+    return r;
+}
+
+/* A nanovdb medium of 4 x 4 x 4 voxels 1 + x + 4 y + 16 z (faces not zero) on [-1, 3] x
+ * [0, 2] x [2, 3] (voxels 1, 0.5 and 0.25 wide), written by brume convert: brume's density is
+ * pbrt-v4's lookup at every point of a lattice from 1.25 voxels before the box to 1.25
+ * beyond it (stepping 1e-3 of a voxel off each face of pbrt-v4's bounds), and by hand: a
+ * voxel centre (voxel (1, 2, 3): 58), pbrt-v4's lower bound in x (voxel (0, 1, 1): 21, where
+ * a grid held to its voxel box reads it too), half a voxel past the upper face in x (half of
+ * voxel (3, 1, 1): 12, where a held grid ends), and beyond pbrt-v4's bounds (0). Before the
+ * lookup was pbrt-v4's, the lattice failed at its first point inside the box's lower half
+ * voxel (brume 1, pbrt-v4 0). */
+TEST(nanovdb_is_pbrt_lookup_to_the_faces)
+{
+    const int n[3] = {4, 4, 4};
+    const double b0[3] = {-1, 0, 2}, h[3] = {1, 0.5, 0.25};
+    double v[64];
+    float vf[64];
+    for (int i = 0; i < 64; i++)
+        vf[i] = (float)(v[i] = 1 + i % 4 + 4 * (i / 4 % 4) + 16 * (i / 16));
+    const char *dir = test_fresh_dir("nanovdb");
+    char raw[4096], nvdb[4096], cmd[12288];
+    snprintf(raw, sizeof raw, "%s/g.raw", dir);
+    snprintf(nvdb, sizeof nvdb, "%s/g.nvdb", dir);
+    test_write_bytes(raw, vf, sizeof vf);
+    snprintf(cmd, sizeof cmd, "%s convert %s %s --dims 4x4x4 --bounds -1,0,2,3,2,3 > /dev/null", BRUME_EXE, raw, nvdb);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    char text[8192];
+    snprintf(text, sizeof text,
+             "Film \"rgb\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+             "Scale -1 1 1\nLookAt 0 0 -8  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+             "MakeNamedMedium \"g\" \"string type\" \"nanovdb\" \"string filename\" \"%s\"\n"
+             "  \"rgb sigma_a\" [0.1 0.1 0.1] \"rgb sigma_s\" [0 0 0]\n"
+             "AttributeBegin\nTranslate 0 0 2\nMaterial \"interface\"\nMediumInterface \"g\" \"\"\n"
+             "Shape \"sphere\" \"float radius\" 6\nAttributeEnd\n",
+             nvdb);
+    const char *path = test_tmp_path("nanovdb.pbrt");
+    test_write_file(path, text);
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    if (brume_scene_load(ctx, &(brume_source){.path = path}, NULL, &s) != BRUME_OK ||
+        brume_scene_commit(ctx, s) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    const density *rho = s->media[0].rho;
+    int checked = 0;
+    for (int a = 0; a <= 26; a++)
+        for (int b = 0; b <= 26; b++)
+            for (int c = 0; c <= 26; c++) {
+                const int t[3] = {a, b, c};
+                double q[3];
+                for (int k = 0; k < 3; k++) { /* voxel-box coordinate u from -1.25 to n + 1.25 */
+                    double u = -1.25 + (n[k] + 2.5) * t[k] / 26.0;
+                    if (fabs(u - 0.5) < 1e-9 || fabs(u - n[k] - 0.5) < 1e-9) /* pbrt-v4's faces: either side */
+                        u += (t[k] % 2 ? 1e-3 : -1e-3);
+                    q[k] = b0[k] + u * h[k];
+                }
+                double want = pbrt_nanovdb_density(v, n, b0, h, q), got = density_eval(rho, v3(q[0], q[1], q[2]));
+                if (!(fabs(got - want) <= 1e-5 * (1 + want)))
+                    TEST_FAIL("at (%g, %g, %g): brume %.9g, pbrt-v4's lookup %.9g", q[0], q[1], q[2], got, want);
+                checked++;
+            }
+    ASSERT_EQ_INT(checked, 27 * 27 * 27);
+    ASSERT_NEAR(density_eval(rho, v3(0.5, 1.25, 2.875)), 58.0, 1e-5);
+    ASSERT_NEAR(density_eval(rho, v3(-0.5 + 1e-9, 0.75, 2.375)), 21.0, 1e-5);
+    ASSERT_NEAR(density_eval(rho, v3(3.0, 0.75, 2.375)), 12.0, 1e-5);
+    ASSERT_NEAR(density_eval(rho, v3(-0.5 - 1e-3, 0.75, 2.375)), 0.0, 0);
+    ASSERT_NEAR(density_eval(rho, v3(3.5 + 1e-3, 0.75, 2.375)), 0.0, 0);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces)

@@ -472,6 +472,7 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
     cJSON_AddStringToObject(d, "type", "grid");
     cJSON_AddStringToObject(d, "file", abs);
     cJSON_AddStringToObject(d, "grid", gname);
+    cJSON_AddStringToObject(d, "edge", "zero"); /* pbrt-v4's NanoVDB lookup (docs/scene-format.md) */
     if (!medium_place(S, d, name)) {
         cJSON_Delete(m);
         return err_status();
