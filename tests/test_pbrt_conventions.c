@@ -140,4 +140,59 @@ TEST(nanovdb_is_pbrt_lookup_to_the_faces)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces)
+/* An 8 x 8 map of rgba everywhere, written to path (brume writes OpenEXR's R, G, B, A). */
+static void write_constant_map(const char *path, const float rgba[4])
+{
+    brume_context *ctx = brume_context_new();
+    brume_image *img = NULL;
+    ASSERT_EQ_INT(brume_image_new(ctx, 8, 8, &img), BRUME_OK);
+    float *px = brume_image_pixels(img);
+    for (int i = 0; i < 64; i++)
+        for (int c = 0; c < 4; c++)
+            px[4 * i + c] = rgba[c];
+    if (brume_image_write(ctx, img, path, NULL) != BRUME_OK)
+        TEST_FAIL("%s", brume_context_last_error(ctx));
+    brume_image_release(img);
+    brume_context_release(ctx);
+}
+
+/* The sky's scale in the translation of an image infinite light of illuminance 3 from map. */
+static double sky_scale(const char *map)
+{
+    char text[4096], msg[2048];
+    snprintf(text, sizeof text,
+             "Film \"rgb\"\n" VIEW "WorldBegin\n"
+             "LightSource \"infinite\" \"string filename\" \"%s\" \"float illuminance\" [3]\n",
+             map);
+    cJSON *root = pbrt_translate("sky.pbrt", text, msg, sizeof msg);
+    if (!root)
+        TEST_FAIL("%s", msg);
+    const cJSON *bg = cJSON_GetObjectItemCaseSensitive(root, "background");
+    double scale = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(bg, "scale"));
+    cJSON_Delete(root);
+    return scale;
+}
+
+/* pbrt-v4's ImageInfiniteLight illuminance: scale = E_v / k_e, k_e the sum over the upper
+ * half's texels of lum[c] x values[c] x cos theta (times 2 pi / texels), values[c] the
+ * texel's first three channels in the order the image holds them: R, G, B from a PFM, and
+ * OpenEXR's order, sorted by name, from an EXR (A, B, G for an RGBA file). For a constant
+ * map the cos theta sum is common to both files, so with (r, g, b, a) = (1, 2, 4, 1) the EXR's
+ * scale is the PFM's times (0.2126 r + 0.7152 g + 0.0722 b) / (0.2126 a + 0.7152 b +
+ * 0.0722 g) = 1.9318 / 3.2178. Rec. 709's weights in RGB order would give 1 and render the
+ * EXR 1.67 times as bright as pbrt-v4 does. */
+TEST(sky_illuminance_reads_channels_in_file_order)
+{
+    const float rgba[4] = {1, 2, 4, 1};
+    const char *exr = test_tmp_path("const.exr"), *pfm = test_tmp_path("const.pfm");
+    write_constant_map(exr, rgba);
+    write_constant_map(pfm, rgba);
+    double s_exr = sky_scale(exr), s_pfm = sky_scale(pfm);
+    const double lum[3] = {0.2126, 0.7152, 0.0722};
+    double rgb_order = lum[0] * rgba[0] + lum[1] * rgba[1] + lum[2] * rgba[2];
+    double exr_order = lum[0] * rgba[3] + lum[1] * rgba[2] + lum[2] * rgba[1];
+    if (!(fabs(s_exr / s_pfm - rgb_order / exr_order) <= 1e-4))
+        TEST_FAIL("EXR scale / PFM scale %.6f, want %.6f", s_exr / s_pfm, rgb_order / exr_order);
+}
+
+TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces, sky_illuminance_reads_channels_in_file_order)
