@@ -7,6 +7,7 @@ and the image arithmetic of the comparison (standard library only: no numpy here
   pbrt_scenes_assets.py shrink IN.pfm K OUT.pfm     K x K box means (a full-size pbrt-v4
                                                     image at s spp -> K^2 s spp at 1/K size)
   pbrt_scenes_assets.py png IN.pfm OUT.png MAXW     sRGB 8-bit picture, box-shrunk to <= MAXW
+                                                    (one under 160 wide: pixels repeated)
   pbrt_scenes_assets.py ratios A.pfm B.pfm          mean(A) / mean(B) per channel "r/g/b"
 
 Stand-ins are generated, never copied: grids with brume's own `gen cloud` / `gen fire`,
@@ -390,6 +391,10 @@ def main(argv):
             k += 1
         if k > 1:
             w, h, rows = shrink(w, h, rows, k)
+        f = max(1, 160 // w)  # a small render's pixels repeated (nearest) to at least 160 wide
+        if f > 1:
+            rows = [[v for x in range(w) for _ in range(f) for v in r[3 * x:3 * x + 3]] for r in rows for _ in range(f)]
+            w, h = w * f, h * f
         write_png(argv[2], w, h, [[srgb8(v) for v in r] for r in rows])
     elif len(argv) == 3 and argv[0] == "ratios":
         means = []
