@@ -195,4 +195,38 @@ TEST(sky_illuminance_reads_channels_in_file_order)
         TEST_FAIL("EXR scale / PFM scale %.6f, want %.6f", s_exr / s_pfm, rgb_order / exr_order);
 }
 
-TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces, sky_illuminance_reads_channels_in_file_order)
+/* pbrt-v4's NanoVDBMedium is emissive only where it has a temperature grid and LeScale > 0
+ * (IsEmissive): "Lescale" 0 on a fire file is a medium that emits nothing, which brume read
+ * as a blackbody of scale 0 and refused ("0 outside [1e-30, 1e+30]"); a positive one emits. */
+TEST(nanovdb_lescale_zero_emits_nothing)
+{
+    const char *dir = test_fresh_dir("lescale");
+    char nvdb[4096], cmd[8192];
+    snprintf(nvdb, sizeof nvdb, "%s/fire.nvdb", dir);
+    snprintf(cmd, sizeof cmd, "%s gen fire --resolution 16 -o %s > /dev/null", BRUME_EXE, nvdb);
+    ASSERT_EQ_INT(test_system(cmd), 0);
+    for (int k = 0; k < 2; k++) {
+        char text[8192], msg[2048];
+        snprintf(text, sizeof text,
+                 "Film \"rgb\"\n" VIEW "WorldBegin\n"
+                 "MakeNamedMedium \"f\" \"string type\" \"nanovdb\" \"string filename\" \"%s\" \"float Lescale\" [%d]\n"
+                 "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"f\" \"\"\n"
+                 "Shape \"sphere\" \"float radius\" 100\nAttributeEnd\n",
+                 nvdb, k);
+        cJSON *root = pbrt_translate("lescale.pbrt", text, msg, sizeof msg);
+        if (!root)
+            TEST_FAIL("Lescale %d: %s", k, msg);
+        const cJSON *m = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "media"), 0);
+        ASSERT_TRUE(cJSON_HasObjectItem(m, "blackbody") == (k == 1));
+        cJSON_Delete(root);
+        brume_context *ctx = brume_context_new();
+        brume_scene *sc = NULL;
+        if (brume_scene_load(ctx, &(brume_source){.path = test_tmp_path("lescale.pbrt")}, NULL, &sc) != BRUME_OK)
+            TEST_FAIL("Lescale %d: %s", k, brume_context_last_error(ctx));
+        brume_scene_release(sc);
+        brume_context_release(ctx);
+    }
+}
+
+TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces, sky_illuminance_reads_channels_in_file_order,
+          nanovdb_lescale_zero_emits_nothing)
