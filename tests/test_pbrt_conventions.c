@@ -9,6 +9,7 @@
 
 #include "brume.h"
 #include "density/density.h"
+#include "medium/blackbody.h"
 #include "scene/scene.h"
 
 #define VIEW "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
@@ -228,5 +229,21 @@ TEST(nanovdb_lescale_zero_emits_nothing)
     }
 }
 
-TEST_MAIN(distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces, sky_illuminance_reads_channels_in_file_order,
+/* pbrt-v4's BlackbodySpectrum has no upper temperature: pbrt-v4-scenes' explosion scales its
+ * file's temperatures by 100, to 1e5 K and beyond, where the peak-normalized visible
+ * spectrum keeps falling (as T^-4 in the limit). brume's rendering table, held at its 1e5 K
+ * colour above 1e5 K, rendered a 2e5 K voxel 15 times too bright; it agrees with the direct
+ * integral of Planck's law now, from 1e5 K to 1e8 K, and below as before. */
+TEST(blackbody_table_follows_planck_past_1e5_kelvin)
+{
+    blackbody_init();
+    for (double T = 20000.0; T < 1.2e8; T *= 1.19) { /* below, test_sparse_fields.c */
+        color a = blackbody_rgb(T), b = blackbody_rgb_exact(T);
+        for (int c = 0; c < BRUME_NSAMPLES; c++)
+            if (!(fabs(a.c[c] - b.c[c]) <= 2e-3 * fabs(b.c[c]) + 1e-12))
+                TEST_FAIL("%.4g K, channel %d: table %.6g, Planck %.6g", T, c, a.c[c], b.c[c]);
+    }
+}
+
+TEST_MAIN(blackbody_table_follows_planck_past_1e5_kelvin, distant_illuminance_as_pbrt, nanovdb_is_pbrt_lookup_to_the_faces, sky_illuminance_reads_channels_in_file_order,
           nanovdb_lescale_zero_emits_nothing)
