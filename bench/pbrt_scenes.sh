@@ -27,8 +27,10 @@
 #      one "stops" line per construct a --lenient translation skips (what else stands in
 #      the scene's way; malformed input still ends that listing).
 # With PICTURES=DIR, brume's and pbrt-v4's images are written as DIR/pbrt-SCENE-brume.png
-# and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 320 pixels wide), by the same code for
-# both so that they differ only where the renders do.
+# and DIR/pbrt-SCENE-pbrt.png (sRGB, clamped, at most 320 pixels wide; a render under 160
+# wide has its pixels repeated), by the same code for both so that they differ only where the
+# renders do. tests/pbrt_conventions holds small scenes of one convention each
+# (SCENES="grid_uniform.pbrt ...", K=1: docs/pbrt-scenes.md).
 # Env: BRUME (default build/brume), K (4), SPP (1), BRUME_SPP (brume's samples a pixel when
 # there is no PBRT_EXE; default K^2 SPP), SCENES (all eight), THREADS (brume's and
 # pbrt-v4's threads; default all cores), KEEP=1 keeps the temporary folder.

@@ -7,6 +7,7 @@ and the image arithmetic of the comparison (standard library only: no numpy here
   pbrt_scenes_assets.py shrink IN.pfm K OUT.pfm     K x K box means (a full-size pbrt-v4
                                                     image at s spp -> K^2 s spp at 1/K size)
   pbrt_scenes_assets.py png IN.pfm OUT.png MAXW     sRGB 8-bit picture, box-shrunk to <= MAXW
+                                                    (one under 160 wide: pixels repeated)
   pbrt_scenes_assets.py ratios A.pfm B.pfm          mean(A) / mean(B) per channel "r/g/b"
 
 Stand-ins are generated, never copied: grids with brume's own `gen cloud` / `gen fire`,
@@ -35,7 +36,14 @@ GRID_HINTS = {
     "fire.nvdb": ("fire", 50.0),
     # tests/pbrt_rehearsal/blackbody_slab.pbrt: density 1 on 8 x 4 x 8 voxels (its test).
     "slab.nvdb": ("slab", (-2.0, 1.0, -2.0, 2.0, 1.5, 2.0)),
+    # tests/pbrt_conventions/grid_nanovdb.pbrt: grid_uniform.pbrt's 4 x 4 x 4 densities.
+    "faces4.nvdb": ("faces4", (0.0, 0.0, 0.0, 1.0, 1.0, 1.0)),
 }
+
+
+def faces4_density(i, j, k):
+    """The densities of tests/pbrt_conventions/grid_uniform.pbrt (non-zero outer samples)."""
+    return 0.5 + 0.25 * ((i + 2 * j + 3 * k) % 5)
 
 
 def say(msg):
@@ -241,6 +249,13 @@ def standin_grid(path, brume):
             f.write(struct.pack("<256f", *([1.0] * 256)))
         cmd = [brume, "convert", raw, path, "--dims", "8x4x8", "--bounds", ",".join("%g" % v for v in arg)]
         what = "brume convert of a constant 8 x 4 x 8 grid in %s" % (arg,)
+    elif kind == "faces4":
+        raw = path + ".raw"
+        vals = [faces4_density(i, j, k) for k in range(4) for j in range(4) for i in range(4)]
+        with open(raw, "wb") as f:
+            f.write(struct.pack("<64f", *vals))
+        cmd = [brume, "convert", raw, path, "--dims", "4x4x4", "--bounds", ",".join("%g" % v for v in arg)]
+        what = "brume convert of grid_uniform.pbrt's 4 x 4 x 4 densities in %s" % (arg,)
     elif kind == "fire":
         cmd = [brume, "gen", "fire", "--resolution", "64", "--height", "%g" % arg, "-o", path]
         what = "brume gen fire, height %g" % arg
@@ -376,6 +391,10 @@ def main(argv):
             k += 1
         if k > 1:
             w, h, rows = shrink(w, h, rows, k)
+        f = max(1, 160 // w)  # a small render's pixels repeated (nearest) to at least 160 wide
+        if f > 1:
+            rows = [[v for x in range(w) for _ in range(f) for v in r[3 * x:3 * x + 3]] for r in rows for _ in range(f)]
+            w, h = w * f, h * f
         write_png(argv[2], w, h, [[srgb8(v) for v in r] for r in rows])
     elif len(argv) == 3 and argv[0] == "ratios":
         means = []

@@ -649,6 +649,8 @@ typedef struct brume_grid_file_options {
     double max_memory_mb;   /* MiB the voxels may take; 0 = 4096 */
     char grid[128];         /* .vdb/.nvdb: the grid by name; "" = the one named "density", else the
                                only float grid (several and none named density is an error) */
+    bool edge_zero;         /* .vdb/.nvdb, trilinear, own placement: pbrt-v4's NanoVDB lookup (voxels
+                               beyond the grid read 0; the field cut to index [min, max + 1]) */
 } brume_grid_file_options;
 void brume_grid_file_options_default(brume_grid_file_options *opts);
 brume_status brume_density_load(brume_context *ctx, const char *path, const brume_grid_file_options *opts,

@@ -285,9 +285,12 @@ static void fill_pbrt_fire(gridvdb_writer *w, const void *user)
 /* pbrt-v4's NanoVDBMedium, written out: sigma_a(x) = sigma_a scale rho(x); the temperature
  * T' = (T(x) - temperatureoffset) temperaturescale, temperatureoffset defaulting to
  * temperaturecutoff; Le(x) = LeScale B(T') where T' > 100 K (else 0), B the peak-normalized
- * blackbody; emitted at the rate sigma_a(x) Le(x). Here scale 2, sigma_a 1.5, LeScale 3
- * ("Lescale", pbrt-v4's spelling), temperaturescale 2, temperaturecutoff 400: 2000 K gives
- * T' = 3200 K and emits 1.5 x 2 x 0.5 x 3 B(3200 K); 430 K gives 60 K, nothing. The grids
+ * blackbody; emitted at the rate sigma_a(x) Le(x). pbrt-v4's RGB film records the integral
+ * of y-bar (unnormalized) times the spectrum as Y, where brume's blackbody colour divides
+ * it by the integral of y-bar, CIE_Y_integral = 106.856895 (the lights divide the spectrum's
+ * own luminance out; this Le does not). Here scale 2, sigma_a 1.5, LeScale 3 ("Lescale",
+ * pbrt-v4's spelling), temperaturescale 2, temperaturecutoff 400: 2000 K gives T' = 3200 K
+ * and emits 1.5 x 2 x 0.5 x 3 x 106.856895 B(3200 K); 430 K gives 60 K, nothing. The grids
  * are "density" and "temperature", or as pbrt-v4's "gridname" and "temperaturename" name
  * them. */
 static void pbrt_nanovdb_case(const char *const names[2], const char *naming)
@@ -315,7 +318,7 @@ static void pbrt_nanovdb_case(const char *const names[2], const char *naming)
     media_at(s, 0, v3(-0.55, 0.55, 0.55), 0.0, &hot); /* a bare LookAt mirrors x (docs/pbrt.md) */
     media_at(s, 0, v3(-4.55, 4.55, 4.55), 0.0, &cool);
     for (int c = 0; c < 3; c++) {
-        double want = 1.5 * 2.0 * 0.5 * 3.0 * B.c[c];
+        double want = 1.5 * 2.0 * 0.5 * 3.0 * 106.856895 * B.c[c];
         fprintf(stderr, "channel %d: %.6g expected %.6g; at 430 K %.3g\n", c, hot.emission.c[c], want,
                 cool.emission.c[c]);
         ASSERT_NEAR(hot.emission.c[c], want, 1e-6 * fabs(want) + 1e-12);

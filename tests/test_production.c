@@ -361,8 +361,10 @@ TEST(pbrt_scene_maps_units)
     ASSERT_NEAR(m->sigma_a.c[0], 2.0, 1e-12);
     ASSERT_NEAR(m->sigma_a.c[2], 6.0, 1e-12);
     ASSERT_NEAR(m->sigma_s.c[1], 1.0, 1e-12);
-    ASSERT_NEAR(density_bounds(m->rho).lo.x, 1.0, 1e-9); /* the CTM at MakeNamedMedium */
-    ASSERT_NEAR(density_bounds(m->rho).hi.x, 2.0, 1e-9);
+    /* the CTM at MakeNamedMedium: the 8 voxels on [1, 2], their box one voxel wider on each
+       side for pbrt-v4's NanoVDB lookup (edge zero, docs/scene-format.md) */
+    ASSERT_NEAR(density_bounds(m->rho).lo.x, 1.0 - 0.125, 1e-9);
+    ASSERT_NEAR(density_bounds(m->rho).hi.x, 2.0 + 0.125, 1e-9);
     ASSERT_NEAR(s->bg.L.c[2], 0.3, 1e-12);
     ASSERT_EQ_INT(s->nlights, 1);
     ASSERT_NEAR(s->lights[0].L.c[2], 6.0, 1e-12);

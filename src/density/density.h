@@ -72,9 +72,14 @@ uint64_t nanovdb_set_cell_grid_limit(uint64_t voxels);
  * in out[0..2], sharing the buffer, which they own together on success (freed with the
  * last). Other arguments as density_new_nanovdb. */
 /* any_sign: values may be negative (velocity components: medium.h); only finiteness is
- * checked, and the majorants are then meaningless (such a field is only looked up). */
+ * checked, and the majorants are then meaningless (such a field is only looked up).
+ * edge_zero (trilinear only): pbrt-v4's NanoVDB lookup. Voxels beyond the index box read the
+ * tree (its background), so the field falls to 0 one voxel past the outer samples, and it is
+ * cut to NanoVDB's world box, index [min, max + 1]: the voxel box is one voxel larger on
+ * every side, cropped (density_crop) to voxel space [3/2, n - 1/2]. */
 bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
-                                double scale, size_t max_memory, bool any_sign, const char *name, density **out);
+                                double scale, size_t max_memory, bool any_sign, bool edge_zero, const char *name,
+                                density **out);
 /* The mean density of a blob field (density/blobs.h), with a majorant grid of at most
  * majorant_cells cells along the longest axis of its bounds; "voxels" are those cells.
  * Takes ownership of f on success; on failure returns NULL with err_set() and frees nothing. */

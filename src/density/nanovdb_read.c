@@ -34,10 +34,25 @@ typedef struct nano_header {
     affine3 v2w;                /* voxel space (as for dense grids) -> world */
 } nano_header;
 
+/* edge_zero: the index box [lo, hi] (ext voxels an axis) one voxel larger on every side, whose
+ * voxels the tree gives its background; false with err_set at the edge of the index range. */
+static bool nano_grow_box(pnanovdb_coord_t *lo, pnanovdb_coord_t hi, int64_t ext[3], const char *name)
+{
+    if (lo->x == INT32_MIN || lo->y == INT32_MIN || lo->z == INT32_MIN || hi.x == INT32_MAX || hi.y == INT32_MAX ||
+        hi.z == INT32_MAX) {
+        err_set(BRUME_ERROR_PARSE, "%s: index bounding box at the edge of the index range", name);
+        return false;
+    }
+    lo->x -= 1, lo->y -= 1, lo->z -= 1;
+    for (int a = 0; a < 3; a++)
+        ext[a] += 2;
+    return true;
+}
+
 /* Checks the grid in shared (its size, magic number, type, root, tiles and bounding box)
  * and reads its placement, composed with `extra` when not NULL; false with err_set. */
-static bool nano_read_header(const nano_buffer *shared, int component, const affine3 *extra, const char *name,
-                             nano_header *h)
+static bool nano_read_header(const nano_buffer *shared, int component, const affine3 *extra, bool edge_zero,
+                             const char *name, nano_header *h)
 {
     void *buf = shared->mem;
     size_t size = shared->size;
@@ -95,6 +110,8 @@ static bool nano_read_header(const nano_buffer *shared, int component, const aff
             i2w.m[4 * r + c] = pnanovdb_map_get_matd(b, map, (pnanovdb_uint32_t)(3 * r + c));
         i2w.m[4 * r + 3] = pnanovdb_map_get_vecd(b, map, (pnanovdb_uint32_t)r);
     }
+    if (edge_zero && !nano_grow_box(&lo, hi, ext, name))
+        return false;
     /* voxel space u = idx - bbmin + 1/2 (voxel centres at half-integers, as for dense) */
     affine3 v2i = {{1, 0, 0, lo.x - 0.5, 0, 1, 0, lo.y - 0.5, 0, 0, 1, lo.z - 0.5}};
     h->v2w = affine3_compose(&i2w, &v2i);
@@ -233,14 +250,15 @@ static bool nano_small_box(density *d, size_t size, size_t max_memory, const cha
  * tree's block majorants. On failure NULL (err_set), and nothing of it is left: one release,
  * density_release, since shared is taken (a reference) only on success. */
 static density *nano_make(nano_buffer *shared, int component, grid_filter filter, const affine3 *extra, double scale,
-                          size_t max_memory, bool any_sign, const char *name)
+                          size_t max_memory, bool any_sign, bool edge_zero, const char *name)
 {
     if (!(scale > 0.0) || !isfinite(scale)) {
         err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: density scale %g must be finite and > 0", name, scale);
         return NULL;
     }
     nano_header h;
-    if (!nano_read_header(shared, component, extra, name, &h))
+    edge_zero = edge_zero && filter == GRID_TRILINEAR; /* a nearest lookup never reads beyond the box */
+    if (!nano_read_header(shared, component, extra, edge_zero, name, &h))
         return NULL;
     density *d = nano_density_new(&h, component, filter, scale, name);
     if (!d)
@@ -264,6 +282,10 @@ static density *nano_make(nano_buffer *shared, int component, grid_filter filter
             d->memory += s->entries[i].at >= 0 ? BLOCK_CELLS * sizeof(float) : 0;
         d->mn[0] = (int)s->blocks.count; /* blocks with their own bounds (density_get_info) */
     }
+    if (edge_zero) { /* cut to NanoVDB's world box, index [min, max + 1]: voxel space [3/2, n - 1/2] */
+        const double lo[3] = {1.5, 1.5, 1.5}, hi[3] = {d->n[0] - 0.5, d->n[1] - 0.5, d->n[2] - 0.5};
+        density_crop(d, lo, hi);
+    }
     d->nano->shared = shared; /* ownership (a reference) passes only on success */
     shared->refs++;
     return d;
@@ -273,11 +295,13 @@ density *density_new_nanovdb(void *buf, size_t size, grid_filter filter, const a
                              size_t max_memory, const char *name)
 {
     density *out[1];
-    return density_new_nanovdb_fields(buf, size, 1, filter, extra, scale, max_memory, false, name, out) ? out[0] : NULL;
+    return density_new_nanovdb_fields(buf, size, 1, filter, extra, scale, max_memory, false, false, name, out) ? out[0]
+                                                                                                                : NULL;
 }
 
 bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter filter, const affine3 *extra,
-                                double scale, size_t max_memory, bool any_sign, const char *name, density **out)
+                                double scale, size_t max_memory, bool any_sign, bool edge_zero, const char *name,
+                                density **out)
 {
     nano_buffer *shared = calloc(1, sizeof *shared);
     if (!shared) {
@@ -287,7 +311,7 @@ bool density_new_nanovdb_fields(void *buf, size_t size, int count, grid_filter f
     shared->mem = buf;
     shared->size = size;
     for (int c = 0; c < count; c++) {
-        out[c] = nano_make(shared, count == 1 ? -1 : c, filter, extra, scale, max_memory, any_sign, name);
+        out[c] = nano_make(shared, count == 1 ? -1 : c, filter, extra, scale, max_memory, any_sign, edge_zero, name);
         if (!out[c]) {
             /* undo: the buffer stays the caller's */
             shared->refs += 1;

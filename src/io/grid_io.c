@@ -155,6 +155,11 @@ static bool load_fields(const unsigned char *b, size_t size, const char *name, c
                 o.grid);
         return false;
     }
+    if (o.edge_zero && ((f != GRID_FORMAT_NVDB && f != GRID_FORMAT_VDB) || o.has_bounds)) {
+        err_set(BRUME_ERROR_INVALID_ARGUMENT, "%s: edge zero (pbrt-v4's NanoVDB lookup) takes a .vdb or .nvdb grid in "
+                "its own placement (no bounds)", name);
+        return false;
+    }
     dense_read r = {{0, 0, 0}, NULL, affine3_identity()};
     out[0] = NULL;
     switch (f) {

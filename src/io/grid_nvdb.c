@@ -196,8 +196,8 @@ bool grid_nvdb_read(const unsigned char *b, size_t size, const char *name, const
         return false;
     }
     memcpy(buf, b + at, gbytes);
-    if (!density_new_nanovdb_fields(buf, gbytes, count, o->filter, NULL, o->scale, o->max_memory, o->any_sign, name,
-                                    out)) {
+    if (!density_new_nanovdb_fields(buf, gbytes, count, o->filter, NULL, o->scale, o->max_memory, o->any_sign,
+                                    o->edge_zero, name, out)) {
         free(buf);
         return false;
     }
@@ -235,7 +235,7 @@ brume_status grid_nvdb_list(const unsigned char *b, size_t n, const char *path, 
             if (buf) {
                 memcpy(buf, b + e[g].at, (size_t)e[g].size);
                 if (density_new_nanovdb_fields(buf, (size_t)e[g].size, k, GRID_NEAREST, NULL, 1.0, max_memory, true,
-                                               path, d)) {
+                                               false, path, d)) {
                     in[g].vmin = INFINITY;
                     for (int c = 0; c < k; c++) {
                         density_info di;

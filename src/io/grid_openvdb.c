@@ -22,7 +22,8 @@ bool grid_vdb_read(const char *path, const unsigned char *b, size_t size, const 
     size_t n = 0;
     if (grid_sandbox_to_nano(path, b, size, name, o->grid, count == 3, o->max_memory, &buf, &n) != BRUME_OK)
         return false;
-    if (!density_new_nanovdb_fields(buf, n, count, o->filter, NULL, o->scale, o->max_memory, o->any_sign, name, out)) {
+    if (!density_new_nanovdb_fields(buf, n, count, o->filter, NULL, o->scale, o->max_memory, o->any_sign, o->edge_zero,
+                                    name, out)) {
         free(buf);
         return false;
     }

@@ -41,6 +41,8 @@ typedef struct density_load_options {
     char grid[128];     /* .vdb/.nvdb: the grid's name; "" = the grid named "density", else the
                            only float grid (several float grids and none named density is an
                            error that lists them) */
+    bool edge_zero;     /* .vdb/.nvdb, trilinear: pbrt-v4's NanoVDB lookup, zero beyond the
+                           voxels, cut to the index box [min, max + 1] (density_new_nanovdb_fields) */
 } density_load_options;
 
 #endif

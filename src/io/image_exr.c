@@ -435,6 +435,32 @@ static brume_status exr_read_body(const char *path, exr_const_context_t ctxt, ex
     return BRUME_OK;
 }
 
+brume_status image_exr_channel_order(const char *path, int *index, int cap, int *count)
+{
+    exr_io io = {-1, ""};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = on_exr_error;
+    init.user_data = &io;
+    exr_context_t ctxt = NULL;
+    g_exr_io = &io;
+    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    const exr_attr_chlist_t *chl = NULL;
+    brume_status st = BRUME_OK;
+    if (rv != EXR_ERR_SUCCESS)
+        st = exr_fail(path, "not a readable OpenEXR file", rv, &io);
+    else if (exr_get_channels(ctxt, 0, &chl) != EXR_ERR_SUCCESS || !chl)
+        st = err_set(BRUME_ERROR_PARSE, "%s: channels: cannot read the channel list", path);
+    else {
+        *count = chl->num_channels;
+        for (int i = 0; i < cap && i < chl->num_channels; i++)
+            index[i] = rgba_index(chl->entries[i].name.str);
+    }
+    if (ctxt)
+        exr_finish(&ctxt);
+    g_exr_io = NULL;
+    return st;
+}
+
 brume_status image_read_exr(const char *path, brume_image **out)
 {
     *out = NULL;

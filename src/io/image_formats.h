@@ -13,6 +13,10 @@ brume_status image_write_pfm(const char *path, const brume_image *img);
 brume_status image_encode_png(const brume_image *img, const brume_write_options *opts, unsigned char **data,
                               size_t *size);
 brume_status image_read_exr(const char *path, brume_image **out);
+/* The channel index (0..3 for R, G, B, A; -1 for another channel) of each of the first
+ * `cap` channels of part 0 in the file's order, OpenEXR's (sorted by name: A, B, G, R);
+ * *count is how many the file has. pbrt-v4 reads a sky's channels in this order. */
+brume_status image_exr_channel_order(const char *path, int *index, int cap, int *count);
 brume_status image_read_png(const char *path, brume_image **out);
 brume_status image_read_pfm(const char *path, brume_image **out);
 

@@ -153,9 +153,17 @@ color blackbody_rgb_exact(double T)
                    0.0556434 * v[0] - 0.2040259 * v[1] + 1.0572252 * v[2]);
 }
 
+/* The table: BB_NMID + 1 colours log-spaced over [BB_TMIN, BB_TMID], then the rest over
+ * [BB_TMID, BB_TMAX]; beyond BB_TMAX the colour goes as T^-4 from the last entry (the
+ * Rayleigh-Jeans limit of the peak-normalized visible spectrum), below BB_TMIN it is the first
+ * entry (a visible emission under 1e-25). Between entries each channel is read geometrically
+ * where both entries have its sign (exact for a power law, and for the Wien tail exp(-a/T)
+ * off by a relative h^2 a / 8 T for a step h of ln T), linearly where the sign changes. */
 #define BB_N BLACKBODY_TABLE_N
-#define BB_TMIN 100.0
-#define BB_TMAX 100000.0
+#define BB_TMIN 400.0
+#define BB_TMID 100000.0
+#define BB_TMAX 10000000.0
+#define BB_NMID 895
 #if defined(__CUDA_ARCH__)
 /* the GPU's copy, uploaded with the scene (gpu/kernel.cu, gpu/device_scene.c) */
 #define table ((color *)brume_device_blackbody)
@@ -166,22 +174,33 @@ static pthread_once_t once = PTHREAD_ONCE_INIT;
 
 static void build(void)
 {
-    for (int i = 0; i < BB_N; i++)
-        table[i] = blackbody_rgb_exact(BB_TMIN * pow(BB_TMAX / BB_TMIN, (double)i / (BB_N - 1)));
+    for (int i = 0; i <= BB_NMID; i++)
+        table[i] = blackbody_rgb_exact(BB_TMIN * pow(BB_TMID / BB_TMIN, (double)i / BB_NMID));
+    for (int i = BB_NMID + 1; i < BB_N; i++)
+        table[i] = blackbody_rgb_exact(BB_TMID * pow(BB_TMAX / BB_TMID, (double)(i - BB_NMID) / (BB_N - 1 - BB_NMID)));
 }
 
 void blackbody_init(void) { pthread_once(&once, build); }
 
 color blackbody_rgb(double T)
 {
-    double x = log(T / BB_TMIN) / log(BB_TMAX / BB_TMIN) * (BB_N - 1);
-    if (!(x > 0.0))
+    if (!(T > BB_TMIN))
         return table[0];
-    if (x >= BB_N - 1)
-        return table[BB_N - 1];
+    if (T >= BB_TMAX) {
+        double r = BB_TMAX / T;
+        return col_scale(table[BB_N - 1], r * r * r * r);
+    }
+    double x = T <= BB_TMID ? log(T / BB_TMIN) / log(BB_TMID / BB_TMIN) * BB_NMID
+                            : BB_NMID + log(T / BB_TMID) / log(BB_TMAX / BB_TMID) * (BB_N - 1 - BB_NMID);
     int i = (int)x;
+    i = i >= BB_N - 1 ? BB_N - 2 : i;
     double f = x - i;
-    return col_add(col_scale(table[i], 1.0 - f), col_scale(table[i + 1], f));
+    color c;
+    for (int k = 0; k < BRUME_NSAMPLES; k++) {
+        double a = table[i].c[k], b = table[i + 1].c[k];
+        c.c[k] = a * b > 0.0 ? a * pow(b / a, f) : a * (1.0 - f) + b * f;
+    }
+    return c;
 }
 
 color blackbody_rgb_blender(double T)

@@ -18,8 +18,10 @@
 void blackbody_xyz(double T, double xyz[3]);
 /* Linear Rec. 709 RGB of the same (may have small negative components far from white). */
 color blackbody_rgb_exact(double T);
-/* The same from a table built once (log-spaced in T over [100 K, 100000 K], linear in
- * between; clamped outside): for rendering. blackbody_init() must have run (thread-safe). */
+/* The same from a table built once (log-spaced in T over [400 K, 1e5 K] and [1e5 K, 1e7 K],
+ * read geometrically in between where a channel keeps its sign; T^-4 above 1e7 K, as the
+ * peak-normalized visible spectrum falls, pbrt-v4 setting no upper bound): for rendering.
+ * blackbody_init() must have run (thread-safe). */
 color blackbody_rgb(double T);
 void blackbody_init(void);
 /* Cycles' blackbody colour (Blender's Blackbody node and Principled Volume): the same

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/vec.h"
 #include "io/grid_io.h"
+#include "io/image_formats.h"
 #include "io/json.h"
 #include "medium/blackbody.h"
 #include "scene/background.h"
@@ -174,8 +175,11 @@ static brume_status light_spot(pbrt_state *S, params *ps, double scale)
  * upper half weighted by its luminance (Rec. 709's Y) times cos theta and by 2 pi / texels,
  * as pbrt-v4's lights.cpp sums it. A texel covers 4 pi / texels steradians, so that sum is half
  * the map's illuminance, and the map as pbrt-v4 scales it lights such a surface with 2 E_v;
- * brume renders pbrt-v4's image, so it scales as pbrt-v4 does. */
-static double sky_illuminance_as_pbrt(const brume_image *img)
+ * brume renders pbrt-v4's image, so it scales as pbrt-v4 does. pbrt-v4 weighs the image's
+ * first three channels in the order the file holds them (OpenEXR's: sorted by name, so B,
+ * G, R in an RGB file, A, B, G in an RGBA one): chan[k] is the RGBA index of the channel
+ * that Rec. 709's k-th luminance weight multiplies. */
+static double sky_illuminance_as_pbrt(const brume_image *img, const int chan[3])
 {
     int n = brume_image_width(img);
     const float *rgba = brume_image_pixels(img);
@@ -186,7 +190,8 @@ static double sky_illuminance_as_pbrt(const brume_image *img)
             if (w.z <= 0.0)
                 continue;
             const float *px = rgba + 4 * ((size_t)y * (size_t)n + (size_t)x);
-            sum += (0.212639 * (double)px[0] + 0.715169 * (double)px[1] + 0.072192 * (double)px[2]) * w.z;
+            sum += (0.212639 * (double)px[chan[0]] + 0.715169 * (double)px[chan[1]] + 0.072192 * (double)px[chan[2]]) *
+                   w.z;
         }
     return sum * 2.0 * PI / ((double)n * (double)n);
 }
@@ -214,6 +219,26 @@ static cJSON *sky_transform(pbrt_state *S)
     return t;
 }
 
+/* The order in which pbrt-v4's illuminance sum reads the channels of the sky image at abs
+ * (sky_illuminance_as_pbrt): the file's own for OpenEXR, R, G, B otherwise. A channel other
+ * than R, G, B, A among the first three is refused: brume does not read it. */
+static brume_status sky_channel_order(pbrt_state *S, const char *abs, const char *file, int chan[3])
+{
+    size_t len = strlen(abs);
+    if (len < 4 || abs[len - 4] != '.' || tolower((unsigned char)abs[len - 3]) != 'e' ||
+        tolower((unsigned char)abs[len - 2]) != 'x' || tolower((unsigned char)abs[len - 1]) != 'r')
+        return BRUME_OK;
+    int count = 0;
+    if (image_exr_channel_order(abs, chan, 3, &count) != BRUME_OK)
+        return err_prefix("%s:%d: LightSource \"infinite\"", S->L.file, S->L.dir_line);
+    for (int k = 0; k < 3; k++)
+        if (k >= count || chan[k] < 0)
+            return pbrt_unsupported(&S->L, "LightSource \"infinite\": \"illuminance\": pbrt-v4 weighs the first three "
+                                           "channels of %s in the file's order, and channel %d is none of R, G, B, A",
+                                    file, k + 1);
+    return BRUME_OK;
+}
+
 /* "infinite" with "string filename": pbrt-v4's ImageInfiniteLight, a square equal-area map
  * (a background with mapping equal_area), oriented by the CTM; its scale divided by the
  * colour space's illuminant's luminance, so the pixel values are radiance as written. */
@@ -233,8 +258,12 @@ static brume_status light_sky_image(pbrt_state *S, const char *file, double scal
     brume_context_release(ctx);
     if (st)
         return st;
-    int w = brume_image_width(img), h = brume_image_height(img);
-    double k_e = w == h && E_v > 0.0 ? sky_illuminance_as_pbrt(img) : 1.0;
+    int w = brume_image_width(img), h = brume_image_height(img), chan[3] = {0, 1, 2};
+    if (E_v > 0.0 && (st = sky_channel_order(S, abs, file, chan))) {
+        brume_image_release(img);
+        return st;
+    }
+    double k_e = w == h && E_v > 0.0 ? sky_illuminance_as_pbrt(img, chan) : 1.0;
     brume_image_release(img);
     if (w != h)
         return pbrt_fail(L, "LightSource \"infinite\": %s is %d x %d pixels: pbrt-v4 reads square equal-area maps only",
@@ -306,10 +335,13 @@ brume_status pbrt_light_directive(pbrt_state *S, const char *type, params *ps)
         pbrt_copy(S->far_light, sizeof S->far_light, type);
     }
     if (strcmp(type, "distant") == 0) {
-        double from[3] = {0, 0, 0}, to[3] = {0, 0, 1};
+        double from[3] = {0, 0, 0}, to[3] = {0, 0, 1}, E_v = -1.0;
         if ((st = pbrt_illuminant(L, ps, "L", Lrgb)) || (st = pbrt_get_point(L, ps, "from", from)) ||
-            (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
+            (st = pbrt_get_point(L, ps, "to", to)) || (st = pbrt_get_float(L, ps, "illuminance", &E_v)) ||
+            (st = pbrt_all_used(L, ps, "LightSource \"distant\"")))
             return st;
+        if (E_v > 0.0) /* pbrt-v4: the scale times an illuminance E_v > 0, L being of luminance 1 */
+            scale *= E_v;
         vec3 d = pbrt_m4_vector(ctm, v3(to[0] - from[0], to[1] - from[1], to[2] - from[2]));
         if (!(v3_length(d) > 0.0))
             return pbrt_fail(L, "LightSource \"%s\": from equals to", type);

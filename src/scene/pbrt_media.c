@@ -523,17 +523,21 @@ static brume_status medium_nanovdb(pbrt_state *S, const char *name, params *ps)
     cJSON_AddStringToObject(d, "type", "grid");
     cJSON_AddStringToObject(d, "file", abs);
     cJSON_AddStringToObject(d, "grid", gname);
+    cJSON_AddStringToObject(d, "edge", "zero"); /* pbrt-v4's NanoVDB lookup (docs/scene-format.md) */
     if (!medium_place(S, d, name)) {
         cJSON_Delete(m);
         return err_status();
     }
-    if (has_temp) {
+    if (has_temp && Lescale > 0.0) { /* pbrt-v4 emits only with a positive LeScale */
         /* pbrt-v4: T' = (T - offset) scale; above 100 K, Le = Lescale B(T') with B the
-           peak-normalized blackbody, emitted at the rate sigma_a rho Le: brume's model */
+           peak-normalized blackbody, emitted at the rate sigma_a rho Le: brume's model. Its
+           film's Y is the integral of y-bar times the spectrum, unnormalized (every light
+           divides that out of its spectrum; this Le does not), where brume's B has the Y of
+           that integral over the integral of y-bar, CIE_Y_integral = 106.856895 */
         cJSON *t = cJSON_AddObjectToObject(m, "temperature");
         cJSON_AddStringToObject(t, "grid", tname);
         cJSON *bb = cJSON_AddObjectToObject(m, "blackbody");
-        cJSON_AddNumberToObject(bb, "scale", Lescale);
+        cJSON_AddNumberToObject(bb, "scale", Lescale * 106.856895);
         cJSON_AddNumberToObject(bb, "temperature_scale", tscale);
         cJSON_AddNumberToObject(bb, "temperature_offset", toff);
         cJSON_AddNumberToObject(bb, "cutoff", 100);

@@ -118,7 +118,7 @@ brume_status scene_parse_grid_options(const cJSON *j, jloc at, const char *const
                                       size_t cap, brume_grid_file_options *o, bool *sequence)
 {
     static const char *const base[] = {"type", "file", "grid", "format", "dims", "bounds", "transform", "filter",
-                                       "scale", "max_memory_mb", "frame_offset", "frame_step", "beyond"};
+                                       "edge", "scale", "max_memory_mb", "frame_offset", "frame_step", "beyond"};
     const char *keys[24];
     int nk = 0;
     for (size_t k = 0; k < sizeof base / sizeof *base; k++)
@@ -167,6 +167,11 @@ brume_status scene_parse_grid_options(const cJSON *j, jloc at, const char *const
         o->has_transform = true;
     }
     if ((st = parse_filter(j, at, &o->filter))) return st;
+    char edge[16] = "hold";
+    if ((st = json_string(j, at, "edge", 0, edge, sizeof edge))) return st;
+    if (strcmp(edge, "hold") != 0 && strcmp(edge, "zero") != 0)
+        return err_set(BRUME_ERROR_PARSE, "%s: %s.edge: unknown '%s' (known: hold, zero)", at.file, at.path, edge);
+    o->edge_zero = strcmp(edge, "zero") == 0;
     if ((st = json_number(j, at, "scale", 0, 1e-30, 1e30, &o->scale))) return st;
     if ((st = json_number(j, at, "max_memory_mb", 0, 1.0, 1e9, &o->max_memory_mb))) return st;
     return BRUME_OK;

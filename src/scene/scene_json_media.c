@@ -189,7 +189,7 @@ static brume_status parse_field(const cJSON *medium_j, jloc at, const brume_scen
     const cJSON *d = cJSON_GetObjectItemCaseSensitive(medium_j, "density");
     const cJSON *dt = d ? cJSON_GetObjectItemCaseSensitive(d, "type") : NULL;
     if (cJSON_IsString(dt) && strcmp(dt->valuestring, "grid") == 0) {
-        static const char *const inherit[] = {"file", "format", "dims", "bounds", "transform", "filter",
+        static const char *const inherit[] = {"file", "format", "dims", "bounds", "transform", "filter", "edge",
                                               "max_memory_mb", "frame_offset", "frame_step", "beyond"};
         bool own_place = cJSON_HasObjectItem(f, "bounds") || cJSON_HasObjectItem(f, "transform");
         for (size_t k = 0; k < sizeof inherit / sizeof *inherit; k++) {

@@ -360,6 +360,7 @@ static brume_status file_options(const char *fn, const brume_grid_file_options *
     if (!memchr(opts->grid, '\0', sizeof opts->grid))
         return err_set(BRUME_ERROR_RANGE, "%s: opts.grid: not NUL-terminated within 128 bytes", fn);
     snprintf(o.grid, sizeof o.grid, "%s", opts->grid);
+    o.edge_zero = opts->edge_zero;
     *out = o;
     return BRUME_OK;
 }
