@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "density/dense_float.h"
 #include "density/density_impl.h"
 
 static double dense_fetch(const density *d, int i, int j, int k) { return dense_at(d, i, j, k); }
@@ -78,4 +79,28 @@ void density_grid_borrow(density *d, void (*release)(void *user), void *user)
 {
     d->data_release = release;
     d->data_user = user;
+}
+
+bool density_float_view(const density *d, densityf *v)
+{
+    if (d->kind != DENSITY_GRID || !d->data || !d->maj || d->crop || d->filter != GRID_TRILINEAR)
+        return false;
+    for (int a = 0; a < 3; a++) {
+        v->n[a] = d->n[a];
+        v->mn[a] = d->mn[a];
+        v->wlo[a] = (float)d->wlo[a];
+        v->whi[a] = (float)d->whi[a];
+    }
+    for (int q = 0; q < 12; q++) {
+        v->w2v[q] = (float)d->w2v.m[q];
+        v->w2c[q] = (float)d->w2c.m[q];
+    }
+    v->data = d->data;
+    v->bricked = d->bricked;
+    v->nbx = d->nbx;
+    v->nby = d->nby;
+    v->maj = d->maj;
+    v->mino = d->mino;
+    v->mean = d->mean;
+    return true;
 }
