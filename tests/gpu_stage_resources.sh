@@ -39,7 +39,9 @@ echo "$out" | awk -F' [|] ' '
             if (stack != 0 || st != 0 || ld != 0) {
                 print name ": stack frame " stack " B, spills " st " B stored, " ld " B loaded: must be 0"; bad = 1
             }
-            if (f64 != 0 || cvt != 0) { print name ": " f64 " FP64 instructions, " cvt " f32-f64 conversions: must be 0"; bad = 1 }
+            if (f64 != 0 || cvt != 0) {
+                print name ": " f64 " FP64 instructions, " cvt " f32-f64 conversions: must be 0"; bad = 1
+            }
             if (f32 < 100) { print name ": only " f32 " FP32 instructions: the count proves nothing"; bad = 1 }
         }
     }

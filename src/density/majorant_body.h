@@ -23,7 +23,8 @@ static inline __attribute__((always_inline)) bool RN(majorant_grid_cell)(RN(majo
 #endif
     seg->t0 = st.t0;
     seg->t1 = st.t1;
-    GRID_INDEX c = (GRID_INDEX)st.i + (GRID_INDEX)it->mn[0] * ((GRID_INDEX)st.j + (GRID_INDEX)it->mn[1] * (GRID_INDEX)st.k);
+    const GRID_INDEX n0 = (GRID_INDEX)it->mn[0], n1 = (GRID_INDEX)it->mn[1];
+    const GRID_INDEX c = (GRID_INDEX)st.i + n0 * ((GRID_INDEX)st.j + n1 * (GRID_INDEX)st.k);
     seg->rho_maj = (R)GRID_LOAD(&it->maj[c]);
     seg->rho_min = it->mino ? (R)GRID_LOAD(&it->mino[c]) : RC(0.0);
     seg->rho_ctl = it->mean ? (R)GRID_LOAD(&it->mean[c]) : seg->rho_min;

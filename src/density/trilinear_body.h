@@ -14,7 +14,10 @@
  * average instead of 4.3 with rows. The offsets are separable: x, y and z parts added. */
 #define DENSITY_BRICK_FLOATS 16
 static inline size_t dense_brick_x(int i) { return (size_t)(i >> 2) * 16 + (size_t)(i & 3); }
-static inline size_t dense_brick_yn(int nbx, int j) { return (size_t)(j >> 1) * 16 * (size_t)nbx + (size_t)((j & 1) << 2); }
+static inline size_t dense_brick_yn(int nbx, int j)
+{
+    return (size_t)(j >> 1) * 16 * (size_t)nbx + (size_t)((j & 1) << 2);
+}
 static inline size_t dense_brick_zn(int nbx, int nby, int k)
 {
     return (size_t)(k >> 1) * 16 * (size_t)nbx * (size_t)nby + (size_t)((k & 1) << 3);
@@ -61,8 +64,10 @@ static inline R RN(trilinear_blend)(const R c[8], const R a[3])
 static inline R RN(dense_at)(const TRILINEAR_GRID *d, int i, int j, int k)
 {
     if (d->bricked)
-        return (R)GRID_LOAD(&d->data[(GRID_INDEX)dense_brick_x(i) + (GRID_INDEX)dense_brick_yn(d->nbx, j) + (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, k)]);
-    return (R)GRID_LOAD(&d->data[(GRID_INDEX)i + (GRID_INDEX)d->n[0] * ((GRID_INDEX)j + (GRID_INDEX)d->n[1] * (GRID_INDEX)k)]);
+        return (R)GRID_LOAD(&d->data[(GRID_INDEX)dense_brick_x(i) + (GRID_INDEX)dense_brick_yn(d->nbx, j) +
+                                     (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, k)]);
+    const GRID_INDEX n0 = (GRID_INDEX)d->n[0], n1 = (GRID_INDEX)d->n[1];
+    return (R)GRID_LOAD(&d->data[(GRID_INDEX)i + n0 * ((GRID_INDEX)j + n1 * (GRID_INDEX)k)]);
 }
 
 /* Trilinear between voxel centres, clamped to the outermost samples; u in voxel space. */
@@ -73,8 +78,10 @@ static inline R RN(dense_trilinear)(const TRILINEAR_GRID *d, RN(vec3) u)
     RN(trilinear_corners)(u, d->n, ijk, a);
     if (d->bricked) {
         const GRID_INDEX x0 = (GRID_INDEX)dense_brick_x(ijk[0][0]), x1 = (GRID_INDEX)dense_brick_x(ijk[0][1]);
-        const GRID_INDEX y0 = (GRID_INDEX)dense_brick_yn(d->nbx, ijk[1][0]), y1 = (GRID_INDEX)dense_brick_yn(d->nbx, ijk[1][1]);
-        const GRID_INDEX z0 = (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, ijk[2][0]), z1 = (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, ijk[2][1]);
+        const GRID_INDEX y0 = (GRID_INDEX)dense_brick_yn(d->nbx, ijk[1][0]);
+        const GRID_INDEX y1 = (GRID_INDEX)dense_brick_yn(d->nbx, ijk[1][1]);
+        const GRID_INDEX z0 = (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, ijk[2][0]);
+        const GRID_INDEX z1 = (GRID_INDEX)dense_brick_zn(d->nbx, d->nby, ijk[2][1]);
         const float *v = d->data;
         c[0] = GRID_LOAD(&v[x0 + y0 + z0]), c[1] = GRID_LOAD(&v[x1 + y0 + z0]);
         c[2] = GRID_LOAD(&v[x0 + y1 + z0]), c[3] = GRID_LOAD(&v[x1 + y1 + z0]);
