@@ -10,11 +10,12 @@
  * weight beta_s, beta_s times the distance to the collision, the emission L gathered, and
  * the shadow stage's transmittance; and whether the flight scatters, and where) and
  * requires |mean d| <= 4 standard errors of mean d (from the spread of d) plus float's
- * rounding, 1e-5 of the estimate (the pairing makes the
- * standard error so small, about 2e-8 of the estimate, that the float view's rounded
- * sigma's, about 1e-7, would otherwise stand out), and that the estimates are not all 0 (a
- * test that could not fail). An error shows: with the float view's majorant scaled by 0.9,
- * cloud64's flight transmittance misses by 14 standard errors. */
+ * rounding, 1e-5 of the estimate (the pairing makes the standard error so small, about
+ * 2e-8 of the estimate, that the float view's rounded sigma's, about 1e-7, would otherwise
+ * stand out), and that the estimates are not all 0 (a test that could not fail). Scenes:
+ * cloud64, wdas-dense (a NanoVDB grid's bricked dense copy) and a chromatic emissive grid.
+ * An error shows: with the float view's majorant scaled by 0.9, cloud64's flight
+ * transmittance misses by 14 standard errors. */
 #include "test.h"
 
 /* GCC cannot see that a majorant walk which failed to begin (its DDA done) reads none of
@@ -34,21 +35,22 @@ static rayf rayf_of(ray r)
                   (float)r.time};
 }
 
-/* Ray n of a set through the box [-h, h]^3: from a point on a sphere of radius 2 h towards a
- * point inside the box's middle half. */
-static ray test_ray(uint64_t n, double h)
+/* Ray n of a set through the box [c - h, c + h]^3: from a point on a sphere of radius 2 h
+ * about c towards a point inside the box's middle half. */
+static ray test_ray(uint64_t n, vec3 c, double h)
 {
     rng g = rng_make(77, n, 0);
     double z = 2.0 * rng_next(&g) - 1.0, phi = 2.0 * PI * rng_next(&g), s = sqrt(fmax(0.0, 1.0 - z * z));
-    vec3 o = v3_scale(v3(s * cos(phi), s * sin(phi), z), 2.0 * h);
-    vec3 target = v3(h * (rng_next(&g) - 0.5), h * (rng_next(&g) - 0.5), h * (rng_next(&g) - 0.5));
+    vec3 o = v3_add(c, v3_scale(v3(s * cos(phi), s * sin(phi), z), 2.0 * h));
+    vec3 target = v3_add(c, v3(h * (rng_next(&g) - 0.5), h * (rng_next(&g) - 0.5), h * (rng_next(&g) - 0.5)));
     return (ray){o, v3_normalize(v3_sub(target, o)), 0.0};
 }
 
 /* The paired differences of the NQ estimates over m flights and shadow rays on nrays rays,
  * each checked; *margin is the largest |mean d| / (4 standard errors + rounding) among
  * them, at most 1. */
-static void compare_stages(const brume_scene *s, double h, int nrays, int m, double tail_Tr, double *margin)
+static void compare_stages(const brume_scene *s, vec3 centre, double h, int nrays, int m, double tail_Tr,
+                           double *margin)
 {
     scenef v;
     const char *why = scenef_make(s, &v);
@@ -56,7 +58,7 @@ static void compare_stages(const brume_scene *s, double h, int nrays, int m, dou
         TEST_FAIL("the scene has no float view: %s", why);
     double sum[NQ] = {0}, sq[NQ] = {0}, ref[NQ] = {0};
     for (int n = 0; n < m; n++) {
-        const ray r = test_ray((uint64_t)(n % nrays), h);
+        const ray r = test_ray((uint64_t)(n % nrays), centre, h);
         const rayf rf = rayf_of(r);
         rng g = rng_make(5, (uint64_t)n, 1), ug = rng_make(6, (uint64_t)n, 1);
         rng gf = g, ugf = ug;
@@ -117,8 +119,29 @@ TEST(cloud64)
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_TRUE(s->flight_control);
     double z;
-    compare_stages(s, 0.5, 64, 200000, FLIGHT_TAIL_TR, &z);
+    compare_stages(s, v3(0, 0, 0), 0.5, 64, 200000, FLIGHT_TAIL_TR, &z);
     fprintf(stderr, "cloud64: largest |difference| / tolerance %.2f\n", z);
+    brume_scene_release(s);
+    brume_context_release(ctx);
+}
+
+/* wdas-dense (scenes/wdas-dense.json): a NanoVDB cloud held as a bricked dense copy, optical
+ * depths up to 53, albedo 0.98. */
+TEST(wdas_dense)
+{
+    brume_context *ctx = brume_context_new();
+    brume_scene *s = NULL;
+    ASSERT_EQ_INT(
+        brume_scene_load(ctx, &(brume_source){.path = BRUME_SOURCE_DIR "/scenes/wdas-dense.json"}, NULL, &s), BRUME_OK);
+    ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
+    const box3 b = density_bounds(s->media[0].rho);
+    const vec3 e = v3_sub(b.hi, b.lo);
+    const double h = 0.5 * fmax(e.x, fmax(e.y, e.z));
+    const vec3 c = v3_scale(v3_add(b.lo, b.hi), 0.5);
+    ASSERT_TRUE(scenef_make(s, &(scenef){0}) == NULL); /* a NanoVDB grid's dense copy */
+    double z;
+    compare_stages(s, c, h, 64, 200000, FLIGHT_TAIL_TR, &z);
+    fprintf(stderr, "wdas-dense: largest |difference| / tolerance %.2f\n", z);
     brume_scene_release(s);
     brume_context_release(ctx);
 }
@@ -147,7 +170,7 @@ TEST(chromatic_emissive_grid)
     ASSERT_EQ_INT(brume_scene_commit(ctx, s), BRUME_OK);
     ASSERT_TRUE(!s->flight_control);
     double z;
-    compare_stages(s, 1.0, 64, 200000, FLIGHT_TAIL_TR, &z);
+    compare_stages(s, v3(0, 0, 0), 1.0, 64, 200000, FLIGHT_TAIL_TR, &z);
     fprintf(stderr, "chromatic grid: largest |difference| / tolerance %.2f\n", z);
     brume_scene_release(s);
     brume_context_release(ctx);
@@ -177,4 +200,4 @@ TEST(refuses_other_shapes)
     brume_context_release(ctx);
 }
 
-TEST_MAIN(cloud64, chromatic_emissive_grid, refuses_other_shapes)
+TEST_MAIN(cloud64, wdas_dense, chromatic_emissive_grid, refuses_other_shapes)

@@ -23,9 +23,10 @@ typedef struct densityf {
     const float *maj, *mino, *mean; /* the cells' bounds and means */
 } densityf;
 
-/* The float view of d; false when d is not a trilinear dense grid with majorant cells (a
- * NanoVDB tree, blobs, a procedural field, nearest filtering) or is cropped: the float
- * stages do not cover those. */
+/* The float view of d; false unless d is a trilinear dense grid with majorant cells, or a
+ * NanoVDB grid held as such (its small box's dense copy), uncropped, of fewer than 2^32
+ * voxels: the float stages do not cover a NanoVDB tree's walk, blobs, procedural fields or
+ * nearest filtering. */
 bool density_float_view(const density *d, densityf *v);
 
 /* one segment of a float majorant walk, and the walk (density.h's majorant_seg and

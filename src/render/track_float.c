@@ -22,7 +22,7 @@ const char *scenef_make(const brume_scene *s, scenef *v)
     if (md->albedo[0] || md->temperature || md->emission[0])
         return "a medium with albedo, temperature or emission fields";
     if (!density_float_view(md->rho, &v->media[0].rho))
-        return "a density other than a trilinear dense grid";
+        return "a density other than a trilinear dense grid (or a NanoVDB grid's dense copy)";
     mediumf *mf = &v->media[0];
     mf->sigma_a = colf_of(md->sigma_a);
     mf->sigma_s = colf_of(md->sigma_s);

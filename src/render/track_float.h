@@ -2,8 +2,8 @@
  * GPU (docs/gpu.md, "Single precision"), from the same source as the CPU's double ones:
  * render/track_body.h, track_loop.h, track_steps.h and flight_body.h instantiated in float
  * (flightf, flight_runf, track_transmittancef ...) over a float view of a scene of the
- * specialised shape: one medium whose density is a trilinear dense grid, no motion, no
- * velocity, no fields but rho. The flights ignore surfaces; the caller stops them there.
+ * specialised shape: one medium whose density is a trilinear dense grid (or a NanoVDB
+ * grid's dense copy), no motion, no velocity, no fields but rho. The flights ignore surfaces; the caller stops them there.
  * Header-only, so that the GPU's stage kernels (gpu/stages.cu) include it and nothing else
  * of the estimator; scenef_make (track_float.c) builds the view on the host. */
 #ifndef BRUME_RENDER_TRACK_FLOAT_H
