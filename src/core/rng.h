@@ -56,12 +56,13 @@ static inline uint64_t rng_next_u64(rng *r)
     return hash_mix64(hash_mix64(r->key ^ (c * 0x9e3779b97f4a7c15ULL)) + c);
 }
 
-/* Uniform in [0, 1), 53 bits. In a Sobol dimension the 32 bits of the point come first and
- * the hash fills the 21 below them: the value stays in the point's cell of width 2^-32. */
-static inline double rng_next(rng *r)
+/* The next number's 64 bits: in a Sobol dimension the 32 bits of the point come first and
+ * the hash fills those below them. rng_next and rng_nextf keep the high bits. */
+static inline uint64_t rng_next_bits(rng *r)
 {
     uint64_t c = r->counter;
     uint64_t h = rng_next_u64(r);
+#if !defined(RNG_HASH_ONLY) /* the GPU's stage kernels: their sequences have no Sobol dimensions */
     if (c < r->qmc_dims) {
         uint32_t x;
         if ((c & 1u) && r->odd_dim == c) {
@@ -75,7 +76,21 @@ static inline double rng_next(rng *r)
         }
         h = ((uint64_t)x << 32) | (h >> 32);
     }
-    return (double)(h >> 11) * 0x1.0p-53;
+#endif
+    return h;
+}
+
+/* Uniform in [0, 1), 53 bits: in a Sobol dimension the value stays in the point's cell of
+ * width 2^-32. */
+static inline double rng_next(rng *r) { return (double)(rng_next_bits(r) >> 11) * 0x1.0p-53; }
+
+/* Uniform in (0, 1), the single-precision stages' (docs/gpu.md), with no double arithmetic:
+ * the centre of the cell of width 2^-23 that holds rng_next's number, so that its mean is
+ * exactly 1/2 (truncation to 24 bits would bias every estimate by about 2^-25) and 1 - u
+ * is never 0. Both operations are exact in float. */
+static inline float rng_nextf(rng *r)
+{
+    return ((float)(uint32_t)(rng_next_bits(r) >> 41) + 0.5f) * 0x1.0p-23f;
 }
 
 /* The value of dimension dim (a number taken earlier with counter++ and made only when
@@ -85,6 +100,14 @@ static inline double rng_at(rng *r, uint64_t dim)
     const uint64_t c = r->counter;
     r->counter = dim;
     const double v = rng_next(r);
+    r->counter = c;
+    return v;
+}
+static inline float rng_atf(rng *r, uint64_t dim)
+{
+    const uint64_t c = r->counter;
+    r->counter = dim;
+    const float v = rng_nextf(r);
     r->counter = c;
     return v;
 }

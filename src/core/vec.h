@@ -16,16 +16,14 @@
 #define INV_PI 0.31830988618379067154
 #define INV_4PI 0.07957747154594766788
 
-typedef struct vec3 {
-    double x, y, z;
-} vec3;
-
-/* A ray o + t d. d need not be unit length unless a caller says so; t is in units of |d|. */
-typedef struct ray {
-    vec3 o;
-    vec3 d;
-    double time; /* seconds, inside the camera's shutter interval */
-} ray;
+/* vec3, ray, v3_add ... in double; vec3f, rayf, v3_addf ... in float (the GPU's
+ * single-precision stages): one body (core/vec_body.h), two instantiations. */
+#define REAL_F 0
+#include "core/vec_body.h"
+#undef REAL_F
+#define REAL_F 1
+#include "core/vec_body.h"
+#undef REAL_F
 
 /* Axis-aligned box [lo, hi]; empty when any lo > hi. */
 typedef struct box3 {
@@ -37,20 +35,6 @@ typedef struct frame {
     vec3 s, t, n;
 } frame;
 
-static inline vec3 v3(double x, double y, double z) { return (vec3){x, y, z}; }
-static inline vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
-static inline vec3 v3_mul(vec3 a, vec3 b) { return v3(a.x * b.x, a.y * b.y, a.z * b.z); }
-static inline vec3 v3_scale(vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
-static inline vec3 v3_madd(vec3 a, vec3 b, double s) { return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
-static inline vec3 v3_neg(vec3 a) { return v3(-a.x, -a.y, -a.z); }
-static inline double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static inline vec3 v3_cross(vec3 a, vec3 b)
-{
-    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-}
-static inline double v3_length(vec3 a) { return sqrt(v3_dot(a, a)); }
-static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a)); }
 static inline vec3 v3_min(vec3 a, vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
 static inline double v3_get(vec3 a, int axis) { return axis == 0 ? a.x : (axis == 1 ? a.y : a.z); }
@@ -61,8 +45,6 @@ static inline void v3_to_array(vec3 a, double out[3])
     out[2] = a.z;
 }
 static inline bool v3_isfinite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
-
-static inline vec3 ray_at(ray r, double t) { return v3_madd(r.o, r.d, t); }
 
 /* Frame with n as its third axis (Duff et al. 2017, branchless; n must be unit length). */
 static inline frame frame_from_n(vec3 n)

@@ -1,9 +1,11 @@
 /* dense_grid.c - dense float32 voxel grids (DENSITY_GRID): made from an array, borrowed or
  * owned. Lookups are density.c's, through dense_at and dense_trilinear (density_impl.h),
  * which a small NanoVDB box's dense copy shares. */
+#include <stdint.h>
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "density/dense_float.h"
 #include "density/density_impl.h"
 
 static double dense_fetch(const density *d, int i, int j, int k) { return dense_at(d, i, j, k); }
@@ -78,4 +80,37 @@ void density_grid_borrow(density *d, void (*release)(void *user), void *user)
 {
     d->data_release = release;
     d->data_user = user;
+}
+
+bool density_float_view(const density *d, densityf *v)
+{
+    /* a dense grid, or a NanoVDB grid small enough for its dense copy and majorant cells
+     * (nanovdb.c): density_eval and density_majorant_begin read both alike */
+    const bool dense = d->kind == DENSITY_GRID || d->kind == DENSITY_NANOVDB;
+    if (!dense || !d->data || !d->maj || d->crop || d->filter != GRID_TRILINEAR)
+        return false;
+    /* the GPU's stages index voxels and cells in 32 bits (gpu/stages.cu's GRID_INDEX) */
+    const size_t nvox = d->bricked
+                            ? (size_t)d->nbx * (size_t)d->nby * (size_t)((d->n[2] + 1) / 2) * DENSITY_BRICK_FLOATS
+                            : (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2];
+    if (nvox > UINT32_MAX)
+        return false;
+    for (int a = 0; a < 3; a++) {
+        v->n[a] = d->n[a];
+        v->mn[a] = d->mn[a];
+        v->wlo[a] = (float)d->wlo[a];
+        v->whi[a] = (float)d->whi[a];
+    }
+    for (int q = 0; q < 12; q++) {
+        v->w2v[q] = (float)d->w2v.m[q];
+        v->w2c[q] = (float)d->w2c.m[q];
+    }
+    v->data = d->data;
+    v->bricked = d->bricked;
+    v->nbx = d->nbx;
+    v->nby = d->nby;
+    v->maj = d->maj;
+    v->mino = d->mino;
+    v->mean = d->mean;
+    return true;
 }

@@ -183,9 +183,13 @@ typedef struct majorant_iter {
  * is 0 may be left out: a cell grid's walk covers only the box of its non-empty cells. */
 void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it);
 /* The next segment in increasing t; false when the ray has left the field or reached tmax.
- * Inline (below): it runs once per majorant cell a ray crosses, the tracking loop's most
+ * Inline (density/majorant_body.h, the cell grid's walk written once for the double and the
+ * float stages): it runs once per majorant cell a ray crosses, the tracking loop's most
  * frequent step on thin media. */
-static inline bool majorant_next(majorant_iter *it, majorant_seg *seg);
+static inline __attribute__((always_inline)) bool majorant_cell_next(majorant_iter *it, majorant_seg *seg);
+#define REAL_F 0
+#include "density/majorant_body.h"
+#undef REAL_F
 /* The NanoVDB tree's next leaf cell (nanovdb.c). */
 bool nanovdb_majorant_cell(majorant_iter *it, majorant_seg *seg);
 
@@ -198,50 +202,7 @@ static inline __attribute__((always_inline)) bool majorant_cell_next(majorant_it
 #endif
         return more;
     }
-    grid_dda_step st;
-    if (!grid_dda_next(&it->dda, &st))
-        return false;
-#if !defined(__CUDA_ARCH__)
-    it->cells++;
-#endif
-    seg->t0 = st.t0;
-    seg->t1 = st.t1;
-    size_t c = (size_t)st.i + (size_t)it->mn[0] * ((size_t)st.j + (size_t)it->mn[1] * (size_t)st.k);
-    seg->rho_maj = (double)it->maj[c];
-    seg->rho_min = it->mino ? (double)it->mino[c] : 0.0;
-    seg->rho_ctl = it->mean ? (double)it->mean[c] : seg->rho_min;
-    return true;
-}
-
-/* Consecutive cells with the same majorant come out as one segment: empty space (0) and
- * uniform regions cost one segment each. */
-static inline __attribute__((always_inline)) bool majorant_next(majorant_iter *it, majorant_seg *seg)
-{
-    if (it->has_next) {
-        *seg = it->next;
-        it->has_next = false;
-    } else if (!majorant_cell_next(it, seg)) {
-        return false;
-    }
-    majorant_seg s;
-    const bool by_ctl = it->by_ctl;
-    double ctl_len = by_ctl ? seg->rho_ctl * (seg->t1 - seg->t0) : 0.0; /* the integral of the controls */
-    bool merged = false;
-    while (majorant_cell_next(it, &s)) {
-        if (s.rho_maj == seg->rho_maj && s.rho_min == seg->rho_min) {
-            if (by_ctl)
-                ctl_len += s.rho_ctl * (s.t1 - s.t0);
-            seg->t1 = s.t1;
-            merged = true;
-        } else {
-            it->next = s;
-            it->has_next = true;
-            break;
-        }
-    }
-    if (by_ctl && merged) /* the merged cells' mean, within the bounds (rounding) */
-        seg->rho_ctl = fmax(seg->rho_min, fmin(seg->rho_maj, ctl_len / (seg->t1 - seg->t0)));
-    return true;
+    return majorant_grid_cell(it, seg);
 }
 
 /* Majorants of rho moved by any displacement of length <= radius (world units): a field

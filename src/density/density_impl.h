@@ -71,20 +71,6 @@ struct density {
 /* pbrt_cloud.c: the cloud's density at u in voxel space */
 double pbrt_cloud_at(const density *d, vec3 u);
 
-/* Bricked voxel arrays: voxel (i, j, k) of brick (i / 4, j / 2, k / 2) sits at
- * 16 brick + (i % 4) + 4 (j % 2) + 8 (k % 2), bricks x fastest, each brick one 64-byte cache
- * line (the array is 64-byte aligned), so a trilinear lookup's 8 voxels span 2.8 lines on
- * average instead of 4.3 with rows. The offsets are separable: x, y and z parts added. */
-#define DENSITY_BRICK_FLOATS 16
-static inline size_t dense_brick_x(int i) { return (size_t)(i >> 2) * 16 + (size_t)(i & 3); }
-static inline size_t dense_brick_y(const density *d, int j)
-{
-    return (size_t)(j >> 1) * 16 * (size_t)d->nbx + (size_t)((j & 1) << 2);
-}
-static inline size_t dense_brick_z(const density *d, int k)
-{
-    return (size_t)(k >> 1) * 16 * (size_t)d->nbx * (size_t)d->nby + (size_t)((k & 1) << 3);
-}
 
 /* Fills maj, mino, mean, mn, mcell, moff: the cells' bounds over the voxels fetch reads, and
  * the mean of each cell's own voxels (density.c).
@@ -106,57 +92,17 @@ void nanovdb_free(density *d);
 void nanovdb_majorant_begin(const density *d, vec3 o, vec3 dir, double t0, double t1, majorant_iter *it);
 
 
-/* Trilinear reconstruction between voxel centres, clamped to the outermost samples, shared
- * by every grid kind: trilinear_corners gives the 2 x 2 x 2 corner voxels around u (voxel
- * space) as ijk[axis][0 or 1] and the weights a[axis]; trilinear_blend mixes the corner
- * values c[x + 2 y + 4 z]. */
-static inline int trilinear_clamp(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
-static inline void trilinear_corners(vec3 u, const int n[3], int ijk[3][2], double a[3])
-{
-    const double x[3] = {u.x - 0.5, u.y - 0.5, u.z - 0.5};
-    for (int ax = 0; ax < 3; ax++) {
-        double f = floor(x[ax]);
-        int i = (int)f;
-        a[ax] = x[ax] - f;
-        ijk[ax][0] = trilinear_clamp(i, n[ax] - 1);
-        ijk[ax][1] = trilinear_clamp(i + 1, n[ax] - 1);
-    }
-}
-static inline double trilinear_blend(const double c[8], const double a[3])
-{
-    double c00 = c[0] * (1 - a[0]) + c[1] * a[0], c10 = c[2] * (1 - a[0]) + c[3] * a[0];
-    double c01 = c[4] * (1 - a[0]) + c[5] * a[0], c11 = c[6] * (1 - a[0]) + c[7] * a[0];
-    double c0 = c00 * (1 - a[1]) + c10 * a[1], c1 = c01 * (1 - a[1]) + c11 * a[1];
-    return c0 * (1 - a[2]) + c1 * a[2];
-}
-
-/* ---- dense voxel arrays (d->data: a dense grid, or a small NanoVDB box's copy) ---------------- *
- * Inline: density_eval (density.c) reads them at every tentative collision. */
-static inline double dense_at(const density *d, int i, int j, int k)
-{
-    if (d->bricked)
-        return (double)d->data[dense_brick_x(i) + dense_brick_y(d, j) + dense_brick_z(d, k)];
-    return (double)d->data[(size_t)i + (size_t)d->n[0] * ((size_t)j + (size_t)d->n[1] * (size_t)k)];
-}
-
-/* Trilinear between voxel centres, clamped to the outermost samples; u in voxel space. */
-static inline double dense_trilinear(const density *d, vec3 u)
-{
-    int ijk[3][2];
-    double a[3], c[8];
-    trilinear_corners(u, d->n, ijk, a);
-    if (d->bricked) {
-        const size_t x0 = dense_brick_x(ijk[0][0]), x1 = dense_brick_x(ijk[0][1]);
-        const size_t y0 = dense_brick_y(d, ijk[1][0]), y1 = dense_brick_y(d, ijk[1][1]);
-        const size_t z0 = dense_brick_z(d, ijk[2][0]), z1 = dense_brick_z(d, ijk[2][1]);
-        const float *v = d->data;
-        c[0] = v[x0 + y0 + z0], c[1] = v[x1 + y0 + z0], c[2] = v[x0 + y1 + z0], c[3] = v[x1 + y1 + z0];
-        c[4] = v[x0 + y0 + z1], c[5] = v[x1 + y0 + z1], c[6] = v[x0 + y1 + z1], c[7] = v[x1 + y1 + z1];
-        return trilinear_blend(c, a);
-    }
-    for (int q = 0; q < 8; q++)
-        c[q] = dense_at(d, ijk[0][q & 1], ijk[1][(q >> 1) & 1], ijk[2][q >> 2]);
-    return trilinear_blend(c, a);
-}
+/* Trilinear reconstruction and the dense voxel arrays' lookups (trilinear_corners,
+ * trilinear_blend, dense_at, dense_trilinear), written once over the real type
+ * (density/trilinear_body.h): here in double over a density; the float stages instantiate it
+ * over their float view of a dense grid (render/track_float.h), whose fields have the same
+ * names. */
+#define REAL_F 0
+#define TRILINEAR_GRID density
+#include "density/trilinear_body.h"
+#undef TRILINEAR_GRID
+#undef REAL_F
+static inline size_t dense_brick_y(const density *d, int j) { return dense_brick_yn(d->nbx, j); }
+static inline size_t dense_brick_z(const density *d, int k) { return dense_brick_zn(d->nbx, d->nby, k); }
 
 #endif

@@ -111,16 +111,16 @@ double density_eval(const density *d, vec3 p)
 
 void density_majorant_begin(const density *d, ray r, double tmin, double tmax, majorant_iter *it)
 {
-    it->maj = d->maj;
-    it->mino = d->mino;
-    it->mean = d->mean;
-    it->has_next = false;
-    it->cells = 0;
-    it->by_ctl = false;
     it->nano = NULL;
-    for (int a = 0; a < 3; a++)
-        it->mn[a] = d->mn[a];
     if (d->kind == DENSITY_NANOVDB && !d->maj) {
+        it->maj = d->maj;
+        it->mino = d->mino;
+        it->mean = d->mean;
+        it->has_next = false;
+        it->cells = 0;
+        it->by_ctl = false;
+        for (int a = 0; a < 3; a++)
+            it->mn[a] = d->mn[a];
         /* Clip to the voxel box in voxel space; the tree's walks take it from there. */
         vec3 o = affine3_apply(&d->w2v, r.o), dir = affine3_apply_dir(&d->w2v, r.d);
         box3 vbox = {v3(0, 0, 0), v3(d->n[0], d->n[1], d->n[2])};
@@ -135,11 +135,10 @@ void density_majorant_begin(const density *d, ray r, double tmin, double tmax, m
     /* A cell grid: one map to cell space and one clip, to the voxel box within the box of
      * non-empty cells (clipped as the steps cross planes: no sliver of an empty cell at its
      * faces). The walk's set-up runs once per flight and shadow ray: a tenth of a render's
-     * time on cloud64 when it took two maps and two clips (docs/performance.md). */
-    grid_dda_dir w;
-    grid_dda_dir_make(&w, affine3_apply_dir(&d->w2c, r.d));
-    if (!grid_dda_begin_clip_dir(&it->dda, d->mn, d->wlo, d->whi, affine3_apply(&d->w2c, r.o), &w, tmin, tmax))
-        it->dda.done = true;
+     * time on cloud64 when it took two maps and two clips (docs/performance.md). The walk is
+     * the float stages' too (density/majorant_body.h). */
+    majorant_grid_begin(it, d->maj, d->mino, d->mean, d->mn, d->wlo, d->whi, affine3_apply(&d->w2c, r.o),
+                        affine3_apply_dir(&d->w2c, r.d), tmin, tmax);
 }
 
 size_t density_device_put(const density *d, dev_arena *a)

@@ -16,31 +16,11 @@
  * (a one-element reservoir): beta_s = A (beta Tr sigma_s)(t_i) / (sigma_maj a_i) is then
  * an unbiased weight for scattering there, and beta Tr(tmax) for what lies past tmax. Both
  * branches are estimated from one walk; a path never ends merely because it escaped. */
-typedef struct flight {
-    const brume_scene *s;
-    ray r;
-    rng *g;
-    color beta;       /* in: path throughput before the flight */
-    color L;          /* in/out: emission gathered along the flight, weighted by beta */
-    color Tr;         /* out: ratio-tracked transmittance over [0, tmax] (0 once roulette stopped it) */
-    double A;         /* out: sum of the collisions' scattering weights a_i (0: none) */
-    color beta_s;     /* out: throughput of the scattering branch at the kept collision */
-    double t;         /* out: where the kept collision is */
-    medium_sample ms; /* out: the media there (n, index and weight, what media_choose_phase reads) */
-    medium_sample cur; /* scratch: the media at the current collision */
-    double tail_Tr;   /* in: once max Tr is below it, the flight's delta tail (flight_run); 0: none */
-    double u;         /* scratch: the reservoir's uniform, rescaled after each choice */
-    rng *ug;          /* scratch: the sequence and dimension u is drawn from, at the first */
-    uint64_t udim;    /*          collision (a flight that meets none never computes it) */
-    uint32_t absent;  /* in/out: the bounded media the flight is not in (track_collisions'; 0:
-                         none), changed where it crosses a surface (flight_track's pieces) */
-    uint32_t absent_s; /* out: those at the kept collision */
-    double t0;        /* scratch: where the piece being tracked starts along the flight */
-} flight;
-
-/* Where a flight's delta tail starts (f->tail_Tr) after the first scattering event: measured
- * in docs/performance.md, "The flight's delta tail". */
-#define FLIGHT_TAIL_TR 0.6
+#define REAL_F 0
+#define FLIGHT_SCENE brume_scene
+#include "render/flight_type.h"
+#undef FLIGHT_SCENE
+#undef REAL_F
 
 /* Runs a flight; true when it kept a scattering collision (f->A > 0). f->beta, f->L and
  * f->tail_Tr carry in; f->Tr, f->A, f->beta_s, f->t, f->ms come out. In a medium whose

@@ -18,21 +18,14 @@
 #include "render/watch.h"
 #include "scene/scene.h"
 
-/* A tentative collision at ray parameter t [world units], on a piece of the ray where
- * sigma_maj >= sigma_t(x) [1 / world unit].
- * - Flights: sigma_c is the control extinction, sum over media of rho_min sigma_t_min (0 for
- *   media with an albedo field, whose sigma_t varies by more than rho), a lower bound of
- *   every channel's sigma_t there; collisions come at the rate sigma_maj.
- * - Residual walks (shadow rays): sigma_c is the control, sum over media of rho_ctl
- *   sigma_t_min (the cells' means), and collisions come at the rate sigma_r, the largest
- *   |sigma_t - sigma_c| the bounds allow, so the residual's ratio 1 - (sigma_t - sigma_c) /
- *   sigma_r lies in [0, 2]; tau_c is the control optical depth from 0 to t (0 otherwise). */
-typedef struct track_event {
-    double t, sigma_maj, sigma_c, sigma_r, tau_c;
-} track_event;
-
-/* Called at each tentative collision. Return false to stop tracking. */
-typedef bool (*track_fn)(const track_event *e, void *user);
+/* track_event, track_fn (the callback at each tentative collision), medium_sample (the
+ * media's coefficients at a point) and the loop's helpers, written once over the real type
+ * (render/track_body.h): here in double; render/track_float.h instantiates them in float. */
+#define REAL_F 0
+#define TRACK_MAX_MEDIA SCENE_MAX_MEDIA
+#include "render/track_body.h"
+#undef TRACK_MAX_MEDIA
+#undef REAL_F
 
 /* Tracks r (unit direction) over [0, tmax] at the ray's time r.time (moving media are
  * taken where they are at that instant), through the media not in `absent` (bit m set:
@@ -45,15 +38,6 @@ typedef bool (*track_fn)(const track_event *e, void *user);
  * stopping it. */
 static inline bool track_collisions(const brume_scene *s, uint32_t absent, ray r, double tmax, rng *g, bool residual,
                                     track_fn fn, void *user, double *tau_c_end);
-
-/* Optical coefficients at p summed over the media [1 / world unit]. */
-typedef struct medium_sample {
-    color sigma_a, sigma_s;
-    color emission;         /* sum of the emitted radiance per unit length [radiance / world unit] */
-    int n;                  /* media with rho > 0 at p */
-    int index[SCENE_MAX_MEDIA];
-    double weight[SCENE_MAX_MEDIA]; /* avg sigma_s of each, for choosing a phase function */
-} medium_sample;
 
 /* At time `time` (seconds): moving media are evaluated where they are then. The media in
  * `absent` (as track_collisions') are left out. */
@@ -73,66 +57,8 @@ color track_transmittance(const brume_scene *s, uint32_t absent, ray r, double t
 
 /* ---- the tracking loop, inline: each caller's callback is inlined into its own copy ---- */
 
-typedef struct track_stream {
-    majorant_iter it;
-    majorant_seg seg;
-    bool live;
-    double sigma_t_max;
-    double sigma_t_min; /* the medium's: the controls' scale */
-} track_stream;
-
-/* Majorant and control on [t, *t_next): the sums over the media whose current segment covers
- * t (the streams moved on to the segment at t), *t_next where the first of them changes;
- * false when no medium is left. */
-static inline __attribute__((always_inline)) bool track_streams_at(track_stream *st, const int n, double t,
-                                                                   double *sigma_maj, double *sigma_c,
-                                                                   double *sigma_ctl, double *t_next)
-{
-    bool any = false;
-    for (int m = 0; m < n; m++) {
-        while (st[m].live && st[m].seg.t1 <= t)
-            st[m].live = majorant_next(&st[m].it, &st[m].seg);
-        if (!st[m].live)
-            continue;
-        any = true;
-        if (st[m].seg.t0 > t) {
-            *t_next = dda_min(*t_next, st[m].seg.t0);
-        } else {
-            *sigma_maj += st[m].seg.rho_maj * st[m].sigma_t_max;
-            *sigma_c += st[m].seg.rho_min * st[m].sigma_t_min;
-            *sigma_ctl += st[m].seg.rho_ctl * st[m].sigma_t_min;
-            *t_next = dda_min(*t_next, st[m].seg.t1);
-        }
-    }
-    return any;
-}
-
-/* The rate of tentative collisions on a segment of majorant sigma_maj and controls *sigma_c,
- * sigma_ctl: sigma_maj, or for residual walks, which take the cells' means as their control
- * (then *sigma_c), the bound on |sigma_t - sigma_ctl|, which lies in
- * [sigma_c - sigma_ctl, sigma_maj - sigma_ctl]. */
-static inline __attribute__((always_inline)) double track_rate(bool residual, double sigma_maj, double *sigma_c,
-                                                               double sigma_ctl)
-{
-    *sigma_c = dda_min(*sigma_c, sigma_maj);
-    double sigma_n = sigma_maj;
-    if (residual) {
-        sigma_ctl = dda_max(*sigma_c, dda_min(sigma_ctl, sigma_maj));
-        sigma_n = dda_max(sigma_maj - sigma_ctl, sigma_ctl - *sigma_c);
-        *sigma_c = sigma_ctl;
-    }
-    return sigma_n;
-}
-
-/* --stats: the cells the walk's iterators crossed, added once per walk */
-static inline void track_count_cells(const track_stream *st, int n)
-{
-    if (!stats_tls)
-        return;
-    for (int m = 0; m < n; m++)
-        stats_tls->majorant_cells += st[m].it.cells;
-}
-
+#define REAL_F 0
+#define TRACK_SCENE brume_scene
 #define TRACK_NAME track_collisions_1
 #define TRACK_NMAX 1
 #define TRACK_INLINE __attribute__((always_inline))
@@ -145,6 +71,8 @@ static inline void track_count_cells(const track_stream *st, int n)
 #define TRACK_INLINE __attribute__((always_inline))
 #endif
 #include "render/track_loop.h"
+#undef TRACK_SCENE
+#undef REAL_F
 
 /* One medium is the common case: with n a constant the loops over media vanish, and one
  * stream is kept. */
