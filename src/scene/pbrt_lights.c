@@ -81,7 +81,7 @@ brume_status pbrt_area_light_directive(pbrt_state *S, attrs *a, const char *type
     if (!(scale >= 0.0 && scale <= 1e30))
         return pbrt_fail(L, "AreaLightSource: parameter \"scale\": %g outside [0, 1e30]", scale);
     if (!(power <= 1e30))
-        return pbrt_fail(L, "AreaLightSource: parameter \"power\": %g is not finite", power);
+        return pbrt_fail(L, "AreaLightSource: parameter \"power\": %g outside (-inf, 1e30]", power);
     a->area = true;
     a->area_two_sided = two_sided;
     a->area_power = power > 0.0 ? power : 0.0; /* pbrt-v4 ignores a power that is not positive */
